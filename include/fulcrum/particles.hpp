@@ -1,0 +1,52 @@
+#pragma once
+// Verlet particle systems: ropes and cloths. The definitions below are what the
+// scene format's `ropes` and `cloths` sections describe (design.md).
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "fulcrum/body.hpp"
+
+namespace fulcrum {
+
+struct ParticleSystemId {
+    std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
+    std::uint32_t generation = 0;
+    constexpr bool isNull() const { return index == std::numeric_limits<std::uint32_t>::max(); }
+    constexpr bool operator==(const ParticleSystemId&) const = default;
+};
+
+// N segments, N + 1 particles evenly spaced from start to end.
+struct RopeDef {
+    std::string name;
+    Vec3 start;
+    Vec3 end{1, 0, 0};
+    int segments = 10;
+    Real particleMass = Real(0.1);
+    Real radius = Real(0.02);
+    bool pinStart = true;
+    bool pinEnd = false;
+    BodyId attachStart = kWorldBody;  // tie an end to a rigid body (null: not attached)
+    BodyId attachEnd = kWorldBody;
+    Real stretchCompliance = 0;       // m/N (XPBD): 0 is inextensible
+    Real bendCompliance = 0;
+};
+
+// Particle (i, j) starts at origin + spacing * (i * uAxis + j * vAxis), 0 <= i < size[0], 0 <= j < size[1].
+struct ClothDef {
+    std::string name;
+    Vec3 origin;
+    Vec3 uAxis{1, 0, 0};
+    Vec3 vAxis{0, 0, 1};
+    std::array<int, 2> size{16, 16};
+    Real spacing = Real(0.1);
+    Real particleMass = Real(0.01);
+    Real radius = Real(0.02);
+    std::vector<std::array<int, 2>> pinned;
+    Real stretchCompliance = 0;
+    Real bendCompliance = 0;
+};
+
+}  // namespace fulcrum

@@ -1,0 +1,175 @@
+#pragma once
+// World: owns bodies, springs, joints and particle systems, and advances them
+// with step(dt). All methods taking handles validate them and throw
+// fulcrum::Error for null or stale handles; inputs are checked for NaN/inf and
+// physical sense at this boundary, so the step itself can trust its data.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fulcrum/body.hpp"
+#include "fulcrum/error.hpp"
+#include "fulcrum/joint.hpp"
+#include "fulcrum/particles.hpp"
+#include "fulcrum/spring.hpp"
+
+namespace fulcrum {
+
+// Thrown by World::step when the state turns NaN or infinite; names the body.
+class NumericalError : public Error {
+public:
+    using Error::Error;
+};
+
+enum class Integrator : std::uint8_t { ExplicitEuler, SemiImplicitEuler, Verlet };
+const char* toString(Integrator integrator);                        // "explicit_euler", ...
+std::optional<Integrator> integratorFromString(std::string_view name);
+
+struct WorldDef {
+    Vec3 gravity{0, Real(-9.81), 0};
+    Integrator integrator = Integrator::SemiImplicitEuler;
+    int substeps = 4;           // sub-steps per step (>= 1)
+    int solverIterations = 1;   // constraint iterations per sub-step (>= 1)
+    bool sleeping = true;
+    int threads = 1;            // >= 1; results are identical for every count
+};
+
+struct EnergyReport {
+    double kinetic = 0;    // translational + rotational
+    double potential = 0;  // gravity (relative to y = 0 along -gravity) + springs
+    double total = 0;
+};
+
+// One contact manifold of the last step, as reported to users and --json.
+struct ContactReport {
+    BodyId bodyA, bodyB;
+    Vec3 normal;                // unit, from A to B
+    Real depth = 0;             // deepest point; positive when overlapping
+    std::vector<Vec3> points;   // world space
+};
+
+struct WorldImpl;
+
+class World {
+public:
+    explicit World(const WorldDef& def = {});
+    ~World();
+    World(World&&) noexcept;
+    World& operator=(World&&) noexcept;
+    World(const World&) = delete;
+    World& operator=(const World&) = delete;
+
+    // ---- settings
+    const WorldDef& settings() const;
+    void setGravity(const Vec3& g);
+    void setIntegrator(Integrator integrator);
+    void setSubsteps(int substeps);
+    void setSolverIterations(int iterations);
+    void setSleepingEnabled(bool enabled);
+    void setThreadCount(int threads);
+
+    // ---- bodies
+    BodyId createBody(const BodyDef& def);
+    void destroyBody(BodyId id);
+    bool isValid(BodyId id) const;
+    std::size_t bodyCount() const;
+    std::vector<BodyId> bodies() const;               // live bodies in creation order
+    BodyId findBody(std::string_view name) const;      // null handle if none
+    const std::string& name(BodyId id) const;
+    BodyType bodyType(BodyId id) const;
+    const Shape& shape(BodyId id) const;
+    Real mass(BodyId id) const;                        // 0 for static and kinematic bodies
+    Mat3 localInertia(BodyId id) const;                // about the centre of mass, body axes
+    Vec3 localCenterOfMass(BodyId id) const;
+    Real friction(BodyId id) const;
+    Real restitution(BodyId id) const;
+
+    Transform transform(BodyId id) const;              // of the body origin
+    Vec3 position(BodyId id) const;
+    Quat orientation(BodyId id) const;
+    Vec3 centerOfMass(BodyId id) const;                // world space
+    Vec3 linearVelocity(BodyId id) const;              // of the centre of mass
+    Vec3 angularVelocity(BodyId id) const;
+    Vec3 velocityAtPoint(BodyId id, const Vec3& worldPoint) const;
+    Transform previousTransform(BodyId id) const;      // at the start of the last step (for interpolation)
+
+    void setTransform(BodyId id, const Vec3& position, const Quat& orientation);  // wakes the body
+    void setLinearVelocity(BodyId id, const Vec3& v);
+    void setAngularVelocity(BodyId id, const Vec3& w);
+    void setFriction(BodyId id, Real friction);
+    void setRestitution(BodyId id, Real restitution);
+    void setGravityScale(BodyId id, Real scale);
+    void setDamping(BodyId id, Real linear, Real angular);
+    void setDrag(BodyId id, Real linear, Real quadratic);
+
+    bool isAwake(BodyId id) const;
+    void wake(BodyId id);
+
+    // ---- forces: accumulated until the end of the next step, then cleared
+    void applyForce(BodyId id, const Vec3& force, const Vec3& worldPoint);
+    void applyForceAtCenter(BodyId id, const Vec3& force);
+    void applyTorque(BodyId id, const Vec3& torque);
+    // Impulses change the velocity at once.
+    void applyLinearImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint);
+    void applyLinearImpulseAtCenter(BodyId id, const Vec3& impulse);
+    void applyAngularImpulse(BodyId id, const Vec3& impulse);
+    // A custom force evaluated by the integrator (empty callback removes it).
+    void setForceCallback(BodyId id, ForceCallback callback);
+
+    // ---- springs (force elements)
+    SpringId createSpring(const SpringDef& def);
+    void destroySpring(SpringId id);
+    bool isValid(SpringId id) const;
+    std::size_t springCount() const;
+    Real springLength(SpringId id) const;
+
+    // ---- joints (constraints)
+    JointId createJoint(const JointDef& def);
+    void destroyJoint(JointId id);
+    bool isValid(JointId id) const;
+    std::vector<JointId> joints() const;
+    const JointDef& jointDef(JointId id) const;       // as created (anchors world space at creation)
+    const std::string& name(JointId id) const;
+    Real jointError(JointId id) const;                 // position error in metres
+
+    // ---- simulation
+    void step(Real dt);                                // throws NumericalError if the state goes NaN
+    Real time() const;
+    std::uint64_t stepCount() const;
+
+    // ---- diagnostics
+    EnergyReport energy() const;
+    Vec3 linearMomentum() const;
+    Vec3 angularMomentum() const;                      // about the world origin
+    std::vector<ContactReport> contacts() const;       // manifolds of the last step
+
+    WorldImpl& impl() { return *impl_; }               // engine internals (tests, io, tools)
+    const WorldImpl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<WorldImpl> impl_;
+};
+
+// Fixed-step accumulator for variable frame rates: call advance(frameSeconds)
+// each frame; it runs whole steps of `dt` (at most `maxSteps` per frame, to
+// avoid the spiral of death) and alpha() says how far the render time sits
+// between the last two steps, for interpolated transforms.
+class FixedStepper {
+public:
+    FixedStepper(World& world, Real dt, int maxSteps = 8);
+    int advance(Real frameSeconds);
+    Real alpha() const { return alpha_; }
+    Transform interpolatedTransform(BodyId id) const;
+
+private:
+    World* world_;
+    Real dt_;
+    int maxSteps_;
+    Real accumulator_ = 0;
+    Real alpha_ = 0;
+};
+
+}  // namespace fulcrum

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Builds and runs every test: a Release build with warnings as errors, then an
+# AddressSanitizer + UndefinedBehaviorSanitizer build.
+# Usage: scripts/test.sh [--quick]   (--quick: the Release pass only)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+jobs=$(nproc)
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
+
+run_suite() {  # name, build dir, extra cmake args...
+  local name=$1 dir=$2; shift 2
+  echo "== $name build"
+  cmake -S . -B "$dir" -DFULCRUM_WARNINGS_AS_ERRORS=ON -DFULCRUM_BUILD_TESTS=ON -DFULCRUM_BUILD_APPS=ON "$@" >/dev/null
+  cmake --build "$dir" -j "$jobs"
+  echo "== $name tests"
+  ctest --test-dir "$dir" -j "$jobs" --output-on-failure --timeout 300
+}
+
+run_suite "Release" build/release -DCMAKE_BUILD_TYPE=Release
+if [ $quick -eq 0 ]; then
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    run_suite "ASan+UBSan" build/sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFULCRUM_SANITIZE=ON
+fi
