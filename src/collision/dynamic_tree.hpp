@@ -16,15 +16,16 @@
 //
 // Balancing. Insertion chooses the sibling that minimises the total surface
 // area of the internal nodes (the SAH cost of a BVH for random rays/queries,
-// MacDonald & Booth 1990), found exactly by branch and bound over a priority
+// MacDonald & Booth 1990): either exactly, by branch and bound over a priority
 // queue (Bittner, Hapala, Havran 2013, "Fast Insertion-Based Optimization of
-// Bounding Volume Hierarchies"); on the way back up each ancestor tries the
-// four child/grandchild swaps that reduce its area (Catto, GDC 2019 "Dynamic
-// Bounding Volume Hierarchies"). We chose this over AVL height balancing
-// (Box2D 2.x): height balance says nothing about how much boxes overlap, while
-// the query cost of a BVH is proportional to the area of the nodes a query
-// enters. Measured in bench/broadphase.cpp (see docs/broad-phase.md): the
-// incrementally built tree's internal area is within a few percent of a
+// Bounding Volume Hierarchies"), or by a greedy descent guided by the same
+// lower bound (Catto, GDC 2019 "Dynamic Bounding Volume Hierarchies"); on the
+// way back up each ancestor tries the four child/grandchild swaps that reduce
+// its area (Catto 2019). We chose this over AVL height balancing (Box2D 2.x):
+// height balance says nothing about how much boxes overlap, while the query
+// cost of a BVH is proportional to the area of the nodes a query enters.
+// Measured in bench/broadphase.cpp (see docs/broad-phase.md): after motion,
+// the incrementally maintained tree's internal area is within 4-7% of a
 // binned-SAH top-down rebuild of the same boxes. To stay robust where area says
 // nothing (many identical or nested boxes, where every choice costs the same),
 // a rotation that leaves the area unchanged but lowers the height is taken, so
@@ -68,6 +69,12 @@ struct DynamicTreeConfig {
     // motion, predicting the next step's motion so that a body moving at a steady
     // speed is reinserted only every few steps. 0 disables prediction.
     Real displacementScale = 1;
+    // How insertion looks for the best sibling (see dynamic_tree.cpp for measurements).
+    enum class Search : std::uint8_t {
+        Greedy,          // one root-to-leaf descent by lower bound (Catto 2019): O(height)
+        BranchAndBound,  // exact minimum-cost sibling (Bittner et al. 2013)
+    };
+    Search search = Search::Greedy;
 };
 
 // Precomputed segment data for the slab test, shared by tree traversal and the
@@ -166,6 +173,7 @@ private:
     void insertLeaf(std::int32_t leaf);
     void removeLeaf(std::int32_t leaf);
     std::int32_t findBestSibling(const AABB& leafBox);
+    std::int32_t findBestSiblingGreedy(const AABB& leafBox) const;
     void rotate(std::int32_t node);
     void refit(std::int32_t node);
     std::size_t partitionRange(std::size_t begin, std::size_t end);
