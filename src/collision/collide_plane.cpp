@@ -1,7 +1,7 @@
 // Every convex shape against a plane (the plane is shape A, so the normal is
 // the plane's). Spheres and capsules are exact; boxes and hulls test every
-// vertex; cylinders use their supporting feature (a cap polygon when standing,
-// the side line when lying) plus the exact deepest point. Several points are
+// vertex; cylinders use their supporting feature (the cap's rim points when
+// standing, the side line when lying, else the single deepest point). Several points are
 // reduced to four (deepest first, then maximum area).
 #include "collision/collide_pairs.hpp"
 
@@ -65,7 +65,6 @@ bool collidePlaneConvex(const Vec3& n, Real offset, const ConvexShape& b, Real m
             SupportFace face;
             supportingFace(b, -n, face);
             for (std::uint32_t i = 0; i < face.count; ++i) add(face.points[i], face.id << 8 | i);
-            if (face.count > 1) add(b.coreSupport(-n), 0xFFu);
             return flush();
         }
         case ConvexKind::Triangle: return false;

@@ -199,12 +199,14 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
             const Vec3 axis = rotate(s.xf.q, Vec3{0, 1, 0});
             const Real c = dot(axis, n);
             if (std::fabs(c) >= kAxisAligned) {
-                // The cap as a regular polygon of rim points. Inscribed, so a
-                // contact is at most r(1 - cos(pi/N)) = 7.6% r inside the rim for
-                // N = 8, and the deepest point is added separately by the caller.
                 const Real sign = sgn(c);
-                Vec3 t1, t2;
-                orthonormalBasis(axis * sign, t1, t2);
+                // The cap as a square of rim points (see kCylinderCapPoints),
+                // counter-clockwise about the cap's outward normal (t1 x t2 = axis * sign).
+                // Rim points fixed in the cylinder's own frame, so the manifold
+                // moves with the body (invariant under rigid motions) and the
+                // feature ids of the rim points stay put.
+                const Vec3 t1 = rotate(s.xf.q, Vec3{1, 0, 0});
+                const Vec3 t2 = rotate(s.xf.q, Vec3{0, 0, 1}) * -sign;
                 const Vec3 capCenter = s.xf.p + axis * (sign * s.halfHeight);
                 for (std::uint32_t i = 0; i < kCylinderCapPoints; ++i) {
                     const Real ang = Real(2 * 3.14159265358979) * static_cast<Real>(i) / static_cast<Real>(kCylinderCapPoints);
