@@ -1,6 +1,7 @@
 #pragma once
 // Convex shapes against static triangle meshes, with internal-edge handling.
 #include "collision/manifold.hpp"
+#include "collision/mesh_bvh.hpp"
 #include "collision/support.hpp"
 
 namespace fulcrum::detail {
@@ -15,14 +16,14 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
 // (mesh-local coordinates).
 template <class Fn>
 void forEachTriangleOverlapping(const TriangleMesh& mesh, const AABB& localBox, Fn&& fn) {
-    // Brute force over the triangles until the mesh BVH (mesh_bvh.hpp, branch
-    // `shapes`) lands; then this becomes MeshBvh::queryTriangles.
+    if (mesh.bvh) {
+        queryTriangles(mesh, localBox, fn);
+        return;
+    }
+    // A mesh assembled by hand without its BVH (internal tests): brute force.
     const std::size_t n = mesh.triangles.size();
     for (std::size_t t = 0; t < n; ++t) {
-        const auto& tri = mesh.triangles[t];
-        const Vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
-        const AABB tb{min(a, min(b, c)), max(a, max(b, c))};
-        if (overlaps(tb, localBox)) fn(static_cast<std::uint32_t>(t));
+        if (overlaps(triangleBounds(mesh, static_cast<std::uint32_t>(t)), localBox)) fn(static_cast<std::uint32_t>(t));
     }
 }
 
