@@ -170,9 +170,10 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
         try {
             world.step(scene.dt);
         } catch (const NumericalError& e) {
-            std::ostringstream msg;
-            msg << "step " << step << " (t = " << formatNumber(double(world.time())) << " s): " << e.what();
-            throw NumericalError(msg.str());
+            // The engine names the body; add the step unless it says it already.
+            const std::string what = e.what();
+            if (what.find("step") != std::string::npos) throw;
+            throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
         }
         if (csv) writeCsvRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
         if (plot) result.samples.push_back(sample(world));
@@ -314,7 +315,7 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
         err << "fulcrum: " << oneLine(e.what()) << "\n";
         return 2;
     } catch (const NumericalError& e) {
-        err << "fulcrum: " << label << ": simulation produced a non-finite value at " << oneLine(e.what()) << "\n";
+        err << "fulcrum: " << label << ": simulation stopped, the state became non-finite: " << oneLine(e.what()) << "\n";
         return 3;
     } catch (const Error& e) {
         err << "fulcrum: " << label << ": " << oneLine(e.what()) << "\n";
