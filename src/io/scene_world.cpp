@@ -28,12 +28,8 @@ Vec3 carryVector(const Transform& creation, const Transform& now, const Vec3& v)
 
 Shape buildShape(const ShapeDesc& s) {
     switch (s.type) {
-        // Temporary until the `shapes` branch (quickhull, mesh BVH) is merged:
-        // the factories Shape::convexHull and Shape::mesh are declared but not
-        // yet defined, so calling them would not link.
-        case ShapeType::ConvexHull:
-        case ShapeType::Mesh:
-            throw Error(std::string(toString(s.type)) + " shapes cannot be built yet: their builder is not in this version");
+        case ShapeType::ConvexHull: return Shape::convexHull(s.points);
+        case ShapeType::Mesh: return Shape::mesh(s.vertices, s.triangles);
         case ShapeType::Compound: {
             if (!detail::containsHullOrMesh(s)) return detail::buildPrimitiveShape(s);
             std::vector<CompoundChild> children;
