@@ -62,14 +62,14 @@ private:
 };
 
 void writeCsvRows(std::FILE* f, const World& world, const Scene& scene, const SceneHandles& handles, std::uint64_t step) {
-    const double t = static_cast<double>(world.time());
+    const std::string t = formatNumber(world.time());  // shortest text of the float: 0.0166667, not 0.0166666992
     for (std::size_t i = 0; i < handles.bodies.size(); ++i) {
         if (scene.bodies[i].def.type != BodyType::Dynamic) continue;
         const BodyId id = handles.bodies[i];
         const Vec3 p = world.position(id), v = world.linearVelocity(id), w = world.angularVelocity(id);
         const Quat q = world.orientation(id);
-        std::fprintf(f, "%llu,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
-                     static_cast<unsigned long long>(step), t, sceneBodyName(scene, i).c_str(), double(p.x), double(p.y),
+        std::fprintf(f, "%llu,%s,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                     static_cast<unsigned long long>(step), t.c_str(), sceneBodyName(scene, i).c_str(), double(p.x), double(p.y),
                      double(p.z), double(q.w), double(q.x), double(q.y), double(q.z), double(v.x), double(v.y), double(v.z),
                      double(w.x), double(w.y), double(w.z));
     }
