@@ -36,6 +36,16 @@ TEST(ExampleScenes, EveryOneLoadsAndRoundTrips) {
         const Scene again = parseScene(sceneToJson(scene), "saved");
         EXPECT_TRUE(again == scene) << sceneToJson(scene);
         EXPECT_EQ(sceneToJson(again), sceneToJson(scene));
+        // ... and so the same World: same bodies, masses, inertias and poses.
+        const World w1 = buildWorld(scene), w2 = buildWorld(again);
+        ASSERT_EQ(w1.bodyCount(), w2.bodyCount());
+        const auto b1 = w1.bodies(), b2 = w2.bodies();
+        for (std::size_t i = 0; i < b1.size(); ++i) {
+            EXPECT_EQ(w1.mass(b1[i]), w2.mass(b2[i]));
+            EXPECT_EQ(w1.localInertia(b1[i]), w2.localInertia(b2[i]));
+            EXPECT_EQ(w1.transform(b1[i]), w2.transform(b2[i]));
+            EXPECT_EQ(w1.linearVelocity(b1[i]), w2.linearVelocity(b2[i]));
+        }
     }
 }
 
