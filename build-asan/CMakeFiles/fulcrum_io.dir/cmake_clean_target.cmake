@@ -1,3 +1,0 @@
-file(REMOVE_RECURSE
-  "libfulcrum_io.a"
-)
