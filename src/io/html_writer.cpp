@@ -97,7 +97,10 @@ std::string recordingJson(const Recording& rec) {
     doc["version"] = 1;
     doc["title"] = rec.title;
     doc["frames"] = frames;
+    // The camera frames the first frame (what the run starts from); "scene" spans every frame.
+    const AABB start = sceneBounds(rec, 0, 1);
     doc["scene"] = {{"center", vec(scene.center())}, {"radius", length(scene.halfExtents())}};
+    doc["start"] = {{"center", vec(start.center())}, {"radius", length(start.halfExtents())}};
 
     json bodies = json::array();
     for (std::size_t b = 0; b < n; ++b) {

@@ -113,7 +113,7 @@ Rgb hsv(float h, float s, float v) {
 Rgb bodyColor(BodyType type, std::size_t bodyIndex, bool asleep) {
     Rgb c;
     switch (type) {
-        case BodyType::Static: c = {0.55f, 0.55f, 0.57f}; break;
+        case BodyType::Static: c = {0.42f, 0.44f, 0.47f}; break;
         case BodyType::Kinematic: c = {0.35f, 0.55f, 0.90f}; break;
         case BodyType::Dynamic: {
             // Golden-angle hue steps keep consecutive bodies far apart on the colour wheel.
@@ -130,13 +130,14 @@ Rgb bodyColor(BodyType type, std::size_t bodyIndex, bool asleep) {
     return c;
 }
 
-AABB sceneBounds(const Recording& recording) {
+AABB sceneBounds(const Recording& recording, std::size_t first, std::size_t last) {
     AABB box;
     const std::size_t n = recording.bodies.size();
+    last = std::min(last, recording.frameCount());
     for (std::size_t b = 0; b < n; ++b) {
         const Shape& shape = recording.bodies[b].shape;
         if (containsPlane(shape)) continue;
-        for (std::size_t f = 0; f < recording.frameCount(); ++f) {
+        for (std::size_t f = first; f < last; ++f) {
             box.grow(recording.bounds.empty() ? shape.bounds(recording.transform(f, b)) : recording.bounds[f * n + b]);
         }
     }

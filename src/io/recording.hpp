@@ -141,9 +141,9 @@ struct Rgb {
 };
 Rgb bodyColor(BodyType type, std::size_t bodyIndex, bool asleep);
 
-// Bounds of everything recorded except planes, over all frames (a unit box
-// around the origin when there is nothing else).
-AABB sceneBounds(const Recording& recording);
+// Bounds of everything recorded except planes, over frames [first, last)
+// (default: all), or a unit box around the origin when there is nothing else.
+AABB sceneBounds(const Recording& recording, std::size_t first = 0, std::size_t last = SIZE_MAX);
 
 // Render meshes of every body, with plane quads centred under the recorded
 // scene and large enough to hold it.

@@ -46,8 +46,10 @@ scene.add(new AmbientLight(0xffffff, 0.25));
 const sun = new DirectionalLight(0xffffff, 1.8);
 scene.add(sun);
 
-const center = new Vector3(...rec.scene.center);
-const radius = Math.max(rec.scene.radius, 0.5);
+// Frame what the run starts from; lights and overlays scale with it.
+const view0 = rec.start ?? rec.scene;
+const center = new Vector3(...view0.center);
+const radius = Math.max(view0.radius, 0.5);
 sun.position.copy(center).add(new Vector3(0.6, 1.0, 0.45).multiplyScalar(radius * 4));
 sun.target.position.copy(center);
 scene.add(sun.target);
@@ -59,8 +61,30 @@ controls.target.copy(center);
 controls.update();
 
 function material(rgb, doubleSided) {
+  // Double-sided parts are planes and meshes: pushed back a little so grid lines and contacts on them show.
   return new MeshStandardMaterial({ color: new Color(rgb[0], rgb[1], rgb[2]), roughness: 0.6, metalness: 0.0,
-                                    side: doubleSided ? DoubleSide : FrontSide });
+                                    side: doubleSided ? DoubleSide : FrontSide, polygonOffset: doubleSided,
+                                    polygonOffsetFactor: 1, polygonOffsetUnits: 1 });
+}
+
+// Grid lines over a plane's quad (corners 0, 1, 2, 3), spaced at a round number
+// of metres, so motion over the ground reads at a glance.
+function planeGrid(positions) {
+  const c = [0, 1, 3].map((k) => new Vector3(positions[3 * k], positions[3 * k + 1], positions[3 * k + 2]));
+  const u = c[1].clone().sub(c[0]), v = c[2].clone().sub(c[0]);
+  const size = u.length();
+  let step = 10 ** Math.floor(Math.log10(Math.max(radius / 4, 1e-3)));
+  while (size / step > 120) step *= 2;
+  const lines = Math.max(1, Math.floor(size / step));
+  const vertices = [];
+  for (let i = 0; i <= lines; i++) {
+    const a = i / lines;
+    const pu = c[0].clone().addScaledVector(u, a), pv = c[0].clone().addScaledVector(v, a);
+    vertices.push(...pu.toArray(), ...pu.clone().add(v).toArray(), ...pv.toArray(), ...pv.clone().add(u).toArray());
+  }
+  const geometry = new BufferGeometry();
+  geometry.setAttribute('position', new BufferAttribute(new Float32Array(vertices), 3));
+  return new LineSegments(geometry, new LineBasicMaterial({ color: 0x8a94a6, transparent: true, opacity: 0.35 }));
 }
 
 // One group per body, whose children are the parts of its shape.
@@ -78,6 +102,12 @@ const bodies = rec.bodies.map((body) => {
     mesh.quaternion.set(...part.rotation);
     group.add(mesh);
     meshes.push(mesh);
+    if (body.shape === 'plane') {
+      const grid = planeGrid(geometry.attributes.position.array);
+      grid.position.copy(mesh.position);
+      grid.quaternion.copy(mesh.quaternion);
+      group.add(grid);
+    }
   }
   scene.add(group);
   return { group, meshes, awakeMaterial: meshes.map((m) => m.material),
@@ -242,7 +272,7 @@ const series = [
 let eMin = Infinity, eMax = -Infinity;
 for (let i = 0; i < energy.length; i++) { eMin = Math.min(eMin, energy[i]); eMax = Math.max(eMax, energy[i]); }
 if (!(eMax > eMin)) { eMin -= 1; eMax += 1; }
-const plotPad = { left: 64, right: 12, top: 10, bottom: 22 };
+const plotPad = { left: 64, right: 12, top: 12, bottom: 22 };
 
 function drawPlot() {
   const canvas = ui.plot;
@@ -274,7 +304,7 @@ function drawPlot() {
     g.stroke();
   }
   g.textAlign = 'left'; g.textBaseline = 'top';
-  series.forEach((s, i) => { g.fillStyle = s.color; g.fillText(s.name, x0 + 8 + i * 72, y0); });
+  series.forEach((s, i) => { g.fillStyle = s.color; g.fillText(s.name, x1 - 210 + i * 72, y1 - 16); });
   const xt = xOf(t0 + state.time);
   g.strokeStyle = '#f0b24a'; g.lineWidth = 1.5; g.beginPath(); g.moveTo(xt, y0); g.lineTo(xt, y1); g.stroke();
 }
