@@ -160,3 +160,25 @@ TEST(Tessellate, CompoundFlattensWithChildFrames) {
 }
 
 }  // namespace
+
+namespace {
+
+// Shapes built by the engine's own factories: the hull's render mesh encloses
+// exactly the hull's volume, and a triangle mesh keeps its triangles.
+TEST(Tessellate, EngineHullAndMesh) {
+    const Vec3 points[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.2f, 0.2f, 0.2f}, {1, 1, 1}};
+    const Shape hull = Shape::convexHull(points);
+    const auto parts = tessellate(hull);
+    ASSERT_EQ(parts.size(), 1u);
+    EXPECT_NEAR(enclosedVolume(parts[0].mesh), hull.volume(), 1e-5);
+    expectClosed(parts[0].mesh);
+
+    const Vec3 vertices[] = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+    const std::array<std::uint32_t, 3> triangles[] = {{0, 2, 1}, {0, 3, 2}};
+    const auto meshParts = tessellate(Shape::mesh(vertices, triangles));
+    ASSERT_EQ(meshParts.size(), 1u);
+    EXPECT_EQ(meshParts[0].mesh.indices.size(), 6u);
+    for (const Vec3& n : meshParts[0].mesh.normals) EXPECT_NEAR(n.y, 1, 1e-6);  // (0,2,1) is counter-clockwise from +y
+}
+
+}  // namespace
