@@ -3,10 +3,11 @@
 // <script> element cannot break out of it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
+#include <cctype>
 #include <sstream>
 
 #include "io/html_writer.hpp"
@@ -65,6 +66,20 @@ std::string embeddedJson(const std::string& page) {
     return page.substr(a + open.size(), b - a - open.size());
 }
 
+// Tags (script, link, img, iframe, source, object, embed) carrying a src= or href= attribute.
+int tagsReferencingResources(const std::string& page) {
+    std::string lower(page.size(), ' ');
+    std::transform(page.begin(), page.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    int found = 0;
+    for (const char* tag : {"<script", "<link", "<img", "<iframe", "<source", "<object", "<embed"}) {
+        for (std::size_t at = lower.find(tag); at != std::string::npos; at = lower.find(tag, at + 1)) {
+            const std::string inside = lower.substr(at, lower.find('>', at) - at);
+            if (inside.find("src=") != std::string::npos || inside.find("href=") != std::string::npos) ++found;
+        }
+    }
+    return found;
+}
+
 TEST(Html, PageIsSelfContained) {
     const std::string page = renderHtml(synthetic::makeScene().recording);
     EXPECT_EQ(page.rfind("<!doctype html>", 0), 0u);
@@ -73,8 +88,7 @@ TEST(Html, PageIsSelfContained) {
     for (std::size_t at = page.find("<script"); at != std::string::npos; at = page.find("<script", at + 1)) ++scripts;
     EXPECT_EQ(scripts, 2u);
     EXPECT_EQ(std::count(page.begin(), page.end(), '\0'), 0);
-    const std::regex external(R"(<(script|link|img|iframe)[^>]*(src|href)\s*=)", std::regex::icase);
-    EXPECT_FALSE(std::regex_search(page, external));
+    EXPECT_EQ(tagsReferencingResources(page), 0);
     EXPECT_EQ(page.find("@import"), std::string::npos);
     // The viewer bundle is inside.
     EXPECT_NE(page.find("fulcrumViewer"), std::string::npos);

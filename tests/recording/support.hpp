@@ -4,6 +4,7 @@
 // ballistic flight under gravity (p = p0 + v0 t + g t^2 / 2) spinning at a
 // constant rate (q = exp(w t / 2) q0), over a static ground plane, with the
 // energy of that motion. No World is needed.
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -35,7 +36,7 @@ struct SyntheticScene {
 };
 
 // Bodies: 0 ground plane (static), 1 box, 2 sphere, 3 capsule, 4 cylinder,
-// 5 compound (box + offset sphere), 6 a box that spins fast (several turns
+// 5 compound (box + offset sphere), 7 a convex hull, 8 a static triangle mesh, 6 a box that spins fast (several turns
 // per second, stored with alternating quaternion signs) and is
 // asleep in the second half. `frames` frames at `dt` apart from t = 0.
 inline SyntheticScene makeScene(int frames = 61, double dt = 1.0 / 60.0) {
@@ -51,6 +52,12 @@ inline SyntheticScene makeScene(int frames = 61, double dt = 1.0 / 60.0) {
                                       {Shape::sphere(Real(0.15)), Transform{{0, Real(0.35), 0}, Quat::identity()}}};
     r.bodies.push_back({"dumbbell", BodyType::Dynamic, Shape::compound(children)});
     r.bodies.push_back({"spinner", BodyType::Dynamic, Shape::box({Real(0.3), Real(0.1), Real(0.2)})});
+    const Vec3 gem[] = {{0, Real(0.4), 0}, {Real(0.3), 0, 0}, {Real(-0.15), 0, Real(0.26)}, {Real(-0.15), 0, Real(-0.26)},
+                        {0, Real(-0.3), 0}};
+    r.bodies.push_back({"gem", BodyType::Dynamic, Shape::convexHull(gem)});
+    const Vec3 ramp[] = {{-1, 0, -1}, {1, Real(0.5), -1}, {1, Real(0.5), 1}, {-1, 0, 1}};
+    const std::array<std::uint32_t, 3> rampTriangles[] = {{0, 2, 1}, {0, 3, 2}};
+    r.bodies.push_back({"ramp", BodyType::Static, Shape::mesh(ramp, rampTriangles)});
 
     s.motion = {
         {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0},
@@ -60,6 +67,8 @@ inline SyntheticScene makeScene(int frames = 61, double dt = 1.0 / 60.0) {
         {{1, 1, 2}, {0.5f, 0, 0}, {0, 1, 0}, 0},    // kinematic: not under gravity below
         {{0, 6, 2}, {0, 0, -1}, {2, 0, 1}, 0.8f},
         {{-1, 2, -2}, {0, 1, 0}, {0, 0, 150}, 0.5f},
+        {{3, 3, -1}, {-0.5f, 1, 0}, {1, 0, 1}, 0.7f},
+        {{4, 0, 3}, {0, 0, 0}, {0, 0, 0}, 0},
     };
     r.joints.push_back({"tether", JointType::Distance, 1, 2, {Real(0.5), 0, 0}, {0, Real(0.4), 0}});
     r.joints.push_back({"pin", JointType::Ball, -1, 3, {-2, 6, 1}, {0, Real(0.7), 0}});
