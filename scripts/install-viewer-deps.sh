@@ -17,8 +17,11 @@ if [ "${1:-}" != "--no-browser" ] && ! command -v chromium >/dev/null 2>&1; then
 fi
 
 if ! command -v npm >/dev/null 2>&1; then
-  echo "install-viewer-deps: npm not found (Debian: apt-get install npm)" >&2
-  exit 1
+  echo "install-viewer-deps: installing nodejs and npm"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
 fi
 if [ ! -d viewer/node_modules/three ] || [ ! -d viewer/node_modules/esbuild ] || [ ! -d viewer/node_modules/playwright-core ] || [ ! -d viewer/node_modules/gltf-validator ]; then
   echo "install-viewer-deps: npm install in viewer/"

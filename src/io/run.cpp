@@ -7,11 +7,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "io/recording.hpp"
 #include "io/scene_detail.hpp"
 #include "io/svg_plot.hpp"
 
@@ -135,8 +137,11 @@ void applyOverrides(Scene& scene, const RunOverrides& o) {
 
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer) {
     if (!outputs.recordPath.empty()) {
-        throw OptionError("--record " + outputs.recordPath +
-                          ": recording (.glb, .html) is not available in this version of fulcrum; use --csv or --json");
+        if (!io::isRecordingPath(outputs.recordPath)) {
+            throw OptionError("--record " + outputs.recordPath + ": unknown recording format (use a .glb or .html file name)");
+        }
+        std::ofstream probe(outputs.recordPath, std::ios::binary | std::ios::app);
+        if (!probe) throw OptionError("--record " + outputs.recordPath + ": cannot open the file for writing");
     }
     File csv;
     if (!outputs.csvPath.empty()) {
@@ -163,6 +168,11 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
     }
     if (csv) writeCsvRows(csv.get(), world, scene, result.handles, 0);
     if (observer) observer(world, result.handles, 0);
+    std::optional<io::Recorder> recorder;
+    if (!outputs.recordPath.empty()) {
+        recorder.emplace(world, io::RecordOptions{.title = scene.sourceName.empty() ? "Fulcrum" : scene.sourceName});
+        recorder->capture(world);
+    }
 
     ProgressBar progress(outputs.progress, scene.steps);
     const auto start = std::chrono::steady_clock::now();
@@ -177,6 +187,7 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
         }
         if (csv) writeCsvRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
         if (plot) result.samples.push_back(sample(world));
+        if (recorder) recorder->capture(world);
         if (observer) observer(world, result.handles, static_cast<std::uint64_t>(step));
         progress.update(step);
     }
@@ -185,6 +196,7 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
     if (csv && (std::fflush(csv.get()) != 0 || std::ferror(csv.get()))) {
         throw OptionError("--csv " + outputs.csvPath + ": error while writing the file");
     }
+    if (recorder) recorder->write(outputs.recordPath);
     if (plot) {
         std::ofstream out(outputs.plotPath, std::ios::binary | std::ios::trunc);
         out << plotSvg(scene, result.samples);

@@ -152,6 +152,23 @@ TEST(Cli, PlotWritesAnSvg) {
     EXPECT_NE(text.find("total"), std::string::npos);
 }
 
+TEST(Cli, RecordWritesGlbAndHtml) {
+    // 20 steps -> 21 frames of one moving body: the GLB starts with the glTF
+    // magic and version 2; the page embeds its scripts (tests/recording's
+    // browser test checks it makes no network request at all).
+    const fs::path glb = tempDir() / "run.glb";
+    const fs::path html = tempDir() / "run.html";
+    ASSERT_EQ(fulcrum("run scenes/projectile.json --steps 20 --record '" + glb.string() + "'").status, 0);
+    ASSERT_EQ(fulcrum("run scenes/projectile.json --steps 20 --record '" + html.string() + "'").status, 0);
+    const std::string bin = readFile(glb);
+    ASSERT_GE(bin.size(), 20u);
+    EXPECT_EQ(bin.substr(0, 4), "glTF");
+    EXPECT_EQ(static_cast<unsigned char>(bin[4]), 2u);
+    const std::string page = readFile(html);
+    EXPECT_NE(page.find("<html"), std::string::npos);
+    EXPECT_EQ(page.find("<script src"), std::string::npos) << "the page must embed its scripts, not load them";
+}
+
 TEST(Cli, BadInputExitsWith2AndOneLine) {
     expectBadInput("run scenes/does_not_exist.json", {"scenes/does_not_exist.json", "cannot open"});
     const fs::path bad = writeTemp("malformed.json", "{\n  \"bodies\": [,]\n}\n");
@@ -167,7 +184,7 @@ TEST(Cli, BadInputExitsWith2AndOneLine) {
     expectBadInput("run scenes/projectile.json --integrator foo", {"--integrator", "foo", "semi_implicit_euler"});
     expectBadInput("run scenes/projectile.json --steps many", {"--steps"});
     expectBadInput("run scenes/projectile.json --bogus", {"--bogus"});
-    expectBadInput("run scenes/projectile.json --record out.glb", {"--record", "not available"});
+    expectBadInput("run scenes/projectile.json --record out.txt", {"--record", "out.txt", ".glb or .html"});
 }
 
 TEST(Cli, NanStopsWith3AndNamesTheBody) {
