@@ -206,6 +206,7 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
     for (std::size_t k = 0; k < active_.size(); ++k) active_[k]->selfCollision.findPairs(*activeSystems_[k], travel_[k]);
 
     for (int sub = 0; sub < substeps; ++sub) {
+        if (collider) coupling_.beginSubstep(sub, substeps, h);
         for (std::size_t k = 0; k < active_.size(); ++k) {
             Slot& slot = *active_[k];
             ParticleSystem& s = *slot.system;
@@ -231,7 +232,6 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
                 if (collider) coupling_.solveContacts(k, s, h);
             }
         }
-        if (collider) coupling_.endSubstep(h);
     }
     if (collider) coupling_.endStep(*collider);
     for (ParticleSystem* s : activeSystems_) std::fill(s->force.begin(), s->force.end(), Vec3::zero());

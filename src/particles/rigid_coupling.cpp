@@ -19,16 +19,27 @@ Quat rotateBy(const Quat& q, const Vec3& rotationVector) {
 
 class CandidateGatherer final : public RigidShapeVisitor {
 public:
-    CandidateGatherer(RigidCoupling& coupling, RigidCollider& collider, Real fatten)
-        : coupling_(coupling), collider_(collider), fatten_(fatten) {}
+    CandidateGatherer(RigidCoupling& coupling, RigidCollider& collider, const ParticleSystem& system, Real fatten)
+        : coupling_(coupling), collider_(collider), system_(system), fatten_(fatten) {}
     void visit(std::uint32_t bodyIndex, const Shape& shape, const Transform& shapeTransform) override {
+        // A system does not collide with the bodies it is attached to: the
+        // attached particles sit on (often inside) the body by design, and
+        // contacts would fight the attachment.
+        for (const ParticleAttachment& a : system_.attachments) {
+            if (a.body == bodyIndex) return;
+        }
         RigidCoupling::Candidate c;
         c.body = bodyIndex;
         c.proxy = coupling_.proxyFor(collider_, bodyIndex);
-        c.dynamic = coupling_.proxies_[static_cast<std::size_t>(c.proxy)].base.inverseMass > 0;
+        const auto& proxy = coupling_.proxies_[static_cast<std::size_t>(c.proxy)];
+        c.dynamic = proxy.base.inverseMass > 0;
+        c.moves = c.dynamic || proxy.moving;
         c.shape = &shape;
         c.transform = shapeTransform;
-        c.bounds = shape.bounds(shapeTransform).fattened(fatten_);
+        // Bounds over the whole step's path (start and end poses).
+        c.bounds = shape.bounds(shapeTransform);
+        if (proxy.moving) c.bounds.grow(shape.bounds(proxy.base.previousTransform * relative(proxy.base.transform, shapeTransform)));
+        c.bounds = c.bounds.fattened(fatten_);
         c.friction = coupling_.proxies_[static_cast<std::size_t>(c.proxy)].base.friction;
         coupling_.candidates_.push_back(c);
     }
@@ -36,6 +47,7 @@ public:
 private:
     RigidCoupling& coupling_;
     RigidCollider& collider_;
+    const ParticleSystem& system_;
     Real fatten_;
 };
 
@@ -46,6 +58,9 @@ std::int32_t RigidCoupling::proxyFor(RigidCollider& collider, std::uint32_t body
         Proxy p;
         p.body = body;
         p.base = collider.bodyState(body);
+        p.moving = !(p.base.previousTransform == p.base.transform);
+        p.localCenter = inverseTransformPoint(p.base.transform, p.base.centerOfMass);
+        p.path = p.base.previousTransform;
         slot = static_cast<std::int32_t>(proxies_.size());
         proxies_.push_back(p);
     }
@@ -68,7 +83,7 @@ void RigidCoupling::beginStep(RigidCollider& collider, const std::vector<Particl
                 maxRadius = std::max(maxRadius, s.radius[i]);
             }
             const Real fatten = maxRadius + margin[k];
-            CandidateGatherer gatherer(*this, collider, fatten);
+            CandidateGatherer gatherer(*this, collider, s, fatten);
             collider.queryShapes(box.fattened(fatten), gatherer);
         }
         range.end = candidates_.size();
@@ -78,8 +93,23 @@ void RigidCoupling::beginStep(RigidCollider& collider, const std::vector<Particl
 }
 
 Transform RigidCoupling::moved(const Proxy& p, const Transform& base) const {
-    const Vec3 c = p.base.centerOfMass;
-    return {c + p.deltaPosition + rotate(p.deltaRotation, base.p - c), p.deltaRotation * base.q};
+    const Transform onPath = p.path * relative(p.base.transform, base);
+    const Vec3 c = transformPoint(p.path, p.localCenter);
+    return {c + p.deltaPosition + rotate(p.deltaRotation, onPath.p - c), p.deltaRotation * onPath.q};
+}
+
+void RigidCoupling::beginSubstep(int index, int count, Real substep) {
+    const Real s = static_cast<Real>(index + 1) / static_cast<Real>(count);
+    for (Proxy& p : proxies_) {
+        // Prediction: the velocity the particles gave the body moves it on
+        // (from the second sub-step on: the first has no earlier push).
+        if (index > 0 && p.base.inverseMass > 0) {
+            p.deltaPosition += p.extraLinearVelocity * substep;
+            p.deltaRotation = rotateBy(p.deltaRotation, p.extraAngularVelocity * substep);
+        }
+        if (!p.moving) continue;
+        p.path = {lerp(p.base.previousTransform.p, p.base.transform.p, s), slerp(p.base.previousTransform.q, p.base.transform.q, s)};
+    }
 }
 
 Real RigidCoupling::inverseMassAt(const Proxy& p, const Vec3& point, const Vec3& direction) const {
@@ -114,7 +144,7 @@ void RigidCoupling::solveContacts(std::size_t k, ParticleSystem& s, Real substep
     for (std::size_t ci = range.begin; ci < range.end; ++ci) {
         const Candidate& c = candidates_[ci];
         Proxy& proxy = proxies_[static_cast<std::size_t>(c.proxy)];
-        const Transform xf = c.dynamic ? moved(proxy, c.transform) : c.transform;
+        const Transform xf = c.moves ? moved(proxy, c.transform) : c.transform;
         const Real mu = std::sqrt(std::max(s.friction, Real(0)) * std::max(c.friction, Real(0)));
         for (std::size_t i = 0; i < n; ++i) {
             if (w[i] == 0 || !c.bounds.contains(x[i])) continue;
@@ -180,18 +210,11 @@ void RigidCoupling::solveAttachments(ParticleSystem& s, Real substep) {
     }
 }
 
-void RigidCoupling::endSubstep(Real substep) {
-    for (Proxy& p : proxies_) {
-        if (p.base.inverseMass == 0) continue;
-        p.deltaPosition += p.extraLinearVelocity * substep;
-        p.deltaRotation = rotateBy(p.deltaRotation, p.extraAngularVelocity * substep);
-    }
-}
-
 void RigidCoupling::endStep(RigidCollider& collider) {
     for (const Proxy& p : proxies_) {
         if (p.base.inverseMass > 0 && (p.linearImpulse != Vec3::zero() || p.angularImpulse != Vec3::zero())) {
             collider.applyImpulse(p.body, p.linearImpulse, p.angularImpulse);
+            collider.applyDisplacement(p.body, p.deltaPosition, p.deltaRotation);
         }
         proxyOfBody_[p.body] = -1;
     }

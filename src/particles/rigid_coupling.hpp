@@ -19,7 +19,7 @@
 // particle's correction into velocity. The momentum given to the body,
 // -sum(dLambda n) / h, is exactly the opposite of what the particles received;
 // it is handed to the RigidCollider as one impulse per body at the end of the
-// step (the real body keeps the pose the World gave it).
+// step, with the displacement the proxy took (applyDisplacement).
 #include <cstdint>
 #include <vector>
 
@@ -40,8 +40,9 @@ public:
     // Attachments of system k (two-way for dynamic bodies).
     void solveAttachments(ParticleSystem& system, Real substep);
     void resetAttachmentMultipliers(ParticleSystem& system);
-    // Advances the proxies by the velocity the particles gave them.
-    void endSubstep(Real substep);
+    // Advances the proxies by the velocity the particles gave them and places
+    // the bodies on their path at the end of sub-step `index` of `count`.
+    void beginSubstep(int index, int count, Real substep);
     // Hands the accumulated impulses to the bodies.
     void endStep(RigidCollider& collider);
 
@@ -49,6 +50,9 @@ private:
     struct Proxy {
         std::uint32_t body = 0;
         RigidBodyState base;
+        bool moving = false;          // previousTransform != transform
+        Vec3 localCenter;             // centre of mass in the body frame
+        Transform path;               // body pose on the step's path at the current sub-step
         Vec3 deltaPosition;           // of the centre of mass, since the step began
         Quat deltaRotation;           // about the centre of mass
         Vec3 extraLinearVelocity;     // from the particles' impulses
@@ -60,6 +64,7 @@ private:
         std::uint32_t body = 0;
         std::int32_t proxy = -1;      // cached body state; moves only for dynamic bodies
         bool dynamic = false;         // the body has finite mass: it is pushed back
+        bool moves = false;           // dynamic or moving kinematic: transform changes during the step
         const Shape* shape = nullptr;
         Transform transform;          // of the shape at the step's start
         AABB bounds;                  // fattened by particle radius and travel
@@ -70,9 +75,9 @@ private:
     };
 
     std::int32_t proxyFor(RigidCollider& collider, std::uint32_t body);
-    // Where a transform given at the step's start is now, after the proxy moved.
+    // Where a frame given at the body's end-of-step pose is now: on the path, plus the particles' push.
     Transform moved(const Proxy& p, const Transform& base) const;
-    Vec3 currentCenter(const Proxy& p) const { return p.base.centerOfMass + p.deltaPosition; }
+    Vec3 currentCenter(const Proxy& p) const { return transformPoint(p.path, p.localCenter) + p.deltaPosition; }
     Real inverseMassAt(const Proxy& p, const Vec3& point, const Vec3& direction) const;
     void applyCorrection(Proxy& p, const Vec3& positionalImpulse, const Vec3& point, Real substep);
 
