@@ -85,10 +85,8 @@ ParticleEnergy energy(const ParticleSystem& s, const Vec3& gravity) {
         const double dy = static_cast<double>(s.position[i].y) - s.previousPosition[i].y;
         const double dz = static_cast<double>(s.position[i].z) - s.previousPosition[i].z;
         e.kinetic += 0.5 * m * (dx * dx + dy * dy + dz * dz) * invH * invH;
-        const double mx = 0.5 * (static_cast<double>(s.position[i].x) + s.previousPosition[i].x);
-        const double my = 0.5 * (static_cast<double>(s.position[i].y) + s.previousPosition[i].y);
-        const double mz = 0.5 * (static_cast<double>(s.position[i].z) + s.previousPosition[i].z);
-        e.potential -= m * (gravity.x * mx + gravity.y * my + gravity.z * mz);
+        e.potential -= m * (static_cast<double>(gravity.x) * s.position[i].x + static_cast<double>(gravity.y) * s.position[i].y +
+                            static_cast<double>(gravity.z) * s.position[i].z);
     }
     for (const DistanceConstraintGroup* g : {&s.stretch, &s.shear, &s.bend}) {
         if (g->compliance <= 0) continue;

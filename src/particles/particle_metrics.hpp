@@ -28,11 +28,12 @@ StretchStats structuralStretch(const ParticleSystem& system);
 Real maxPenetration(const ParticleSystem& system, const RigidCollider& collider);
 ParticleSystemReport report(const ParticleSystem& system, const RigidCollider* collider);
 
-// Energy with the Verlet-consistent measure: kinetic energy from the last
-// sub-step's velocity (x - x_prev) / h, gravitational potential at the
-// midpoint (x + x_prev) / 2 (for a uniform field this sum is exactly conserved
-// by position Verlet in free flight), and the elastic energy C^2 / (2 alpha) of
-// the compliant distance constraints. Relative to y = 0 along -gravity.
+// Energy: kinetic from the last sub-step's velocity (x - x_prev) / h,
+// gravitational potential at x (relative to the origin along -gravity) and the
+// elastic energy C^2 / (2 alpha) of the compliant distance constraints. This
+// is the energy that a converged XPBD step (implicit Euler on the constraint
+// potential) cannot increase: M (v' - v) / h = -grad U(x') gives
+// E' - E <= -1/2 |v' - v|^2_M for convex U.
 struct ParticleEnergy {
     double kinetic = 0;
     double potential = 0;
