@@ -189,21 +189,35 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
     std::sort(active_.begin(), active_.end(), [](const Slot* a, const Slot* b) { return a->order < b->order; });
     activeSystems_.clear();
     travel_.clear();
+    relativeTravel_.clear();
     const Real gravityTravel = length(settings_.gravity) * dt * dt;
     for (Slot* s : active_) {
         ParticleSystem& sys = *s->system;
         activeSystems_.push_back(&sys);
         // How far a particle can get this step: its current speed, plus what
-        // gravity adds; contacts and pairs within that margin are gathered.
+        // gravity adds; rigid contacts within that margin are gathered. For
+        // self-collision only relative motion matters: two particles close in
+        // by at most |v_a - v_b| dt <= 2 max|v - v_mean| dt (gravity, uniform,
+        // cancels), which for a falling cloth is far less than its speed.
         Real maxMove2 = 0;
+        Vec3 meanMove = Vec3::zero();
         for (std::size_t i = 0; i < sys.particleCount(); ++i) {
-            maxMove2 = std::max(maxMove2, lengthSquared(sys.position[i] - sys.previousPosition[i]));
+            const Vec3 move = sys.position[i] - sys.previousPosition[i];
+            maxMove2 = std::max(maxMove2, lengthSquared(move));
+            meanMove += move;
         }
-        const Real speed = sys.previousSubstep > 0 ? std::sqrt(maxMove2) / sys.previousSubstep : 0;
-        travel_.push_back(speed * dt + gravityTravel);
+        if (sys.particleCount() > 0) meanMove /= static_cast<Real>(sys.particleCount());
+        Real maxRelative2 = 0;
+        for (std::size_t i = 0; i < sys.particleCount(); ++i) {
+            maxRelative2 = std::max(maxRelative2, lengthSquared(sys.position[i] - sys.previousPosition[i] - meanMove));
+        }
+        const Real perSecond = sys.previousSubstep > 0 ? dt / sys.previousSubstep : 0;
+        travel_.push_back(std::sqrt(maxMove2) * perSecond + gravityTravel);
+        // 10 % slack for velocity changes within the step.
+        relativeTravel_.push_back(Real(2.2) * std::sqrt(maxRelative2) * perSecond);
     }
     if (collider) coupling_.beginStep(*collider, activeSystems_, travel_);
-    for (std::size_t k = 0; k < active_.size(); ++k) active_[k]->selfCollision.findPairs(*activeSystems_[k], travel_[k]);
+    for (std::size_t k = 0; k < active_.size(); ++k) active_[k]->selfCollision.findPairs(*activeSystems_[k], relativeTravel_[k]);
 
     for (int sub = 0; sub < substeps; ++sub) {
         if (collider) coupling_.beginSubstep(sub, substeps, h);

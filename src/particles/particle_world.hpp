@@ -87,6 +87,7 @@ private:
     std::vector<Slot*> active_;
     std::vector<ParticleSystem*> activeSystems_;
     std::vector<Real> travel_;
+    std::vector<Real> relativeTravel_;
 };
 
 }  // namespace fulcrum

@@ -1,6 +1,7 @@
 #include "particles/self_collision.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace fulcrum::detail {
@@ -24,11 +25,13 @@ void SelfCollision::findPairs(const ParticleSystem& s, Real travel) {
     cellStart_.assign(tableSize + 1, 0);  // same size every step: no reallocation
     cellEntries_.resize(n);
     bucket_.resize(n);
+    cell_.resize(n);
     const Real inv = 1 / cellSize_;
     const auto cellCoord = [inv](Real v) { return static_cast<std::int64_t>(std::floor(v * inv)); };
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3& p = s.position[i];
-        bucket_[i] = bucketOf(cellCoord(p.x), cellCoord(p.y), cellCoord(p.z));
+        cell_[i] = {cellCoord(p.x), cellCoord(p.y), cellCoord(p.z)};
+        bucket_[i] = bucketOf(cell_[i][0], cell_[i][1], cell_[i][2]);
         ++cellStart_[bucket_[i]];
     }
     // Inclusive prefix sums: cellStart_[b] = end of bucket b; then fill
@@ -42,19 +45,18 @@ void SelfCollision::findPairs(const ParticleSystem& s, Real travel) {
     const Real reach2 = reach * reach;
     for (std::size_t a = 0; a < n; ++a) {
         const Vec3& pa = s.position[a];
-        const std::int64_t cx = cellCoord(pa.x), cy = cellCoord(pa.y), cz = cellCoord(pa.z);
-        std::uint32_t visited[27];
-        int visitedCount = 0;
+        const std::int64_t cx = cell_[a][0], cy = cell_[a][1], cz = cell_[a][2];
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
             for (std::int64_t dy = -1; dy <= 1; ++dy) {
                 for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                    const std::uint32_t bucket = bucketOf(cx + dx, cy + dy, cz + dz);
-                    // Two cells may hash to one bucket: visit each bucket once.
-                    if (std::find(visited, visited + visitedCount, bucket) != visited + visitedCount) continue;
-                    visited[visitedCount++] = bucket;
+                    const std::array<std::int64_t, 3> cell{cx + dx, cy + dy, cz + dz};
+                    const std::uint32_t bucket = bucketOf(cell[0], cell[1], cell[2]);
                     for (std::uint32_t e = cellStart_[bucket]; e < cellStart_[bucket + 1]; ++e) {
                         const std::uint32_t b = cellEntries_[e];
                         if (b <= a) continue;  // each pair once, owned by its lower index
+                        // Several cells share a bucket: take b only from its own cell, so
+                        // it is seen once (cheaper than de-duplicating buckets or pairs).
+                        if (cell_[b] != cell) continue;
                         if (s.inverseMass[a] == 0 && s.inverseMass[b] == 0) continue;
                         if (lengthSquared(s.position[b] - pa) > reach2) continue;
                         if (lengthSquared(s.restPosition[b] - s.restPosition[a]) < exclusion2) continue;
@@ -64,8 +66,6 @@ void SelfCollision::findPairs(const ParticleSystem& s, Real travel) {
             }
         }
     }
-    // Buckets are visited in hash order; sort so the solve order depends only on the pairs.
-    std::sort(pairs_.begin(), pairs_.end(), [](const Pair& p, const Pair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
 }
 
 void SelfCollision::solve(ParticleSystem& s) const {

@@ -13,6 +13,7 @@
 // sharing the correction by inverse mass (momentum conserving).
 //
 // All buffers keep their capacity between steps.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +38,7 @@ private:
     std::vector<std::uint32_t> cellStart_;   // prefix sums of bucket counts (tableSize + 1)
     std::vector<std::uint32_t> cellEntries_; // particle indices sorted by bucket
     std::vector<std::uint32_t> bucket_;      // bucket of each particle
+    std::vector<std::array<std::int64_t, 3>> cell_;  // integer cell of each particle
     std::vector<Pair> pairs_;
     Real cellSize_ = 1;
 };
