@@ -1,0 +1,2 @@
+# Empty dependencies file for fulcrum.
+# This may be replaced when dependencies are built.

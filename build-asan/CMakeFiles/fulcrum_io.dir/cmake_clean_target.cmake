@@ -1,0 +1,3 @@
+file(REMOVE_RECURSE
+  "libfulcrum_io.a"
+)

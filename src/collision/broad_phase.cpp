@@ -1,0 +1,122 @@
+// BroadPhase: proxy bookkeeping, the move buffer and validation. Pair finding
+// is a template in broad_phase.hpp (the caller's predicate inlines into it).
+#include "collision/broad_phase.hpp"
+
+#include <sstream>
+
+namespace fulcrum {
+
+BroadPhase::BroadPhase(const BroadPhaseConfig& config)
+    : config_(config), staticTree_(config.staticTree), movingTree_(config.movingTree) {}
+
+ProxyId BroadPhase::createProxy(const AABB& tightBox, BodyType type, const CollisionFilter& filter,
+                                std::uint32_t userValue) {
+    ProxyId id;
+    if (freeRecord_ != kNullProxy) {
+        id = freeRecord_;
+        freeRecord_ = record(id).nextFree;
+    } else {
+        id = static_cast<ProxyId>(records_.size());
+        records_.emplace_back();
+    }
+    ProxyRecord& r = record(id);
+    r = ProxyRecord{};
+    r.userValue = userValue;
+    r.filter = filter;
+    r.type = type;
+    r.alive = true;
+    r.leaf = treeOf(type).createProxy(tightBox, static_cast<std::uint32_t>(id));
+    markMoved(id, AABB{}, true);
+    return id;
+}
+
+void BroadPhase::destroyProxy(ProxyId id) {
+    assert(isProxy(id));
+    ProxyRecord& r = record(id);
+    if (r.moveIndex >= 0) moveBuffer_[static_cast<std::size_t>(r.moveIndex)].proxy = kNullProxy;
+    treeOf(r.type).destroyProxy(r.leaf);
+    r = ProxyRecord{};
+    r.nextFree = freeRecord_;
+    freeRecord_ = id;
+}
+
+bool BroadPhase::moveProxy(ProxyId id, const AABB& tightBox, const Vec3& displacement) {
+    assert(isProxy(id));
+    ProxyRecord& r = record(id);
+    const AABB before = treeOf(r.type).fatAABB(r.leaf);
+    if (!treeOf(r.type).moveProxy(r.leaf, tightBox, displacement)) return false;
+    markMoved(id, before, false);
+    return true;
+}
+
+void BroadPhase::setFilter(ProxyId id, const CollisionFilter& filter) {
+    assert(isProxy(id));
+    record(id).filter = filter;
+    refreshProxy(id);
+}
+
+void BroadPhase::refreshProxy(ProxyId id) {
+    assert(isProxy(id));
+    markMoved(id, AABB{}, true);
+}
+
+// First change since the last update: remember the box as of that update.
+// Later changes keep it; a refresh makes the entry fresh for good.
+void BroadPhase::markMoved(ProxyId id, const AABB& oldFat, bool fresh) {
+    ProxyRecord& r = record(id);
+    if (r.moveIndex < 0) {
+        r.moveIndex = static_cast<std::int32_t>(moveBuffer_.size());
+        moveBuffer_.push_back({id, fresh, oldFat});
+    } else if (fresh) {
+        moveBuffer_[static_cast<std::size_t>(r.moveIndex)].fresh = true;
+    }
+}
+
+std::string BroadPhase::validate() const {
+    std::ostringstream why;
+    std::string tree = staticTree_.validate();
+    if (!tree.empty()) return "static tree: " + tree;
+    tree = movingTree_.validate();
+    if (!tree.empty()) return "moving tree: " + tree;
+
+    std::int32_t staticCount = 0, movingCount = 0;
+    for (std::size_t i = 0; i < records_.size(); ++i) {
+        const ProxyRecord& r = records_[i];
+        const auto id = static_cast<ProxyId>(i);
+        if (!r.alive) {
+            if (r.moveIndex >= 0) {
+                why << "dead proxy " << id << " is in the move buffer";
+                return why.str();
+            }
+            continue;
+        }
+        const DynamicTree& t = treeOf(r.type);
+        if (!t.isProxy(r.leaf) || t.userValue(r.leaf) != static_cast<std::uint32_t>(id)) {
+            why << "proxy " << id << " does not own leaf " << r.leaf << " of the "
+                << (r.type == BodyType::Static ? "static" : "moving") << " tree";
+            return why.str();
+        }
+        (r.type == BodyType::Static ? staticCount : movingCount) += 1;
+        if (r.moveIndex >= 0 &&
+            (static_cast<std::size_t>(r.moveIndex) >= moveBuffer_.size() ||
+             moveBuffer_[static_cast<std::size_t>(r.moveIndex)].proxy != id)) {
+            why << "proxy " << id << " has a stale move-buffer index " << r.moveIndex;
+            return why.str();
+        }
+    }
+    if (staticCount != staticTree_.proxyCount() || movingCount != movingTree_.proxyCount()) {
+        why << "records hold " << staticCount << " static and " << movingCount << " moving proxies, trees hold "
+            << staticTree_.proxyCount() << " and " << movingTree_.proxyCount();
+        return why.str();
+    }
+    for (std::size_t m = 0; m < moveBuffer_.size(); ++m) {
+        const ProxyId id = moveBuffer_[m].proxy;
+        if (id != kNullProxy && (!isProxy(id) || record(id).moveIndex != static_cast<std::int32_t>(m))) {
+            why << "move-buffer entry " << m << " names proxy " << id << " which does not point back";
+            return why.str();
+        }
+    }
+    return {};
+}
+
+}  // namespace fulcrum

@@ -1,0 +1,142 @@
+// Convex shapes against triangle meshes.
+//
+// Each candidate triangle is collided as a one-sided convex shape (triangles
+// facing away from the shape's centre are skipped). Then the internal-edge
+// fix: a contact whose normal is not the triangle's face normal is only
+// allowed when it touches the triangle at a *convex* edge (or at a vertex with
+// a convex edge); at a flat or concave edge the normal is replaced by the face
+// normal and the contact is rebuilt along it. This removes the "ghost bumps"
+// of a box sliding over the seams of a flat mesh, where the neighbouring
+// triangle's edge would otherwise push sideways (the same idea as Bullet's
+// btAdjustInternalEdgeContacts and Jolt's active-edge flags, using
+// TriangleMesh::convexEdgeMask computed by the mesh builder).
+//
+// The contacts of all triangles are then grouped by normal (cosine > 0.999)
+// and each group is reduced to one manifold of at most four points, so a box
+// lying across many triangles gets one manifold, not one per triangle.
+#include "collision/collide_mesh.hpp"
+
+#include <cmath>
+
+#include "collision/collide_pairs.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+constexpr Real kFaceNormalCos = Real(1) - Real(1e-4);
+constexpr Real kGroupCos = Real(0.999);
+constexpr Real kBaryTol = Real(1e-3);
+
+std::uint32_t meshFeature(std::uint32_t triangle, std::uint32_t local) {
+    return (triangle * 0x9E3779B1u) ^ (local * 0x85EBCA77u);
+}
+
+// True when the contact at triangle point p (normal n from the triangle) is
+// allowed to keep a normal other than the face normal.
+bool edgeNormalAllowed(const Vec3 w[3], std::uint8_t convexMask, const Vec3& p, const Vec3& n, const Vec3& faceN) {
+    if (dot(n, faceN) <= 0) return false;
+    // Barycentric coordinates of p projected on the triangle.
+    const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
+    const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);
+    const Real den = d00 * d11 - d01 * d01;
+    if (!(den > 0)) return false;
+    const Real bv = (d11 * d20 - d01 * d21) / den, bw = (d00 * d21 - d01 * d20) / den;
+    const Real bu = 1 - bv - bw;
+    const bool onEdge[3] = {bw <= kBaryTol, bu <= kBaryTol, bv <= kBaryTol};  // edges v0v1, v1v2, v2v0
+    const int count = int(onEdge[0]) + int(onEdge[1]) + int(onEdge[2]);
+    if (count == 0) return false;  // interior: only the face normal makes sense for a one-sided surface
+    bool convex = false;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+        if (onEdge[k] && (convexMask & (1u << k))) convex = true;
+    }
+    return convex;
+}
+
+}  // namespace
+
+void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const ConvexShape& b, const AABB& bBounds,
+                       Real margin, ManifoldBuffer& out) {
+    std::vector<MeshContactCandidate>& scratch = out.meshScratch();
+    scratch.clear();
+    const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
+    const Vec3 centerB = b.center();
+    forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
+        const auto& idx = mesh.triangles[t];
+        const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
+                           transformPoint(meshXf, mesh.vertices[idx[2]])};
+        const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
+        if (dot(faceN, centerB - w[0]) < 0) return;  // one-sided: behind the triangle
+        const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
+        Manifold tm;
+        const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
+                                                     : collideConvexConvex(tri, b, margin, tm);
+        if (!hit) return;
+        if (dot(tm.normal, faceN) < kFaceNormalCos) {
+            // Where the deepest point touches the triangle.
+            std::uint32_t deepest = 0;
+            for (std::uint32_t i = 1; i < tm.pointCount; ++i) {
+                if (tm.points[i].depth > tm.points[deepest].depth) deepest = i;
+            }
+            const Vec3 onTri = tm.points[deepest].position + tm.normal * (Real(0.5) * tm.points[deepest].depth);
+            const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
+            if (!edgeNormalAllowed(w, mask, onTri, tm.normal, faceN)) {
+                // Rebuild the contact along the face normal.
+                const Vec3 pb = b.support(-faceN);
+                const Real depth = dot(w[0] - pb, faceN);
+                if (depth < -margin) return;
+                if (b.kind == ConvexKind::Point) {
+                    tm.normal = faceN;
+                    tm.pointCount = 0;
+                    addContact(tm, pb + faceN * depth, pb, depth, 7, margin);
+                } else {
+                    buildFaceManifold(tri, b, faceN, pb + faceN * depth, pb, margin, tm, 1);
+                }
+                if (tm.pointCount == 0) return;
+            }
+        }
+        for (std::uint32_t i = 0; i < tm.pointCount; ++i) {
+            MeshContactCandidate c;
+            c.contact = {tm.points[i].position, tm.points[i].depth, meshFeature(t, tm.points[i].featureId)};
+            c.normal = tm.normal;
+            c.triangle = t;
+            scratch.push_back(c);
+        }
+    });
+
+    // Group by normal, deepest first; consumed candidates get depth -inf.
+    constexpr Real kUsed = -1e30f;
+    for (;;) {
+        std::size_t seed = scratch.size();
+        for (std::size_t i = 0; i < scratch.size(); ++i) {
+            if (scratch[i].contact.depth > kUsed && (seed == scratch.size() || scratch[i].contact.depth > scratch[seed].contact.depth)) {
+                seed = i;
+            }
+        }
+        if (seed == scratch.size()) break;
+        const Vec3 n = scratch[seed].normal;
+        Manifold& m = out.push();
+        m.normal = n;
+        m.childA = scratch[seed].triangle;
+        constexpr std::uint32_t kBatch = 64;
+        ContactCandidate batch[kBatch + Manifold::kMaxPoints];
+        std::uint32_t count = 0;
+        for (std::size_t i = 0; i < scratch.size(); ++i) {
+            if (scratch[i].contact.depth <= kUsed || dot(scratch[i].normal, n) < kGroupCos) continue;
+            batch[count++] = scratch[i].contact;
+            scratch[i].contact.depth = kUsed;
+            if (count == kBatch + Manifold::kMaxPoints) {
+                // Keep the batch bounded: reduce to 4 and continue.
+                reduceContacts({batch, count}, margin, m);
+                count = 0;
+                for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+                    batch[count++] = {m.points[k].position, m.points[k].depth, m.points[k].featureId};
+                }
+            }
+        }
+        reduceContacts({batch, count}, margin, m);
+        if (m.pointCount == 0) out.pop();
+    }
+}
+
+}  // namespace fulcrum::detail

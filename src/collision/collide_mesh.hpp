@@ -1,0 +1,30 @@
+#pragma once
+// Convex shapes against static triangle meshes, with internal-edge handling.
+#include "collision/manifold.hpp"
+#include "collision/mesh_bvh.hpp"
+#include "collision/support.hpp"
+
+namespace fulcrum::detail {
+
+// Appends the manifolds of convex `b` (world space, world bounds `bBounds`)
+// against `mesh` placed at `meshXf`. The mesh is shape A: normals point from
+// the mesh to b. childA of each manifold is the triangle of its deepest point.
+void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const ConvexShape& b, const AABB& bBounds,
+                       Real margin, ManifoldBuffer& out);
+
+// Calls fn(triangleIndex) for each triangle whose bounds overlap `localBox`
+// (mesh-local coordinates).
+template <class Fn>
+void forEachTriangleOverlapping(const TriangleMesh& mesh, const AABB& localBox, Fn&& fn) {
+    if (mesh.bvh) {
+        queryTriangles(mesh, localBox, fn);
+        return;
+    }
+    // A mesh assembled by hand without its BVH (internal tests): brute force.
+    const std::size_t n = mesh.triangles.size();
+    for (std::size_t t = 0; t < n; ++t) {
+        if (overlaps(triangleBounds(mesh, static_cast<std::uint32_t>(t)), localBox)) fn(static_cast<std::uint32_t>(t));
+    }
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,281 @@
+#pragma once
+// DynamicTree: a bounding volume hierarchy of fattened AABBs that supports
+// incremental insert, remove and move of proxies, overlap queries and ray casts.
+//
+// Layout. Nodes live in one contiguous array and refer to each other by index
+// (never by pointer), so the array can grow by doubling and the whole tree can
+// be copied or snapshotted as plain data. Free nodes form a singly linked list
+// through `parent`. A proxy id is the index of its leaf node and stays valid
+// while the proxy lives, including across moves and rebuild().
+//
+// Fattening. A leaf stores its tight box grown by `margin` on every side and
+// extended along the caller's predicted displacement. moveProxy() touches the
+// tree only when the new tight box leaves the stored box (or the stored box has
+// become much larger than needed, e.g. after a fast body stopped), so the
+// common small motions of resting and slowly moving bodies cost one box test.
+//
+// Balancing. Insertion chooses the sibling that minimises the total surface
+// area of the internal nodes (the SAH cost of a BVH for random rays/queries,
+// MacDonald & Booth 1990): either exactly, by branch and bound over a priority
+// queue (Bittner, Hapala, Havran 2013, "Fast Insertion-Based Optimization of
+// Bounding Volume Hierarchies"), or by a greedy descent guided by the same
+// lower bound (Catto, GDC 2019 "Dynamic Bounding Volume Hierarchies"); on the
+// way back up each ancestor tries the four child/grandchild swaps that reduce
+// its area (Catto 2019). We chose this over AVL height balancing (Box2D 2.x):
+// height balance says nothing about how much boxes overlap, while the query
+// cost of a BVH is proportional to the area of the nodes a query enters.
+// Measured in bench/broadphase.cpp (see docs/broad-phase.md): after motion,
+// the incrementally maintained tree's internal area is within 4-7% of a
+// binned-SAH top-down rebuild of the same boxes. To stay robust where area says
+// nothing (many identical or nested boxes, where every choice costs the same),
+// a rotation that leaves the area unchanged but lowers the height is taken, so
+// such trees do not degenerate into lists.
+//
+// Threads. Queries and ray casts are const and allocate nothing (a stack on
+// the call frame), so any number of threads may query one tree at once as long
+// as nobody modifies it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fulcrum/math/aabb.hpp"
+
+namespace fulcrum {
+
+inline constexpr std::int32_t kNullNode = -1;
+
+struct TreeNode {
+    AABB box;                         // fattened for leaves; union of the children for internal nodes
+    std::int32_t parent = kNullNode;  // next free node while on the free list
+    std::int32_t child1 = kNullNode;  // kNullNode for leaves
+    std::int32_t child2 = kNullNode;
+    std::uint32_t userValue = 0;      // leaves only
+    std::int16_t height = -1;         // 0 for leaves, -1 for free nodes
+
+    bool isLeaf() const { return child1 == kNullNode; }
+};
+
+// A segment p + t * translation, t in [0, maxFraction].
+struct RayCastInput {
+    Vec3 origin;
+    Vec3 translation;
+    Real maxFraction = 1;
+};
+
+struct DynamicTreeConfig {
+    // Grown on every side of the tight box (metres). 0 for trees of things that never move.
+    Real margin = Real(0.1);
+    // The stored box also extends by displacementScale * displacement along the
+    // motion, predicting the next step's motion so that a body moving at a steady
+    // speed is reinserted only every few steps. 0 disables prediction.
+    Real displacementScale = 1;
+    // How insertion looks for the best sibling (see dynamic_tree.cpp for measurements).
+    enum class Search : std::uint8_t {
+        Greedy,          // one root-to-leaf descent by lower bound (Catto 2019): O(height)
+        BranchAndBound,  // exact minimum-cost sibling (Bittner et al. 2013)
+    };
+    Search search = Search::Greedy;
+};
+
+// Precomputed segment data for the slab test, shared by tree traversal and the
+// brute-force reference in the tests so both make the same decisions.
+struct RaySlab {
+    Vec3 origin;
+    Vec3 invDirection;  // 1/d per axis; 0 where d is 0 (then `parallel` is set)
+    bool parallel[3] = {false, false, false};
+
+    explicit RaySlab(const RayCastInput& in) : origin(in.origin) {
+        for (std::size_t i = 0; i < 3; ++i) {
+            parallel[i] = in.translation[i] == Real(0);
+            invDirection[i] = parallel[i] ? Real(0) : Real(1) / in.translation[i];
+        }
+    }
+    // Entry fraction of the segment [0, maxFraction] into `b`, or -1 for a miss.
+    // Monotone in the box (a larger box never gives a later entry), so pruning
+    // by an ancestor's box never rejects a leaf the segment hits.
+    Real entry(const AABB& b, Real maxFraction) const {
+        Real tmin = 0, tmax = maxFraction;
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (parallel[i]) {
+                if (origin[i] < b.min[i] || origin[i] > b.max[i]) return -1;
+                continue;
+            }
+            Real t1 = (b.min[i] - origin[i]) * invDirection[i];
+            Real t2 = (b.max[i] - origin[i]) * invDirection[i];
+            if (t1 > t2) { const Real t = t1; t1 = t2; t2 = t; }
+            tmin = t1 > tmin ? t1 : tmin;
+            tmax = t2 < tmax ? t2 : tmax;
+            if (tmin > tmax) return -1;
+        }
+        return tmin;
+    }
+};
+
+class DynamicTree {
+public:
+    explicit DynamicTree(const DynamicTreeConfig& config = {});
+
+    const DynamicTreeConfig& config() const { return config_; }
+
+    // Inserts a proxy for `tightBox`; returns its id (a leaf index).
+    std::int32_t createProxy(const AABB& tightBox, std::uint32_t userValue, const Vec3& displacement = Vec3::zero());
+    void destroyProxy(std::int32_t proxyId);
+    // Updates the proxy for a new tight box. Returns true when the stored fat box
+    // changed (the leaf was reinserted), false when the old fat box still fits.
+    bool moveProxy(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement);
+
+    const AABB& fatAABB(std::int32_t proxyId) const { return nodes_[static_cast<std::size_t>(proxyId)].box; }
+    std::uint32_t userValue(std::int32_t proxyId) const { return nodes_[static_cast<std::size_t>(proxyId)].userValue; }
+    bool isProxy(std::int32_t proxyId) const {
+        return proxyId >= 0 && static_cast<std::size_t>(proxyId) < nodes_.size() &&
+               nodes_[static_cast<std::size_t>(proxyId)].height == 0;
+    }
+
+    // Calls callback(proxyId, userValue) for every leaf whose fat box overlaps
+    // `box`, in tree order; the callback returns false to stop the query.
+    // Returns false when the callback stopped it, true when it ran to the end.
+    template <typename Callback>
+    bool query(const AABB& box, Callback&& callback) const;
+
+    // Calls callback(input, proxyId, userValue) -> Real for every leaf whose fat
+    // box the segment enters before the current maxFraction. The callback returns
+    //   < 0   to ignore this proxy and go on,
+    //   0     to stop,
+    //   f > 0 to clip the segment to f (closest-hit queries return their hit fraction),
+    // so returning input.maxFraction goes on unchanged. Returns the final
+    // maxFraction (0 when the callback stopped the cast).
+    template <typename Callback>
+    Real rayCast(const RayCastInput& input, Callback&& callback) const;
+
+    // Replaces the internal nodes by a top-down binned-SAH build over the
+    // current leaves (for trees built once, like the static tree). Proxy ids
+    // stay valid. Reuses scratch buffers; allocates only if they must grow.
+    void rebuild();
+
+    // ---- statistics and checks
+    std::int32_t root() const { return root_; }
+    int height() const { return root_ == kNullNode ? 0 : nodes_[static_cast<std::size_t>(root_)].height; }
+    std::int32_t proxyCount() const { return proxyCount_; }
+    std::size_t capacity() const { return nodes_.size(); }
+    const std::vector<TreeNode>& nodes() const { return nodes_; }
+    // Sum of the surface areas of the internal nodes (root included): the SAH
+    // cost a query pays up to a constant, the usual measure of tree quality.
+    double internalSurfaceArea() const;
+    // Checks every structural invariant (parent links, child counts, heights,
+    // boxes containing their children, free list, counts). Returns an empty
+    // string when valid, otherwise a description of the first violation.
+    std::string validate() const;
+
+private:
+    std::int32_t allocateNode();
+    void freeNode(std::int32_t node);
+    AABB fatten(const AABB& tight, const Vec3& displacement) const;
+    void insertLeaf(std::int32_t leaf);
+    void removeLeaf(std::int32_t leaf);
+    std::int32_t findBestSibling(const AABB& leafBox);
+    std::int32_t findBestSiblingGreedy(const AABB& leafBox) const;
+    void rotate(std::int32_t node);
+    void refit(std::int32_t node);
+    std::size_t partitionRange(std::size_t begin, std::size_t end);
+
+    TreeNode& node(std::int32_t i) { return nodes_[static_cast<std::size_t>(i)]; }
+    const TreeNode& node(std::int32_t i) const { return nodes_[static_cast<std::size_t>(i)]; }
+
+    DynamicTreeConfig config_;
+    std::vector<TreeNode> nodes_;
+    std::int32_t root_ = kNullNode;
+    std::int32_t freeList_ = kNullNode;
+    std::int32_t proxyCount_ = 0;
+
+    // Scratch buffers reused across calls (no allocation in steady state).
+    struct Candidate {
+        std::int32_t node;
+        Real inheritedCost;
+    };
+    std::vector<Candidate> candidates_;          // branch-and-bound priority queue
+    std::vector<std::int32_t> buildLeaves_;      // rebuild(): the leaves being partitioned
+    std::vector<Vec3> buildCentroids_;           // rebuild(): leaf box centres, parallel to buildLeaves_
+    std::vector<std::int32_t> buildOrder_;       // rebuild(): internal nodes in creation order
+    struct BuildTask {
+        std::size_t begin, end;
+        std::int32_t parent;
+        bool first;
+    };
+    std::vector<BuildTask> buildTasks_;          // rebuild(): ranges still to split
+};
+
+// ---- traversal templates ----------------------------------------------------
+
+namespace detail {
+// Traversal stack on the call frame; spills to the heap only for trees deeper
+// than any balanced tree of 2^60 leaves could be (a safety net, not a path).
+class NodeStack {
+public:
+    void push(std::int32_t n) {
+        if (size_ < kInline) {
+            inline_[size_++] = n;
+        } else {
+            spill_.push_back(n);
+            ++size_;
+        }
+    }
+    std::int32_t pop() {
+        --size_;
+        if (size_ < kInline) return inline_[size_];
+        const std::int32_t n = spill_.back();
+        spill_.pop_back();
+        return n;
+    }
+    bool empty() const { return size_ == 0; }
+
+private:
+    static constexpr std::size_t kInline = 128;
+    std::int32_t inline_[kInline];
+    std::size_t size_ = 0;
+    std::vector<std::int32_t> spill_;
+};
+}  // namespace detail
+
+template <typename Callback>
+bool DynamicTree::query(const AABB& box, Callback&& callback) const {
+    if (root_ == kNullNode) return true;
+    detail::NodeStack stack;
+    stack.push(root_);
+    while (!stack.empty()) {
+        const TreeNode& n = node(stack.pop());
+        if (!overlaps(n.box, box)) continue;
+        if (n.isLeaf()) {
+            const auto id = static_cast<std::int32_t>(&n - nodes_.data());
+            if (!callback(id, n.userValue)) return false;
+        } else {
+            stack.push(n.child2);
+            stack.push(n.child1);
+        }
+    }
+    return true;
+}
+
+template <typename Callback>
+Real DynamicTree::rayCast(const RayCastInput& input, Callback&& callback) const {
+    if (root_ == kNullNode) return input.maxFraction;
+    RayCastInput current = input;
+    const RaySlab slab(input);
+    detail::NodeStack stack;
+    stack.push(root_);
+    while (!stack.empty()) {
+        const TreeNode& n = node(stack.pop());
+        if (slab.entry(n.box, current.maxFraction) < 0) continue;
+        if (n.isLeaf()) {
+            const auto id = static_cast<std::int32_t>(&n - nodes_.data());
+            const Real value = callback(static_cast<const RayCastInput&>(current), id, n.userValue);
+            if (value == Real(0)) return Real(0);
+            if (value > Real(0) && value < current.maxFraction) current.maxFraction = value;
+        } else {
+            stack.push(n.child2);
+            stack.push(n.child1);
+        }
+    }
+    return current.maxFraction;
+}
+
+}  // namespace fulcrum

@@ -1,0 +1,41 @@
+#pragma once
+// GJK distance (Gilbert, Johnson, Keerthi 1988; van den Bergen, "Collision
+// Detection in Interactive 3D Environments", 2004; Ericson, "Real-Time
+// Collision Detection", ch. 9): closest points of two convex shapes by
+// walking a simplex of the Minkowski difference A - B towards the origin.
+#include <cstdint>
+
+#include "collision/support.hpp"
+
+namespace fulcrum::detail {
+
+struct SimplexVertex {
+    Vec3 a;  // support point on A
+    Vec3 b;  // support point on B
+    Vec3 w;  // a - b
+};
+
+struct Simplex {
+    SimplexVertex v[4];
+    Real bary[4] = {0, 0, 0, 0};
+    std::uint32_t count = 0;
+};
+
+struct GjkResult {
+    bool overlap = false;   // the origin is inside (or within float noise of) A - B
+    Real distance = 0;      // between the shapes GJK ran on (cores or full shapes)
+    Vec3 pointA, pointB;    // closest points
+    Simplex simplex;        // final simplex (for EPA when overlapping)
+    std::uint32_t iterations = 0;
+};
+
+// Distance between the cores of a and b (radii ignored) when `withRadius` is
+// false, or between the full shapes when true.
+GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius);
+
+// Closest point to the origin on the simplex; shrinks it to the vertices that
+// support that point and stores their barycentric weights. Returns false when
+// the origin lies inside a tetrahedron.
+bool closestOnSimplex(Simplex& s, Vec3& closest);
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,117 @@
+#pragma once
+// Contact manifolds: what the narrow phase hands to the solver.
+//
+// Conventions (docs/narrow-phase.md has the long form):
+// - `normal` is a world-space unit vector pointing from shape A to shape B:
+//   pushing B along +normal (or A along -normal) separates them.
+// - `depth` is positive when the shapes overlap; a negative depth -s means the
+//   surfaces are s apart along the normal (a speculative contact, reported only
+//   within the caller's speculative margin).
+// - `position` is world-space, midway between the two surfaces: the point on A's
+//   surface is position + normal*depth/2, the point on B's is position - normal*depth/2.
+// - `localAnchorA` / `localAnchorB` are those surface points in the body frames
+//   of A and B (the frames passed to collide(), so a compound's child offset is
+//   already folded in).
+// - `featureId` names the pair of features that made the point (reference face,
+//   incident face, clipping edge or incident vertex, packed by each pair
+//   function); it stays the same while the same features touch, so a contact
+//   cache can match points across frames for warm starting.
+// - `childA` / `childB` are the compound child index (top level) or the mesh
+//   triangle index of the manifold's deepest point; 0 for plain shapes.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "fulcrum/math.hpp"
+
+namespace fulcrum {
+
+struct ContactPoint {
+    Vec3 position;
+    Vec3 localAnchorA;
+    Vec3 localAnchorB;
+    Real depth = 0;
+    std::uint32_t featureId = 0;
+};
+
+struct Manifold {
+    static constexpr std::uint32_t kMaxPoints = 4;
+    Vec3 normal{0, 1, 0};
+    std::array<ContactPoint, kMaxPoints> points{};
+    std::uint32_t pointCount = 0;
+    std::uint32_t childA = 0;
+    std::uint32_t childB = 0;
+
+    std::span<const ContactPoint> contacts() const { return {points.data(), pointCount}; }
+    // Deepest penetration among the points (most positive depth).
+    Real maxDepth() const {
+        Real d = -1e30f;
+        for (std::uint32_t i = 0; i < pointCount; ++i) d = points[i].depth > d ? points[i].depth : d;
+        return d;
+    }
+};
+
+namespace detail {
+
+// A contact candidate before reduction: world position midway between the
+// surfaces, depth and feature id.
+struct ContactCandidate {
+    Vec3 position;
+    Real depth = 0;
+    std::uint32_t featureId = 0;
+};
+
+// One candidate of a mesh (or other multi-part) contact, remembered with its
+// own normal so candidates can be grouped into manifolds.
+struct MeshContactCandidate {
+    ContactCandidate contact;
+    Vec3 normal;
+    std::uint32_t triangle = 0;
+};
+
+// Reduces `candidates` to at most 4 points of `out` (normal already set):
+// keeps the deepest point, then the point farthest from it, then the two that
+// maximise the contact polygon's area (Gregorius, "Robust Contact Creation for
+// Physics Simulations", GDC 2015). Near-duplicates (closer than 1e-3 of the
+// span) are dropped. Candidates shallower than -margin are ignored.
+void reduceContacts(std::span<const ContactCandidate> candidates, Real margin, Manifold& out);
+
+}  // namespace detail
+
+// Reusable output of collide(): cleared by the caller (or by collide), grown
+// on demand, so after warm-up no call allocates. Also holds the scratch
+// arrays the mesh and compound paths need.
+class ManifoldBuffer {
+public:
+    void clear() { count_ = 0; }
+    std::size_t size() const { return count_; }
+    bool empty() const { return count_ == 0; }
+    const Manifold& operator[](std::size_t i) const { return manifolds_[i]; }
+    Manifold& operator[](std::size_t i) { return manifolds_[i]; }
+    std::span<const Manifold> manifolds() const { return {manifolds_.data(), count_}; }
+    const Manifold* begin() const { return manifolds_.data(); }
+    const Manifold* end() const { return manifolds_.data() + count_; }
+
+    // A fresh, empty manifold at the end of the buffer.
+    Manifold& push() {
+        if (count_ == manifolds_.size()) manifolds_.emplace_back();
+        Manifold& m = manifolds_[count_++];
+        m = Manifold{};
+        return m;
+    }
+    // Drops the last manifold (a pair function that found nothing after all).
+    void pop() { --count_; }
+
+    // Scratch for the mesh path (candidates of one shape against many triangles).
+    std::vector<detail::MeshContactCandidate>& meshScratch() { return meshScratch_; }
+    std::vector<std::uint32_t>& triangleScratch() { return triangleScratch_; }
+
+private:
+    std::vector<Manifold> manifolds_;
+    std::size_t count_ = 0;
+    std::vector<detail::MeshContactCandidate> meshScratch_;
+    std::vector<std::uint32_t> triangleScratch_;
+};
+
+}  // namespace fulcrum

@@ -1,0 +1,126 @@
+#pragma once
+// The static bounding volume hierarchy of a triangle mesh, and the queries the
+// narrow phase, ray casts and point queries run against it.
+//
+// Layout: one flat array of 32-byte nodes in depth-first order. An internal
+// node's left child is the next node and its right child is stored; a leaf
+// owns a contiguous range of `triangleOrder` (at most kMaxLeafTriangles). The
+// build is binned SAH (Wald 2007, "On fast Construction of SAH-based Bounding
+// Volume Hierarchies") with kSahBins bins on each of the three axes.
+//
+// Alongside the tree the BVH keeps per-triangle unit normals and per-vertex
+// angle-weighted pseudo-normals (Baerentzen & Aanaes 2005, "Signed distance
+// computation using the angle weighted pseudonormal"), which give the sign of
+// the distance to a closed mesh exactly even when the closest point is on an
+// edge or a vertex.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <type_traits>
+#include <vector>
+
+#include "fulcrum/shape.hpp"
+
+namespace fulcrum {
+
+struct MeshBvhNode {
+    AABB bounds;
+    std::uint32_t index = 0;  // leaf: first slot in MeshBvh::triangleOrder; internal: the right child
+    std::uint32_t count = 0;  // leaf: number of triangles (> 0); internal: 0
+    constexpr bool isLeaf() const { return count > 0; }
+};
+
+struct MeshBvh {
+    static constexpr std::uint32_t kSahBins = 12;
+    static constexpr std::uint32_t kMaxLeafTriangles = 4;
+    // Traversal stacks hold at most the tree depth; the build switches to
+    // median splits past kSahDepthLimit, so the depth stays below
+    // kSahDepthLimit + 32 for any mesh that fits 32-bit indices.
+    static constexpr std::uint32_t kSahDepthLimit = 40;
+    static constexpr std::uint32_t kStackSize = 80;
+
+    std::vector<MeshBvhNode> nodes;
+    std::vector<std::uint32_t> triangleOrder;  // triangle indices grouped by leaf
+    std::vector<Vec3> triangleNormals;         // unit, on the counter-clockwise (front) side
+    std::vector<Vec3> vertexNormals;           // angle-weighted pseudo-normals, unit (zero for unused vertices)
+    std::uint32_t depth = 0;                   // levels below the root
+    Real rayEpsilon = 0;                       // node boxes are widened by this for ray traversal
+};
+
+// Builds the BVH and the normals of a mesh whose vertices, triangles and
+// adjacency are already set and validated.
+MeshBvh buildMeshBvh(const TriangleMesh& mesh);
+
+inline AABB triangleBounds(const TriangleMesh& mesh, std::uint32_t t) {
+    const auto& tri = mesh.triangles[t];
+    AABB b;
+    b.grow(mesh.vertices[tri[0]]);
+    b.grow(mesh.vertices[tri[1]]);
+    b.grow(mesh.vertices[tri[2]]);
+    return b;
+}
+
+// Calls callback(triangleIndex) for every triangle whose bounding box overlaps
+// `box` (mesh-local coordinates), in tree order. The callback may return void,
+// or bool where false stops the query.
+template <class F>
+void queryTriangles(const TriangleMesh& mesh, const AABB& box, F&& callback) {
+    const MeshBvh& bvh = *mesh.bvh;
+    std::array<std::uint32_t, MeshBvh::kStackSize> stack;
+    std::uint32_t top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const MeshBvhNode& node = bvh.nodes[stack[--top]];
+        if (!overlaps(node.bounds, box)) continue;
+        if (!node.isLeaf()) {
+            const auto self = static_cast<std::uint32_t>(&node - bvh.nodes.data());
+            stack[top++] = node.index;
+            stack[top++] = self + 1;
+            continue;
+        }
+        for (std::uint32_t i = node.index; i < node.index + node.count; ++i) {
+            const std::uint32_t t = bvh.triangleOrder[i];
+            if (!overlaps(triangleBounds(mesh, t), box)) continue;
+            if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
+                if (!callback(t)) return;
+            } else {
+                callback(t);
+            }
+        }
+    }
+}
+
+// Ray p + t d against one triangle, both sides (Moeller & Trumbore 1997,
+// "Fast, minimum storage ray-triangle intersection"). Returns t in
+// [0, maxFraction] or nothing.
+std::optional<Real> rayTriangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& d,
+                                Real maxFraction);
+
+struct MeshRayHit {
+    Real fraction = 0;
+    std::uint32_t triangle = 0;
+    Vec3 normal;  // unit, facing against the ray (front normal, or its reverse when the back side was hit)
+};
+
+// Closest hit of the ray p + t d, t in [0, maxFraction], with the mesh (mesh-local coordinates).
+std::optional<MeshRayHit> rayCastMesh(const TriangleMesh& mesh, const Vec3& p, const Vec3& d, Real maxFraction);
+
+// Which part of a triangle a closest point lies on.
+enum class TriangleFeature : std::uint8_t { Face, Vertex0, Vertex1, Vertex2, Edge01, Edge12, Edge20 };
+
+// Closest point on triangle abc to p, and its feature (Ericson, "Real-Time
+// Collision Detection" 5.1.5, Voronoi regions).
+Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, TriangleFeature& feature);
+
+struct MeshClosestPoint {
+    Vec3 point;
+    Real distance = 0;  // signed by the pseudo-normal: negative behind the surface
+    Vec3 normal;        // unit, outward at `point`
+    std::uint32_t triangle = 0;
+};
+
+// The nearest point of the mesh to p (mesh-local coordinates).
+MeshClosestPoint closestPointOnMesh(const TriangleMesh& mesh, const Vec3& p);
+
+}  // namespace fulcrum

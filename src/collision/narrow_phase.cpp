@@ -1,0 +1,137 @@
+// The narrow phase dispatcher. Convex pairs go through a table indexed by the
+// two convex kinds; pairs of different kinds always run in one canonical
+// order (lower kind first) and are flipped afterwards, so collide(b, a) is
+// bit-for-bit the mirror of collide(a, b). Planes, meshes and compounds are
+// unwrapped here; anchors are computed last, in the top-level frames.
+#include "collision/narrow_phase.hpp"
+
+#include "collision/collide_mesh.hpp"
+#include "collision/collide_pairs.hpp"
+
+namespace fulcrum {
+
+namespace {
+
+using namespace detail;
+
+constexpr std::size_t kKinds = 5;  // Point, Segment, Box, Hull, Cylinder (triangles only inside meshes)
+
+// Entries for kind(a) <= kind(b); the dispatcher swaps to reach them.
+constexpr ConvexPairFn kPairTable[kKinds][kKinds] = {
+    /* Point    */ {collideSphereSphere, collideSphereCapsule, collideSphereBox, collideConvexConvex, collideConvexConvex},
+    /* Segment  */ {nullptr, collideCapsuleCapsule, collideConvexConvex, collideConvexConvex, collideConvexConvex},
+    /* Box      */ {nullptr, nullptr, collideBoxBox, collideConvexConvex, collideConvexConvex},
+    /* Hull     */ {nullptr, nullptr, nullptr, collideConvexConvex, collideConvexConvex},
+    /* Cylinder */ {nullptr, nullptr, nullptr, nullptr, collideConvexConvex},
+};
+
+bool isConvex(ShapeType t) {
+    return t == ShapeType::Sphere || t == ShapeType::Box || t == ShapeType::Capsule || t == ShapeType::Cylinder ||
+           t == ShapeType::ConvexHull;
+}
+
+void collideConvexPair(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
+                       ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB) {
+    const ConvexShape ca = makeConvex(a, xa), cb = makeConvex(b, xb);
+    const std::size_t ka = static_cast<std::size_t>(ca.kind), kb = static_cast<std::size_t>(cb.kind);
+    Manifold& m = out.push();
+    m.childA = childA;
+    m.childB = childB;
+    bool hit;
+    if (ka <= kb) {
+        hit = kPairTable[ka][kb](ca, cb, margin, m);
+    } else {
+        hit = kPairTable[kb][ka](cb, ca, margin, m);
+        flipManifold(m);
+    }
+    if (!hit) out.pop();
+}
+
+void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const Transform& xb, Real margin,
+                  ManifoldBuffer& out, std::uint32_t childB) {
+    const Vec3 n = rotate(xp.q, plane.planeNormal());
+    const Real offset = plane.planeOffset() + dot(n, xp.p);
+    Manifold& m = out.push();
+    m.childB = childB;
+    if (!collidePlaneConvex(n, offset, makeConvex(b, xb), margin, m)) out.pop();
+}
+
+void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
+                      ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB, int depthA, int depthB) {
+    const ShapeType ta = a.type(), tb = b.type();
+    if (ta == ShapeType::Compound) {
+        const AABB bb = b.bounds(xb).fattened(margin);
+        const auto children = a.children();
+        for (std::size_t i = 0; i < children.size(); ++i) {
+            const Transform xc = xa * children[i].transform;
+            if (!overlaps(children[i].shape.bounds(xc), bb)) continue;
+            collideRecursive(children[i].shape, xc, b, xb, margin, out, depthA == 0 ? static_cast<std::uint32_t>(i) : childA,
+                             childB, depthA + 1, depthB);
+        }
+        return;
+    }
+    if (tb == ShapeType::Compound) {
+        const AABB ba = a.bounds(xa).fattened(margin);
+        const auto children = b.children();
+        for (std::size_t i = 0; i < children.size(); ++i) {
+            const Transform xc = xb * children[i].transform;
+            if (!overlaps(children[i].shape.bounds(xc), ba)) continue;
+            collideRecursive(a, xa, children[i].shape, xc, margin, out, childA,
+                             depthB == 0 ? static_cast<std::uint32_t>(i) : childB, depthA, depthB + 1);
+        }
+        return;
+    }
+    const bool staticA = ta == ShapeType::Plane || ta == ShapeType::Mesh;
+    const bool staticB = tb == ShapeType::Plane || tb == ShapeType::Mesh;
+    if (staticA && staticB) return;
+    if (ta == ShapeType::Plane) {
+        collidePlane(a, xa, b, xb, margin, out, childB);
+        return;
+    }
+    if (tb == ShapeType::Plane) {
+        const std::size_t first = out.size();
+        collidePlane(b, xb, a, xa, margin, out, childA);
+        for (std::size_t i = first; i < out.size(); ++i) {
+            flipManifold(out[i]);
+            out[i].childA = childA;
+            out[i].childB = childB;
+        }
+        return;
+    }
+    if (ta == ShapeType::Mesh) {
+        const std::size_t first = out.size();
+        collideMeshConvex(a.mesh(), xa, makeConvex(b, xb), b.bounds(xb), margin, out);
+        for (std::size_t i = first; i < out.size(); ++i) out[i].childB = childB;
+        return;
+    }
+    if (tb == ShapeType::Mesh) {
+        const std::size_t first = out.size();
+        collideMeshConvex(b.mesh(), xb, makeConvex(a, xa), a.bounds(xa), margin, out);
+        for (std::size_t i = first; i < out.size(); ++i) {
+            flipManifold(out[i]);
+            out[i].childB = out[i].childA;  // the triangle
+            out[i].childA = childA;
+        }
+        return;
+    }
+    if (isConvex(ta) && isConvex(tb)) collideConvexPair(a, xa, b, xb, margin, out, childA, childB);
+}
+
+}  // namespace
+
+void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real speculativeMargin,
+             ManifoldBuffer& out) {
+    out.clear();
+    collideRecursive(a, xa, b, xb, speculativeMargin, out, 0, 0, 0, 0);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        Manifold& m = out[i];
+        for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+            ContactPoint& c = m.points[k];
+            const Vec3 half = m.normal * (Real(0.5) * c.depth);
+            c.localAnchorA = inverseTransformPoint(xa, c.position + half);
+            c.localAnchorB = inverseTransformPoint(xb, c.position - half);
+        }
+    }
+}
+
+}  // namespace fulcrum

@@ -1,0 +1,65 @@
+#pragma once
+// Support mappings of the convex shapes, in world space, for GJK, EPA, shape
+// casts and the face-clipping manifold builder.
+//
+// A convex shape is split into a *core* and a *radius* (van den Bergen's
+// "core shapes"): a sphere is a point core with radius r, a capsule a segment
+// core with radius r; boxes, hulls, cylinders and triangles have radius 0.
+// GJK runs on the cores, which is exact and fast for the rounded shapes and
+// keeps GJK away from the badly conditioned curved surfaces; the radius is
+// added back afterwards.
+#include <cstdint>
+
+#include "fulcrum/shape.hpp"
+
+namespace fulcrum::detail {
+
+enum class ConvexKind : std::uint8_t { Point, Segment, Box, Hull, Cylinder, Triangle };
+
+struct ConvexShape {
+    ConvexKind kind = ConvexKind::Point;
+    Transform xf;                  // shape frame -> world (triangles: identity, vertices already in world)
+    Vec3 halfExtents;              // box
+    Real halfHeight = 0;           // segment (capsule) and cylinder, along local y
+    Real cylinderRadius = 0;       // cylinder
+    Real radius = 0;               // rounding radius added to the core (sphere, capsule)
+    const ConvexHull* hull = nullptr;
+    Vec3 triangle[3];              // triangle vertices, world space
+
+    // Support point of the core in world direction `d` (need not be unit).
+    Vec3 coreSupport(const Vec3& d) const;
+    // Support point of the full (rounded) shape in world direction `d`.
+    Vec3 support(const Vec3& d) const;
+    // A point inside the core (for EPA/GJK seeds and triangle orientation).
+    Vec3 center() const;
+    // Largest distance from the shape's origin to any point of the full shape (for TOI bounds).
+    Real boundingRadius() const;
+};
+
+// The convex shape of `shape` placed at `xf`; `shape` must not be a plane, mesh or compound.
+ConvexShape makeConvex(const Shape& shape, const Transform& xf);
+ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c);
+
+// The supporting feature of the full shape in world direction `n` (unit): the
+// face of a box or hull most aligned with n, a cylinder cap (as a polygon of
+// kCylinderCapPoints rim points) when n is near its axis or else the side line,
+// a capsule's two end points when n is near perpendicular to its axis, or the
+// single support point. Polygons wind counter-clockwise seen from outside.
+// `id` numbers the feature (face index) for feature ids.
+inline constexpr std::uint32_t kMaxFacePoints = 32;
+// Four rim points: the cap is a square inscribed in the rim, aligned with the
+// cylinder's local x and z axes. Tried 8 (an octagon): the reduction to 4
+// points then picks a different half of the rim whenever a small tilt moves
+// the deepest point, so the feature ids (and warm starting) flicker for a
+// cylinder resting on its cap; 4 points are kept as they are. The cost is a
+// support polygon of 64% of the cap's area.
+inline constexpr std::uint32_t kCylinderCapPoints = 4;
+struct SupportFace {
+    Vec3 points[kMaxFacePoints];
+    std::uint32_t count = 0;
+    std::uint32_t id = 0;
+    Vec3 normal;  // outward normal of a polygon face (count >= 3)
+};
+void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out);
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,61 @@
+#include "dynamics/forces.hpp"
+
+namespace fulcrum::detail {
+
+Vec3 springForceOnB(const Vec3& pA, const Vec3& pB, const Vec3& vRel, Real restLength, Real stiffness, Real damping) {
+    // F = -k (L - L0) n - c (v_rel . n) n, written as -k (d - L0 n) - ... so that a
+    // zero-rest-length spring stays well defined when L -> 0 (d -> 0, n undefined):
+    // with L0 = 0 the elastic part is just -k d. Below a length of 1e-9 m the
+    // direction is unknown; n = 0 then drops the L0 and damping terms, which is the
+    // limit of a zero-length spring and a negligible blip for any other.
+    const Vec3 d = pB - pA;
+    const Real len = length(d);
+    const Vec3 n = len > Real(1e-9) ? d / len : Vec3::zero();
+    return -(d - n * restLength) * stiffness - n * (damping * dot(vRel, n));
+}
+
+void evaluateForces(WorldImpl& w, double time) {
+    const Vec3 g = w.settings.gravity;
+    const std::size_t count = w.motion.size();
+    const Real t = static_cast<Real>(time);
+    for (std::size_t i = 0; i < count; ++i) {
+        ForceTorque& out = w.forces[i];
+        const BodyParams& p = w.params[i];
+        if (p.type != BodyType::Dynamic) {
+            out = {};
+            continue;
+        }
+        const BodyMotion& m = w.motion[i];
+        Vec3 f = w.applied[i].force + g * (p.mass * p.gravityScale);
+        Vec3 tau = w.applied[i].torque;
+        if (p.linearDrag > 0 || p.quadraticDrag > 0) f -= m.v * (p.linearDrag + p.quadraticDrag * length(m.v));
+        const ForceCallback& cb = w.cold[i].callback;
+        if (cb) {
+            const Wrench wr = cb(BodyKinematics{m.com, m.q, m.v, m.w, p.mass, t});
+            f += wr.force;
+            tau += wr.torque;
+        }
+        out.force = f;
+        out.torque = tau;
+    }
+
+    for (const SpringData& s : w.springs) {
+        if (!s.alive) continue;
+        const std::uint32_t a = w.denseOrNone(s.bodyA), b = w.denseOrNone(s.bodyB);
+        const Vec3 pA = w.anchorWorld(a, s.localA), pB = w.anchorWorld(b, s.localB);
+        Vec3 vA, vB;
+        if (a != kNoIndex) vA = w.motion[a].v + cross(w.motion[a].w, pA - w.motion[a].com);
+        if (b != kNoIndex) vB = w.motion[b].v + cross(w.motion[b].w, pB - w.motion[b].com);
+        const Vec3 f = springForceOnB(pA, pB, vB - vA, s.restLength, s.stiffness, s.damping);
+        if (a != kNoIndex && w.params[a].type == BodyType::Dynamic) {
+            w.forces[a].force -= f;
+            w.forces[a].torque -= cross(pA - w.motion[a].com, f);
+        }
+        if (b != kNoIndex && w.params[b].type == BodyType::Dynamic) {
+            w.forces[b].force += f;
+            w.forces[b].torque += cross(pB - w.motion[b].com, f);
+        }
+    }
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,140 @@
+#include "dynamics/integrators.hpp"
+
+#include "dynamics/forces.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+bool moves(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
+bool isDynamic(const BodyParams& p) { return p.type == BodyType::Dynamic && p.awake; }
+
+void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
+    // Implicit (unconditionally stable) exponential decay: v *= 1 / (1 + h c).
+    if (p.linearDamping > 0) m.v *= Real(1) / (1 + h * p.linearDamping);
+    if (p.angularDamping > 0) m.w *= Real(1) / (1 + h * p.angularDamping);
+}
+
+}  // namespace
+
+Vec3 implicitGyroscopicStep(const Vec3& omegaBody, const Mat3& inertiaBody, Real h) {
+    // f(w) = I (w - w1) + h w x (I w); f(w1) = h w1 x I w1.
+    // df/dw = I + h (skew(w) I - skew(I w)). One Newton step from w1.
+    const Vec3& w1 = omegaBody;
+    const Vec3 iw = inertiaBody * w1;
+    const Vec3 f = cross(w1, iw) * h;
+    const Mat3 jacobian = inertiaBody + (Mat3::skew(w1) * inertiaBody - Mat3::skew(iw)) * h;
+    return w1 - inverse(jacobian) * f;
+}
+
+void integrateVelocities(WorldImpl& w, Integrator method, Real h) {
+    const std::size_t count = w.motion.size();
+    for (std::size_t i = 0; i < count; ++i) {
+        const BodyParams& p = w.params[i];
+        if (!isDynamic(p)) continue;
+        BodyMotion& m = w.motion[i];
+        const ForceTorque& ft = w.forces[i];
+        switch (method) {
+            case Integrator::ExplicitEuler: {
+                // a(x_n, v_n), with the gyroscopic torque -w x I_w w evaluated at the old state.
+                const Vec3 v0 = m.v, w0 = m.w;
+                const Vec3 lw = worldInertia(m.q, p.localInertia) * m.w;
+                m.v += ft.force * (m.invMass * h);
+                m.w += m.invInertiaWorld * (ft.torque - cross(m.w, lw)) * h;
+                applyDamping(m, p, h);
+                w.scratch[i].dv = m.v - v0;
+                w.scratch[i].dw = m.w - w0;
+                break;
+            }
+            case Integrator::SemiImplicitEuler: {
+                m.v += ft.force * (m.invMass * h);
+                const Vec3 omegaBody = implicitGyroscopicStep(inverseRotate(m.q, m.w), p.localInertia, h);
+                m.w = rotate(m.q, omegaBody) + m.invInertiaWorld * ft.torque * h;
+                applyDamping(m, p, h);
+                break;
+            }
+            case Integrator::Verlet: {
+                // First half kick. The gyroscopic effect is not a torque here: in
+                // world axes dL/dt = tau, and the drift below turns the body at
+                // constant L, which is where w x I w comes from.
+                const Real half = Real(0.5) * h;
+                m.v += ft.force * (m.invMass * half);
+                m.w += m.invInertiaWorld * ft.torque * half;
+                applyDamping(m, p, h);
+                break;
+            }
+        }
+    }
+}
+
+void integratePositions(WorldImpl& w, Integrator method, Real h) {
+    const std::size_t count = w.motion.size();
+    for (std::size_t i = 0; i < count; ++i) {
+        const BodyParams& p = w.params[i];
+        if (!moves(p)) continue;
+        BodyMotion& m = w.motion[i];
+        if (p.type == BodyType::Kinematic) {
+            m.com += m.v * h;
+            m.q = integrateRotation(m.q, m.w, h);
+            continue;
+        }
+        switch (method) {
+            case Integrator::ExplicitEuler:
+                // The old velocity: the current one minus what forces added this
+                // sub-step. (A solver's correction, applied after the forces, is kept.)
+                m.com += (m.v - w.scratch[i].dv) * h;
+                m.q = integrateRotation(m.q, m.w - w.scratch[i].dw, h);
+                break;
+            case Integrator::SemiImplicitEuler:
+                m.com += m.v * h;
+                m.q = integrateRotation(m.q, m.w, h);
+                break;
+            case Integrator::Verlet: {
+                m.com += m.v * h;
+                // Torque-free drift at constant world angular momentum L = I_w(q) w.
+                // The rotation rate is taken at the midpoint orientation (second
+                // order); afterwards w = I_w(q_new)^-1 L.
+                // L and w are mapped with the same matrix I_w = R I R^T and its
+                // adjugate inverse, so the round trip w -> L -> w' -> L' returns L
+                // up to unbiased rounding. (Mapping back with the quaternion rotate()
+                // instead leaves a ~1-ulp *bias* per sub-step from the unit-length
+                // assumption: |L| drifted by 1.5e-4 over 1,920 sub-steps; now ~1e-6.)
+                const Vec3 angularMomentum = worldInertia(m.q, p.localInertia) * m.w;
+                const Quat qMid = integrateRotation(m.q, m.w, Real(0.5) * h);
+                const Vec3 omegaMid = inverse(worldInertia(qMid, p.localInertia)) * angularMomentum;
+                m.q = integrateRotation(m.q, omegaMid, h);
+                m.w = inverse(worldInertia(m.q, p.localInertia)) * angularMomentum;
+                break;
+            }
+        }
+        w.updateWorldInertia(static_cast<std::uint32_t>(i));
+    }
+}
+
+void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter) {
+    if (method != Integrator::Verlet) return;
+    const Real half = Real(0.5) * h;
+    const std::size_t count = w.motion.size();
+    // Velocity-dependent forces (drag, spring damping, callbacks) at the new
+    // position need a velocity there, which the second kick is about to
+    // produce. Evaluate them at the predictor v_half + a_old h/2 (the velocity
+    // the kick would give if the acceleration did not change): the error is
+    // O(h^2) in the force, so the scheme stays second order.
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!isDynamic(w.params[i])) continue;
+        BodyMotion& m = w.motion[i];
+        w.scratch[i].dv = m.v;
+        w.scratch[i].dw = m.w;
+        m.v += w.forces[i].force * (m.invMass * half);
+        m.w += m.invInertiaWorld * w.forces[i].torque * half;
+    }
+    evaluateForces(w, timeAfter);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!isDynamic(w.params[i])) continue;
+        BodyMotion& m = w.motion[i];
+        m.v = w.scratch[i].dv + w.forces[i].force * (m.invMass * half);
+        m.w = w.scratch[i].dw + m.invInertiaWorld * w.forces[i].torque * half;
+    }
+}
+
+}  // namespace fulcrum::detail

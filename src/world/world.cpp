@@ -1,0 +1,436 @@
+// World: settings, body lifetime, getters and setters, user forces and
+// impulses. Everything here is API boundary: validate, then touch WorldImpl.
+// Springs and joints live in world_springs.cpp and world_joints.cpp, the step
+// in step.cpp, diagnostics in diagnostics.cpp.
+#include <algorithm>
+
+#include "dynamics/body_mass.hpp"
+#include "dynamics/validation.hpp"
+#include "world/world_impl.hpp"
+
+namespace fulcrum {
+
+using detail::fail;
+using detail::formatReal;
+using detail::kNoIndex;
+using detail::requireFinite;
+using detail::requireNonNegative;
+using detail::Subject;
+
+namespace {
+
+constexpr Subject kWorldSubject{"world", "", kNoIndex};
+
+void validateSettings(const WorldDef& def) {
+    requireFinite(kWorldSubject, "gravity", def.gravity);
+    if (def.substeps < 1) fail(kWorldSubject, "substeps", "must be at least 1, got " + std::to_string(def.substeps));
+    if (def.solverIterations < 1) {
+        fail(kWorldSubject, "solverIterations", "must be at least 1, got " + std::to_string(def.solverIterations));
+    }
+    if (def.threads < 1) fail(kWorldSubject, "threads", "must be at least 1, got " + std::to_string(def.threads));
+    switch (def.integrator) {
+        case Integrator::ExplicitEuler:
+        case Integrator::SemiImplicitEuler:
+        case Integrator::Verlet: break;
+        default: fail(kWorldSubject, "integrator", "is not a known integrator");
+    }
+}
+
+Subject subjectOf(const WorldImpl& w, std::uint32_t dense) {
+    return {"body", w.cold[dense].name, w.denseToSlot[dense]};
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- WorldImpl helpers
+
+std::uint32_t WorldImpl::resolveBody(BodyId id, const char* where) const {
+    if (id.isNull()) throw Error(std::string(where) + ": null BodyId (the world body is not a body here)");
+    if (id.index >= bodySlots.size()) {
+        throw Error(std::string(where) + ": BodyId index " + std::to_string(id.index) + " does not exist (" +
+                    std::to_string(bodySlots.size()) + " body slots)");
+    }
+    const detail::BodySlot& slot = bodySlots[id.index];
+    if (slot.dense == kNoIndex || slot.generation != id.generation) {
+        throw Error(std::string(where) + ": stale BodyId (index " + std::to_string(id.index) + ", generation " +
+                    std::to_string(id.generation) + "): that body was destroyed");
+    }
+    return slot.dense;
+}
+
+std::string WorldImpl::describeBody(std::uint32_t dense) const { return subjectOf(*this, dense).describe(); }
+
+// ---------------------------------------------------------------- World: lifetime and settings
+
+World::World(const WorldDef& def) : impl_(std::make_unique<WorldImpl>()) {
+    validateSettings(def);
+    impl_->settings = def;
+}
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+const WorldDef& World::settings() const { return impl_->settings; }
+
+void World::setGravity(const Vec3& g) {
+    requireFinite(kWorldSubject, "gravity", g);
+    impl_->settings.gravity = g;
+}
+void World::setIntegrator(Integrator integrator) {
+    WorldDef d = impl_->settings;
+    d.integrator = integrator;
+    validateSettings(d);
+    impl_->settings.integrator = integrator;
+}
+void World::setSubsteps(int substeps) {
+    if (substeps < 1) fail(kWorldSubject, "substeps", "must be at least 1, got " + std::to_string(substeps));
+    impl_->settings.substeps = substeps;
+}
+void World::setSolverIterations(int iterations) {
+    if (iterations < 1) fail(kWorldSubject, "solverIterations", "must be at least 1, got " + std::to_string(iterations));
+    impl_->settings.solverIterations = iterations;
+}
+void World::setSleepingEnabled(bool enabled) { impl_->settings.sleeping = enabled; }
+void World::setThreadCount(int threads) {
+    if (threads < 1) fail(kWorldSubject, "threads", "must be at least 1, got " + std::to_string(threads));
+    impl_->settings.threads = threads;
+}
+
+// ---------------------------------------------------------------- bodies
+
+BodyId World::createBody(const BodyDef& def) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t slotIndex =
+        w.freeBodySlots.empty() ? static_cast<std::uint32_t>(w.bodySlots.size()) : w.freeBodySlots.back();
+    const Subject who{"body", def.name, slotIndex};
+
+    switch (def.type) {
+        case BodyType::Static:
+        case BodyType::Kinematic:
+        case BodyType::Dynamic: break;
+        default: fail(who, "type", "is not static, kinematic or dynamic");
+    }
+    if (def.type != BodyType::Static && def.shape.staticOnly()) {
+        fail(who, "shape", std::string("is a ") + toString(def.shape.type()) +
+                               " (or holds one), which only static bodies may have; this body is " + toString(def.type));
+    }
+    requireFinite(who, "position", def.position);
+    const Quat q = detail::requireOrientation(who, "orientation", def.orientation);
+    requireFinite(who, "linearVelocity", def.linearVelocity);
+    requireFinite(who, "angularVelocity", def.angularVelocity);
+    requireNonNegative(who, "friction", def.friction);
+    requireNonNegative(who, "restitution", def.restitution);
+    requireNonNegative(who, "rollingResistance", def.rollingResistance);
+    requireNonNegative(who, "linearDamping", def.linearDamping);
+    requireNonNegative(who, "angularDamping", def.angularDamping);
+    requireNonNegative(who, "linearDrag", def.linearDrag);
+    requireNonNegative(who, "quadraticDrag", def.quadraticDrag);
+    requireFinite(who, "gravityScale", def.gravityScale);
+    const detail::BodyMass mass = detail::computeBodyMass(def, who);
+
+    // All checks passed: nothing below throws except allocation.
+    const std::uint32_t dense = static_cast<std::uint32_t>(w.motion.size());
+    detail::BodyMotion m;
+    m.q = q;
+    m.com = def.position + rotate(q, mass.localCenterOfMass);
+    if (def.type != BodyType::Static) {
+        m.v = def.linearVelocity;
+        m.w = def.angularVelocity;
+    }
+    m.invMass = mass.invMass;
+    detail::BodyParams p;
+    p.type = def.type;
+    p.awake = def.type == BodyType::Static ? false : def.awake;
+    p.allowSleep = def.allowSleep;
+    p.isSensor = def.isSensor;
+    p.isBullet = def.isBullet;
+    p.mass = mass.mass;
+    p.localCom = mass.localCenterOfMass;
+    p.localInertia = mass.localInertia;
+    p.invLocalInertia = mass.invLocalInertia;
+    p.linearDamping = def.linearDamping;
+    p.angularDamping = def.angularDamping;
+    p.linearDrag = def.linearDrag;
+    p.quadraticDrag = def.quadraticDrag;
+    p.gravityScale = def.gravityScale;
+    p.friction = def.friction;
+    p.restitution = def.restitution;
+    p.rollingResistance = def.rollingResistance;
+    p.filter = def.filter;
+    detail::BodyCold c;
+    c.name = def.name;
+    c.shape = def.shape;
+    c.creationSerial = w.nextBodySerial++;
+
+    w.motion.push_back(m);
+    w.forces.push_back({});
+    w.applied.push_back({});
+    w.params.push_back(p);
+    w.cold.push_back(std::move(c));
+    w.previous.push_back({def.position, q});
+    w.denseToSlot.push_back(slotIndex);
+    w.scratch.push_back({});
+    w.updateWorldInertia(dense);
+
+    if (slotIndex == w.bodySlots.size()) {
+        w.bodySlots.push_back({dense, 0});
+    } else {
+        w.freeBodySlots.pop_back();
+        w.bodySlots[slotIndex].dense = dense;
+    }
+    return {slotIndex, w.bodySlots[slotIndex].generation};
+}
+
+void World::destroyBody(BodyId id) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t dense = w.resolveBody(id, "World::destroyBody");
+
+    // Springs and joints attached to the body go with it, so they never hold a stale handle.
+    for (std::uint32_t i = 0; i < w.springs.size(); ++i) {
+        detail::SpringData& s = w.springs[i];
+        if (s.alive && (s.bodyA == id || s.bodyB == id)) destroySpring({i, s.generation});
+    }
+    for (std::uint32_t i = 0; i < w.joints.size(); ++i) {
+        detail::JointData& j = w.joints[i];
+        if (j.alive && (j.def.bodyA == id || j.def.bodyB == id)) destroyJoint({i, j.generation});
+    }
+
+    // Swap-remove from the dense arrays.
+    const std::uint32_t last = static_cast<std::uint32_t>(w.motion.size() - 1);
+    if (dense != last) {
+        w.motion[dense] = w.motion[last];
+        w.forces[dense] = w.forces[last];
+        w.applied[dense] = w.applied[last];
+        w.params[dense] = w.params[last];
+        w.cold[dense] = std::move(w.cold[last]);
+        w.previous[dense] = w.previous[last];
+        w.denseToSlot[dense] = w.denseToSlot[last];
+        w.scratch[dense] = w.scratch[last];
+        w.bodySlots[w.denseToSlot[dense]].dense = dense;
+    }
+    w.motion.pop_back();
+    w.forces.pop_back();
+    w.applied.pop_back();
+    w.params.pop_back();
+    w.cold.pop_back();
+    w.previous.pop_back();
+    w.denseToSlot.pop_back();
+    w.scratch.pop_back();
+
+    detail::BodySlot& slot = w.bodySlots[id.index];
+    slot.dense = kNoIndex;
+    ++slot.generation;
+    w.freeBodySlots.push_back(id.index);
+}
+
+bool World::isValid(BodyId id) const { return impl_->isLive(id); }
+std::size_t World::bodyCount() const { return impl_->motion.size(); }
+
+std::vector<BodyId> World::bodies() const {
+    const WorldImpl& w = *impl_;
+    std::vector<std::uint32_t> order(w.motion.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return w.cold[a].creationSerial < w.cold[b].creationSerial; });
+    std::vector<BodyId> out;
+    out.reserve(order.size());
+    for (std::uint32_t d : order) out.push_back(w.idOfDense(d));
+    return out;
+}
+
+BodyId World::findBody(std::string_view name) const {
+    const WorldImpl& w = *impl_;
+    std::uint32_t best = kNoIndex;
+    for (std::uint32_t i = 0; i < w.cold.size(); ++i) {
+        if (w.cold[i].name == name && (best == kNoIndex || w.cold[i].creationSerial < w.cold[best].creationSerial)) best = i;
+    }
+    return best == kNoIndex ? BodyId{} : w.idOfDense(best);
+}
+
+const std::string& World::name(BodyId id) const { return impl_->cold[impl_->resolveBody(id, "World::name")].name; }
+BodyType World::bodyType(BodyId id) const { return impl_->params[impl_->resolveBody(id, "World::bodyType")].type; }
+const Shape& World::shape(BodyId id) const { return impl_->cold[impl_->resolveBody(id, "World::shape")].shape; }
+Real World::mass(BodyId id) const { return impl_->params[impl_->resolveBody(id, "World::mass")].mass; }
+Mat3 World::localInertia(BodyId id) const {
+    return impl_->params[impl_->resolveBody(id, "World::localInertia")].localInertia;
+}
+Vec3 World::localCenterOfMass(BodyId id) const {
+    return impl_->params[impl_->resolveBody(id, "World::localCenterOfMass")].localCom;
+}
+Real World::friction(BodyId id) const { return impl_->params[impl_->resolveBody(id, "World::friction")].friction; }
+Real World::restitution(BodyId id) const {
+    return impl_->params[impl_->resolveBody(id, "World::restitution")].restitution;
+}
+
+Transform World::transform(BodyId id) const {
+    return impl_->originTransform(impl_->resolveBody(id, "World::transform"));
+}
+Vec3 World::position(BodyId id) const { return impl_->origin(impl_->resolveBody(id, "World::position")); }
+Quat World::orientation(BodyId id) const { return impl_->motion[impl_->resolveBody(id, "World::orientation")].q; }
+Vec3 World::centerOfMass(BodyId id) const { return impl_->motion[impl_->resolveBody(id, "World::centerOfMass")].com; }
+Vec3 World::linearVelocity(BodyId id) const {
+    return impl_->motion[impl_->resolveBody(id, "World::linearVelocity")].v;
+}
+Vec3 World::angularVelocity(BodyId id) const {
+    return impl_->motion[impl_->resolveBody(id, "World::angularVelocity")].w;
+}
+Vec3 World::velocityAtPoint(BodyId id, const Vec3& worldPoint) const {
+    const std::uint32_t d = impl_->resolveBody(id, "World::velocityAtPoint");
+    requireFinite(subjectOf(*impl_, d), "worldPoint", worldPoint);
+    const detail::BodyMotion& m = impl_->motion[d];
+    return m.v + cross(m.w, worldPoint - m.com);
+}
+Transform World::previousTransform(BodyId id) const {
+    return impl_->previous[impl_->resolveBody(id, "World::previousTransform")];
+}
+
+void World::setTransform(BodyId id, const Vec3& position, const Quat& orientation) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::setTransform");
+    const Subject who = subjectOf(w, d);
+    requireFinite(who, "position", position);
+    const Quat q = detail::requireOrientation(who, "orientation", orientation);
+    detail::BodyMotion& m = w.motion[d];
+    m.q = q;
+    m.com = position + rotate(q, w.params[d].localCom);
+    w.updateWorldInertia(d);
+    w.previous[d] = {position, q};  // a teleport: don't interpolate across it
+    if (w.params[d].type != BodyType::Static) w.params[d].awake = true;
+}
+
+void World::setLinearVelocity(BodyId id, const Vec3& v) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::setLinearVelocity");
+    requireFinite(subjectOf(w, d), "linearVelocity", v);
+    if (w.params[d].type == BodyType::Static) return;  // static bodies never move
+    w.motion[d].v = v;
+    w.params[d].awake = true;
+}
+
+void World::setAngularVelocity(BodyId id, const Vec3& omega) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::setAngularVelocity");
+    requireFinite(subjectOf(w, d), "angularVelocity", omega);
+    if (w.params[d].type == BodyType::Static) return;
+    w.motion[d].w = omega;
+    w.params[d].awake = true;
+}
+
+void World::setFriction(BodyId id, Real friction) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::setFriction");
+    requireNonNegative(subjectOf(*impl_, d), "friction", friction);
+    impl_->params[d].friction = friction;
+}
+void World::setRestitution(BodyId id, Real restitution) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::setRestitution");
+    requireNonNegative(subjectOf(*impl_, d), "restitution", restitution);
+    impl_->params[d].restitution = restitution;
+}
+void World::setGravityScale(BodyId id, Real scale) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::setGravityScale");
+    requireFinite(subjectOf(*impl_, d), "gravityScale", scale);
+    impl_->params[d].gravityScale = scale;
+}
+void World::setDamping(BodyId id, Real linear, Real angular) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::setDamping");
+    const Subject who = subjectOf(*impl_, d);
+    requireNonNegative(who, "linearDamping", linear);
+    requireNonNegative(who, "angularDamping", angular);
+    impl_->params[d].linearDamping = linear;
+    impl_->params[d].angularDamping = angular;
+}
+void World::setDrag(BodyId id, Real linear, Real quadratic) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::setDrag");
+    const Subject who = subjectOf(*impl_, d);
+    requireNonNegative(who, "linearDrag", linear);
+    requireNonNegative(who, "quadraticDrag", quadratic);
+    impl_->params[d].linearDrag = linear;
+    impl_->params[d].quadraticDrag = quadratic;
+}
+
+bool World::isAwake(BodyId id) const { return impl_->params[impl_->resolveBody(id, "World::isAwake")].awake; }
+void World::wake(BodyId id) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::wake");
+    if (impl_->params[d].type != BodyType::Static) impl_->params[d].awake = true;
+}
+
+// ---------------------------------------------------------------- user forces and impulses
+// Forces and impulses on static and kinematic bodies are accepted and have no
+// effect (infinite mass), like in Box2D; they are still validated.
+
+void World::applyForce(BodyId id, const Vec3& force, const Vec3& worldPoint) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::applyForce");
+    const Subject who = subjectOf(w, d);
+    requireFinite(who, "force", force);
+    requireFinite(who, "worldPoint", worldPoint);
+    if (w.params[d].type != BodyType::Dynamic) return;
+    w.applied[d].force += force;
+    w.applied[d].torque += cross(worldPoint - w.motion[d].com, force);
+    w.params[d].awake = true;
+}
+
+void World::applyForceAtCenter(BodyId id, const Vec3& force) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::applyForceAtCenter");
+    requireFinite(subjectOf(w, d), "force", force);
+    if (w.params[d].type != BodyType::Dynamic) return;
+    w.applied[d].force += force;
+    w.params[d].awake = true;
+}
+
+void World::applyTorque(BodyId id, const Vec3& torque) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::applyTorque");
+    requireFinite(subjectOf(w, d), "torque", torque);
+    if (w.params[d].type != BodyType::Dynamic) return;
+    w.applied[d].torque += torque;
+    w.params[d].awake = true;
+}
+
+void World::applyLinearImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::applyLinearImpulse");
+    const Subject who = subjectOf(w, d);
+    requireFinite(who, "impulse", impulse);
+    requireFinite(who, "worldPoint", worldPoint);
+    if (w.params[d].type != BodyType::Dynamic) return;
+    detail::BodyMotion& m = w.motion[d];
+    m.v += impulse * m.invMass;
+    m.w += m.invInertiaWorld * cross(worldPoint - m.com, impulse);
+    w.params[d].awake = true;
+}
+
+void World::applyLinearImpulseAtCenter(BodyId id, const Vec3& impulse) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::applyLinearImpulseAtCenter");
+    requireFinite(subjectOf(w, d), "impulse", impulse);
+    if (w.params[d].type != BodyType::Dynamic) return;
+    w.motion[d].v += impulse * w.motion[d].invMass;
+    w.params[d].awake = true;
+}
+
+void World::applyAngularImpulse(BodyId id, const Vec3& impulse) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::applyAngularImpulse");
+    requireFinite(subjectOf(w, d), "angularImpulse", impulse);
+    if (w.params[d].type != BodyType::Dynamic) return;
+    w.motion[d].w += w.motion[d].invInertiaWorld * impulse;
+    w.params[d].awake = true;
+}
+
+void World::setForceCallback(BodyId id, ForceCallback callback) {
+    const std::uint32_t d = impl_->resolveBody(id, "World::setForceCallback");
+    impl_->cold[d].callback = std::move(callback);
+}
+
+// ---------------------------------------------------------------- simulation
+
+void World::step(Real dt) {
+    if (!std::isfinite(dt) || dt <= 0) fail(kWorldSubject, "step dt", "must be a positive finite time, got " + formatReal(dt));
+    impl_->step(dt);
+}
+Real World::time() const { return static_cast<Real>(impl_->time); }
+std::uint64_t World::stepCount() const { return impl_->stepCount; }
+
+}  // namespace fulcrum

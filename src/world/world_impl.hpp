@@ -1,0 +1,210 @@
+#pragma once
+// WorldImpl: the internal state behind fulcrum::World. The collision pipeline
+// and the constraint solver plug into this struct, so its layout is a contract
+// inside the engine; read this comment before adding to it.
+//
+// Bodies
+// ------
+// Users hold BodyId {index, generation}. `index` names a *slot* in `bodySlots`;
+// the slot stores the generation and the body's position in the *dense* arrays.
+// Destroying a body frees the slot (generation + 1, pushed on `freeBodySlots`) and
+// swap-removes the body from the dense arrays, so the dense arrays never have
+// holes and every per-body loop is a straight walk over contiguous memory.
+// A handle is valid iff its index is in range, the slot is live and the
+// generations match; `resolveBody` is the only way from a handle to a dense
+// index, and it throws fulcrum::Error for a null, out-of-range or stale handle.
+//
+// Per-body data is split by how often the step touches it (Box2D v3 and the
+// solver notes' hot / warm / cold tiers):
+//   motion[]    hot: centre of mass, orientation, velocities, inverse mass and
+//               world inverse inertia. Read and written every sub-step by the
+//               integrators and (later) the solver.
+//   forces[]    hot scratch: the force and torque of the latest evaluation.
+//   applied[]   user forces/torques from applyForce & co., summed into every
+//               evaluation of the next step, then cleared.
+//   params[]    warm: per-body constants the step reads (type, local inertia,
+//               local centre of mass, damping, drag, gravity scale, material).
+//   cold[]      cold: name, shape, callback, creation order. Never read by the
+//               inner loops except to call a ForceCallback.
+//   previous[]  body-origin transform at the start of the last step (interpolation).
+//   denseToSlot maps a dense index back to its slot (for BodyIds in reports).
+// Static bodies live in the same dense arrays with zero inverse mass; the
+// step skips them. (A later solver may move sleeping and static bodies to
+// separate sets, as Box2D's solver sets do; the slot indirection allows that
+// without changing a single public handle.)
+//
+// The integrated position is the centre of mass; the body origin (the shape's
+// frame, what users see as `position`) is derived: origin = com - q * localCom.
+//
+// Springs and joints
+// ------------------
+// Stored in slot vectors with a generation and an `alive` flag (they are few
+// and rarely iterated outside the step, so holes are fine). They refer to
+// bodies by BodyId and resolve the dense index when used; a body's
+// destruction destroys its springs and joints first, so they never hold a
+// stale BodyId. Anchors are stored relative to the body's centre of mass in
+// body axes (world-fixed ends keep their world point).
+//
+// Contacts
+// --------
+// `contacts` holds the manifolds of the last step as ContactReports. The
+// collision pipeline (broad + narrow phase) fills it; until it lands it stays
+// empty. World::contacts() returns a copy.
+//
+// No heap allocation per step: every scratch array is sized when bodies are
+// created and reused.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fulcrum/world.hpp"
+
+namespace fulcrum {
+
+namespace detail {
+
+inline constexpr std::uint32_t kNoIndex = UINT32_MAX;
+
+// Hot per-body state (the integrators' and the solver's working set).
+struct BodyMotion {
+    Vec3 com;                       // centre of mass, world
+    Quat q;                         // orientation (unit)
+    Vec3 v;                         // linear velocity of the centre of mass
+    Vec3 w;                         // angular velocity, world
+    Real invMass = 0;               // 0 for static and kinematic bodies
+    Mat3 invInertiaWorld = Mat3::zero();  // R I_body^-1 R^T; zero for static and kinematic
+};
+
+struct ForceTorque {
+    Vec3 force;   // at the centre of mass
+    Vec3 torque;  // world
+};
+
+// Warm per-body constants.
+struct BodyParams {
+    BodyType type = BodyType::Dynamic;
+    bool awake = true;
+    bool allowSleep = true;
+    bool isSensor = false;
+    bool isBullet = false;
+    Real mass = 0;                  // 0 for static and kinematic bodies
+    Vec3 localCom;                  // centre of mass in the shape's frame
+    Mat3 localInertia = Mat3::zero();     // about the centre of mass, body axes
+    Mat3 invLocalInertia = Mat3::zero();
+    Real linearDamping = 0, angularDamping = 0;
+    Real linearDrag = 0, quadraticDrag = 0;
+    Real gravityScale = 1;
+    Real friction = Real(0.6), restitution = 0, rollingResistance = 0;
+    CollisionFilter filter;
+};
+
+struct BodyCold {
+    std::string name;
+    Shape shape;
+    ForceCallback callback;         // empty: none
+    std::uint64_t creationSerial = 0;  // orders World::bodies() by creation
+};
+
+struct BodySlot {
+    std::uint32_t dense = kNoIndex;  // kNoIndex when the slot is free
+    std::uint32_t generation = 0;
+};
+
+struct SpringData {
+    bool alive = false;
+    std::uint32_t generation = 0;
+    BodyId bodyA, bodyB;             // null: the static world
+    Vec3 localA, localB;             // from the centre of mass, body axes; world point for a world end
+    Real restLength = 0, stiffness = 0, damping = 0;
+};
+
+struct JointData {
+    bool alive = false;
+    std::uint32_t generation = 0;
+    JointDef def;                    // as created (validated; axis normalised)
+    Vec3 localAnchorA, localAnchorB; // from each body's centre of mass, body axes (world point for the world)
+    Vec3 localAxisA, localAxisB;     // unit axis in each body's axes (world axis for the world)
+    Real minLength = 0, maxLength = 0;  // distance joints, resolved (no negative "use creation" values)
+};
+
+// Scratch of the integrators, one entry per dense body.
+struct IntegratorScratch {
+    // Explicit Euler: the velocity change that forces caused this sub-step, so
+    // the position stage can drift with the *old* velocity (plus whatever a
+    // solver changes). Verlet: the half-step velocity between the two kicks.
+    Vec3 dv, dw;
+};
+
+}  // namespace detail
+
+struct WorldImpl {
+    WorldDef settings;
+    double time = 0;                 // double: a float clock loses sub-steps after hours
+    std::uint64_t stepCount = 0;
+    std::uint64_t nextBodySerial = 0;
+
+    // ---- bodies (see the comment at the top)
+    std::vector<detail::BodySlot> bodySlots;
+    std::vector<std::uint32_t> freeBodySlots;
+    std::vector<detail::BodyMotion> motion;
+    std::vector<detail::ForceTorque> forces;
+    std::vector<detail::ForceTorque> applied;
+    std::vector<detail::BodyParams> params;
+    std::vector<detail::BodyCold> cold;
+    std::vector<Transform> previous;
+    std::vector<std::uint32_t> denseToSlot;
+    std::vector<detail::IntegratorScratch> scratch;
+
+    // ---- springs and joints
+    std::vector<detail::SpringData> springs;
+    std::vector<std::uint32_t> freeSpringSlots;
+    std::size_t liveSprings = 0;
+    std::vector<detail::JointData> joints;
+    std::vector<std::uint32_t> freeJointSlots;
+
+    // ---- contacts of the last step (filled by the collision pipeline)
+    std::vector<ContactReport> contacts;
+
+    // Dense index of a live body; throws fulcrum::Error naming `where` for a
+    // null, out-of-range or stale handle.
+    std::uint32_t resolveBody(BodyId id, const char* where) const;
+    bool isLive(BodyId id) const {
+        return !id.isNull() && id.index < bodySlots.size() && bodySlots[id.index].dense != detail::kNoIndex &&
+               bodySlots[id.index].generation == id.generation;
+    }
+    BodyId idOfDense(std::uint32_t dense) const {
+        const std::uint32_t slot = denseToSlot[dense];
+        return {slot, bodySlots[slot].generation};
+    }
+    // "body 'ball'" or "body #3", for messages.
+    std::string describeBody(std::uint32_t dense) const;
+
+    detail::SpringData& resolveSpring(SpringId id, const char* where);
+    const detail::SpringData& resolveSpring(SpringId id, const char* where) const;
+    detail::JointData& resolveJoint(JointId id, const char* where);
+    const detail::JointData& resolveJoint(JointId id, const char* where) const;
+
+    // Body origin (shape frame) of a dense body.
+    Vec3 origin(std::uint32_t dense) const {
+        return motion[dense].com - rotate(motion[dense].q, params[dense].localCom);
+    }
+    Transform originTransform(std::uint32_t dense) const { return {origin(dense), motion[dense].q}; }
+    // R I_body^-1 R^T after an orientation change (zero for non-dynamic bodies).
+    void updateWorldInertia(std::uint32_t dense) {
+        detail::BodyMotion& m = motion[dense];
+        const Mat3 r = toMat3(m.q);
+        m.invInertiaWorld = r * params[dense].invLocalInertia * transpose(r);
+    }
+
+    // World point of an anchor stored relative to a body's centre of mass
+    // (or the point itself for a world end, dense == kNoIndex).
+    Vec3 anchorWorld(std::uint32_t dense, const Vec3& local) const {
+        return dense == detail::kNoIndex ? local : motion[dense].com + rotate(motion[dense].q, local);
+    }
+    std::uint32_t denseOrNone(BodyId id) const { return id.isNull() ? detail::kNoIndex : bodySlots[id.index].dense; }
+
+    // The step (src/world/step.cpp).
+    void step(Real dt);
+};
+
+}  // namespace fulcrum

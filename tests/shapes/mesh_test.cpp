@@ -1,0 +1,231 @@
+// Triangle meshes: validation, adjacency and convex-edge flags, and the BVH
+// queries against brute force.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "collision/mesh_bvh.hpp"
+#include "fulcrum/shape.hpp"
+#include "test_util.hpp"
+
+namespace fulcrum {
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// n x n quads in the plane y = height, front faces up (+y).
+void flatGrid(int n, Real spacing, std::vector<Vec3>& v, std::vector<Tri>& t, Real bump = 0) {
+    const auto id = [n](int i, int j) { return static_cast<std::uint32_t>(i * (n + 1) + j); };
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) v.push_back({Real(i) * spacing, (i == n / 2 && j == n / 2) ? bump : 0, Real(j) * spacing});
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            t.push_back({id(i, j), id(i, j + 1), id(i + 1, j)});
+            t.push_back({id(i + 1, j), id(i, j + 1), id(i + 1, j + 1)});
+        }
+}
+
+// A closed box, outward-facing triangles.
+void boxMesh(const Vec3& h, std::vector<Vec3>& v, std::vector<Tri>& t) {
+    for (int i = 0; i < 8; ++i) v.push_back({(i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z});
+    const std::array<std::array<std::uint32_t, 4>, 6> quads{{{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}};
+    for (const auto& q : quads) {
+        t.push_back({q[0], q[1], q[2]});
+        t.push_back({q[0], q[2], q[3]});
+    }
+}
+
+TEST(Mesh, FlatGridEdgesAreInternalBoundaryEdgesAreFlagged) {
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    flatGrid(6, Real(0.5), v, t);
+    const Shape s = Shape::mesh(v, t);
+    const TriangleMesh& m = s.mesh();
+    int boundary = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const bool isBoundary = m.adjacency[i][k] == kNone;
+            const bool convex = (m.convexEdgeMask[i] >> k) & 1u;
+            boundary += isBoundary;
+            EXPECT_EQ(convex, isBoundary) << "flat internal edges must not be convex, boundaries must be";
+            if (!isBoundary) {
+                // Adjacency is symmetric.
+                const auto& back = m.adjacency[m.adjacency[i][k]];
+                EXPECT_NE(std::find(back.begin(), back.end(), static_cast<std::uint32_t>(i)), back.end());
+            }
+        }
+    }
+    EXPECT_EQ(boundary, 4 * 6);
+}
+
+TEST(Mesh, ClosedBoxCubeEdgesConvexDiagonalsFlat) {
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    boxMesh({1, 2, Real(0.5)}, v, t);
+    const Shape shape = Shape::mesh(v, t);
+        const TriangleMesh& m = shape.mesh();
+    for (std::size_t i = 0; i < t.size(); ++i) {
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            ASSERT_NE(m.adjacency[i][k], kNone) << "a closed box has no boundary";
+            const bool diagonal = m.adjacency[i][k] == (i ^ 1u);  // the other half of the same quad
+            EXPECT_EQ(((m.convexEdgeMask[i] >> k) & 1u) != 0, !diagonal);
+        }
+    }
+}
+
+TEST(Mesh, ValleyIsConcaveRidgeIsConvex) {
+    // Two triangles sharing the edge x = 0 along z, front faces up.
+    for (const Real tip : {Real(1), Real(-1)}) {
+        const std::vector<Vec3> v{{0, 0, 0}, {0, 0, 1}, {-1, tip, 0}, {1, tip, 0}};
+        const std::vector<Tri> t{{0, 2, 1}, {0, 1, 3}};
+        const Shape shape = Shape::mesh(v, t);
+        const TriangleMesh& m = shape.mesh();
+        EXPECT_EQ(m.adjacency[0][2], 1u);
+        const bool convex = (m.convexEdgeMask[0] >> 2) & 1u;
+        EXPECT_EQ(convex, tip < 0) << (tip > 0 ? "valley (V): concave, internal" : "ridge: convex");
+        EXPECT_EQ(((m.convexEdgeMask[1] >> 0) & 1u) != 0, tip < 0);
+    }
+}
+
+TEST(Mesh, SlightlyBentEdgeBeyondToleranceIsConvex) {
+    // A 0.5 degree fold downward: convex (above the 0.06 degree flat tolerance).
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    flatGrid(2, 1, v, t, Real(-0.0087));
+    const Shape shape = Shape::mesh(v, t);
+        const TriangleMesh& m = shape.mesh();
+    int convexInternal = 0;
+    for (std::size_t i = 0; i < t.size(); ++i)
+        for (std::uint32_t k = 0; k < 3; ++k) convexInternal += m.adjacency[i][k] != kNone && ((m.convexEdgeMask[i] >> k) & 1u);
+    EXPECT_GT(convexInternal, 0);
+}
+
+void expectMeshError(std::span<const Vec3> v, std::span<const Tri> t, const std::string& fragment) {
+    try {
+        (void)Shape::mesh(v, t);
+        ADD_FAILURE() << "expected an error containing '" << fragment << "'";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
+
+TEST(Mesh, InvalidInputIsAnError) {
+    const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {2, 0, 0}};
+    expectMeshError({}, std::vector<Tri>{{0, 1, 2}}, "mesh: vertices must not be empty");
+    expectMeshError(v, {}, "mesh: triangles must not be empty");
+    expectMeshError(v, std::vector<Tri>{{0, 2, 1}, {0, 1, 7}}, "mesh: triangles[1][2] = 7 is out of range (4 vertices)");
+    expectMeshError(v, std::vector<Tri>{{0, 2, 1}, {0, 1, 3}}, "mesh: triangles[1] is degenerate (zero area)");
+    expectMeshError(v, std::vector<Tri>{{0, 0, 1}}, "mesh: triangles[0] is degenerate");
+    std::vector<Vec3> bad = v;
+    bad[2].z = std::nanf("");
+    expectMeshError(bad, std::vector<Tri>{{0, 2, 1}}, "mesh: vertices[2] is not finite");
+}
+
+// A random triangle soup: small triangles scattered in a box.
+Shape randomSoup(test::Rng& rng, int count, std::vector<Vec3>& v, std::vector<Tri>& t) {
+    for (int i = 0; i < count; ++i) {
+        const Vec3 c = rng.inBox(Vec3::splat(-10), Vec3::splat(10));
+        const auto base = static_cast<std::uint32_t>(v.size());
+        for (int k = 0; k < 3; ++k) v.push_back(c + rng.inBox(Vec3::splat(-1), Vec3::splat(1)));
+        t.push_back({base, base + 1, base + 2});
+    }
+    return Shape::mesh(v, t);
+}
+
+TEST(MeshBvh, StructureCoversEveryTriangleOnce) {
+    test::Rng rng(21);
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    const Shape s = randomSoup(rng, 3000, v, t);
+    const MeshBvh& bvh = *s.mesh().bvh;
+    std::vector<std::uint32_t> order = bvh.triangleOrder;
+    std::sort(order.begin(), order.end());
+    for (std::uint32_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i);
+    std::size_t leafTriangles = 0;
+    for (std::size_t n = 0; n < bvh.nodes.size(); ++n) {
+        const MeshBvhNode& node = bvh.nodes[n];
+        if (node.isLeaf()) {
+            EXPECT_LE(node.count, MeshBvh::kMaxLeafTriangles * 2);
+            leafTriangles += node.count;
+            for (std::uint32_t i = node.index; i < node.index + node.count; ++i) {
+                EXPECT_TRUE(node.bounds.contains(triangleBounds(s.mesh(), bvh.triangleOrder[i])));
+            }
+        } else {
+            EXPECT_TRUE(node.bounds.contains(bvh.nodes[n + 1].bounds));
+            EXPECT_TRUE(node.bounds.contains(bvh.nodes[node.index].bounds));
+        }
+    }
+    EXPECT_EQ(leafTriangles, t.size());
+    EXPECT_LT(bvh.depth, MeshBvh::kStackSize);
+}
+
+TEST(MeshBvh, AabbQueryEqualsBruteForce) {
+    test::Rng rng(22);
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    const Shape s = randomSoup(rng, 2000, v, t);
+    for (int q = 0; q < 200; ++q) {
+        const Vec3 c = rng.inBox(Vec3::splat(-12), Vec3::splat(12));
+        const AABB box = AABB::fromCenterHalf(c, rng.inBox(Vec3::splat(0.1f), Vec3::splat(4)));
+        std::vector<std::uint32_t> found;
+        queryTriangles(s.mesh(), box, [&](std::uint32_t i) { found.push_back(i); });
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t i = 0; i < t.size(); ++i) {
+            if (overlaps(triangleBounds(s.mesh(), i), box)) expected.push_back(i);
+        }
+        std::sort(found.begin(), found.end());
+        ASSERT_EQ(found, expected);
+    }
+    // Early exit: a callback returning false stops after the first triangle.
+    int calls = 0;
+    queryTriangles(s.mesh(), s.mesh().bounds, [&](std::uint32_t) { ++calls; return false; });
+    EXPECT_EQ(calls, 1);
+}
+
+TEST(MeshBvh, RayCastEqualsBruteForce) {
+    test::Rng rng(23);
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    const Shape s = randomSoup(rng, 2000, v, t);
+    int hits = 0;
+    for (int q = 0; q < 500; ++q) {
+        const Vec3 p = rng.inBox(Vec3::splat(-15), Vec3::splat(15));
+        Vec3 d = rng.inBox(Vec3::splat(-30), Vec3::splat(30));
+        if (q % 10 == 0) d = Vec3{0, 0, d.z};  // axis-parallel rays exercise the slab special case
+        const auto hit = rayCastMesh(s.mesh(), p, d, 1);
+        Real best = 1;
+        std::uint32_t bestTri = kNone;
+        for (std::uint32_t i = 0; i < t.size(); ++i) {
+            const auto h = rayTriangle(v[t[i][0]], v[t[i][1]], v[t[i][2]], p, d, best);
+            if (h && (*h < best || bestTri == kNone)) { best = *h; bestTri = i; }
+        }
+        ASSERT_EQ(hit.has_value(), bestTri != kNone);
+        if (!hit) continue;
+        ++hits;
+        EXPECT_EQ(hit->fraction, best);  // the same triangle test: bit-identical
+        EXPECT_EQ(hit->triangle, bestTri);
+        EXPECT_LE(dot(hit->normal, d), 0);
+    }
+    EXPECT_GT(hits, 50);
+}
+
+TEST(MeshBvh, ClosestPointEqualsBruteForce) {
+    // Tolerance: 1e-5 of the soup's size (float rounding of the projections).
+    test::Rng rng(24);
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    const Shape s = randomSoup(rng, 1000, v, t);
+    for (int q = 0; q < 300; ++q) {
+        const Vec3 p = rng.inBox(Vec3::splat(-14), Vec3::splat(14));
+        const MeshClosestPoint c = closestPointOnMesh(s.mesh(), p);
+        Real best = std::numeric_limits<Real>::max();
+        for (const Tri& tri : t) best = std::min(best, length(p - test::closestOnTriangle(p, v[tri[0]], v[tri[1]], v[tri[2]])));
+        EXPECT_NEAR(std::fabs(c.distance), best, 1e-4);
+        EXPECT_NEAR(length(p - c.point), best, 1e-4);
+    }
+}
+
+}  // namespace
+}  // namespace fulcrum

@@ -1,0 +1,106 @@
+// Same input -> bit-identical output, and no heap allocation inside step() once
+// the world is built (global operator new is counted while `gCounting` is set).
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+
+#include "dynamics/test_scenes.hpp"
+
+namespace {
+std::atomic<bool> gCounting{false};
+std::atomic<long> gAllocations{0};
+}  // namespace
+
+// The replacements pair malloc with free on purpose; GCC's -Wmismatched-new-delete
+// sees `new` in gtest inlined against this `delete` and misfires.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+void* operator new(std::size_t size) {
+    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
+    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace fulcrum;
+using namespace fulcrum::test;
+
+namespace {
+
+// A scene touching every force path: gravity, drag, damping, springs, a callback,
+// user forces, kinematic and static bodies, tumbling.
+void buildScene(World& world) {
+    BodyDef ground;
+    ground.type = BodyType::Static;
+    ground.shape = Shape::plane({0, 1, 0}, 0);
+    world.createBody(ground);
+    BodyDef k;
+    k.type = BodyType::Kinematic;
+    k.linearVelocity = {1, 0, 0};
+    k.angularVelocity = {0, 1, 0};
+    const BodyId kin = world.createBody(k);
+    BodyId prev = kin;
+    for (int i = 0; i < 20; ++i) {
+        BodyDef d;
+        d.shape = i % 2 ? Shape::box({Real(0.1), Real(0.2), Real(0.3)}) : Shape::capsule(Real(0.1), Real(0.3));
+        d.position = {Real(i) * Real(0.5), 2, 0};
+        d.angularVelocity = {Real(0.1) * Real(i), 3, Real(0.2)};
+        d.linearDrag = Real(0.1);
+        d.quadraticDrag = Real(0.05);
+        d.linearDamping = Real(0.01);
+        const BodyId b = world.createBody(d);
+        SpringDef s;
+        s.bodyA = prev;
+        s.bodyB = b;
+        s.anchorA = world.centerOfMass(prev);
+        s.anchorB = d.position;
+        s.restLength = Real(0.4);
+        s.stiffness = 200;
+        s.damping = 1;
+        world.createSpring(s);
+        prev = b;
+        if (i == 5) world.setForceCallback(b, [](const BodyKinematics& kk) { return Wrench{{0, std::sin(kk.time), 0}, {0, 0, Real(0.1)}}; });
+    }
+}
+
+}  // namespace
+
+TEST(Determinism, SameInputGivesBitIdenticalState) {
+    for (Integrator integrator : kAllIntegrators) {
+        World a(worldDef(integrator, 4)), b(worldDef(integrator, 4));
+        buildScene(a);
+        buildScene(b);
+        for (int i = 0; i < 120; ++i) {
+            a.step(Real(1) / 60);
+            b.step(Real(1) / 60);
+        }
+        const std::vector<BodyId> ia = a.bodies(), ib = b.bodies();
+        ASSERT_EQ(ia.size(), ib.size());
+        for (std::size_t i = 0; i < ia.size(); ++i) {
+            const Transform ta = a.transform(ia[i]), tb = b.transform(ib[i]);
+            EXPECT_EQ(std::memcmp(&ta, &tb, sizeof ta), 0) << toString(integrator) << " body " << i;
+            const Vec3 va = a.angularVelocity(ia[i]), vb = b.angularVelocity(ib[i]);
+            EXPECT_EQ(std::memcmp(&va, &vb, sizeof va), 0);
+        }
+    }
+}
+
+TEST(Allocation, StepDoesNotAllocateInSteadyState) {
+    for (Integrator integrator : kAllIntegrators) {
+        World world(worldDef(integrator, 4));
+        buildScene(world);
+        world.step(Real(1) / 60);  // warm-up
+        world.applyForce(world.bodies()[3], {1, 0, 0}, {0, 0, 0});
+        gAllocations = 0;
+        gCounting = true;
+        for (int i = 0; i < 30; ++i) world.step(Real(1) / 60);
+        const EnergyReport e = world.energy();
+        const Vec3 l = world.angularMomentum();
+        gCounting = false;
+        EXPECT_EQ(gAllocations.load(), 0) << toString(integrator);
+        EXPECT_TRUE(std::isfinite(e.total) && isFinite(l));
+    }
+}
