@@ -9,11 +9,11 @@ namespace fulcrum {
 
 namespace {
 
-std::string labelOf(const ParticleSystem& s) { return detail::systemLabel(toString(s.kind), s.name); }
+std::string labelOf(const ParticleSystem& s) { return detail::particles::systemLabel(toString(s.kind), s.name); }
 
 void requireParticle(const ParticleSystem& s, std::uint32_t particle, std::string_view field) {
     if (particle >= s.particleCount()) {
-        detail::failField(labelOf(s), field,
+        detail::particles::failField(labelOf(s), field,
                           "refers to particle " + std::to_string(particle) + ", but the system has " +
                               std::to_string(s.particleCount()) + " particles");
     }
@@ -32,9 +32,9 @@ const char* toString(ParticleSystemKind kind) {
 
 std::uint32_t addParticle(ParticleSystem& system, const Vec3& position, Real mass, Real radius) {
     const std::string label = labelOf(system);
-    detail::requireFinite(label, "position", position);
-    detail::requireNonNegative(label, "particle_mass", mass);
-    detail::requirePositive(label, "radius", radius);
+    detail::particles::requireFinite(label, "position", position);
+    detail::particles::requireNonNegative(label, "particle_mass", mass);
+    detail::particles::requirePositive(label, "radius", radius);
     const auto index = static_cast<std::uint32_t>(system.particleCount());
     system.position.push_back(position);
     system.previousPosition.push_back(position);
@@ -47,21 +47,21 @@ std::uint32_t addParticle(ParticleSystem& system, const Vec3& position, Real mas
 
 void setParticleMass(ParticleSystem& system, std::uint32_t particle, Real mass) {
     requireParticle(system, particle, "particle");
-    detail::requirePositive(labelOf(system), "particle_mass", mass);
+    detail::particles::requirePositive(labelOf(system), "particle_mass", mass);
     system.inverseMass[particle] = 1 / mass;
 }
 
 void setParticlePosition(ParticleSystem& system, std::uint32_t particle, const Vec3& position) {
     requireParticle(system, particle, "particle");
-    detail::requireFinite(labelOf(system), "position", position);
+    detail::particles::requireFinite(labelOf(system), "position", position);
     system.position[particle] = position;
     system.previousPosition[particle] = position;
 }
 
 void setParticleVelocity(ParticleSystem& system, std::uint32_t particle, const Vec3& velocity, Real substep) {
     requireParticle(system, particle, "particle");
-    detail::requireFinite(labelOf(system), "velocity", velocity);
-    detail::requirePositive(labelOf(system), "substep", substep);
+    detail::particles::requireFinite(labelOf(system), "velocity", velocity);
+    detail::particles::requirePositive(labelOf(system), "substep", substep);
     system.previousPosition[particle] = system.position[particle] - velocity * substep;
     system.previousSubstep = substep;
 }
@@ -79,17 +79,17 @@ void addParticleSpring(ParticleSystem& system, const ParticleSpring& spring) {
     const std::string label = labelOf(system);
     requireParticle(system, spring.a, "spring.a");
     requireParticle(system, spring.b, "spring.b");
-    if (spring.a == spring.b) detail::failField(label, "spring", "joins particle " + std::to_string(spring.a) + " to itself");
-    detail::requireNonNegative(label, "spring.rest_length", spring.restLength);
-    detail::requireNonNegative(label, "spring.stiffness", spring.stiffness);
-    detail::requireNonNegative(label, "spring.damping", spring.damping);
+    if (spring.a == spring.b) detail::particles::failField(label, "spring", "joins particle " + std::to_string(spring.a) + " to itself");
+    detail::particles::requireNonNegative(label, "spring.rest_length", spring.restLength);
+    detail::particles::requireNonNegative(label, "spring.stiffness", spring.stiffness);
+    detail::particles::requireNonNegative(label, "spring.damping", spring.damping);
     system.springs.push_back(spring);
 }
 
 void attachParticle(ParticleSystem& system, std::uint32_t particle, std::uint32_t bodyIndex, Real compliance,
                     const char* field) {
     requireParticle(system, particle, field);
-    detail::requireNonNegative(labelOf(system), "attach_compliance", compliance);
+    detail::particles::requireNonNegative(labelOf(system), "attach_compliance", compliance);
     ParticleAttachment a;
     a.particle = particle;
     a.body = bodyIndex;
@@ -99,7 +99,7 @@ void attachParticle(ParticleSystem& system, std::uint32_t particle, std::uint32_
 }
 
 void addTethers(ParticleSystem& system, Real slack) {
-    detail::requireNonNegative(labelOf(system), "tether_slack", slack);
+    detail::particles::requireNonNegative(labelOf(system), "tether_slack", slack);
     if (system.pins.empty()) return;
     system.tethers.constraints.clear();
     system.tethers.lambda.clear();

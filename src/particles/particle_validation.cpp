@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace fulcrum::detail {
+namespace fulcrum::detail::particles {
 
 std::string systemLabel(std::string_view kind, std::string_view name) {
     std::string s(kind);
@@ -49,4 +49,4 @@ void requireNonNegative(const std::string& label, std::string_view field, Real v
     if (v < 0) failField(label, field, "must not be negative, got " + formatReal(v));
 }
 
-}  // namespace fulcrum::detail
+}  // namespace fulcrum::detail::particles

@@ -8,7 +8,7 @@
 #include "fulcrum/error.hpp"
 #include "fulcrum/math.hpp"
 
-namespace fulcrum::detail {
+namespace fulcrum::detail::particles {
 
 // "rope 'r1'" (or "rope #unnamed" when the name is empty).
 std::string systemLabel(std::string_view kind, std::string_view name);
@@ -22,4 +22,4 @@ void requireFinite(const std::string& label, std::string_view field, const Vec3&
 void requirePositive(const std::string& label, std::string_view field, Real v);
 void requireNonNegative(const std::string& label, std::string_view field, Real v);
 
-}  // namespace fulcrum::detail
+}  // namespace fulcrum::detail::particles
