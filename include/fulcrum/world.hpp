@@ -38,8 +38,8 @@ struct WorldDef {
     int threads = 1;            // >= 1; results are identical for every count
 
     // ---- contact solver tuning (docs/solver.md explains each one)
-    Real contactHertz = 30;             // stiffness of the soft contact (capped at 1/4 of the sub-step rate); > 0
-    Real contactDampingRatio = 10;      // > 0; 10 = heavily over-damped: overlaps are pushed out without bounce
+    Real contactHertz = 60;             // stiffness of the soft contact (capped at 1/4 of the sub-step rate); > 0
+    Real contactDampingRatio = 1;       // > 0; 1 = critically damped: overlaps are pushed out without bounce
     Real contactPushMaxVelocity = 3;    // m/s: the fastest an overlap is pushed apart; > 0
     Real speculativeMargin = Real(0.02);  // m: contact points are made this far before touching (plus the motion of a step); >= 0
     Real restitutionThreshold = 1;      // m/s: slower impacts don't bounce; >= 0

@@ -20,6 +20,7 @@ struct CachedPoint {
     std::uint32_t featureId = 0;
     Real normalImpulse = 0;      // accumulated over a sub-step (warm start)
     Real maxNormalImpulse = 0;   // largest sub-step impulse of the last step (restitution, events)
+    Vec3 frictionImpulse;        // per-point friction mode: accumulated tangent impulse, world
 };
 
 struct CachedManifold {

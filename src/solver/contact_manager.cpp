@@ -24,6 +24,8 @@ Real extentFromCom(const WorldImpl& w, std::uint32_t dense) {
     return length(max(abs(b.min - c), abs(b.max - c)));
 }
 
+constexpr Real kMatchDistance = Real(0.02);
+
 bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 
 }  // namespace
@@ -211,11 +213,25 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
                 dst.featureId = src.featureId;
                 touching = touching || src.depth > -kTouchSlop;
                 if (old == nullptr) continue;
+                // Match by feature id; failing that (a box-box manifold may swap its
+                // reference face between frames, renaming every point), by the
+                // nearest old point within kMatchDistance.
+                std::uint32_t match = UINT32_MAX;
+                Real bestDist2 = kMatchDistance * kMatchDistance;
                 for (std::uint32_t j = 0; j < old->pointCount; ++j) {
                     if (old->points[j].featureId == src.featureId) {
-                        dst.normalImpulse = old->points[j].normalImpulse;
+                        match = j;
                         break;
                     }
+                    const Real d2 = lengthSquared(old->points[j].position - src.position);
+                    if (d2 < bestDist2) {
+                        bestDist2 = d2;
+                        match = j;
+                    }
+                }
+                if (match != UINT32_MAX) {
+                    dst.normalImpulse = old->points[match].normalImpulse;
+                    dst.frictionImpulse = old->points[match].frictionImpulse;
                 }
             }
         }

@@ -56,11 +56,13 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
     invH_ = 1 / h;
     pushMax_ = s.contactPushMaxVelocity;
     restitutionThreshold_ = s.restitutionThreshold;
-    // Contact stiffness capped at a quarter of the sub-step rate (stable for the
-    // implicit spring); static contacts twice as stiff so stacks don't sink.
+    // Contact stiffness capped at a quarter of the sub-step rate; static contacts
+    // twice as stiff (so stacks don't sink into the ground) but under the same
+    // cap: at half the sub-step rate (Box2D's limit for static contacts) a stack
+    // of three unit boxes jittered at 0.1 m/s; capped, below 1e-4 m/s.
     const Real hertz = std::min(s.contactHertz, Real(0.25) / h);
     contactSoftness_ = makeSoftness(hertz, s.contactDampingRatio, h);
-    staticSoftness_ = makeSoftness(2 * hertz, s.contactDampingRatio, h);
+    staticSoftness_ = makeSoftness(std::min(2 * hertz, Real(0.25) / h), s.contactDampingRatio, h);
     (void)dt;
 
     // ---- solver bodies: awake dynamic and kinematic bodies, entry 0 = static
@@ -152,6 +154,12 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
                 cp.maxNormalImpulse = 0;
                 const Vec3 dv = mb.v + cross(mb.w, cp.rB) - ma.v - cross(ma.w, cp.rA);
                 cp.relativeVelocity = dot(n, dv);
+                const Real k1 = effectiveMassInverse(ba, bb, cp.rA, cp.rB, k.tangent1);
+                const Real k2 = effectiveMassInverse(ba, bb, cp.rA, cp.rB, k.tangent2);
+                cp.tangentMass1 = k1 > 0 ? 1 / k1 : 0;
+                cp.tangentMass2 = k2 > 0 ? 1 / k2 : 0;
+                cp.tangentImpulse1 = dot(src.frictionImpulse, k.tangent1);
+                cp.tangentImpulse2 = dot(src.frictionImpulse, k.tangent2);
                 centre += src.position;
             }
             centre *= Real(1) / static_cast<Real>(m.pointCount);
@@ -259,7 +267,7 @@ void ContactSolver::warmStart() {
         Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             const ConstraintPoint& cp = k.points[i];
-            const Vec3 P = k.normal * cp.normalImpulse;
+            const Vec3 P = k.normal * cp.normalImpulse + k.tangent1 * cp.tangentImpulse1 + k.tangent2 * cp.tangentImpulse2;
             vA -= P * a.invMass;
             wA -= a.invI * cross(cp.rA, P);
             vB += P * b.invMass;
@@ -320,8 +328,31 @@ void ContactSolver::solve(bool useBias) {
             wB += b.invI * cross(cp.rB, P);
         }
 
+        if (friction_ == FrictionModel::PerPoint) {
+            // Two tangent rows per point, clamped to the point's friction disc.
+            for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+                ConstraintPoint& cp = k.points[i];
+                const Vec3 dv = vB + cross(wB, cp.rB) - vA - cross(wA, cp.rA);
+                const Real old1 = cp.tangentImpulse1, old2 = cp.tangentImpulse2;
+                Real new1 = old1 - cp.tangentMass1 * dot(dv, k.tangent1);
+                Real new2 = old2 - cp.tangentMass2 * dot(dv, k.tangent2);
+                const Real maxF = k.friction * cp.normalImpulse;
+                const Real mag2 = new1 * new1 + new2 * new2;
+                if (mag2 > maxF * maxF) {
+                    const Real scale = maxF / std::sqrt(mag2);
+                    new1 *= scale;
+                    new2 *= scale;
+                }
+                cp.tangentImpulse1 = new1;
+                cp.tangentImpulse2 = new2;
+                const Vec3 P = k.tangent1 * (new1 - old1) + k.tangent2 * (new2 - old2);
+                vA -= P * a.invMass;
+                wA -= a.invI * cross(cp.rA, P);
+                vB += P * b.invMass;
+                wB += b.invI * cross(cp.rB, P);
+            }
+        } else {
         // Tangent friction at the manifold's centre, clamped to the friction disc.
-        {
             const Vec3 dv = vB + cross(wB, k.rBc) - vA - cross(wA, k.rAc);
             const Real v1 = dot(dv, k.tangent1), v2 = dot(dv, k.tangent2);
             const Real old1 = k.tangentImpulse1, old2 = k.tangentImpulse2;
@@ -416,6 +447,7 @@ void ContactSolver::store(WorldImpl& w, ContactManager& manager) const {
             CachedPoint& dst = m.points[i];
             dst.normalImpulse = cp.normalImpulse;
             dst.maxNormalImpulse = cp.maxNormalImpulse;
+            dst.frictionImpulse = k.tangent1 * cp.tangentImpulse1 + k.tangent2 * cp.tangentImpulse2;
             const Vec3 d = dp + rotate(b.dq, cp.rB) - rotate(a.dq, cp.rA);
             dst.depthAfter = -(dot(k.normal, d) + cp.adjustedSeparation);
         }

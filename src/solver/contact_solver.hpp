@@ -50,6 +50,9 @@ struct ConstraintPoint {
     Real normalImpulse = 0;
     Real maxNormalImpulse = 0;
     Real relativeVelocity = 0;  // normal approach speed before the step (restitution)
+    // Per-point friction mode only.
+    Real tangentMass1 = 0, tangentMass2 = 0;
+    Real tangentImpulse1 = 0, tangentImpulse2 = 0;
 };
 
 struct ContactConstraint {
@@ -72,6 +75,9 @@ struct ContactConstraint {
 struct SolverSettings {
     Real contactHertz = 30, dampingRatio = 10, pushMaxVelocity = 3, restitutionThreshold = 1;
 };
+
+// Friction model (docs/solver.md has the measurements that chose the default).
+enum class FrictionModel : std::uint8_t { ManifoldCentre, PerPoint };
 
 class ContactSolver {
 public:
@@ -112,6 +118,7 @@ private:
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     Softness contactSoftness_, staticSoftness_;
+    FrictionModel friction_ = FrictionModel::ManifoldCentre;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };
 
