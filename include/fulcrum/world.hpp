@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -35,6 +36,27 @@ struct WorldDef {
     int solverIterations = 1;   // constraint iterations per sub-step (>= 1)
     bool sleeping = true;
     int threads = 1;            // >= 1; results are identical for every count
+
+    // ---- contact solver tuning (docs/solver.md explains each one)
+    Real contactHertz = 60;             // stiffness of the soft contact (capped at 1/4 of the sub-step rate); > 0
+    Real contactDampingRatio = 1;       // > 0; 1 = critically damped: overlaps are pushed out without bounce
+    Real contactPushMaxVelocity = 3;    // m/s: the fastest an overlap is pushed apart; > 0
+    Real speculativeMargin = Real(0.02);  // m: contact points are made this far before touching (plus the motion of a step); >= 0
+    Real restitutionThreshold = 1;      // m/s: slower impacts don't bounce; >= 0
+    // ---- sleeping: a group of touching bodies whose every body stays below both
+    // speeds for `timeToSleep` seconds falls asleep.
+    Real linearSleepVelocity = Real(0.05);   // m/s, >= 0
+    Real angularSleepVelocity = Real(0.05);  // rad/s, >= 0
+    Real timeToSleep = Real(0.5);            // s, >= 0
+    // ---- continuous collision: time of impact for fast bodies against static ones
+    // (and `isBullet` bodies against dynamic ones as well).
+    bool continuousCollision = true;
+};
+
+// A contact or sensor event of the last step. Contacts: the two bodies (bodyA
+// has the smaller handle index). Sensors: bodyA is the sensor, bodyB the visitor.
+struct ContactEvent {
+    BodyId bodyA, bodyB;
 };
 
 struct EnergyReport {
@@ -145,6 +167,12 @@ public:
     Vec3 linearMomentum() const;
     Vec3 angularMomentum() const;                      // about the world origin
     std::vector<ContactReport> contacts() const;       // manifolds of the last step
+
+    // ---- events of the last step (valid until the next step; no allocation)
+    std::span<const ContactEvent> contactBeginEvents() const;  // pairs that started touching
+    std::span<const ContactEvent> contactEndEvents() const;    // pairs that stopped touching (or were destroyed)
+    std::span<const ContactEvent> sensorBeginEvents() const;   // a body started overlapping a sensor
+    std::span<const ContactEvent> sensorEndEvents() const;     // ... stopped overlapping it
 
     WorldImpl& impl() { return *impl_; }               // engine internals (tests, io, tools)
     const WorldImpl& impl() const { return *impl_; }

@@ -116,6 +116,12 @@ public:
     std::span<const ProxyPair> updatePairs(const Predicate& canPair);
     std::span<const ProxyPair> updatePairs() { return updatePairs(AcceptAllPairs{}); }
 
+    // Grows the new-pair buffer so updatePairs() need not allocate (the world
+    // calls it when bodies are created).
+    void reservePairs(std::size_t count) {
+        if (pairs_.capacity() < count) pairs_.reserve(count);
+    }
+
     // Whether two proxies' fat boxes overlap: the caller ends a pair when false.
     bool testOverlap(ProxyId a, ProxyId b) const { return overlaps(fatAABB(a), fatAABB(b)); }
 

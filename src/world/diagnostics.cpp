@@ -87,7 +87,14 @@ Vec3 World::angularMomentum() const {
     return {static_cast<Real>(sum.x), static_cast<Real>(sum.y), static_cast<Real>(sum.z)};
 }
 
-std::vector<ContactReport> World::contacts() const { return impl_->contacts; }
+std::vector<ContactReport> World::contacts() const {
+    const auto first = impl_->contacts.begin();
+    return {first, first + static_cast<std::ptrdiff_t>(impl_->contactReportCount)};
+}
+std::span<const ContactEvent> World::contactBeginEvents() const { return impl_->contactManager.beginEvents; }
+std::span<const ContactEvent> World::contactEndEvents() const { return impl_->contactManager.endEvents; }
+std::span<const ContactEvent> World::sensorBeginEvents() const { return impl_->contactManager.sensorBeginEvents; }
+std::span<const ContactEvent> World::sensorEndEvents() const { return impl_->contactManager.sensorEndEvents; }
 
 // ---------------------------------------------------------------- FixedStepper
 

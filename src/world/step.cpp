@@ -7,10 +7,16 @@
 //
 //   1. compute forces        gravity, drag, springs, user forces, callbacks -> w.forces
 //   2. integrate velocities  v, w from the forces (+ damping)
-//   3. [solve]               contacts and joints: velocity constraints with soft
-//                            position bias (Box2D v3 soft step)      <- solver goes here
+//   3. solve                 contacts: warm start, then velocity constraints with
+//                            soft position bias (Box2D v3 soft step, src/solver)
 //   4. integrate positions   x, q from the velocities
-//   5. finalize              Verlet's second kick; [relax: the solver's bias-free pass]
+//   4b. relax                the solver's bias-free pass on the step's anchors
+//   5. finalize              Verlet's second kick
+//
+// Around the sub-steps: before them the collision pipeline (broad phase, contacts,
+// narrow phase, events) and the solver's prepare (constraints on the step's start
+// configuration, graph colouring); after them restitution, impulse storage,
+// continuous collision (time of impact), islands and sleeping, contact reports.
 //
 // This is the shape of Box2D v3's soft step (integrate velocities, warm start
 // and solve, integrate positions, relax), so the constraint solver slots in
@@ -49,6 +55,7 @@
 #include "dynamics/forces.hpp"
 #include "dynamics/integrators.hpp"
 #include "dynamics/validation.hpp"
+#include "solver/continuous.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum {
@@ -64,6 +71,8 @@ const char* firstNonFinite(const detail::BodyMotion& m) {
     return "";
 }
 
+constexpr std::uint32_t kNoIndexBody = UINT32_MAX;
+
 }  // namespace
 
 void WorldImpl::step(Real dt) {
@@ -74,6 +83,20 @@ void WorldImpl::step(Real dt) {
 
     for (std::size_t i = 0; i < motion.size(); ++i) previous[i] = originTransform(static_cast<std::uint32_t>(i));
 
+    // Turning sleeping off wakes everything once.
+    if (!settings.sleeping && wasSleeping) {
+        for (std::uint32_t i = 0; i < motion.size(); ++i) wakeBody(i);
+    }
+    wasSleeping = settings.sleeping;
+
+    // Collision: broad phase, contacts, narrow phase (wakes what awake bodies touch).
+    contactManager.update(*this, dt);
+    // Constraints are prepared once per step on the step's start configuration.
+    detail::ContactSolver& solver = contactSolver;
+    solver.prepare(*this, contactManager, dt, h);
+    const bool hasContacts = solver.constraintCount() > 0;
+    const int iterations = settings.solverIterations;
+
     const double t0 = time;
     for (int s = 0; s < substeps; ++s) {
         const double tStart = t0 + hd * s;
@@ -82,18 +105,51 @@ void WorldImpl::step(Real dt) {
         if (method != Integrator::Verlet || s == 0) detail::evaluateForces(*this, tStart);
         // Stage 2
         detail::integrateVelocities(*this, method, h);
-        // Stage 3: the constraint solver (contacts, joints) will run here.
+        // Stage 3: warm start and solve with soft position bias.
+        if (hasContacts) {
+            solver.gatherVelocities(*this);
+            solver.warmStart();
+            for (int it = 0; it < iterations; ++it) solver.solve(true);
+            solver.scatterVelocities(*this);
+        }
         // Stage 4
         detail::integratePositions(*this, method, h);
+        // Relax: the bias-free pass removes the velocity the soft push added.
+        if (hasContacts) {
+            solver.updateDeltas(*this);
+            solver.gatherVelocities(*this);
+            solver.solve(false);
+            solver.scatterVelocities(*this);
+        }
         // Stage 5
         detail::finalizeSubstep(*this, method, h, tStart + hd);
     }
+
+    if (hasContacts) {
+        // Restitution once per step on the final velocities (threshold and
+        // "received impulse" rule in the solver), then keep the impulses.
+        solver.gatherVelocities(*this);
+        solver.applyRestitution();
+        solver.scatterVelocities(*this);
+        solver.store(*this, contactManager);
+    }
+    if (settings.continuousCollision) detail::solveContinuous(*this, solver, contactManager, dt);
+    sleepManager.update(*this, solver, contactManager, dt);
+    contactManager.report(*this);
 
     for (detail::ForceTorque& a : applied) a = {};
     ++stepCount;
     time = t0 + static_cast<double>(dt);
 
-    for (std::uint32_t i = 0; i < motion.size(); ++i) {
+    // Contacts spread a NaN to the bodies touching it, so name a body whose
+    // forces went non-finite first: that is where the NaN came from.
+    std::uint32_t culprit = kNoIndexBody;
+    for (std::uint32_t i = 0; i < motion.size() && culprit == kNoIndexBody; ++i) {
+        if (params[i].type == BodyType::Static) continue;
+        if (!isFinite(forces[i].force) || !isFinite(forces[i].torque)) culprit = i;
+    }
+    for (std::uint32_t k = 0; k < motion.size(); ++k) {
+        const std::uint32_t i = culprit == kNoIndexBody ? k : (k == 0 ? culprit : (k <= culprit ? k - 1 : k));
         if (params[i].type == BodyType::Static) continue;
         const char* bad = firstNonFinite(motion[i]);
         if (*bad != '\0') {

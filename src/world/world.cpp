@@ -15,6 +15,7 @@ using detail::formatReal;
 using detail::kNoIndex;
 using detail::requireFinite;
 using detail::requireNonNegative;
+using detail::requirePositive;
 using detail::Subject;
 
 namespace {
@@ -34,6 +35,14 @@ void validateSettings(const WorldDef& def) {
         case Integrator::Verlet: break;
         default: fail(kWorldSubject, "integrator", "is not a known integrator");
     }
+    requirePositive(kWorldSubject, "contactHertz", def.contactHertz);
+    requirePositive(kWorldSubject, "contactDampingRatio", def.contactDampingRatio);
+    requirePositive(kWorldSubject, "contactPushMaxVelocity", def.contactPushMaxVelocity);
+    requireNonNegative(kWorldSubject, "speculativeMargin", def.speculativeMargin);
+    requireNonNegative(kWorldSubject, "restitutionThreshold", def.restitutionThreshold);
+    requireNonNegative(kWorldSubject, "linearSleepVelocity", def.linearSleepVelocity);
+    requireNonNegative(kWorldSubject, "angularSleepVelocity", def.angularSleepVelocity);
+    requireNonNegative(kWorldSubject, "timeToSleep", def.timeToSleep);
 }
 
 Subject subjectOf(const WorldImpl& w, std::uint32_t dense) {
@@ -56,6 +65,25 @@ std::uint32_t WorldImpl::resolveBody(BodyId id, const char* where) const {
                     std::to_string(id.generation) + "): that body was destroyed");
     }
     return slot.dense;
+}
+
+void WorldImpl::wakeBody(std::uint32_t dense) {
+    detail::BodyParams& p = params[dense];
+    if (p.type == BodyType::Static) return;
+    p.sleepTime = 0;
+    if (p.awake) return;
+    const std::uint32_t island = p.sleepIsland;
+    if (island == 0) {
+        p.awake = true;
+        return;
+    }
+    // The island's bodies wake together (a linear scan: waking is an event, not per step).
+    for (detail::BodyParams& q : params) {
+        if (q.sleepIsland != island) continue;
+        q.awake = true;
+        q.sleepTime = 0;
+        q.sleepIsland = 0;
+    }
 }
 
 std::string WorldImpl::describeBody(std::uint32_t dense) const { return subjectOf(*this, dense).describe(); }
@@ -90,7 +118,7 @@ void World::setSolverIterations(int iterations) {
     if (iterations < 1) fail(kWorldSubject, "solverIterations", "must be at least 1, got " + std::to_string(iterations));
     impl_->settings.solverIterations = iterations;
 }
-void World::setSleepingEnabled(bool enabled) { impl_->settings.sleeping = enabled; }
+void World::setSleepingEnabled(bool enabled) { impl_->settings.sleeping = enabled; }  // the step wakes all when off
 void World::setThreadCount(int threads) {
     if (threads < 1) fail(kWorldSubject, "threads", "must be at least 1, got " + std::to_string(threads));
     impl_->settings.threads = threads;
@@ -178,6 +206,10 @@ BodyId World::createBody(const BodyDef& def) {
         w.freeBodySlots.pop_back();
         w.bodySlots[slotIndex].dense = dense;
     }
+    w.contactManager.addBody(w, dense);
+    w.contactManager.reserve(w, w.motion.size());
+    w.contactSolver.reserve(w.motion.size());
+    w.sleepManager.reserve(w.motion.size());
     return {slotIndex, w.bodySlots[slotIndex].generation};
 }
 
@@ -194,6 +226,8 @@ void World::destroyBody(BodyId id) {
         detail::JointData& j = w.joints[i];
         if (j.alive && (j.def.bodyA == id || j.def.bodyB == id)) destroyJoint({i, j.generation});
     }
+
+    w.contactManager.removeBody(w, id.index);
 
     // Swap-remove from the dense arrays.
     const std::uint32_t last = static_cast<std::uint32_t>(w.motion.size() - 1);
@@ -295,7 +329,8 @@ void World::setTransform(BodyId id, const Vec3& position, const Quat& orientatio
     m.com = position + rotate(q, w.params[d].localCom);
     w.updateWorldInertia(d);
     w.previous[d] = {position, q};  // a teleport: don't interpolate across it
-    if (w.params[d].type != BodyType::Static) w.params[d].awake = true;
+    w.wakeBody(d);
+    w.contactManager.bodyTeleported(w, d);
 }
 
 void World::setLinearVelocity(BodyId id, const Vec3& v) {
@@ -304,7 +339,7 @@ void World::setLinearVelocity(BodyId id, const Vec3& v) {
     requireFinite(subjectOf(w, d), "linearVelocity", v);
     if (w.params[d].type == BodyType::Static) return;  // static bodies never move
     w.motion[d].v = v;
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::setAngularVelocity(BodyId id, const Vec3& omega) {
@@ -313,7 +348,7 @@ void World::setAngularVelocity(BodyId id, const Vec3& omega) {
     requireFinite(subjectOf(w, d), "angularVelocity", omega);
     if (w.params[d].type == BodyType::Static) return;
     w.motion[d].w = omega;
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::setFriction(BodyId id, Real friction) {
@@ -351,7 +386,7 @@ void World::setDrag(BodyId id, Real linear, Real quadratic) {
 bool World::isAwake(BodyId id) const { return impl_->params[impl_->resolveBody(id, "World::isAwake")].awake; }
 void World::wake(BodyId id) {
     const std::uint32_t d = impl_->resolveBody(id, "World::wake");
-    if (impl_->params[d].type != BodyType::Static) impl_->params[d].awake = true;
+    impl_->wakeBody(d);
 }
 
 // ---------------------------------------------------------------- user forces and impulses
@@ -367,7 +402,7 @@ void World::applyForce(BodyId id, const Vec3& force, const Vec3& worldPoint) {
     if (w.params[d].type != BodyType::Dynamic) return;
     w.applied[d].force += force;
     w.applied[d].torque += cross(worldPoint - w.motion[d].com, force);
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::applyForceAtCenter(BodyId id, const Vec3& force) {
@@ -376,7 +411,7 @@ void World::applyForceAtCenter(BodyId id, const Vec3& force) {
     requireFinite(subjectOf(w, d), "force", force);
     if (w.params[d].type != BodyType::Dynamic) return;
     w.applied[d].force += force;
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::applyTorque(BodyId id, const Vec3& torque) {
@@ -385,7 +420,7 @@ void World::applyTorque(BodyId id, const Vec3& torque) {
     requireFinite(subjectOf(w, d), "torque", torque);
     if (w.params[d].type != BodyType::Dynamic) return;
     w.applied[d].torque += torque;
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::applyLinearImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint) {
@@ -398,7 +433,7 @@ void World::applyLinearImpulse(BodyId id, const Vec3& impulse, const Vec3& world
     detail::BodyMotion& m = w.motion[d];
     m.v += impulse * m.invMass;
     m.w += m.invInertiaWorld * cross(worldPoint - m.com, impulse);
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::applyLinearImpulseAtCenter(BodyId id, const Vec3& impulse) {
@@ -407,7 +442,7 @@ void World::applyLinearImpulseAtCenter(BodyId id, const Vec3& impulse) {
     requireFinite(subjectOf(w, d), "impulse", impulse);
     if (w.params[d].type != BodyType::Dynamic) return;
     w.motion[d].v += impulse * w.motion[d].invMass;
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::applyAngularImpulse(BodyId id, const Vec3& impulse) {
@@ -416,7 +451,7 @@ void World::applyAngularImpulse(BodyId id, const Vec3& impulse) {
     requireFinite(subjectOf(w, d), "angularImpulse", impulse);
     if (w.params[d].type != BodyType::Dynamic) return;
     w.motion[d].w += w.motion[d].invInertiaWorld * impulse;
-    w.params[d].awake = true;
+    w.wakeBody(d);
 }
 
 void World::setForceCallback(BodyId id, ForceCallback callback) {

@@ -47,9 +47,9 @@
 //
 // Contacts
 // --------
-// `contacts` holds the manifolds of the last step as ContactReports. The
-// collision pipeline (broad + narrow phase) fills it; until it lands it stays
-// empty. World::contacts() returns a copy.
+// `contacts` holds the touching manifolds of the last step as ContactReports
+// (src/solver/contact_manager.hpp fills it). World::contacts() returns a copy of
+// the first contactReportCount entries.
 //
 // No heap allocation per step: every scratch array is sized when bodies are
 // created and reused.
@@ -58,6 +58,9 @@
 #include <vector>
 
 #include "fulcrum/world.hpp"
+#include "solver/contact_manager.hpp"
+#include "solver/contact_solver.hpp"
+#include "solver/sleep.hpp"
 
 namespace fulcrum {
 
@@ -96,6 +99,8 @@ struct BodyParams {
     Real gravityScale = 1;
     Real friction = Real(0.6), restitution = 0, rollingResistance = 0;
     CollisionFilter filter;
+    Real sleepTime = 0;              // seconds spent below the sleep speeds (solver/sleep.hpp)
+    std::uint32_t sleepIsland = 0;   // while asleep: the island it fell asleep with (0: none)
 };
 
 struct BodyCold {
@@ -162,8 +167,20 @@ struct WorldImpl {
     std::vector<detail::JointData> joints;
     std::vector<std::uint32_t> freeJointSlots;
 
-    // ---- contacts of the last step (filled by the collision pipeline)
+    // ---- contacts of the last step (filled by the collision pipeline): the
+    // first contactReportCount entries are valid; the rest keep their capacity
+    // so reporting allocates nothing in steady state.
     std::vector<ContactReport> contacts;
+    std::size_t contactReportCount = 0;
+
+    // ---- collision pipeline and solver (src/solver)
+    detail::ContactManager contactManager;
+    detail::ContactSolver contactSolver;
+    detail::SleepManager sleepManager;
+    bool wasSleeping = true;         // settings.sleeping at the last step (turning it off wakes all)
+
+    // Wakes a non-static body and, if it sleeps, its whole island; resets its sleep timer.
+    void wakeBody(std::uint32_t dense);
 
     // Dense index of a live body; throws fulcrum::Error naming `where` for a
     // null, out-of-range or stale handle.

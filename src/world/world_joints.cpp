@@ -27,6 +27,16 @@ void requireBreakThreshold(const Subject& who, const char* field, Real v) {
 
 bool usesAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider || t == JointType::ConeTwist; }
 
+// A joint between two bodies changes whether they may collide (unless it
+// keeps collideConnected): drop A's contacts and let the broad phase report
+// its pairs anew under the new rule. Joined bodies wake.
+void jointChangedPairs(WorldImpl& w, const JointDef& def) {
+    if (!def.bodyA.isNull()) w.wakeBody(w.bodySlots[def.bodyA.index].dense);
+    if (!def.bodyB.isNull()) w.wakeBody(w.bodySlots[def.bodyB.index].dense);
+    if (def.bodyA.isNull() || def.bodyB.isNull() || def.collideConnected) return;
+    w.contactManager.resetPairs(w, def.bodyA.index);
+}
+
 }  // namespace
 
 detail::JointData& WorldImpl::resolveJoint(JointId id, const char* where) {
@@ -143,12 +153,14 @@ JointId World::createJoint(const JointDef& def) {
     j.localAxisB = localAxis(b, axis);
     j.minLength = minLength;
     j.maxLength = maxLength;
+    jointChangedPairs(w, j.def);
     return {slot, j.generation};
 }
 
 void World::destroyJoint(JointId id) {
     detail::JointData& j = impl_->resolveJoint(id, "World::destroyJoint");
     j.alive = false;
+    jointChangedPairs(*impl_, j.def);
     ++j.generation;
     impl_->freeJointSlots.push_back(id.index);
 }

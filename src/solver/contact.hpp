@@ -1,0 +1,50 @@
+#pragma once
+// Persistent contacts: one per pair of bodies whose fat boxes overlap, holding
+// the manifolds of the last narrow-phase update and the accumulated impulses
+// that warm-start the solver next step.
+//
+// Bodies are referred to by *slot* index (stable while the body lives), not by
+// dense index, because destroying another body swap-removes the dense arrays.
+#include <cstdint>
+#include <vector>
+
+#include "collision/broad_phase.hpp"
+#include "fulcrum/math.hpp"
+
+namespace fulcrum::detail {
+
+struct CachedPoint {
+    Vec3 position;               // world, midway between the surfaces, at the step's start
+    Real depth = 0;              // at the step's start (positive: overlap)
+    Real depthAfter = 0;         // at the step's end, from the bodies' motion (reported to users)
+    std::uint32_t featureId = 0;
+    Real normalImpulse = 0;      // accumulated over a sub-step (warm start)
+    Real maxNormalImpulse = 0;   // largest sub-step impulse of the last step (restitution, events)
+    Vec3 frictionImpulse;        // per-point friction mode: accumulated tangent impulse, world
+};
+
+struct CachedManifold {
+    Vec3 normal{0, 1, 0};        // from A to B
+    std::uint32_t childA = 0, childB = 0;
+    std::uint32_t pointCount = 0;
+    CachedPoint points[4];
+    // Manifold-level friction state (bepu / Box3D style), world space so a new
+    // tangent basis can pick it up: tangent impulse vector, twist impulse about
+    // the normal, rolling-resistance angular impulse.
+    Vec3 frictionImpulse;
+    Real twistImpulse = 0;
+    Vec3 rollingImpulse;
+};
+
+struct Contact {
+    bool alive = false;
+    bool sensor = false;         // one body is a sensor: overlap tracking only
+    bool touching = false;       // as of the last update (sensor: overlapping)
+    bool solved = false;         // took part in the last solve (both bodies known to the solver)
+    std::uint32_t slotA = 0, slotB = 0;  // slotA's proxy id < slotB's proxy id
+    ProxyId proxyA = kNullProxy, proxyB = kNullProxy;
+    std::uint32_t nextFree = UINT32_MAX;
+    std::vector<CachedManifold> manifolds;  // capacity kept across reuse: no allocation in steady state
+};
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,317 @@
+#include "solver/contact_manager.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "collision/narrow_phase.hpp"
+#include "world/world_impl.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+struct PairRule {
+    const WorldImpl* w;
+    bool operator()(std::uint32_t slotA, std::uint32_t slotB) const { return mayCollide(*w, slotA, slotB); }
+};
+
+// Farthest point of the shape from the centre of mass (bounds corner): how far
+// spin can move a surface point.
+Real extentFromCom(const WorldImpl& w, std::uint32_t dense) {
+    const AABB b = w.cold[dense].shape.localBounds();
+    const Vec3 c = w.params[dense].localCom;
+    return length(max(abs(b.min - c), abs(b.max - c)));
+}
+
+constexpr Real kMatchDistance = Real(0.02);
+
+bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
+
+}  // namespace
+
+bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
+    const BodyParams& pa = w.params[w.bodySlots[slotA].dense];
+    const BodyParams& pb = w.params[w.bodySlots[slotB].dense];
+    if (pa.isSensor && pb.isSensor) return false;
+    for (const JointData& j : w.joints) {
+        if (!j.alive || j.def.collideConnected) continue;
+        const std::uint32_t ja = j.def.bodyA.isNull() ? UINT32_MAX : j.def.bodyA.index;
+        const std::uint32_t jb = j.def.bodyB.isNull() ? UINT32_MAX : j.def.bodyB.index;
+        if ((ja == slotA && jb == slotB) || (ja == slotB && jb == slotA)) return false;
+    }
+    return true;
+}
+
+void ContactManager::addBody(WorldImpl& w, std::uint32_t dense) {
+    const std::uint32_t slot = w.denseToSlot[dense];
+    if (proxyOfSlot_.size() <= slot) proxyOfSlot_.resize(slot + 1, kNullProxy);
+    const BodyParams& p = w.params[dense];
+    const AABB box = w.cold[dense].shape.bounds(w.originTransform(dense));
+    proxyOfSlot_[slot] = broad_.createProxy(box, p.type, p.filter, slot);
+}
+
+void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
+    const std::size_t wantContacts = 4 * bodyCount;
+    if (contacts_.size() < wantContacts) {
+        contacts_.reserve(std::max(wantContacts, 2 * contacts_.size()));
+        while (contacts_.size() < wantContacts) {
+            contacts_.emplace_back();
+            Contact& c = contacts_.back();
+            c.manifolds.reserve(1);
+            c.nextFree = freeContact_;
+            freeContact_ = static_cast<std::uint32_t>(contacts_.size() - 1);
+        }
+    }
+    const std::size_t wantEvents = 2 * bodyCount;
+    for (std::vector<ContactEvent>* v : {&beginEvents, &endEvents, &sensorBeginEvents, &sensorEndEvents}) {
+        if (v->capacity() < wantEvents) v->reserve(2 * wantEvents);
+    }
+    if (scratch_.capacity() < 4) scratch_.reserve(4);
+    broad_.reservePairs(8 * std::bit_ceil(bodyCount));
+    if (!warmedBuffer_) {
+        // Grow the narrow phase's output to a few manifolds now rather than in a step.
+        for (int i = 0; i < 4; ++i) buffer_.push();
+        buffer_.clear();
+        warmedBuffer_ = true;
+    }
+    const std::size_t wantReports = 2 * bodyCount;
+    if (w.contacts.size() < wantReports) {
+        w.contacts.reserve(std::max(wantReports, 2 * w.contacts.size()));
+        while (w.contacts.size() < wantReports) {
+            w.contacts.emplace_back();
+            w.contacts.back().points.reserve(4);
+        }
+    }
+}
+
+void ContactManager::removeBody(WorldImpl& w, std::uint32_t slot) {
+    for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
+        Contact& c = contacts_[i];
+        if (!c.alive || (c.slotA != slot && c.slotB != slot)) continue;
+        // The partner loses its support: wake it (Box2D does the same).
+        const std::uint32_t other = c.slotA == slot ? c.slotB : c.slotA;
+        if (c.touching && !c.sensor) w.wakeBody(w.bodySlots[other].dense);
+        destroyContact(w, i);
+    }
+    broad_.destroyProxy(proxyOfSlot_[slot]);
+    proxyOfSlot_[slot] = kNullProxy;
+}
+
+void ContactManager::bodyTeleported(WorldImpl& w, std::uint32_t dense) {
+    const std::uint32_t slot = w.denseToSlot[dense];
+    const AABB box = w.cold[dense].shape.bounds(w.originTransform(dense));
+    broad_.moveProxy(proxyOfSlot_[slot], box, Vec3::zero());
+}
+
+void ContactManager::resetPairs(WorldImpl& w, std::uint32_t slot) {
+    for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
+        const Contact& c = contacts_[i];
+        if (c.alive && (c.slotA == slot || c.slotB == slot)) destroyContact(w, i);
+    }
+    broad_.refreshProxy(proxyOfSlot_[slot]);
+}
+
+void ContactManager::createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA,
+                                   ProxyId proxyB) {
+    std::uint32_t index;
+    if (freeContact_ != UINT32_MAX) {
+        index = freeContact_;
+        freeContact_ = contacts_[index].nextFree;
+    } else {
+        index = static_cast<std::uint32_t>(contacts_.size());
+        contacts_.emplace_back();
+        contacts_.back().manifolds.reserve(1);
+    }
+    Contact& c = contacts_[index];
+    // Canonical order: the smaller slot is A, so events name bodies the same way every run.
+    if (slotB < slotA) {
+        std::swap(slotA, slotB);
+        std::swap(proxyA, proxyB);
+    }
+    c.alive = true;
+    c.slotA = slotA;
+    c.slotB = slotB;
+    c.proxyA = proxyA;
+    c.proxyB = proxyB;
+    c.touching = false;
+    c.solved = false;
+    c.nextFree = UINT32_MAX;
+    c.sensor = w.params[w.bodySlots[slotA].dense].isSensor || w.params[w.bodySlots[slotB].dense].isSensor;
+    c.manifolds.clear();
+}
+
+void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
+    Contact& c = contacts_[index];
+    if (c.touching) {
+        const BodyId a = {c.slotA, w.bodySlots[c.slotA].generation};
+        const BodyId b = {c.slotB, w.bodySlots[c.slotB].generation};
+        if (!c.sensor) {
+            endEvents.push_back({a, b});
+        } else {
+            const bool aIsSensor = w.params[w.bodySlots[c.slotA].dense].isSensor;
+            sensorEndEvents.push_back(aIsSensor ? ContactEvent{a, b} : ContactEvent{b, a});
+        }
+    }
+    c.alive = false;
+    c.touching = false;
+    c.manifolds.clear();
+    c.nextFree = freeContact_;
+    freeContact_ = index;
+}
+
+void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
+    const std::uint32_t dA = w.bodySlots[c.slotA].dense;
+    const std::uint32_t dB = w.bodySlots[c.slotB].dense;
+    const BodyParams& pa = w.params[dA];
+    const BodyParams& pb = w.params[dB];
+    const BodyMotion& ma = w.motion[dA];
+    const BodyMotion& mb = w.motion[dB];
+
+    Real margin = 0;
+    if (!c.sensor) {
+        // Speculative distance: the base margin plus how far the surfaces can approach in one step.
+        Real approach = length(mb.v - ma.v);
+        if (pa.type != BodyType::Static) approach += length(ma.w) * extentFromCom(w, dA);
+        if (pb.type != BodyType::Static) approach += length(mb.w) * extentFromCom(w, dB);
+        margin = w.settings.speculativeMargin + approach * dt;
+    }
+    collide(w.cold[dA].shape, w.originTransform(dA), w.cold[dB].shape, w.originTransform(dB), margin, buffer_);
+
+    bool touching = false;
+    if (c.sensor) {
+        for (const Manifold& m : buffer_) touching = touching || (m.pointCount > 0 && m.maxDepth() >= 0);
+        c.manifolds.clear();
+    } else {
+        scratch_.clear();
+        for (const Manifold& m : buffer_) {
+            if (m.pointCount == 0) continue;
+            scratch_.emplace_back();
+            CachedManifold& out = scratch_.back();
+            out.normal = m.normal;
+            out.childA = m.childA;
+            out.childB = m.childB;
+            out.pointCount = m.pointCount;
+            const CachedManifold* old = nullptr;
+            for (const CachedManifold& o : c.manifolds) {
+                if (o.childA == m.childA && o.childB == m.childB) {
+                    old = &o;
+                    break;
+                }
+            }
+            if (old != nullptr) {
+                out.frictionImpulse = old->frictionImpulse;
+                out.twistImpulse = old->twistImpulse;
+                out.rollingImpulse = old->rollingImpulse;
+            }
+            for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+                const ContactPoint& src = m.points[k];
+                CachedPoint& dst = out.points[k];
+                dst.position = src.position;
+                dst.depth = src.depth;
+                dst.depthAfter = src.depth;
+                dst.featureId = src.featureId;
+                touching = touching || src.depth > -kTouchSlop;
+                if (old == nullptr) continue;
+                // Match by feature id; failing that (a box-box manifold may swap its
+                // reference face between frames, renaming every point), by the
+                // nearest old point within kMatchDistance.
+                std::uint32_t match = UINT32_MAX;
+                Real bestDist2 = kMatchDistance * kMatchDistance;
+                for (std::uint32_t j = 0; j < old->pointCount; ++j) {
+                    if (old->points[j].featureId == src.featureId) {
+                        match = j;
+                        break;
+                    }
+                    const Real d2 = lengthSquared(old->points[j].position - src.position);
+                    if (d2 < bestDist2) {
+                        bestDist2 = d2;
+                        match = j;
+                    }
+                }
+                if (match != UINT32_MAX) {
+                    dst.normalImpulse = old->points[match].normalImpulse;
+                    dst.frictionImpulse = old->points[match].frictionImpulse;
+                }
+            }
+        }
+        c.manifolds.resize(scratch_.size());
+        std::copy(scratch_.begin(), scratch_.end(), c.manifolds.begin());
+        // A sleeping body near an awake one wakes (with its island) as soon as
+        // they have contact points, so the solver sees both.
+        if (!c.manifolds.empty()) {
+            if (pa.type != BodyType::Static && !pa.awake) w.wakeBody(dA);
+            if (pb.type != BodyType::Static && !pb.awake) w.wakeBody(dB);
+        }
+    }
+
+    if (touching != c.touching) {
+        const BodyId a = {c.slotA, w.bodySlots[c.slotA].generation};
+        const BodyId b = {c.slotB, w.bodySlots[c.slotB].generation};
+        if (!c.sensor) {
+            (touching ? beginEvents : endEvents).push_back({a, b});
+        } else {
+            const ContactEvent e = pa.isSensor ? ContactEvent{a, b} : ContactEvent{b, a};
+            (touching ? sensorBeginEvents : sensorEndEvents).push_back(e);
+        }
+        c.touching = touching;
+    }
+}
+
+void ContactManager::update(WorldImpl& w, Real dt) {
+    beginEvents.clear();
+    endEvents.clear();
+    sensorBeginEvents.clear();
+    sensorEndEvents.clear();
+
+    // 1. Proxies follow the awake bodies (fattened by the coming step's motion).
+    const std::size_t count = w.motion.size();
+    for (std::uint32_t d = 0; d < count; ++d) {
+        if (!isAwakeMover(w.params[d])) continue;
+        const AABB box = w.cold[d].shape.bounds(w.originTransform(d));
+        broad_.moveProxy(proxyOfSlot_[w.denseToSlot[d]], box, w.motion[d].v * dt);
+    }
+
+    // 2. New pairs, sorted by proxy ids: a deterministic order.
+    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w})) {
+        createContact(w, pair.userA, pair.userB, pair.a, pair.b);
+    }
+
+    // 3. End pairs whose fat boxes separated; collide the rest that can have moved.
+    for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
+        Contact& c = contacts_[i];
+        if (!c.alive) continue;
+        if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
+            destroyContact(w, i);
+            continue;
+        }
+        const bool moverA = isAwakeMover(w.params[w.bodySlots[c.slotA].dense]);
+        const bool moverB = isAwakeMover(w.params[w.bodySlots[c.slotB].dense]);
+        // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
+        if (!moverA && !moverB) continue;
+        collideContact(w, contacts_[i], dt);
+    }
+}
+
+void ContactManager::report(WorldImpl& w) const {
+    std::size_t n = 0;
+    for (const Contact& c : contacts_) {
+        if (!c.alive || c.sensor) continue;
+        for (const CachedManifold& m : c.manifolds) {
+            Real deepest = -1e30f;
+            for (std::uint32_t k = 0; k < m.pointCount; ++k) deepest = std::max(deepest, m.points[k].depthAfter);
+            if (m.pointCount == 0 || deepest <= -kTouchSlop) continue;
+            if (n == w.contacts.size()) w.contacts.emplace_back();
+            ContactReport& r = w.contacts[n++];
+            r.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
+            r.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
+            r.normal = m.normal;
+            r.depth = deepest;
+            r.points.resize(m.pointCount);
+            for (std::uint32_t k = 0; k < m.pointCount; ++k) r.points[k] = m.points[k].position;
+        }
+    }
+    w.contactReportCount = n;
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,83 @@
+#pragma once
+// ContactManager: the collision pipeline of the World (broad phase -> contacts
+// -> narrow phase -> events), the first half of the step.
+//
+// Each body owns one broad-phase proxy (static bodies in the static tree). At
+// the start of a step every awake, non-static body moves its proxy to its tight
+// box, fattened by its displacement over the step (v dt) so the pairs of the
+// coming motion already exist. New pairs, in the broad phase's deterministic
+// order, become Contacts after the filters (CollisionFilter, sensor-sensor,
+// and the joint rule: bodies joined by a joint without collideConnected don't
+// collide). A contact ends when the fat boxes stop overlapping.
+//
+// Each contact with at least one awake body runs collide() with a speculative
+// margin of `WorldDef::speculativeMargin` plus the pair's possible approach
+// over one step (relative speed + spin times extent, times dt), so a fast body
+// gets its speculative points a step before it arrives. New manifold points
+// take the accumulated impulses of the old points with the same feature id
+// (manifolds are matched by their child ids) for warm starting.
+//
+// "Touching" (events, islands, reports) means a point within kTouchSlop of
+// contact: the soft solver rests bodies a fraction of a millimetre apart or
+// into each other, and a strict depth > 0 would flicker between frames.
+// A touching manifold with a sleeping body wakes the sleeping body's island.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "collision/broad_phase.hpp"
+#include "collision/manifold.hpp"
+#include "fulcrum/world.hpp"
+#include "solver/contact.hpp"
+
+namespace fulcrum {
+struct WorldImpl;
+}
+
+namespace fulcrum::detail {
+
+inline constexpr Real kTouchSlop = Real(0.005);
+
+// The joint rule and the sensor-sensor rule for two bodies (by slot).
+bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB);
+
+class ContactManager {
+public:
+    // Body lifetime (called by World::createBody / destroyBody / setTransform).
+    void addBody(WorldImpl& w, std::uint32_t dense);
+    void removeBody(WorldImpl& w, std::uint32_t slot);  // before the dense arrays are changed
+    void bodyTeleported(WorldImpl& w, std::uint32_t dense);
+    // Grows every per-step buffer for `bodyCount` bodies (about 4 contacts and
+    // 2 reports per body), at body creation, so steps don't allocate.
+    void reserve(WorldImpl& w, std::size_t bodyCount);
+    // Drops the body's contacts and reports all its overlaps anew next step
+    // (a joint that changes which partners it may collide with).
+    void resetPairs(WorldImpl& w, std::uint32_t slot);
+
+    // Broad phase + narrow phase + events. Clears the previous step's events.
+    void update(WorldImpl& w, Real dt);
+    // Fills w.contacts with the touching manifolds (after the solver stored its results).
+    void report(WorldImpl& w) const;
+
+    std::vector<Contact>& contacts() { return contacts_; }
+    const std::vector<Contact>& contacts() const { return contacts_; }
+    const BroadPhase& broadPhase() const { return broad_; }
+    ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
+
+    std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
+
+private:
+    void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
+    void destroyContact(WorldImpl& w, std::uint32_t index);
+    void collideContact(WorldImpl& w, Contact& c, Real dt);
+
+    BroadPhase broad_;
+    std::vector<ProxyId> proxyOfSlot_;
+    std::vector<Contact> contacts_;
+    std::uint32_t freeContact_ = UINT32_MAX;
+    ManifoldBuffer buffer_;
+    bool warmedBuffer_ = false;
+    std::vector<CachedManifold> scratch_;
+};
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,460 @@
+#include "solver/contact_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "solver/contact_manager.hpp"
+#include "world/world_impl.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+// Colours tried before a constraint goes to the overflow colour (solved last).
+// Box2D uses 24 in 2D; 3D piles have more neighbours per body, 32 fits one
+// uint32 mask of used colours per body if we ever need it.
+constexpr std::uint32_t kColourCount = 32;
+
+Softness makeSoftness(Real hertz, Real zeta, Real h) {
+    if (hertz == 0) return {0, 1, 0};
+    const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
+    const Real a1 = 2 * zeta + h * omega;
+    const Real a2 = h * omega * a1;
+    const Real a3 = 1 / (1 + a2);
+    return {omega / a1, a2 * a3, a3};
+}
+
+bool isRound(ShapeType t) { return t == ShapeType::Sphere || t == ShapeType::Capsule; }
+
+// Effective mass along direction d through anchors rA, rB.
+Real effectiveMassInverse(const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& d) {
+    const Vec3 ra = cross(rA, d), rb = cross(rB, d);
+    return a.invMass + b.invMass + dot(ra, a.invI * ra) + dot(rb, b.invI * rb);
+}
+
+}  // namespace
+
+void ContactSolver::reserve(std::size_t bodyCount) {
+    const auto grow = [](auto& v, std::size_t n) {
+        if (v.capacity() < n) v.reserve(2 * n);
+    };
+    grow(bodies_, bodyCount + 1);
+    grow(startCom_, bodyCount + 1);
+    grow(startQ_, bodyCount + 1);
+    grow(denseOf_, bodyCount + 1);
+    grow(solverOfDense_, bodyCount);
+    grow(constraints_, 4 * bodyCount);
+    grow(unordered_, 4 * bodyCount);
+    grow(colourOf_, 4 * bodyCount);
+    grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
+    grow(colourStart_, kColourCount + 2);
+}
+
+void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
+    const WorldDef& s = w.settings;
+    invH_ = 1 / h;
+    pushMax_ = s.contactPushMaxVelocity;
+    restitutionThreshold_ = s.restitutionThreshold;
+    // Contact stiffness capped at a quarter of the sub-step rate; static contacts
+    // twice as stiff (so stacks don't sink into the ground) but under the same
+    // cap: at half the sub-step rate (Box2D's limit for static contacts) a stack
+    // of three unit boxes jittered at 0.1 m/s; capped, below 1e-4 m/s.
+    const Real hertz = std::min(s.contactHertz, Real(0.25) / h);
+    contactSoftness_ = makeSoftness(hertz, s.contactDampingRatio, h);
+    staticSoftness_ = makeSoftness(std::min(2 * hertz, Real(0.25) / h), s.contactDampingRatio, h);
+    (void)dt;
+
+    // ---- solver bodies: awake dynamic and kinematic bodies, entry 0 = static
+    const std::size_t count = w.motion.size();
+    solverOfDense_.assign(count, 0);
+    bodies_.clear();
+    denseOf_.clear();
+    startCom_.clear();
+    startQ_.clear();
+    bodies_.push_back({});
+    denseOf_.push_back(kNoIndex);
+    startCom_.push_back({});
+    startQ_.push_back({});
+    for (std::uint32_t d = 0; d < count; ++d) {
+        const BodyParams& p = w.params[d];
+        if (p.type == BodyType::Static || !p.awake) continue;
+        const BodyMotion& m = w.motion[d];
+        solverOfDense_[d] = static_cast<std::uint32_t>(bodies_.size());
+        SolverBody b;
+        b.v = m.v;
+        b.w = m.w;
+        b.invMass = m.invMass;
+        b.invI = m.invInertiaWorld;
+        bodies_.push_back(b);
+        denseOf_.push_back(d);
+        startCom_.push_back(m.com);
+        startQ_.push_back(m.q);
+    }
+
+    // ---- constraints, one per manifold of every contact with an awake body
+    unordered_.clear();
+    std::vector<Contact>& contacts = manager.contacts();
+    for (std::uint32_t ci = 0; ci < contacts.size(); ++ci) {
+        Contact& c = contacts[ci];
+        c.solved = false;
+        if (!c.alive || c.sensor || c.manifolds.empty()) continue;
+        const std::uint32_t dA = w.bodySlots[c.slotA].dense;
+        const std::uint32_t dB = w.bodySlots[c.slotB].dense;
+        const BodyParams& pa = w.params[dA];
+        const BodyParams& pb = w.params[dB];
+        const std::uint32_t ia = solverOfDense_[dA], ib = solverOfDense_[dB];
+        // Both static or asleep: not part of this step.
+        if (ia == 0 && ib == 0) continue;
+        // A sleeping body paired with an awake one was woken by the contact manager.
+        if ((ia == 0 && pa.type != BodyType::Static) || (ib == 0 && pb.type != BodyType::Static)) continue;
+        const SolverBody& ba = bodies_[ia];
+        const SolverBody& bb = bodies_[ib];
+        if (ba.invMass == 0 && bb.invMass == 0 && pa.type != BodyType::Dynamic && pb.type != BodyType::Dynamic) continue;
+        c.solved = true;
+
+        const BodyMotion& ma = w.motion[dA];
+        const BodyMotion& mb = w.motion[dB];
+        const Real friction = std::sqrt(pa.friction * pb.friction);
+        const Real restitution = std::max(pa.restitution, pb.restitution);
+        Real rollingRadius = 0;
+        if (isRound(w.cold[dA].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dA].shape.radius());
+        if (isRound(w.cold[dB].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dB].shape.radius());
+        const Real rolling = std::max(pa.rollingResistance, pb.rollingResistance) * rollingRadius;
+        // Against static (and kinematic: infinite mass) bodies the stiffer softness.
+        const bool stiff = ba.invMass == 0 || bb.invMass == 0;
+
+        for (std::uint32_t mi = 0; mi < c.manifolds.size(); ++mi) {
+            const CachedManifold& m = c.manifolds[mi];
+            unordered_.emplace_back();
+            ContactConstraint& k = unordered_.back();
+            k.bodyA = ia;
+            k.bodyB = ib;
+            k.contact = ci;
+            k.manifold = mi;
+            k.pointCount = m.pointCount;
+            k.friction = friction;
+            k.restitution = restitution;
+            k.rollingResistance = rolling;
+            k.softness = stiff ? staticSoftness_ : contactSoftness_;
+            const Vec3 n = m.normal;
+            k.normal = n;
+            orthonormalBasis(n, k.tangent1, k.tangent2);
+
+            Vec3 centre;
+            for (std::uint32_t pi = 0; pi < m.pointCount; ++pi) {
+                const CachedPoint& src = m.points[pi];
+                ConstraintPoint& cp = k.points[pi];
+                cp.rA = src.position - ma.com;
+                cp.rB = src.position - mb.com;
+                cp.adjustedSeparation = -src.depth - dot(n, cp.rB - cp.rA);
+                const Real kn = effectiveMassInverse(ba, bb, cp.rA, cp.rB, n);
+                cp.normalMass = kn > 0 ? 1 / kn : 0;
+                cp.normalImpulse = src.normalImpulse;
+                cp.maxNormalImpulse = 0;
+                const Vec3 dv = mb.v + cross(mb.w, cp.rB) - ma.v - cross(ma.w, cp.rA);
+                cp.relativeVelocity = dot(n, dv);
+                const Real k1 = effectiveMassInverse(ba, bb, cp.rA, cp.rB, k.tangent1);
+                const Real k2 = effectiveMassInverse(ba, bb, cp.rA, cp.rB, k.tangent2);
+                cp.tangentMass1 = k1 > 0 ? 1 / k1 : 0;
+                cp.tangentMass2 = k2 > 0 ? 1 / k2 : 0;
+                cp.tangentImpulse1 = dot(src.frictionImpulse, k.tangent1);
+                cp.tangentImpulse2 = dot(src.frictionImpulse, k.tangent2);
+                centre += src.position;
+            }
+            centre *= Real(1) / static_cast<Real>(m.pointCount);
+            k.rAc = centre - ma.com;
+            k.rBc = centre - mb.com;
+            Real radius = 0;
+            for (std::uint32_t pi = 0; pi < m.pointCount; ++pi) radius += length(m.points[pi].position - centre);
+            k.twistRadius = radius / static_cast<Real>(m.pointCount);
+
+            // 2x2 tangent effective mass at the centre, inverted.
+            const Real mSum = ba.invMass + bb.invMass;
+            const Vec3 a1 = cross(k.rAc, k.tangent1), a2 = cross(k.rAc, k.tangent2);
+            const Vec3 b1 = cross(k.rBc, k.tangent1), b2 = cross(k.rBc, k.tangent2);
+            const Real t11 = mSum + dot(a1, ba.invI * a1) + dot(b1, bb.invI * b1);
+            const Real t12 = dot(a1, ba.invI * a2) + dot(b1, bb.invI * b2);
+            const Real t22 = mSum + dot(a2, ba.invI * a2) + dot(b2, bb.invI * b2);
+            const Real det = t11 * t22 - t12 * t12;
+            if (det > 0) {
+                const Real inv = 1 / det;
+                k.k11 = t22 * inv;
+                k.k12 = -t12 * inv;
+                k.k22 = t11 * inv;
+            }
+            const Real kt = dot(n, ba.invI * n) + dot(n, bb.invI * n);
+            k.twistMass = kt > 0 ? 1 / kt : 0;
+            k.tangentImpulse1 = dot(m.frictionImpulse, k.tangent1);
+            k.tangentImpulse2 = dot(m.frictionImpulse, k.tangent2);
+            k.twistImpulse = m.twistImpulse;
+            if (rolling > 0) {
+                const Mat3 kr = ba.invI + bb.invI;
+                if (std::fabs(determinant(kr)) > 0) k.rollingMass = inverse(kr);
+                k.rollingImpulse = m.rollingImpulse;
+            } else {
+                k.rollingMass = Mat3::zero();
+                k.rollingImpulse = {};
+            }
+        }
+    }
+    colour();
+}
+
+void ContactSolver::colour() {
+    const std::size_t n = unordered_.size();
+    const std::size_t words = (bodies_.size() + 63) / 64;
+    colourBits_.assign(kColourCount * words, 0);
+    colourOf_.resize(n);
+    std::uint32_t counts[kColourCount + 1] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+        const ContactConstraint& k = unordered_[i];
+        // Bodies of infinite mass (static, kinematic) are never written with a
+        // change, so they don't take a colour slot.
+        const bool dynA = bodies_[k.bodyA].invMass > 0;
+        const bool dynB = bodies_[k.bodyB].invMass > 0;
+        std::uint32_t c = kColourCount;
+        for (std::uint32_t col = 0; col < kColourCount; ++col) {
+            std::uint64_t* bits = colourBits_.data() + col * words;
+            const bool usedA = dynA && (bits[k.bodyA >> 6] >> (k.bodyA & 63) & 1u);
+            const bool usedB = dynB && (bits[k.bodyB >> 6] >> (k.bodyB & 63) & 1u);
+            if (usedA || usedB) continue;
+            if (dynA) bits[k.bodyA >> 6] |= std::uint64_t{1} << (k.bodyA & 63);
+            if (dynB) bits[k.bodyB >> 6] |= std::uint64_t{1} << (k.bodyB & 63);
+            c = col;
+            break;
+        }
+        colourOf_[i] = c;
+        ++counts[c];
+    }
+    colourStart_.assign(kColourCount + 2, 0);
+    for (std::uint32_t c = 0; c <= kColourCount; ++c) colourStart_[c + 1] = colourStart_[c] + counts[c];
+    constraints_.resize(n);
+    std::uint32_t cursor[kColourCount + 1];
+    for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
+    for (std::size_t i = 0; i < n; ++i) constraints_[cursor[colourOf_[i]]++] = unordered_[i];
+}
+
+void ContactSolver::gatherVelocities(const WorldImpl& w) {
+    for (std::size_t i = 1; i < bodies_.size(); ++i) {
+        const BodyMotion& m = w.motion[denseOf_[i]];
+        bodies_[i].v = m.v;
+        bodies_[i].w = m.w;
+    }
+}
+
+void ContactSolver::scatterVelocities(WorldImpl& w) const {
+    for (std::size_t i = 1; i < bodies_.size(); ++i) {
+        if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
+        BodyMotion& m = w.motion[denseOf_[i]];
+        m.v = bodies_[i].v;
+        m.w = bodies_[i].w;
+    }
+}
+
+void ContactSolver::updateDeltas(const WorldImpl& w) {
+    for (std::size_t i = 1; i < bodies_.size(); ++i) {
+        const BodyMotion& m = w.motion[denseOf_[i]];
+        bodies_[i].dp = m.com - startCom_[i];
+        bodies_[i].dq = m.q * conjugate(startQ_[i]);
+    }
+}
+
+void ContactSolver::warmStart() {
+    for (ContactConstraint& k : constraints_) {
+        SolverBody& a = bodies_[k.bodyA];
+        SolverBody& b = bodies_[k.bodyB];
+        Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            const ConstraintPoint& cp = k.points[i];
+            const Vec3 P = k.normal * cp.normalImpulse + k.tangent1 * cp.tangentImpulse1 + k.tangent2 * cp.tangentImpulse2;
+            vA -= P * a.invMass;
+            wA -= a.invI * cross(cp.rA, P);
+            vB += P * b.invMass;
+            wB += b.invI * cross(cp.rB, P);
+        }
+        const Vec3 F = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+        const Vec3 T = k.normal * k.twistImpulse + k.rollingImpulse;
+        vA -= F * a.invMass;
+        wA -= a.invI * (cross(k.rAc, F) + T);
+        vB += F * b.invMass;
+        wB += b.invI * (cross(k.rBc, F) + T);
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+    }
+}
+
+void ContactSolver::solve(bool useBias) {
+    for (ContactConstraint& k : constraints_) {
+        SolverBody& a = bodies_[k.bodyA];
+        SolverBody& b = bodies_[k.bodyB];
+        Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        const Vec3 dp = b.dp - a.dp;
+        const Vec3 n = k.normal;
+        const Softness soft = useBias ? k.softness : Softness{0, 1, 0};
+        Real totalNormal = 0;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            ConstraintPoint& cp = k.points[i];
+            // Separation now, from the bodies' motion since the step's start.
+            const Vec3 d = dp + rotate(b.dq, cp.rB) - rotate(a.dq, cp.rA);
+            const Real s = dot(n, d) + cp.adjustedSeparation;
+            Real bias = 0, massScale = 1, impulseScale = 0;
+            if (s > 0) {
+                bias = s * invH_;  // speculative: allow exactly the approach that closes the gap
+            } else if (useBias) {
+                bias = std::max(soft.biasRate * s, -pushMax_);
+                massScale = soft.massScale;
+                impulseScale = soft.impulseScale;
+            }
+            const Vec3 dv = vB + cross(wB, cp.rB) - vA - cross(wA, cp.rA);
+            const Real vn = dot(n, dv);
+            Real impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
+            const Real newImpulse = std::max(cp.normalImpulse + impulse, Real(0));
+            impulse = newImpulse - cp.normalImpulse;
+            // The approach speed for restitution: the speed when the point first
+            // pushes, which includes the gravity of the sub-steps before the
+            // impact (the speed at the step's start misses up to g dt: a ball
+            // with e = 1 lost ~7 % of its height per bounce; now < 1 %).
+            if (impulse > 0 && cp.maxNormalImpulse == 0) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+            cp.normalImpulse = newImpulse;
+            cp.maxNormalImpulse = std::max(cp.maxNormalImpulse, impulse);
+            totalNormal += newImpulse;
+            const Vec3 P = n * impulse;
+            vA -= P * a.invMass;
+            wA -= a.invI * cross(cp.rA, P);
+            vB += P * b.invMass;
+            wB += b.invI * cross(cp.rB, P);
+        }
+
+        if (friction_ == FrictionModel::PerPoint) {
+            // Two tangent rows per point, clamped to the point's friction disc.
+            for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+                ConstraintPoint& cp = k.points[i];
+                const Vec3 dv = vB + cross(wB, cp.rB) - vA - cross(wA, cp.rA);
+                const Real old1 = cp.tangentImpulse1, old2 = cp.tangentImpulse2;
+                Real new1 = old1 - cp.tangentMass1 * dot(dv, k.tangent1);
+                Real new2 = old2 - cp.tangentMass2 * dot(dv, k.tangent2);
+                const Real maxF = k.friction * cp.normalImpulse;
+                const Real mag2 = new1 * new1 + new2 * new2;
+                if (mag2 > maxF * maxF) {
+                    const Real scale = maxF / std::sqrt(mag2);
+                    new1 *= scale;
+                    new2 *= scale;
+                }
+                cp.tangentImpulse1 = new1;
+                cp.tangentImpulse2 = new2;
+                const Vec3 P = k.tangent1 * (new1 - old1) + k.tangent2 * (new2 - old2);
+                vA -= P * a.invMass;
+                wA -= a.invI * cross(cp.rA, P);
+                vB += P * b.invMass;
+                wB += b.invI * cross(cp.rB, P);
+            }
+        } else {
+        // Tangent friction at the manifold's centre, clamped to the friction disc.
+            const Vec3 dv = vB + cross(wB, k.rBc) - vA - cross(wA, k.rAc);
+            const Real v1 = dot(dv, k.tangent1), v2 = dot(dv, k.tangent2);
+            const Real old1 = k.tangentImpulse1, old2 = k.tangentImpulse2;
+            Real new1 = old1 - (k.k11 * v1 + k.k12 * v2);
+            Real new2 = old2 - (k.k12 * v1 + k.k22 * v2);
+            const Real maxFriction = k.friction * totalNormal;
+            const Real mag2 = new1 * new1 + new2 * new2;
+            if (mag2 > maxFriction * maxFriction) {
+                const Real scale = maxFriction / std::sqrt(mag2);
+                new1 *= scale;
+                new2 *= scale;
+            }
+            k.tangentImpulse1 = new1;
+            k.tangentImpulse2 = new2;
+            const Vec3 P = k.tangent1 * (new1 - old1) + k.tangent2 * (new2 - old2);
+            vA -= P * a.invMass;
+            wA -= a.invI * cross(k.rAc, P);
+            vB += P * b.invMass;
+            wB += b.invI * cross(k.rBc, P);
+
+            // Twist friction about the normal, clamped by mu N times the points' mean lever arm.
+            const Real maxTwist = maxFriction * k.twistRadius;
+            const Real wn = dot(wB - wA, n);
+            const Real oldT = k.twistImpulse;
+            const Real newT = std::clamp(oldT - k.twistMass * wn, -maxTwist, maxTwist);
+            k.twistImpulse = newT;
+            const Vec3 T = n * (newT - oldT);
+            wA -= a.invI * T;
+            wB += b.invI * T;
+        }
+
+        // Rolling resistance: an angular velocity constraint clamped by rr * radius * N.
+        if (k.rollingResistance > 0) {
+            const Real maxRolling = k.rollingResistance * totalNormal;
+            const Vec3 oldR = k.rollingImpulse;
+            Vec3 newR = oldR - k.rollingMass * (wB - wA);
+            const Real mag2 = lengthSquared(newR);
+            if (mag2 > maxRolling * maxRolling) newR *= maxRolling / std::sqrt(mag2);
+            k.rollingImpulse = newR;
+            const Vec3 T = newR - oldR;
+            wA -= a.invI * T;
+            wB += b.invI * T;
+        }
+
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+    }
+}
+
+void ContactSolver::applyRestitution() {
+    for (ContactConstraint& k : constraints_) {
+        if (k.restitution == 0) continue;
+        SolverBody& a = bodies_[k.bodyA];
+        SolverBody& b = bodies_[k.bodyB];
+        Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            ConstraintPoint& cp = k.points[i];
+            // Only points that approached fast enough and actually pushed.
+            if (cp.relativeVelocity > -restitutionThreshold_ || cp.maxNormalImpulse == 0) continue;
+            const Vec3 dv = vB + cross(wB, cp.rB) - vA - cross(wA, cp.rA);
+            const Real vn = dot(k.normal, dv);
+            Real impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
+            const Real newImpulse = std::max(cp.normalImpulse + impulse, Real(0));
+            impulse = newImpulse - cp.normalImpulse;
+            cp.normalImpulse = newImpulse;
+            cp.maxNormalImpulse = std::max(cp.maxNormalImpulse, impulse);
+            const Vec3 P = k.normal * impulse;
+            vA -= P * a.invMass;
+            wA -= a.invI * cross(cp.rA, P);
+            vB += P * b.invMass;
+            wB += b.invI * cross(cp.rB, P);
+        }
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+    }
+}
+
+void ContactSolver::store(WorldImpl& w, ContactManager& manager) const {
+    (void)w;
+    std::vector<Contact>& contacts = manager.contacts();
+    for (const ContactConstraint& k : constraints_) {
+        CachedManifold& m = contacts[k.contact].manifolds[k.manifold];
+        const SolverBody& a = bodies_[k.bodyA];
+        const SolverBody& b = bodies_[k.bodyB];
+        const Vec3 dp = b.dp - a.dp;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            const ConstraintPoint& cp = k.points[i];
+            CachedPoint& dst = m.points[i];
+            dst.normalImpulse = cp.normalImpulse;
+            dst.maxNormalImpulse = cp.maxNormalImpulse;
+            dst.frictionImpulse = k.tangent1 * cp.tangentImpulse1 + k.tangent2 * cp.tangentImpulse2;
+            const Vec3 d = dp + rotate(b.dq, cp.rB) - rotate(a.dq, cp.rA);
+            dst.depthAfter = -(dot(k.normal, d) + cp.adjustedSeparation);
+        }
+        m.frictionImpulse = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+        m.twistImpulse = k.twistImpulse;
+        m.rollingImpulse = k.rollingImpulse;
+    }
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,125 @@
+#pragma once
+// The contact solver: Box2D v3's "soft step" (Catto, "Solver2D", 2024) in 3D.
+// docs/solver.md has the long form; the formulas are in the solver notes.
+//
+// Per step, prepare() builds
+//   - a compact array of solver bodies: every awake dynamic or kinematic body,
+//     plus entry 0, an all-zero "static" body that stands for every static body
+//     (writes to it add zero, so constraints need no branch for static ends);
+//   - one ContactConstraint per manifold, with anchors relative to the centres
+//     of mass at the step's start, effective masses, softness and mixed
+//     friction/restitution/rolling resistance;
+//   - a graph colouring: constraints of one colour share no dynamic body, so a
+//     colour could run in parallel (later issue: threads and SIMD). Colours are
+//     solved in order, deterministically.
+// Per sub-step the step calls: gather velocities, warmStart, solve(bias),
+// scatter, [integrate positions], updateDeltas, relax (solve without bias),
+// scatter. After the sub-steps: applyRestitution, store.
+#include <cstdint>
+#include <vector>
+
+#include "fulcrum/math.hpp"
+
+namespace fulcrum {
+struct WorldImpl;
+}
+
+namespace fulcrum::detail {
+
+class ContactManager;
+
+struct SolverBody {
+    Vec3 v;                     // linear velocity of the centre of mass
+    Real invMass = 0;
+    Vec3 w;                     // angular velocity, world
+    Real pad = 0;
+    Vec3 dp;                    // centre-of-mass displacement since the step's start
+    Quat dq;                    // rotation since the step's start (q = dq q0)
+    Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
+};
+
+// Implicit spring-damper coefficients (see the solver notes).
+struct Softness {
+    Real biasRate = 0, massScale = 1, impulseScale = 0;
+};
+
+struct ConstraintPoint {
+    Vec3 rA, rB;                // anchor from each centre of mass (world, step start)
+    Real adjustedSeparation = 0;  // s0 - n.(rB - rA): s = n.(dpB + dqB rB - dpA - dqA rA) + this
+    Real normalMass = 0;
+    Real normalImpulse = 0;
+    Real maxNormalImpulse = 0;
+    Real relativeVelocity = 0;  // normal approach speed before the step (restitution)
+    // Per-point friction mode only.
+    Real tangentMass1 = 0, tangentMass2 = 0;
+    Real tangentImpulse1 = 0, tangentImpulse2 = 0;
+};
+
+struct ContactConstraint {
+    std::uint32_t bodyA = 0, bodyB = 0;      // solver body indices (0: static)
+    std::uint32_t contact = 0, manifold = 0; // where the results go back
+    std::uint32_t pointCount = 0;
+    Real friction = 0, restitution = 0, rollingResistance = 0;  // rolling: max impulse per unit normal impulse
+    Vec3 normal, tangent1, tangent2;
+    Softness softness;
+    ConstraintPoint points[4];
+    // Friction at the manifold's centre: 2D tangent + twist (bepu, Box3D).
+    Vec3 rAc, rBc;
+    Real k11 = 0, k12 = 0, k22 = 0;          // inverse of the 2x2 tangent effective mass
+    Real tangentImpulse1 = 0, tangentImpulse2 = 0;
+    Real twistMass = 0, twistImpulse = 0, twistRadius = 0;
+    Mat3 rollingMass = Mat3::zero();
+    Vec3 rollingImpulse;
+};
+
+struct SolverSettings {
+    Real contactHertz = 30, dampingRatio = 10, pushMaxVelocity = 3, restitutionThreshold = 1;
+};
+
+// Friction model (docs/solver.md has the measurements that chose the default).
+enum class FrictionModel : std::uint8_t { ManifoldCentre, PerPoint };
+
+class ContactSolver {
+public:
+    // Grows the per-step buffers for `bodyCount` bodies (at body creation).
+    void reserve(std::size_t bodyCount);
+    // Builds solver bodies and constraints for the contacts with an awake body.
+    void prepare(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
+    void gatherVelocities(const WorldImpl& w);
+    void scatterVelocities(WorldImpl& w) const;
+    // dp and dq of every solver body from its pose now vs the step's start.
+    void updateDeltas(const WorldImpl& w);
+    void warmStart();
+    void solve(bool useBias);
+    void applyRestitution();
+    // Impulses (warm start) and end-of-step separations back into the contacts.
+    void store(WorldImpl& w, ContactManager& contacts) const;
+
+    std::size_t constraintCount() const { return constraints_.size(); }
+    std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
+    const std::vector<ContactConstraint>& constraints() const { return constraints_; }
+    const std::vector<std::uint32_t>& denseOfSolverBody() const { return denseOf_; }
+    const std::vector<SolverBody>& bodies() const { return bodies_; }
+    std::uint32_t solverIndexOf(std::uint32_t dense) const { return dense < solverOfDense_.size() ? solverOfDense_[dense] : 0; }
+    const Vec3& startCom(std::uint32_t i) const { return startCom_[i]; }
+    const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
+
+private:
+    void colour();
+
+    std::vector<SolverBody> bodies_;
+    std::vector<Vec3> startCom_;
+    std::vector<Quat> startQ_;
+    std::vector<std::uint32_t> denseOf_;         // solver index -> dense (entry 0 unused)
+    std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
+    std::vector<ContactConstraint> constraints_;
+    std::vector<ContactConstraint> unordered_;
+    std::vector<std::uint32_t> colourOf_;
+    std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
+    std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
+    Softness contactSoftness_, staticSoftness_;
+    FrictionModel friction_ = FrictionModel::ManifoldCentre;
+    Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
+};
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,95 @@
+#include "solver/continuous.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "collision/shape_cast.hpp"
+#include "solver/contact_manager.hpp"
+#include "solver/contact_solver.hpp"
+#include "world/world_impl.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+constexpr Real kToiSlop = Real(0.005);  // stop this far before the hit, so the next step sees a speculative gap
+
+bool isConvexShape(ShapeType t) {
+    return t == ShapeType::Sphere || t == ShapeType::Box || t == ShapeType::Capsule || t == ShapeType::Cylinder ||
+           t == ShapeType::ConvexHull;
+}
+
+}  // namespace
+
+Real coreExtent(const Shape& shape) {
+    switch (shape.type()) {
+        case ShapeType::Sphere:
+        case ShapeType::Capsule: return shape.radius();
+        case ShapeType::Box: return minComponent(shape.halfExtents());
+        case ShapeType::Cylinder: return std::min(shape.radius(), shape.halfHeight());
+        default: {
+            const AABB b = shape.localBounds();
+            return Real(0.5) * minComponent(b.max - b.min) * Real(0.5);
+        }
+    }
+}
+
+void solveContinuous(WorldImpl& w, const ContactSolver& solver, const ContactManager& manager, Real dt) {
+    const std::vector<std::uint32_t>& denseOf = solver.denseOfSolverBody();
+    const BroadPhase& broad = manager.broadPhase();
+    for (std::uint32_t i = 1; i < denseOf.size(); ++i) {
+        const std::uint32_t d = denseOf[i];
+        const BodyParams& p = w.params[d];
+        if (p.type != BodyType::Dynamic || !p.awake || p.isSensor) continue;
+        BodyMotion& m = w.motion[d];
+        const Vec3 dp = m.com - solver.startCom(i);
+        const Shape& shape = w.cold[d].shape;
+        const Real core = coreExtent(shape);
+        if (lengthSquared(dp) <= Real(0.25) * core * core) continue;
+
+        const Quat q0 = solver.startOrientation(i);
+        const Transform x0{solver.startCom(i) - rotate(q0, p.localCom), q0};
+        const Transform x1 = w.originTransform(d);
+        const Vec3 translation = x1.p - x0.p;
+        const AABB swept = merge(shape.bounds(x0), shape.bounds(x1));
+        const std::uint32_t selfSlot = w.denseToSlot[d];
+        Real best = 1;
+        broad.query(swept, [&](ProxyId, std::uint32_t otherSlot) {
+            if (otherSlot == selfSlot) return true;
+            const std::uint32_t od = w.bodySlots[otherSlot].dense;
+            const BodyParams& op = w.params[od];
+            if (op.isSensor || !shouldCollide(p.filter, op.filter) || !mayCollide(w, selfSlot, otherSlot)) return true;
+            const Shape& other = w.cold[od].shape;
+            if (op.type == BodyType::Static) {
+                const ShapeCastResult r = shapeCast(shape, x0, translation, other, w.originTransform(od));
+                if (r.hit && r.fraction > 0 && r.fraction < best) best = r.fraction;
+            } else if (p.isBullet && op.type == BodyType::Dynamic && !op.isBullet && isConvexShape(shape.type()) &&
+                       isConvexShape(other.type())) {
+                const std::uint32_t oi = solver.solverIndexOf(od);
+                Sweep sa{x0, p.localCom, dp / dt, m.w};
+                Sweep sb{w.originTransform(od), op.localCom, Vec3::zero(), Vec3::zero()};
+                if (oi != 0) {
+                    const Quat oq0 = solver.startOrientation(oi);
+                    sb.start = {solver.startCom(oi) - rotate(oq0, op.localCom), oq0};
+                    sb.linearVelocity = (w.motion[od].com - solver.startCom(oi)) / dt;
+                    sb.angularVelocity = w.motion[od].w;
+                }
+                const ToiResult r = timeOfImpact(shape, sa, other, sb, dt);
+                if (r.state == ToiResult::State::Hit && r.time > 0 && r.time / dt < best) best = r.time / dt;
+            }
+            return true;
+        });
+        if (best >= 1) continue;
+        // A body the solver already stopped at the surface (the speculative
+        // contact worked) hits at the very end of its path: leave it there.
+        const Real travel = length(translation);
+        if ((1 - best) * travel < 2 * kToiSlop) continue;
+        const Real back = kToiSlop / travel;
+        const Real t = std::max(Real(0), best - back);
+        m.com = solver.startCom(i) + dp * t;
+        m.q = normalize(slerp(q0, m.q, t));
+        w.updateWorldInertia(d);
+    }
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,55 @@
+#pragma once
+// Islands and sleeping.
+//
+// After each step, the awake bodies are grouped into islands by union-find over
+// touching contacts and joints (static bodies don't join islands: a floor
+// doesn't tie everything on it together). Each body keeps a sleep timer that
+// grows while its speed stays below WorldDef::linearSleepVelocity and its spin
+// below angularSleepVelocity, and resets otherwise. An island whose every
+// body's timer has reached timeToSleep falls asleep: velocities zeroed,
+// `awake` cleared, all bodies tagged with one island id so that waking any of
+// them (contact, joint, user call) wakes the whole island at once
+// (WorldImpl::wakeBody). Sleeping bodies are skipped by the integrators, the
+// broad phase updates, the narrow phase (when both ends sleep or are static)
+// and the solver: they cost nothing per step beyond this bookkeeping.
+//
+// Rebuilding islands every step (instead of Box2D's persistent islands with
+// deferred splitting) costs one near-linear pass over awake bodies and
+// constraints; it is simple and deterministic.
+#include <cstdint>
+#include <vector>
+
+#include "fulcrum/math.hpp"
+
+namespace fulcrum {
+struct WorldImpl;
+}
+
+namespace fulcrum::detail {
+
+class ContactSolver;
+class ContactManager;
+
+class SleepManager {
+public:
+    // Updates timers and puts resting islands to sleep. Reads the solver's
+    // body list (the awake bodies of this step) and the contacts' touching flags.
+    void update(WorldImpl& w, const ContactSolver& solver, const ContactManager& contacts, Real dt);
+
+    void reserve(std::size_t bodyCount) {
+        if (parent_.capacity() < bodyCount + 1) {
+            parent_.reserve(2 * bodyCount + 1);
+            islandMinTime_.reserve(2 * bodyCount + 1);
+            islandTag_.reserve(2 * bodyCount + 1);
+        }
+    }
+
+private:
+    std::uint32_t find(std::uint32_t i);
+    std::vector<std::uint32_t> parent_;
+    std::vector<Real> islandMinTime_;
+    std::vector<std::uint32_t> islandTag_;
+    std::uint32_t nextIsland_ = 1;
+};
+
+}  // namespace fulcrum::detail
