@@ -60,18 +60,28 @@ class FunctionRef<R(Args...)> {
 public:
     template <class F>
         requires(!std::is_same_v<std::remove_cvref_t<F>, FunctionRef> && std::is_invocable_r_v<R, F&, Args...>)
-    FunctionRef(F&& f) noexcept  // NOLINT(google-explicit-constructor): implicit like std::function_ref
-        : object_(const_cast<void*>(static_cast<const void*>(std::addressof(f)))),
-          invoke_([](void* object, Args... args) -> R {
-              return (*static_cast<std::add_pointer_t<std::remove_reference_t<F>>>(object))(
-                  std::forward<Args>(args)...);
-          }) {}
+    FunctionRef(F&& f) noexcept {  // NOLINT(google-explicit-constructor): implicit like std::function_ref
+        using T = std::remove_reference_t<F>;
+        if constexpr (std::is_function_v<T>) {  // a plain function: keep its address
+            target_.function = reinterpret_cast<void (*)()>(&f);
+            invoke_ = [](Target t, Args... args) -> R {
+                return reinterpret_cast<T*>(t.function)(std::forward<Args>(args)...);
+            };
+        } else {  // any other callable object: keep a pointer to it
+            target_.object = const_cast<void*>(static_cast<const void*>(std::addressof(f)));
+            invoke_ = [](Target t, Args... args) -> R { return (*static_cast<T*>(t.object))(std::forward<Args>(args)...); };
+        }
+    }
 
-    R operator()(Args... args) const { return invoke_(object_, std::forward<Args>(args)...); }
+    R operator()(Args... args) const { return invoke_(target_, std::forward<Args>(args)...); }
 
 private:
-    void* object_;
-    R (*invoke_)(void*, Args...);
+    union Target {
+        void* object;
+        void (*function)();  // function pointers don't convert to void*
+    };
+    Target target_{nullptr};
+    R (*invoke_)(Target, Args...) = nullptr;
 };
 
 // fn(begin, end, workerIndex): process indices [begin, end) as worker workerIndex.

@@ -13,6 +13,7 @@
 // bundle share no body, so a bundle equals solving its rows one after another
 // and the two kernels give bit-identical bodies and impulses.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -88,8 +89,26 @@ std::vector<RowBundle<P>> bundleRows(const std::vector<ContactRow>& rows) {
     return bundles;
 }
 
+// The row math, shared by both ways of reaching the bodies.
 template <class P>
-void solveRowsWide(SolverBody* bodies, RowBundle<P>* bundles, std::size_t count) {
+inline void solveBundle(RowBundle<P>& r, simd::Vec3Wide<P>& vA, simd::Vec3Wide<P>& wA, simd::Vec3Wide<P>& vB,
+                        simd::Vec3Wide<P>& wB, simd::FloatWide<P> mA, simd::FloatWide<P> iA, simd::FloatWide<P> mB,
+                        simd::FloatWide<P> iB) {
+    using W = simd::FloatWide<P>;
+    const W cdot = dot(r.n, vB - vA) + dot(r.rBxn, wB) - dot(r.rAxn, wA);
+    const W lambda = -r.effectiveMass * (cdot + r.bias);
+    const W total = max(r.impulse + lambda, W(0.0f));
+    const W applied = total - r.impulse;
+    r.impulse = total;
+    vA = vA - r.n * (mA * applied);
+    wA = wA - r.rAxn * (iA * applied);
+    vB = vB + r.n * (mB * applied);
+    wB = wB + r.rBxn * (iB * applied);
+}
+
+// Bodies gathered field by field (Vec3Wide::gather / FloatWide::gather).
+template <class P>
+void solveRowsWideByField(SolverBody* bodies, RowBundle<P>* bundles, std::size_t count) {
     using V = simd::Vec3Wide<P>;
     using W = simd::FloatWide<P>;
     for (std::size_t k = 0; k < count; ++k) {
@@ -98,17 +117,28 @@ void solveRowsWide(SolverBody* bodies, RowBundle<P>* bundles, std::size_t count)
         V vB = V::gather(bodies, r.b, &SolverBody::v), wB = V::gather(bodies, r.b, &SolverBody::w);
         const W mA = W::gather(bodies, r.a, &SolverBody::invMass), iA = W::gather(bodies, r.a, &SolverBody::invInertia);
         const W mB = W::gather(bodies, r.b, &SolverBody::invMass), iB = W::gather(bodies, r.b, &SolverBody::invInertia);
-        const W cdot = dot(r.n, vB - vA) + dot(r.rBxn, wB) - dot(r.rAxn, wA);
-        const W lambda = -r.effectiveMass * (cdot + r.bias);
-        const W total = max(r.impulse + lambda, W(0.0f));
-        const W applied = total - r.impulse;
-        r.impulse = total;
-        vA = vA - r.n * (mA * applied);
-        wA = wA - r.rAxn * (iA * applied);
-        vB = vB + r.n * (mB * applied);
-        wB = wB + r.rBxn * (iB * applied);
+        solveBundle(r, vA, wA, vB, wB, mA, iA, mB, iB);
         vA.scatter(bodies, r.a, &SolverBody::v), wA.scatter(bodies, r.a, &SolverBody::w);
         vB.scatter(bodies, r.b, &SolverBody::v), wB.scatter(bodies, r.b, &SolverBody::w);
+    }
+}
+
+// Bodies gathered as whole 32-byte structs and transposed (gatherTransposed).
+template <class P>
+void solveRowsWide(SolverBody* bodies, RowBundle<P>* bundles, std::size_t count) {
+    using V = simd::Vec3Wide<P>;
+    using W = simd::FloatWide<P>;
+    static_assert(sizeof(SolverBody) == 8 * sizeof(float));
+    for (std::size_t k = 0; k < count; ++k) {
+        RowBundle<P>& r = bundles[k];
+        std::array<W, 8> a = W::template gatherTransposed<8>(bodies, r.a);  // v, invMass, w, invInertia
+        std::array<W, 8> b = W::template gatherTransposed<8>(bodies, r.b);
+        V vA(a[0], a[1], a[2]), wA(a[4], a[5], a[6]), vB(b[0], b[1], b[2]), wB(b[4], b[5], b[6]);
+        solveBundle(r, vA, wA, vB, wB, a[3], a[7], b[3], b[7]);
+        a = {vA.x, vA.y, vA.z, a[3], wA.x, wA.y, wA.z, a[7]};
+        b = {vB.x, vB.y, vB.z, b[3], wB.x, wB.y, wB.z, b[7]};
+        W::template scatterTransposed<8>(bodies, r.a, a);
+        W::template scatterTransposed<8>(bodies, r.b, b);
     }
 }
 

@@ -196,5 +196,8 @@ TEST(FunctionRef, CallsTheReferencedCallableWithoutCopyingIt) {
     EXPECT_EQ(ref(2), 2);
     EXPECT_EQ(ref(3), 5);  // the same lambda object: state accumulates
     static_assert(sizeof(FunctionRef<int(int)>) == 2 * sizeof(void*));
+    int (*negate)(int) = [](int v) { return -v; };
+    EXPECT_EQ(FunctionRef<int(int)>(negate)(4), -4);   // a function pointer
+    EXPECT_EQ(FunctionRef<int(int)>(*negate)(4), -4);  // a function
     static_assert(std::is_trivially_copyable_v<FunctionRef<int(int)>>);
 }
