@@ -145,7 +145,7 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
                 cp.rBxn = cross(cp.rB, n);
                 cp.angA = ba.invI * cp.rAxn;
                 cp.angB = bb.invI * cp.rBxn;
-                cp.adjustedSeparation = -src.depth - dot(n, cp.rB - cp.rA);
+                cp.baseSeparation = -src.depth;
                 const Real kn = ba.invMass + bb.invMass + dot(cp.rAxn, cp.angA) + dot(cp.rBxn, cp.angB);
                 cp.normalMass = kn > 0 ? 1 / kn : 0;
                 cp.normalImpulse = src.normalImpulse;
@@ -256,7 +256,7 @@ void ContactSolver::updateDeltas(const WorldImpl& w) {
     for (std::size_t i = 1; i < bodies_.size(); ++i) {
         const BodyMotion& m = w.motion[denseOf_[i]];
         bodies_[i].dp = m.com - startCom_[i];
-        bodies_[i].dR = toMat3(m.q * conjugate(startQ_[i]));
+        bodies_[i].dtheta = toRotationVector(m.q * conjugate(startQ_[i]));
     }
 }
 
@@ -298,9 +298,13 @@ void ContactSolver::solve(bool useBias) {
         Real totalNormal = 0;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             ConstraintPoint& cp = k.points[i];
-            // Separation now, from the bodies' motion since the step's start.
-            const Vec3 d = dp + b.dR * cp.rB - a.dR * cp.rA;
-            const Real s = dot(n, d) + cp.adjustedSeparation;
+            // Separation now, from the bodies' motion since the step's start:
+            // s = s0 + n.(dpB + (RB - I) rB - dpA - (RA - I) rA), with the rotations
+            // to first order, (R - I) r = theta x r, and n.(theta x r) = theta.(r x n):
+            // four dot products on precomputed data instead of two rotations per
+            // point (the error is theta^2 |r| / 2: 0.25 mm for a half-metre lever
+            // turning 0.03 rad in a step). Measured in docs/benchmarks.md.
+            const Real s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn);
             Real bias = 0, massScale = 1, impulseScale = 0;
             if (s > 0) {
                 bias = s * invH_;  // speculative: allow exactly the approach that closes the gap
@@ -425,8 +429,7 @@ void ContactSolver::store(WorldImpl& w, ContactManager& manager) const {
             CachedPoint& dst = m.points[i];
             dst.normalImpulse = cp.normalImpulse;
             dst.maxNormalImpulse = cp.maxNormalImpulse;
-            const Vec3 d = dp + b.dR * cp.rB - a.dR * cp.rA;
-            dst.depthAfter = -(dot(k.normal, d) + cp.adjustedSeparation);
+            dst.depthAfter = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
         }
         m.frictionImpulse = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
         m.twistImpulse = k.twistImpulse;

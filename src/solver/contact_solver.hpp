@@ -33,8 +33,7 @@ struct SolverBody {
     Real invMass = 0;
     Vec3 w;                     // angular velocity, world
     Vec3 dp;                    // centre-of-mass displacement since the step's start
-    Mat3 dR = Mat3::identity(); // rotation since the step's start (R = dR R0), as a matrix:
-                                // applied to 8 anchors per constraint per pass, cheaper than a quaternion
+    Vec3 dtheta;                // rotation since the step's start as a rotation vector (R = exp(dtheta) R0)
     Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
 };
 
@@ -51,7 +50,7 @@ struct ConstraintPoint {
     Vec3 rA, rB;                // anchor from each centre of mass (world, step start)
     Vec3 rAxn, rBxn;            // rA x n, rB x n
     Vec3 angA, angB;            // invIA (rA x n), invIB (rB x n)
-    Real adjustedSeparation = 0;  // s0 - n.(rB - rA): s = n.(dpB + dRB rB - dpA - dRA rA) + this
+    Real baseSeparation = 0;    // s0 at the step's start
     Real normalMass = 0;
     Real normalImpulse = 0;
     Real maxNormalImpulse = 0;
