@@ -16,14 +16,6 @@ struct PairRule {
     bool operator()(std::uint32_t slotA, std::uint32_t slotB) const { return mayCollide(*w, slotA, slotB); }
 };
 
-// Farthest point of the shape from the centre of mass (bounds corner): how far
-// spin can move a surface point.
-Real extentFromCom(const WorldImpl& w, std::uint32_t dense) {
-    const AABB b = w.cold[dense].shape.localBounds();
-    const Vec3 c = w.params[dense].localCom;
-    return length(max(abs(b.min - c), abs(b.max - c)));
-}
-
 constexpr Real kMatchDistance = Real(0.02);
 // Recycling thresholds: 1 mm and 0.1 degree of relative motion since the last
 // collide() (a 0.5 m lever moves 1 mm per 0.1 degree).
@@ -177,8 +169,8 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
     if (!c.sensor) {
         // Speculative distance: the base margin plus how far the surfaces can approach in one step.
         Real approach = length(mb.v - ma.v);
-        if (pa.type != BodyType::Static) approach += length(ma.w) * extentFromCom(w, dA);
-        if (pb.type != BodyType::Static) approach += length(mb.w) * extentFromCom(w, dB);
+        if (pa.type != BodyType::Static) approach += length(ma.w) * pa.extent;
+        if (pb.type != BodyType::Static) approach += length(mb.w) * pb.extent;
         margin = w.settings.speculativeMargin + approach * dt;
     }
     const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);

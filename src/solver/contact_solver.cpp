@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "solver/contact.hpp"
 #include "solver/contact_manager.hpp"
 #include "world/world_impl.hpp"
 
@@ -39,7 +40,8 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(denseOf_, bodyCount + 1);
     grow(solverOfDense_, bodyCount);
     grow(constraints_, 4 * bodyCount);
-    grow(unordered_, 4 * bodyCount);
+    grow(pending_, 4 * bodyCount);
+    grow(slotOf_, 4 * bodyCount);
     grow(colourOf_, 4 * bodyCount);
     grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
     grow(colourStart_, kColourCount + 2);
@@ -86,8 +88,11 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
         startQ_.push_back(m.q);
     }
 
-    // ---- constraints, one per manifold of every contact with an awake body
-    unordered_.clear();
+    // ---- constraints, one per manifold of every contact with an awake body.
+    // First the list of (contact, manifold, bodies), coloured; then each
+    // constraint is built in place at its colour's position (no copies of the
+    // ~600-byte constraints: measured -5 % on sphere_pile).
+    pending_.clear();
     std::vector<Contact>& contacts = manager.contacts();
     for (std::uint32_t ci = 0; ci < contacts.size(); ++ci) {
         Contact& c = contacts[ci];
@@ -95,33 +100,44 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
         if (!c.alive || c.sensor || c.manifolds.empty()) continue;
         const std::uint32_t dA = w.bodySlots[c.slotA].dense;
         const std::uint32_t dB = w.bodySlots[c.slotB].dense;
-        const BodyParams& pa = w.params[dA];
-        const BodyParams& pb = w.params[dB];
         const std::uint32_t ia = solverOfDense_[dA], ib = solverOfDense_[dB];
         // Both static or asleep: not part of this step.
         if (ia == 0 && ib == 0) continue;
         // A sleeping body paired with an awake one was woken by the contact manager.
-        if ((ia == 0 && pa.type != BodyType::Static) || (ib == 0 && pb.type != BodyType::Static)) continue;
-        const SolverBody& ba = bodies_[ia];
-        const SolverBody& bb = bodies_[ib];
-        if (ba.invMass == 0 && bb.invMass == 0 && pa.type != BodyType::Dynamic && pb.type != BodyType::Dynamic) continue;
+        if ((ia == 0 && w.params[dA].type != BodyType::Static) || (ib == 0 && w.params[dB].type != BodyType::Static)) continue;
+        if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;
         c.solved = true;
+        for (std::uint32_t mi = 0; mi < c.manifolds.size(); ++mi) pending_.push_back({ci, mi, ia, ib});
+    }
+    colour();
+    constraints_.resize(pending_.size());
+    for (std::size_t pi = 0; pi < pending_.size(); ++pi) {
+        const PendingConstraint& pc = pending_[pi];
+        buildConstraint(w, contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
+    }
+}
 
-        const BodyMotion& ma = w.motion[dA];
-        const BodyMotion& mb = w.motion[dB];
-        const Real friction = std::sqrt(pa.friction * pb.friction);
-        const Real restitution = std::max(pa.restitution, pb.restitution);
-        Real rollingRadius = 0;
-        if (isRound(w.cold[dA].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dA].shape.radius());
-        if (isRound(w.cold[dB].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dB].shape.radius());
-        const Real rolling = std::max(pa.rollingResistance, pb.rollingResistance) * rollingRadius;
-        // Against static (and kinematic: infinite mass) bodies the stiffer softness.
-        const bool stiff = ba.invMass == 0 || bb.invMass == 0;
-
-        for (std::uint32_t mi = 0; mi < c.manifolds.size(); ++mi) {
+void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc,
+                                    ContactConstraint& k) const {
+    const std::uint32_t dA = w.bodySlots[c.slotA].dense;
+    const std::uint32_t dB = w.bodySlots[c.slotB].dense;
+    const BodyParams& pa = w.params[dA];
+    const BodyParams& pb = w.params[dB];
+    const std::uint32_t ia = pc.bodyA, ib = pc.bodyB, ci = pc.contact, mi = pc.manifold;
+    const SolverBody& ba = bodies_[ia];
+    const SolverBody& bb = bodies_[ib];
+    const BodyMotion& ma = w.motion[dA];
+    const BodyMotion& mb = w.motion[dB];
+    const Real friction = std::sqrt(pa.friction * pb.friction);
+    const Real restitution = std::max(pa.restitution, pb.restitution);
+    Real rollingRadius = 0;
+    if (isRound(w.cold[dA].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dA].shape.radius());
+    if (isRound(w.cold[dB].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dB].shape.radius());
+    const Real rolling = std::max(pa.rollingResistance, pb.rollingResistance) * rollingRadius;
+    // Against static (and kinematic: infinite mass) bodies the stiffer softness.
+    const bool stiff = ba.invMass == 0 || bb.invMass == 0;
+    {
             const CachedManifold& m = c.manifolds[mi];
-            unordered_.emplace_back();
-            ContactConstraint& k = unordered_.back();
             k.bodyA = ia;
             k.bodyB = ib;
             k.contact = ci;
@@ -175,6 +191,7 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
             const Real t12 = dot(k.rAc1, k.angA2) + dot(k.rBc1, k.angB2);
             const Real t22 = mSum + dot(k.rAc2, k.angA2) + dot(k.rBc2, k.angB2);
             const Real det = t11 * t22 - t12 * t12;
+            k.k11 = k.k12 = k.k22 = 0;
             if (det > 0) {
                 const Real inv = 1 / det;
                 k.k11 = t22 * inv;
@@ -196,19 +213,17 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
                 k.rollingMass = Mat3::zero();
                 k.rollingImpulse = {};
             }
-        }
     }
-    colour();
 }
 
 void ContactSolver::colour() {
-    const std::size_t n = unordered_.size();
+    const std::size_t n = pending_.size();
     const std::size_t words = (bodies_.size() + 63) / 64;
     colourBits_.assign(kColourCount * words, 0);
     colourOf_.resize(n);
     std::uint32_t counts[kColourCount + 1] = {};
     for (std::size_t i = 0; i < n; ++i) {
-        const ContactConstraint& k = unordered_[i];
+        const PendingConstraint& k = pending_[i];
         // Bodies of infinite mass (static, kinematic) are never written with a
         // change, so they don't take a colour slot.
         const bool dynA = bodies_[k.bodyA].invMass > 0;
@@ -229,10 +244,10 @@ void ContactSolver::colour() {
     }
     colourStart_.assign(kColourCount + 2, 0);
     for (std::uint32_t c = 0; c <= kColourCount; ++c) colourStart_[c + 1] = colourStart_[c] + counts[c];
-    constraints_.resize(n);
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
-    for (std::size_t i = 0; i < n; ++i) constraints_[cursor[colourOf_[i]]++] = unordered_[i];
+    slotOf_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) slotOf_[i] = cursor[colourOf_[i]]++;
 }
 
 void ContactSolver::gatherVelocities(const WorldImpl& w) {

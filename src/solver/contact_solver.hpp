@@ -27,6 +27,7 @@ struct WorldImpl;
 namespace fulcrum::detail {
 
 class ContactManager;
+struct Contact;
 
 struct SolverBody {
     Vec3 v;                     // linear velocity of the centre of mass
@@ -106,7 +107,11 @@ public:
     const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
 
 private:
+    struct PendingConstraint {
+        std::uint32_t contact, manifold, bodyA, bodyB;
+    };
     void colour();
+    void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
     std::vector<Vec3> startCom_;
@@ -114,7 +119,8 @@ private:
     std::vector<std::uint32_t> denseOf_;         // solver index -> dense (entry 0 unused)
     std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
     std::vector<ContactConstraint> constraints_;
-    std::vector<ContactConstraint> unordered_;
+    std::vector<PendingConstraint> pending_;
+    std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
