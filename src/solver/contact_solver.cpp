@@ -302,6 +302,16 @@ void ContactSolver::warmStart() {
 }
 
 void ContactSolver::solve(bool useBias) {
+    // Two instantiations: the relax pass has no bias branches at all.
+    if (useBias) {
+        solvePass<true>();
+    } else {
+        solvePass<false>();
+    }
+}
+
+template <bool useBias>
+void ContactSolver::solvePass() {
     for (ContactConstraint& k : constraints_) {
         SolverBody& a = bodies_[k.bodyA];
         SolverBody& b = bodies_[k.bodyB];
@@ -323,7 +333,7 @@ void ContactSolver::solve(bool useBias) {
             Real bias = 0, massScale = 1, impulseScale = 0;
             if (s > 0) {
                 bias = s * invH_;  // speculative: allow exactly the approach that closes the gap
-            } else if (useBias) {
+            } else if constexpr (useBias) {
                 bias = std::max(soft.biasRate * s, -pushMax_);
                 massScale = soft.massScale;
                 impulseScale = soft.impulseScale;
@@ -336,7 +346,9 @@ void ContactSolver::solve(bool useBias) {
             // pushes, which includes the gravity of the sub-steps before the
             // impact (the speed at the step's start misses up to g dt: a ball
             // with e = 1 lost ~7 % of its height per bounce; now ~1.5 %).
-            if (impulse > 0 && cp.maxNormalImpulse == 0) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+            if constexpr (useBias) {
+                if (impulse > 0 && cp.maxNormalImpulse == 0) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+            }
             cp.normalImpulse = newImpulse;
             cp.maxNormalImpulse = std::max(cp.maxNormalImpulse, impulse);
             totalNormal += newImpulse;

@@ -111,6 +111,8 @@ private:
         std::uint32_t contact, manifold, bodyA, bodyB;
     };
     void colour();
+    template <bool useBias>
+    void solvePass();
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
