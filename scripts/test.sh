@@ -5,6 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
+# Headless Chromium and the viewer's node packages, for the replay page's
+# browser test; if they can't be installed the test reports SKIPPED, never passes.
+scripts/install-viewer-deps.sh || echo "test.sh: viewer dependencies unavailable; the browser test will be skipped"
 jobs=$(nproc)
 quick=0
 [ "${1:-}" = "--quick" ] && quick=1

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,12 @@ struct RopeDef {
     BodyId attachEnd = kWorldBody;
     Real stretchCompliance = 0;       // m/N (XPBD): 0 is inextensible
     Real bendCompliance = 0;
+
+    // Extensions (not in the scene contract; defaults keep the contract's behaviour).
+    Real damping = 0;                 // 1/s: velocity *= 1 / (1 + h c) each sub-step
+    Real friction = Real(0.5);        // against rigid shapes; combined with the body's by geometric mean
+    Real attachCompliance = 0;        // m/N of the attachments to bodies (0: rigid tie)
+    bool tethers = false;             // long-range tethers from pinned ends (Kim et al. 2012)
 };
 
 // Particle (i, j) starts at origin + spacing * (i * uAxis + j * vAxis), 0 <= i < size[0], 0 <= j < size[1].
@@ -45,8 +52,17 @@ struct ClothDef {
     Real particleMass = Real(0.01);
     Real radius = Real(0.02);
     std::vector<std::array<int, 2>> pinned;
-    Real stretchCompliance = 0;
-    Real bendCompliance = 0;
+    Real stretchCompliance = 0;       // m/N (XPBD) of structural (grid-edge) constraints
+    Real bendCompliance = 0;          // m/N of the bend constraints ((i,j)-(i+2,j), (i,j)-(i,j+2)); 0 is a stiff plate
+
+    // Extensions (not in the scene contract; defaults keep the contract's behaviour).
+    std::optional<Real> shearCompliance;  // m/N of the diagonal constraints; empty: stretchCompliance
+    Real damping = 0;                 // 1/s: velocity *= 1 / (1 + h c) each sub-step
+    Real friction = Real(0.5);        // against rigid shapes; combined with the body's by geometric mean
+    bool selfCollision = true;        // particle-particle contacts between non-neighbouring particles
+    bool tethers = false;             // long-range tethers to the nearest pin (Kim et al. 2012)
+    Real dragCoefficient = 0;         // aerodynamic drag of each triangle (flat plate: about 1)
+    Real liftCoefficient = 0;         // aerodynamic lift of each triangle
 };
 
 }  // namespace fulcrum

@@ -10,14 +10,14 @@ namespace fulcrum::detail {
 // Stage 2: turn the evaluated forces (w.forces) into velocities, apply damping.
 //   explicit Euler:       v += a h, w += I^-1 (tau - w x I w) h   (gyroscopic term explicit);
 //                         remembers the change so positions can use the old velocity.
-//   semi-implicit Euler:  v += a h, w: implicit gyroscopic Newton step + I^-1 tau h.
+//   semi-implicit Euler:  v += a h, w += I^-1 tau h (the gyroscopic effect comes from the drift).
 //   Verlet:               first half kick v += a h/2, w += I^-1 tau h/2.
 // Damping v *= 1 / (1 + h c) for every integrator.
 void integrateVelocities(WorldImpl& w, Integrator method, Real h);
 
 // Stage 4: advance positions and orientations from the (possibly solver-corrected) velocities.
 //   explicit Euler:       x += v_old h, q rotated by w_old.
-//   semi-implicit Euler:  x += v h, q rotated by the new w (exact exponential map).
+//   semi-implicit Euler:  x += v h; q turns at constant angular momentum (as Verlet).
 //   Verlet:               drift x += v_half h; q turns at constant angular momentum.
 // Kinematic bodies move at their velocity whatever the integrator.
 // Refreshes every moved body's world inverse inertia.
@@ -26,12 +26,6 @@ void integratePositions(WorldImpl& w, Integrator method, Real h);
 // Stage 5: Verlet's second half kick (evaluates forces at the new positions at
 // `timeAfter`); nothing for the Euler methods.
 void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter);
-
-// One Newton step of the implicit gyroscopic update in body coordinates
-// (Catto, GDC 2015 "Numerical Methods"): solves I (w2 - w1) + h w2 x I w2 = 0
-// linearised at w1. Unconditionally stable; it bleeds a little energy at large
-// h |w| instead of gaining it, and keeps |L| to within the measured 1 % (tests).
-Vec3 implicitGyroscopicStep(const Vec3& omegaBody, const Mat3& inertiaBody, Real h);
 
 // World inertia tensor R I_body R^T (not inverted).
 inline Mat3 worldInertia(const Quat& q, const Mat3& inertiaBody) {

@@ -234,7 +234,7 @@ TEST(BroadPhase, SameOperationsGiveIdenticalPairLists) {
     }
 }
 
-const AABB unitBoxAt(Real x) { return AABB::fromCenterHalf({x, 0, 0}, Vec3::splat(Real(0.5))); }
+AABB unitBoxAt(Real x) { return AABB::fromCenterHalf({x, 0, 0}, Vec3::splat(Real(0.5))); }
 
 TEST(BroadPhase, NeverReportsStaticStaticOrSelfPairs) {
     BroadPhase bp;

@@ -106,5 +106,11 @@ TEST(IntegratorFigures, PrintAndRank) {
     EXPECT_GT(ee.tumbleEnergy, si.tumbleEnergy);
     EXPECT_LT(vv.springEnergy, si.springEnergy);
     EXPECT_LT(vv.orbitEnergy, si.orbitEnergy);
-    EXPECT_LT(vv.tumbleEnergy, si.tumbleEnergy);
+    // Rotation: semi-implicit Euler and Verlet share the drift at constant world
+    // angular momentum, so both keep |L| and E of a tumbling body to ~1e-5
+    // (1e-4 tolerance), where explicit Euler's explicit gyroscopic term gains 19 %.
+    EXPECT_LT(si.tumbleMomentum, 1e-4);
+    EXPECT_LT(si.tumbleEnergy, 1e-4);
+    EXPECT_LT(vv.tumbleMomentum, 1e-4);
+    EXPECT_LT(vv.tumbleEnergy, 1e-4);
 }

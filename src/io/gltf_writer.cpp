@@ -1,0 +1,269 @@
+// Animated glTF 2.0 binary writer (see gltf_writer.hpp). tinygltf builds the
+// JSON and the GLB container (Debian's libtinygltf, linked as a shared
+// library, so its stb/json configuration is the package's concern).
+#include "io/gltf_writer.hpp"
+
+#include <tiny_gltf.h>
+
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+namespace fulcrum::io {
+
+namespace {
+
+class GlbBuilder {
+public:
+    explicit GlbBuilder(const Recording& rec) : rec_(rec) {
+        model_.asset.version = "2.0";
+        model_.asset.generator = "Fulcrum physics engine";
+        model_.buffers.emplace_back();
+        model_.scenes.emplace_back();
+        model_.scenes[0].name = rec.title;
+        model_.defaultScene = 0;
+    }
+
+    tinygltf::Model build() {
+        const auto meshes = tessellateBodies(rec_);
+        buildAnimationTimes();
+        for (std::size_t b = 0; b < rec_.bodies.size(); ++b) addBody(b, meshes[b]);
+        if (!animation_.channels.empty()) {
+            animation_.name = "simulation";
+            model_.animations.push_back(std::move(animation_));
+        }
+        return std::move(model_);
+    }
+
+private:
+    // Appends raw bytes as a bufferView (4-byte aligned: every element here is 4 bytes).
+    int addView(const void* data, std::size_t bytes, int target) {
+        std::vector<unsigned char>& buf = model_.buffers[0].data;
+        tinygltf::BufferView view;
+        view.buffer = 0;
+        view.byteOffset = buf.size();
+        view.byteLength = bytes;
+        view.target = target;
+        const auto* p = static_cast<const unsigned char*>(data);
+        buf.insert(buf.end(), p, p + bytes);
+        model_.bufferViews.push_back(view);
+        return static_cast<int>(model_.bufferViews.size() - 1);
+    }
+
+    int addAccessor(const std::vector<float>& values, int type, int components, int target, bool withBounds) {
+        tinygltf::Accessor acc;
+        acc.bufferView = addView(values.data(), values.size() * sizeof(float), target);
+        acc.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+        acc.type = type;
+        acc.count = values.size() / static_cast<std::size_t>(components);
+        if (withBounds && acc.count > 0) {
+            acc.minValues.assign(static_cast<std::size_t>(components), 1e300);
+            acc.maxValues.assign(static_cast<std::size_t>(components), -1e300);
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                const std::size_t c = i % static_cast<std::size_t>(components);
+                acc.minValues[c] = std::min(acc.minValues[c], static_cast<double>(values[i]));
+                acc.maxValues[c] = std::max(acc.maxValues[c], static_cast<double>(values[i]));
+            }
+        }
+        model_.accessors.push_back(std::move(acc));
+        return static_cast<int>(model_.accessors.size() - 1);
+    }
+
+    void buildAnimationTimes() {
+        std::vector<float> times;
+        times.reserve(rec_.frameCount());
+        for (double t : rec_.times) times.push_back(static_cast<float>(t - rec_.times.front()));
+        timeAccessor_ = addAccessor(times, TINYGLTF_TYPE_SCALAR, 1, 0, true);  // sampler inputs need min/max
+    }
+
+    int material(const Rgb& c, bool doubleSided) {
+        const auto key = std::make_tuple(c.r, c.g, c.b, doubleSided);
+        if (const auto it = materials_.find(key); it != materials_.end()) return it->second;
+        tinygltf::Material m;
+        m.name = "material_" + std::to_string(model_.materials.size());
+        m.pbrMetallicRoughness.baseColorFactor = {c.r, c.g, c.b, 1.0};
+        m.pbrMetallicRoughness.metallicFactor = 0.0;
+        m.pbrMetallicRoughness.roughnessFactor = 0.6;
+        m.doubleSided = doubleSided;
+        model_.materials.push_back(std::move(m));
+        const int index = static_cast<int>(model_.materials.size() - 1);
+        materials_.emplace(key, index);
+        return index;
+    }
+
+    // The vertex and index accessors of one render mesh.
+    std::array<int, 3> addGeometry(const RenderMesh& mesh) {
+        std::vector<float> positions, normals;
+        positions.reserve(mesh.positions.size() * 3);
+        normals.reserve(mesh.normals.size() * 3);
+        for (const Vec3& p : mesh.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
+        for (const Vec3& n : mesh.normals) normals.insert(normals.end(), {n.x, n.y, n.z});
+        const int pos = addAccessor(positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+        const int nrm = addAccessor(normals, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+        tinygltf::Accessor idx;
+        idx.bufferView = addView(mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t),
+                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        idx.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+        idx.type = TINYGLTF_TYPE_SCALAR;
+        idx.count = mesh.indices.size();
+        model_.accessors.push_back(std::move(idx));
+        return {pos, nrm, static_cast<int>(model_.accessors.size() - 1)};
+    }
+
+    int addMesh(const std::string& name, const std::array<int, 3>& geometry, int materialIndex) {
+        tinygltf::Primitive prim;
+        prim.attributes["POSITION"] = geometry[0];
+        prim.attributes["NORMAL"] = geometry[1];
+        prim.indices = geometry[2];
+        prim.material = materialIndex;
+        prim.mode = TINYGLTF_MODE_TRIANGLES;
+        tinygltf::Mesh mesh;
+        mesh.name = name;
+        mesh.primitives.push_back(std::move(prim));
+        model_.meshes.push_back(std::move(mesh));
+        return static_cast<int>(model_.meshes.size() - 1);
+    }
+
+    int addNode(tinygltf::Node node) {
+        model_.nodes.push_back(std::move(node));
+        return static_cast<int>(model_.nodes.size() - 1);
+    }
+
+    static void setTransform(tinygltf::Node& node, const Transform& t) {
+        if (t.p != Vec3::zero()) node.translation = {t.p.x, t.p.y, t.p.z};
+        if (t.q != Quat::identity()) node.rotation = {t.q.x, t.q.y, t.q.z, t.q.w};  // glTF order: x, y, z, w
+    }
+
+    void addChannel(int node, const char* path, int output, const char* interpolation) {
+        tinygltf::AnimationSampler sampler;
+        sampler.input = timeAccessor_;
+        sampler.output = output;
+        sampler.interpolation = interpolation;
+        animation_.samplers.push_back(std::move(sampler));
+        tinygltf::AnimationChannel channel;
+        channel.sampler = static_cast<int>(animation_.samplers.size() - 1);
+        channel.target_node = node;
+        channel.target_path = path;
+        animation_.channels.push_back(std::move(channel));
+    }
+
+    void addBody(std::size_t b, const std::vector<RenderPart>& parts) {
+        const RecordedBody& body = rec_.bodies[b];
+        const std::size_t frames = rec_.frameCount();
+        bool moves = body.type != BodyType::Static;
+        bool sleeps = false;
+        for (std::size_t f = 0; f < frames; ++f) {
+            moves = moves || rec_.transform(f, b) != rec_.transform(0, b);
+            sleeps = sleeps || (body.type == BodyType::Dynamic && !rec_.isAwake(f, b));
+        }
+
+        tinygltf::Node node;
+        node.name = body.name.empty() ? "body_" + std::to_string(b) : body.name;
+        setTransform(node, rec_.transform(0, b));
+        tinygltf::Value::Object extras;
+        extras["fulcrum_type"] = tinygltf::Value(std::string(toString(body.type)));
+        extras["fulcrum_shape"] = tinygltf::Value(std::string(toString(body.shape.type())));
+        node.extras = tinygltf::Value(extras);
+
+        const Rgb awakeColor = bodyColor(body.type, b, false);
+        const Rgb sleepColor = bodyColor(body.type, b, true);
+        std::vector<int> children;
+        std::vector<int> awakeNodes, sleepNodes;
+        const bool direct = parts.size() == 1 && parts[0].local == Transform::identity() && !sleeps;
+        for (std::size_t p = 0; p < parts.size(); ++p) {
+            const RenderPart& part = parts[p];
+            const auto geometry = addGeometry(part.mesh);
+            const std::string meshName = node.name + (parts.size() > 1 ? "_part" + std::to_string(p) : "");
+            const int awakeMesh = addMesh(meshName, geometry, material(awakeColor, part.mesh.doubleSided));
+            if (direct) {
+                node.mesh = awakeMesh;
+                break;
+            }
+            tinygltf::Node child;
+            child.name = meshName;
+            child.mesh = awakeMesh;
+            setTransform(child, part.local);
+            const int childIndex = addNode(child);
+            children.push_back(childIndex);
+            awakeNodes.push_back(childIndex);
+            if (sleeps) {
+                child.name = meshName + "_asleep";
+                child.mesh = addMesh(child.name, geometry, material(sleepColor, part.mesh.doubleSided));
+                const int sleepIndex = addNode(child);
+                children.push_back(sleepIndex);
+                sleepNodes.push_back(sleepIndex);
+            }
+        }
+        node.children = children;
+        const int nodeIndex = addNode(std::move(node));
+        model_.scenes[0].nodes.push_back(nodeIndex);
+
+        if (moves) {
+            std::vector<float> translation, rotation;
+            translation.reserve(frames * 3);
+            rotation.reserve(frames * 4);
+            Quat previous = rec_.transform(0, b).q;
+            for (std::size_t f = 0; f < frames; ++f) {
+                const Transform& t = rec_.transform(f, b);
+                // q and -q are the same rotation; keep consecutive keys in one
+                // hemisphere so interpolation (Blender's is per component) takes the short way.
+                Quat q = t.q;
+                if (dot(q, previous) < 0) q = -q;
+                previous = q;
+                translation.insert(translation.end(), {t.p.x, t.p.y, t.p.z});
+                rotation.insert(rotation.end(), {q.x, q.y, q.z, q.w});
+            }
+            addChannel(nodeIndex, "translation", addAccessor(translation, TINYGLTF_TYPE_VEC3, 3, 0, false), "LINEAR");
+            addChannel(nodeIndex, "rotation", addAccessor(rotation, TINYGLTF_TYPE_VEC4, 4, 0, false), "LINEAR");
+        }
+        if (sleeps) {
+            // Visibility as scale 1 or 0, switched with STEP keys (glTF animates only TRS and weights).
+            std::vector<float> awakeScale, sleepScale;
+            for (std::size_t f = 0; f < frames; ++f) {
+                const float a = rec_.isAwake(f, b) ? 1.0f : 0.0f;
+                awakeScale.insert(awakeScale.end(), {a, a, a});
+                sleepScale.insert(sleepScale.end(), {1 - a, 1 - a, 1 - a});
+            }
+            const int awakeOut = addAccessor(awakeScale, TINYGLTF_TYPE_VEC3, 3, 0, false);
+            const int sleepOut = addAccessor(sleepScale, TINYGLTF_TYPE_VEC3, 3, 0, false);
+            for (int n : awakeNodes) addChannel(n, "scale", awakeOut, "STEP");
+            for (int n : sleepNodes) addChannel(n, "scale", sleepOut, "STEP");
+            // The first frame's visibility also as the rest pose, for viewers that ignore animations.
+            const double a0 = rec_.isAwake(0, b) ? 1.0 : 0.0;
+            for (int n : awakeNodes) model_.nodes[static_cast<std::size_t>(n)].scale = {a0, a0, a0};
+            for (int n : sleepNodes) model_.nodes[static_cast<std::size_t>(n)].scale = {1 - a0, 1 - a0, 1 - a0};
+        }
+    }
+
+    const Recording& rec_;
+    tinygltf::Model model_;
+    tinygltf::Animation animation_;
+    int timeAccessor_ = -1;
+    std::map<std::tuple<float, float, float, bool>, int> materials_;
+};
+
+}  // namespace
+
+std::vector<std::uint8_t> encodeGlb(const Recording& recording) {
+    recording.validate();
+    if (recording.frameCount() == 0) throw Error("recording: no frames captured, nothing to write");
+    tinygltf::Model model = GlbBuilder(recording).build();
+    std::ostringstream out(std::ios::binary);
+    tinygltf::TinyGLTF writer;
+    if (!writer.WriteGltfSceneToStream(&model, out, false, true)) throw Error("recording: tinygltf failed to encode the model");
+    const std::string bytes = out.str();
+    return {bytes.begin(), bytes.end()};
+}
+
+void writeGlb(const Recording& recording, const std::filesystem::path& path) {
+    const std::vector<std::uint8_t> bytes = encodeGlb(recording);
+    std::ofstream file(path, std::ios::binary | std::ios::trunc);
+    if (!file) throw Error("recording '" + path.string() + "': cannot open for writing");
+    file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!file) throw Error("recording '" + path.string() + "': write failed");
+}
+
+}  // namespace fulcrum::io

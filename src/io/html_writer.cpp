@@ -1,0 +1,194 @@
+// HTML replay page writer (see html_writer.hpp).
+#include "io/html_writer.hpp"
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace fulcrum::io {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the page decodes base64 arrays as little-endian");
+
+using json = nlohmann::json;
+
+std::string base64(const void* data, std::size_t bytes) {
+    static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const auto* p = static_cast<const unsigned char*>(data);
+    std::string out;
+    out.reserve((bytes + 2) / 3 * 4);
+    std::size_t i = 0;
+    for (; i + 2 < bytes; i += 3) {
+        const std::uint32_t v = (std::uint32_t{p[i]} << 16) | (std::uint32_t{p[i + 1]} << 8) | p[i + 2];
+        out += kAlphabet[(v >> 18) & 63];
+        out += kAlphabet[(v >> 12) & 63];
+        out += kAlphabet[(v >> 6) & 63];
+        out += kAlphabet[v & 63];
+    }
+    if (i < bytes) {
+        const bool two = i + 1 < bytes;
+        const std::uint32_t v = (std::uint32_t{p[i]} << 16) | (two ? std::uint32_t{p[i + 1]} << 8 : 0u);
+        out += kAlphabet[(v >> 18) & 63];
+        out += kAlphabet[(v >> 12) & 63];
+        out += two ? kAlphabet[(v >> 6) & 63] : '=';
+        out += '=';
+    }
+    return out;
+}
+
+template <typename T>
+std::string base64(const std::vector<T>& values) {
+    return base64(values.data(), values.size() * sizeof(T));
+}
+
+json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+json renderParts(const std::vector<RenderPart>& parts) {
+    json out = json::array();
+    for (const RenderPart& part : parts) {
+        std::vector<float> positions, normals;
+        for (const Vec3& p : part.mesh.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
+        for (const Vec3& n : part.mesh.normals) normals.insert(normals.end(), {n.x, n.y, n.z});
+        const Quat& q = part.local.q;
+        out.push_back({{"position", vec(part.local.p)},
+                       {"rotation", json::array({q.x, q.y, q.z, q.w})},
+                       {"positions", base64(positions)},
+                       {"normals", base64(normals)},
+                       {"indices", base64(part.mesh.indices)},
+                       {"doubleSided", part.mesh.doubleSided}});
+    }
+    return out;
+}
+
+// Replaces every occurrence of `from` by `to`.
+std::string replaceAll(std::string s, const std::string& from, const std::string& to) {
+    for (std::size_t pos = s.find(from); pos != std::string::npos; pos = s.find(from, pos + to.size())) {
+        s.replace(pos, from.size(), to);
+    }
+    return s;
+}
+
+std::string escapeHtmlText(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            default: out += c;
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string recordingJson(const Recording& rec) {
+    rec.validate();
+    const std::size_t frames = rec.frameCount();
+    const std::size_t n = rec.bodies.size();
+    const auto meshes = tessellateBodies(rec);
+    const AABB scene = sceneBounds(rec);
+
+    json doc;
+    doc["format"] = "fulcrum-recording";
+    doc["version"] = 1;
+    doc["title"] = rec.title;
+    doc["frames"] = frames;
+    // The camera frames the first frame (what the run starts from); "scene" spans every frame.
+    const AABB start = sceneBounds(rec, 0, 1);
+    doc["scene"] = {{"center", vec(scene.center())}, {"radius", length(scene.halfExtents())}};
+    doc["start"] = {{"center", vec(start.center())}, {"radius", length(start.halfExtents())}};
+
+    json bodies = json::array();
+    for (std::size_t b = 0; b < n; ++b) {
+        const RecordedBody& body = rec.bodies[b];
+        const Rgb c = bodyColor(body.type, b, false), s = bodyColor(body.type, b, true);
+        bodies.push_back({{"name", body.name},
+                          {"type", toString(body.type)},
+                          {"shape", toString(body.shape.type())},
+                          {"color", json::array({c.r, c.g, c.b})},
+                          {"sleepColor", json::array({s.r, s.g, s.b})},
+                          {"parts", renderParts(meshes[b])}});
+    }
+    doc["bodies"] = std::move(bodies);
+
+    json joints = json::array();
+    for (const RecordedJoint& j : rec.joints) {
+        joints.push_back({{"name", j.name},
+                          {"type", toString(j.type)},
+                          {"bodyA", j.bodyA},
+                          {"bodyB", j.bodyB},
+                          {"anchorA", vec(j.localAnchorA)},
+                          {"anchorB", vec(j.localAnchorB)}});
+    }
+    doc["joints"] = std::move(joints);
+
+    std::vector<float> transforms;
+    transforms.reserve(rec.transforms.size() * 7);
+    for (const Transform& t : rec.transforms) transforms.insert(transforms.end(), {t.p.x, t.p.y, t.p.z, t.q.x, t.q.y, t.q.z, t.q.w});
+    std::vector<float> bounds;
+    bounds.reserve(rec.bounds.size() * 6);
+    for (const AABB& box : rec.bounds) bounds.insert(bounds.end(), {box.min.x, box.min.y, box.min.z, box.max.x, box.max.y, box.max.z});
+    std::vector<float> contacts;
+    contacts.reserve(rec.contactPoints.size() * 7);
+    for (const RecordedContactPoint& c : rec.contactPoints) {
+        contacts.insert(contacts.end(), {c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z, c.depth});
+    }
+    std::vector<std::uint32_t> offsets = rec.contactOffsets;
+    if (offsets.empty()) offsets.assign(frames + 1, 0);
+    std::vector<double> energy;
+    energy.reserve(frames * 3);
+    for (const EnergyReport& e : rec.energy) energy.insert(energy.end(), {e.kinetic, e.potential, e.total});
+    std::vector<float> momentum;
+    for (const Vec3& p : rec.linearMomentum) momentum.insert(momentum.end(), {p.x, p.y, p.z});
+
+    doc["times"] = base64(rec.times);
+    doc["transforms"] = base64(transforms);
+    doc["awake"] = base64(rec.awake);
+    doc["bounds"] = base64(bounds);
+    doc["contactOffsets"] = base64(offsets);
+    doc["contacts"] = base64(contacts);
+    doc["jointErrors"] = base64(rec.jointErrors);
+    doc["energy"] = base64(energy);
+    doc["momentum"] = base64(momentum);
+    return doc.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string renderHtml(const Recording& recording) {
+    if (recording.frameCount() == 0) throw Error("recording: no frames captured, nothing to write");
+    // Inside <script> elements the HTML parser only looks for "</script" and
+    // "<!--": no '<' may reach it from the data. JSON strings may spell it
+    // \u003c; in the bundled JavaScript it can only sit in a string or regex,
+    // where "<\/" means the same.
+    const std::string data = replaceAll(recordingJson(recording), "<", "\\u003c");
+    const std::string script = replaceAll(replaceAll(detail::viewerScript(), "</script", "<\\/script"), "<!--", "<\\!--");
+    std::string page = detail::viewerTemplate();
+    page = replaceAll(page, "{{FULCRUM_TITLE}}", escapeHtmlText(recording.title));
+    // Data and script last, so nothing inside them is mistaken for a placeholder.
+    const std::size_t dataAt = page.find("<!--FULCRUM_DATA-->");
+    const std::size_t scriptAt = page.find("<!--FULCRUM_SCRIPT-->");
+    if (dataAt == std::string::npos || scriptAt == std::string::npos || scriptAt < dataAt) {
+        throw Error("recording: the embedded page template lacks its data or script placeholder");
+    }
+    std::string out;
+    out.reserve(page.size() + data.size() + script.size());
+    out.append(page, 0, dataAt);
+    out += data;
+    out.append(page, dataAt + 19, scriptAt - dataAt - 19);
+    out += script;
+    out.append(page, scriptAt + 21, std::string::npos);
+    return out;
+}
+
+void writeHtml(const Recording& recording, const std::filesystem::path& path) {
+    const std::string page = renderHtml(recording);
+    std::ofstream file(path, std::ios::binary | std::ios::trunc);
+    if (!file) throw Error("recording '" + path.string() + "': cannot open for writing");
+    file.write(page.data(), static_cast<std::streamsize>(page.size()));
+    if (!file) throw Error("recording '" + path.string() + "': write failed");
+}
+
+}  // namespace fulcrum::io

@@ -1,0 +1,249 @@
+// The position pass over JSON text; see json_locator.hpp for why it exists.
+#include "io/json_locator.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+namespace fulcrum::detail {
+
+namespace {
+
+// Deeper documents are not scenes; the limit keeps the recursion bounded.
+constexpr int kMaxDepth = 256;
+
+struct StopScan {};  // unwinds the recursion once the answer is known
+
+class Scanner {
+public:
+    enum class Mode { Locate, FindProblem };
+
+    Scanner(std::string_view text, Mode mode, std::string_view target) : text_(text), mode_(mode), target_(target) {}
+
+    void run() {
+        try {
+            value(0);
+        } catch (const StopScan&) {
+        }
+    }
+
+    std::optional<TextLocation> found;
+    std::optional<JsonScanProblem> problem;
+
+private:
+    void skipWhitespace() {
+        while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\n' || text_[pos_] == '\r')) ++pos_;
+    }
+
+    void checkTarget(std::size_t at) {
+        if (mode_ == Mode::Locate && path_ == target_) {
+            found = locationOfOffset(text_, at);
+            throw StopScan{};
+        }
+    }
+
+    void report(std::size_t at, std::string reason) {
+        problem = JsonScanProblem{path_, locationOfOffset(text_, at), std::move(reason)};
+        throw StopScan{};
+    }
+
+    static void appendUtf8(std::string& out, unsigned cp) {
+        if (cp < 0x80) {
+            out += static_cast<char>(cp);
+        } else if (cp < 0x800) {
+            out += static_cast<char>(0xC0 | (cp >> 6));
+            out += static_cast<char>(0x80 | (cp & 0x3F));
+        } else if (cp < 0x10000) {
+            out += static_cast<char>(0xE0 | (cp >> 12));
+            out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+            out += static_cast<char>(0x80 | (cp & 0x3F));
+        } else {
+            out += static_cast<char>(0xF0 | (cp >> 18));
+            out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+            out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+            out += static_cast<char>(0x80 | (cp & 0x3F));
+        }
+    }
+
+    unsigned hex4() {
+        unsigned v = 0;
+        for (int k = 0; k < 4 && pos_ < text_.size(); ++k, ++pos_) {
+            const char c = text_[pos_];
+            v <<= 4;
+            if (c >= '0' && c <= '9') v |= static_cast<unsigned>(c - '0');
+            else if (c >= 'a' && c <= 'f') v |= static_cast<unsigned>(c - 'a' + 10);
+            else if (c >= 'A' && c <= 'F') v |= static_cast<unsigned>(c - 'A' + 10);
+        }
+        return v;
+    }
+
+    // At the opening quote; returns the decoded string (keys must compare
+    // equal to nlohmann's decoded keys).
+    std::string string() {
+        std::string out;
+        ++pos_;
+        while (pos_ < text_.size() && text_[pos_] != '"') {
+            const char c = text_[pos_++];
+            if (c != '\\') {
+                out += c;
+                continue;
+            }
+            if (pos_ >= text_.size()) break;
+            const char e = text_[pos_++];
+            switch (e) {
+                case 'b': out += '\b'; break;
+                case 'f': out += '\f'; break;
+                case 'n': out += '\n'; break;
+                case 'r': out += '\r'; break;
+                case 't': out += '\t'; break;
+                case 'u': {
+                    unsigned cp = hex4();
+                    if (cp >= 0xD800 && cp < 0xDC00 && pos_ + 1 < text_.size() && text_[pos_] == '\\' && text_[pos_ + 1] == 'u') {
+                        pos_ += 2;
+                        const unsigned low = hex4();
+                        cp = 0x10000 + ((cp - 0xD800) << 10) + (low - 0xDC00);
+                    }
+                    appendUtf8(out, cp);
+                    break;
+                }
+                default: out += e; break;  // \" \\ \/
+            }
+        }
+        ++pos_;  // closing quote
+        return out;
+    }
+
+    void number() {
+        const std::size_t start = pos_;
+        while (pos_ < text_.size()) {
+            const char c = text_[pos_];
+            if ((c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == 'e' || c == 'E') ++pos_;
+            else break;
+        }
+        if (mode_ == Mode::FindProblem) {
+            const std::string token(text_.substr(start, pos_ - start));
+            const double v = std::strtod(token.c_str(), nullptr);
+            if (!std::isfinite(v)) report(start, "number " + token + " is out of range (not a finite number)");
+        }
+    }
+
+    void value(int depth) {
+        skipWhitespace();
+        if (pos_ >= text_.size()) return;
+        if (depth > kMaxDepth) {
+            if (mode_ == Mode::FindProblem) report(pos_, "nested deeper than " + std::to_string(kMaxDepth) + " levels");
+            throw StopScan{};
+        }
+        const char c = text_[pos_];
+        if (c == '{') {
+            object(depth);
+        } else if (c == '[') {
+            array(depth);
+        } else if (c == '"') {
+            string();
+        } else if (c == '-' || (c >= '0' && c <= '9')) {
+            number();
+        } else {
+            while (pos_ < text_.size() && text_[pos_] >= 'a' && text_[pos_] <= 'z') ++pos_;  // true, false, null
+        }
+    }
+
+    void object(int depth) {
+        ++pos_;
+        std::vector<std::string> keys;
+        for (;;) {
+            skipWhitespace();
+            if (pos_ >= text_.size() || text_[pos_] == '}') break;
+            const std::size_t keyStart = pos_;
+            std::string key = string();
+            const std::size_t saved = path_.size();
+            path_ = childPath(path_, key);
+            if (mode_ == Mode::FindProblem) {
+                for (const std::string& k : keys) {
+                    if (k == key) report(keyStart, "duplicate key");
+                }
+                keys.push_back(std::move(key));
+            }
+            checkTarget(keyStart);
+            skipWhitespace();
+            ++pos_;  // ':'
+            value(depth + 1);
+            path_.resize(saved);
+            skipWhitespace();
+            if (pos_ < text_.size() && text_[pos_] == ',') ++pos_;
+        }
+        ++pos_;
+    }
+
+    void array(int depth) {
+        ++pos_;
+        for (std::size_t index = 0;; ++index) {
+            skipWhitespace();
+            if (pos_ >= text_.size() || text_[pos_] == ']') break;
+            const std::size_t saved = path_.size();
+            path_ = childPath(path_, index);
+            checkTarget(pos_);
+            value(depth + 1);
+            path_.resize(saved);
+            skipWhitespace();
+            if (pos_ < text_.size() && text_[pos_] == ',') ++pos_;
+        }
+        ++pos_;
+    }
+
+    std::string_view text_;
+    Mode mode_;
+    std::string_view target_;
+    std::size_t pos_ = 0;
+    std::string path_;
+};
+
+}  // namespace
+
+TextLocation locationOfOffset(std::string_view text, std::size_t offset) {
+    TextLocation loc{1, 1};
+    const std::size_t end = offset < text.size() ? offset : text.size();
+    for (std::size_t i = 0; i < end; ++i) {
+        if (text[i] == '\n') {
+            ++loc.line;
+            loc.column = 1;
+        } else {
+            ++loc.column;
+        }
+    }
+    return loc;
+}
+
+std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_view path) {
+    Scanner scanner(text, Scanner::Mode::Locate, path);
+    if (path.empty()) {
+        std::size_t i = 0;
+        while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r')) ++i;
+        return locationOfOffset(text, i);
+    }
+    scanner.run();
+    return scanner.found;
+}
+
+std::optional<JsonScanProblem> findJsonProblem(std::string_view text) {
+    Scanner scanner(text, Scanner::Mode::FindProblem, {});
+    scanner.run();
+    return scanner.problem;
+}
+
+std::string childPath(std::string_view parent, std::string_view key) {
+    std::string p(parent);
+    if (!p.empty()) p += '.';
+    p += key;
+    return p;
+}
+
+std::string childPath(std::string_view parent, std::size_t index) {
+    std::string p(parent);
+    p += '[';
+    p += std::to_string(index);
+    p += ']';
+    return p;
+}
+
+}  // namespace fulcrum::detail

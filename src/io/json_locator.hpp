@@ -1,0 +1,40 @@
+#pragma once
+// A light second pass over JSON text that knows where each value sits.
+// nlohmann-json (3.11) builds the document but keeps no source positions, so
+// when a value is found wrong we re-scan the text to turn its document path
+// (`bodies[3].shape.radius`) into a line and column. The same scan finds what
+// nlohmann accepts silently or reports without a position: duplicate keys
+// (nlohmann keeps the last) and numbers too large for a double (1e999).
+// The scanner assumes syntactically valid JSON (nlohmann checked it first).
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace fulcrum::detail {
+
+struct TextLocation {
+    int line = 0;    // 1-based
+    int column = 0;  // 1-based, in bytes
+};
+
+// Line and column of byte `offset` of `text`.
+TextLocation locationOfOffset(std::string_view text, std::size_t offset);
+
+// Location of the value at `path` ("" is the root; object members are located
+// at their key). nullopt when the path does not occur.
+std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_view path);
+
+// The first problem of a document nlohmann parses without complaint (or
+// without a position): a duplicate key, or a number that overflows a double.
+struct JsonScanProblem {
+    std::string path;
+    TextLocation where;
+    std::string reason;
+};
+std::optional<JsonScanProblem> findJsonProblem(std::string_view text);
+
+// Joins a path and a member key / array index the way errors print them.
+std::string childPath(std::string_view parent, std::string_view key);
+std::string childPath(std::string_view parent, std::size_t index);
+
+}  // namespace fulcrum::detail

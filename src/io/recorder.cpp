@@ -1,0 +1,108 @@
+// Recorder: fills a Recording from a World through its public API only.
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "io/gltf_writer.hpp"
+#include "io/html_writer.hpp"
+#include "io/recording.hpp"
+
+namespace fulcrum::io {
+
+namespace {
+
+int indexOf(const std::vector<BodyId>& ids, BodyId id) {
+    if (id.isNull()) return -1;
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    return it == ids.end() ? -1 : static_cast<int>(it - ids.begin());
+}
+
+}  // namespace
+
+Recorder::Recorder(const World& world, RecordOptions options) : options_(std::move(options)) {
+    if (!std::isfinite(options_.captureInterval) || options_.captureInterval < 0) {
+        throw Error("recorder: captureInterval must be a finite number >= 0, got " +
+                    std::to_string(options_.captureInterval));
+    }
+    recording_.title = options_.title;
+    ids_ = world.bodies();
+    recording_.bodies.reserve(ids_.size());
+    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id)});
+
+    // Joint anchors are world space at creation; with the bodies' current
+    // transforms they become body-local, which is exact when the recorder is
+    // built before the first step (as documented).
+    for (JointId jid : world.joints()) {
+        const JointDef& def = world.jointDef(jid);
+        RecordedJoint joint;
+        joint.name = world.name(jid);
+        joint.type = def.type;
+        joint.bodyA = indexOf(ids_, def.bodyA);
+        joint.bodyB = indexOf(ids_, def.bodyB);
+        const Vec3 anchorB = def.type == JointType::Distance ? def.anchorB : def.anchor;
+        joint.localAnchorA = joint.bodyA >= 0 ? inverseTransformPoint(world.transform(def.bodyA), def.anchor) : def.anchor;
+        joint.localAnchorB = joint.bodyB >= 0 ? inverseTransformPoint(world.transform(def.bodyB), anchorB) : anchorB;
+        recording_.joints.push_back(std::move(joint));
+        jointIds_.push_back(jid);
+    }
+    recording_.contactOffsets.push_back(0);
+}
+
+void Recorder::capture(const World& world) {
+    const double time = static_cast<double>(world.time());
+    Recording& rec = recording_;
+    if (!rec.times.empty()) {
+        const double last = rec.times.back();
+        if (time < last) {
+            throw Error("recorder: world time " + std::to_string(time) + " is before the last captured frame (" +
+                        std::to_string(last) + ")");
+        }
+        // A small tolerance so an interval equal to the step size captures every step despite rounding.
+        if (time <= last || time - last < options_.captureInterval * (1 - 1e-6)) return;
+    }
+    rec.times.push_back(time);
+    const std::size_t n = ids_.size();
+    const std::size_t frame = rec.times.size() - 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        const BodyId id = ids_[i];
+        if (world.isValid(id)) {
+            const Transform xf = world.transform(id);
+            rec.transforms.push_back(xf);
+            rec.awake.push_back(world.isAwake(id) ? 1 : 0);
+            if (options_.bounds) rec.bounds.push_back(rec.bodies[i].shape.bounds(xf));
+        } else {
+            // Destroyed since: hold the last pose (or the identity if never seen).
+            rec.transforms.push_back(frame > 0 ? rec.transforms[(frame - 1) * n + i] : Transform{});
+            rec.awake.push_back(0);
+            if (options_.bounds) rec.bounds.push_back(frame > 0 ? rec.bounds[(frame - 1) * n + i] : AABB{});
+        }
+    }
+    for (JointId jid : jointIds_) rec.jointErrors.push_back(world.isValid(jid) ? world.jointError(jid) : Real(0));
+    if (options_.contacts) {
+        for (const ContactReport& c : world.contacts()) {
+            for (const Vec3& p : c.points) rec.contactPoints.push_back({p, c.normal, c.depth});
+        }
+    }
+    rec.contactOffsets.push_back(static_cast<std::uint32_t>(rec.contactPoints.size()));
+    rec.energy.push_back(world.energy());
+    rec.linearMomentum.push_back(world.linearMomentum());
+}
+
+void Recorder::writeGlb(const std::filesystem::path& path) const { io::writeGlb(recording_, path); }
+
+void Recorder::writeHtml(const std::filesystem::path& path) const { io::writeHtml(recording_, path); }
+
+void Recorder::write(const std::filesystem::path& path) const {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".glb") {
+        writeGlb(path);
+    } else if (ext == ".html" || ext == ".htm") {
+        writeHtml(path);
+    } else {
+        throw Error("recording '" + path.string() + "': unknown format '" + ext +
+                    "', expected .glb (animated glTF 2.0) or .html (replay page)");
+    }
+}
+
+}  // namespace fulcrum::io

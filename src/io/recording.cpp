@@ -1,0 +1,164 @@
+// Recording: consistency checks shared by the writers. The Recorder, which
+// reads a World, lives in recorder.cpp so that code using only the data and
+// the writers does not pull in the World.
+#include "io/recording.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+
+namespace fulcrum::io {
+
+namespace {
+
+void requireSize(std::size_t actual, std::size_t expected, const char* field) {
+    if (actual != expected) {
+        throw Error(std::string("recording: ") + field + " holds " + std::to_string(actual) + " entries, expected " +
+                    std::to_string(expected));
+    }
+}
+
+std::string lowerExtension(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+}  // namespace
+
+void Recording::validate() const {
+    const std::size_t frames = frameCount();
+    const std::size_t n = bodies.size();
+    for (std::size_t f = 0; f < frames; ++f) {
+        if (!std::isfinite(times[f])) throw Error("recording: times[" + std::to_string(f) + "] is not finite");
+        if (f > 0 && !(times[f] > times[f - 1])) {
+            throw Error("recording: times[" + std::to_string(f) + "] = " + std::to_string(times[f]) +
+                        " does not increase (previous " + std::to_string(times[f - 1]) + ")");
+        }
+    }
+    requireSize(transforms.size(), frames * n, "transforms");
+    requireSize(awake.size(), frames * n, "awake");
+    if (!bounds.empty()) requireSize(bounds.size(), frames * n, "bounds");
+    requireSize(jointErrors.size(), frames * joints.size(), "jointErrors");
+    requireSize(energy.size(), frames, "energy");
+    requireSize(linearMomentum.size(), frames, "linearMomentum");
+    if (!contactOffsets.empty() || frames > 0) {
+        requireSize(contactOffsets.size(), frames + 1, "contactOffsets");
+        for (std::size_t f = 0; f < frames; ++f) {
+            if (contactOffsets[f] > contactOffsets[f + 1]) {
+                throw Error("recording: contactOffsets[" + std::to_string(f + 1) + "] decreases");
+            }
+        }
+        requireSize(contactPoints.size(), contactOffsets.back(), "contactPoints");
+    }
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+        const RecordedJoint& joint = joints[j];
+        const int count = static_cast<int>(n);
+        if (joint.bodyA < -1 || joint.bodyA >= count || joint.bodyB < -1 || joint.bodyB >= count) {
+            throw Error("recording: joints[" + std::to_string(j) + "] ('" + joint.name + "') refers to a body index out of range");
+        }
+    }
+    for (std::size_t i = 0; i < transforms.size(); ++i) {
+        if (!isFinite(transforms[i].p) || !isFinite(transforms[i].q)) {
+            throw Error("recording: body '" + bodies[i % n].name + "' has a non-finite transform in frame " +
+                        std::to_string(i / n));
+        }
+    }
+    for (std::size_t t = 0; t < particles.size(); ++t) {
+        const ParticleTrack& track = particles[t];
+        requireSize(track.positions.size(), frames * track.particleCount, "particles[].positions");
+        for (std::uint32_t index : track.indices) {
+            if (index >= track.particleCount) {
+                throw Error("recording: particle system '" + track.name + "' indexes particle " + std::to_string(index) +
+                            " of " + std::to_string(track.particleCount));
+            }
+        }
+    }
+}
+
+bool isRecordingPath(const std::filesystem::path& path) {
+    const std::string ext = lowerExtension(path);
+    return ext == ".glb" || ext == ".html" || ext == ".htm";
+}
+
+}  // namespace fulcrum::io
+
+namespace fulcrum::io {
+
+namespace {
+
+bool containsPlane(const Shape& shape) {
+    if (shape.type() == ShapeType::Plane) return true;
+    for (const CompoundChild& c : shape.children()) {
+        if (containsPlane(c.shape)) return true;
+    }
+    return false;
+}
+
+Rgb hsv(float h, float s, float v) {
+    const float i = std::floor(h * 6), f = h * 6 - i, p = v * (1 - s), q = v * (1 - f * s), t = v * (1 - (1 - f) * s);
+    switch (static_cast<int>(i) % 6) {
+        case 0: return {v, t, p};
+        case 1: return {q, v, p};
+        case 2: return {p, v, t};
+        case 3: return {p, q, v};
+        case 4: return {t, p, v};
+        default: return {v, p, q};
+    }
+}
+
+}  // namespace
+
+Rgb bodyColor(BodyType type, std::size_t bodyIndex, bool asleep) {
+    Rgb c;
+    switch (type) {
+        case BodyType::Static: c = {0.42f, 0.44f, 0.47f}; break;
+        case BodyType::Kinematic: c = {0.35f, 0.55f, 0.90f}; break;
+        case BodyType::Dynamic: {
+            // Golden-angle hue steps keep consecutive bodies far apart on the colour wheel.
+            const double hue = std::fmod(0.08 + 0.618033988749895 * static_cast<double>(bodyIndex), 1.0);
+            c = hsv(static_cast<float>(hue), 0.65f, 0.92f);
+            break;
+        }
+    }
+    if (asleep) {
+        c.r *= 0.4f;
+        c.g *= 0.4f;
+        c.b *= 0.4f;
+    }
+    return c;
+}
+
+AABB sceneBounds(const Recording& recording, std::size_t first, std::size_t last) {
+    AABB box;
+    const std::size_t n = recording.bodies.size();
+    last = std::min(last, recording.frameCount());
+    for (std::size_t b = 0; b < n; ++b) {
+        const Shape& shape = recording.bodies[b].shape;
+        if (containsPlane(shape)) continue;
+        for (std::size_t f = first; f < last; ++f) {
+            box.grow(recording.bounds.empty() ? shape.bounds(recording.transform(f, b)) : recording.bounds[f * n + b]);
+        }
+    }
+    if (box.isEmpty()) box = AABB::fromCenterHalf(Vec3::zero(), Vec3::splat(1));
+    return box;
+}
+
+std::vector<std::vector<RenderPart>> tessellateBodies(const Recording& recording) {
+    const AABB scene = sceneBounds(recording);
+    const Real extent = maxComponent(scene.halfExtents());
+    std::vector<std::vector<RenderPart>> meshes;
+    meshes.reserve(recording.bodies.size());
+    for (std::size_t b = 0; b < recording.bodies.size(); ++b) {
+        TessellationOptions options;
+        // A plane is shown as a quad under the scene, twice as wide as what moves on it (at least 20 m).
+        options.planeHalfSize = std::max(Real(10), Real(2) * extent);
+        const Transform frame0 = recording.frameCount() > 0 ? recording.transform(0, b) : Transform{};
+        options.planeCenter = inverseTransformPoint(frame0, scene.center());
+        meshes.push_back(tessellate(recording.bodies[b].shape, options));
+    }
+    return meshes;
+}
+
+}  // namespace fulcrum::io

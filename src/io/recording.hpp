@@ -1,0 +1,155 @@
+#pragma once
+// Recordings of a run, for replay outside the engine: an animated glTF 2.0
+// binary (gltf_writer.hpp) or a self-contained HTML replay page
+// (html_writer.hpp). See docs/recording.md.
+//
+// The Recording is plain data, independent of the World: what was simulated
+// (bodies with their shapes, joints with their body-local anchors) and, per
+// captured frame, the time, every body's transform, awake flag and world AABB,
+// the contact points, the joint errors and the energy. The writers read only a
+// Recording, so they are tested without a World and a recording could be
+// produced by another tool.
+//
+// The Recorder fills a Recording from a World through its public API only.
+//
+// Particle systems (ropes, cloth) are being built now; they will be recorded as
+// ParticleTrack values: a fixed topology (line segments for ropes, triangles
+// for cloth) and one position per particle per frame. In glTF they become a
+// mesh with one morph target per frame and a weights animation (one-hot
+// keyframes, so LINEAR interpolation blends neighbouring frames); in the HTML
+// page, a BufferGeometry whose positions are rewritten each frame. The
+// container is here so adding them does not change the format of bodies.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fulcrum/world.hpp"
+#include "io/tessellate.hpp"
+
+namespace fulcrum::io {
+
+struct RecordOptions {
+    // Seconds of simulated time between captured frames; 0 captures at every
+    // call of Recorder::capture (typically once per step).
+    double captureInterval = 0;
+    bool contacts = true;    // record contact points, normals and depths
+    bool bounds = true;      // record every body's world AABB per frame
+    std::string title = "Fulcrum recording";
+};
+
+struct RecordedBody {
+    std::string name;
+    BodyType type = BodyType::Dynamic;
+    Shape shape;
+};
+
+// A joint as drawn: a segment between its two anchors, stored body-local so
+// the viewer places them from the recorded body transforms.
+struct RecordedJoint {
+    std::string name;
+    JointType type = JointType::Ball;
+    int bodyA = -1;          // index into Recording::bodies; -1 is the static world
+    int bodyB = -1;
+    Vec3 localAnchorA;       // in body A's frame (world space when bodyA is -1)
+    Vec3 localAnchorB;       // in body B's frame
+};
+
+struct RecordedContactPoint {
+    Vec3 point;              // world space
+    Vec3 normal;             // unit, from body A to body B
+    Real depth = 0;          // positive when overlapping
+};
+
+// Future: a rope or cloth (see the header comment).
+struct ParticleTrack {
+    std::string name;
+    bool triangles = false;                  // false: line segments (rope); true: triangles (cloth)
+    std::vector<std::uint32_t> indices;      // pairs or triples into the particles
+    std::size_t particleCount = 0;
+    std::vector<Vec3> positions;             // frame-major: [frame * particleCount + particle]
+};
+
+struct Recording {
+    std::string title = "Fulcrum recording";
+    std::vector<RecordedBody> bodies;
+    std::vector<RecordedJoint> joints;
+
+    // Per frame. Arrays marked frame-major hold frameCount() * bodies.size()
+    // (or joints.size()) entries, frame after frame.
+    std::vector<double> times;                          // seconds, strictly increasing
+    std::vector<Transform> transforms;                  // frame-major, of the body origin
+    std::vector<std::uint8_t> awake;                    // frame-major, 1 awake, 0 asleep
+    std::vector<AABB> bounds;                           // frame-major; empty when not recorded
+    std::vector<std::uint32_t> contactOffsets;          // frameCount() + 1 offsets into contactPoints
+    std::vector<RecordedContactPoint> contactPoints;
+    std::vector<Real> jointErrors;                      // frame-major, metres
+    std::vector<EnergyReport> energy;
+    std::vector<Vec3> linearMomentum;
+
+    std::vector<ParticleTrack> particles;               // not captured yet (see above)
+
+    std::size_t frameCount() const { return times.size(); }
+    const Transform& transform(std::size_t frame, std::size_t body) const {
+        return transforms[frame * bodies.size() + body];
+    }
+    bool isAwake(std::size_t frame, std::size_t body) const { return awake[frame * bodies.size() + body] != 0; }
+
+    // Throws fulcrum::Error naming the array whose size does not match the
+    // frame count, or a non-finite or non-increasing time.
+    void validate() const;
+};
+
+// Captures a World into a Recording. Construct it after the scene is built
+// (joint anchors are world space at creation: they are converted to body-local
+// anchors with the bodies' transforms at construction). Bodies created later
+// are not recorded; a body destroyed later keeps its last pose, marked asleep.
+//
+//     io::Recorder recorder(world, {.title = "pendulum"});
+//     recorder.capture(world);                 // the initial state
+//     for (int i = 0; i < steps; ++i) { world.step(dt); recorder.capture(world); }
+//     recorder.write("run.html");              // or .glb
+class Recorder {
+public:
+    explicit Recorder(const World& world, RecordOptions options = {});
+
+    // Appends a frame if at least captureInterval has passed since the last
+    // one (always for the first). Throws fulcrum::Error if the world's time
+    // went backwards.
+    void capture(const World& world);
+
+    const Recording& recording() const { return recording_; }
+    std::size_t frameCount() const { return recording_.frameCount(); }
+
+    void writeGlb(const std::filesystem::path& path) const;
+    void writeHtml(const std::filesystem::path& path) const;
+    // By extension: .glb or .html (case-insensitive); anything else throws fulcrum::Error.
+    void write(const std::filesystem::path& path) const;
+
+private:
+    RecordOptions options_;
+    std::vector<BodyId> ids_;
+    std::vector<JointId> jointIds_;
+    Recording recording_;
+};
+
+// Display colours, shared by both formats: static bodies grey, kinematic
+// blue, dynamic bodies a palette colour per body (golden-angle hues, so
+// neighbours differ), sleeping bodies darker.
+struct Rgb {
+    float r = 0, g = 0, b = 0;
+};
+Rgb bodyColor(BodyType type, std::size_t bodyIndex, bool asleep);
+
+// Bounds of everything recorded except planes, over frames [first, last)
+// (default: all), or a unit box around the origin when there is nothing else.
+AABB sceneBounds(const Recording& recording, std::size_t first = 0, std::size_t last = SIZE_MAX);
+
+// Render meshes of every body, with plane quads centred under the recorded
+// scene and large enough to hold it.
+std::vector<std::vector<RenderPart>> tessellateBodies(const Recording& recording);
+
+// True when `path` names a recording format the writers know (.glb, .html).
+bool isRecordingPath(const std::filesystem::path& path);
+
+}  // namespace fulcrum::io

@@ -1,0 +1,338 @@
+// `fulcrum run` as a library: overrides, the run loop and its outputs.
+#include "io/run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "io/recording.hpp"
+#include "io/scene_detail.hpp"
+#include "io/svg_plot.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+double num(Real v) { return std::strtod(formatNumber(v).c_str(), nullptr); }
+ojson vec(const Vec3& v) { return ojson::array({num(v.x), num(v.y), num(v.z)}); }
+ojson quat(const Quat& q) { return ojson::array({num(q.w), num(q.x), num(q.y), num(q.z)}); }
+
+struct FileCloser {
+    void operator()(std::FILE* f) const {
+        if (f) std::fclose(f);
+    }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+// A progress bar on stderr, redrawn at most 100 times per run.
+class ProgressBar {
+public:
+    ProgressBar(bool enabled, int total) : enabled_(enabled && total > 0), total_(total) {}
+    ~ProgressBar() {
+        if (enabled_ && drawn_) std::fprintf(stderr, "\r%60s\r", "");
+    }
+    void update(int step) {
+        if (!enabled_) return;
+        const int percent = static_cast<int>(100LL * step / total_);
+        if (percent == last_) return;
+        last_ = percent;
+        drawn_ = true;
+        constexpr int kWidth = 30;
+        char bar[kWidth + 1];
+        const int filled = percent * kWidth / 100;
+        for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '.';
+        bar[kWidth] = '\0';
+        std::fprintf(stderr, "\r[%s] %3d%% step %d/%d", bar, percent, step, total_);
+        std::fflush(stderr);
+    }
+
+private:
+    bool enabled_;
+    int total_;
+    int last_ = -1;
+    bool drawn_ = false;
+};
+
+void writeCsvRows(std::FILE* f, const World& world, const Scene& scene, const SceneHandles& handles, std::uint64_t step) {
+    const std::string t = formatNumber(world.time());  // shortest text of the float: 0.0166667, not 0.0166666992
+    for (std::size_t i = 0; i < handles.bodies.size(); ++i) {
+        if (scene.bodies[i].def.type != BodyType::Dynamic) continue;
+        const BodyId id = handles.bodies[i];
+        const Vec3 p = world.position(id), v = world.linearVelocity(id), w = world.angularVelocity(id);
+        const Quat q = world.orientation(id);
+        std::fprintf(f, "%llu,%s,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                     static_cast<unsigned long long>(step), t.c_str(), sceneBodyName(scene, i).c_str(), double(p.x), double(p.y),
+                     double(p.z), double(q.w), double(q.x), double(q.y), double(q.z), double(v.x), double(v.y), double(v.z),
+                     double(w.x), double(w.y), double(w.z));
+    }
+}
+
+RunSample sample(const World& world) {
+    return {static_cast<double>(world.time()), world.energy(), static_cast<double>(length(world.linearMomentum())),
+            static_cast<double>(length(world.angularMomentum()))};
+}
+
+std::string plotSvg(const Scene& scene, const std::vector<RunSample>& samples) {
+    std::vector<double> t, ke, pe, te, p, l;
+    for (const RunSample& s : samples) {
+        t.push_back(s.time);
+        ke.push_back(s.energy.kinetic);
+        pe.push_back(s.energy.potential);
+        te.push_back(s.energy.total);
+        p.push_back(s.linearMomentum);
+        l.push_back(s.angularMomentum);
+    }
+    std::vector<PlotPanel> panels;
+    panels.push_back({"Energy", "energy (J)",
+                      {{"kinetic", ke, "#1f77b4"}, {"potential", pe, "#ff7f0e"}, {"total", te, "#2ca02c"}}});
+    panels.push_back({"Linear momentum", "|p| (kg m/s)", {{"|p|", p, "#d62728"}}});
+    panels.push_back({"Angular momentum about the origin", "|L| (kg m\u00b2/s)", {{"|L|", l, "#9467bd"}}});
+    const std::string name = scene.sourceName.empty() ? "fulcrum run" : scene.sourceName;
+    return svgPlot(name + ": energy and momentum", "time (s)", t, panels);
+}
+
+std::string jointName(const Scene& scene, std::size_t i) {
+    return scene.joints[i].def.name.empty() ? "joint" + std::to_string(i) : scene.joints[i].def.name;
+}
+
+}  // namespace
+
+void applyOverrides(Scene& scene, const RunOverrides& o) {
+    if (o.steps) {
+        if (*o.steps < 0 || *o.steps > std::numeric_limits<int>::max()) {
+            throw OptionError("--steps: must be a whole number of steps, at least 0, got " + std::to_string(*o.steps));
+        }
+        scene.steps = static_cast<int>(*o.steps);
+    }
+    if (o.dt) {
+        if (!std::isfinite(*o.dt) || !(*o.dt > 0) || *o.dt > 1e6) {
+            throw OptionError("--dt: must be a positive time step in seconds, got " + formatNumber(*o.dt));
+        }
+        scene.dt = static_cast<Real>(*o.dt);
+    }
+    if (o.substeps) {
+        if (*o.substeps < 1 || *o.substeps > 1000000) throw OptionError("--substeps: must be at least 1, got " + std::to_string(*o.substeps));
+        scene.world.substeps = static_cast<int>(*o.substeps);
+    }
+    if (o.integrator) {
+        const auto integrator = integratorFromString(*o.integrator);
+        if (!integrator) throw OptionError("--integrator: unknown integrator '" + *o.integrator + "' (valid: " + integratorList() + ")");
+        scene.world.integrator = *integrator;
+    }
+    if (o.threads) {
+        if (*o.threads < 1 || *o.threads > 1024) throw OptionError("--threads: must be between 1 and 1024, got " + std::to_string(*o.threads));
+        scene.world.threads = static_cast<int>(*o.threads);
+    }
+}
+
+RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer) {
+    if (!outputs.recordPath.empty()) {
+        if (!io::isRecordingPath(outputs.recordPath)) {
+            throw OptionError("--record " + outputs.recordPath + ": unknown recording format (use a .glb or .html file name)");
+        }
+        std::ofstream probe(outputs.recordPath, std::ios::binary | std::ios::app);
+        if (!probe) throw OptionError("--record " + outputs.recordPath + ": cannot open the file for writing");
+    }
+    File csv;
+    if (!outputs.csvPath.empty()) {
+        csv.reset(std::fopen(outputs.csvPath.c_str(), "wb"));
+        if (!csv) throw OptionError("--csv " + outputs.csvPath + ": cannot open the file for writing");
+        static thread_local char buffer[1 << 16];
+        std::setvbuf(csv.get(), buffer, _IOFBF, sizeof buffer);
+        std::fputs("step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv.get());
+    }
+    if (!outputs.plotPath.empty()) {
+        // Fail before the run, not after it.
+        std::ofstream probe(outputs.plotPath, std::ios::binary | std::ios::app);
+        if (!probe) throw OptionError("--plot " + outputs.plotPath + ": cannot open the file for writing");
+    }
+
+    RunResult result;
+    result.world = buildWorld(scene, &result.handles);
+    World& world = result.world;
+    result.initialEnergy = world.energy();
+    const bool plot = !outputs.plotPath.empty();
+    if (plot) {
+        result.samples.reserve(static_cast<std::size_t>(scene.steps) + 1);
+        result.samples.push_back(sample(world));
+    }
+    if (csv) writeCsvRows(csv.get(), world, scene, result.handles, 0);
+    if (observer) observer(world, result.handles, 0);
+    std::optional<io::Recorder> recorder;
+    if (!outputs.recordPath.empty()) {
+        recorder.emplace(world, io::RecordOptions{.title = scene.sourceName.empty() ? "Fulcrum" : scene.sourceName});
+        recorder->capture(world);
+    }
+
+    ProgressBar progress(outputs.progress, scene.steps);
+    const auto start = std::chrono::steady_clock::now();
+    for (int step = 1; step <= scene.steps; ++step) {
+        try {
+            world.step(scene.dt);
+        } catch (const NumericalError& e) {
+            // The engine names the body; add the step unless it says it already.
+            const std::string what = e.what();
+            if (what.find("step") != std::string::npos) throw;
+            throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
+        }
+        if (csv) writeCsvRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
+        if (plot) result.samples.push_back(sample(world));
+        if (recorder) recorder->capture(world);
+        if (observer) observer(world, result.handles, static_cast<std::uint64_t>(step));
+        progress.update(step);
+    }
+    result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    if (csv && (std::fflush(csv.get()) != 0 || std::ferror(csv.get()))) {
+        throw OptionError("--csv " + outputs.csvPath + ": error while writing the file");
+    }
+    if (recorder) recorder->write(outputs.recordPath);
+    if (plot) {
+        std::ofstream out(outputs.plotPath, std::ios::binary | std::ios::trunc);
+        out << plotSvg(scene, result.samples);
+        if (!out) throw OptionError("--plot " + outputs.plotPath + ": error while writing the file");
+    }
+    return result;
+}
+
+std::string runReportJson(const Scene& scene, const RunResult& result) {
+    const World& world = result.world;
+    ojson j;
+    j["steps"] = world.stepCount();
+    j["time"] = static_cast<double>(world.time());
+    j["wall_seconds"] = result.wallSeconds;
+    ojson bodies = ojson::array();
+    for (std::size_t i = 0; i < result.handles.bodies.size(); ++i) {
+        const BodyId id = result.handles.bodies[i];
+        ojson b;
+        b["name"] = sceneBodyName(scene, i);
+        b["position"] = vec(world.position(id));
+        b["orientation"] = quat(world.orientation(id));
+        b["linear_velocity"] = vec(world.linearVelocity(id));
+        b["angular_velocity"] = vec(world.angularVelocity(id));
+        b["sleeping"] = !world.isAwake(id);
+        bodies.push_back(std::move(b));
+    }
+    j["bodies"] = std::move(bodies);
+    const EnergyReport e = world.energy();
+    j["energy"] = ojson{{"kinetic", e.kinetic}, {"potential", e.potential}, {"total", e.total}};
+    j["momentum"] = ojson{{"linear", vec(world.linearMomentum())}, {"angular", vec(world.angularMomentum())}};
+    const auto nameOf = [&](BodyId id) -> ojson {
+        for (std::size_t i = 0; i < result.handles.bodies.size(); ++i) {
+            if (result.handles.bodies[i] == id) return sceneBodyName(scene, i);
+        }
+        return nullptr;  // the static world
+    };
+    ojson contacts = ojson::array();
+    for (const ContactReport& c : world.contacts()) {
+        ojson points = ojson::array();
+        for (const Vec3& p : c.points) points.push_back(vec(p));
+        contacts.push_back(ojson{{"body_a", nameOf(c.bodyA)},
+                                 {"body_b", nameOf(c.bodyB)},
+                                 {"normal", vec(c.normal)},
+                                 {"depth", num(c.depth)},
+                                 {"points", std::move(points)}});
+    }
+    j["contacts"] = std::move(contacts);
+    ojson joints = ojson::array();
+    for (std::size_t i = 0; i < result.handles.joints.size(); ++i) {
+        const JointId id = result.handles.joints[i];
+        // A broken joint is gone from the world; report it with a null error.
+        ojson error = world.isValid(id) ? ojson(num(world.jointError(id))) : ojson(nullptr);
+        joints.push_back(ojson{{"name", jointName(scene, i)}, {"error", std::move(error)}});
+    }
+    j["joints"] = std::move(joints);
+    return j.dump(2) + "\n";
+}
+
+std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label) {
+    const World& world = result.world;
+    std::ostringstream s;
+    char line[512];
+    std::snprintf(line, sizeof line, "%s: %llu steps of %s s (t = %.4g s), %s, %d substeps, %.3g s wall\n", label.c_str(),
+                  static_cast<unsigned long long>(world.stepCount()), formatNumber(scene.dt).c_str(), double(world.time()),
+                  toString(scene.world.integrator), scene.world.substeps, result.wallSeconds);
+    s << line;
+    std::size_t width = 4;
+    for (std::size_t i = 0; i < result.handles.bodies.size(); ++i) width = std::max(width, sceneBodyName(scene, i).size());
+    const std::size_t shown = std::min<std::size_t>(result.handles.bodies.size(), 20);
+    for (std::size_t i = 0; i < shown; ++i) {
+        const BodyId id = result.handles.bodies[i];
+        const Vec3 p = world.position(id), v = world.linearVelocity(id), w = world.angularVelocity(id);
+        std::snprintf(line, sizeof line, "  %-*s  position (%9.4f, %9.4f, %9.4f) m   velocity (%8.3f, %8.3f, %8.3f) m/s   |w| %7.3f rad/s%s\n",
+                      static_cast<int>(width), sceneBodyName(scene, i).c_str(), double(p.x), double(p.y), double(p.z), double(v.x),
+                      double(v.y), double(v.z), double(length(w)), world.isAwake(id) ? "" : "  (sleeping)");
+        s << line;
+    }
+    if (shown < result.handles.bodies.size()) s << "  ... and " << result.handles.bodies.size() - shown << " more bodies\n";
+    const EnergyReport e = world.energy();
+    std::snprintf(line, sizeof line, "  energy: kinetic %.6g J, potential %.6g J, total %.6g J (at start %.6g J)\n", e.kinetic,
+                  e.potential, e.total, result.initialEnergy.total);
+    s << line;
+    std::snprintf(line, sizeof line, "  momentum: |p| %.6g kg m/s, |L| %.6g kg m^2/s; %zu contact manifolds, %zu joints\n",
+                  double(length(world.linearMomentum())), double(length(world.angularMomentum())), world.contacts().size(),
+                  result.handles.joints.size());
+    s << line;
+    if (!scene.ropes.empty() || !scene.cloths.empty()) {
+        s << "  note: " << scene.ropes.size() << " ropes and " << scene.cloths.size()
+          << " cloths were read but are not simulated yet (the particle system arrives in a later version)\n";
+    }
+    return s.str();
+}
+
+namespace {
+std::string oneLine(std::string s) {
+    for (char& c : s) {
+        if (c == '\n' || c == '\r') c = ' ';
+    }
+    return s;
+}
+}  // namespace
+
+int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& overrides, const RunOutputs& outputs,
+               std::ostream& out, std::ostream& err) {
+    Scene scene;
+    const std::string label = scenePath ? *scenePath : "built-in demo";
+    try {
+        scene = scenePath ? loadScene(*scenePath) : demoScene();
+        applyOverrides(scene, overrides);
+        DemoChecks demo;
+        StepObserver observer;
+        if (!scenePath) {
+            observer = [&demo](const World& w, const SceneHandles& h, std::uint64_t step) { demo.observe(w, h, step); };
+        }
+        const RunResult result = runScene(scene, outputs, observer);
+        if (outputs.json) {
+            out << runReportJson(scene, result);
+        } else {
+            out << runSummary(scene, result, "fulcrum: " + label);
+            if (!scenePath) out << demo.report(scene, result);
+        }
+        out.flush();
+        return 0;
+    } catch (const SceneError& e) {
+        err << "fulcrum: " << oneLine(e.what()) << "\n";
+        return 2;
+    } catch (const OptionError& e) {
+        err << "fulcrum: " << oneLine(e.what()) << "\n";
+        return 2;
+    } catch (const NumericalError& e) {
+        err << "fulcrum: " << label << ": simulation stopped, the state became non-finite: " << oneLine(e.what()) << "\n";
+        return 3;
+    } catch (const Error& e) {
+        err << "fulcrum: " << label << ": " << oneLine(e.what()) << "\n";
+        return 2;
+    }
+}
+
+}  // namespace fulcrum::detail

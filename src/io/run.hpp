@@ -1,0 +1,94 @@
+#pragma once
+// `fulcrum run`, as a library: applying command-line overrides to a Scene,
+// running it, and the outputs (--json report, --csv rows, --plot SVG, the human
+// summary). apps/fulcrum/main.cpp only parses arguments and calls runCommand,
+// so tests can drive all of this without a process.
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fulcrum/scene.hpp"
+#include "fulcrum/world.hpp"
+
+namespace fulcrum::detail {
+
+// A bad command-line option value; what() is one line naming the option.
+class OptionError : public Error {
+public:
+    using Error::Error;
+};
+
+// Options that override the scene's world settings.
+struct RunOverrides {
+    std::optional<long long> steps;
+    std::optional<double> dt;
+    std::optional<long long> substeps;
+    std::optional<std::string> integrator;
+    std::optional<long long> threads;
+};
+// Validates the overrides and applies them; throws OptionError.
+void applyOverrides(Scene& scene, const RunOverrides& overrides);
+
+struct RunOutputs {
+    bool json = false;        // report on stdout as one JSON object
+    std::string csvPath;      // empty: no CSV
+    std::string plotPath;     // empty: no SVG
+    std::string recordPath;   // recordings arrive in a later version: refused
+    bool progress = false;    // progress bar on stderr (the caller checks it is a terminal)
+};
+
+struct RunSample {
+    double time = 0;
+    EnergyReport energy;
+    double linearMomentum = 0;   // |p|, kg m/s
+    double angularMomentum = 0;  // |L| about the origin, kg m^2/s
+};
+
+struct RunResult {
+    World world;
+    SceneHandles handles;
+    double wallSeconds = 0;
+    EnergyReport initialEnergy;
+    std::vector<RunSample> samples;  // step 0..N, only when a plot was asked for
+};
+
+// Called after every step (and once before the first, with step 0).
+using StepObserver = std::function<void(const World&, const SceneHandles&, std::uint64_t step)>;
+
+// Builds the scene's world and runs scene.steps steps of scene.dt, writing the
+// CSV as it goes and the SVG at the end. Throws SceneError (the scene cannot be
+// built), OptionError (an output file cannot be written) or NumericalError
+// (the state went NaN; the message gives the step and names the body).
+RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer = {});
+
+// The --json report (design.md, "Contract: the command line").
+std::string runReportJson(const Scene& scene, const RunResult& result);
+// A short human summary of a run.
+std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label);
+
+// The built-in demo: what the engine does so far, each part checked against
+// its analytic answer in the summary.
+Scene demoScene();
+
+// Follows the demo while it runs (the flips of the spinning box) and reports
+// each part against its analytic answer.
+class DemoChecks {
+public:
+    void observe(const World& world, const SceneHandles& handles, std::uint64_t step);
+    std::string report(const Scene& scene, const RunResult& result) const;
+    int flips() const { return flips_; }
+
+private:
+    int flips_ = 0;
+    int lastSign_ = 0;
+};
+
+// The whole `fulcrum run` command. Returns the exit status: 0 done, 2 bad
+// input (one line on `err`), 3 the simulation produced NaN/inf.
+int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& overrides, const RunOutputs& outputs,
+               std::ostream& out, std::ostream& err);
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,110 @@
+// SceneError and the value comparisons of the Scene description.
+#include "fulcrum/scene.hpp"
+
+namespace fulcrum {
+
+namespace {
+
+std::string sceneErrorText(const std::string& file, const std::string& path, int line, int column, const std::string& reason) {
+    // file:line: path: reason  (line:column only for problems of the text itself)
+    std::string s = file.empty() ? "<scene>" : file;
+    if (line > 0) {
+        s += ':' + std::to_string(line);
+        if (path.empty() && column > 0) s += ':' + std::to_string(column);
+    }
+    s += ": ";
+    if (!path.empty()) s += path + ": ";
+    s += reason;
+    return s;
+}
+
+bool sameInertia(const std::optional<Mat3>& a, const std::optional<Mat3>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    return !a || *a == *b;
+}
+
+}  // namespace
+
+SceneError::SceneError(std::string file, std::string path, int line, int column, std::string reason)
+    : Error(sceneErrorText(file, path, line, column, reason)),
+      file_(std::move(file)),
+      path_(std::move(path)),
+      line_(line),
+      column_(column),
+      reason_(std::move(reason)) {}
+
+bool ShapeDesc::operator==(const ShapeDesc& o) const {
+    if (type != o.type) return false;
+    switch (type) {
+        case ShapeType::Sphere: return radius == o.radius;
+        case ShapeType::Box: return halfExtents == o.halfExtents;
+        case ShapeType::Capsule:
+        case ShapeType::Cylinder: return radius == o.radius && halfHeight == o.halfHeight;
+        case ShapeType::ConvexHull: return points == o.points;
+        case ShapeType::Plane: return normal == o.normal && offset == o.offset;
+        case ShapeType::Mesh: return vertices == o.vertices && triangles == o.triangles;
+        case ShapeType::Compound: return children == o.children;
+    }
+    return false;
+}
+
+bool SceneBody::operator==(const SceneBody& o) const {
+    const BodyDef &a = def, &b = o.def;
+    return shape == o.shape && a.name == b.name && a.type == b.type && a.mass == b.mass && a.density == b.density &&
+           sameInertia(a.inertia, b.inertia) && a.position == b.position && a.orientation == b.orientation &&
+           a.linearVelocity == b.linearVelocity && a.angularVelocity == b.angularVelocity && a.friction == b.friction &&
+           a.restitution == b.restitution && a.rollingResistance == b.rollingResistance &&
+           a.linearDamping == b.linearDamping && a.angularDamping == b.angularDamping && a.linearDrag == b.linearDrag &&
+           a.quadraticDrag == b.quadraticDrag && a.gravityScale == b.gravityScale &&
+           a.filter.category == b.filter.category && a.filter.mask == b.filter.mask && a.filter.group == b.filter.group &&
+           a.isSensor == b.isSensor && a.isBullet == b.isBullet && a.allowSleep == b.allowSleep && a.awake == b.awake;
+}
+
+bool SceneJoint::operator==(const SceneJoint& o) const {
+    const JointDef &a = def, &b = o.def;
+    return bodyA == o.bodyA && bodyB == o.bodyB && a.name == b.name && a.type == b.type && a.anchor == b.anchor &&
+           a.anchorB == b.anchorB && a.axis == b.axis && a.hasLimits == b.hasLimits && a.lowerLimit == b.lowerLimit &&
+           a.upperLimit == b.upperLimit && a.motor.enabled == b.motor.enabled && a.motor.speed == b.motor.speed &&
+           a.motor.maxForce == b.motor.maxForce && a.spring.enabled == b.spring.enabled &&
+           a.spring.target == b.spring.target && a.spring.stiffness == b.spring.stiffness &&
+           a.spring.damping == b.spring.damping && a.minLength == b.minLength && a.maxLength == b.maxLength &&
+           a.stiffness == b.stiffness && a.damping == b.damping && a.swingLimit == b.swingLimit &&
+           a.twistLower == b.twistLower && a.twistUpper == b.twistUpper && a.breakForce == b.breakForce &&
+           a.breakTorque == b.breakTorque && a.collideConnected == b.collideConnected;
+}
+
+bool SceneSpring::operator==(const SceneSpring& o) const {
+    const SpringDef &a = def, &b = o.def;
+    return bodyA == o.bodyA && bodyB == o.bodyB && a.anchorA == b.anchorA && a.anchorB == b.anchorB &&
+           a.restLength == b.restLength && a.stiffness == b.stiffness && a.damping == b.damping;
+}
+
+bool SceneRope::operator==(const SceneRope& o) const {
+    const RopeDef &a = def, &b = o.def;
+    return attachStart == o.attachStart && attachEnd == o.attachEnd && a.name == b.name && a.start == b.start &&
+           a.end == b.end && a.segments == b.segments && a.particleMass == b.particleMass && a.radius == b.radius &&
+           a.pinStart == b.pinStart && a.pinEnd == b.pinEnd && a.stretchCompliance == b.stretchCompliance &&
+           a.bendCompliance == b.bendCompliance;
+}
+
+bool SceneCloth::operator==(const SceneCloth& o) const {
+    const ClothDef &a = def, &b = o.def;
+    return a.name == b.name && a.origin == b.origin && a.uAxis == b.uAxis && a.vAxis == b.vAxis && a.size == b.size &&
+           a.spacing == b.spacing && a.particleMass == b.particleMass && a.radius == b.radius && a.pinned == b.pinned &&
+           a.stretchCompliance == b.stretchCompliance && a.bendCompliance == b.bendCompliance;
+}
+
+bool Scene::operator==(const Scene& o) const {
+    const WorldDef &a = world, &b = o.world;
+    return description == o.description && a.gravity == b.gravity && a.integrator == b.integrator &&
+           a.substeps == b.substeps && a.solverIterations == b.solverIterations && a.sleeping == b.sleeping &&
+           a.threads == b.threads && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
+           springs == o.springs && ropes == o.ropes && cloths == o.cloths;
+}
+
+std::string sceneBodyName(const Scene& scene, std::size_t index) {
+    if (index < scene.bodies.size() && !scene.bodies[index].def.name.empty()) return scene.bodies[index].def.name;
+    return "body" + std::to_string(index);
+}
+
+}  // namespace fulcrum

@@ -1,0 +1,44 @@
+#pragma once
+// Internal helpers shared by the scene reader, writer and builder.
+#include <initializer_list>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fulcrum/scene.hpp"
+
+namespace fulcrum::detail {
+
+// Shortest text that reads back to the same value ("0.1", "-1", "1e+300").
+std::string formatNumber(double v);
+std::string formatNumber(float v);
+
+// The candidate closest to `word` by edit distance, if it is close enough to
+// be a plausible typo; empty otherwise.
+std::string_view closestMatch(std::string_view word, std::span<const std::string_view> candidates);
+inline std::string_view closestMatch(std::string_view word, std::initializer_list<std::string_view> candidates) {
+    return closestMatch(word, std::span<const std::string_view>(candidates.begin(), candidates.size()));
+}
+std::string joinList(std::initializer_list<std::string_view> items);
+
+// The reason part of an nlohmann exception message, on one line.
+std::string nlohmannReason(std::string_view what);
+
+std::optional<ShapeType> shapeTypeFromString(std::string_view name);
+std::optional<BodyType> bodyTypeFromString(std::string_view name);
+std::optional<JointType> jointTypeFromString(std::string_view name);
+std::string shapeTypeList();
+std::string jointTypeList();
+std::string integratorList();
+
+// True when the described shape can only belong to a static body (plane, mesh,
+// or a compound holding one).
+bool isStaticOnly(const ShapeDesc& shape);
+bool containsHullOrMesh(const ShapeDesc& shape);
+// Builds a shape that holds no hull or mesh (those need the hull and mesh
+// builders, which buildShape uses).
+Shape buildPrimitiveShape(const ShapeDesc& shape);
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,699 @@
+// Reading a scene file: JSON text -> validated Scene (design.md, "Contract:
+// scene files"; every key is documented in docs/scene-format.md).
+//
+// Validation is strict on purpose: an unknown key, a wrong type or a value
+// without physical sense is an error that names the path in the document and
+// its line, because a silently ignored typo ("shap") costs a user far more
+// time than a refused file. Where the engine already has a rule (shape
+// factories), the parser calls it and re-throws its message with the path, so
+// the rule lives in one place.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "fulcrum/scene.hpp"
+#include "io/json_locator.hpp"
+#include "io/scene_detail.hpp"
+
+namespace fulcrum {
+
+namespace {
+
+using nlohmann::json;
+using detail::childPath;
+
+constexpr Real kPi = std::numbers::pi_v<Real>;
+
+class Parser {
+public:
+    Parser(std::string_view text, std::string_view source) : text_(text), source_(source) {}
+
+    Scene parse();
+
+private:
+    // ---- errors
+    [[noreturn]] void fail(const std::string& path, const std::string& reason) const {
+        const auto loc = detail::locateJsonPath(text_, path);
+        throw SceneError(source_, path, loc ? loc->line : 0, loc ? loc->column : 0, reason);
+    }
+
+    SceneLocation locate(const std::string& path) const {
+        const auto loc = detail::locateJsonPath(text_, path);
+        return {path, loc ? loc->line : 0, loc ? loc->column : 0};
+    }
+
+    static std::string typeName(const json& v) {
+        if (v.is_number()) return "a number";
+        if (v.is_string()) return "a string";
+        if (v.is_boolean()) return "a boolean";
+        if (v.is_null()) return "null";
+        if (v.is_array()) return "an array";
+        return "an object";
+    }
+
+    // Unknown keys are errors; the closest known key is suggested.
+    void checkKeys(const json& obj, const std::string& path, std::initializer_list<std::string_view> allowed,
+                   std::string_view what) const {
+        for (auto it = obj.begin(); it != obj.end(); ++it) {
+            const std::string& key = it.key();
+            if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+            std::string reason = "unknown key";
+            if (!what.empty()) reason += std::string(" for ") + std::string(what);
+            const std::string_view close = detail::closestMatch(key, allowed);
+            if (!close.empty()) {
+                reason += " (did you mean '" + std::string(close) + "'?)";
+            } else {
+                reason += " (valid keys: " + detail::joinList(allowed) + ")";
+            }
+            fail(childPath(path, key), reason);
+        }
+    }
+
+    const json& requireObject(const json& v, const std::string& path) const {
+        if (!v.is_object()) fail(path, "expected an object, got " + typeName(v));
+        return v;
+    }
+    const json& requireArray(const json& v, const std::string& path) const {
+        if (!v.is_array()) fail(path, "expected an array, got " + typeName(v));
+        return v;
+    }
+    static const json* member(const json& obj, std::string_view key) {
+        const auto it = obj.find(key);
+        return it == obj.end() ? nullptr : &*it;
+    }
+    const json& required(const json& obj, const std::string& path, std::string_view key) const {
+        const json* v = member(obj, key);
+        if (!v) fail(path, "missing key '" + std::string(key) + "'");
+        return *v;
+    }
+
+    // ---- values
+    Real number(const json& v, const std::string& path) const {
+        if (!v.is_number()) fail(path, "expected a number, got " + typeName(v));
+        const double d = v.get<double>();
+        if (!std::isfinite(d)) fail(path, "must be a finite number, got " + detail::formatNumber(d));
+        if (std::fabs(d) > static_cast<double>(std::numeric_limits<Real>::max())) {
+            fail(path, "out of range for the engine's single-precision numbers, got " + detail::formatNumber(d));
+        }
+        return static_cast<Real>(d);
+    }
+    Real positive(const json& v, const std::string& path, std::string_view field) const {
+        const Real r = number(v, path);
+        if (!(r > 0)) fail(path, std::string(field) + " must be positive, got " + detail::formatNumber(r));
+        return r;
+    }
+    Real nonNegative(const json& v, const std::string& path, std::string_view field) const {
+        const Real r = number(v, path);
+        if (r < 0) fail(path, std::string(field) + " must not be negative, got " + detail::formatNumber(r));
+        return r;
+    }
+    long long integer(const json& v, const std::string& path, long long lo, long long hi, std::string_view field) const {
+        if (!v.is_number()) fail(path, "expected an integer, got " + typeName(v));
+        const double d = v.get<double>();
+        if (!std::isfinite(d) || d != std::floor(d)) fail(path, std::string(field) + " must be an integer, got " + detail::formatNumber(d));
+        if (d < static_cast<double>(lo) || d > static_cast<double>(hi)) {
+            std::string range = hi == std::numeric_limits<int>::max() ? "at least " + std::to_string(lo)
+                                                                      : "between " + std::to_string(lo) + " and " + std::to_string(hi);
+            fail(path, std::string(field) + " must be " + range + ", got " + detail::formatNumber(d));
+        }
+        if (v.is_number_unsigned()) return static_cast<long long>(v.get<std::uint64_t>());
+        if (v.is_number_integer()) return v.get<std::int64_t>();
+        return static_cast<long long>(d);
+    }
+    bool boolean(const json& v, const std::string& path) const {
+        if (!v.is_boolean()) fail(path, "expected true or false, got " + typeName(v));
+        return v.get<bool>();
+    }
+    std::string string(const json& v, const std::string& path) const {
+        if (!v.is_string()) fail(path, "expected a string, got " + typeName(v));
+        return v.get<std::string>();
+    }
+    Vec3 vec3(const json& v, const std::string& path) const {
+        if (!v.is_array() || v.size() != 3) fail(path, "expected an array of 3 numbers [x, y, z], got " + describe(v));
+        return {number(v[0], childPath(path, 0)), number(v[1], childPath(path, 1)), number(v[2], childPath(path, 2))};
+    }
+    Vec3 nonZeroVec3(const json& v, const std::string& path, std::string_view field) const {
+        const Vec3 r = vec3(v, path);
+        if (!(length(r) > Real(1e-6))) fail(path, std::string(field) + " must not be the zero vector");
+        return r;
+    }
+    Quat quat(const json& v, const std::string& path) const {
+        if (!v.is_array() || v.size() != 4) fail(path, "expected a quaternion [w, x, y, z], got " + describe(v));
+        const Quat q{number(v[0], childPath(path, 0)), number(v[1], childPath(path, 1)), number(v[2], childPath(path, 2)),
+                     number(v[3], childPath(path, 3))};
+        if (!(length(q) > Real(1e-6))) fail(path, "quaternion must not have zero length (identity is [1, 0, 0, 0])");
+        return q;
+    }
+    std::array<Real, 2> range(const json& v, const std::string& path, std::string_view field) const {
+        if (!v.is_array() || v.size() != 2) fail(path, "expected [lower, upper], got " + describe(v));
+        const Real lo = number(v[0], childPath(path, 0)), hi = number(v[1], childPath(path, 1));
+        if (lo > hi) {
+            fail(path, std::string(field) + ": lower must not exceed upper, got [" + detail::formatNumber(lo) + ", " +
+                           detail::formatNumber(hi) + "]");
+        }
+        return {lo, hi};
+    }
+    static std::string describe(const json& v) {
+        if (v.is_array()) return "an array of " + std::to_string(v.size());
+        return typeName(v);
+    }
+
+    // Reads optional key `key` of `obj` with `read(value, path)` into `out`.
+    template <class Fn>
+    bool opt(const json& obj, const std::string& path, std::string_view key, Fn&& read) const {
+        const json* v = member(obj, key);
+        if (!v) return false;
+        read(*v, childPath(path, key));
+        return true;
+    }
+
+    // ---- sections
+    void parseWorld(const json& j, const std::string& path, Scene& scene) const;
+    ShapeDesc parseShape(const json& j, const std::string& path, int depth) const;
+    void parseBody(const json& j, const std::string& path, SceneBody& body) const;
+    void parseJoint(const json& j, const std::string& path, const Scene& scene, SceneJoint& joint) const;
+    void parseSpring(const json& j, const std::string& path, const Scene& scene, SceneSpring& spring) const;
+    void parseRope(const json& j, const std::string& path, const Scene& scene, SceneRope& rope) const;
+    void parseCloth(const json& j, const std::string& path, SceneCloth& cloth) const;
+    // A body reference: a name of the scene's bodies; null (or absent) when `allowNull`.
+    std::string bodyRef(const json& v, const std::string& path, const Scene& scene, bool allowNull) const;
+
+    std::string_view text_;
+    std::string source_;
+};
+
+void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) const {
+    requireObject(j, path);
+    checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads"}, "");
+    WorldDef& w = scene.world;
+    opt(j, path, "gravity", [&](const json& v, const std::string& p) { w.gravity = vec3(v, p); });
+    opt(j, path, "dt", [&](const json& v, const std::string& p) { scene.dt = positive(v, p, "dt"); });
+    opt(j, path, "steps", [&](const json& v, const std::string& p) {
+        scene.steps = static_cast<int>(integer(v, p, 0, std::numeric_limits<int>::max(), "steps"));
+    });
+    opt(j, path, "substeps", [&](const json& v, const std::string& p) {
+        w.substeps = static_cast<int>(integer(v, p, 1, std::numeric_limits<int>::max(), "substeps"));
+    });
+    opt(j, path, "solver_iterations", [&](const json& v, const std::string& p) {
+        w.solverIterations = static_cast<int>(integer(v, p, 1, std::numeric_limits<int>::max(), "solver_iterations"));
+    });
+    opt(j, path, "threads", [&](const json& v, const std::string& p) {
+        w.threads = static_cast<int>(integer(v, p, 1, 1024, "threads"));
+    });
+    opt(j, path, "integrator", [&](const json& v, const std::string& p) {
+        const std::string name = string(v, p);
+        const auto integrator = integratorFromString(name);
+        if (!integrator) fail(p, "unknown integrator '" + name + "' (valid: " + detail::integratorList() + ")");
+        w.integrator = *integrator;
+    });
+    opt(j, path, "sleeping", [&](const json& v, const std::string& p) { w.sleeping = boolean(v, p); });
+}
+
+ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) const {
+    requireObject(j, path);
+    const std::string typePath = childPath(path, "type");
+    const std::string typeName = string(required(j, path, "type"), typePath);
+    ShapeDesc s;
+    const auto type = detail::shapeTypeFromString(typeName);
+    if (!type) fail(typePath, "unknown shape type '" + typeName + "' (valid: " + detail::shapeTypeList() + ")");
+    s.type = *type;
+    const std::string what = "a " + typeName + " shape";
+    const auto positiveField = [&](std::string_view key) {
+        return positive(required(j, path, key), childPath(path, key), key);
+    };
+    switch (s.type) {
+        case ShapeType::Sphere:
+            checkKeys(j, path, {"type", "radius"}, what);
+            s.radius = positiveField("radius");
+            break;
+        case ShapeType::Box: {
+            checkKeys(j, path, {"type", "half_extents"}, what);
+            const std::string p = childPath(path, "half_extents");
+            s.halfExtents = vec3(required(j, path, "half_extents"), p);
+            for (std::size_t i = 0; i < 3; ++i) {
+                if (!(s.halfExtents[i] > 0)) {
+                    fail(childPath(p, i), "half extents must be positive, got " + detail::formatNumber(s.halfExtents[i]));
+                }
+            }
+            break;
+        }
+        case ShapeType::Capsule:
+        case ShapeType::Cylinder:
+            checkKeys(j, path, {"type", "radius", "half_height"}, what);
+            s.radius = positiveField("radius");
+            s.halfHeight = positiveField("half_height");
+            break;
+        case ShapeType::ConvexHull: {
+            checkKeys(j, path, {"type", "points"}, what);
+            const std::string p = childPath(path, "points");
+            const json& pts = requireArray(required(j, path, "points"), p);
+            if (pts.size() < 4) fail(p, "a convex hull needs at least 4 points, got " + std::to_string(pts.size()));
+            s.points.reserve(pts.size());
+            for (std::size_t i = 0; i < pts.size(); ++i) s.points.push_back(vec3(pts[i], childPath(p, i)));
+            break;
+        }
+        case ShapeType::Plane:
+            checkKeys(j, path, {"type", "normal", "offset"}, what);
+            s.normal = nonZeroVec3(required(j, path, "normal"), childPath(path, "normal"), "normal");
+            s.offset = 0;
+            opt(j, path, "offset", [&](const json& v, const std::string& p) { s.offset = number(v, p); });
+            break;
+        case ShapeType::Mesh: {
+            checkKeys(j, path, {"type", "vertices", "triangles"}, what);
+            const std::string vp = childPath(path, "vertices");
+            const json& verts = requireArray(required(j, path, "vertices"), vp);
+            if (verts.size() < 3) fail(vp, "a mesh needs at least 3 vertices, got " + std::to_string(verts.size()));
+            s.vertices.reserve(verts.size());
+            for (std::size_t i = 0; i < verts.size(); ++i) s.vertices.push_back(vec3(verts[i], childPath(vp, i)));
+            const std::string tp = childPath(path, "triangles");
+            const json& tris = requireArray(required(j, path, "triangles"), tp);
+            if (tris.empty()) fail(tp, "a mesh needs at least one triangle");
+            s.triangles.reserve(tris.size());
+            const long long maxIndex = static_cast<long long>(verts.size()) - 1;
+            for (std::size_t i = 0; i < tris.size(); ++i) {
+                const std::string ti = childPath(tp, i);
+                if (!tris[i].is_array() || tris[i].size() != 3) fail(ti, "expected 3 vertex indices [i, j, k], got " + describe(tris[i]));
+                std::array<std::uint32_t, 3> t{};
+                for (std::size_t k = 0; k < 3; ++k) {
+                    t[k] = static_cast<std::uint32_t>(integer(tris[i][k], childPath(ti, k), 0, maxIndex, "vertex index"));
+                }
+                if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) fail(ti, "triangle repeats a vertex index (degenerate)");
+                s.triangles.push_back(t);
+            }
+            break;
+        }
+        case ShapeType::Compound: {
+            checkKeys(j, path, {"type", "children"}, what);
+            if (depth > 16) fail(path, "compounds nested deeper than 16 levels");
+            const std::string cp = childPath(path, "children");
+            const json& kids = requireArray(required(j, path, "children"), cp);
+            if (kids.empty()) fail(cp, "a compound needs at least one child");
+            for (std::size_t i = 0; i < kids.size(); ++i) {
+                const std::string kp = childPath(cp, i);
+                requireObject(kids[i], kp);
+                checkKeys(kids[i], kp, {"shape", "position", "orientation"}, "a compound child");
+                ShapeDesc::Child child;
+                child.shape = parseShape(required(kids[i], kp, "shape"), childPath(kp, "shape"), depth + 1);
+                opt(kids[i], kp, "position", [&](const json& v, const std::string& p) { child.position = vec3(v, p); });
+                opt(kids[i], kp, "orientation", [&](const json& v, const std::string& p) { child.orientation = quat(v, p); });
+                s.children.push_back(std::move(child));
+            }
+            break;
+        }
+    }
+    // The engine's own rules, as the last word (hulls and meshes are built,
+    // and checked geometrically, by buildWorld).
+    if (s.type != ShapeType::ConvexHull && s.type != ShapeType::Mesh && !detail::containsHullOrMesh(s)) {
+        try {
+            (void)detail::buildPrimitiveShape(s);
+        } catch (const SceneError&) {
+            throw;
+        } catch (const Error& e) {
+            fail(path, e.what());
+        }
+    }
+    return s;
+}
+
+void Parser::parseBody(const json& j, const std::string& path, SceneBody& body) const {
+    requireObject(j, path);
+    checkKeys(j, path,
+              {"name", "type", "shape", "mass", "density", "inertia", "position", "orientation", "linear_velocity",
+               "angular_velocity", "friction", "restitution", "linear_damping", "angular_damping", "gravity_scale",
+               "rolling_resistance", "linear_drag", "quadratic_drag", "filter", "is_sensor", "is_bullet", "allow_sleep",
+               "awake"},
+              "a body");
+    BodyDef& d = body.def;
+    body.where = locate(path);
+    opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
+    opt(j, path, "type", [&](const json& v, const std::string& p) {
+        const std::string name = string(v, p);
+        const auto type = detail::bodyTypeFromString(name);
+        if (!type) fail(p, "unknown body type '" + name + "' (valid: dynamic, static, kinematic)");
+        d.type = *type;
+    });
+    const bool dynamic = d.type == BodyType::Dynamic;
+    const std::string shapePath = childPath(path, "shape");
+    body.shape = parseShape(required(j, path, "shape"), shapePath, 0);
+    if (d.type != BodyType::Static && detail::isStaticOnly(body.shape)) {
+        fail(childPath(shapePath, "type"), std::string("a ") + toString(body.shape.type) +
+                                                " shape can only belong to a static body, but this body is " +
+                                                toString(d.type));
+    }
+
+    const json* mass = member(j, "mass");
+    const json* density = member(j, "density");
+    if (mass && density) fail(childPath(path, "density"), "give either mass or density, not both");
+    if (mass) {
+        const std::string p = childPath(path, "mass");
+        d.mass = number(*mass, p);
+        if (dynamic && !(d.mass > 0)) fail(p, "mass must be positive for a dynamic body, got " + detail::formatNumber(d.mass));
+        if (d.mass < 0) fail(p, "mass must not be negative, got " + detail::formatNumber(d.mass));
+    }
+    if (density) {
+        const std::string p = childPath(path, "density");
+        d.density = number(*density, p);
+        if (dynamic && !(d.density > 0)) {
+            fail(p, "density must be positive for a dynamic body, got " + detail::formatNumber(d.density));
+        }
+        if (d.density < 0) fail(p, "density must not be negative, got " + detail::formatNumber(d.density));
+    }
+    opt(j, path, "inertia", [&](const json& v, const std::string& p) {
+        if (!dynamic) fail(p, "only dynamic bodies have an inertia tensor");
+        Mat3 m = Mat3::zero();
+        if (v.is_array() && v.size() == 3 && v[0].is_number()) {
+            const Vec3 diag = vec3(v, p);
+            m = Mat3::diagonal(diag);
+        } else if (v.is_array() && v.size() == 3) {
+            const Vec3 r0 = vec3(v[0], childPath(p, 0)), r1 = vec3(v[1], childPath(p, 1)), r2 = vec3(v[2], childPath(p, 2));
+            m = Mat3::fromRows(r0, r1, r2);
+        } else {
+            fail(p, "expected [Ixx, Iyy, Izz] or a 3x3 matrix [[...], [...], [...]], got " + describe(v));
+        }
+        for (int a = 0; a < 3; ++a) {
+            if (!(m(a, a) > 0)) fail(p, "the diagonal of the inertia tensor must be positive");
+            for (int b = 0; b < 3; ++b) {
+                if (std::fabs(m(a, b) - m(b, a)) > Real(1e-6) * (std::fabs(m(a, b)) + std::fabs(m(b, a)))) {
+                    fail(p, "the inertia tensor must be symmetric");
+                }
+            }
+        }
+        // Principal moments of a real body satisfy the triangle inequality.
+        const Real ixx = m(0, 0), iyy = m(1, 1), izz = m(2, 2);
+        const Real slack = Real(1e-5) * (ixx + iyy + izz);
+        if (ixx + iyy + slack < izz || iyy + izz + slack < ixx || izz + ixx + slack < iyy) {
+            fail(p, "inertia violates the triangle inequality (each diagonal moment must not exceed the sum of the other two)");
+        }
+        d.inertia = m;
+    });
+    opt(j, path, "position", [&](const json& v, const std::string& p) { d.position = vec3(v, p); });
+    opt(j, path, "orientation", [&](const json& v, const std::string& p) { d.orientation = quat(v, p); });
+    opt(j, path, "linear_velocity", [&](const json& v, const std::string& p) { d.linearVelocity = vec3(v, p); });
+    opt(j, path, "angular_velocity", [&](const json& v, const std::string& p) { d.angularVelocity = vec3(v, p); });
+    opt(j, path, "friction", [&](const json& v, const std::string& p) { d.friction = nonNegative(v, p, "friction"); });
+    opt(j, path, "restitution", [&](const json& v, const std::string& p) {
+        d.restitution = nonNegative(v, p, "restitution");
+        if (d.restitution > 1) fail(p, "restitution must be between 0 and 1, got " + detail::formatNumber(d.restitution));
+    });
+    opt(j, path, "linear_damping", [&](const json& v, const std::string& p) { d.linearDamping = nonNegative(v, p, "linear_damping"); });
+    opt(j, path, "angular_damping", [&](const json& v, const std::string& p) { d.angularDamping = nonNegative(v, p, "angular_damping"); });
+    opt(j, path, "gravity_scale", [&](const json& v, const std::string& p) { d.gravityScale = number(v, p); });
+    opt(j, path, "rolling_resistance", [&](const json& v, const std::string& p) {
+        d.rollingResistance = nonNegative(v, p, "rolling_resistance");
+    });
+    opt(j, path, "linear_drag", [&](const json& v, const std::string& p) { d.linearDrag = nonNegative(v, p, "linear_drag"); });
+    opt(j, path, "quadratic_drag", [&](const json& v, const std::string& p) { d.quadraticDrag = nonNegative(v, p, "quadratic_drag"); });
+    opt(j, path, "filter", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        checkKeys(v, p, {"category", "mask", "group"}, "a collision filter");
+        opt(v, p, "category", [&](const json& x, const std::string& q) {
+            d.filter.category = static_cast<std::uint32_t>(integer(x, q, 0, 0xFFFFFFFFll, "category"));
+        });
+        opt(v, p, "mask", [&](const json& x, const std::string& q) {
+            d.filter.mask = static_cast<std::uint32_t>(integer(x, q, 0, 0xFFFFFFFFll, "mask"));
+        });
+        opt(v, p, "group", [&](const json& x, const std::string& q) {
+            d.filter.group = static_cast<std::int32_t>(integer(x, q, std::numeric_limits<std::int32_t>::min(),
+                                                               std::numeric_limits<std::int32_t>::max(), "group"));
+        });
+    });
+    opt(j, path, "is_sensor", [&](const json& v, const std::string& p) { d.isSensor = boolean(v, p); });
+    opt(j, path, "is_bullet", [&](const json& v, const std::string& p) { d.isBullet = boolean(v, p); });
+    opt(j, path, "allow_sleep", [&](const json& v, const std::string& p) { d.allowSleep = boolean(v, p); });
+    opt(j, path, "awake", [&](const json& v, const std::string& p) { d.awake = boolean(v, p); });
+}
+
+std::string Parser::bodyRef(const json& v, const std::string& path, const Scene& scene, bool allowNull) const {
+    if (v.is_null()) {
+        if (allowNull) return {};
+        fail(path, "must name a body (only body_a may be null, meaning the static world)");
+    }
+    const std::string name = string(v, path);
+    if (name.empty()) fail(path, "body name must not be empty");
+    for (const SceneBody& b : scene.bodies) {
+        if (b.def.name == name) return name;
+    }
+    std::vector<std::string_view> names;
+    for (const SceneBody& b : scene.bodies) {
+        if (!b.def.name.empty()) names.push_back(b.def.name);
+    }
+    std::string reason = "unknown body '" + name + "'";
+    const std::string_view close = detail::closestMatch(name, names);
+    if (!close.empty()) reason += " (did you mean '" + std::string(close) + "'?)";
+    fail(path, reason);
+}
+
+void Parser::parseJoint(const json& j, const std::string& path, const Scene& scene, SceneJoint& joint) const {
+    requireObject(j, path);
+    JointDef& d = joint.def;
+    joint.where = locate(path);
+    const std::string typePath = childPath(path, "type");
+    const std::string typeName = string(required(j, path, "type"), typePath);
+    const auto type = detail::jointTypeFromString(typeName);
+    if (!type) fail(typePath, "unknown joint type '" + typeName + "' (valid: " + detail::jointTypeList() + ")");
+    d.type = *type;
+    const std::string what = "a " + typeName + " joint";
+#define FULCRUM_JOINT_COMMON "name", "type", "body_a", "body_b", "anchor", "break_force", "break_torque", "collide_connected"
+    switch (d.type) {
+        case JointType::Ball:
+        case JointType::Fixed: checkKeys(j, path, {FULCRUM_JOINT_COMMON}, what); break;
+        case JointType::Hinge:
+        case JointType::Slider: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "limits", "motor", "spring"}, what); break;
+        case JointType::Distance:
+            checkKeys(j, path, {FULCRUM_JOINT_COMMON, "anchor_b", "min_length", "max_length", "stiffness", "damping"}, what);
+            break;
+        case JointType::ConeTwist: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "swing_limit", "twist_limits"}, what); break;
+    }
+#undef FULCRUM_JOINT_COMMON
+    opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
+    opt(j, path, "body_a", [&](const json& v, const std::string& p) { joint.bodyA = bodyRef(v, p, scene, true); });
+    joint.bodyB = bodyRef(required(j, path, "body_b"), childPath(path, "body_b"), scene, false);
+    if (joint.bodyA == joint.bodyB) fail(childPath(path, "body_b"), "a joint needs two different bodies, got '" + joint.bodyB + "' twice");
+    d.anchor = vec3(required(j, path, "anchor"), childPath(path, "anchor"));
+    opt(j, path, "anchor_b", [&](const json& v, const std::string& p) { d.anchorB = vec3(v, p); });
+    if (d.type == JointType::Distance) d.anchorB = vec3(required(j, path, "anchor_b"), childPath(path, "anchor_b"));
+    opt(j, path, "axis", [&](const json& v, const std::string& p) { d.axis = nonZeroVec3(v, p, "axis"); });
+    opt(j, path, "limits", [&](const json& v, const std::string& p) {
+        const auto r = range(v, p, "limits");
+        d.hasLimits = true;
+        d.lowerLimit = r[0];
+        d.upperLimit = r[1];
+    });
+    opt(j, path, "motor", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        checkKeys(v, p, {"speed", "max_force"}, "a motor");
+        d.motor.enabled = true;
+        d.motor.speed = number(required(v, p, "speed"), childPath(p, "speed"));
+        d.motor.maxForce = nonNegative(required(v, p, "max_force"), childPath(p, "max_force"), "max_force");
+    });
+    opt(j, path, "spring", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        checkKeys(v, p, {"target", "stiffness", "damping"}, "a joint spring");
+        d.spring.enabled = true;
+        opt(v, p, "target", [&](const json& x, const std::string& q) { d.spring.target = number(x, q); });
+        d.spring.stiffness = nonNegative(required(v, p, "stiffness"), childPath(p, "stiffness"), "stiffness");
+        opt(v, p, "damping", [&](const json& x, const std::string& q) { d.spring.damping = nonNegative(x, q, "damping"); });
+    });
+    opt(j, path, "min_length", [&](const json& v, const std::string& p) { d.minLength = nonNegative(v, p, "min_length"); });
+    opt(j, path, "max_length", [&](const json& v, const std::string& p) { d.maxLength = nonNegative(v, p, "max_length"); });
+    if (d.minLength >= 0 && d.maxLength >= 0 && d.minLength > d.maxLength) {
+        fail(childPath(path, "max_length"), "max_length must not be less than min_length, got " + detail::formatNumber(d.maxLength) +
+                                                " < " + detail::formatNumber(d.minLength));
+    }
+    opt(j, path, "stiffness", [&](const json& v, const std::string& p) { d.stiffness = nonNegative(v, p, "stiffness"); });
+    opt(j, path, "damping", [&](const json& v, const std::string& p) { d.damping = nonNegative(v, p, "damping"); });
+    opt(j, path, "swing_limit", [&](const json& v, const std::string& p) {
+        d.swingLimit = positive(v, p, "swing_limit");
+        if (d.swingLimit > kPi) fail(p, "swing_limit must be at most pi radians, got " + detail::formatNumber(d.swingLimit));
+    });
+    opt(j, path, "twist_limits", [&](const json& v, const std::string& p) {
+        const auto r = range(v, p, "twist_limits");
+        if (r[0] < -kPi || r[1] > kPi) fail(p, "twist limits must lie within [-pi, pi] radians");
+        d.twistLower = r[0];
+        d.twistUpper = r[1];
+    });
+    opt(j, path, "break_force", [&](const json& v, const std::string& p) { d.breakForce = positive(v, p, "break_force"); });
+    opt(j, path, "break_torque", [&](const json& v, const std::string& p) { d.breakTorque = positive(v, p, "break_torque"); });
+    opt(j, path, "collide_connected", [&](const json& v, const std::string& p) { d.collideConnected = boolean(v, p); });
+}
+
+void Parser::parseSpring(const json& j, const std::string& path, const Scene& scene, SceneSpring& spring) const {
+    requireObject(j, path);
+    checkKeys(j, path, {"body_a", "body_b", "anchor_a", "anchor_b", "rest_length", "stiffness", "damping"}, "a spring");
+    SpringDef& d = spring.def;
+    spring.where = locate(path);
+    opt(j, path, "body_a", [&](const json& v, const std::string& p) { spring.bodyA = bodyRef(v, p, scene, true); });
+    spring.bodyB = bodyRef(required(j, path, "body_b"), childPath(path, "body_b"), scene, false);
+    if (spring.bodyA == spring.bodyB) fail(childPath(path, "body_b"), "a spring needs two different bodies, got '" + spring.bodyB + "' twice");
+    d.anchorA = vec3(required(j, path, "anchor_a"), childPath(path, "anchor_a"));
+    d.anchorB = vec3(required(j, path, "anchor_b"), childPath(path, "anchor_b"));
+    d.restLength = distance(d.anchorA, d.anchorB);
+    opt(j, path, "rest_length", [&](const json& v, const std::string& p) { d.restLength = nonNegative(v, p, "rest_length"); });
+    d.stiffness = nonNegative(required(j, path, "stiffness"), childPath(path, "stiffness"), "stiffness");
+    opt(j, path, "damping", [&](const json& v, const std::string& p) { d.damping = nonNegative(v, p, "damping"); });
+}
+
+void Parser::parseRope(const json& j, const std::string& path, const Scene& scene, SceneRope& rope) const {
+    requireObject(j, path);
+    checkKeys(j, path,
+              {"name", "start", "end", "segments", "particle_mass", "radius", "pin_start", "pin_end", "attach_start",
+               "attach_end", "stretch_compliance", "bend_compliance"},
+              "a rope");
+    RopeDef& d = rope.def;
+    rope.where = locate(path);
+    opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
+    d.start = vec3(required(j, path, "start"), childPath(path, "start"));
+    d.end = vec3(required(j, path, "end"), childPath(path, "end"));
+    if (!(distance(d.start, d.end) > Real(1e-6))) fail(childPath(path, "end"), "a rope's end must differ from its start");
+    opt(j, path, "segments", [&](const json& v, const std::string& p) {
+        d.segments = static_cast<int>(integer(v, p, 1, 100000, "segments"));
+    });
+    opt(j, path, "particle_mass", [&](const json& v, const std::string& p) { d.particleMass = positive(v, p, "particle_mass"); });
+    opt(j, path, "radius", [&](const json& v, const std::string& p) { d.radius = positive(v, p, "radius"); });
+    opt(j, path, "pin_start", [&](const json& v, const std::string& p) { d.pinStart = boolean(v, p); });
+    opt(j, path, "pin_end", [&](const json& v, const std::string& p) { d.pinEnd = boolean(v, p); });
+    opt(j, path, "attach_start", [&](const json& v, const std::string& p) { rope.attachStart = bodyRef(v, p, scene, true); });
+    opt(j, path, "attach_end", [&](const json& v, const std::string& p) { rope.attachEnd = bodyRef(v, p, scene, true); });
+    opt(j, path, "stretch_compliance", [&](const json& v, const std::string& p) {
+        d.stretchCompliance = nonNegative(v, p, "stretch_compliance");
+    });
+    opt(j, path, "bend_compliance", [&](const json& v, const std::string& p) { d.bendCompliance = nonNegative(v, p, "bend_compliance"); });
+}
+
+void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& cloth) const {
+    requireObject(j, path);
+    checkKeys(j, path,
+              {"name", "origin", "u_axis", "v_axis", "size", "spacing", "particle_mass", "radius", "pinned",
+               "stretch_compliance", "bend_compliance"},
+              "a cloth");
+    ClothDef& d = cloth.def;
+    cloth.where = locate(path);
+    opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
+    d.origin = vec3(required(j, path, "origin"), childPath(path, "origin"));
+    opt(j, path, "u_axis", [&](const json& v, const std::string& p) { d.uAxis = nonZeroVec3(v, p, "u_axis"); });
+    opt(j, path, "v_axis", [&](const json& v, const std::string& p) { d.vAxis = nonZeroVec3(v, p, "v_axis"); });
+    if (!(length(cross(normalize(d.uAxis), normalize(d.vAxis))) > Real(1e-3))) {
+        fail(childPath(path, member(j, "v_axis") ? "v_axis" : "u_axis"), "u_axis and v_axis must not be parallel");
+    }
+    opt(j, path, "size", [&](const json& v, const std::string& p) {
+        if (!v.is_array() || v.size() != 2) fail(p, "expected [nu, nv], got " + describe(v));
+        d.size[0] = static_cast<int>(integer(v[0], childPath(p, 0), 2, 4096, "size"));
+        d.size[1] = static_cast<int>(integer(v[1], childPath(p, 1), 2, 4096, "size"));
+    });
+    opt(j, path, "spacing", [&](const json& v, const std::string& p) { d.spacing = positive(v, p, "spacing"); });
+    opt(j, path, "particle_mass", [&](const json& v, const std::string& p) { d.particleMass = positive(v, p, "particle_mass"); });
+    opt(j, path, "radius", [&](const json& v, const std::string& p) { d.radius = positive(v, p, "radius"); });
+    opt(j, path, "pinned", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string q = childPath(p, i);
+            if (!v[i].is_array() || v[i].size() != 2) fail(q, "expected a particle index [i, j], got " + describe(v[i]));
+            const int a = static_cast<int>(integer(v[i][0], childPath(q, 0), 0, d.size[0] - 1, "i"));
+            const int b = static_cast<int>(integer(v[i][1], childPath(q, 1), 0, d.size[1] - 1, "j"));
+            d.pinned.push_back({a, b});
+        }
+    });
+    opt(j, path, "stretch_compliance", [&](const json& v, const std::string& p) {
+        d.stretchCompliance = nonNegative(v, p, "stretch_compliance");
+    });
+    opt(j, path, "bend_compliance", [&](const json& v, const std::string& p) { d.bendCompliance = nonNegative(v, p, "bend_compliance"); });
+}
+
+Scene Parser::parse() {
+    json doc;
+    try {
+        doc = json::parse(text_);
+    } catch (const json::parse_error& e) {
+        const auto loc = detail::locationOfOffset(text_, e.byte > 0 ? e.byte - 1 : 0);
+        throw SceneError(source_, "", loc.line, loc.column, "malformed JSON: " + detail::nlohmannReason(e.what()));
+    } catch (const json::exception& e) {
+        // e.g. out_of_range.406 for 1e999, which nlohmann reports without a position.
+        if (const auto problem = detail::findJsonProblem(text_)) {
+            throw SceneError(source_, problem->path, problem->where.line, problem->where.column, problem->reason);
+        }
+        throw SceneError(source_, "", 0, 0, "malformed JSON: " + detail::nlohmannReason(e.what()));
+    }
+    if (const auto problem = detail::findJsonProblem(text_)) {
+        throw SceneError(source_, problem->path, problem->where.line, problem->where.column, problem->reason);
+    }
+
+    Scene scene;
+    scene.sourceName = source_;
+    const std::string root;
+    if (!doc.is_object()) fail(root, "a scene file must be a JSON object, got " + typeName(doc));
+    checkKeys(doc, root, {"description", "world", "bodies", "joints", "springs", "ropes", "cloths"}, "a scene");
+    opt(doc, root, "description", [&](const json& v, const std::string& p) { scene.description = string(v, p); });
+    opt(doc, root, "world", [&](const json& v, const std::string& p) { parseWorld(v, p, scene); });
+    opt(doc, root, "bodies", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        scene.bodies.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string bp = childPath(p, i);
+            parseBody(v[i], bp, scene.bodies[i]);
+            const std::string& name = scene.bodies[i].def.name;
+            if (name.empty()) continue;
+            for (std::size_t k = 0; k < i; ++k) {
+                if (scene.bodies[k].def.name == name) {
+                    fail(childPath(bp, "name"), "duplicate body name '" + name + "' (also bodies[" + std::to_string(k) + "])");
+                }
+            }
+        }
+    });
+    opt(doc, root, "springs", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        scene.springs.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) parseSpring(v[i], childPath(p, i), scene, scene.springs[i]);
+    });
+    opt(doc, root, "joints", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        scene.joints.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string jp = childPath(p, i);
+            parseJoint(v[i], jp, scene, scene.joints[i]);
+            const std::string& name = scene.joints[i].def.name;
+            for (std::size_t k = 0; k < i && !name.empty(); ++k) {
+                if (scene.joints[k].def.name == name) {
+                    fail(childPath(jp, "name"), "duplicate joint name '" + name + "' (also joints[" + std::to_string(k) + "])");
+                }
+            }
+        }
+    });
+    opt(doc, root, "ropes", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        scene.ropes.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) parseRope(v[i], childPath(p, i), scene, scene.ropes[i]);
+    });
+    opt(doc, root, "cloths", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        scene.cloths.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) parseCloth(v[i], childPath(p, i), scene.cloths[i]);
+    });
+    return scene;
+}
+
+}  // namespace
+
+Scene parseScene(std::string_view json, std::string_view sourceName) {
+    return Parser(json, sourceName).parse();
+}
+
+Scene loadScene(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) throw SceneError(name, "", 0, 0, "is a directory, not a scene file");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw SceneError(name, "", 0, 0, "cannot open file for reading");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw SceneError(name, "", 0, 0, "error while reading the file");
+    return parseScene(text.str(), name);
+}
+
+}  // namespace fulcrum

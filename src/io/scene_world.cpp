@@ -1,0 +1,140 @@
+// From a Scene description to a World (buildWorld), and back (captureScene).
+#include <unordered_map>
+
+#include "fulcrum/scene.hpp"
+#include "fulcrum/world.hpp"
+#include "io/scene_detail.hpp"
+
+namespace fulcrum {
+
+namespace {
+
+[[noreturn]] void rethrow(const Scene& scene, const SceneLocation& where, const std::string& suffix, const Error& e) {
+    std::string path = where.path;
+    if (!suffix.empty()) path += (path.empty() ? "" : ".") + suffix;
+    throw SceneError(scene.sourceName, path, where.line, where.column, e.what());
+}
+
+// A point or direction given in world space when the scene was created, moved
+// along with the body it belongs to from its creation pose to its pose now.
+Vec3 carryPoint(const Transform& creation, const Transform& now, const Vec3& p) {
+    return transformPoint(now, inverseTransformPoint(creation, p));
+}
+Vec3 carryVector(const Transform& creation, const Transform& now, const Vec3& v) {
+    return transformVector(now, inverseTransformVector(creation, v));
+}
+
+}  // namespace
+
+Shape buildShape(const ShapeDesc& s) {
+    switch (s.type) {
+        case ShapeType::ConvexHull: return Shape::convexHull(s.points);
+        case ShapeType::Mesh: return Shape::mesh(s.vertices, s.triangles);
+        case ShapeType::Compound: {
+            if (!detail::containsHullOrMesh(s)) return detail::buildPrimitiveShape(s);
+            std::vector<CompoundChild> children;
+            children.reserve(s.children.size());
+            for (const ShapeDesc::Child& c : s.children) children.push_back({buildShape(c.shape), Transform(c.position, c.orientation)});
+            return Shape::compound(children);
+        }
+        default: return detail::buildPrimitiveShape(s);
+    }
+}
+
+World buildWorld(const Scene& scene, SceneHandles* handles) {
+    World world(scene.world);
+    SceneHandles local;
+    SceneHandles& h = handles ? *handles : local;
+    h = {};
+    std::unordered_map<std::string, BodyId> byName;
+    const auto resolve = [&](const std::string& name) { return name.empty() ? kWorldBody : byName.at(name); };
+
+    h.bodies.reserve(scene.bodies.size());
+    for (const SceneBody& body : scene.bodies) {
+        BodyDef def = body.def;
+        try {
+            def.shape = buildShape(body.shape);
+        } catch (const Error& e) {
+            rethrow(scene, body.where, "shape", e);
+        }
+        def.orientation = normalize(def.orientation);
+        BodyId id;
+        try {
+            id = world.createBody(def);
+        } catch (const Error& e) {
+            rethrow(scene, body.where, "", e);
+        }
+        h.bodies.push_back(id);
+        if (!def.name.empty()) byName.emplace(def.name, id);
+    }
+    for (const SceneSpring& spring : scene.springs) {
+        SpringDef def = spring.def;
+        try {
+            def.bodyA = resolve(spring.bodyA);
+            def.bodyB = resolve(spring.bodyB);
+            h.springs.push_back(world.createSpring(def));
+        } catch (const std::out_of_range&) {
+            throw SceneError(scene.sourceName, spring.where.path, spring.where.line, spring.where.column, "refers to an unknown body");
+        } catch (const Error& e) {
+            rethrow(scene, spring.where, "", e);
+        }
+    }
+    for (const SceneJoint& joint : scene.joints) {
+        JointDef def = joint.def;
+        try {
+            def.bodyA = resolve(joint.bodyA);
+            def.bodyB = resolve(joint.bodyB);
+            h.joints.push_back(world.createJoint(def));
+        } catch (const std::out_of_range&) {
+            throw SceneError(scene.sourceName, joint.where.path, joint.where.line, joint.where.column, "refers to an unknown body");
+        } catch (const Error& e) {
+            rethrow(scene, joint.where, "", e);
+        }
+    }
+    return world;
+}
+
+Scene captureScene(const World& world, const Scene& base, const SceneHandles& handles) {
+    if (handles.bodies.size() != base.bodies.size()) {
+        throw Error("captureScene: handles hold " + std::to_string(handles.bodies.size()) + " bodies but the base scene has " +
+                    std::to_string(base.bodies.size()));
+    }
+    Scene scene = base;
+    const WorldDef& settings = world.settings();
+    scene.world = settings;
+
+    // Creation and current poses of named bodies, to carry world-space anchors.
+    struct Poses {
+        Transform creation, now;
+    };
+    std::unordered_map<std::string, Poses> poses;
+    for (std::size_t i = 0; i < base.bodies.size(); ++i) {
+        const BodyId id = handles.bodies[i];
+        if (!world.isValid(id)) throw Error("captureScene: body " + sceneBodyName(base, i) + " no longer exists in the world");
+        BodyDef& def = scene.bodies[i].def;
+        const Transform creation(def.position, normalize(def.orientation));
+        def.position = world.position(id);
+        def.orientation = world.orientation(id);
+        def.linearVelocity = world.linearVelocity(id);
+        def.angularVelocity = world.angularVelocity(id);
+        def.awake = world.isAwake(id);
+        if (!def.name.empty()) poses[def.name] = {creation, Transform(def.position, def.orientation)};
+    }
+    const auto carry = [&](const std::string& body, Vec3& point, Vec3* direction) {
+        if (body.empty()) return;  // fixed in the world
+        const Poses& p = poses.at(body);
+        point = carryPoint(p.creation, p.now, point);
+        if (direction) *direction = carryVector(p.creation, p.now, *direction);
+    };
+    for (SceneJoint& joint : scene.joints) {
+        carry(joint.bodyA, joint.def.anchor, &joint.def.axis);  // the anchor and axis belong to body A (or the world)
+        if (joint.def.type == JointType::Distance) carry(joint.bodyB, joint.def.anchorB, nullptr);
+    }
+    for (SceneSpring& spring : scene.springs) {
+        carry(spring.bodyA, spring.def.anchorA, nullptr);
+        carry(spring.bodyB, spring.def.anchorB, nullptr);
+    }
+    return scene;
+}
+
+}  // namespace fulcrum

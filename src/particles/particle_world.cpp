@@ -1,0 +1,254 @@
+#include "particles/particle_world.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "particles/particle_builders.hpp"
+#include "particles/particle_validation.hpp"
+#include "particles/xpbd_distance.hpp"
+
+namespace fulcrum {
+
+namespace {
+
+void validateSettings(const ParticleWorldSettings& s) {
+    const std::string label = "particle world";
+    detail::particles::requireFinite(label, "gravity", s.gravity);
+    detail::particles::requireFinite(label, "wind", s.wind);
+    detail::particles::requireNonNegative(label, "air_density", s.airDensity);
+    if (s.substeps < 1) detail::particles::failField(label, "substeps", "must be at least 1, got " + std::to_string(s.substeps));
+    if (s.iterations < 1) {
+        detail::particles::failField(label, "iterations", "must be at least 1, got " + std::to_string(s.iterations));
+    }
+}
+
+// Everything the step trusts, checked once when a system joins the world
+// (systems assembled by hand, not by the builders, come through here too).
+void validateSystem(const ParticleSystem& s) {
+    const std::string label = detail::particles::systemLabel(toString(s.kind), s.name);
+    const std::size_t n = s.particleCount();
+    if (s.previousPosition.size() != n || s.restPosition.size() != n || s.force.size() != n ||
+        s.inverseMass.size() != n || s.radius.size() != n) {
+        detail::particles::failField(label, "particles", "arrays have different lengths");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::string field = "particles[" + std::to_string(i) + "]";
+        detail::particles::requireFinite(label, field + ".position", s.position[i]);
+        detail::particles::requireFinite(label, field + ".previous_position", s.previousPosition[i]);
+        detail::particles::requireNonNegative(label, field + ".inverse_mass", s.inverseMass[i]);
+        detail::particles::requirePositive(label, field + ".radius", s.radius[i]);
+    }
+    const auto checkGroup = [&](const DistanceConstraintGroup& g, const char* name) {
+        detail::particles::requireNonNegative(label, std::string(name) + "_compliance", g.compliance);
+        if (g.lambda.size() != g.constraints.size()) detail::particles::failField(label, name, "multiplier array has the wrong length");
+        for (std::size_t k = 0; k < g.size(); ++k) {
+            const DistanceConstraint& c = g.constraints[k];
+            if (c.a >= n || c.b >= n) {
+                detail::particles::failField(label, std::string(name) + "[" + std::to_string(k) + "]",
+                                  "refers to a particle outside the system (" + std::to_string(n) + " particles)");
+            }
+            if (!(c.restLength > 0) || !std::isfinite(c.restLength)) {
+                detail::particles::failField(label, std::string(name) + "[" + std::to_string(k) + "].rest_length",
+                                  "must be positive, got " + detail::particles::formatReal(c.restLength));
+            }
+        }
+    };
+    checkGroup(s.stretch, "stretch");
+    checkGroup(s.shear, "shear");
+    checkGroup(s.bend, "bend");
+    checkGroup(s.tethers, "tether");
+    for (std::size_t k = 0; k < s.pins.size(); ++k) {
+        if (s.pins[k].particle >= n) {
+            detail::particles::failField(label, "pins[" + std::to_string(k) + "]", "refers to particle " +
+                                  std::to_string(s.pins[k].particle) + " outside the system");
+        }
+        detail::particles::requireFinite(label, "pins[" + std::to_string(k) + "].target", s.pins[k].target);
+    }
+    for (const ParticleTriangle& t : s.triangles) {
+        if (t.a >= n || t.b >= n || t.c >= n) detail::particles::failField(label, "triangles", "refer to a particle outside the system");
+    }
+    detail::particles::requireNonNegative(label, "damping", s.damping);
+    detail::particles::requireNonNegative(label, "linear_drag", s.linearDrag);
+    detail::particles::requireNonNegative(label, "friction", s.friction);
+    detail::particles::requireNonNegative(label, "drag_coefficient", s.dragCoefficient);
+    detail::particles::requireFinite(label, "lift_coefficient", s.liftCoefficient);
+    detail::particles::requireNonNegative(label, "self_collision_exclusion", s.selfCollisionExclusion);
+}
+
+}  // namespace
+
+ParticleWorld::ParticleWorld(const ParticleWorldSettings& settings) : settings_(settings) { validateSettings(settings); }
+ParticleWorld::~ParticleWorld() = default;
+ParticleWorld::ParticleWorld(ParticleWorld&&) noexcept = default;
+ParticleWorld& ParticleWorld::operator=(ParticleWorld&&) noexcept = default;
+
+void ParticleWorld::setSettings(const ParticleWorldSettings& settings) {
+    validateSettings(settings);
+    settings_ = settings;
+}
+
+ParticleSystemId ParticleWorld::add(ParticleSystem system, const RigidCollider* collider) {
+    validateSystem(system);
+    const std::string label = detail::particles::systemLabel(toString(system.kind), system.name);
+    for (ParticleAttachment& a : system.attachments) {
+        if (a.particle >= system.particleCount()) {
+            detail::particles::failField(label, a.field, "refers to particle " + std::to_string(a.particle) + " outside the system");
+        }
+        if (collider == nullptr) {
+            detail::particles::failField(label, a.field, "ties a particle to body index " + std::to_string(a.body) +
+                                                  ", but no rigid world was given to resolve it");
+        }
+        if (!collider->isValidBody(a.body)) {
+            detail::particles::failField(label, a.field, "refers to unknown body index " + std::to_string(a.body));
+        }
+        if (!a.resolved) {
+            a.localAnchor = inverseTransformPoint(collider->bodyState(a.body).transform, system.position[a.particle]);
+            a.resolved = true;
+        }
+    }
+    for (const Slot& s : slots_) {
+        if (s.system && !system.name.empty() && s.system->name == system.name) {
+            detail::particles::failField(label, "name", "is already used by another particle system");
+        }
+    }
+    std::uint32_t index;
+    if (!freeSlots_.empty()) {
+        index = freeSlots_.back();
+        freeSlots_.pop_back();
+    } else {
+        index = static_cast<std::uint32_t>(slots_.size());
+        slots_.emplace_back();
+    }
+    Slot& slot = slots_[index];
+    slot.system = std::make_unique<ParticleSystem>(std::move(system));
+    slot.order = nextOrder_++;
+    slot.accel.clear();
+    return {index, slot.generation};
+}
+
+ParticleSystemId ParticleWorld::addRope(const RopeDef& def, const RigidCollider* collider) {
+    return add(buildRope(def), collider);
+}
+
+ParticleSystemId ParticleWorld::addCloth(const ClothDef& def, const RigidCollider* collider) {
+    return add(buildCloth(def), collider);
+}
+
+ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) {
+    return const_cast<Slot&>(static_cast<const ParticleWorld*>(this)->slotOf(id));
+}
+
+const ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) const {
+    if (id.isNull()) throw Error("particle system handle: is null");
+    if (id.index >= slots_.size() || !slots_[id.index].system || slots_[id.index].generation != id.generation) {
+        throw Error("particle system handle {" + std::to_string(id.index) + ", " + std::to_string(id.generation) +
+                    "}: is stale or was never created");
+    }
+    return slots_[id.index];
+}
+
+void ParticleWorld::remove(ParticleSystemId id) {
+    Slot& slot = slotOf(id);
+    slot.system.reset();
+    ++slot.generation;
+    freeSlots_.push_back(id.index);
+}
+
+bool ParticleWorld::isValid(ParticleSystemId id) const {
+    return !id.isNull() && id.index < slots_.size() && slots_[id.index].system &&
+           slots_[id.index].generation == id.generation;
+}
+
+ParticleSystem& ParticleWorld::system(ParticleSystemId id) { return *slotOf(id).system; }
+const ParticleSystem& ParticleWorld::system(ParticleSystemId id) const { return *slotOf(id).system; }
+
+std::vector<ParticleSystemId> ParticleWorld::systems() const {
+    std::vector<std::pair<std::uint64_t, ParticleSystemId>> live;
+    for (std::uint32_t i = 0; i < slots_.size(); ++i) {
+        if (slots_[i].system) live.push_back({slots_[i].order, {i, slots_[i].generation}});
+    }
+    std::sort(live.begin(), live.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<ParticleSystemId> out;
+    for (const auto& l : live) out.push_back(l.second);
+    return out;
+}
+
+std::size_t ParticleWorld::systemCount() const { return slots_.size() - freeSlots_.size(); }
+
+void ParticleWorld::step(Real dt, RigidCollider* collider) {
+    if (!std::isfinite(dt) || !(dt > 0)) throw Error("particle world: step dt must be positive and finite, got " + detail::particles::formatReal(dt));
+    const int substeps = settings_.substeps;
+    const Real h = dt / static_cast<Real>(substeps);
+    const detail::AirSettings air{settings_.wind, settings_.airDensity};
+
+    // Live systems in creation order (slots are reused, so index order is not creation order).
+    active_.clear();
+    for (Slot& s : slots_) {
+        if (s.system) active_.push_back(&s);
+    }
+    std::sort(active_.begin(), active_.end(), [](const Slot* a, const Slot* b) { return a->order < b->order; });
+    activeSystems_.clear();
+    travel_.clear();
+    relativeTravel_.clear();
+    const Real gravityTravel = length(settings_.gravity) * dt * dt;
+    for (Slot* s : active_) {
+        ParticleSystem& sys = *s->system;
+        activeSystems_.push_back(&sys);
+        // How far a particle can get this step: its current speed, plus what
+        // gravity adds; rigid contacts within that margin are gathered. For
+        // self-collision only relative motion matters: two particles close in
+        // by at most |v_a - v_b| dt <= 2 max|v - v_mean| dt (gravity, uniform,
+        // cancels), which for a falling cloth is far less than its speed.
+        Real maxMove2 = 0;
+        Vec3 meanMove = Vec3::zero();
+        for (std::size_t i = 0; i < sys.particleCount(); ++i) {
+            const Vec3 move = sys.position[i] - sys.previousPosition[i];
+            maxMove2 = std::max(maxMove2, lengthSquared(move));
+            meanMove += move;
+        }
+        if (sys.particleCount() > 0) meanMove /= static_cast<Real>(sys.particleCount());
+        Real maxRelative2 = 0;
+        for (std::size_t i = 0; i < sys.particleCount(); ++i) {
+            maxRelative2 = std::max(maxRelative2, lengthSquared(sys.position[i] - sys.previousPosition[i] - meanMove));
+        }
+        const Real perSecond = sys.previousSubstep > 0 ? dt / sys.previousSubstep : 0;
+        travel_.push_back(std::sqrt(maxMove2) * perSecond + gravityTravel);
+        // 10 % slack for velocity changes within the step.
+        relativeTravel_.push_back(Real(2.2) * std::sqrt(maxRelative2) * perSecond);
+    }
+    if (collider) coupling_.beginStep(*collider, activeSystems_, travel_);
+    for (std::size_t k = 0; k < active_.size(); ++k) active_[k]->selfCollision.findPairs(*activeSystems_[k], relativeTravel_[k]);
+
+    for (int sub = 0; sub < substeps; ++sub) {
+        if (collider) coupling_.beginSubstep(sub, substeps, h);
+        for (std::size_t k = 0; k < active_.size(); ++k) {
+            Slot& slot = *active_[k];
+            ParticleSystem& s = *slot.system;
+            if (detail::hasExtraForces(s, air)) {
+                detail::computeForceAccelerations(s, air, h, slot.accel);
+                detail::predictPositions(s, settings_.gravity, slot.accel, h);
+            } else {
+                static const std::vector<Vec3> kNone;
+                detail::predictPositions(s, settings_.gravity, kNone, h);
+            }
+            detail::resetMultipliers(s.stretch);
+            detail::resetMultipliers(s.shear);
+            detail::resetMultipliers(s.bend);
+            detail::resetMultipliers(s.tethers);
+            coupling_.resetAttachmentMultipliers(s);
+            for (int it = 0; it < settings_.iterations; ++it) {
+                detail::solveDistanceGroup(s, s.stretch, h);
+                detail::solveDistanceGroup(s, s.shear, h);
+                detail::solveDistanceGroup(s, s.bend, h);
+                detail::solveDistanceGroup(s, s.tethers, h);
+                if (collider) coupling_.solveAttachments(s, h);
+                slot.selfCollision.solve(s);
+                if (collider) coupling_.solveContacts(k, s, h);
+            }
+        }
+    }
+    if (collider) coupling_.endStep(*collider);
+    for (ParticleSystem* s : activeSystems_) std::fill(s->force.begin(), s->force.end(), Vec3::zero());
+}
+
+}  // namespace fulcrum

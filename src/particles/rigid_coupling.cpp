@@ -1,0 +1,225 @@
+#include "particles/rigid_coupling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "particles/shape_query_adapter.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+Quat rotateBy(const Quat& q, const Vec3& rotationVector) {
+    // First-order update q + 1/2 [theta, 0] q, renormalised: the corrections
+    // are tiny rotations, far below where the first-order map loses accuracy.
+    return normalize(q + Quat(0, rotationVector.x, rotationVector.y, rotationVector.z) * q * Real(0.5));
+}
+
+}  // namespace
+
+class CandidateGatherer final : public RigidShapeVisitor {
+public:
+    CandidateGatherer(RigidCoupling& coupling, RigidCollider& collider, const ParticleSystem& system, Real fatten)
+        : coupling_(coupling), collider_(collider), system_(system), fatten_(fatten) {}
+    void visit(std::uint32_t bodyIndex, const Shape& shape, const Transform& shapeTransform) override {
+        // A system does not collide with the bodies it is attached to: the
+        // attached particles sit on (often inside) the body by design, and
+        // contacts would fight the attachment.
+        for (const ParticleAttachment& a : system_.attachments) {
+            if (a.body == bodyIndex) return;
+        }
+        RigidCoupling::Candidate c;
+        c.body = bodyIndex;
+        c.proxy = coupling_.proxyFor(collider_, bodyIndex);
+        const auto& proxy = coupling_.proxies_[static_cast<std::size_t>(c.proxy)];
+        c.dynamic = proxy.base.inverseMass > 0;
+        c.moves = c.dynamic || proxy.moving;
+        c.shape = &shape;
+        c.transform = shapeTransform;
+        // Bounds over the whole step's path (start and end poses).
+        c.bounds = shape.bounds(shapeTransform);
+        if (proxy.moving) c.bounds.grow(shape.bounds(proxy.base.previousTransform * relative(proxy.base.transform, shapeTransform)));
+        c.bounds = c.bounds.fattened(fatten_);
+        c.friction = coupling_.proxies_[static_cast<std::size_t>(c.proxy)].base.friction;
+        coupling_.candidates_.push_back(c);
+    }
+
+private:
+    RigidCoupling& coupling_;
+    RigidCollider& collider_;
+    const ParticleSystem& system_;
+    Real fatten_;
+};
+
+std::int32_t RigidCoupling::proxyFor(RigidCollider& collider, std::uint32_t body) {
+    if (body >= proxyOfBody_.size()) proxyOfBody_.resize(static_cast<std::size_t>(body) + 1, -1);  // grows with the world only
+    std::int32_t& slot = proxyOfBody_[body];
+    if (slot < 0) {
+        Proxy p;
+        p.body = body;
+        p.base = collider.bodyState(body);
+        p.moving = !(p.base.previousTransform == p.base.transform);
+        p.localCenter = inverseTransformPoint(p.base.transform, p.base.centerOfMass);
+        p.path = p.base.previousTransform;
+        slot = static_cast<std::int32_t>(proxies_.size());
+        proxies_.push_back(p);
+    }
+    return slot;
+}
+
+void RigidCoupling::beginStep(RigidCollider& collider, const std::vector<ParticleSystem*>& systems,
+                              const std::vector<Real>& margin) {
+    candidates_.clear();
+    ranges_.clear();
+    for (std::size_t k = 0; k < systems.size(); ++k) {
+        const ParticleSystem& s = *systems[k];
+        Range range;
+        range.begin = candidates_.size();
+        if (s.particleCount() > 0) {
+            AABB box;
+            Real maxRadius = 0;
+            for (std::size_t i = 0; i < s.particleCount(); ++i) {
+                box.grow(s.position[i]);
+                maxRadius = std::max(maxRadius, s.radius[i]);
+            }
+            const Real fatten = maxRadius + margin[k];
+            CandidateGatherer gatherer(*this, collider, s, fatten);
+            collider.queryShapes(box.fattened(fatten), gatherer);
+        }
+        range.end = candidates_.size();
+        ranges_.push_back(range);
+        for (ParticleAttachment& a : systems[k]->attachments) proxyFor(collider, a.body);
+    }
+}
+
+Transform RigidCoupling::moved(const Proxy& p, const Transform& base) const {
+    const Transform onPath = p.path * relative(p.base.transform, base);
+    const Vec3 c = transformPoint(p.path, p.localCenter);
+    return {c + p.deltaPosition + rotate(p.deltaRotation, onPath.p - c), p.deltaRotation * onPath.q};
+}
+
+void RigidCoupling::beginSubstep(int index, int count, Real substep) {
+    const Real s = static_cast<Real>(index + 1) / static_cast<Real>(count);
+    for (Proxy& p : proxies_) {
+        // Prediction: the velocity the particles gave the body moves it on
+        // (from the second sub-step on: the first has no earlier push).
+        if (index > 0 && p.base.inverseMass > 0) {
+            p.deltaPosition += p.extraLinearVelocity * substep;
+            p.deltaRotation = rotateBy(p.deltaRotation, p.extraAngularVelocity * substep);
+        }
+        if (!p.moving) continue;
+        p.path = {lerp(p.base.previousTransform.p, p.base.transform.p, s), slerp(p.base.previousTransform.q, p.base.transform.q, s)};
+    }
+}
+
+Real RigidCoupling::inverseMassAt(const Proxy& p, const Vec3& point, const Vec3& direction) const {
+    if (p.base.inverseMass == 0) return 0;
+    const Vec3 rn = cross(point - currentCenter(p), direction);
+    return p.base.inverseMass + dot(rn, p.base.inverseInertia * rn);
+}
+
+void RigidCoupling::applyCorrection(Proxy& p, const Vec3& positionalImpulse, const Vec3& point, Real substep) {
+    if (p.base.inverseMass == 0) return;
+    const Vec3 r = point - currentCenter(p);
+    const Vec3 dx = positionalImpulse * p.base.inverseMass;
+    const Vec3 dTheta = p.base.inverseInertia * cross(r, positionalImpulse);
+    p.deltaPosition += dx;
+    p.deltaRotation = rotateBy(p.deltaRotation, dTheta);
+    const Real invH = 1 / substep;
+    p.extraLinearVelocity += dx * invH;
+    p.extraAngularVelocity += dTheta * invH;
+    p.linearImpulse += positionalImpulse * invH;
+    p.angularImpulse += cross(r, positionalImpulse) * invH;
+}
+
+void RigidCoupling::solveContacts(std::size_t k, ParticleSystem& s, Real substep) {
+    if (k >= ranges_.size()) return;
+    const Range range = ranges_[k];
+    if (range.begin == range.end) return;
+    Vec3* x = s.position.data();
+    const Vec3* xp = s.previousPosition.data();
+    const Real* w = s.inverseMass.data();
+    const Real* radius = s.radius.data();
+    const std::size_t n = s.particleCount();
+    for (std::size_t ci = range.begin; ci < range.end; ++ci) {
+        const Candidate& c = candidates_[ci];
+        Proxy& proxy = proxies_[static_cast<std::size_t>(c.proxy)];
+        const Transform xf = c.moves ? moved(proxy, c.transform) : c.transform;
+        const Real mu = std::sqrt(std::max(s.friction, Real(0)) * std::max(c.friction, Real(0)));
+        for (std::size_t i = 0; i < n; ++i) {
+            if (w[i] == 0 || !c.bounds.contains(x[i])) continue;
+            const SurfacePoint q = surfaceQuery(*c.shape, xf, x[i]);
+            const Real C = q.distance - radius[i];
+            if (C >= 0) continue;
+            const Vec3 normal = q.normal;
+            // Normal: push the particle sphere out of the surface.
+            const Real wBody = c.dynamic ? inverseMassAt(proxy, q.point, normal) : 0;
+            const Real dLambda = -C / (w[i] + wBody);
+            x[i] += normal * (w[i] * dLambda);
+            if (c.dynamic) applyCorrection(proxy, normal * -dLambda, q.point, substep);
+            if (mu <= 0) continue;
+            // Friction: relative tangential displacement of the particle over
+            // the body's surface during this sub-step.
+            Vec3 surfaceMotion = Vec3::zero();
+            if (proxy.base.inverseMass > 0 || lengthSquared(proxy.base.linearVelocity) > 0 ||
+                lengthSquared(proxy.base.angularVelocity) > 0) {
+                const Vec3 r = q.point - currentCenter(proxy);
+                const Vec3 v = proxy.base.linearVelocity + proxy.extraLinearVelocity +
+                               cross(proxy.base.angularVelocity + proxy.extraAngularVelocity, r);
+                surfaceMotion = v * substep;
+            }
+            const Vec3 rel = (x[i] - xp[i]) - surfaceMotion;
+            const Vec3 tangential = rel - normal * dot(rel, normal);
+            const Real slip = length(tangential);
+            if (slip < Real(1e-12)) continue;
+            // Static friction removes all the slip; kinetic at most mu * depth
+            // (one friction coefficient for both).
+            const Real removed = std::min(slip, mu * (-C));
+            const Vec3 t = tangential / slip;
+            const Real wBodyT = c.dynamic ? inverseMassAt(proxy, q.point, t) : 0;
+            const Real dLambdaT = removed / (w[i] + wBodyT);
+            x[i] -= t * (w[i] * dLambdaT);
+            if (c.dynamic) applyCorrection(proxy, t * dLambdaT, q.point, substep);
+        }
+    }
+}
+
+void RigidCoupling::resetAttachmentMultipliers(ParticleSystem& s) {
+    for (ParticleAttachment& a : s.attachments) a.lambda = 0;
+}
+
+void RigidCoupling::solveAttachments(ParticleSystem& s, Real substep) {
+    const Real invH2 = 1 / (substep * substep);
+    for (ParticleAttachment& a : s.attachments) {
+        Proxy& proxy = proxies_[static_cast<std::size_t>(proxyOfBody_[a.body])];
+        const Transform xf = moved(proxy, proxy.base.transform);
+        const Vec3 anchor = transformPoint(xf, a.localAnchor);
+        const Vec3 d = s.position[a.particle] - anchor;
+        const Real C = length(d);
+        if (C < Real(1e-9)) continue;
+        const Vec3 n = d / C;
+        const Real alphaTilde = a.compliance * invH2;
+        const Real wp = s.inverseMass[a.particle];
+        const Real wb = inverseMassAt(proxy, anchor, n);
+        const Real denominator = wp + wb + alphaTilde;
+        if (denominator <= 0) continue;
+        const Real dLambda = (-C - alphaTilde * a.lambda) / denominator;
+        a.lambda += dLambda;
+        s.position[a.particle] += n * (wp * dLambda);
+        applyCorrection(proxy, n * -dLambda, anchor, substep);
+    }
+}
+
+void RigidCoupling::endStep(RigidCollider& collider) {
+    for (const Proxy& p : proxies_) {
+        if (p.base.inverseMass > 0 && (p.linearImpulse != Vec3::zero() || p.angularImpulse != Vec3::zero())) {
+            collider.applyImpulse(p.body, p.linearImpulse, p.angularImpulse);
+            collider.applyDisplacement(p.body, p.deltaPosition, p.deltaRotation);
+        }
+        proxyOfBody_[p.body] = -1;
+    }
+    proxies_.clear();
+    candidates_.clear();
+}
+
+}  // namespace fulcrum::detail
