@@ -185,6 +185,10 @@ BodyId World::createBody(const BodyDef& def) {
     p.restitution = def.restitution;
     p.rollingResistance = def.rollingResistance;
     p.filter = def.filter;
+    if (def.type != BodyType::Static) {
+        const AABB b = def.shape.localBounds();
+        p.extent = length(max(abs(b.min - p.localCom), abs(b.max - p.localCom)));
+    }
     detail::BodyCold c;
     c.name = def.name;
     c.shape = def.shape;

@@ -99,6 +99,7 @@ struct BodyParams {
     Real gravityScale = 1;
     Real friction = Real(0.6), restitution = 0, rollingResistance = 0;
     CollisionFilter filter;
+    Real extent = 0;                 // farthest shape point from the centre of mass (0 for static bodies)
     Real sleepTime = 0;              // seconds spent below the sleep speeds (solver/sleep.hpp)
     std::uint32_t sleepIsland = 0;   // while asleep: the island it fell asleep with (0: none)
 };
