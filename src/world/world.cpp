@@ -231,6 +231,7 @@ void World::destroyBody(BodyId id) {
         if (j.alive && (j.def.bodyA == id || j.def.bodyB == id)) destroyJoint({i, j.generation});
     }
 
+    detail::detachParticlesFromBody(w, id.index);  // no particle keeps the slot (world/particle_coupling.hpp)
     w.contactManager.removeBody(w, id.index);
 
     // Swap-remove from the dense arrays.

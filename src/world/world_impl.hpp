@@ -61,6 +61,7 @@
 #include "solver/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/sleep.hpp"
+#include "world/particle_coupling.hpp"
 
 namespace fulcrum {
 
@@ -179,6 +180,9 @@ struct WorldImpl {
     detail::ContactSolver contactSolver;
     detail::SleepManager sleepManager;
     bool wasSleeping = true;         // settings.sleeping at the last step (turning it off wakes all)
+
+    // ---- particle systems: ropes and cloths (src/world/particle_coupling.hpp)
+    detail::WorldParticles particles;
 
     // Wakes a non-static body and, if it sleeps, its whole island; resets its sleep timer.
     void wakeBody(std::uint32_t dense);
