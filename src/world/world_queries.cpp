@@ -411,9 +411,13 @@ std::optional<ShapeCastHit> World::castShape(const Shape& shape, const Transform
     }
     validateFilter(w, who, filter);
 
-    const AABB start = shape.bounds(xf);
+    // shapeCast reports contact within kCastTolerance of touching, so the
+    // candidate boxes and the lower bound below are widened by it: a body that
+    // close counts as hit, whether or not its bounds quite reach.
+    constexpr Real kCastTolerance = Real(1e-4);  // shapeCast's default
+    const AABB start = shape.bounds(xf).fattened(kCastTolerance);
     AABB swept = start;
-    swept.grow(shape.bounds({xf.p + translation, xf.q}));
+    swept.grow(shape.bounds({xf.p + translation, xf.q}).fattened(kCastTolerance));
     const Vec3 center = start.center(), half = start.halfExtents();
 
     std::optional<ShapeCastHit> best;
@@ -430,7 +434,7 @@ std::optional<ShapeCastHit> World::castShape(const Shape& shape, const Transform
             const Real bound = best ? best->fraction : Real(1);
             if (rayCastAABB(grown, center, translation, bound) < 0) return;
         }
-        const ShapeCastResult r = shapeCast(shape, xf, translation, bodyShape, bodyXf);
+        const ShapeCastResult r = shapeCast(shape, xf, translation, bodyShape, bodyXf, kCastTolerance);
         if (!r.hit) return;
         const std::uint64_t serial = w.cold[d].creationSerial;
         if (!best || r.fraction < best->fraction || (r.fraction == best->fraction && serial < bestSerial)) {
