@@ -102,4 +102,35 @@ void predictPositions(ParticleSystem& s, const Vec3& gravity, const std::vector<
     s.previousSubstep = substep;
 }
 
+void predictPositions(ParticleSystem& s, ParticleSoA& p, const Vec3& gravity, const std::vector<Vec3>& accel,
+                      Real substep) {
+    const std::size_t n = p.size();
+    const Real ratio = s.previousSubstep > 0 ? substep / s.previousSubstep : 0;
+    const Real keep = ratio / (1 + substep * s.damping);
+    const Real h2 = substep * substep;
+    const Real* w = p.w.data();
+    // One coordinate at a time: three simple loops the compiler vectorises.
+    const auto axis = [&](Real* x, Real* xp, Real g, auto accelOf) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const Real xi = x[i];
+            const Real next = xi + (xi - xp[i]) * keep;
+            xp[i] = xi;
+            x[i] = w[i] > 0 ? next + (g + accelOf(i)) * h2 : next;
+        }
+    };
+    if (accel.empty()) {
+        const auto none = [](std::size_t) { return Real(0); };
+        axis(p.x.data(), p.px.data(), gravity.x, none);
+        axis(p.y.data(), p.py.data(), gravity.y, none);
+        axis(p.z.data(), p.pz.data(), gravity.z, none);
+    } else {
+        const Vec3* a = accel.data();
+        axis(p.x.data(), p.px.data(), gravity.x, [a](std::size_t i) { return a[i].x; });
+        axis(p.y.data(), p.py.data(), gravity.y, [a](std::size_t i) { return a[i].y; });
+        axis(p.z.data(), p.pz.data(), gravity.z, [a](std::size_t i) { return a[i].z; });
+    }
+    for (const ParticlePin& pin : s.pins) p.setPosition(pin.particle, pin.target);
+    s.previousSubstep = substep;
+}
+
 }  // namespace fulcrum::detail

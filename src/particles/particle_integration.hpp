@@ -13,6 +13,7 @@
 // triangles (see aerodynamics in particle_integration.cpp).
 #include <vector>
 
+#include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
 
 namespace fulcrum::detail {
@@ -32,5 +33,8 @@ void computeForceAccelerations(const ParticleSystem& system, const AirSettings& 
 // Verlet prediction; pinned particles jump to their pin targets.
 // `accel` may be empty (gravity only).
 void predictPositions(ParticleSystem& system, const Vec3& gravity, const std::vector<Vec3>& accel, Real substep);
+// The same on the step's working copy (the solver's path; `system` gives pins and the Verlet ratio).
+void predictPositions(ParticleSystem& system, ParticleSoA& particles, const Vec3& gravity, const std::vector<Vec3>& accel,
+                      Real substep);
 
 }  // namespace fulcrum::detail

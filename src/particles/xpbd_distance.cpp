@@ -1,34 +1,214 @@
 #include "particles/xpbd_distance.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define FULCRUM_PARTICLES_SSE2 1
+#else
+#define FULCRUM_PARTICLES_SSE2 0
+#endif
 
 namespace fulcrum::detail {
 
-void resetMultipliers(DistanceConstraintGroup& group) { std::fill(group.lambda.begin(), group.lambda.end(), Real(0)); }
+namespace {
 
-void solveDistanceGroup(ParticleSystem& system, DistanceConstraintGroup& group, Real substep) {
-    Vec3* x = system.position.data();
-    const Real* w = system.inverseMass.data();
-    Real* lambda = group.lambda.data();
-    const Real alphaTilde = group.compliance / (substep * substep);
-    const bool unilateral = group.unilateral;
-    const std::size_t count = group.constraints.size();
-    for (std::size_t k = 0; k < count; ++k) {
-        const DistanceConstraint c = group.constraints[k];
-        const Vec3 d = x[c.a] - x[c.b];
-        const Real len2 = lengthSquared(d);
-        if (len2 < Real(1e-24)) continue;  // coincident: no direction to push along
-        const Real len = std::sqrt(len2);
-        const Real C = len - c.restLength;
-        if (unilateral && C <= 0) continue;  // a slack tether does nothing
-        const Real denominator = w[c.a] + w[c.b] + alphaTilde;
-        if (denominator <= 0) continue;      // both ends immovable
-        const Real dLambda = (-C - alphaTilde * lambda[k]) / denominator;
-        lambda[k] += dLambda;
-        const Vec3 n = d * (dLambda / len);
-        x[c.a] += n * w[c.a];
-        x[c.b] -= n * w[c.b];
+// Below this squared length the two particles coincide: no direction to push along.
+constexpr Real kCoincident2 = Real(1e-24);
+
+// One constraint, scalar. The SIMD kernel below performs exactly these
+// operations in the same order, so a lane's result is bit-identical to this.
+inline void solveOne(ParticleSoA& p, std::uint32_t a, std::uint32_t b, Real rest, Real inverseDenominator,
+                     Real alphaTilde, bool unilateral, Real& lambda) {
+    const Real dx = p.x[a] - p.x[b], dy = p.y[a] - p.y[b], dz = p.z[a] - p.z[b];
+    const Real len2 = dx * dx + dy * dy + dz * dz;
+    if (len2 < kCoincident2) return;
+    const Real len = std::sqrt(len2);
+    const Real C = len - rest;
+    if (unilateral && C <= 0) return;  // a slack tether does nothing
+    const Real dLambda = (-C - alphaTilde * lambda) * inverseDenominator;
+    lambda += dLambda;
+    const Real s = dLambda / len;
+    const Real wa = p.w[a], wb = p.w[b];
+    const Real nx = dx * s, ny = dy * s, nz = dz * s;
+    p.x[a] += nx * wa; p.y[a] += ny * wa; p.z[a] += nz * wa;
+    p.x[b] -= nx * wb; p.y[b] -= ny * wb; p.z[b] -= nz * wb;
+}
+
+#if FULCRUM_PARTICLES_SSE2
+inline __m128 gather(const Real* v, const std::uint32_t* index) {
+    return _mm_set_ps(v[index[3]], v[index[2]], v[index[1]], v[index[0]]);
+}
+inline void scatter(Real* v, const std::uint32_t* index, __m128 value) {
+    alignas(16) float lanes[4];
+    _mm_store_ps(lanes, value);
+    v[index[0]] = lanes[0];
+    v[index[1]] = lanes[1];
+    v[index[2]] = lanes[2];
+    v[index[3]] = lanes[3];
+}
+
+// Four independent constraints (one colour), slots k..k+3.
+template <bool Contiguous>
+inline void solveFour(ParticleSoA& p, const std::uint32_t* a, const std::uint32_t* b, const Real* rest,
+                      const Real* inverseDenominator, Real* lambda, __m128 alphaTilde, bool unilateral) {
+    __m128 ax, ay, az, bx, by, bz, wa, wb;
+    if constexpr (Contiguous) {
+        const std::uint32_t a0 = a[0], b0 = b[0];
+        ax = _mm_loadu_ps(&p.x[a0]); ay = _mm_loadu_ps(&p.y[a0]); az = _mm_loadu_ps(&p.z[a0]);
+        bx = _mm_loadu_ps(&p.x[b0]); by = _mm_loadu_ps(&p.y[b0]); bz = _mm_loadu_ps(&p.z[b0]);
+        wa = _mm_loadu_ps(&p.w[a0]); wb = _mm_loadu_ps(&p.w[b0]);
+    } else {
+        ax = gather(p.x.data(), a); ay = gather(p.y.data(), a); az = gather(p.z.data(), a);
+        bx = gather(p.x.data(), b); by = gather(p.y.data(), b); bz = gather(p.z.data(), b);
+        wa = gather(p.w.data(), a); wb = gather(p.w.data(), b);
     }
+    const __m128 dx = _mm_sub_ps(ax, bx), dy = _mm_sub_ps(ay, by), dz = _mm_sub_ps(az, bz);
+    const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+    __m128 valid = _mm_cmpge_ps(len2, _mm_set1_ps(kCoincident2));
+    const __m128 len = _mm_sqrt_ps(len2);
+    const __m128 C = _mm_sub_ps(len, _mm_loadu_ps(rest));
+    if (unilateral) valid = _mm_and_ps(valid, _mm_cmpgt_ps(C, _mm_setzero_ps()));
+    const __m128 oldLambda = _mm_loadu_ps(lambda);
+    const __m128 negC = _mm_xor_ps(C, _mm_set1_ps(-0.0f));  // exact negation, as the scalar -C
+    __m128 dLambda = _mm_mul_ps(_mm_sub_ps(negC, _mm_mul_ps(alphaTilde, oldLambda)), _mm_loadu_ps(inverseDenominator));
+    dLambda = _mm_and_ps(valid, dLambda);
+    _mm_storeu_ps(lambda, _mm_add_ps(oldLambda, dLambda));
+    // Invalid lanes divide 0 by 1: they move nothing.
+    const __m128 safeLen = _mm_or_ps(_mm_and_ps(valid, len), _mm_andnot_ps(valid, _mm_set1_ps(1)));
+    const __m128 s = _mm_div_ps(dLambda, safeLen);
+    const __m128 nx = _mm_mul_ps(dx, s), ny = _mm_mul_ps(dy, s), nz = _mm_mul_ps(dz, s);
+    ax = _mm_add_ps(ax, _mm_mul_ps(nx, wa)); ay = _mm_add_ps(ay, _mm_mul_ps(ny, wa)); az = _mm_add_ps(az, _mm_mul_ps(nz, wa));
+    bx = _mm_sub_ps(bx, _mm_mul_ps(nx, wb)); by = _mm_sub_ps(by, _mm_mul_ps(ny, wb)); bz = _mm_sub_ps(bz, _mm_mul_ps(nz, wb));
+    if constexpr (Contiguous) {
+        const std::uint32_t a0 = a[0], b0 = b[0];
+        _mm_storeu_ps(&p.x[a0], ax); _mm_storeu_ps(&p.y[a0], ay); _mm_storeu_ps(&p.z[a0], az);
+        _mm_storeu_ps(&p.x[b0], bx); _mm_storeu_ps(&p.y[b0], by); _mm_storeu_ps(&p.z[b0], bz);
+    } else {
+        scatter(p.x.data(), a, ax); scatter(p.y.data(), a, ay); scatter(p.z.data(), a, az);
+        scatter(p.x.data(), b, bx); scatter(p.y.data(), b, by); scatter(p.z.data(), b, bz);
+    }
+}
+#endif
+
+}  // namespace
+
+void DistanceBatches::rebuild(const DistanceConstraintGroup& group) {
+    source_ = group.constraints;
+    const std::size_t count = source_.size();
+    struct Entry {
+        std::uint32_t lo, hi, offset, parity, index;
+    };
+    std::vector<Entry> entries;
+    entries.reserve(count);
+    std::vector<std::uint32_t> sequential;
+    std::uint32_t particleCount = 0;
+    for (std::uint32_t g = 0; g < count; ++g) {
+        const DistanceConstraint& c = source_[g];
+        particleCount = std::max(particleCount, std::max(c.a, c.b) + 1);
+        if (c.a == c.b) {
+            sequential.push_back(g);
+            continue;
+        }
+        const std::uint32_t lo = std::min(c.a, c.b), hi = std::max(c.a, c.b), d = hi - lo;
+        entries.push_back({lo, hi, d, (lo / d) & 1u, g});
+    }
+    std::sort(entries.begin(), entries.end(), [](const Entry& l, const Entry& r) {
+        if (l.offset != r.offset) return l.offset < r.offset;
+        if (l.parity != r.parity) return l.parity < r.parity;
+        if (l.lo != r.lo) return l.lo < r.lo;
+        return l.index < r.index;
+    });
+
+    a_.clear(); b_.clear(); sourceIndex_.clear(); colourStart_.clear();
+    // A colour must not touch a particle twice; `stamp` marks the particles of
+    // the colour being filled (duplicates go to the sequential list).
+    std::vector<std::uint32_t> stamp(particleCount, 0);
+    std::uint32_t colour = 0;
+    for (std::size_t e = 0; e < entries.size();) {
+        std::size_t end = e;
+        while (end < entries.size() && entries[end].offset == entries[e].offset && entries[end].parity == entries[e].parity) ++end;
+        ++colour;
+        colourStart_.push_back(a_.size());
+        for (std::size_t k = e; k < end; ++k) {
+            const Entry& en = entries[k];
+            if (stamp[en.lo] == colour || stamp[en.hi] == colour) {
+                sequential.push_back(en.index);
+                continue;
+            }
+            stamp[en.lo] = stamp[en.hi] = colour;
+            // Keep the group's orientation (a, b): the update is symmetric,
+            // but this keeps lambda's sign as the group defines it.
+            a_.push_back(source_[en.index].a);
+            b_.push_back(source_[en.index].b);
+            sourceIndex_.push_back(en.index);
+        }
+        if (colourStart_.back() == a_.size()) colourStart_.pop_back();  // all went sequential
+        e = end;
+    }
+    sequentialBegin_ = a_.size();
+    colourStart_.push_back(sequentialBegin_);
+    std::sort(sequential.begin(), sequential.end());  // in the group's order
+    for (std::uint32_t g : sequential) {
+        a_.push_back(source_[g].a);
+        b_.push_back(source_[g].b);
+        sourceIndex_.push_back(g);
+    }
+    const std::size_t slots = a_.size();
+    rest_.resize(slots);
+    inverseDenominator_.resize(slots);
+    lambda_.assign(slots, 0);
+    contiguous_.assign(slots, 0);
+    for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
+        for (std::size_t k = colourStart_[c]; k + 4 <= colourStart_[c + 1]; k += 4) {
+            bool run = true;
+            for (std::uint32_t i = 1; i < 4; ++i) run = run && a_[k + i] == a_[k] + i && b_[k + i] == b_[k] + i;
+            contiguous_[k] = run ? 1 : 0;
+        }
+    }
+}
+
+void DistanceBatches::prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep) {
+    bool same = group.constraints.size() == source_.size() && !colourStart_.empty();
+    for (std::size_t g = 0; same && g < source_.size(); ++g) {
+        same = group.constraints[g].a == source_[g].a && group.constraints[g].b == source_[g].b;
+    }
+    if (!same) rebuild(group);
+    unilateral_ = group.unilateral;
+    alphaTilde_ = group.compliance / (substep * substep);
+    for (std::size_t k = 0; k < a_.size(); ++k) {
+        rest_[k] = group.constraints[sourceIndex_[k]].restLength;
+        const Real denominator = inverseMass[a_[k]] + inverseMass[b_[k]] + alphaTilde_;
+        inverseDenominator_[k] = denominator > 0 ? 1 / denominator : 0;  // 0: both ends immovable
+    }
+}
+
+void DistanceBatches::resetMultipliers() { std::fill(lambda_.begin(), lambda_.end(), Real(0)); }
+
+void DistanceBatches::solveRange(ParticleSoA& p, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+        solveOne(p, a_[k], b_[k], rest_[k], inverseDenominator_[k], alphaTilde_, unilateral_, lambda_[k]);
+    }
+}
+
+void DistanceBatches::solve(ParticleSoA& p) {
+    for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
+        const std::size_t begin = colourStart_[c], end = colourStart_[c + 1];
+        std::size_t k = begin;
+#if FULCRUM_PARTICLES_SSE2
+        const __m128 alphaTilde = _mm_set1_ps(alphaTilde_);
+        for (; k + 4 <= end; k += 4) {
+            if (contiguous_[k]) {
+                solveFour<true>(p, &a_[k], &b_[k], &rest_[k], &inverseDenominator_[k], &lambda_[k], alphaTilde, unilateral_);
+            } else {
+                solveFour<false>(p, &a_[k], &b_[k], &rest_[k], &inverseDenominator_[k], &lambda_[k], alphaTilde, unilateral_);
+            }
+        }
+#endif
+        solveRange(p, k, end);
+    }
+    solveRange(p, sequentialBegin_, a_.size());
 }
 
 }  // namespace fulcrum::detail
