@@ -231,16 +231,13 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
                 detail::predictPositions(s, p, settings_.gravity, kNone, h);
             }
             slot.selfCollision.update(s, p);
-            slot.stretch.resetMultipliers();
-            slot.shear.resetMultipliers();
-            slot.bend.resetMultipliers();
-            slot.tethers.resetMultipliers();
             coupling_.resetAttachmentMultipliers(s);
             for (int it = 0; it < settings_.iterations; ++it) {
-                slot.stretch.solve(p);
-                slot.shear.solve(p);
-                slot.bend.solve(p);
-                slot.tethers.solve(p);
+                const bool first = it == 0;
+                slot.stretch.solve(p, first);
+                slot.shear.solve(p, first);
+                slot.bend.solve(p, first);
+                slot.tethers.solve(p, first);
                 if (collider) coupling_.solveAttachments(s, p, h);
                 slot.selfCollision.solve(p);
                 if (collider) coupling_.solveContacts(k, s, p, h);

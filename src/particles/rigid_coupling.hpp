@@ -26,6 +26,7 @@
 #include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
 #include "particles/rigid_collider.hpp"
+#include "particles/shape_query_adapter.hpp"
 
 namespace fulcrum::detail {
 
@@ -82,7 +83,7 @@ private:
     Vec3 currentCenter(const Proxy& p) const { return transformPoint(p.path, p.localCenter) + p.deltaPosition; }
     Real inverseMassAt(const Proxy& p, const Vec3& point, const Vec3& direction) const;
     void applyCorrection(Proxy& p, const Vec3& positionalImpulse, const Vec3& point, Real substep);
-    void solveContact(const Candidate& c, Proxy& proxy, const Transform& xf, Real mu, ParticleSoA& particles,
+    void solveContact(const Candidate& c, Proxy& proxy, const SurfacePoint& q, Real mu, ParticleSoA& particles,
                       std::size_t i, Real radius, Real substep);
 
     friend class CandidateGatherer;

@@ -5,8 +5,10 @@
 // A uniform grid over the system's bounding box, filled by counting sort (the
 // layout of Müller's "Ten Minute Physics" cloth self-collision; the spatial
 // hash of Teschner et al. 2003 it replaces cost 1.5 ms per step here against
-// 0.42: shared buckets need a cell check per entry, 27 cells per particle) finds the pairs within 2r plus a skin. Pairs that are neighbours in the rest mesh (rest distance
-// below ParticleSystem::selfCollisionExclusion) are skipped: the distance
+// 0.42: shared buckets need a cell check per entry, 27 cells per particle)
+// finds the pairs within 2r plus a skin. Pairs that are neighbours in the rest
+// mesh (rest distance below ParticleSystem::selfCollisionExclusion) are
+// skipped: the distance
 // constraints already hold them, and a contact between them would fight those
 // constraints. Every iteration then pushes overlapping pairs apart to
 // r_a + r_b, sharing the correction by inverse mass (momentum conserving).

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -17,18 +19,36 @@ namespace {
 // Below this squared length the two particles coincide: no direction to push along.
 constexpr Real kCoincident2 = Real(1e-24);
 
+// How the 4 lanes of a chunk find their particles (DistanceBatches::layout_).
+enum ChunkLayout : std::uint8_t {
+    kGather = 0,       // anywhere: 8 scalar loads per coordinate
+    kContiguous = 1,   // a0 + {0,1,2,3}, b0 + {0,1,2,3}: one load per coordinate and end
+    kInterleaved = 2,  // a = a0 + {0,2,4,6}, b = a + 1 (a row's links): 8 floats from a0, 1 shuffle each
+    kPairs = 3,        // a = a0 + {0,1,4,5}, b = a + 2 (a row's bend links): 8 floats from a0
+};
+
 // One constraint, scalar. The SIMD kernel below performs exactly these
 // operations in the same order, so a lane's result is bit-identical to this.
+// `FirstIteration`: lambda is 0 (every sub-step starts from 0), so it is
+// neither read nor reset; with one iteration per sub-step (the default) that
+// skips 8 bytes of memory traffic per constraint, and the reset.
+template <bool FirstIteration>
 inline void solveOne(ParticleSoA& p, std::uint32_t a, std::uint32_t b, Real rest, Real inverseDenominator,
                      Real alphaTilde, bool unilateral, Real& lambda) {
     const Real dx = p.x[a] - p.x[b], dy = p.y[a] - p.y[b], dz = p.z[a] - p.z[b];
     const Real len2 = dx * dx + dy * dy + dz * dz;
-    if (len2 < kCoincident2) return;
+    if (len2 < kCoincident2) {
+        if constexpr (FirstIteration) lambda = 0;
+        return;
+    }
     const Real len = std::sqrt(len2);
     const Real C = len - rest;
-    if (unilateral && C <= 0) return;  // a slack tether does nothing
-    const Real dLambda = (-C - alphaTilde * lambda) * inverseDenominator;
-    lambda += dLambda;
+    if (unilateral && C <= 0) {  // a slack tether does nothing
+        if constexpr (FirstIteration) lambda = 0;
+        return;
+    }
+    const Real dLambda = (-C - alphaTilde * (FirstIteration ? Real(0) : lambda)) * inverseDenominator;
+    lambda = FirstIteration ? dLambda : lambda + dLambda;
     const Real s = dLambda / len;
     const Real wa = p.w[a], wb = p.w[b];
     const Real nx = dx * s, ny = dy * s, nz = dz * s;
@@ -50,15 +70,39 @@ inline void scatter(Real* v, const std::uint32_t* index, __m128 value) {
 }
 
 // Four independent constraints (one colour), slots k..k+3.
-template <bool Contiguous>
+template <ChunkLayout Layout, bool FirstIteration>
 inline void solveFour(ParticleSoA& p, const std::uint32_t* a, const std::uint32_t* b, const Real* rest,
                       const Real* inverseDenominator, Real* lambda, __m128 alphaTilde, bool unilateral) {
     __m128 ax, ay, az, bx, by, bz, wa, wb;
-    if constexpr (Contiguous) {
-        const std::uint32_t a0 = a[0], b0 = b[0];
+    const std::uint32_t a0 = a[0];
+    // Split / merge an 8-float window [a0, a0 + 8) into the a and b lanes.
+    const auto split = [](const Real* v, __m128& outA, __m128& outB) {
+        const __m128 lo = _mm_loadu_ps(v), hi = _mm_loadu_ps(v + 4);
+        if constexpr (Layout == kInterleaved) {
+            outA = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+            outB = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+        } else {
+            outA = _mm_movelh_ps(lo, hi);
+            outB = _mm_movehl_ps(hi, lo);
+        }
+    };
+    const auto merge = [](Real* v, __m128 inA, __m128 inB) {
+        if constexpr (Layout == kInterleaved) {
+            _mm_storeu_ps(v, _mm_unpacklo_ps(inA, inB));
+            _mm_storeu_ps(v + 4, _mm_unpackhi_ps(inA, inB));
+        } else {
+            _mm_storeu_ps(v, _mm_movelh_ps(inA, inB));
+            _mm_storeu_ps(v + 4, _mm_movehl_ps(inB, inA));
+        }
+    };
+    if constexpr (Layout == kContiguous) {
+        const std::uint32_t b0 = b[0];
         ax = _mm_loadu_ps(&p.x[a0]); ay = _mm_loadu_ps(&p.y[a0]); az = _mm_loadu_ps(&p.z[a0]);
         bx = _mm_loadu_ps(&p.x[b0]); by = _mm_loadu_ps(&p.y[b0]); bz = _mm_loadu_ps(&p.z[b0]);
         wa = _mm_loadu_ps(&p.w[a0]); wb = _mm_loadu_ps(&p.w[b0]);
+    } else if constexpr (Layout == kInterleaved || Layout == kPairs) {
+        split(&p.x[a0], ax, bx); split(&p.y[a0], ay, by); split(&p.z[a0], az, bz);
+        split(&p.w[a0], wa, wb);
     } else {
         ax = gather(p.x.data(), a); ay = gather(p.y.data(), a); az = gather(p.z.data(), a);
         bx = gather(p.x.data(), b); by = gather(p.y.data(), b); bz = gather(p.z.data(), b);
@@ -70,21 +114,23 @@ inline void solveFour(ParticleSoA& p, const std::uint32_t* a, const std::uint32_
     const __m128 len = _mm_sqrt_ps(len2);
     const __m128 C = _mm_sub_ps(len, _mm_loadu_ps(rest));
     if (unilateral) valid = _mm_and_ps(valid, _mm_cmpgt_ps(C, _mm_setzero_ps()));
-    const __m128 oldLambda = _mm_loadu_ps(lambda);
+    const __m128 oldLambda = FirstIteration ? _mm_setzero_ps() : _mm_loadu_ps(lambda);
     const __m128 negC = _mm_xor_ps(C, _mm_set1_ps(-0.0f));  // exact negation, as the scalar -C
     __m128 dLambda = _mm_mul_ps(_mm_sub_ps(negC, _mm_mul_ps(alphaTilde, oldLambda)), _mm_loadu_ps(inverseDenominator));
     dLambda = _mm_and_ps(valid, dLambda);
-    _mm_storeu_ps(lambda, _mm_add_ps(oldLambda, dLambda));
+    _mm_storeu_ps(lambda, FirstIteration ? dLambda : _mm_add_ps(oldLambda, dLambda));
     // Invalid lanes divide 0 by 1: they move nothing.
     const __m128 safeLen = _mm_or_ps(_mm_and_ps(valid, len), _mm_andnot_ps(valid, _mm_set1_ps(1)));
     const __m128 s = _mm_div_ps(dLambda, safeLen);
     const __m128 nx = _mm_mul_ps(dx, s), ny = _mm_mul_ps(dy, s), nz = _mm_mul_ps(dz, s);
     ax = _mm_add_ps(ax, _mm_mul_ps(nx, wa)); ay = _mm_add_ps(ay, _mm_mul_ps(ny, wa)); az = _mm_add_ps(az, _mm_mul_ps(nz, wa));
     bx = _mm_sub_ps(bx, _mm_mul_ps(nx, wb)); by = _mm_sub_ps(by, _mm_mul_ps(ny, wb)); bz = _mm_sub_ps(bz, _mm_mul_ps(nz, wb));
-    if constexpr (Contiguous) {
-        const std::uint32_t a0 = a[0], b0 = b[0];
+    if constexpr (Layout == kContiguous) {
+        const std::uint32_t b0 = b[0];
         _mm_storeu_ps(&p.x[a0], ax); _mm_storeu_ps(&p.y[a0], ay); _mm_storeu_ps(&p.z[a0], az);
         _mm_storeu_ps(&p.x[b0], bx); _mm_storeu_ps(&p.y[b0], by); _mm_storeu_ps(&p.z[b0], bz);
+    } else if constexpr (Layout == kInterleaved || Layout == kPairs) {
+        merge(&p.x[a0], ax, bx); merge(&p.y[a0], ay, by); merge(&p.z[a0], az, bz);
     } else {
         scatter(p.x.data(), a, ax); scatter(p.y.data(), a, ay); scatter(p.z.data(), a, az);
         scatter(p.x.data(), b, bx); scatter(p.y.data(), b, by); scatter(p.z.data(), b, bz);
@@ -159,12 +205,22 @@ void DistanceBatches::rebuild(const DistanceConstraintGroup& group) {
     rest_.resize(slots);
     inverseDenominator_.resize(slots);
     lambda_.assign(slots, 0);
-    contiguous_.assign(slots, 0);
+    layout_.assign(slots, 0);
+    const auto matches = [&](std::size_t k, const std::uint32_t (&da)[4], std::uint32_t offset, bool fixedOffset) {
+        for (std::size_t i = 0; i < 4; ++i) {
+            if (a_[k + i] != a_[k] + da[i]) return false;
+            const std::uint32_t expectedB = fixedOffset ? a_[k + i] + offset : b_[k] + da[i];
+            if (b_[k + i] != expectedB) return false;
+        }
+        return true;
+    };
+    static constexpr std::uint32_t kRun[4] = {0, 1, 2, 3}, kEven[4] = {0, 2, 4, 6}, kPair[4] = {0, 1, 4, 5};
     for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
         for (std::size_t k = colourStart_[c]; k + 4 <= colourStart_[c + 1]; k += 4) {
-            bool run = true;
-            for (std::uint32_t i = 1; i < 4; ++i) run = run && a_[k + i] == a_[k] + i && b_[k + i] == b_[k] + i;
-            contiguous_[k] = run ? 1 : 0;
+            if (matches(k, kRun, 0, false)) layout_[k] = kContiguous;
+            else if (matches(k, kEven, 1, true)) layout_[k] = kInterleaved;
+            else if (matches(k, kPair, 2, true)) layout_[k] = kPairs;
+            else layout_[k] = kGather;
         }
     }
 }
@@ -184,31 +240,42 @@ void DistanceBatches::prepare(const DistanceConstraintGroup& group, const std::v
     }
 }
 
-void DistanceBatches::resetMultipliers() { std::fill(lambda_.begin(), lambda_.end(), Real(0)); }
-
+template <bool FirstIteration>
 void DistanceBatches::solveRange(ParticleSoA& p, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
-        solveOne(p, a_[k], b_[k], rest_[k], inverseDenominator_[k], alphaTilde_, unilateral_, lambda_[k]);
+        solveOne<FirstIteration>(p, a_[k], b_[k], rest_[k], inverseDenominator_[k], alphaTilde_, unilateral_, lambda_[k]);
     }
 }
 
-void DistanceBatches::solve(ParticleSoA& p) {
+void DistanceBatches::solve(ParticleSoA& p, bool firstIteration) {
+    if (firstIteration) sweep<true>(p);
+    else sweep<false>(p);
+}
+
+template <bool FirstIteration>
+void DistanceBatches::sweep(ParticleSoA& p) {
     for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
         const std::size_t begin = colourStart_[c], end = colourStart_[c + 1];
         std::size_t k = begin;
 #if FULCRUM_PARTICLES_SSE2
         const __m128 alphaTilde = _mm_set1_ps(alphaTilde_);
         for (; k + 4 <= end; k += 4) {
-            if (contiguous_[k]) {
-                solveFour<true>(p, &a_[k], &b_[k], &rest_[k], &inverseDenominator_[k], &lambda_[k], alphaTilde, unilateral_);
-            } else {
-                solveFour<false>(p, &a_[k], &b_[k], &rest_[k], &inverseDenominator_[k], &lambda_[k], alphaTilde, unilateral_);
+            const auto args = std::make_tuple(&a_[k], &b_[k], &rest_[k], &inverseDenominator_[k], &lambda_[k]);
+            const auto run = [&](auto layout) {
+                solveFour<decltype(layout)::value, FirstIteration>(p, std::get<0>(args), std::get<1>(args), std::get<2>(args),
+                                                   std::get<3>(args), std::get<4>(args), alphaTilde, unilateral_);
+            };
+            switch (layout_[k]) {
+                case kContiguous: run(std::integral_constant<ChunkLayout, kContiguous>{}); break;
+                case kInterleaved: run(std::integral_constant<ChunkLayout, kInterleaved>{}); break;
+                case kPairs: run(std::integral_constant<ChunkLayout, kPairs>{}); break;
+                default: run(std::integral_constant<ChunkLayout, kGather>{}); break;
             }
         }
 #endif
-        solveRange(p, k, end);
+        solveRange<FirstIteration>(p, k, end);
     }
-    solveRange(p, sequentialBegin_, a_.size());
+    solveRange<FirstIteration>(p, sequentialBegin_, a_.size());
 }
 
 }  // namespace fulcrum::detail

@@ -28,7 +28,9 @@
 // particle only if their a's differ by exactly d, so class d splits into two
 // colours by the parity of floor(a / d). For d >= 4 a colour then holds runs
 // of consecutive a's whose b's are consecutive too: 4 lanes load with one
-// unaligned SIMD load per coordinate instead of 24 scalar loads. Any
+// unaligned SIMD load per coordinate and end instead of 8 scalar loads. For
+// d = 1 and 2 (along rows) the 4 lanes' 8 particles fill one window of 8
+// consecutive particles, split into a and b lanes with one shuffle. Any
 // constraint that would still share a particle within its colour (duplicates,
 // a == b) goes to a final sequential list. Each class's colours are solved in
 // increasing offset order, so a cloth's stretch group sweeps along its rows,
@@ -50,13 +52,16 @@ public:
     // constraints' particle pairs changed; refreshes rest lengths otherwise)
     // and precomputes 1 / (w_a + w_b + alpha / h^2) for sub-step h.
     void prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep);
-    void resetMultipliers();
-    // One Gauss-Seidel sweep over the colours.
-    void solve(ParticleSoA& particles);
+    // One Gauss-Seidel sweep over the colours. The first iteration of a
+    // sub-step starts the multipliers from 0 (no separate reset).
+    void solve(ParticleSoA& particles, bool firstIteration);
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
 
 private:
     void rebuild(const DistanceConstraintGroup& group);
+    template <bool FirstIteration>
+    void sweep(ParticleSoA& p);
+    template <bool FirstIteration>
     void solveRange(ParticleSoA& p, std::size_t begin, std::size_t end);
 
     std::vector<DistanceConstraint> source_;  // the group's constraints when coloured (change detection)
@@ -64,7 +69,7 @@ private:
     // Batch slots, colour by colour (structure of arrays).
     std::vector<std::uint32_t> a_, b_;
     std::vector<Real> rest_, inverseDenominator_, lambda_;
-    std::vector<std::uint8_t> contiguous_;    // per slot k (4-aligned within its colour): k..k+3 are runs
+    std::vector<std::uint8_t> layout_;        // per chunk start k: where lanes k..k+3 find their particles
     std::vector<std::size_t> colourStart_;    // colour c is [colourStart_[c], colourStart_[c + 1])
     std::size_t sequentialBegin_ = 0;         // slots from here are solved one by one, in order
     Real alphaTilde_ = 0;
