@@ -30,7 +30,9 @@ struct DistanceConstraint {
 
 struct DistanceConstraintGroup {
     std::vector<DistanceConstraint> constraints;
-    std::vector<Real> lambda;  // XPBD Lagrange multipliers (N s^2), reset every sub-step
+    // XPBD Lagrange multipliers (N s^2). Kept for source compatibility: the
+    // solver keeps its own, in colour order (xpbd_distance.hpp); must match constraints' length.
+    std::vector<Real> lambda;
     Real compliance = 0;       // m/N; 0 is rigid
     // Unilateral groups only pull (C = |x_a - x_b| - L <= 0 is allowed): tethers.
     bool unilateral = false;
