@@ -34,8 +34,9 @@ int main(int argc, char** argv) {
     CLI::Option* threadsOpt = run->add_option("--threads", threads, "Worker threads (results are identical for every count)");
     run->add_flag("--json", outputs.json, "Print one JSON object with the final state on stdout");
     run->add_option("--csv", outputs.csvPath, "Write every step of every dynamic body to FILE (CSV)");
+    run->add_flag("--csv-particles", outputs.csvParticles, "With --csv: also a row per rope and cloth particle (body \"r1[3]\")");
     run->add_option("--plot", outputs.plotPath, "Write energy and momentum over time to FILE.svg");
-    run->add_option("--record", outputs.recordPath, "Record the run as .glb or .html (not available in this version)");
+    run->add_option("--record", outputs.recordPath, "Record the run: FILE.glb (animated glTF 2.0) or FILE.html (self-contained replay page)");
 
     try {
         app.parse(argc, argv);

@@ -7,4 +7,5 @@
 #include "fulcrum/particles.hpp"
 #include "fulcrum/shape.hpp"
 #include "fulcrum/spring.hpp"
+#include "fulcrum/task_system.hpp"
 #include "fulcrum/world.hpp"

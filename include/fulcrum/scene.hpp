@@ -6,8 +6,8 @@
 //     values (WorldDef, BodyDefs, JointDefs with body *names*, ...), no World.
 //     Every error is a SceneError naming the file, the path in the document
 //     (`bodies[3].shape.radius`), the line and what is wrong.
-//  2. buildWorld turns a Scene into a World (bodies, springs, joints). Ropes
-//     and cloths stay in the Scene until the particle system exists.
+//  2. buildWorld turns a Scene into a World (bodies, springs, joints, ropes
+//     and cloths).
 //
 // sceneToJson / saveScene write a Scene back (load -> save -> load gives the
 // same Scene), and captureScene records a World's current state as a Scene.
@@ -105,7 +105,7 @@ struct SceneSpring {
 };
 
 struct SceneRope {
-    RopeDef def;          // attach handles are filled once particles exist
+    RopeDef def;          // def.attachStart / def.attachEnd are filled by buildWorld
     std::string attachStart;  // empty: not attached
     std::string attachEnd;
     SceneLocation where;
@@ -120,6 +120,10 @@ struct SceneCloth {
 
 inline constexpr Real kSceneDefaultDt = Real(1) / Real(60);
 inline constexpr int kSceneDefaultSteps = 600;
+// Scene-file default of `bend_compliance` (ropes and cloths) when the key is
+// absent: floppy. An explicit 0 keeps XPBD's meaning, a rigid bend constraint
+// (a stiff rod, a stiff plate); docs/scene-format.md explains the choice.
+inline constexpr Real kSceneDefaultBendCompliance = Real(0.1);
 
 struct Scene {
     std::string sourceName;   // file name used in error messages ("" for scenes built in code)
@@ -130,8 +134,8 @@ struct Scene {
     std::vector<SceneBody> bodies;
     std::vector<SceneJoint> joints;
     std::vector<SceneSpring> springs;
-    std::vector<SceneRope> ropes;    // parsed and validated; simulated once particles exist
-    std::vector<SceneCloth> cloths;  // idem
+    std::vector<SceneRope> ropes;
+    std::vector<SceneCloth> cloths;
     bool operator==(const Scene& o) const;  // compares the description, not sourceName or locations
 };
 
@@ -150,11 +154,13 @@ struct SceneHandles {
     std::vector<BodyId> bodies;
     std::vector<JointId> joints;
     std::vector<SpringId> springs;
+    std::vector<ParticleSystemId> ropes;   // index-aligned with Scene::ropes
+    std::vector<ParticleSystemId> cloths;  // index-aligned with Scene::cloths
 };
 
 // Builds the Shape a ShapeDesc describes (throws fulcrum::Error from the factories).
 Shape buildShape(const ShapeDesc& desc);
-// Creates the bodies, springs and joints of `scene` in a new World. Engine
+// Creates the bodies, springs, joints, ropes and cloths of `scene` in a new World. Engine
 // validation errors are re-thrown as SceneError with the element's path and line.
 World buildWorld(const Scene& scene, SceneHandles* handles = nullptr);
 

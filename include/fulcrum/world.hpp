@@ -3,6 +3,7 @@
 // with step(dt). All methods taking handles validate them and throw
 // fulcrum::Error for null or stale handles; inputs are checked for NaN/inf and
 // physical sense at this boundary, so the step itself can trust its data.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -71,6 +72,19 @@ struct ContactReport {
     Vec3 normal;                // unit, from A to B
     Real depth = 0;             // deepest point; positive when overlapping
     std::vector<Vec3> points;   // world space
+};
+
+// ---- particle systems: the figures of one rope or cloth (design.md's
+// `particle_systems` entry of `--json`; World::particleReport).
+enum class ParticleSystemType : std::uint8_t { Rope, Cloth };
+
+struct ParticleReport {
+    std::string name;
+    std::size_t particles = 0;
+    Vec3 centroid;                 // mean particle position, m
+    Real maxStretch = 0;           // max over structural constraints of (length - rest) / rest
+    Real meanStretch = 0;          // mean of the same (signed: compression counts negative)
+    Real maxPenetration = 0;       // m: deepest any particle sphere sits inside a rigid shape (0 if none)
 };
 
 struct WorldImpl;
@@ -157,12 +171,33 @@ public:
     const std::string& name(JointId id) const;
     Real jointError(JointId id) const;                 // position error in metres
 
+    // ---- particle systems (Verlet ropes and cloths; docs/particles.md, "In the World")
+    // They step inside step() after the rigid bodies, with the world's gravity,
+    // collide with every body's shape (two-way) and may be attached to bodies
+    // (RopeDef::attachStart / attachEnd: live BodyIds, else fulcrum::Error).
+    // Destroying an attached body frees the particle it held.
+    ParticleSystemId createRope(const RopeDef& def);
+    ParticleSystemId createCloth(const ClothDef& def);
+    void destroyParticleSystem(ParticleSystemId id);
+    bool isValid(ParticleSystemId id) const;
+    std::vector<ParticleSystemId> particleSystems() const;       // live systems in creation order
+    const std::string& name(ParticleSystemId id) const;
+    ParticleSystemType particleSystemType(ParticleSystemId id) const;
+    std::array<int, 2> clothSize(ParticleSystemId id) const;      // cloth: particle (i, j) is j * size[0] + i; rope: {n, 1}
+    std::size_t particleCount(ParticleSystemId id) const;
+    Real particleRadius(ParticleSystemId id) const;               // largest particle radius, m
+    std::span<const Vec3> particlePositions(ParticleSystemId id) const;  // valid until the next step or change
+    Vec3 particleVelocity(ParticleSystemId id, std::size_t particle) const;  // over the last particle sub-step
+    ParticleReport particleReport(ParticleSystemId id) const;
+
     // ---- simulation
     void step(Real dt);                                // throws NumericalError if the state goes NaN
     Real time() const;
     std::uint64_t stepCount() const;
 
     // ---- diagnostics
+    // Energy and momenta include the particle systems (kinetic from their last
+    // sub-step's velocity, gravity, elastic energy of compliant constraints).
     EnergyReport energy() const;
     Vec3 linearMomentum() const;
     Vec3 angularMomentum() const;                      // about the world origin

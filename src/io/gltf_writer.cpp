@@ -31,6 +31,7 @@ public:
         const auto meshes = tessellateBodies(rec_);
         buildAnimationTimes();
         for (std::size_t b = 0; b < rec_.bodies.size(); ++b) addBody(b, meshes[b]);
+        for (std::size_t t = 0; t < rec_.particles.size(); ++t) addParticleTrack(t);
         if (!animation_.channels.empty()) {
             animation_.name = "simulation";
             model_.animations.push_back(std::move(animation_));
@@ -236,6 +237,69 @@ private:
             for (int n : awakeNodes) model_.nodes[static_cast<std::size_t>(n)].scale = {a0, a0, a0};
             for (int n : sleepNodes) model_.nodes[static_cast<std::size_t>(n)].scale = {1 - a0, 1 - a0, 1 - a0};
         }
+    }
+
+    // A rope (LINES) or cloth (TRIANGLES, double-sided) as one mesh whose base
+    // positions are the first frame; frame f > 0 is morph target f - 1 holding
+    // the displacement from the base, and the `weights` channel keys frame f
+    // with target f - 1 at weight 1 and all others 0, so LINEAR interpolation
+    // blends exactly the two neighbouring frames. Blender imports the targets
+    // as shape keys driven by the action. Cost: F x N x 12 bytes of targets and
+    // F x (F - 1) x 4 bytes of weights for F frames and N particles.
+    void addParticleTrack(std::size_t t) {
+        const ParticleTrack& track = rec_.particles[t];
+        const std::size_t n = track.particleCount;
+        const std::size_t frames = rec_.frameCount();
+        if (n == 0) return;
+        const std::string name = track.name.empty() ? (track.triangles ? "cloth_" : "rope_") + std::to_string(t) : track.name;
+
+        std::vector<float> base;
+        base.reserve(n * 3);
+        for (std::size_t i = 0; i < n; ++i) base.insert(base.end(), {track.positions[i].x, track.positions[i].y, track.positions[i].z});
+        tinygltf::Primitive prim;
+        prim.attributes["POSITION"] = addAccessor(base, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+        tinygltf::Accessor idx;
+        idx.bufferView = addView(track.indices.data(), track.indices.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        idx.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+        idx.type = TINYGLTF_TYPE_SCALAR;
+        idx.count = track.indices.size();
+        model_.accessors.push_back(std::move(idx));
+        prim.indices = static_cast<int>(model_.accessors.size() - 1);
+        prim.mode = track.triangles ? TINYGLTF_MODE_TRIANGLES : TINYGLTF_MODE_LINE;
+        const Rgb color = track.triangles ? Rgb{0.85f, 0.55f, 0.25f} : Rgb{0.9f, 0.85f, 0.6f};
+        prim.material = material(color, true);
+        std::vector<float> delta(n * 3);
+        for (std::size_t f = 1; f < frames; ++f) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const Vec3 d = track.positions[f * n + i] - track.positions[i];
+                delta[3 * i] = d.x;
+                delta[3 * i + 1] = d.y;
+                delta[3 * i + 2] = d.z;
+            }
+            // Morph target POSITION accessors must carry min/max (glTF 2.0, 3.7.2.2).
+            prim.targets.push_back({{"POSITION", addAccessor(delta, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true)}});
+        }
+        tinygltf::Mesh mesh;
+        mesh.name = name;
+        const std::size_t targets = frames - 1;
+        mesh.weights.assign(targets, 0.0);
+        mesh.primitives.push_back(std::move(prim));
+        model_.meshes.push_back(std::move(mesh));
+
+        tinygltf::Node node;
+        node.name = name;
+        node.mesh = static_cast<int>(model_.meshes.size() - 1);
+        tinygltf::Value::Object extras;
+        extras["fulcrum_type"] = tinygltf::Value(std::string(track.triangles ? "cloth" : "rope"));
+        extras["fulcrum_particles"] = tinygltf::Value(static_cast<int>(n));
+        node.extras = tinygltf::Value(extras);
+        const int nodeIndex = addNode(std::move(node));
+        model_.scenes[0].nodes.push_back(nodeIndex);
+
+        if (targets == 0) return;
+        std::vector<float> weights(frames * targets, 0.0f);
+        for (std::size_t f = 1; f < frames; ++f) weights[f * targets + (f - 1)] = 1.0f;
+        addChannel(nodeIndex, "weights", addAccessor(weights, TINYGLTF_TYPE_SCALAR, 1, 0, false), "LINEAR");
     }
 
     const Recording& rec_;

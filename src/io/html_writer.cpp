@@ -126,6 +126,21 @@ std::string recordingJson(const Recording& rec) {
     }
     doc["joints"] = std::move(joints);
 
+    // Ropes and cloths: topology, and positions float32 [F][particles][3].
+    json particles = json::array();
+    for (const ParticleTrack& track : rec.particles) {
+        std::vector<float> positions;
+        positions.reserve(track.positions.size() * 3);
+        for (const Vec3& x : track.positions) positions.insert(positions.end(), {x.x, x.y, x.z});
+        particles.push_back({{"name", track.name},
+                             {"kind", track.triangles ? "cloth" : "rope"},
+                             {"count", track.particleCount},
+                             {"radius", track.radius},
+                             {"indices", base64(track.indices)},
+                             {"positions", base64(positions)}});
+    }
+    doc["particles"] = std::move(particles);
+
     std::vector<float> transforms;
     transforms.reserve(rec.transforms.size() * 7);
     for (const Transform& t : rec.transforms) transforms.insert(transforms.end(), {t.p.x, t.p.y, t.p.z, t.q.x, t.q.y, t.q.z, t.q.w});

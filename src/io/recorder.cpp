@@ -1,6 +1,7 @@
 // Recorder: fills a Recording from a World through its public API only.
 #include <algorithm>
 #include <cctype>
+#include <span>
 #include <string>
 
 #include "io/gltf_writer.hpp"
@@ -46,6 +47,30 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
         jointIds_.push_back(jid);
     }
     recording_.contactOffsets.push_back(0);
+
+    // Ropes and cloths: topology now, positions per frame.
+    for (ParticleSystemId pid : world.particleSystems()) {
+        ParticleTrack track;
+        track.name = world.name(pid);
+        track.particleCount = world.particleCount(pid);
+        if (world.particleSystemType(pid) == ParticleSystemType::Cloth) {
+            track.triangles = true;
+            const std::array<int, 2> size = world.clothSize(pid);
+            const auto index = [&](int i, int j) { return static_cast<std::uint32_t>(j * size[0] + i); };
+            for (int j = 0; j + 1 < size[1]; ++j) {
+                for (int i = 0; i + 1 < size[0]; ++i) {
+                    // Two triangles per cell, counter-clockwise seen along u x v.
+                    track.indices.insert(track.indices.end(), {index(i, j), index(i, j + 1), index(i + 1, j)});
+                    track.indices.insert(track.indices.end(), {index(i + 1, j), index(i, j + 1), index(i + 1, j + 1)});
+                }
+            }
+        } else {
+            for (std::uint32_t i = 0; i + 1 < track.particleCount; ++i) track.indices.insert(track.indices.end(), {i, i + 1});
+        }
+        track.radius = world.particleRadius(pid);
+        recording_.particles.push_back(std::move(track));
+        particleIds_.push_back(pid);
+    }
 }
 
 void Recorder::capture(const World& world) {
@@ -84,6 +109,19 @@ void Recorder::capture(const World& world) {
         }
     }
     rec.contactOffsets.push_back(static_cast<std::uint32_t>(rec.contactPoints.size()));
+    for (std::size_t t = 0; t < particleIds_.size(); ++t) {
+        ParticleTrack& track = rec.particles[t];
+        if (world.isValid(particleIds_[t])) {
+            const std::span<const Vec3> x = world.particlePositions(particleIds_[t]);
+            track.positions.insert(track.positions.end(), x.begin(), x.end());
+        } else {
+            // Destroyed since: hold the last positions (the track's size stays frame-major).
+            const std::size_t count = track.particleCount;
+            for (std::size_t i = 0; i < count; ++i) {
+                track.positions.push_back(frame > 0 ? track.positions[(frame - 1) * count + i] : Vec3{});
+            }
+        }
+    }
     rec.energy.push_back(world.energy());
     rec.linearMomentum.push_back(world.linearMomentum());
 }

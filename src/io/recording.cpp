@@ -141,6 +141,12 @@ AABB sceneBounds(const Recording& recording, std::size_t first, std::size_t last
             box.grow(recording.bounds.empty() ? shape.bounds(recording.transform(f, b)) : recording.bounds[f * n + b]);
         }
     }
+    for (const ParticleTrack& track : recording.particles) {
+        const std::size_t end = std::min(last, track.particleCount > 0 ? track.positions.size() / track.particleCount : 0);
+        for (std::size_t f = first; f < end; ++f) {
+            for (std::size_t i = 0; i < track.particleCount; ++i) box.grow(track.positions[f * track.particleCount + i]);
+        }
+    }
     if (box.isEmpty()) box = AABB::fromCenterHalf(Vec3::zero(), Vec3::splat(1));
     return box;
 }

@@ -12,13 +12,12 @@
 //
 // The Recorder fills a Recording from a World through its public API only.
 //
-// Particle systems (ropes, cloth) are being built now; they will be recorded as
-// ParticleTrack values: a fixed topology (line segments for ropes, triangles
-// for cloth) and one position per particle per frame. In glTF they become a
-// mesh with one morph target per frame and a weights animation (one-hot
-// keyframes, so LINEAR interpolation blends neighbouring frames); in the HTML
-// page, a BufferGeometry whose positions are rewritten each frame. The
-// container is here so adding them does not change the format of bodies.
+// Particle systems (ropes, cloth) are recorded as ParticleTrack values: a
+// fixed topology (line segments for ropes, triangles for cloth) and one
+// position per particle per frame. In glTF they become a mesh with one morph
+// target per frame and a weights animation (one-hot keyframes, so LINEAR
+// interpolation blends neighbouring frames); in the HTML page, a
+// BufferGeometry whose positions are rewritten each frame.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -61,12 +60,13 @@ struct RecordedContactPoint {
     Real depth = 0;          // positive when overlapping
 };
 
-// Future: a rope or cloth (see the header comment).
+// A rope or cloth (see the header comment).
 struct ParticleTrack {
     std::string name;
     bool triangles = false;                  // false: line segments (rope); true: triangles (cloth)
     std::vector<std::uint32_t> indices;      // pairs or triples into the particles
     std::size_t particleCount = 0;
+    Real radius = 0;                         // m: the particles' collision radius (for display)
     std::vector<Vec3> positions;             // frame-major: [frame * particleCount + particle]
 };
 
@@ -87,7 +87,7 @@ struct Recording {
     std::vector<EnergyReport> energy;
     std::vector<Vec3> linearMomentum;
 
-    std::vector<ParticleTrack> particles;               // not captured yet (see above)
+    std::vector<ParticleTrack> particles;               // ropes and cloths, in the World's creation order
 
     std::size_t frameCount() const { return times.size(); }
     const Transform& transform(std::size_t frame, std::size_t body) const {
@@ -102,8 +102,9 @@ struct Recording {
 
 // Captures a World into a Recording. Construct it after the scene is built
 // (joint anchors are world space at creation: they are converted to body-local
-// anchors with the bodies' transforms at construction). Bodies created later
-// are not recorded; a body destroyed later keeps its last pose, marked asleep.
+// anchors with the bodies' transforms at construction). Bodies and particle
+// systems created later are not recorded; a body destroyed later keeps its
+// last pose, marked asleep, and a destroyed particle system its last positions.
 //
 //     io::Recorder recorder(world, {.title = "pendulum"});
 //     recorder.capture(world);                 // the initial state
@@ -130,6 +131,7 @@ private:
     RecordOptions options_;
     std::vector<BodyId> ids_;
     std::vector<JointId> jointIds_;
+    std::vector<ParticleSystemId> particleIds_;
     Recording recording_;
 };
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -74,6 +75,34 @@ void writeCsvRows(std::FILE* f, const World& world, const Scene& scene, const Sc
                      static_cast<unsigned long long>(step), t.c_str(), sceneBodyName(scene, i).c_str(), double(p.x), double(p.y),
                      double(p.z), double(q.w), double(q.x), double(q.y), double(q.z), double(v.x), double(v.y), double(v.z),
                      double(w.x), double(w.y), double(w.z));
+    }
+}
+
+// Display name of particle system k of the scene's ropes (or cloths): its
+// name, or "rope<k>" / "cloth<k>" when unnamed.
+std::string particleSystemName(const Scene& scene, bool cloth, std::size_t k) {
+    const std::string& name = cloth ? scene.cloths[k].def.name : scene.ropes[k].def.name;
+    return name.empty() ? (cloth ? "cloth" : "rope") + std::to_string(k) : name;
+}
+
+// --csv-particles: one row per particle in the body row format, named
+// "r1[3]" (particle 3 of r1; cloth particle (i, j) is j * nu + i), with the
+// identity orientation and zero angular velocity.
+void writeCsvParticleRows(std::FILE* f, const World& world, const Scene& scene, const SceneHandles& handles,
+                          std::uint64_t step) {
+    const std::string t = formatNumber(world.time());
+    for (int kind = 0; kind < 2; ++kind) {
+        const std::vector<ParticleSystemId>& ids = kind == 0 ? handles.ropes : handles.cloths;
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+            const std::string name = particleSystemName(scene, kind == 1, k);
+            const std::span<const Vec3> x = world.particlePositions(ids[k]);
+            for (std::size_t i = 0; i < x.size(); ++i) {
+                const Vec3 v = world.particleVelocity(ids[k], i);
+                std::fprintf(f, "%llu,%s,%s[%zu],%.9g,%.9g,%.9g,1,0,0,0,%.9g,%.9g,%.9g,0,0,0\n",
+                             static_cast<unsigned long long>(step), t.c_str(), name.c_str(), i, double(x[i].x),
+                             double(x[i].y), double(x[i].z), double(v.x), double(v.y), double(v.z));
+            }
+        }
     }
 }
 
@@ -143,6 +172,7 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
         std::ofstream probe(outputs.recordPath, std::ios::binary | std::ios::app);
         if (!probe) throw OptionError("--record " + outputs.recordPath + ": cannot open the file for writing");
     }
+    if (outputs.csvParticles && outputs.csvPath.empty()) throw OptionError("--csv-particles: needs --csv FILE to write the rows to");
     File csv;
     if (!outputs.csvPath.empty()) {
         csv.reset(std::fopen(outputs.csvPath.c_str(), "wb"));
@@ -167,6 +197,7 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
         result.samples.push_back(sample(world));
     }
     if (csv) writeCsvRows(csv.get(), world, scene, result.handles, 0);
+    if (csv && outputs.csvParticles) writeCsvParticleRows(csv.get(), world, scene, result.handles, 0);
     if (observer) observer(world, result.handles, 0);
     std::optional<io::Recorder> recorder;
     if (!outputs.recordPath.empty()) {
@@ -186,6 +217,9 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
             throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
         }
         if (csv) writeCsvRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
+        if (csv && outputs.csvParticles) {
+            writeCsvParticleRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
+        }
         if (plot) result.samples.push_back(sample(world));
         if (recorder) recorder->capture(world);
         if (observer) observer(world, result.handles, static_cast<std::uint64_t>(step));
@@ -252,6 +286,21 @@ std::string runReportJson(const Scene& scene, const RunResult& result) {
         joints.push_back(ojson{{"name", jointName(scene, i)}, {"error", std::move(error)}});
     }
     j["joints"] = std::move(joints);
+    // design.md: {"name", "particles", "centroid", "max_stretch", "mean_stretch", "max_penetration"}, ropes then cloths.
+    ojson systems = ojson::array();
+    for (int kind = 0; kind < 2; ++kind) {
+        const std::vector<ParticleSystemId>& ids = kind == 0 ? result.handles.ropes : result.handles.cloths;
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+            const ParticleReport r = world.particleReport(ids[k]);
+            systems.push_back(ojson{{"name", particleSystemName(scene, kind == 1, k)},
+                                    {"particles", r.particles},
+                                    {"centroid", vec(r.centroid)},
+                                    {"max_stretch", num(r.maxStretch)},
+                                    {"mean_stretch", num(r.meanStretch)},
+                                    {"max_penetration", num(r.maxPenetration)}});
+        }
+    }
+    j["particle_systems"] = std::move(systems);
     return j.dump(2) + "\n";
 }
 
@@ -283,9 +332,17 @@ std::string runSummary(const Scene& scene, const RunResult& result, const std::s
                   double(length(world.linearMomentum())), double(length(world.angularMomentum())), world.contacts().size(),
                   result.handles.joints.size());
     s << line;
-    if (!scene.ropes.empty() || !scene.cloths.empty()) {
-        s << "  note: " << scene.ropes.size() << " ropes and " << scene.cloths.size()
-          << " cloths were read but are not simulated yet (the particle system arrives in a later version)\n";
+    for (int kind = 0; kind < 2; ++kind) {
+        const std::vector<ParticleSystemId>& ids = kind == 0 ? result.handles.ropes : result.handles.cloths;
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+            const ParticleReport r = world.particleReport(ids[k]);
+            std::snprintf(line, sizeof line,
+                          "  %s %s: %zu particles, centroid (%.4f, %.4f, %.4f) m, stretch max %.3g %% mean %.3g %%, deepest %.3g mm\n",
+                          kind == 0 ? "rope" : "cloth", particleSystemName(scene, kind == 1, k).c_str(), r.particles,
+                          double(r.centroid.x), double(r.centroid.y), double(r.centroid.z), 100.0 * double(r.maxStretch),
+                          100.0 * double(r.meanStretch), 1000.0 * double(r.maxPenetration));
+            s << line;
+        }
     }
     return s.str();
 }

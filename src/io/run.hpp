@@ -35,8 +35,9 @@ void applyOverrides(Scene& scene, const RunOverrides& overrides);
 struct RunOutputs {
     bool json = false;        // report on stdout as one JSON object
     std::string csvPath;      // empty: no CSV
+    bool csvParticles = false;  // --csv-particles: also a row per rope/cloth particle ("r1[3]")
     std::string plotPath;     // empty: no SVG
-    std::string recordPath;   // recordings arrive in a later version: refused
+    std::string recordPath;   // empty: no recording (.glb or .html)
     bool progress = false;    // progress bar on stderr (the caller checks it is a terminal)
 };
 

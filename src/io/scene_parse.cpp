@@ -564,6 +564,7 @@ void Parser::parseRope(const json& j, const std::string& path, const Scene& scen
     opt(j, path, "stretch_compliance", [&](const json& v, const std::string& p) {
         d.stretchCompliance = nonNegative(v, p, "stretch_compliance");
     });
+    d.bendCompliance = kSceneDefaultBendCompliance;  // floppy unless given (scene.hpp)
     opt(j, path, "bend_compliance", [&](const json& v, const std::string& p) { d.bendCompliance = nonNegative(v, p, "bend_compliance"); });
 }
 
@@ -603,6 +604,7 @@ void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& clot
     opt(j, path, "stretch_compliance", [&](const json& v, const std::string& p) {
         d.stretchCompliance = nonNegative(v, p, "stretch_compliance");
     });
+    d.bendCompliance = kSceneDefaultBendCompliance;  // floppy unless given (scene.hpp)
     opt(j, path, "bend_compliance", [&](const json& v, const std::string& p) { d.bendCompliance = nonNegative(v, p, "bend_compliance"); });
 }
 

@@ -91,6 +91,38 @@ World buildWorld(const Scene& scene, SceneHandles* handles) {
             rethrow(scene, joint.where, "", e);
         }
     }
+    // Ropes and cloths last: attachments name bodies.
+    const auto systemPath = [](const SceneLocation& where, const char* section, std::size_t i) {
+        return where.path.empty() ? std::string(section) + "[" + std::to_string(i) + "]" : where.path;
+    };
+    for (std::size_t i = 0; i < scene.ropes.size(); ++i) {
+        const SceneRope& rope = scene.ropes[i];
+        const std::string path = systemPath(rope.where, "ropes", i);
+        RopeDef def = rope.def;
+        const auto attach = [&](const std::string& name, const char* key) {
+            if (name.empty()) return kWorldBody;
+            const auto it = byName.find(name);
+            if (it == byName.end()) {
+                throw SceneError(scene.sourceName, path + "." + key, rope.where.line, rope.where.column, "unknown body '" + name + "'");
+            }
+            return it->second;
+        };
+        def.attachStart = attach(rope.attachStart, "attach_start");
+        def.attachEnd = attach(rope.attachEnd, "attach_end");
+        try {
+            h.ropes.push_back(world.createRope(def));
+        } catch (const Error& e) {
+            throw SceneError(scene.sourceName, path, rope.where.line, rope.where.column, e.what());
+        }
+    }
+    for (std::size_t i = 0; i < scene.cloths.size(); ++i) {
+        const SceneCloth& cloth = scene.cloths[i];
+        try {
+            h.cloths.push_back(world.createCloth(cloth.def));
+        } catch (const Error& e) {
+            throw SceneError(scene.sourceName, systemPath(cloth.where, "cloths", i), cloth.where.line, cloth.where.column, e.what());
+        }
+    }
     return world;
 }
 

@@ -14,17 +14,18 @@
 namespace fulcrum::detail {
 
 struct CachedPoint {
+    Vec3 localA, localB;         // the surface points in A's and B's body frames (for recycling)
     Vec3 position;               // world, midway between the surfaces, at the step's start
     Real depth = 0;              // at the step's start (positive: overlap)
     Real depthAfter = 0;         // at the step's end, from the bodies' motion (reported to users)
     std::uint32_t featureId = 0;
     Real normalImpulse = 0;      // accumulated over a sub-step (warm start)
     Real maxNormalImpulse = 0;   // largest sub-step impulse of the last step (restitution, events)
-    Vec3 frictionImpulse;        // per-point friction mode: accumulated tangent impulse, world
 };
 
 struct CachedManifold {
     Vec3 normal{0, 1, 0};        // from A to B
+    Vec3 localNormal{0, 1, 0};   // the normal in A's body frame (for recycling)
     std::uint32_t childA = 0, childB = 0;
     std::uint32_t pointCount = 0;
     CachedPoint points[4];
@@ -44,6 +45,8 @@ struct Contact {
     std::uint32_t slotA = 0, slotB = 0;  // slotA's proxy id < slotB's proxy id
     ProxyId proxyA = kNullProxy, proxyB = kNullProxy;
     std::uint32_t nextFree = UINT32_MAX;
+    bool hasPose = false;        // relativePose holds the pose of the last collide()
+    Transform relativePose;      // B's body frame in A's, when collide() last ran
     std::vector<CachedManifold> manifolds;  // capacity kept across reuse: no allocation in steady state
 };
 

@@ -70,6 +70,7 @@ private:
     void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
     void collideContact(WorldImpl& w, Contact& c, Real dt);
+    void updateTouching(WorldImpl& w, Contact& c, bool touching);
 
     BroadPhase broad_;
     std::vector<ProxyId> proxyOfSlot_;

@@ -27,14 +27,14 @@ struct WorldImpl;
 namespace fulcrum::detail {
 
 class ContactManager;
+struct Contact;
 
 struct SolverBody {
     Vec3 v;                     // linear velocity of the centre of mass
     Real invMass = 0;
     Vec3 w;                     // angular velocity, world
-    Real pad = 0;
     Vec3 dp;                    // centre-of-mass displacement since the step's start
-    Quat dq;                    // rotation since the step's start (q = dq q0)
+    Vec3 dtheta;                // rotation since the step's start as a rotation vector (R = exp(dtheta) R0)
     Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
 };
 
@@ -43,16 +43,19 @@ struct Softness {
     Real biasRate = 0, massScale = 1, impulseScale = 0;
 };
 
+// The Jacobians are fixed for the step, so everything that depends only on
+// them is computed once in prepare(): the angular parts r x n and the velocity
+// changes I^-1 (r x n) per unit impulse. The inner loop is then dot products
+// and multiply-adds (measured: pyramid20 solve 2.2 -> see docs/benchmarks.md).
 struct ConstraintPoint {
     Vec3 rA, rB;                // anchor from each centre of mass (world, step start)
-    Real adjustedSeparation = 0;  // s0 - n.(rB - rA): s = n.(dpB + dqB rB - dpA - dqA rA) + this
+    Vec3 rAxn, rBxn;            // rA x n, rB x n
+    Vec3 angA, angB;            // invIA (rA x n), invIB (rB x n)
+    Real baseSeparation = 0;    // s0 at the step's start
     Real normalMass = 0;
     Real normalImpulse = 0;
     Real maxNormalImpulse = 0;
-    Real relativeVelocity = 0;  // normal approach speed before the step (restitution)
-    // Per-point friction mode only.
-    Real tangentMass1 = 0, tangentMass2 = 0;
-    Real tangentImpulse1 = 0, tangentImpulse2 = 0;
+    Real relativeVelocity = 0;  // normal approach speed at impact (restitution)
 };
 
 struct ContactConstraint {
@@ -64,7 +67,9 @@ struct ContactConstraint {
     Softness softness;
     ConstraintPoint points[4];
     // Friction at the manifold's centre: 2D tangent + twist (bepu, Box3D).
-    Vec3 rAc, rBc;
+    Vec3 rAc1, rAc2, rBc1, rBc2;             // rAc x t1, rAc x t2, rBc x t1, rBc x t2
+    Vec3 angA1, angA2, angB1, angB2;         // invI times the above
+    Vec3 twistA, twistB;                     // invIA n, invIB n
     Real k11 = 0, k12 = 0, k22 = 0;          // inverse of the 2x2 tangent effective mass
     Real tangentImpulse1 = 0, tangentImpulse2 = 0;
     Real twistMass = 0, twistImpulse = 0, twistRadius = 0;
@@ -76,9 +81,6 @@ struct SolverSettings {
     Real contactHertz = 30, dampingRatio = 10, pushMaxVelocity = 3, restitutionThreshold = 1;
 };
 
-// Friction model (docs/solver.md has the measurements that chose the default).
-enum class FrictionModel : std::uint8_t { ManifoldCentre, PerPoint };
-
 class ContactSolver {
 public:
     // Grows the per-step buffers for `bodyCount` bodies (at body creation).
@@ -87,7 +89,7 @@ public:
     void prepare(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
     void gatherVelocities(const WorldImpl& w);
     void scatterVelocities(WorldImpl& w) const;
-    // dp and dq of every solver body from its pose now vs the step's start.
+    // dp and dR of every solver body from its pose now vs the step's start.
     void updateDeltas(const WorldImpl& w);
     void warmStart();
     void solve(bool useBias);
@@ -105,7 +107,13 @@ public:
     const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
 
 private:
+    struct PendingConstraint {
+        std::uint32_t contact, manifold, bodyA, bodyB;
+    };
     void colour();
+    template <bool useBias>
+    void solvePass();
+    void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
     std::vector<Vec3> startCom_;
@@ -113,12 +121,12 @@ private:
     std::vector<std::uint32_t> denseOf_;         // solver index -> dense (entry 0 unused)
     std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
     std::vector<ContactConstraint> constraints_;
-    std::vector<ContactConstraint> unordered_;
+    std::vector<PendingConstraint> pending_;
+    std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     Softness contactSoftness_, staticSoftness_;
-    FrictionModel friction_ = FrictionModel::ManifoldCentre;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };
 

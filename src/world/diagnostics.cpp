@@ -53,6 +53,7 @@ EnergyReport World::energy() const {
         const double stretch = len - s.restLength;
         e.potential += 0.5 * s.stiffness * stretch * stretch;
     }
+    detail::addParticleEnergy(w, e.kinetic, e.potential);  // ropes and cloths (world/particle_coupling.hpp)
     e.total = e.kinetic + e.potential;
     return e;
 }
@@ -67,6 +68,11 @@ Vec3 World::linearMomentum() const {
         sum.y += m * w.motion[i].v.y;
         sum.z += m * w.motion[i].v.z;
     }
+    double particleLinear[3] = {0, 0, 0}, particleAngular[3] = {0, 0, 0};
+    detail::addParticleMomentum(w, particleLinear, particleAngular);
+    sum.x += particleLinear[0];
+    sum.y += particleLinear[1];
+    sum.z += particleLinear[2];
     return {static_cast<Real>(sum.x), static_cast<Real>(sum.y), static_cast<Real>(sum.z)};
 }
 
@@ -84,6 +90,11 @@ Vec3 World::angularMomentum() const {
         sum.y += p.mass * orbital.y + spin.y;
         sum.z += p.mass * orbital.z + spin.z;
     }
+    double particleLinear[3] = {0, 0, 0}, particleAngular[3] = {0, 0, 0};
+    detail::addParticleMomentum(w, particleLinear, particleAngular);
+    sum.x += particleAngular[0];
+    sum.y += particleAngular[1];
+    sum.z += particleAngular[2];
     return {static_cast<Real>(sum.x), static_cast<Real>(sum.y), static_cast<Real>(sum.z)};
 }
 

@@ -134,6 +134,8 @@ void WorldImpl::step(Real dt) {
         solver.store(*this, contactManager);
     }
     if (settings.continuousCollision) detail::solveContinuous(*this, solver, contactManager, dt);
+    // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
+    detail::stepParticles(*this, dt);
     sleepManager.update(*this, solver, contactManager, dt);
     contactManager.report(*this);
 

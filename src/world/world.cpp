@@ -185,6 +185,10 @@ BodyId World::createBody(const BodyDef& def) {
     p.restitution = def.restitution;
     p.rollingResistance = def.rollingResistance;
     p.filter = def.filter;
+    if (def.type != BodyType::Static) {
+        const AABB b = def.shape.localBounds();
+        p.extent = length(max(abs(b.min - p.localCom), abs(b.max - p.localCom)));
+    }
     detail::BodyCold c;
     c.name = def.name;
     c.shape = def.shape;
@@ -227,6 +231,7 @@ void World::destroyBody(BodyId id) {
         if (j.alive && (j.def.bodyA == id || j.def.bodyB == id)) destroyJoint({i, j.generation});
     }
 
+    detail::detachParticlesFromBody(w, id.index);  // no particle keeps the slot (world/particle_coupling.hpp)
     w.contactManager.removeBody(w, id.index);
 
     // Swap-remove from the dense arrays.

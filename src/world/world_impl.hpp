@@ -61,6 +61,7 @@
 #include "solver/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/sleep.hpp"
+#include "world/particle_coupling.hpp"
 
 namespace fulcrum {
 
@@ -99,6 +100,7 @@ struct BodyParams {
     Real gravityScale = 1;
     Real friction = Real(0.6), restitution = 0, rollingResistance = 0;
     CollisionFilter filter;
+    Real extent = 0;                 // farthest shape point from the centre of mass (0 for static bodies)
     Real sleepTime = 0;              // seconds spent below the sleep speeds (solver/sleep.hpp)
     std::uint32_t sleepIsland = 0;   // while asleep: the island it fell asleep with (0: none)
 };
@@ -178,6 +180,9 @@ struct WorldImpl {
     detail::ContactSolver contactSolver;
     detail::SleepManager sleepManager;
     bool wasSleeping = true;         // settings.sleeping at the last step (turning it off wakes all)
+
+    // ---- particle systems: ropes and cloths (src/world/particle_coupling.hpp)
+    detail::WorldParticles particles;
 
     // Wakes a non-static body and, if it sleeps, its whole island; resets its sleep timer.
     void wakeBody(std::uint32_t dense);

@@ -7,6 +7,12 @@
 
 #include "dynamics/test_scenes.hpp"
 
+// GCC's sanitizer build inlines the counting new (malloc) and delete (free) and
+// flags the intended pairing.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 namespace {
 std::atomic<bool> gCounting{false};
 std::atomic<long> gAllocations{0};

@@ -114,6 +114,38 @@ const bodies = rec.bodies.map((body) => {
            sleepMaterial: body.parts.map((p) => material(body.sleepColor, p.doubleSided)), asleep: false };
 });
 
+// Ropes (line segments) and cloths (double-sided triangles): a fixed topology
+// whose positions are rewritten every frame from [frame][particle][xyz].
+const particleTracks = (rec.particles ?? []).map((track) => {
+  const count = track.count;
+  const geometry = new BufferGeometry();
+  const position = new BufferAttribute(new Float32Array(count * 3), 3);
+  geometry.setAttribute('position', position);
+  geometry.setIndex(new BufferAttribute(decode(track.indices, Uint32Array), 1));
+  const cloth = track.kind === 'cloth';
+  let object;
+  if (cloth) {
+    geometry.setAttribute('normal', new BufferAttribute(new Float32Array(count * 3), 3));
+    object = new Mesh(geometry, new MeshStandardMaterial({ color: 0xd98c40, roughness: 0.8, metalness: 0.0, side: DoubleSide }));
+  } else {
+    object = new LineSegments(geometry, new LineBasicMaterial({ color: 0xf2e6a6 }));
+  }
+  object.name = track.name;
+  object.frustumCulled = false;  // the bounds change every frame
+  scene.add(object);
+  return { object, geometry, position, cloth, count, frames: decode(track.positions, Float32Array) };
+});
+
+function updateParticles(frame, alpha) {
+  for (const track of particleTracks) {
+    const n = track.count * 3, a = frame * n, out = track.position.array, x = track.frames;
+    const b = alpha > 0 && frame + 1 < frameCount ? a + n : a;
+    for (let k = 0; k < n; k++) out[k] = x[a + k] + (x[b + k] - x[a + k]) * alpha;
+    track.position.needsUpdate = true;
+    if (track.cloth) track.geometry.computeVertexNormals();
+  }
+}
+
 // Overlays: contact points and normals, joints, AABBs; buffers sized for the busiest frame.
 let maxContacts = 0;
 for (let f = 0; f < frameCount; f++) maxContacts = Math.max(maxContacts, contactOffsets[f + 1] - contactOffsets[f]);
@@ -154,7 +186,8 @@ const ui = {
 };
 document.getElementById('title').textContent = rec.title;
 document.getElementById('stats').textContent =
-  `${bodyCount} bodies · ${rec.joints.length} joints · ${frameCount} frames · ${duration.toFixed(3)} s`;
+  `${bodyCount} bodies · ${rec.joints.length} joints · ${particleTracks.length} ropes/cloths · ` +
+  `${frameCount} frames · ${duration.toFixed(3)} s`;
 document.title = rec.title;
 ui.timeline.max = String(Math.max(frameCount - 1, 0));
 
@@ -205,6 +238,7 @@ function update() {
       body.meshes.forEach((m, k) => { m.material = asleep ? body.sleepMaterial[k] : body.awakeMaterial[k]; });
     }
   }
+  updateParticles(frame, alpha);
   // Contacts of the frame shown (not interpolated: they belong to a step).
   const c0 = contactOffsets[frame] ?? 0, c1 = contactOffsets[frame + 1] ?? 0;
   const pts = contactPoints.geometry.attributes.position, nrm = contactNormals.geometry.attributes.position;
@@ -377,6 +411,7 @@ window.fulcrumViewer = {
   objectCount: bodyCount,
   meshCount: bodies.reduce((n, b) => n + b.meshes.length, 0),
   jointCount: rec.joints.length,
+  particleSystemCount: particleTracks.length,
   frameCount,
   duration,
   get frame() { return state.frame; },

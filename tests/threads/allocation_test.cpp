@@ -1,0 +1,110 @@
+// No heap allocation per parallelFor call in steady state: global operator new
+// is counted while gCounting is set (the same technique as
+// tests/world/determinism_and_allocation_test.cpp). The lambdas capture more
+// than std::function's small buffer holds, so a std::function in the path
+// would allocate on every call.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "world/deterministic_parallel.hpp"
+#include "world/thread_pool.hpp"
+
+namespace {
+std::atomic<bool> gCounting{false};
+std::atomic<long> gAllocations{0};
+}  // namespace
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+void* operator new(std::size_t size) {
+    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
+    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace fulcrum;
+
+namespace {
+
+class CountAllocations {
+public:
+    CountAllocations() {
+        gAllocations.store(0);
+        gCounting.store(true);
+    }
+    ~CountAllocations() { gCounting.store(false); }
+    CountAllocations(const CountAllocations&) = delete;
+    CountAllocations& operator=(const CountAllocations&) = delete;
+    long count() const { return gAllocations.load(); }
+};
+
+}  // namespace
+
+TEST(Allocation, ParallelForAllocatesNothingPerCall) {
+    for (std::uint32_t threads : {1u, 2u, 4u}) {
+        for (std::uint32_t spin : {0u, 2000u}) {
+            detail::ThreadPool pool(ThreadPoolDef{threads, spin, 4});
+            std::vector<std::atomic<std::uint32_t>> hits(1000);
+            double a = 1, b = 2, c = 3, d = 4;  // a fat capture
+            auto body = [&, a, b, c, d](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+                for (std::uint32_t i = begin; i < end; ++i) hits[i].fetch_add(a + b + c + d > 0 ? 1u : 0u);
+            };
+            pool.parallelFor(1000, 1, body);  // warm-up (first wake-ups)
+            long allocations = 0;
+            {
+                CountAllocations counter;
+                for (int call = 0; call < 500; ++call) pool.parallelFor(1000, 1 + call % 50, body);
+                allocations = counter.count();
+            }
+            EXPECT_EQ(allocations, 0) << "threads " << threads << " spin " << spin;
+            for (auto& h : hits) ASSERT_EQ(h.load(), 501u);
+        }
+    }
+}
+
+TEST(Allocation, DeterministicPatternsReuseTheirStorage) {
+    detail::ThreadPool pool(ThreadPoolDef{3, 2000, 4});
+    std::vector<float> values(20000, 0.5f);
+    detail::BlockReduction<float> reduction;
+    detail::WorkerBuffers<std::uint32_t> buffers;
+    std::vector<std::uint32_t> merged;
+    auto runBoth = [&] {
+        const float sum = reduction.run(
+            pool, 20000, 128, 0.0f,
+            [&](std::uint32_t begin, std::uint32_t end) {
+                float s = 0;
+                for (std::uint32_t i = begin; i < end; ++i) s += values[i];
+                return s;
+            },
+            [](float x, float y) { return x + y; });
+        buffers.reset(pool.workerCount());
+        pool.parallelFor(20000, 64, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+            auto& out = buffers.beginRange(worker, begin);
+            for (std::uint32_t i = begin; i < end; ++i)
+                if (i % 7 == 0) out.push_back(i);
+        });
+        buffers.mergeInIndexOrder(merged);
+        return sum;
+    };
+    buffers.reset(pool.workerCount());
+    buffers.reserve(20000 / 7 + 1, 20000 / 64);  // the worst case: one worker gets everything
+    runBoth();  // the reduction's partials, merged's capacity
+    long allocations = 0;
+    float sum = 0;
+    {
+        CountAllocations counter;
+        for (int i = 0; i < 50; ++i) sum = runBoth();
+        allocations = counter.count();
+    }
+    EXPECT_EQ(allocations, 0);
+    EXPECT_EQ(sum, 10000.0f);  // 20000 x 0.5, exact in float
+    EXPECT_EQ(merged.size(), 2858u);  // multiples of 7 below 20000
+}
