@@ -75,6 +75,21 @@ void validateSystem(const ParticleSystem& s) {
     detail::particles::requireNonNegative(label, "self_collision_exclusion", s.selfCollisionExclusion);
 }
 
+// Ropes are swept one constraint after another from the end that holds them
+// (xpbd_distance.hpp, "Chains are solved in order"): from the start unless
+// only the last particle is held (pinned or tied to a body). Cloths keep the
+// coloured SIMD sweep.
+detail::DistanceOrder distanceOrder(const ParticleSystem& s) {
+    if (s.kind != ParticleSystemKind::Rope || s.particleCount() < 2) return detail::DistanceOrder::Coloured;
+    const auto held = [&s](std::uint32_t i) {
+        if (s.inverseMass[i] == 0) return true;
+        return std::any_of(s.attachments.begin(), s.attachments.end(),
+                           [i](const ParticleAttachment& a) { return a.particle == i; });
+    };
+    const auto last = static_cast<std::uint32_t>(s.particleCount() - 1);
+    return !held(0) && held(last) ? detail::DistanceOrder::Backward : detail::DistanceOrder::Forward;
+}
+
 }  // namespace
 
 ParticleWorld::ParticleWorld(const ParticleWorldSettings& settings) : settings_(settings) { validateSettings(settings); }
@@ -209,10 +224,11 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
         Slot& slot = *active_[k];
         ParticleSystem& s = *slot.system;
         slot.particles.load(s);
-        slot.stretch.prepare(s.stretch, s.inverseMass, h);
-        slot.shear.prepare(s.shear, s.inverseMass, h);
-        slot.bend.prepare(s.bend, s.inverseMass, h);
-        slot.tethers.prepare(s.tethers, s.inverseMass, h);
+        const detail::DistanceOrder order = distanceOrder(s);
+        slot.stretch.prepare(s.stretch, s.inverseMass, h, order);
+        slot.shear.prepare(s.shear, s.inverseMass, h, order);
+        slot.bend.prepare(s.bend, s.inverseMass, h, order);
+        slot.tethers.prepare(s.tethers, s.inverseMass, h, order);
         extraForces_[k] = detail::hasExtraForces(s, air) ? 1 : 0;
     }
 

@@ -140,8 +140,9 @@ inline void solveFour(ParticleSoA& p, const std::uint32_t* a, const std::uint32_
 
 }  // namespace
 
-void DistanceBatches::rebuild(const DistanceConstraintGroup& group) {
+void DistanceBatches::rebuild(const DistanceConstraintGroup& group, DistanceOrder order) {
     source_ = group.constraints;
+    order_ = order;
     const std::size_t count = source_.size();
     struct Entry {
         std::uint32_t lo, hi, offset, parity, index;
@@ -153,7 +154,7 @@ void DistanceBatches::rebuild(const DistanceConstraintGroup& group) {
     for (std::uint32_t g = 0; g < count; ++g) {
         const DistanceConstraint& c = source_[g];
         particleCount = std::max(particleCount, std::max(c.a, c.b) + 1);
-        if (c.a == c.b) {
+        if (c.a == c.b || order != DistanceOrder::Coloured) {
             sequential.push_back(g);
             continue;
         }
@@ -196,6 +197,7 @@ void DistanceBatches::rebuild(const DistanceConstraintGroup& group) {
     sequentialBegin_ = a_.size();
     colourStart_.push_back(sequentialBegin_);
     std::sort(sequential.begin(), sequential.end());  // in the group's order
+    if (order == DistanceOrder::Backward) std::reverse(sequential.begin(), sequential.end());
     for (std::uint32_t g : sequential) {
         a_.push_back(source_[g].a);
         b_.push_back(source_[g].b);
@@ -225,12 +227,13 @@ void DistanceBatches::rebuild(const DistanceConstraintGroup& group) {
     }
 }
 
-void DistanceBatches::prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep) {
-    bool same = group.constraints.size() == source_.size() && !colourStart_.empty();
+void DistanceBatches::prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep,
+                              DistanceOrder order) {
+    bool same = group.constraints.size() == source_.size() && !colourStart_.empty() && order == order_;
     for (std::size_t g = 0; same && g < source_.size(); ++g) {
         same = group.constraints[g].a == source_[g].a && group.constraints[g].b == source_[g].b;
     }
-    if (!same) rebuild(group);
+    if (!same) rebuild(group, order);
     unilateral_ = group.unilateral;
     alphaTilde_ = group.compliance / (substep * substep);
     for (std::size_t k = 0; k < a_.size(); ++k) {
