@@ -27,14 +27,14 @@ void validateSettings(const ParticleWorldSettings& s) {
 void validateSystem(const ParticleSystem& s) {
     const std::string label = detail::particles::systemLabel(toString(s.kind), s.name);
     const std::size_t n = s.particleCount();
-    if (s.previousPosition.size() != n || s.restPosition.size() != n || s.force.size() != n ||
+    if (s.displacement.size() != n || s.restPosition.size() != n || s.force.size() != n ||
         s.inverseMass.size() != n || s.radius.size() != n) {
         detail::particles::failField(label, "particles", "arrays have different lengths");
     }
     for (std::size_t i = 0; i < n; ++i) {
         const std::string field = "particles[" + std::to_string(i) + "]";
         detail::particles::requireFinite(label, field + ".position", s.position[i]);
-        detail::particles::requireFinite(label, field + ".previous_position", s.previousPosition[i]);
+        detail::particles::requireFinite(label, field + ".displacement", s.displacement[i]);
         detail::particles::requireNonNegative(label, field + ".inverse_mass", s.inverseMass[i]);
         detail::particles::requirePositive(label, field + ".radius", s.radius[i]);
     }
@@ -214,7 +214,7 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
         // (Self-collision keeps its own neighbour list: self_collision.hpp.)
         Real maxMove2 = 0;
         for (std::size_t i = 0; i < sys.particleCount(); ++i) {
-            maxMove2 = std::max(maxMove2, lengthSquared(sys.position[i] - sys.previousPosition[i]));
+            maxMove2 = std::max(maxMove2, lengthSquared(sys.displacement[i]));
         }
         const Real perSecond = sys.previousSubstep > 0 ? dt / sys.previousSubstep : 0;
         travel_.push_back(std::sqrt(maxMove2) * perSecond + gravityTravel);

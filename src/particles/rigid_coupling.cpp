@@ -176,7 +176,7 @@ void RigidCoupling::solveContact(const Candidate& c, Proxy& proxy, const Surface
                            cross(proxy.base.angularVelocity + proxy.extraAngularVelocity, r);
             surfaceMotion = v * substep;
         }
-        const Vec3 rel = (x - p.previousPosition(i)) - surfaceMotion;
+        const Vec3 rel = (x - p.predicted(i)) + p.displacement(i) - surfaceMotion;  // this sub-step's motion
         const Vec3 tangential = rel - normal * dot(rel, normal);
         const Real slip = length(tangential);
         if (slip >= Real(1e-12)) {
