@@ -5,6 +5,7 @@
 #include "fulcrum/joint.hpp"
 #include "fulcrum/math.hpp"
 #include "fulcrum/particles.hpp"
+#include "fulcrum/query.hpp"
 #include "fulcrum/shape.hpp"
 #include "fulcrum/spring.hpp"
 #include "fulcrum/task_system.hpp"

@@ -16,6 +16,7 @@
 #include "fulcrum/error.hpp"
 #include "fulcrum/joint.hpp"
 #include "fulcrum/particles.hpp"
+#include "fulcrum/query.hpp"
 #include "fulcrum/spring.hpp"
 
 namespace fulcrum {
@@ -233,6 +234,45 @@ public:
     std::span<const ContactEvent> sensorBeginEvents() const;   // a body started overlapping a sensor
     std::span<const ContactEvent> sensorEndEvents() const;     // ... stopped overlapping it
     std::span<const JointBreakEvent> jointBreakEvents() const; // joints that broke
+
+    // ---- queries (include/fulcrum/query.hpp, docs/queries.md) ----------------
+    // Read-only and valid at any time between steps: bodies created, moved
+    // (setTransform) or destroyed since the last step are seen as they are now.
+    // Shapes are tested exactly, after a broad-phase cull. Bad input (NaN/inf,
+    // a zero ray, maxFraction outside [0, 1], a negative radius, a shape that
+    // cannot be used) throws fulcrum::Error naming the query and the field.
+    // Results list each body once; overlaps are in creation order (as
+    // bodies()), ray hits by fraction, ties broken by creation order. The
+    // overloads taking `out` clear it and fill it, allocating only when it
+    // must grow.
+    //
+    // Ray casts: the closest hit, or every body the ray enters (its first hit
+    // on each body), sorted by fraction. A ray starting inside a solid shape
+    // hits it at fraction 0.
+    std::optional<RayCastHit> castRay(const Ray& ray, const QueryFilter& filter = {}) const;
+    std::vector<RayCastHit> castRayAll(const Ray& ray, const QueryFilter& filter = {}) const;
+    void castRayAll(const Ray& ray, std::vector<RayCastHit>& out, const QueryFilter& filter = {}) const;
+    // Bodies whose shape's tight bounds (Shape::bounds at the current pose)
+    // overlap `box`; planes are tested as exact half-spaces.
+    std::vector<BodyId> overlapAABB(const AABB& box, const QueryFilter& filter = {}) const;
+    void overlapAABB(const AABB& box, std::vector<BodyId>& out, const QueryFilter& filter = {}) const;
+    // Bodies whose shape truly overlaps (or touches) a sphere / an oriented
+    // box / any non-static-only Shape at a transform (GJK on the convex parts).
+    // Meshes count as surfaces: a shape wholly inside a closed mesh does not overlap it.
+    std::vector<BodyId> overlapSphere(const Vec3& center, Real radius, const QueryFilter& filter = {}) const;
+    void overlapSphere(const Vec3& center, Real radius, std::vector<BodyId>& out, const QueryFilter& filter = {}) const;
+    std::vector<BodyId> overlapBox(const Vec3& center, const Vec3& halfExtents, const Quat& orientation,
+                                   const QueryFilter& filter = {}) const;
+    void overlapBox(const Vec3& center, const Vec3& halfExtents, const Quat& orientation, std::vector<BodyId>& out,
+                    const QueryFilter& filter = {}) const;
+    std::vector<BodyId> overlapShape(const Shape& shape, const Transform& transform, const QueryFilter& filter = {}) const;
+    void overlapShape(const Shape& shape, const Transform& transform, std::vector<BodyId>& out,
+                      const QueryFilter& filter = {}) const;
+    // Sweeps a convex shape (or a compound of convex shapes) from `transform`
+    // along `translation` (no rotation) and returns its first contact with any
+    // body. Starting in contact gives fraction 0.
+    std::optional<ShapeCastHit> castShape(const Shape& shape, const Transform& transform, const Vec3& translation,
+                                          const QueryFilter& filter = {}) const;
 
     WorldImpl& impl() { return *impl_; }               // engine internals (tests, io, tools)
     const WorldImpl& impl() const { return *impl_; }

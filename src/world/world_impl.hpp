@@ -63,6 +63,7 @@
 #include "solver/joint_solver.hpp"
 #include "solver/sleep.hpp"
 #include "world/particle_coupling.hpp"
+#include "world/stray_bodies.hpp"
 
 namespace fulcrum {
 
@@ -192,6 +193,11 @@ struct WorldImpl {
 
     // ---- particle systems: ropes and cloths (src/world/particle_coupling.hpp)
     detail::WorldParticles particles;
+
+    // ---- world queries (src/world/world_queries.cpp): bodies that have left
+    // their broad-phase proxy since it was last moved. Rebuilt lazily per step;
+    // code that moves bodies outside step() and setTransform must invalidate it.
+    detail::StrayBodies strayBodies;
 
     // Wakes a non-static body and, if it sleeps, its whole island; resets its sleep timer.
     void wakeBody(std::uint32_t dense);
