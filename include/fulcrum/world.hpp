@@ -61,6 +61,15 @@ struct ContactEvent {
     BodyId bodyA, bodyB;
 };
 
+// A joint that broke in the last step: its reaction force or torque exceeded
+// JointDef::breakForce / breakTorque. The joint stays valid but disabled.
+struct JointBreakEvent {
+    JointId joint;
+    BodyId bodyA, bodyB;
+    Vec3 force;    // N, on body B, when it broke
+    Vec3 torque;   // N m
+};
+
 struct EnergyReport {
     double kinetic = 0;    // translational + rotational
     double potential = 0;  // gravity (relative to y = 0 along -gravity) + springs
@@ -171,6 +180,21 @@ public:
     const JointDef& jointDef(JointId id) const;       // as created (anchors world space at creation)
     const std::string& name(JointId id) const;
     Real jointError(JointId id) const;                 // position error in metres
+    // Force (N) and torque (N m) the joint applied to body B in the last step
+    // (its accumulated impulses over the sub-step); zero while disabled or asleep.
+    Vec3 jointReactionForce(JointId id) const;
+    Vec3 jointReactionTorque(JointId id) const;
+    // Hinge angle and cone-twist twist (rad), slider translation (m), distance
+    // length (m), measured from the pose at creation; 0 for ball and fixed joints.
+    Real jointPosition(JointId id) const;
+    // A disabled joint is not solved and doesn't keep its bodies from colliding.
+    void setJointEnabled(JointId id, bool enabled);    // re-enabling a broken joint mends it
+    bool isJointEnabled(JointId id) const;
+    bool isJointBroken(JointId id) const;              // broke over its threshold (events below)
+    // Hinge and slider settings after creation (validated as in createJoint; wake the bodies).
+    void setJointMotor(JointId id, const JointMotor& motor);
+    void setJointLimits(JointId id, bool enabled, Real lower, Real upper);
+    void setJointSpring(JointId id, const JointSpring& spring);
 
     // ---- particle systems (Verlet ropes and cloths; docs/particles.md, "In the World")
     // They step inside step() after the rigid bodies, with the world's gravity,
@@ -209,6 +233,7 @@ public:
     std::span<const ContactEvent> contactEndEvents() const;    // pairs that stopped touching (or were destroyed)
     std::span<const ContactEvent> sensorBeginEvents() const;   // a body started overlapping a sensor
     std::span<const ContactEvent> sensorEndEvents() const;     // ... stopped overlapping it
+    std::span<const JointBreakEvent> jointBreakEvents() const; // joints that broke
 
     // ---- queries (include/fulcrum/query.hpp, docs/queries.md) ----------------
     // Read-only and valid at any time between steps: bodies created, moved

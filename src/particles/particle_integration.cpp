@@ -27,9 +27,9 @@ void addAerodynamics(const ParticleSystem& s, const AirSettings& air, Real subst
     const Real halfRho = Real(0.5) * air.density;
     const Real invH = substep > 0 && s.previousSubstep > 0 ? 1 / s.previousSubstep : 0;
     for (const ParticleTriangle& t : s.triangles) {
-        const Vec3 va = (s.position[t.a] - s.previousPosition[t.a]) * invH;
-        const Vec3 vb = (s.position[t.b] - s.previousPosition[t.b]) * invH;
-        const Vec3 vc = (s.position[t.c] - s.previousPosition[t.c]) * invH;
+        const Vec3 va = s.displacement[t.a] * invH;
+        const Vec3 vb = s.displacement[t.b] * invH;
+        const Vec3 vc = s.displacement[t.c] * invH;
         const Vec3 u = air.wind - (va + vb + vc) * (Real(1) / 3);
         const Real speed2 = lengthSquared(u);
         if (speed2 < Real(1e-12)) continue;
@@ -62,7 +62,7 @@ void computeForceAccelerations(const ParticleSystem& s, const AirSettings& air, 
     const Real invH = s.previousSubstep > 0 ? 1 / s.previousSubstep : 0;
     for (std::size_t i = 0; i < n; ++i) {
         Vec3 f = s.force[i];
-        if (s.linearDrag > 0) f -= (s.position[i] - s.previousPosition[i]) * (invH * s.linearDrag);
+        if (s.linearDrag > 0) f -= s.displacement[i] * (invH * s.linearDrag);
         accel[i] = f * s.inverseMass[i];
     }
     for (const ParticleSpring& sp : s.springs) {
@@ -70,7 +70,7 @@ void computeForceAccelerations(const ParticleSystem& s, const AirSettings& air, 
         const Real len = length(d);
         if (len < Real(1e-12)) continue;
         const Vec3 dir = d / len;
-        const Vec3 vRel = ((s.position[sp.b] - s.previousPosition[sp.b]) - (s.position[sp.a] - s.previousPosition[sp.a])) * invH;
+        const Vec3 vRel = (s.displacement[sp.b] - s.displacement[sp.a]) * invH;
         // Force on b; a receives the opposite.
         const Vec3 fb = dir * (-sp.stiffness * (len - sp.restLength) - sp.damping * dot(vRel, dir));
         accel[sp.b] += fb * s.inverseMass[sp.b];
@@ -81,24 +81,43 @@ void computeForceAccelerations(const ParticleSystem& s, const AirSettings& air, 
     }
 }
 
-void predictPositions(ParticleSystem& s, const Vec3& gravity, const std::vector<Vec3>& accel, Real substep) {
-    const std::size_t n = s.particleCount();
-    // Before the first step there is no previous sub-step: x_prev = x, zero velocity.
-    const Real ratio = s.previousSubstep > 0 ? substep / s.previousSubstep : 0;
+void predictPositions(ParticleSystem& s, ParticleSoA& p, const Vec3& gravity, const std::vector<Vec3>& accel,
+                      Real substep) {
+    const std::size_t n = p.size();
+    const bool started = s.previousSubstep > 0;
+    const Real ratio = started ? substep / s.previousSubstep : 0;
     const Real keep = ratio / (1 + substep * s.damping);
-    const Real h2 = substep * substep;
-    Vec3* x = s.position.data();
-    Vec3* xp = s.previousPosition.data();
-    const Real* w = s.inverseMass.data();
-    const bool extra = !accel.empty();
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 xi = x[i];
-        Vec3 next = xi + (xi - xp[i]) * keep;
-        if (w[i] > 0) next += (extra ? gravity + accel[i] : gravity) * h2;
-        xp[i] = xi;
-        x[i] = next;
+    // The first sub-step starts from rest: x_1 = x_0 + a h^2 / 2 (Taylor).
+    // Taking x_{-1} = x_0 instead (a h^2) would give a released particle an
+    // extra a h / 2 of speed: g t^2 / 2 (1 + 1 / n) after n sub-steps.
+    const Real h2 = started ? substep * substep : Real(0.5) * substep * substep;
+    const Real* w = p.w.data();
+    // One coordinate at a time: three simple loops the compiler vectorises.
+    // d + (x - q) is the last sub-step's displacement including its
+    // constraint corrections (particle_soa.hpp).
+    const auto axis = [&](Real* x, Real* q, Real* d, Real g, auto accelOf) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const Real xi = x[i];
+            const Real moved = (d[i] + (xi - q[i])) * keep;
+            const Real next = w[i] > 0 ? moved + (g + accelOf(i)) * h2 : moved;
+            d[i] = next;
+            x[i] = q[i] = xi + next;
+        }
+    };
+    if (accel.empty()) {
+        const auto none = [](std::size_t) { return Real(0); };
+        axis(p.x.data(), p.qx.data(), p.dx.data(), gravity.x, none);
+        axis(p.y.data(), p.qy.data(), p.dy.data(), gravity.y, none);
+        axis(p.z.data(), p.qz.data(), p.dz.data(), gravity.z, none);
+    } else {
+        const Vec3* a = accel.data();
+        axis(p.x.data(), p.qx.data(), p.dx.data(), gravity.x, [a](std::size_t i) { return a[i].x; });
+        axis(p.y.data(), p.qy.data(), p.dy.data(), gravity.y, [a](std::size_t i) { return a[i].y; });
+        axis(p.z.data(), p.qz.data(), p.dz.data(), gravity.z, [a](std::size_t i) { return a[i].z; });
     }
-    for (const ParticlePin& pin : s.pins) x[pin.particle] = pin.target;
+    // A pin places its particle; the jump from the prediction counts as the
+    // particle's displacement (a moved pin carries its velocity).
+    for (const ParticlePin& pin : s.pins) p.setPosition(pin.particle, pin.target);
     s.previousSubstep = substep;
 }
 

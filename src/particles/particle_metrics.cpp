@@ -81,9 +81,7 @@ ParticleEnergy energy(const ParticleSystem& s, const Vec3& gravity) {
     for (std::size_t i = 0; i < s.particleCount(); ++i) {
         if (s.inverseMass[i] == 0) continue;
         const double m = 1.0 / static_cast<double>(s.inverseMass[i]);
-        const double dx = static_cast<double>(s.position[i].x) - s.previousPosition[i].x;
-        const double dy = static_cast<double>(s.position[i].y) - s.previousPosition[i].y;
-        const double dz = static_cast<double>(s.position[i].z) - s.previousPosition[i].z;
+        const double dx = s.displacement[i].x, dy = s.displacement[i].y, dz = s.displacement[i].z;
         e.kinetic += 0.5 * m * (dx * dx + dy * dy + dz * dz) * invH * invH;
         e.potential -= m * (static_cast<double>(gravity.x) * s.position[i].x + static_cast<double>(gravity.y) * s.position[i].y +
                             static_cast<double>(gravity.z) * s.position[i].z);
@@ -104,9 +102,9 @@ Vec3 linearMomentum(const ParticleSystem& s) {
     for (std::size_t i = 0; i < s.particleCount(); ++i) {
         if (s.inverseMass[i] == 0) continue;
         const double m = 1.0 / static_cast<double>(s.inverseMass[i]);
-        px += m * (static_cast<double>(s.position[i].x) - s.previousPosition[i].x) * invH;
-        py += m * (static_cast<double>(s.position[i].y) - s.previousPosition[i].y) * invH;
-        pz += m * (static_cast<double>(s.position[i].z) - s.previousPosition[i].z) * invH;
+        px += m * static_cast<double>(s.displacement[i].x) * invH;
+        py += m * static_cast<double>(s.displacement[i].y) * invH;
+        pz += m * static_cast<double>(s.displacement[i].z) * invH;
     }
     return {static_cast<Real>(px), static_cast<Real>(py), static_cast<Real>(pz)};
 }

@@ -37,7 +37,7 @@ std::uint32_t addParticle(ParticleSystem& system, const Vec3& position, Real mas
     detail::particles::requirePositive(label, "radius", radius);
     const auto index = static_cast<std::uint32_t>(system.particleCount());
     system.position.push_back(position);
-    system.previousPosition.push_back(position);
+    system.displacement.push_back(Vec3::zero());
     system.restPosition.push_back(position);
     system.force.push_back(Vec3::zero());
     system.inverseMass.push_back(mass > 0 ? 1 / mass : 0);
@@ -55,14 +55,14 @@ void setParticlePosition(ParticleSystem& system, std::uint32_t particle, const V
     requireParticle(system, particle, "particle");
     detail::particles::requireFinite(labelOf(system), "position", position);
     system.position[particle] = position;
-    system.previousPosition[particle] = position;
+    system.displacement[particle] = Vec3::zero();
 }
 
 void setParticleVelocity(ParticleSystem& system, std::uint32_t particle, const Vec3& velocity, Real substep) {
     requireParticle(system, particle, "particle");
     detail::particles::requireFinite(labelOf(system), "velocity", velocity);
     detail::particles::requirePositive(labelOf(system), "substep", substep);
-    system.previousPosition[particle] = system.position[particle] - velocity * substep;
+    system.displacement[particle] = velocity * substep;
     system.previousSubstep = substep;
 }
 

@@ -27,14 +27,14 @@ void validateSettings(const ParticleWorldSettings& s) {
 void validateSystem(const ParticleSystem& s) {
     const std::string label = detail::particles::systemLabel(toString(s.kind), s.name);
     const std::size_t n = s.particleCount();
-    if (s.previousPosition.size() != n || s.restPosition.size() != n || s.force.size() != n ||
+    if (s.displacement.size() != n || s.restPosition.size() != n || s.force.size() != n ||
         s.inverseMass.size() != n || s.radius.size() != n) {
         detail::particles::failField(label, "particles", "arrays have different lengths");
     }
     for (std::size_t i = 0; i < n; ++i) {
         const std::string field = "particles[" + std::to_string(i) + "]";
         detail::particles::requireFinite(label, field + ".position", s.position[i]);
-        detail::particles::requireFinite(label, field + ".previous_position", s.previousPosition[i]);
+        detail::particles::requireFinite(label, field + ".displacement", s.displacement[i]);
         detail::particles::requireNonNegative(label, field + ".inverse_mass", s.inverseMass[i]);
         detail::particles::requirePositive(label, field + ".radius", s.radius[i]);
     }
@@ -73,6 +73,21 @@ void validateSystem(const ParticleSystem& s) {
     detail::particles::requireNonNegative(label, "drag_coefficient", s.dragCoefficient);
     detail::particles::requireFinite(label, "lift_coefficient", s.liftCoefficient);
     detail::particles::requireNonNegative(label, "self_collision_exclusion", s.selfCollisionExclusion);
+}
+
+// Ropes are swept one constraint after another from the end that holds them
+// (xpbd_distance.hpp, "Chains are solved in order"): from the start unless
+// only the last particle is held (pinned or tied to a body). Cloths keep the
+// coloured SIMD sweep.
+detail::DistanceOrder distanceOrder(const ParticleSystem& s) {
+    if (s.kind != ParticleSystemKind::Rope || s.particleCount() < 2) return detail::DistanceOrder::Coloured;
+    const auto held = [&s](std::uint32_t i) {
+        if (s.inverseMass[i] == 0) return true;
+        return std::any_of(s.attachments.begin(), s.attachments.end(),
+                           [i](const ParticleAttachment& a) { return a.particle == i; });
+    };
+    const auto last = static_cast<std::uint32_t>(s.particleCount() - 1);
+    return !held(0) && held(last) ? detail::DistanceOrder::Backward : detail::DistanceOrder::Forward;
 }
 
 }  // namespace
@@ -189,64 +204,63 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
     std::sort(active_.begin(), active_.end(), [](const Slot* a, const Slot* b) { return a->order < b->order; });
     activeSystems_.clear();
     travel_.clear();
-    relativeTravel_.clear();
+    extraForces_.assign(active_.size(), 0);
     const Real gravityTravel = length(settings_.gravity) * dt * dt;
     for (Slot* s : active_) {
         ParticleSystem& sys = *s->system;
         activeSystems_.push_back(&sys);
         // How far a particle can get this step: its current speed, plus what
-        // gravity adds; rigid contacts within that margin are gathered. For
-        // self-collision only relative motion matters: two particles close in
-        // by at most |v_a - v_b| dt <= 2 max|v - v_mean| dt (gravity, uniform,
-        // cancels), which for a falling cloth is far less than its speed.
+        // gravity adds; rigid contacts within that margin are gathered.
+        // (Self-collision keeps its own neighbour list: self_collision.hpp.)
         Real maxMove2 = 0;
-        Vec3 meanMove = Vec3::zero();
         for (std::size_t i = 0; i < sys.particleCount(); ++i) {
-            const Vec3 move = sys.position[i] - sys.previousPosition[i];
-            maxMove2 = std::max(maxMove2, lengthSquared(move));
-            meanMove += move;
-        }
-        if (sys.particleCount() > 0) meanMove /= static_cast<Real>(sys.particleCount());
-        Real maxRelative2 = 0;
-        for (std::size_t i = 0; i < sys.particleCount(); ++i) {
-            maxRelative2 = std::max(maxRelative2, lengthSquared(sys.position[i] - sys.previousPosition[i] - meanMove));
+            maxMove2 = std::max(maxMove2, lengthSquared(sys.displacement[i]));
         }
         const Real perSecond = sys.previousSubstep > 0 ? dt / sys.previousSubstep : 0;
         travel_.push_back(std::sqrt(maxMove2) * perSecond + gravityTravel);
-        // 10 % slack for velocity changes within the step.
-        relativeTravel_.push_back(Real(2.2) * std::sqrt(maxRelative2) * perSecond);
     }
     if (collider) coupling_.beginStep(*collider, activeSystems_, travel_);
-    for (std::size_t k = 0; k < active_.size(); ++k) active_[k]->selfCollision.findPairs(*activeSystems_[k], relativeTravel_[k]);
+    for (std::size_t k = 0; k < active_.size(); ++k) {
+        Slot& slot = *active_[k];
+        ParticleSystem& s = *slot.system;
+        slot.particles.load(s);
+        const detail::DistanceOrder order = distanceOrder(s);
+        slot.stretch.prepare(s.stretch, s.inverseMass, h, order);
+        slot.shear.prepare(s.shear, s.inverseMass, h, order);
+        slot.bend.prepare(s.bend, s.inverseMass, h, order);
+        slot.tethers.prepare(s.tethers, s.inverseMass, h, order);
+        extraForces_[k] = detail::hasExtraForces(s, air) ? 1 : 0;
+    }
 
     for (int sub = 0; sub < substeps; ++sub) {
         if (collider) coupling_.beginSubstep(sub, substeps, h);
         for (std::size_t k = 0; k < active_.size(); ++k) {
             Slot& slot = *active_[k];
             ParticleSystem& s = *slot.system;
-            if (detail::hasExtraForces(s, air)) {
+            detail::ParticleSoA& p = slot.particles;
+            if (extraForces_[k]) {
+                p.store(s);  // forces read the system's positions (rare path: springs, drag, wind, user forces)
                 detail::computeForceAccelerations(s, air, h, slot.accel);
-                detail::predictPositions(s, settings_.gravity, slot.accel, h);
+                detail::predictPositions(s, p, settings_.gravity, slot.accel, h);
             } else {
                 static const std::vector<Vec3> kNone;
-                detail::predictPositions(s, settings_.gravity, kNone, h);
+                detail::predictPositions(s, p, settings_.gravity, kNone, h);
             }
-            detail::resetMultipliers(s.stretch);
-            detail::resetMultipliers(s.shear);
-            detail::resetMultipliers(s.bend);
-            detail::resetMultipliers(s.tethers);
+            slot.selfCollision.update(s, p);
             coupling_.resetAttachmentMultipliers(s);
             for (int it = 0; it < settings_.iterations; ++it) {
-                detail::solveDistanceGroup(s, s.stretch, h);
-                detail::solveDistanceGroup(s, s.shear, h);
-                detail::solveDistanceGroup(s, s.bend, h);
-                detail::solveDistanceGroup(s, s.tethers, h);
-                if (collider) coupling_.solveAttachments(s, h);
-                slot.selfCollision.solve(s);
-                if (collider) coupling_.solveContacts(k, s, h);
+                const bool first = it == 0;
+                slot.stretch.solve(p, first);
+                slot.shear.solve(p, first);
+                slot.bend.solve(p, first);
+                slot.tethers.solve(p, first);
+                if (collider) coupling_.solveAttachments(s, p, h);
+                slot.selfCollision.solve(p);
+                if (collider) coupling_.solveContacts(k, s, p, h);
             }
         }
     }
+    for (Slot* slot : active_) slot->particles.store(*slot->system);
     if (collider) coupling_.endStep(*collider);
     for (ParticleSystem* s : activeSystems_) std::fill(s->force.begin(), s->force.end(), Vec3::zero());
 }

@@ -15,8 +15,9 @@
 //   4. the proxies of pushed bodies advance.
 // After the sub-steps the bodies receive the impulses, user forces are cleared.
 //
-// Broad-phase work happens once per step: one shape query per system, one
-// self-collision pair search per system (with a travel margin). Systems are
+// Broad-phase work happens once per step: one shape query per system (with a
+// travel margin); self-collision re-searches its pairs only when particles
+// have moved far enough to need it (self_collision.hpp). Systems are
 // stepped in creation order, one thread: the result is deterministic.
 #include <cstdint>
 #include <memory>
@@ -24,10 +25,12 @@
 
 #include "fulcrum/particles.hpp"
 #include "particles/particle_integration.hpp"
+#include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
 #include "particles/rigid_collider.hpp"
 #include "particles/rigid_coupling.hpp"
 #include "particles/self_collision.hpp"
+#include "particles/xpbd_distance.hpp"
 
 namespace fulcrum {
 
@@ -74,6 +77,9 @@ private:
         std::uint64_t order = 0;                 // creation order, for deterministic stepping
         detail::SelfCollision selfCollision;
         std::vector<Vec3> accel;                 // scratch
+        detail::ParticleSoA particles;           // the step's working copy of the positions
+        // The system's constraint groups, coloured for SIMD (xpbd_distance.hpp).
+        detail::DistanceBatches stretch, shear, bend, tethers;
     };
     Slot& slotOf(ParticleSystemId id);
     const Slot& slotOf(ParticleSystemId id) const;
@@ -87,7 +93,7 @@ private:
     std::vector<Slot*> active_;
     std::vector<ParticleSystem*> activeSystems_;
     std::vector<Real> travel_;
-    std::vector<Real> relativeTravel_;
+    std::vector<std::uint8_t> extraForces_;
 };
 
 }  // namespace fulcrum

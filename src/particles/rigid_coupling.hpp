@@ -23,8 +23,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
 #include "particles/rigid_collider.hpp"
+#include "particles/shape_query_adapter.hpp"
 
 namespace fulcrum::detail {
 
@@ -35,10 +37,10 @@ public:
     // `systems` are the live systems in stepping order; `margin[k]` is how far
     // system k's particles may travel this step.
     void beginStep(RigidCollider& collider, const std::vector<ParticleSystem*>& systems, const std::vector<Real>& margin);
-    // Contacts of system k against its gathered shapes.
-    void solveContacts(std::size_t k, ParticleSystem& system, Real substep);
+    // Contacts of system k (its step working copy `particles`) against its gathered shapes.
+    void solveContacts(std::size_t k, const ParticleSystem& system, ParticleSoA& particles, Real substep);
     // Attachments of system k (two-way for dynamic bodies).
-    void solveAttachments(ParticleSystem& system, Real substep);
+    void solveAttachments(ParticleSystem& system, ParticleSoA& particles, Real substep);
     void resetAttachmentMultipliers(ParticleSystem& system);
     // Advances the proxies by the velocity the particles gave them and places
     // the bodies on their path at the end of sub-step `index` of `count`.
@@ -69,6 +71,7 @@ private:
         Transform transform;          // of the shape at the step's start
         AABB bounds;                  // fattened by particle radius and travel
         Real friction = 0;
+        std::size_t nearBegin = 0, nearEnd = 0;  // static shapes: particles near it this step (near_)
     };
     struct Range {
         std::size_t begin = 0, end = 0;
@@ -80,12 +83,15 @@ private:
     Vec3 currentCenter(const Proxy& p) const { return transformPoint(p.path, p.localCenter) + p.deltaPosition; }
     Real inverseMassAt(const Proxy& p, const Vec3& point, const Vec3& direction) const;
     void applyCorrection(Proxy& p, const Vec3& positionalImpulse, const Vec3& point, Real substep);
+    void solveContact(const Candidate& c, Proxy& proxy, const SurfacePoint& q, Real mu, ParticleSoA& particles,
+                      std::size_t i, Real radius, Real substep);
 
     friend class CandidateGatherer;
     std::vector<Proxy> proxies_;
     std::vector<std::int32_t> proxyOfBody_;  // body index -> proxy slot, -1 when none
     std::vector<Candidate> candidates_;
     std::vector<Range> ranges_;              // per system
+    std::vector<std::uint32_t> near_;        // particle lists of the static candidates
 };
 
 }  // namespace fulcrum::detail

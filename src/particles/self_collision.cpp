@@ -1,86 +1,157 @@
 #include "particles/self_collision.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 namespace fulcrum::detail {
 
-std::uint32_t SelfCollision::bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
-    // Teschner's hash with unsigned arithmetic (wrap-around is defined).
-    const auto ux = static_cast<std::uint32_t>(ix), uy = static_cast<std::uint32_t>(iy), uz = static_cast<std::uint32_t>(iz);
-    const std::uint32_t h = (ux * 92837111u) ^ (uy * 689287499u) ^ (uz * 283923481u);
-    return h % static_cast<std::uint32_t>(cellStart_.size() - 1);
+
+bool SelfCollision::listStillComplete(const ParticleSoA& p) const {
+    const std::size_t n = p.size();
+    if (builtX_.size() != n) return false;
+    double mx = 0, my = 0, mz = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        mx += static_cast<double>(p.x[i] - builtX_[i]);
+        my += static_cast<double>(p.y[i] - builtY_[i]);
+        mz += static_cast<double>(p.z[i] - builtZ_[i]);
+    }
+    const double inv = 1.0 / static_cast<double>(n);
+    const auto meanX = static_cast<Real>(mx * inv), meanY = static_cast<Real>(my * inv), meanZ = static_cast<Real>(mz * inv);
+    // Complete while every |d_i - mean| < skin / 2; 0.4 leaves a fifth of the
+    // skin for the corrections of the sub-step about to be solved.
+    const Real limit = Real(0.4) * skin_;
+    const Real limit2 = limit * limit;
+    Real worst2 = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Real dx = p.x[i] - builtX_[i] - meanX, dy = p.y[i] - builtY_[i] - meanY, dz = p.z[i] - builtZ_[i] - meanZ;
+        worst2 = std::max(worst2, dx * dx + dy * dy + dz * dz);
+    }
+    return worst2 < limit2;
 }
 
-void SelfCollision::findPairs(const ParticleSystem& s, Real travel) {
+void SelfCollision::update(const ParticleSystem& s, const ParticleSoA& p) {
+    if (!s.selfCollision || p.size() < 2) {
+        pairs_.clear();
+        valid_ = false;
+        return;
+    }
+    if (valid_ && listStillComplete(p)) return;
+    findPairs(s, p);
+}
+
+void SelfCollision::findPairs(const ParticleSystem& s, const ParticleSoA& p) {
+    ++searches_;
+    valid_ = true;
     pairs_.clear();
-    const std::size_t n = s.particleCount();
-    if (!s.selfCollision || n < 2) return;
+    const std::size_t n = p.size();
     Real maxRadius = 0;
     for (Real r : s.radius) maxRadius = std::max(maxRadius, r);
-    const Real reach = 2 * maxRadius + travel;  // farthest pair that can touch during the step
-    cellSize_ = reach;
-    const std::size_t tableSize = 2 * n;
-    cellStart_.assign(tableSize + 1, 0);  // same size every step: no reallocation
-    cellEntries_.resize(n);
-    bucket_.resize(n);
-    cell_.resize(n);
-    const Real inv = 1 / cellSize_;
-    const auto cellCoord = [inv](Real v) { return static_cast<std::int64_t>(std::floor(v * inv)); };
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3& p = s.position[i];
-        cell_[i] = {cellCoord(p.x), cellCoord(p.y), cellCoord(p.z)};
-        bucket_[i] = bucketOf(cell_[i][0], cell_[i][1], cell_[i][2]);
-        ++cellStart_[bucket_[i]];
-    }
-    // Inclusive prefix sums: cellStart_[b] = end of bucket b; then fill
-    // backwards, decrementing, so cellStart_[b] ends at the start of bucket b
-    // and each bucket lists its particles in ascending order (determinism).
-    for (std::size_t b = 1; b < tableSize; ++b) cellStart_[b] += cellStart_[b - 1];
-    cellStart_[tableSize] = static_cast<std::uint32_t>(n);
-    for (std::size_t i = n; i-- > 0;) cellEntries_[--cellStart_[bucket_[i]]] = static_cast<std::uint32_t>(i);
+    // The skin trades searches for list length: 2r (one particle diameter)
+    // is searched ~once per step while the 64 x 64 cloth slides off the
+    // sphere, and rarely once it rests. (Search cost grows with the cell
+    // area, (2r + skin)^2, the search rate falls as 1/skin: 2r is the optimum.)
+    skin_ = 2 * maxRadius;
+    const Real reach = 2 * maxRadius + skin_;  // farthest pair that can touch before the next search
+    builtX_.assign(p.x.begin(), p.x.end());
+    builtY_.assign(p.y.begin(), p.y.end());
+    builtZ_.assign(p.z.begin(), p.z.end());
 
+    // A dense grid over the system's bounding box, one empty cell of padding
+    // on every side (so neighbour cells need no bounds checks). Cells of
+    // size >= reach: touching pairs are in the same or adjacent cells. A
+    // scattered system gets coarser cells rather than a huge table.
+    Vec3 lo = p.position(0), hi = lo;
+    for (std::size_t i = 1; i < n; ++i) {
+        lo = min(lo, p.position(i));
+        hi = max(hi, p.position(i));
+    }
+    Real cell = reach;
+    std::size_t gx = 0, gy = 0, gz = 0;
+    const double cellLimit = 16.0 * static_cast<double>(n) + 4096.0;
+    for (;;) {
+        const auto dim = [cell](Real extent) { return static_cast<double>(std::floor(extent / cell)) + 3.0; };
+        const double cells = dim(hi.x - lo.x) * dim(hi.y - lo.y) * dim(hi.z - lo.z);
+        if (cells <= cellLimit) {
+            gx = static_cast<std::size_t>(dim(hi.x - lo.x));
+            gy = static_cast<std::size_t>(dim(hi.y - lo.y));
+            gz = static_cast<std::size_t>(dim(hi.z - lo.z));
+            break;
+        }
+        cell *= 2;
+    }
+    const std::size_t cells = gx * gy * gz;
+    const Real inv = 1 / cell;
+    cellStart_.assign(cells + 1, 0);
+    cellOf_.resize(n);
+    sortedIndex_.resize(n);
+    sortedX_.resize(n); sortedY_.resize(n); sortedZ_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto ix = static_cast<std::size_t>((p.x[i] - lo.x) * inv) + 1;
+        const auto iy = static_cast<std::size_t>((p.y[i] - lo.y) * inv) + 1;
+        const auto iz = static_cast<std::size_t>((p.z[i] - lo.z) * inv) + 1;
+        cellOf_[i] = static_cast<std::uint32_t>(ix + gx * (iy + gy * iz));
+        ++cellStart_[cellOf_[i]];
+    }
+    // Counting sort (exclusive prefix sums, then fill in index order: each
+    // cell lists its particles in ascending order - deterministic).
+    std::uint32_t running = 0;
+    for (std::size_t c = 0; c <= cells; ++c) {
+        const std::uint32_t count = cellStart_[c];
+        cellStart_[c] = running;
+        running += count;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t k = cellStart_[cellOf_[i]]++;
+        sortedIndex_[k] = static_cast<std::uint32_t>(i);
+        sortedX_[k] = p.x[i]; sortedY_[k] = p.y[i]; sortedZ_[k] = p.z[i];
+    }
+    for (std::size_t c = cells; c-- > 0;) cellStart_[c + 1] = cellStart_[c];
+    cellStart_[0] = 0;
+
+    // Each pair once: a particle looks at the rest of its own row of three
+    // cells (x - 1 .. x + 1) after itself in sorted order, and at four of
+    // the eight neighbouring rows (the "forward" half); the other half sees
+    // it from the other side. Rows are contiguous in the sorted arrays.
+    const std::size_t rowY = gx, rowZ = gx * gy;
+    const std::size_t forwardRows[4] = {rowY, rowZ - rowY, rowZ, rowZ + rowY};
     const Real exclusion2 = s.selfCollisionExclusion * s.selfCollisionExclusion;
     const Real reach2 = reach * reach;
-    for (std::size_t a = 0; a < n; ++a) {
-        const Vec3& pa = s.position[a];
-        const std::int64_t cx = cell_[a][0], cy = cell_[a][1], cz = cell_[a][2];
-        for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            for (std::int64_t dy = -1; dy <= 1; ++dy) {
-                for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                    const std::array<std::int64_t, 3> cell{cx + dx, cy + dy, cz + dz};
-                    const std::uint32_t bucket = bucketOf(cell[0], cell[1], cell[2]);
-                    for (std::uint32_t e = cellStart_[bucket]; e < cellStart_[bucket + 1]; ++e) {
-                        const std::uint32_t b = cellEntries_[e];
-                        if (b <= a) continue;  // each pair once, owned by its lower index
-                        // Several cells share a bucket: take b only from its own cell, so
-                        // it is seen once (cheaper than de-duplicating buckets or pairs).
-                        if (cell_[b] != cell) continue;
-                        if (s.inverseMass[a] == 0 && s.inverseMass[b] == 0) continue;
-                        if (lengthSquared(s.position[b] - pa) > reach2) continue;
-                        if (lengthSquared(s.restPosition[b] - s.restPosition[a]) < exclusion2) continue;
-                        pairs_.push_back({static_cast<std::uint32_t>(a), b, s.radius[a] + s.radius[b]});
-                    }
-                }
-            }
+    const Real* w = p.w.data();
+    const auto consider = [&](std::uint32_t a, std::size_t k, Real ax, Real ay, Real az) {
+        const Real ex = sortedX_[k] - ax, ey = sortedY_[k] - ay, ez = sortedZ_[k] - az;
+        if (ex * ex + ey * ey + ez * ez > reach2) return;
+        const std::uint32_t b = sortedIndex_[k];
+        if (w[a] == 0 && w[b] == 0) return;
+        if (lengthSquared(s.restPosition[b] - s.restPosition[a]) < exclusion2) return;
+        pairs_.push_back({std::min(a, b), std::max(a, b), s.radius[a] + s.radius[b]});
+    };
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::uint32_t a = sortedIndex_[k];
+        const Real ax = sortedX_[k], ay = sortedY_[k], az = sortedZ_[k];
+        const std::size_t c = cellOf_[a];
+        for (std::size_t e = k + 1; e < cellStart_[c + 2]; ++e) consider(a, e, ax, ay, az);
+        for (const std::size_t offset : forwardRows) {
+            const std::size_t r = c + offset;
+            for (std::size_t e = cellStart_[r - 1]; e < cellStart_[r + 2]; ++e) consider(a, e, ax, ay, az);
         }
     }
 }
 
-void SelfCollision::solve(ParticleSystem& s) const {
-    Vec3* x = s.position.data();
-    const Real* w = s.inverseMass.data();
-    for (const Pair& p : pairs_) {
-        const Vec3 d = x[p.a] - x[p.b];
-        const Real dist2 = lengthSquared(d);
-        if (dist2 >= p.minDistance * p.minDistance || dist2 < Real(1e-24)) continue;
+void SelfCollision::solve(ParticleSoA& p) const {
+    Real* x = p.x.data();
+    Real* y = p.y.data();
+    Real* z = p.z.data();
+    const Real* w = p.w.data();
+    for (const Pair& pair : pairs_) {
+        const std::uint32_t a = pair.a, b = pair.b;
+        const Real dx = x[a] - x[b], dy = y[a] - y[b], dz = z[a] - z[b];
+        const Real dist2 = dx * dx + dy * dy + dz * dz;
+        if (dist2 >= pair.minDistance * pair.minDistance || dist2 < Real(1e-24)) continue;
         const Real dist = std::sqrt(dist2);
-        const Real C = dist - p.minDistance;  // < 0
-        const Real dLambda = -C / (w[p.a] + w[p.b]);
-        const Vec3 n = d * (dLambda / dist);
-        x[p.a] += n * w[p.a];
-        x[p.b] -= n * w[p.b];
+        const Real C = dist - pair.minDistance;  // < 0
+        const Real s = (-C / (w[a] + w[b])) / dist;
+        x[a] += dx * s * w[a]; y[a] += dy * s * w[a]; z[a] += dz * s * w[a];
+        x[b] -= dx * s * w[b]; y[b] -= dy * s * w[b]; z[b] -= dz * s * w[b];
     }
 }
 

@@ -31,7 +31,7 @@ bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
     const BodyParams& pb = w.params[w.bodySlots[slotB].dense];
     if (pa.isSensor && pb.isSensor) return false;
     for (const JointData& j : w.joints) {
-        if (!j.alive || j.def.collideConnected) continue;
+        if (!j.alive || !j.enabled || j.def.collideConnected) continue;
         const std::uint32_t ja = j.def.bodyA.isNull() ? UINT32_MAX : j.def.bodyA.index;
         const std::uint32_t jb = j.def.bodyB.isNull() ? UINT32_MAX : j.def.bodyB.index;
         if ((ja == slotA && jb == slotB) || (ja == slotB && jb == slotA)) return false;

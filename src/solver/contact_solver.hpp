@@ -102,6 +102,7 @@ public:
     const std::vector<ContactConstraint>& constraints() const { return constraints_; }
     const std::vector<std::uint32_t>& denseOfSolverBody() const { return denseOf_; }
     const std::vector<SolverBody>& bodies() const { return bodies_; }
+    std::vector<SolverBody>& mutableBodies() { return bodies_; }  // the joint solver works on the same bodies
     std::uint32_t solverIndexOf(std::uint32_t dense) const { return dense < solverOfDense_.size() ? solverOfDense_[dense] : 0; }
     const Vec3& startCom(std::uint32_t i) const { return startCom_[i]; }
     const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }

@@ -48,7 +48,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
         if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
     }
     for (const JointData& j : w.joints) {
-        if (!j.alive || j.def.bodyA.isNull() || j.def.bodyB.isNull()) continue;
+        if (!j.alive || !j.enabled || j.def.bodyA.isNull() || j.def.bodyB.isNull()) continue;
         const std::uint32_t da = w.bodySlots[j.def.bodyA.index].dense;
         const std::uint32_t db = w.bodySlots[j.def.bodyB.index].dense;
         const bool awakeA = w.params[da].awake, awakeB = w.params[db].awake;

@@ -145,8 +145,8 @@ void addParticleMomentum(const WorldImpl& w, double linear[3], double angular[3]
             if (s.inverseMass[i] == 0) continue;  // pinned: held by the world, like a static body
             const double m = 1.0 / static_cast<double>(s.inverseMass[i]);
             const double x[3] = {s.position[i].x, s.position[i].y, s.position[i].z};
-            const double p[3] = {m * (x[0] - s.previousPosition[i].x) * invH, m * (x[1] - s.previousPosition[i].y) * invH,
-                                 m * (x[2] - s.previousPosition[i].z) * invH};
+            const Vec3& d = s.displacement[i];  // x - x_prev over the last sub-step
+            const double p[3] = {m * d.x * invH, m * d.y * invH, m * d.z * invH};
             for (int c = 0; c < 3; ++c) linear[c] += p[c];
             angular[0] += x[1] * p[2] - x[2] * p[1];
             angular[1] += x[2] * p[0] - x[0] * p[2];

@@ -94,7 +94,12 @@ void WorldImpl::step(Real dt) {
     // Constraints are prepared once per step on the step's start configuration.
     detail::ContactSolver& solver = contactSolver;
     solver.prepare(*this, contactManager, dt, h);
+    // Joints work on the contact solver's bodies, in the same passes, before
+    // the contacts (Box2D v3's order; docs/joints.md has the measurements).
+    jointSolver.prepare(*this, solver, h);
     const bool hasContacts = solver.constraintCount() > 0;
+    const bool hasJoints = jointSolver.constraintCount() > 0;
+    const bool hasConstraints = hasContacts || hasJoints;
     const int iterations = settings.solverIterations;
 
     const double t0 = time;
@@ -106,18 +111,25 @@ void WorldImpl::step(Real dt) {
         // Stage 2
         detail::integrateVelocities(*this, method, h);
         // Stage 3: warm start and solve with soft position bias.
-        if (hasContacts) {
+        if (hasConstraints) {
             solver.gatherVelocities(*this);
+            jointSolver.warmStart();
             solver.warmStart();
-            for (int it = 0; it < iterations; ++it) solver.solve(true);
+            for (int it = 0; it < iterations; ++it) {
+                jointSolver.solve(true);
+                solver.solve(true);
+            }
             solver.scatterVelocities(*this);
         }
         // Stage 4
         detail::integratePositions(*this, method, h);
+        // Joints: put the anchors back together at the position level.
+        if (hasJoints) jointSolver.projectPositions(*this);
         // Relax: the bias-free pass removes the velocity the soft push added.
-        if (hasContacts) {
+        if (hasConstraints) {
             solver.updateDeltas(*this);
             solver.gatherVelocities(*this);
+            jointSolver.solve(false);
             solver.solve(false);
             solver.scatterVelocities(*this);
         }
@@ -133,6 +145,8 @@ void WorldImpl::step(Real dt) {
         solver.scatterVelocities(*this);
         solver.store(*this, contactManager);
     }
+    // Joint impulses for warm starting, reaction forces, breaking.
+    if (hasJoints) jointSolver.store(*this);
     if (settings.continuousCollision) detail::solveContinuous(*this, solver, contactManager, dt);
     // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
     detail::stepParticles(*this, dt);

@@ -60,6 +60,7 @@
 #include "fulcrum/world.hpp"
 #include "solver/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
+#include "solver/joint_solver.hpp"
 #include "solver/sleep.hpp"
 #include "world/particle_coupling.hpp"
 #include "world/stray_bodies.hpp"
@@ -133,6 +134,13 @@ struct JointData {
     Vec3 localAnchorA, localAnchorB; // from each body's centre of mass, body axes (world point for the world)
     Vec3 localAxisA, localAxisB;     // unit axis in each body's axes (world axis for the world)
     Real minLength = 0, maxLength = 0;  // distance joints, resolved (no negative "use creation" values)
+    // Joint solver runtime (src/solver/joint_solver.hpp).
+    Quat relativeRotation;           // conj(qA) qB at creation: the rest pose angles are measured from
+    Real restLength = 0;             // soft distance joints: the spring's rest length
+    bool enabled = true;             // false once broken or disabled by the user
+    bool broken = false;
+    JointImpulses impulses;          // accumulated sub-step impulses (warm starting)
+    Vec3 reactionForce, reactionTorque;  // on B, last step
 };
 
 // Scratch of the integrators, one entry per dense body.
@@ -179,6 +187,7 @@ struct WorldImpl {
     // ---- collision pipeline and solver (src/solver)
     detail::ContactManager contactManager;
     detail::ContactSolver contactSolver;
+    detail::JointSolver jointSolver;
     detail::SleepManager sleepManager;
     bool wasSleeping = true;         // settings.sleeping at the last step (turning it off wakes all)
 

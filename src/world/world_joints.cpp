@@ -1,12 +1,15 @@
-// Joints: validated and stored with body-local anchors and axes. They are not
-// enforced yet: the constraint solver (a later issue) reads JointData from
-// WorldImpl::joints and solves them in stage 3 of the sub-step (step.cpp).
-// jointError already reports the geometric violation, so tools and tests can
-// watch it.
+// Joints: validated and stored with body-local anchors and axes, plus the
+// rest pose (relative orientation at creation) that angles are measured from.
+// The joint solver (src/solver/joint_solver.hpp) reads them from
+// WorldImpl::joints every step and writes back impulses, reaction forces and
+// the broken flag. docs/joints.md describes every joint type.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "dynamics/validation.hpp"
+#include "solver/joints/joint_common.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum {
@@ -26,6 +29,35 @@ void requireBreakThreshold(const Subject& who, const char* field, Real v) {
 }
 
 bool usesAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider || t == JointType::ConeTwist; }
+
+constexpr Real kPi = std::numbers::pi_v<Real>;
+
+void validateLimits(const Subject& who, JointType type, bool enabled, Real lower, Real upper) {
+    detail::requireFinite(who, "lowerLimit", lower);
+    detail::requireFinite(who, "upperLimit", upper);
+    if (!enabled) return;
+    if (lower > upper) {
+        fail(who, "lowerLimit", "(" + formatReal(lower) + ") is above upperLimit (" + formatReal(upper) + ")");
+    }
+    // Hinge angles are measured in (-pi, pi]: a limit outside can never be reached.
+    if (type == JointType::Hinge && (lower < -kPi || upper > kPi)) {
+        fail(who, lower < -kPi ? "lowerLimit" : "upperLimit",
+             "must be within [-pi, pi] radians for a hinge, got [" + formatReal(lower) + ", " + formatReal(upper) + "]");
+    }
+}
+
+void validateMotor(const Subject& who, const JointMotor& m) {
+    detail::requireFinite(who, "motor.speed", m.speed);
+    detail::requireNonNegative(who, "motor.maxForce", m.maxForce);
+}
+
+void validateSpring(const Subject& who, const JointSpring& s) {
+    detail::requireFinite(who, "spring.target", s.target);
+    detail::requireNonNegative(who, "spring.stiffness", s.stiffness);
+    detail::requireNonNegative(who, "spring.damping", s.damping);
+}
+
+bool hasFreeAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider; }
 
 // A joint between two bodies changes whether they may collide (unless it
 // keeps collideConnected): drop A's contacts and let the broad phase report
@@ -93,39 +125,40 @@ JointId World::createJoint(const JointDef& def) {
         detail::requireFinite(who, "axis", def.axis);
     }
 
-    detail::requireFinite(who, "lowerLimit", def.lowerLimit);
-    detail::requireFinite(who, "upperLimit", def.upperLimit);
-    if (def.hasLimits && def.lowerLimit > def.upperLimit) {
-        fail(who, "lowerLimit", "(" + formatReal(def.lowerLimit) + ") is above upperLimit (" + formatReal(def.upperLimit) + ")");
-    }
-    detail::requireFinite(who, "motor.speed", def.motor.speed);
-    detail::requireNonNegative(who, "motor.maxForce", def.motor.maxForce);
-    detail::requireFinite(who, "spring.target", def.spring.target);
-    detail::requireNonNegative(who, "spring.stiffness", def.spring.stiffness);
-    detail::requireNonNegative(who, "spring.damping", def.spring.damping);
+    validateLimits(who, def.type, def.hasLimits, def.lowerLimit, def.upperLimit);
+    validateMotor(who, def.motor);
+    validateSpring(who, def.spring);
     detail::requireFinite(who, "minLength", def.minLength);
     detail::requireFinite(who, "maxLength", def.maxLength);
     detail::requireNonNegative(who, "stiffness", def.stiffness);
     detail::requireNonNegative(who, "damping", def.damping);
     detail::requireFinite(who, "swingLimit", def.swingLimit);
-    if (def.swingLimit < 0 || def.swingLimit > std::numbers::pi_v<Real>) {
-        fail(who, "swingLimit", "must be in [0, pi] radians, got " + formatReal(def.swingLimit));
+    if (def.swingLimit <= 0 || def.swingLimit > kPi) {
+        fail(who, "swingLimit", "must be in (0, pi] radians (pi: no cone), got " + formatReal(def.swingLimit));
     }
     detail::requireFinite(who, "twistLower", def.twistLower);
     detail::requireFinite(who, "twistUpper", def.twistUpper);
     if (def.twistLower > def.twistUpper) {
         fail(who, "twistLower", "(" + formatReal(def.twistLower) + ") is above twistUpper (" + formatReal(def.twistUpper) + ")");
     }
+    if (def.twistLower < -kPi || def.twistUpper > kPi) {
+        fail(who, def.twistLower < -kPi ? "twistLower" : "twistUpper",
+             "must be within [-pi, pi] radians, got [" + formatReal(def.twistLower) + ", " + formatReal(def.twistUpper) + "]");
+    }
     requireBreakThreshold(who, "breakForce", def.breakForce);
     requireBreakThreshold(who, "breakTorque", def.breakTorque);
 
-    // Distance joints: negative lengths mean "the distance at creation" (joint.hpp).
+    // Distance joints: negative lengths mean "the distance at creation" (joint.hpp);
+    // for a soft one (stiffness or damping > 0) the spring's rest length is the
+    // distance at creation and a negative limit means "no limit on that side".
     const Vec3 worldAnchorB = def.type == JointType::Distance ? def.anchorB : def.anchor;
-    Real minLength = 0, maxLength = 0;
+    Real minLength = 0, maxLength = 0, restLength = 0;
     if (def.type == JointType::Distance) {
         const Real d0 = distance(def.anchor, def.anchorB);
-        minLength = def.minLength < 0 ? d0 : def.minLength;
-        maxLength = def.maxLength < 0 ? d0 : def.maxLength;
+        const bool soft = def.stiffness > 0 || def.damping > 0;
+        minLength = def.minLength < 0 ? (soft ? 0 : d0) : def.minLength;
+        maxLength = def.maxLength < 0 ? (soft ? std::numeric_limits<Real>::infinity() : d0) : def.maxLength;
+        restLength = std::clamp(d0, minLength, maxLength);
         if (minLength > maxLength) {
             fail(who, "minLength", "(" + formatReal(minLength) + (def.minLength < 0 ? ", the distance at creation" : "") +
                                        ") is above maxLength (" + formatReal(maxLength) +
@@ -153,6 +186,14 @@ JointId World::createJoint(const JointDef& def) {
     j.localAxisB = localAxis(b, axis);
     j.minLength = minLength;
     j.maxLength = maxLength;
+    j.restLength = restLength;
+    j.relativeRotation = conjugate(a == kNoIndex ? Quat{} : w.motion[a].q) * w.motion[b].q;
+    j.enabled = true;
+    j.broken = false;
+    j.impulses = {};
+    j.reactionForce = {};
+    j.reactionTorque = {};
+    w.jointSolver.reserve(w.joints.size());
     jointChangedPairs(w, j.def);
     return {slot, j.generation};
 }
@@ -207,5 +248,91 @@ Real World::jointError(JointId id) const {
     }
     return 0;
 }
+
+Vec3 World::jointReactionForce(JointId id) const {
+    const detail::JointData& j = impl_->resolveJoint(id, "World::jointReactionForce");
+    return j.enabled ? j.reactionForce : Vec3{};
+}
+
+Vec3 World::jointReactionTorque(JointId id) const {
+    const detail::JointData& j = impl_->resolveJoint(id, "World::jointReactionTorque");
+    return j.enabled ? j.reactionTorque : Vec3{};
+}
+
+Real World::jointPosition(JointId id) const {
+    const WorldImpl& w = *impl_;
+    const detail::JointData& j = w.resolveJoint(id, "World::jointPosition");
+    const std::uint32_t a = w.denseOrNone(j.def.bodyA), b = w.denseOrNone(j.def.bodyB);
+    const Quat qA = a == kNoIndex ? Quat{} : w.motion[a].q;
+    const Quat qB = w.motion[b].q;
+    const Vec3 d = w.anchorWorld(b, j.localAnchorB) - w.anchorWorld(a, j.localAnchorA);
+    switch (j.def.type) {
+        case JointType::Hinge:
+        case JointType::ConeTwist: return detail::twistAngle(j.relativeRotation, qA, qB, j.localAxisA);
+        case JointType::Slider: return dot(d, rotate(qA, j.localAxisA));
+        case JointType::Distance: return length(d);
+        case JointType::Ball:
+        case JointType::Fixed: return 0;
+    }
+    return 0;
+}
+
+namespace {
+
+// Wakes the joint's bodies: a changed joint acts on them at once.
+void wakeJointBodies(WorldImpl& w, const detail::JointData& j) {
+    if (!j.def.bodyA.isNull()) w.wakeBody(w.bodySlots[j.def.bodyA.index].dense);
+    w.wakeBody(w.bodySlots[j.def.bodyB.index].dense);
+}
+
+Subject subjectOf(const detail::JointData& j, JointId id) { return {"joint", j.def.name, id.index}; }
+
+}  // namespace
+
+void World::setJointEnabled(JointId id, bool enabled) {
+    detail::JointData& j = impl_->resolveJoint(id, "World::setJointEnabled");
+    if (j.enabled == enabled) return;
+    j.enabled = enabled;
+    j.broken = false;
+    j.impulses = {};
+    j.reactionForce = {};
+    j.reactionTorque = {};
+    // Whether the joined bodies may collide changes with it.
+    jointChangedPairs(*impl_, j.def);
+}
+
+bool World::isJointEnabled(JointId id) const { return impl_->resolveJoint(id, "World::isJointEnabled").enabled; }
+bool World::isJointBroken(JointId id) const { return impl_->resolveJoint(id, "World::isJointBroken").broken; }
+
+void World::setJointMotor(JointId id, const JointMotor& motor) {
+    detail::JointData& j = impl_->resolveJoint(id, "World::setJointMotor");
+    const Subject who = subjectOf(j, id);
+    if (!hasFreeAxis(j.def.type)) fail(who, "motor", std::string("only hinge and slider joints have a motor, not ") + toString(j.def.type));
+    validateMotor(who, motor);
+    j.def.motor = motor;
+    wakeJointBodies(*impl_, j);
+}
+
+void World::setJointLimits(JointId id, bool enabled, Real lower, Real upper) {
+    detail::JointData& j = impl_->resolveJoint(id, "World::setJointLimits");
+    const Subject who = subjectOf(j, id);
+    if (!hasFreeAxis(j.def.type)) fail(who, "limits", std::string("only hinge and slider joints have limits, not ") + toString(j.def.type));
+    validateLimits(who, j.def.type, enabled, lower, upper);
+    j.def.hasLimits = enabled;
+    j.def.lowerLimit = lower;
+    j.def.upperLimit = upper;
+    wakeJointBodies(*impl_, j);
+}
+
+void World::setJointSpring(JointId id, const JointSpring& spring) {
+    detail::JointData& j = impl_->resolveJoint(id, "World::setJointSpring");
+    const Subject who = subjectOf(j, id);
+    if (!hasFreeAxis(j.def.type)) fail(who, "spring", std::string("only hinge and slider joints have a spring, not ") + toString(j.def.type));
+    validateSpring(who, spring);
+    j.def.spring = spring;
+    wakeJointBodies(*impl_, j);
+}
+
+std::span<const JointBreakEvent> World::jointBreakEvents() const { return impl_->jointSolver.breakEvents(); }
 
 }  // namespace fulcrum

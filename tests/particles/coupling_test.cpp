@@ -86,8 +86,10 @@ TEST(Coupling, FallingClothTransfersItsMomentumToTheBox) {
 
 // Aerodynamics: a free square of cloth (zero gravity) held face-on to a
 // 10 m/s wind. Over the first step it receives the flat-plate drag
-// F = 1/2 rho C_D A |u|^2 (A = its area, face-on: |cos| = 1), so its momentum
-// after one step is F dt within 1 % (its speed, ~1e-2 m/s, barely changes u).
+// F = 1/2 rho C_D A |u|^2 (A = its area, face-on: |cos| = 1). The momentum
+// reported is the mean over the last sub-step h, so after one step from rest
+// it is F (dt - h / 2), within 1 % (its speed, ~0.08 m/s at the end, lowers u
+// by ~0.8 % on average: measured 0.991).
 TEST(Coupling, WindDragOnAFaceOnClothMatchesTheFlatPlateFormula) {
     ParticleWorldSettings settings;
     settings.gravity = Vec3::zero();
@@ -107,7 +109,8 @@ TEST(Coupling, WindDragOnAFaceOnClothMatchesTheFlatPlateFormula) {
     const double area = 0.4 * 0.4;
     const double force = 0.5 * 1.2 * 1.2 * area * 100;
     const Vec3 p = linearMomentum(world.system(id));
-    EXPECT_NEAR(p.z / (force * kDt), 1.0, 0.01);
+    const double h = static_cast<double>(kDt) / world.settings().substeps;
+    EXPECT_NEAR(p.z / (force * (kDt - h / 2)), 1.0, 0.01);
     // Sideways: only lift from the slight billowing, < 0.5 % of the drag.
     EXPECT_NEAR(p.x, 0.0, 1e-3);
     EXPECT_NEAR(p.y, 0.0, 1e-3);

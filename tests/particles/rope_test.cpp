@@ -191,3 +191,34 @@ TEST(Rope, AttachedBodyHangsInEquilibriumAndRopeCarriesItsWeight) {
     EXPECT_NEAR(rigid.bodies[ball].transform.p.y, 1.0, 0.01);
     EXPECT_NEAR(rigid.bodies[ball].transform.p.x, 0.0, 0.01);
 }
+
+// A heavy load on a rope is carried within 1 % whichever end is held: ropes
+// are swept one constraint after another starting at the held end
+// (xpbd_distance.hpp, "Chains are solved in order"). The rope (1 m, 10
+// segments of 50 g) holds a 2 kg bob at rest; the same rope built upside
+// down (held at its last particle, bob at its first) must stretch the same.
+// Measured: 0.51 % both ways (identical); a coloured (red-black) sweep gives
+// 1.00 / 1.02 %, always sweeping from the first particle 0.512 / 0.523 %.
+TEST(Rope, HeavyBobStretchesTheRopeLessThanOnePercentWhicheverEndIsHeld) {
+    const auto hang = [](bool heldAtStart) {
+        ParticleWorld world;  // defaults: 16 sub-steps, 1 iteration
+        RopeDef def;
+        def.start = heldAtStart ? Vec3(0, 2, 0) : Vec3(0, 1, 0);
+        def.end = heldAtStart ? Vec3(0, 1, 0) : Vec3(0, 2, 0);
+        def.segments = 10;
+        def.particleMass = Real(0.05);
+        def.bendCompliance = 1;
+        def.damping = 2;  // settle within the 3 s
+        def.pinStart = heldAtStart;
+        def.pinEnd = !heldAtStart;
+        const ParticleSystemId id = world.addRope(def);
+        ParticleSystem& rope = world.system(id);
+        setParticleMass(rope, heldAtStart ? 10 : 0, 2);
+        for (int i = 0; i < 180; ++i) world.step(kDt);
+        return structuralStretch(world.system(id)).max;
+    };
+    const Real fromStart = hang(true), fromEnd = hang(false);
+    EXPECT_LT(fromStart, Real(0.01));
+    EXPECT_LT(fromEnd, Real(0.01));
+    EXPECT_NEAR(fromStart, fromEnd, Real(1e-5)) << "the mirrored rope is the same rope";
+}

@@ -132,9 +132,10 @@ TEST(Joints, ErrorIsTheGeometricViolation) {
     p.world.setTransform(p.b, {2, 0, 0}, {});
     EXPECT_NEAR(p.world.jointError(distance), 0.5, 1e-6);
 
-    // Joints are stored, not enforced: stepping does not change the error.
+    // The joint solver enforces joints: one step pulls the over-stretched rope
+    // in (its 0.5 m error shrinks; tests/joints checks the solver in detail).
     p.world.step(Real(1) / 60);
-    EXPECT_NEAR(p.world.jointError(distance), 0.5, 1e-6);
+    EXPECT_LT(p.world.jointError(distance), 0.5);
 
     // Destroying a body destroys its joints.
     p.world.destroyBody(p.a);

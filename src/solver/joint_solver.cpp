@@ -1,0 +1,255 @@
+#include "solver/joint_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "solver/contact_manager.hpp"
+#include "solver/contact_solver.hpp"
+#include "world/world_impl.hpp"
+
+namespace fulcrum::detail {
+
+Softness jointSoftness(Real hertz, Real zeta, Real h) {
+    if (hertz == 0) return {0, 1, 0};
+    const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
+    const Real a1 = 2 * zeta + h * omega;
+    const Real a2 = h * omega * a1;
+    const Real a3 = 1 / (1 + a2);
+    return {omega / a1, a2 * a3, a3};
+}
+
+void JointSolver::reserve(std::size_t jointCount) {
+    if (constraints_.capacity() < jointCount) constraints_.reserve(2 * jointCount);
+    if (events_.capacity() < jointCount) events_.reserve(2 * jointCount);
+}
+
+void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
+    constraints_.clear();
+    events_.clear();
+    bodies_ = solver.mutableBodies().data();
+    ctx_.h = h;
+    ctx_.invH = 1 / h;
+    const Real hertz = std::min(JointTuning::kHertz, JointTuning::kMaxHertzPerSubstepRate / h);
+    ctx_.soft = jointSoftness(hertz, JointTuning::kDampingRatio, h);
+    ctx_.limitSoft = ctx_.soft;
+
+    for (std::uint32_t slot = 0; slot < w.joints.size(); ++slot) {
+        JointData& data = w.joints[slot];
+        if (!data.alive || !data.enabled) continue;
+        const JointDef& def = data.def;
+        const std::uint32_t dA = w.denseOrNone(def.bodyA), dB = w.denseOrNone(def.bodyB);
+        const std::uint32_t ia = dA == kNoIndex ? 0 : solver.solverIndexOf(dA);
+        const std::uint32_t ib = solver.solverIndexOf(dB);
+        // A sleeping end (not static) sits out this step; the sleep manager wakes it.
+        const auto asleep = [&](std::uint32_t d, std::uint32_t i) {
+            return d != kNoIndex && i == 0 && w.params[d].type != BodyType::Static;
+        };
+        if (asleep(dA, ia) || asleep(dB, ib)) {
+            data.reactionForce = {};
+            data.reactionTorque = {};
+            continue;
+        }
+        if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;  // nothing can move
+
+        JointConstraint j;
+        j.slot = slot;
+        j.bodyA = ia;
+        j.bodyB = ib;
+        j.denseA = dA;
+        j.denseB = dB;
+        j.localAnchorA = data.localAnchorA;
+        j.localAnchorB = data.localAnchorB;
+        j.type = def.type;
+        const Vec3 comA = dA == kNoIndex ? Vec3{} : w.motion[dA].com;
+        j.qA0 = dA == kNoIndex ? Quat{} : w.motion[dA].q;
+        j.qB0 = w.motion[dB].q;
+        j.rA0 = rotate(j.qA0, data.localAnchorA);
+        j.rB0 = rotate(j.qB0, data.localAnchorB);
+        j.centreDelta = w.motion[dB].com - comA;
+        j.relative0 = data.relativeRotation;
+        j.localAxisA = data.localAxisA;
+        j.localAxisB = data.localAxisB;
+        j.impulse = data.impulses;
+        switch (def.type) {
+            case JointType::Hinge:
+            case JointType::Slider:
+                j.limit = def.hasLimits;
+                j.lower = def.lowerLimit;
+                j.upper = def.upperLimit;
+                j.motor = def.motor.enabled;
+                j.motorSpeed = def.motor.speed;
+                j.maxMotorImpulse = h * def.motor.maxForce;
+                j.spring = def.spring.enabled && (def.spring.stiffness > 0 || def.spring.damping > 0);
+                j.springTarget = def.spring.target;
+                springCoefficients(def.spring.stiffness, def.spring.damping, h, j.springBias, j.springGamma);
+                break;
+            case JointType::Distance:
+                j.lower = data.minLength;
+                j.upper = data.maxLength;
+                j.restLength = data.restLength;
+                j.spring = def.stiffness > 0 || def.damping > 0;
+                j.rigidDistance = !j.spring && data.minLength == data.maxLength;
+                springCoefficients(def.stiffness, def.damping, h, j.springBias, j.springGamma);
+                break;
+            case JointType::ConeTwist:
+                j.limit = true;
+                j.swingLimit = def.swingLimit;
+                j.lower = def.twistLower;
+                j.upper = def.twistUpper;
+                break;
+            case JointType::Ball:
+            case JointType::Fixed: break;
+        }
+        // Unused rows start at zero (a limit switched off, a motor disabled).
+        if (!j.limit && def.type != JointType::Distance) j.impulse.lower = j.impulse.upper = 0;
+        if (!j.motor) j.impulse.motor = 0;
+        if (!j.spring) j.impulse.spring = 0;
+        constraints_.push_back(j);
+    }
+}
+
+void JointSolver::warmStart() {
+    for (JointConstraint& j : constraints_) {
+        SolverBody& a = bodies_[j.bodyA];
+        SolverBody& b = bodies_[j.bodyB];
+        switch (j.type) {
+            case JointType::Ball: warmStartBall(j, a, b); break;
+            case JointType::Hinge: warmStartHinge(j, a, b); break;
+            case JointType::Slider: warmStartSlider(j, a, b); break;
+            case JointType::Distance: warmStartDistance(j, a, b); break;
+            case JointType::Fixed: warmStartFixed(j, a, b); break;
+            case JointType::ConeTwist: warmStartConeTwist(j, a, b); break;
+        }
+    }
+}
+
+void JointSolver::solve(bool useBias) {
+    ctx_.useBias = useBias;
+    for (JointConstraint& j : constraints_) {
+        SolverBody& a = bodies_[j.bodyA];
+        SolverBody& b = bodies_[j.bodyB];
+        switch (j.type) {
+            case JointType::Ball: solveBall(j, a, b, ctx_); break;
+            case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
+            case JointType::Slider: solveSlider(j, a, b, ctx_); break;
+            case JointType::Distance: solveDistance(j, a, b, ctx_); break;
+            case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
+            case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
+        }
+    }
+}
+
+namespace {
+
+// Moves a body by the position-level impulse P at anchor r (sign -1 for body A).
+void shiftBody(BodyMotion& m, const SolverBody& s, const Vec3& r, const Vec3& P) {
+    m.com += P * s.invMass;
+    const Vec3 dtheta = s.invI * cross(r, P);
+    m.q = normalize(m.q + Quat(0, dtheta.x, dtheta.y, dtheta.z) * m.q * Real(0.5));
+}
+
+}  // namespace
+
+void JointSolver::projectPositions(WorldImpl& w) const {
+    const Real slop = JointTuning::kProjectionSlop;
+    for (const JointConstraint& j : constraints_) {
+        if (j.type == JointType::Slider) continue;
+        // Masses of the current orientations (the step's start is far off for a link spinning at 40 rad/s).
+        SolverBody sa = bodies_[j.bodyA];
+        SolverBody sb = bodies_[j.bodyB];
+        if (sa.invMass > 0) sa.invI = w.motion[j.denseA].invInertiaWorld;
+        if (sb.invMass > 0) sb.invI = w.motion[j.denseB].invInertiaWorld;
+        BodyMotion* ma = j.denseA == kNoIndex || sa.invMass == 0 ? nullptr : &w.motion[j.denseA];
+        BodyMotion* mb = sb.invMass == 0 ? nullptr : &w.motion[j.denseB];
+        const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(w.motion[j.denseA].q, j.localAnchorA);
+        const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : w.motion[j.denseA].com + rA;
+        const Vec3 rB = rotate(w.motion[j.denseB].q, j.localAnchorB);
+        const Vec3 d = w.motion[j.denseB].com + rB - pA;
+        Vec3 P;
+        if (j.type == JointType::Distance) {
+            const Real len = length(d);
+            if (len < Real(1e-6)) continue;
+            Real C = 0;
+            if (j.rigidDistance) {
+                C = len - j.restLength;
+            } else if (len > j.upper) {
+                C = len - j.upper;
+            } else if (len < j.lower) {
+                C = len - j.lower;
+            } else {
+                continue;
+            }
+            C = C > slop ? C - slop : (C < -slop ? C + slop : 0);
+            if (C == 0) continue;
+            const Vec3 n = d * (1 / len);
+            const Real k = rowInverseMass(linearRow(n, rA, rB), sa, sb);
+            if (k <= 0) continue;
+            P = n * (-C / k);
+        } else {
+            const Real e = length(d);
+            if (e <= slop) continue;
+            const Mat3 K = pointInverseMass(sa, sb, rA, rB);
+            if (!(determinant(K) > 0)) continue;
+            P = -(inverse(K) * (d * ((e - slop) / e)));
+        }
+        if (ma) shiftBody(*ma, sa, rA, -P);
+        if (mb) shiftBody(*mb, sb, rB, P);
+    }
+}
+
+void JointSolver::store(WorldImpl& w) {
+    for (const JointConstraint& j : constraints_) {
+        JointData& data = w.joints[j.slot];
+        data.impulses = j.impulse;
+        jointReaction(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_.invH, data.reactionForce, data.reactionTorque);
+        const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
+        if (force <= data.def.breakForce && torque <= data.def.breakTorque) continue;
+        // Broken: disabled from the next step on, reported once. Its bodies may
+        // collide again, so their pairs are re-examined.
+        data.enabled = false;
+        data.broken = true;
+        data.impulses = {};
+        events_.push_back({{j.slot, data.generation}, data.def.bodyA, data.def.bodyB, data.reactionForce, data.reactionTorque});
+        if (!data.def.bodyA.isNull()) w.wakeBody(w.bodySlots[data.def.bodyA.index].dense);
+        w.wakeBody(w.bodySlots[data.def.bodyB.index].dense);
+        if (!data.def.bodyA.isNull() && !data.def.collideConnected) w.contactManager.resetPairs(w, data.def.bodyA.index);
+    }
+}
+
+void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque) {
+    const JointFrame f = currentFrame(j, a, b);
+    const JointImpulses& i = j.impulse;
+    const Real axial = i.spring + i.motor + i.lower - i.upper;
+    force = i.linear;
+    torque = {};
+    switch (j.type) {
+        case JointType::Ball: break;
+        case JointType::Fixed: torque = i.angular; break;
+        case JointType::Hinge: torque = i.angular + rotate(f.qA, j.localAxisA) * axial; break;
+        case JointType::Slider:
+            force += rotate(f.qA, j.localAxisA) * axial;
+            torque = i.angular;
+            break;
+        case JointType::Distance: {
+            const Real len = length(f.d);
+            force = len > Real(1e-6) ? f.d * ((i.axial + axial) / len) : Vec3{};
+            break;
+        }
+        case JointType::ConeTwist: {
+            const Vec3 axisA = rotate(f.qA, j.localAxisA), axisB = rotate(f.qB, j.localAxisB);
+            const Vec3 c = cross(axisA, axisB);
+            const Real s = length(c);
+            const Vec3 mid = axisA + axisB;
+            const Real m = length(mid);
+            torque = (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper);
+            if (s > Real(1e-6)) torque -= c * (i.swing / s);
+            break;
+        }
+    }
+    force *= invH;
+    torque *= invH;
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,16 @@
+// Ball-and-socket: the anchors of A and B coincide (3 rows, solved as a 3x3 block).
+#include "solver/joints/joint_common.hpp"
+
+namespace fulcrum::detail {
+
+void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b) {
+    const JointFrame f = currentFrame(j, a, b);
+    applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
+}
+
+void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b);
+    solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx);
+}
+
+}  // namespace fulcrum::detail

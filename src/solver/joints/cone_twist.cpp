@@ -1,0 +1,73 @@
+// Cone-twist (ragdoll shoulders, hips, neck): a ball joint whose twist axis on
+// B may swing inside a cone of half-angle swingLimit about A's axis, and turn
+// about itself between twistLower and twistUpper. Both limits are one-sided
+// speculative rows; the point block is solved last.
+//
+// Swing: the angle between A's axis and B's axis; its row turns about
+// n = axisA x axisB / |axisA x axisB| (undefined when the axes are parallel,
+// where the cone, of positive half-angle, is far away anyway).
+// Twist: the twist part of B's rotation relative to A about the axis
+// (swing-twist decomposition), its row about the bisector of the two axes.
+#include <numbers>
+
+#include "solver/joints/joint_common.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+struct ConeGeometry {
+    bool hasSwing = false;
+    Vec3 swingAxis;     // n: the swing angle grows with n . (wB - wA)
+    Real swing = 0;     // angle between the axes
+    Vec3 twistAxis;
+};
+
+ConeGeometry coneGeometry(const JointConstraint& j, const JointFrame& f) {
+    ConeGeometry g;
+    const Vec3 axisA = rotate(f.qA, j.localAxisA);
+    const Vec3 axisB = rotate(f.qB, j.localAxisB);
+    const Vec3 c = cross(axisA, axisB);
+    const Real s = length(c);
+    g.swing = std::atan2(s, dot(axisA, axisB));
+    if (s > Real(1e-6)) {
+        g.hasSwing = true;
+        g.swingAxis = c * (1 / s);
+    }
+    const Vec3 mid = axisA + axisB;
+    const Real m = length(mid);
+    g.twistAxis = m > Real(1e-6) ? mid * (1 / m) : axisA;
+    return g;
+}
+
+bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers::pi_v<Real>; }
+
+}  // namespace
+
+void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b) {
+    const JointFrame f = currentFrame(j, a, b);
+    const ConeGeometry g = coneGeometry(j, f);
+    Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper);
+    if (g.hasSwing) T -= g.swingAxis * j.impulse.swing;
+    applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
+    a.w -= a.invI * T;
+    b.w += b.invI * T;
+}
+
+void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b);
+    const ConeGeometry g = coneGeometry(j, f);
+    JointImpulses& i = j.impulse;
+    if (swingLimited(j) && g.hasSwing) {
+        const JointRow inward{Vec3{}, -g.swingAxis, -g.swingAxis};
+        solveLimitRow(inward, a, b, j.swingLimit - g.swing, i.swing, ctx);
+    }
+    const Real twist = twistAngle(j.relative0, f.qA, f.qB, j.localAxisA);
+    const JointRow row = angularRow(g.twistAxis);
+    solveLimitRow(row, a, b, twist - j.lower, i.lower, ctx);
+    const JointRow back{Vec3{}, -g.twistAxis, -g.twistAxis};
+    solveLimitRow(back, a, b, j.upper - twist, i.upper, ctx);
+    solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,83 @@
+// Hinge (revolute): the anchors coincide (3-row point block) and B's axis stays
+// aligned with A's (2 angular rows perpendicular to the axis, a 2x2 block), so
+// B only turns about the axis. Along the axis: an optional spring to a target
+// angle, a motor (target speed, max torque) and lower/upper angle limits, in
+// that order (the limits, solved after the motor, win over it), then the
+// alignment and point rows last, since they carry the joint's error.
+//
+// The angle is B's rotation relative to A about the axis, measured from the
+// pose at creation (swing-twist decomposition, joint_common.hpp), in (-pi, pi].
+#include "solver/joints/joint_common.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+// Torque impulse of the axial rows, about the axis.
+Real axialImpulse(const JointImpulses& i) { return i.spring + i.motor + i.lower - i.upper; }
+
+// Two rows keep axisB parallel to axisA: C = axisA x axisB projected on a
+// basis (p1, p2) perpendicular to axisA; Cdot = p . (wB - wA).
+void solveAlignment(SolverBody& a, SolverBody& b, const Vec3& axisA, const Vec3& axisB, Vec3& lambda, const JointContext& ctx) {
+    Vec3 p1, p2;
+    orthonormalBasis(axisA, p1, p2);
+    const Mat3 I = a.invI + b.invI;
+    const Vec3 Ip1 = I * p1, Ip2 = I * p2;
+    const Real k11 = dot(p1, Ip1), k12 = dot(p1, Ip2), k22 = dot(p2, Ip2);
+    const Real det = k11 * k22 - k12 * k12;
+    if (!(det > 0)) return;
+    const Vec3 C = cross(axisA, axisB);
+    const Vec3 dw = b.w - a.w;
+    Real r1 = dot(p1, dw), r2 = dot(p2, dw);
+    Real massScale = 1, impulseScale = 0;
+    if (ctx.useBias) {
+        r1 += ctx.soft.biasRate * dot(p1, C);
+        r2 += ctx.soft.biasRate * dot(p2, C);
+        massScale = ctx.soft.massScale;
+        impulseScale = ctx.soft.impulseScale;
+    }
+    const Real inv = 1 / det;
+    const Real d1 = -massScale * inv * (k22 * r1 - k12 * r2) - impulseScale * dot(p1, lambda);
+    const Real d2 = -massScale * inv * (k11 * r2 - k12 * r1) - impulseScale * dot(p2, lambda);
+    const Vec3 T = p1 * d1 + p2 * d2;
+    lambda += T;
+    a.w -= a.invI * T;
+    b.w += b.invI * T;
+}
+
+}  // namespace
+
+void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b) {
+    const JointFrame f = currentFrame(j, a, b);
+    const Vec3 axis = rotate(f.qA, j.localAxisA);
+    // Only the perpendicular part of the alignment impulse belongs to its rows.
+    j.impulse.angular -= axis * dot(axis, j.impulse.angular);
+    const Vec3 T = j.impulse.angular + axis * axialImpulse(j.impulse);
+    applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
+    a.w -= a.invI * T;
+    b.w += b.invI * T;
+}
+
+void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b);
+    const Vec3 axisA = rotate(f.qA, j.localAxisA);
+    const Vec3 axisB = rotate(f.qB, j.localAxisB);
+    const JointRow row = angularRow(axisA);
+    JointImpulses& i = j.impulse;
+    if (j.spring || j.limit) {
+        const Real angle = twistAngle(j.relative0, f.qA, f.qB, j.localAxisA);
+        if (j.spring) solveSpringRow(row, a, b, angle - j.springTarget, j.springBias, j.springGamma, i.spring);
+        if (j.motor) solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
+        if (j.limit) {
+            solveLimitRow(row, a, b, angle - j.lower, i.lower, ctx);
+            const JointRow down{Vec3{}, -axisA, -axisA};
+            solveLimitRow(down, a, b, j.upper - angle, i.upper, ctx);
+        }
+    } else if (j.motor) {
+        solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
+    }
+    solveAlignment(a, b, axisA, axisB, i.angular, ctx);
+    solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+}
+
+}  // namespace fulcrum::detail

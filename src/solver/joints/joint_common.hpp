@@ -1,0 +1,274 @@
+#pragma once
+// Shared pieces of the joint solver: the per-step constraint record, the
+// context of a pass, and the row kinds every joint is built from.
+//
+// Every joint is a set of rows J v + bias = 0 on two solver bodies (entry 0 of
+// the contact solver's body array is the all-zero static stand-in, so a static
+// end needs no branch). Rows come in five kinds (Catto, "Soft Step", 2024;
+// Box2D v3's joint files are the model, written anew here for 3D):
+//   equality  soft in the biased pass (implicit spring-damper coefficients,
+//             Softness), rigid and bias-free in the relax pass;
+//   limit     one-sided (lambda >= 0): speculative while the limit is not yet
+//             reached (bias C / h lets the joint approach exactly to it), soft
+//             once it is violated, bias-free in the relax pass;
+//   motor     a velocity target, its impulse clamped to h * maxForce;
+//   spring    a physical spring (stiffness k, damping c) in implicit form,
+//             solved in both passes like any force;
+//   block     the 3-row point-to-point (ball) and the 3-row angular lock are
+//             solved as 3x3 blocks, which converges far better than three
+//             scalar rows on long chains.
+// Anchors and axes rotate with each sub-step's rotation delta (dq), as the
+// solver notes require for joints (contacts keep the step's anchors).
+#include <cmath>
+#include <cstdint>
+
+#include "fulcrum/joint.hpp"
+#include "solver/contact_solver.hpp"
+
+namespace fulcrum::detail {
+
+// Accumulated sub-step impulses of a joint, kept between steps for warm starting.
+// Linear and angular block impulses are world vectors on body B.
+struct JointImpulses {
+    Vec3 linear;    // point rows, or the slider's two perpendicular rows
+    Vec3 angular;   // angular lock rows (fixed, slider), the hinge's two alignment rows
+    Real axial = 0;                 // rod / rigid distance row
+    Real spring = 0, motor = 0;     // along the free axis (hinge, slider) or the distance
+    Real lower = 0, upper = 0;      // limits (hinge, slider, distance min/max, cone-twist twist)
+    Real swing = 0;                 // cone-twist swing cone
+};
+
+// One joint prepared for this step.
+struct JointConstraint {
+    std::uint32_t slot = 0;           // WorldImpl::joints index
+    std::uint32_t bodyA = 0, bodyB = 0;  // solver body indices (0: static)
+    std::uint32_t denseA = 0, denseB = 0;  // dense body indices (kNoIndex: the world)
+    Vec3 localAnchorA, localAnchorB;  // from each centre of mass, body axes (world point for the world)
+    JointType type = JointType::Ball;
+    bool limit = false, motor = false, spring = false;
+    Vec3 rA0, rB0;                    // anchors from each centre of mass, world, step start
+    Vec3 centreDelta;                 // comB - comA at the step's start (world end: its com is the origin)
+    Quat qA0, qB0;                    // orientations at the step's start (world: identity)
+    Quat relative0;                   // conj(qA) qB at creation: the joint's rest pose
+    Vec3 localAxisA, localAxisB;      // hinge / slider / cone-twist axis in each body's frame
+    Real lower = 0, upper = 0;        // limits: rad (hinge, twist) or m (slider, distance min/max)
+    Real swingLimit = 0;              // cone-twist, rad
+    Real motorSpeed = 0, maxMotorImpulse = 0;
+    Real springTarget = 0, springBias = 0, springGamma = 0;  // implicit spring row (see springCoefficients)
+    Real restLength = 0;              // distance joints
+    bool rigidDistance = false;       // rod: min == max and no spring
+    JointImpulses impulse;
+};
+
+struct JointContext {
+    Real h = 0, invH = 0;
+    Softness soft;          // joints' equality rows (biased pass)
+    Softness limitSoft;     // violated limits (biased pass)
+    bool useBias = true;
+};
+
+// A scalar row: +linear and +angularB act on B, -linear and -angularA on A.
+struct JointRow {
+    Vec3 linear, angularA, angularB;
+};
+
+inline Real rowVelocity(const JointRow& r, const SolverBody& a, const SolverBody& b) {
+    return dot(r.linear, b.v - a.v) + dot(r.angularB, b.w) - dot(r.angularA, a.w);
+}
+
+inline Real rowInverseMass(const JointRow& r, const SolverBody& a, const SolverBody& b) {
+    return (a.invMass + b.invMass) * lengthSquared(r.linear) + dot(r.angularA, a.invI * r.angularA) +
+           dot(r.angularB, b.invI * r.angularB);
+}
+
+inline void applyRow(const JointRow& r, SolverBody& a, SolverBody& b, Real impulse) {
+    a.v -= r.linear * (a.invMass * impulse);
+    a.w -= a.invI * (r.angularA * impulse);
+    b.v += r.linear * (b.invMass * impulse);
+    b.w += b.invI * (r.angularB * impulse);
+}
+
+// Angular row about a world axis.
+inline JointRow angularRow(const Vec3& axis) { return {Vec3{}, axis, axis}; }
+// Linear row along d through anchors rA (lever arm on A) and rB.
+inline JointRow linearRow(const Vec3& d, const Vec3& rA, const Vec3& rB) { return {d, cross(rA, d), cross(rB, d)}; }
+
+// Equality row: C = 0, soft in the biased pass.
+inline void solveEqualityRow(const JointRow& r, SolverBody& a, SolverBody& b, Real C, Real& lambda, const JointContext& ctx) {
+    const Real k = rowInverseMass(r, a, b);
+    if (k <= 0) return;
+    Real bias = 0, massScale = 1, impulseScale = 0;
+    if (ctx.useBias) {
+        bias = ctx.soft.biasRate * C;
+        massScale = ctx.soft.massScale;
+        impulseScale = ctx.soft.impulseScale;
+    }
+    const Real d = -massScale * (rowVelocity(r, a, b) + bias) / k - impulseScale * lambda;
+    lambda += d;
+    applyRow(r, a, b, d);
+}
+
+// One-sided limit row: keeps C >= 0 with lambda >= 0 (speculative while C > 0).
+inline void solveLimitRow(const JointRow& r, SolverBody& a, SolverBody& b, Real C, Real& lambda, const JointContext& ctx) {
+    const Real k = rowInverseMass(r, a, b);
+    if (k <= 0) return;
+    Real bias = 0, massScale = 1, impulseScale = 0;
+    if (C > 0) {
+        bias = C * ctx.invH;
+    } else if (ctx.useBias) {
+        bias = ctx.limitSoft.biasRate * C;
+        massScale = ctx.limitSoft.massScale;
+        impulseScale = ctx.limitSoft.impulseScale;
+    }
+    const Real d = -massScale * (rowVelocity(r, a, b) + bias) / k - impulseScale * lambda;
+    const Real next = lambda + d > 0 ? lambda + d : Real(0);
+    applyRow(r, a, b, next - lambda);
+    lambda = next;
+}
+
+// Motor row: drives the row velocity to `speed` with |impulse| <= maxImpulse.
+inline void solveMotorRow(const JointRow& r, SolverBody& a, SolverBody& b, Real speed, Real maxImpulse, Real& lambda) {
+    const Real k = rowInverseMass(r, a, b);
+    if (k <= 0) return;
+    const Real d = -(rowVelocity(r, a, b) - speed) / k;
+    Real next = lambda + d;
+    next = next > maxImpulse ? maxImpulse : (next < -maxImpulse ? -maxImpulse : next);
+    applyRow(r, a, b, next - lambda);
+    lambda = next;
+}
+
+// Implicit spring-damper on a row (Catto, "Soft Constraints", GDC 2011): the
+// sub-step impulse solves Cdot' + (k / (c + h k)) C + gamma lambda = 0 with
+// gamma = 1 / (h (c + h k)); stable for any stiffness.
+inline void springCoefficients(Real stiffness, Real damping, Real h, Real& bias, Real& gamma) {
+    const Real s = damping + h * stiffness;
+    if (s <= 0) {
+        bias = 0;
+        gamma = 0;
+        return;
+    }
+    bias = stiffness / s;
+    gamma = 1 / (h * s);
+}
+
+inline void solveSpringRow(const JointRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma, Real& lambda) {
+    const Real k = rowInverseMass(r, a, b);
+    if (k + gamma <= 0) return;
+    const Real d = -(rowVelocity(r, a, b) + biasRate * C + gamma * lambda) / (k + gamma);
+    lambda += d;
+    applyRow(r, a, b, d);
+}
+
+// ---- blocks
+
+// 3x3 effective mass inverse of the point-to-point constraint at anchors rA, rB.
+inline Mat3 pointInverseMass(const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    const Mat3 sa = Mat3::skew(rA), sb = Mat3::skew(rB);
+    return Mat3::diagonal(a.invMass + b.invMass) - sa * a.invI * sa - sb * b.invI * sb;
+}
+
+inline void applyPoint(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& P) {
+    a.v -= P * a.invMass;
+    a.w -= a.invI * cross(rA, P);
+    b.v += P * b.invMass;
+    b.w += b.invI * cross(rB, P);
+}
+
+// Point-to-point: pB - pA = C -> 0 (3 rows as one block).
+inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& C, Vec3& lambda,
+                            const JointContext& ctx) {
+    const Mat3 K = pointInverseMass(a, b, rA, rB);
+    const Real det = determinant(K);
+    if (!(det > 0)) return;
+    const Vec3 cdot = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
+    Vec3 bias;
+    Real massScale = 1, impulseScale = 0;
+    if (ctx.useBias) {
+        bias = C * ctx.soft.biasRate;
+        massScale = ctx.soft.massScale;
+        impulseScale = ctx.soft.impulseScale;
+    }
+    const Vec3 d = -(inverse(K) * (cdot + bias)) * massScale - lambda * impulseScale;
+    lambda += d;
+    applyPoint(a, b, rA, rB, d);
+}
+
+// Angular lock: the rotation vector C of B from its rest pose relative to A -> 0.
+inline void solveAngularBlock(SolverBody& a, SolverBody& b, const Vec3& C, Vec3& lambda, const JointContext& ctx) {
+    const Mat3 K = a.invI + b.invI;
+    const Real det = determinant(K);
+    if (!(det > 0)) return;
+    const Vec3 cdot = b.w - a.w;
+    Vec3 bias;
+    Real massScale = 1, impulseScale = 0;
+    if (ctx.useBias) {
+        bias = C * ctx.soft.biasRate;
+        massScale = ctx.soft.massScale;
+        impulseScale = ctx.soft.impulseScale;
+    }
+    const Vec3 d = -(inverse(K) * (cdot + bias)) * massScale - lambda * impulseScale;
+    lambda += d;
+    a.w -= a.invI * d;
+    b.w += b.invI * d;
+}
+
+// ---- current geometry of a joint from the bodies' deltas
+
+struct JointFrame {
+    Vec3 rA, rB;   // anchors from each centre of mass, world, now
+    Vec3 d;        // pB - pA
+    Quat qA, qB;   // orientations now
+};
+
+// Rotation since the step's start. The solver keeps it as a rotation vector
+// (the contact rows only need it to first order); joints need the exact
+// rotation, which is its exponential map.
+inline Quat deltaRotation(const SolverBody& b) {
+    const Real angle = length(b.dtheta);
+    return angle > Real(0) ? Quat::fromAxisAngle(b.dtheta, angle) : Quat::identity();
+}
+
+inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
+    const Quat dqA = deltaRotation(a), dqB = deltaRotation(b);
+    JointFrame f;
+    f.rA = rotate(dqA, j.rA0);
+    f.rB = rotate(dqB, j.rB0);
+    f.d = j.centreDelta + (b.dp - a.dp) + f.rB - f.rA;
+    f.qA = dqA * j.qA0;
+    f.qB = dqB * j.qB0;
+    return f;
+}
+
+// Rotation of B away from its rest pose relative to A, as a world rotation vector.
+inline Vec3 angularError(const JointConstraint& j, const Quat& qA, const Quat& qB) {
+    return toRotationVector(qB * conjugate(qA * j.relative0));
+}
+
+// Angle of B relative to A about A's axis `localAxis`, from the rest pose, in (-pi, pi]:
+// the twist part of the swing-twist decomposition of the relative rotation.
+inline Real twistAngle(const Quat& relative0, const Quat& qA, const Quat& qB, const Vec3& localAxis) {
+    Quat r = conjugate(qA) * qB * conjugate(relative0);
+    if (r.w < 0) r = -r;
+    return 2 * std::atan2(dot(r.vec(), localAxis), r.w);
+}
+
+// ---- per joint type (src/solver/joints/<type>.cpp)
+
+void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b);
+void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b);
+void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b);
+void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b);
+void solveDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b);
+void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b);
+void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+
+// Force (N) and torque (N m) the joint applied to body B over the last sub-step,
+// from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor.
+void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque);
+
+}  // namespace fulcrum::detail

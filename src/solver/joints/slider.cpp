@@ -1,0 +1,83 @@
+// Slider (prismatic): B keeps its rest orientation relative to A (3-row
+// angular block) and its anchor stays on A's axis through A's anchor (2 linear
+// rows perpendicular to the axis, a 2x2 block). Along the axis: spring to a
+// target position, motor (speed, max force), lower/upper limits. The position
+// is the anchors' separation along the axis (0 at creation).
+//
+// The linear rows act at B's anchor; on A the lever arm is rA + d (the point
+// of A under B's anchor), which makes the rows exact for any separation
+// (Catto's prismatic joint, Box2D).
+#include "solver/joints/joint_common.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+Real axialImpulse(const JointImpulses& i) { return i.spring + i.motor + i.lower - i.upper; }
+
+void applyLinear(SolverBody& a, SolverBody& b, const Vec3& leverA, const Vec3& rB, const Vec3& P) {
+    a.v -= P * a.invMass;
+    a.w -= a.invI * cross(leverA, P);
+    b.v += P * b.invMass;
+    b.w += b.invI * cross(rB, P);
+}
+
+void solvePerpendicular(SolverBody& a, SolverBody& b, const Vec3& axis, const Vec3& leverA, const Vec3& rB, const Vec3& d,
+                        Vec3& lambda, const JointContext& ctx) {
+    Vec3 p1, p2;
+    orthonormalBasis(axis, p1, p2);
+    const Real m = a.invMass + b.invMass;
+    const Vec3 a1 = cross(leverA, p1), a2 = cross(leverA, p2);
+    const Vec3 b1 = cross(rB, p1), b2 = cross(rB, p2);
+    const Real k11 = m + dot(a1, a.invI * a1) + dot(b1, b.invI * b1);
+    const Real k12 = dot(a1, a.invI * a2) + dot(b1, b.invI * b2);
+    const Real k22 = m + dot(a2, a.invI * a2) + dot(b2, b.invI * b2);
+    const Real det = k11 * k22 - k12 * k12;
+    if (!(det > 0)) return;
+    const Vec3 dv = b.v + cross(b.w, rB) - a.v - cross(a.w, leverA);
+    Real r1 = dot(p1, dv), r2 = dot(p2, dv);
+    Real massScale = 1, impulseScale = 0;
+    if (ctx.useBias) {
+        r1 += ctx.soft.biasRate * dot(p1, d);
+        r2 += ctx.soft.biasRate * dot(p2, d);
+        massScale = ctx.soft.massScale;
+        impulseScale = ctx.soft.impulseScale;
+    }
+    const Real inv = 1 / det;
+    const Real d1 = -massScale * inv * (k22 * r1 - k12 * r2) - impulseScale * dot(p1, lambda);
+    const Real d2 = -massScale * inv * (k11 * r2 - k12 * r1) - impulseScale * dot(p2, lambda);
+    const Vec3 P = p1 * d1 + p2 * d2;
+    lambda += P;
+    applyLinear(a, b, leverA, rB, P);
+}
+
+}  // namespace
+
+void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b) {
+    const JointFrame f = currentFrame(j, a, b);
+    const Vec3 axis = rotate(f.qA, j.localAxisA);
+    j.impulse.linear -= axis * dot(axis, j.impulse.linear);
+    applyLinear(a, b, f.rA + f.d, f.rB, j.impulse.linear + axis * axialImpulse(j.impulse));
+    a.w -= a.invI * j.impulse.angular;
+    b.w += b.invI * j.impulse.angular;
+}
+
+void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    JointFrame f = currentFrame(j, a, b);
+    const Vec3 axis = rotate(f.qA, j.localAxisA);
+    const Vec3 leverA = f.rA + f.d;
+    const JointRow row = linearRow(axis, leverA, f.rB);
+    const Real x = dot(f.d, axis);
+    JointImpulses& i = j.impulse;
+    if (j.spring) solveSpringRow(row, a, b, x - j.springTarget, j.springBias, j.springGamma, i.spring);
+    if (j.motor) solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
+    if (j.limit) {
+        solveLimitRow(row, a, b, x - j.lower, i.lower, ctx);
+        const JointRow back{-row.linear, -row.angularA, -row.angularB};
+        solveLimitRow(back, a, b, j.upper - x, i.upper, ctx);
+    }
+    solveAngularBlock(a, b, angularError(j, f.qA, f.qB), i.angular, ctx);
+    solvePerpendicular(a, b, axis, leverA, f.rB, f.d, i.linear, ctx);
+}
+
+}  // namespace fulcrum::detail
