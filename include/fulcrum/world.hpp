@@ -34,14 +34,14 @@ std::optional<Integrator> integratorFromString(std::string_view name);
 struct WorldDef {
     Vec3 gravity{0, Real(-9.81), 0};
     Integrator integrator = Integrator::SemiImplicitEuler;
-    int substeps = 4;           // sub-steps per step (>= 1)
+    int substeps = 5;           // sub-steps per step (>= 1)
     int solverIterations = 1;   // constraint iterations per sub-step (>= 1)
     bool sleeping = true;
     int threads = 1;            // >= 1; results are identical for every count
 
     // ---- contact solver tuning (docs/solver.md explains each one)
-    Real contactHertz = 60;             // stiffness of the soft contact (capped at 1/4 of the sub-step rate); > 0
-    Real contactDampingRatio = 1;       // > 0; 1 = critically damped: overlaps are pushed out without bounce
+    Real contactHertz = 60;             // stiffness of the soft contact (capped at 1/6 of the sub-step rate, static contacts 2x under 1/4); > 0
+    Real contactDampingRatio = Real(1.5);  // > 0; >= 1: overlaps are pushed out without bounce (1 = critically damped)
     Real contactPushMaxVelocity = 3;    // m/s: the fastest an overlap is pushed apart; > 0
     Real speculativeMargin = Real(0.02);  // m: contact points are made this far before touching (plus the motion of a step); >= 0
     Real restitutionThreshold = 1;      // m/s: slower impacts don't bounce; >= 0

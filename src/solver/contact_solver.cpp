@@ -52,13 +52,18 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
     invH_ = 1 / h;
     pushMax_ = s.contactPushMaxVelocity;
     restitutionThreshold_ = s.restitutionThreshold;
-    // Contact stiffness capped at a quarter of the sub-step rate; static contacts
-    // twice as stiff (so stacks don't sink into the ground) but under the same
-    // cap: at half the sub-step rate (Box2D's limit for static contacts) a stack
-    // of three unit boxes jittered at 0.1 m/s; capped, below 1e-4 m/s.
-    const Real hertz = std::min(s.contactHertz, Real(0.25) / h);
+    // Contact stiffness between two dynamic bodies capped at a sixth of the
+    // sub-step rate (h omega <= 1.05). At a quarter (h omega = pi/2) one
+    // Gauss-Seidel pass per sub-step has a limit cycle in deep stacks:
+    // pyramid_large (60 rows) kept ringing vertically at 0.05-0.1 m/s for all
+    // 10 s and its top rows slid 0.22 m; at a sixth the ringing decays to
+    // ~1 mm/s (docs/solver.md, "pyramid_large"). Static contacts twice as stiff
+    // (so stacks don't sink into the ground) under a quarter of the sub-step
+    // rate: at half the rate (Box2D's limit for static contacts) a stack of
+    // three unit boxes jittered at 0.1 m/s; capped, below 1e-4 m/s.
+    const Real hertz = std::min(s.contactHertz, Real(1) / (6 * h));
     contactSoftness_ = makeSoftness(hertz, s.contactDampingRatio, h);
-    staticSoftness_ = makeSoftness(std::min(2 * hertz, Real(0.25) / h), s.contactDampingRatio, h);
+    staticSoftness_ = makeSoftness(std::min(2 * s.contactHertz, Real(0.25) / h), s.contactDampingRatio, h);
     (void)dt;
 
     // ---- solver bodies: awake dynamic and kinematic bodies, entry 0 = static

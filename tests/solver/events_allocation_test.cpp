@@ -81,7 +81,7 @@ TEST(Events, SensorReportsOverlapAndDoesNotPush) {
     }
     EXPECT_EQ(begins, 1);
     EXPECT_EQ(ends, 1);
-    const Real h = kDt / 4, n = 240;
+    const Real h = kDt / static_cast<Real>(def.substeps), n = 60 * static_cast<Real>(def.substeps);
     EXPECT_NEAR(world.position(ball).y, 8 - Real(9.81) * h * h * n * (n + 1) / 2, Real(1e-3));
     EXPECT_TRUE(world.contacts().empty());
 }
