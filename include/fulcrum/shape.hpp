@@ -66,6 +66,10 @@ struct TriangleMesh {
 
 struct CompoundChild;
 
+namespace detail {
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
+}
+
 class Shape {
 public:
     static Shape sphere(Real radius);
@@ -105,6 +109,7 @@ public:
     AABB bounds(const Transform& xf) const;
 
 private:
+    friend struct detail::SnapshotAccess;
     ShapeType type_ = ShapeType::Sphere;
     Real radius_ = 1;
     Real halfHeight_ = 0;

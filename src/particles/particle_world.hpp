@@ -31,6 +31,10 @@
 
 namespace fulcrum {
 
+namespace detail {
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
+}
+
 struct ParticleWorldSettings {
     Vec3 gravity{0, Real(-9.81), 0};
     int substeps = 16;           // >= 1 (16: a 1 m, 20-segment rope hangs within 1 %)
@@ -68,6 +72,7 @@ public:
     void step(Real dt, RigidCollider* collider = nullptr);
 
 private:
+    friend struct detail::SnapshotAccess;
     struct Slot {
         std::unique_ptr<ParticleSystem> system;  // null when free
         std::uint32_t generation = 0;

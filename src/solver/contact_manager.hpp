@@ -36,6 +36,8 @@ struct WorldImpl;
 
 namespace fulcrum::detail {
 
+struct SnapshotAccess;
+
 inline constexpr Real kTouchSlop = Real(0.005);
 
 // The joint rule and the sensor-sensor rule for two bodies (by slot).
@@ -67,6 +69,7 @@ public:
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
 private:
+    friend struct SnapshotAccess;
     void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
     void collideContact(WorldImpl& w, Contact& c, Real dt);

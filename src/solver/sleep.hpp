@@ -29,6 +29,7 @@ namespace fulcrum::detail {
 
 class ContactSolver;
 class ContactManager;
+struct SnapshotAccess;
 
 class SleepManager {
 public:
@@ -45,6 +46,7 @@ public:
     }
 
 private:
+    friend struct SnapshotAccess;
     std::uint32_t find(std::uint32_t i);
     std::vector<std::uint32_t> parent_;
     std::vector<Real> islandMinTime_;
