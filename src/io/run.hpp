@@ -28,6 +28,10 @@ struct RunOverrides {
     std::optional<long long> substeps;
     std::optional<std::string> integrator;
     std::optional<long long> threads;
+    // --resume FILE: continue the run saved in a snapshot instead of loading a
+    // scene (--steps then counts the further steps; default: the rest of the
+    // original run).
+    std::optional<std::string> resumePath;
 };
 // Validates the overrides and applies them; throws OptionError.
 void applyOverrides(Scene& scene, const RunOverrides& overrides);
@@ -39,6 +43,8 @@ struct RunOutputs {
     std::string plotPath;     // empty: no SVG
     std::string recordPath;   // empty: no recording (.glb or .html)
     bool progress = false;    // progress bar on stderr (the caller checks it is a terminal)
+    std::string snapshotPath;            // --snapshot FILE: where --snapshot-at writes
+    std::optional<long long> snapshotAt; // --snapshot-at N: the world's state after step N (0: before the first)
 };
 
 struct RunSample {
@@ -64,6 +70,13 @@ using StepObserver = std::function<void(const World&, const SceneHandles&, std::
 // built), OptionError (an output file cannot be written) or NumericalError
 // (the state went NaN; the message gives the step and names the body).
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer = {});
+// The same for a world built already (a resumed snapshot): `scene` gives dt,
+// the number of steps and the names of `handles`' objects.
+RunResult runWorld(World world, const SceneHandles& handles, const Scene& scene, const RunOutputs& outputs,
+                   const StepObserver& observer = {});
+// A loaded snapshot as the Scene the outputs need (names, body types, dt,
+// remaining steps from the snapshot's run record), and its handles.
+Scene resumeScene(const World& world, const std::string& userData, const std::string& source, SceneHandles& handles);
 
 // The --json report (design.md, "Contract: the command line").
 std::string runReportJson(const Scene& scene, const RunResult& result);
