@@ -66,9 +66,7 @@ struct TriangleMesh {
 
 struct CompoundChild;
 
-namespace detail {
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
-}
 
 class Shape {
 public:
@@ -109,7 +107,7 @@ public:
     AABB bounds(const Transform& xf) const;
 
 private:
-    friend struct detail::SnapshotAccess;
+    friend struct fulcrum::SnapshotAccess;
     ShapeType type_ = ShapeType::Sphere;
     Real radius_ = 1;
     Real halfHeight_ = 0;

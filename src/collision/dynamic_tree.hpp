@@ -44,9 +44,7 @@ namespace fulcrum {
 
 inline constexpr std::int32_t kNullNode = -1;
 
-namespace detail {
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
-}
 
 struct TreeNode {
     AABB box;                         // fattened for leaves; union of the children for internal nodes
@@ -171,7 +169,7 @@ public:
     std::string validate() const;
 
 private:
-    friend struct detail::SnapshotAccess;
+    friend struct fulcrum::SnapshotAccess;
     std::int32_t allocateNode();
     void freeNode(std::int32_t node);
     AABB fatten(const AABB& tight, const Vec3& displacement) const;

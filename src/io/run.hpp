@@ -83,12 +83,13 @@ std::string runReportJson(const Scene& scene, const RunResult& result);
 // A short human summary of a run.
 std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label);
 
-// The built-in demo: what the engine does so far, each part checked against
-// its analytic answer in the summary.
+// The built-in demo: a showcase of what the engine does (src/io/demo.cpp),
+// each part checked in the summary.
 Scene demoScene();
 
-// Follows the demo while it runs (the flips of the spinning box) and reports
-// each part against its analytic answer.
+// Follows the demo while it runs (the flips of the spinning box, the
+// projectile in flight, the pyramid's start) and reports each part against its
+// analytic answer or its physical expectation.
 class DemoChecks {
 public:
     void observe(const World& world, const SceneHandles& handles, std::uint64_t step);
@@ -98,6 +99,9 @@ public:
 private:
     int flips_ = 0;
     int lastSign_ = 0;
+    std::vector<Vec3> pyramidStart_;  // the pyramid's boxes at step 0
+    double projectileTime_ = -1;      // the projectile sampled in flight, at t = 1 s
+    Vec3 projectileAt_;
 };
 
 // The whole `fulcrum run` command. Returns the exit status: 0 done, 2 bad

@@ -31,9 +31,7 @@
 
 namespace fulcrum {
 
-namespace detail {
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
-}
 
 struct ParticleWorldSettings {
     Vec3 gravity{0, Real(-9.81), 0};
@@ -72,7 +70,7 @@ public:
     void step(Real dt, RigidCollider* collider = nullptr);
 
 private:
-    friend struct detail::SnapshotAccess;
+    friend struct fulcrum::SnapshotAccess;
     struct Slot {
         std::unique_ptr<ParticleSystem> system;  // null when free
         std::uint32_t generation = 0;

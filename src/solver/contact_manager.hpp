@@ -32,11 +32,10 @@
 
 namespace fulcrum {
 struct WorldImpl;
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 }
 
 namespace fulcrum::detail {
-
-struct SnapshotAccess;
 
 inline constexpr Real kTouchSlop = Real(0.005);
 
@@ -69,7 +68,7 @@ public:
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
 private:
-    friend struct SnapshotAccess;
+    friend struct fulcrum::SnapshotAccess;
     void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
     void collideContact(WorldImpl& w, Contact& c, Real dt);

@@ -23,13 +23,13 @@
 
 namespace fulcrum {
 struct WorldImpl;
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 }
 
 namespace fulcrum::detail {
 
 class ContactSolver;
 class ContactManager;
-struct SnapshotAccess;
 
 class SleepManager {
 public:
@@ -46,7 +46,7 @@ public:
     }
 
 private:
-    friend struct SnapshotAccess;
+    friend struct fulcrum::SnapshotAccess;
     std::uint32_t find(std::uint32_t i);
     std::vector<std::uint32_t> parent_;
     std::vector<Real> islandMinTime_;

@@ -384,6 +384,12 @@ void io(A& a, ParticleSystem& s) {
 }
 
 }  // namespace
+}  // namespace fulcrum::detail
+
+namespace fulcrum {
+
+using detail::ContactManager;
+using detail::SleepManager;
 
 // ---------------------------------------------------------------- private state (friend of the classes it saves)
 
@@ -535,6 +541,9 @@ struct SnapshotAccess {
     static const std::vector<ProxyId>& proxyOfSlot(const ContactManager& c) { return c.proxyOfSlot_; }
 };
 
+}  // namespace fulcrum
+
+namespace fulcrum::detail {
 namespace {
 
 // Shapes shared between bodies (hulls, meshes, compounds hold their geometry
