@@ -1,9 +1,18 @@
 #!/usr/bin/env bash
-# Builds Fulcrum (Release) and runs the main job: `fulcrum run` on the built-in
-# demo, or on the scene and options given. Usage: scripts/run.sh [SCENE.json] [options]
+# Builds Fulcrum (Release) and runs the main job.
+#   scripts/run.sh                      the built-in showcase demo, recorded as a
+#                                       replay page: build/demo.html
+#   scripts/run.sh SCENE.json [options] `fulcrum run` with exactly these arguments
+#   scripts/run.sh --OPTION ...         the demo with these options, passed through unchanged
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DFULCRUM_BUILD_TESTS=OFF >/dev/null
 cmake --build build/release --target fulcrum_cli -j "$(nproc)"
-exec build/release/apps/fulcrum/fulcrum run "$@"
+fulcrum=build/release/apps/fulcrum/fulcrum
+if [ "$#" -eq 0 ]; then
+    "$fulcrum" run --record build/demo.html
+    echo "replay page written to build/demo.html — open it in a browser"
+    exit 0
+fi
+exec "$fulcrum" run "$@"

@@ -37,6 +37,12 @@ int main(int argc, char** argv) {
     run->add_flag("--csv-particles", outputs.csvParticles, "With --csv: also a row per rope and cloth particle (body \"r1[3]\")");
     run->add_option("--plot", outputs.plotPath, "Write energy and momentum over time to FILE.svg");
     run->add_option("--record", outputs.recordPath, "Record the run: FILE.glb (animated glTF 2.0) or FILE.html (self-contained replay page)");
+    long long snapshotAt = 0;
+    std::string resume;
+    CLI::Option* snapshotAtOpt =
+        run->add_option("--snapshot-at", snapshotAt, "Save the state after step N (0: before the first) to --snapshot FILE, and keep running");
+    run->add_option("--snapshot", outputs.snapshotPath, "Snapshot file written by --snapshot-at (docs/snapshots.md)");
+    CLI::Option* resumeOpt = run->add_option("--resume", resume, "Continue the run saved in a snapshot FILE (instead of a scene); --steps counts the further steps");
 
     try {
         app.parse(argc, argv);
@@ -64,6 +70,8 @@ int main(int argc, char** argv) {
     if (*substepsOpt) overrides.substeps = substeps;
     if (*integratorOpt) overrides.integrator = integrator;
     if (*threadsOpt) overrides.threads = threads;
+    if (*snapshotAtOpt) outputs.snapshotAt = snapshotAt;
+    if (*resumeOpt) overrides.resumePath = resume;
     // A progress bar only for a person watching a terminal: never into a pipe,
     // and not when the JSON report goes to a pipe either.
     outputs.progress = isatty(fileno(stderr)) && !(outputs.json && !isatty(fileno(stdout)));

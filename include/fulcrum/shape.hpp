@@ -66,6 +66,8 @@ struct TriangleMesh {
 
 struct CompoundChild;
 
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
+
 class Shape {
 public:
     static Shape sphere(Real radius);
@@ -105,6 +107,7 @@ public:
     AABB bounds(const Transform& xf) const;
 
 private:
+    friend struct fulcrum::SnapshotAccess;
     ShapeType type_ = ShapeType::Sphere;
     Real radius_ = 1;
     Real halfHeight_ = 0;

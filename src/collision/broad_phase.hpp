@@ -156,6 +156,7 @@ public:
     std::string validate() const;
 
 private:
+    friend struct fulcrum::SnapshotAccess;
     struct ProxyRecord {
         std::int32_t leaf = kNullNode;      // proxy id in its tree
         std::int32_t moveIndex = -1;        // entry in moveBuffer_, or -1

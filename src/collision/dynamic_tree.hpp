@@ -44,6 +44,8 @@ namespace fulcrum {
 
 inline constexpr std::int32_t kNullNode = -1;
 
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
+
 struct TreeNode {
     AABB box;                         // fattened for leaves; union of the children for internal nodes
     std::int32_t parent = kNullNode;  // next free node while on the free list
@@ -167,6 +169,7 @@ public:
     std::string validate() const;
 
 private:
+    friend struct fulcrum::SnapshotAccess;
     std::int32_t allocateNode();
     void freeNode(std::int32_t node);
     AABB fatten(const AABB& tight, const Vec3& displacement) const;

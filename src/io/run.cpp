@@ -1,7 +1,9 @@
 // `fulcrum run` as a library: overrides, the run loop and its outputs.
 #include "io/run.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -14,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fulcrum/snapshot.hpp"
 #include "io/recording.hpp"
 #include "io/scene_detail.hpp"
 #include "io/svg_plot.hpp"
@@ -165,6 +168,84 @@ void applyOverrides(Scene& scene, const RunOverrides& o) {
 }
 
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer) {
+    SceneHandles handles;
+    World world = buildWorld(scene, &handles);
+    return runWorld(std::move(world), handles, scene, outputs, observer);
+}
+
+namespace {
+// What `fulcrum run` keeps in a snapshot's user data to resume a run: the
+// step, the scene's total steps and its name.
+std::string runRecord(const Scene& scene) {
+    ojson j{{"fulcrum_run", 1}, {"dt", static_cast<double>(scene.dt)}, {"steps", scene.steps}, {"source", scene.sourceName}};
+    return j.dump();
+}
+}  // namespace
+
+Scene resumeScene(const World& world, const std::string& userData, const std::string& source, SceneHandles& handles) {
+    Scene scene;
+    scene.sourceName = source;
+    scene.world = world.settings();
+    scene.dt = 0;
+    scene.steps = 0;
+    const ojson record = ojson::parse(userData, nullptr, false);
+    if (record.is_object() && record.contains("fulcrum_run")) {
+        if (record.contains("dt") && record["dt"].is_number()) scene.dt = static_cast<Real>(record["dt"].get<double>());
+        if (record.contains("steps") && record["steps"].is_number_integer()) {
+            const long long total = record["steps"].get<long long>();
+            const long long done = static_cast<long long>(world.stepCount());
+            scene.steps = static_cast<int>(std::clamp<long long>(total - done, 0, std::numeric_limits<int>::max()));
+        }
+        if (record.contains("source") && record["source"].is_string() && !record["source"].get<std::string>().empty()) {
+            scene.sourceName = record["source"].get<std::string>() + " (resumed from " + source + ")";
+        }
+    }
+    handles = {};
+    for (const BodyId id : world.bodies()) {
+        SceneBody b;
+        b.def.name = world.name(id);
+        b.def.type = world.bodyType(id);
+        scene.bodies.push_back(std::move(b));
+        handles.bodies.push_back(id);
+    }
+    for (const JointId id : world.joints()) {
+        SceneJoint j;
+        j.def = world.jointDef(id);
+        scene.joints.push_back(std::move(j));
+        handles.joints.push_back(id);
+    }
+    for (const ParticleSystemId id : world.particleSystems()) {
+        if (world.particleSystemType(id) == ParticleSystemType::Rope) {
+            SceneRope rope;
+            rope.def.name = world.name(id);
+            scene.ropes.push_back(std::move(rope));
+            handles.ropes.push_back(id);
+        } else {
+            SceneCloth cloth;
+            cloth.def.name = world.name(id);
+            scene.cloths.push_back(std::move(cloth));
+            handles.cloths.push_back(id);
+        }
+    }
+    return scene;
+}
+
+RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene, const RunOutputs& outputs,
+                   const StepObserver& observer) {
+    if (outputs.snapshotAt.has_value() != !outputs.snapshotPath.empty()) {
+        throw OptionError(outputs.snapshotAt ? "--snapshot-at: needs --snapshot FILE to write the state to"
+                                             : "--snapshot " + outputs.snapshotPath + ": needs --snapshot-at N (the step after which to save)");
+    }
+    if (outputs.snapshotAt) {
+        const long long first = static_cast<long long>(built.stepCount());
+        const long long last = first + scene.steps;
+        if (*outputs.snapshotAt < first || *outputs.snapshotAt > last) {
+            throw OptionError("--snapshot-at: must be a step of this run, " + std::to_string(first) + " to " +
+                              std::to_string(last) + ", got " + std::to_string(*outputs.snapshotAt));
+        }
+        std::ofstream probe(outputs.snapshotPath, std::ios::binary | std::ios::app);
+        if (!probe) throw OptionError("--snapshot " + outputs.snapshotPath + ": cannot open the file for writing");
+    }
     if (!outputs.recordPath.empty()) {
         if (!io::isRecordingPath(outputs.recordPath)) {
             throw OptionError("--record " + outputs.recordPath + ": unknown recording format (use a .glb or .html file name)");
@@ -188,17 +269,29 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
     }
 
     RunResult result;
-    result.world = buildWorld(scene, &result.handles);
-    World& world = result.world;
+    result.world = std::move(built);
+    result.handles = handles;
+    World& w = result.world;
+    const auto saveIfAsked = [&] {
+        if (outputs.snapshotAt && static_cast<long long>(w.stepCount()) == *outputs.snapshotAt) {
+            try {
+                saveSnapshot(w, outputs.snapshotPath, runRecord(scene));
+            } catch (const Error& e) {
+                throw OptionError(std::string("--snapshot ") + e.what());
+            }
+        }
+    };
+    saveIfAsked();
+    World& world = w;
     result.initialEnergy = world.energy();
     const bool plot = !outputs.plotPath.empty();
     if (plot) {
         result.samples.reserve(static_cast<std::size_t>(scene.steps) + 1);
         result.samples.push_back(sample(world));
     }
-    if (csv) writeCsvRows(csv.get(), world, scene, result.handles, 0);
-    if (csv && outputs.csvParticles) writeCsvParticleRows(csv.get(), world, scene, result.handles, 0);
-    if (observer) observer(world, result.handles, 0);
+    if (csv) writeCsvRows(csv.get(), world, scene, result.handles, world.stepCount());
+    if (csv && outputs.csvParticles) writeCsvParticleRows(csv.get(), world, scene, result.handles, world.stepCount());
+    if (observer) observer(world, result.handles, world.stepCount());
     std::optional<io::Recorder> recorder;
     if (!outputs.recordPath.empty()) {
         recorder.emplace(world, io::RecordOptions{.title = scene.sourceName.empty() ? "Fulcrum" : scene.sourceName});
@@ -207,7 +300,11 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
 
     ProgressBar progress(outputs.progress, scene.steps);
     const auto start = std::chrono::steady_clock::now();
-    for (int step = 1; step <= scene.steps; ++step) {
+    const std::uint64_t firstStep = world.stepCount();
+    for (int i = 1; i <= scene.steps; ++i) {
+        // Steps are numbered as the world counts them, so a resumed run goes on
+        // where the snapshot left off (CSV rows, --snapshot-at).
+        const std::uint64_t step = firstStep + static_cast<std::uint64_t>(i);
         try {
             world.step(scene.dt);
         } catch (const NumericalError& e) {
@@ -216,14 +313,13 @@ RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObse
             if (what.find("step") != std::string::npos) throw;
             throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
         }
-        if (csv) writeCsvRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
-        if (csv && outputs.csvParticles) {
-            writeCsvParticleRows(csv.get(), world, scene, result.handles, static_cast<std::uint64_t>(step));
-        }
+        saveIfAsked();
+        if (csv) writeCsvRows(csv.get(), world, scene, result.handles, step);
+        if (csv && outputs.csvParticles) writeCsvParticleRows(csv.get(), world, scene, result.handles, step);
         if (plot) result.samples.push_back(sample(world));
         if (recorder) recorder->capture(world);
-        if (observer) observer(world, result.handles, static_cast<std::uint64_t>(step));
-        progress.update(step);
+        if (observer) observer(world, result.handles, step);
+        progress.update(i);
     }
     result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -359,21 +455,49 @@ std::string oneLine(std::string s) {
 int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& overrides, const RunOutputs& outputs,
                std::ostream& out, std::ostream& err) {
     Scene scene;
-    const std::string label = scenePath ? *scenePath : "built-in demo";
+    const bool resume = overrides.resumePath.has_value();
+    const bool demoRun = !scenePath && !resume;
+    const std::string label = resume ? *overrides.resumePath + " (resumed)" : scenePath ? *scenePath : "built-in demo";
     try {
-        scene = scenePath ? loadScene(*scenePath) : demoScene();
-        applyOverrides(scene, overrides);
+        if (resume && scenePath) throw OptionError("--resume: continues a saved run; give it without a scene file (" + *scenePath + ")");
         DemoChecks demo;
         StepObserver observer;
-        if (!scenePath) {
+        if (demoRun) {
             observer = [&demo](const World& w, const SceneHandles& h, std::uint64_t step) { demo.observe(w, h, step); };
         }
-        const RunResult result = runScene(scene, outputs, observer);
+        RunResult result;
+        if (resume) {
+            std::string userData;
+            World world;
+            try {
+                world = loadSnapshot(*overrides.resumePath, &userData);
+            } catch (const Error& e) {
+                throw OptionError(e.what());  // names the file, the byte and the part
+            }
+            SceneHandles handles;
+            scene = resumeScene(world, userData, *overrides.resumePath, handles);
+            const bool knowsDt = scene.dt > 0;
+            if (!knowsDt) scene.dt = kSceneDefaultDt;
+            applyOverrides(scene, overrides);
+            if (!knowsDt && !overrides.dt) {
+                throw OptionError("--resume " + *overrides.resumePath +
+                                  ": the snapshot does not record its time step (it was not written by fulcrum run); give --dt");
+            }
+            // Settings the options changed (the same values leave the run bit-identical).
+            world.setIntegrator(scene.world.integrator);
+            world.setSubsteps(scene.world.substeps);
+            world.setThreadCount(scene.world.threads);
+            result = runWorld(std::move(world), handles, scene, outputs, observer);
+        } else {
+            scene = scenePath ? loadScene(*scenePath) : demoScene();
+            applyOverrides(scene, overrides);
+            result = runScene(scene, outputs, observer);
+        }
         if (outputs.json) {
             out << runReportJson(scene, result);
         } else {
             out << runSummary(scene, result, "fulcrum: " + label);
-            if (!scenePath) out << demo.report(scene, result);
+            if (demoRun) out << demo.report(scene, result);
         }
         out.flush();
         return 0;

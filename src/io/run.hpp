@@ -28,6 +28,10 @@ struct RunOverrides {
     std::optional<long long> substeps;
     std::optional<std::string> integrator;
     std::optional<long long> threads;
+    // --resume FILE: continue the run saved in a snapshot instead of loading a
+    // scene (--steps then counts the further steps; default: the rest of the
+    // original run).
+    std::optional<std::string> resumePath;
 };
 // Validates the overrides and applies them; throws OptionError.
 void applyOverrides(Scene& scene, const RunOverrides& overrides);
@@ -39,6 +43,8 @@ struct RunOutputs {
     std::string plotPath;     // empty: no SVG
     std::string recordPath;   // empty: no recording (.glb or .html)
     bool progress = false;    // progress bar on stderr (the caller checks it is a terminal)
+    std::string snapshotPath;            // --snapshot FILE: where --snapshot-at writes
+    std::optional<long long> snapshotAt; // --snapshot-at N: the world's state after step N (0: before the first)
 };
 
 struct RunSample {
@@ -64,18 +70,26 @@ using StepObserver = std::function<void(const World&, const SceneHandles&, std::
 // built), OptionError (an output file cannot be written) or NumericalError
 // (the state went NaN; the message gives the step and names the body).
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer = {});
+// The same for a world built already (a resumed snapshot): `scene` gives dt,
+// the number of steps and the names of `handles`' objects.
+RunResult runWorld(World world, const SceneHandles& handles, const Scene& scene, const RunOutputs& outputs,
+                   const StepObserver& observer = {});
+// A loaded snapshot as the Scene the outputs need (names, body types, dt,
+// remaining steps from the snapshot's run record), and its handles.
+Scene resumeScene(const World& world, const std::string& userData, const std::string& source, SceneHandles& handles);
 
 // The --json report (design.md, "Contract: the command line").
 std::string runReportJson(const Scene& scene, const RunResult& result);
 // A short human summary of a run.
 std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label);
 
-// The built-in demo: what the engine does so far, each part checked against
-// its analytic answer in the summary.
+// The built-in demo: a showcase of what the engine does (src/io/demo.cpp),
+// each part checked in the summary.
 Scene demoScene();
 
-// Follows the demo while it runs (the flips of the spinning box) and reports
-// each part against its analytic answer.
+// Follows the demo while it runs (the flips of the spinning box, the
+// projectile in flight, the pyramid's start) and reports each part against its
+// analytic answer or its physical expectation.
 class DemoChecks {
 public:
     void observe(const World& world, const SceneHandles& handles, std::uint64_t step);
@@ -85,6 +99,9 @@ public:
 private:
     int flips_ = 0;
     int lastSign_ = 0;
+    std::vector<Vec3> pyramidStart_;  // the pyramid's boxes at step 0
+    double projectileTime_ = -1;      // the projectile sampled in flight, at t = 1 s
+    Vec3 projectileAt_;
 };
 
 // The whole `fulcrum run` command. Returns the exit status: 0 done, 2 bad

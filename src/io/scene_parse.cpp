@@ -30,6 +30,8 @@ using nlohmann::json;
 using detail::childPath;
 
 constexpr Real kPi = std::numbers::pi_v<Real>;
+// The scene format version this build reads (the optional top-level "version" key).
+constexpr long long kSceneFormatVersion = 1;
 
 class Parser {
 public:
@@ -630,7 +632,17 @@ Scene Parser::parse() {
     scene.sourceName = source_;
     const std::string root;
     if (!doc.is_object()) fail(root, "a scene file must be a JSON object, got " + typeName(doc));
-    checkKeys(doc, root, {"description", "world", "bodies", "joints", "springs", "ropes", "cloths"}, "a scene");
+    // "version": the scene format's version (docs/scene-format.md), optional; 1
+    // is the only one so far. Read before the keys are checked, so a newer file
+    // is refused for its version rather than for the keys it added.
+    if (const auto it = doc.find("version"); it != doc.end()) {
+        const long long version = integer(*it, childPath(root, "version"), 1, std::numeric_limits<int>::max(), "version");
+        if (version != kSceneFormatVersion) {
+            fail(childPath(root, "version"), "unsupported scene format version " + std::to_string(version) +
+                                                 " (this build reads version " + std::to_string(kSceneFormatVersion) + ")");
+        }
+    }
+    checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths"}, "a scene");
     opt(doc, root, "description", [&](const json& v, const std::string& p) { scene.description = string(v, p); });
     opt(doc, root, "world", [&](const json& v, const std::string& p) { parseWorld(v, p, scene); });
     opt(doc, root, "bodies", [&](const json& v, const std::string& p) {

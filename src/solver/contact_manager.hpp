@@ -32,6 +32,7 @@
 
 namespace fulcrum {
 struct WorldImpl;
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 }
 
 namespace fulcrum::detail {
@@ -67,6 +68,7 @@ public:
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
 private:
+    friend struct fulcrum::SnapshotAccess;
     void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
     void collideContact(WorldImpl& w, Contact& c, Real dt);

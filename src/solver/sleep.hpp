@@ -23,6 +23,7 @@
 
 namespace fulcrum {
 struct WorldImpl;
+struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 }
 
 namespace fulcrum::detail {
@@ -45,6 +46,7 @@ public:
     }
 
 private:
+    friend struct fulcrum::SnapshotAccess;
     std::uint32_t find(std::uint32_t i);
     std::vector<std::uint32_t> parent_;
     std::vector<Real> islandMinTime_;
