@@ -249,11 +249,11 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
             slot.selfCollision.update(s, p);
             coupling_.resetAttachmentMultipliers(s);
             for (int it = 0; it < settings_.iterations; ++it) {
-                const bool first = it == 0;
-                slot.stretch.solve(p, first);
-                slot.shear.solve(p, first);
-                slot.bend.solve(p, first);
-                slot.tethers.solve(p, first);
+                const bool first = it == 0, last = it + 1 == settings_.iterations;
+                slot.stretch.solve(p, first, last);
+                slot.shear.solve(p, first, last);
+                slot.bend.solve(p, first, last);
+                slot.tethers.solve(p, first, last);
                 if (collider) coupling_.solveAttachments(s, p, h);
                 slot.selfCollision.solve(p);
                 if (collider) coupling_.solveContacts(k, s, p, h);

@@ -73,15 +73,16 @@ public:
     void prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep,
                  DistanceOrder order = DistanceOrder::Coloured);
     // One Gauss-Seidel sweep over the colours. The first iteration of a
-    // sub-step starts the multipliers from 0 (no separate reset).
-    void solve(ParticleSoA& particles, bool firstIteration);
+    // sub-step starts the multipliers from 0 (no separate reset); the last
+    // does not store them (nothing reads them after it).
+    void solve(ParticleSoA& particles, bool firstIteration, bool lastIteration);
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
 
 private:
     void rebuild(const DistanceConstraintGroup& group, DistanceOrder order);
-    template <bool FirstIteration>
+    template <bool First, bool Keep>
     void sweep(ParticleSoA& p);
-    template <bool FirstIteration>
+    template <bool First, bool Keep>
     void solveRange(ParticleSoA& p, std::size_t begin, std::size_t end);
 
     std::vector<DistanceConstraint> source_;  // the group's constraints when coloured (change detection)
@@ -95,6 +96,16 @@ private:
     Real alphaTilde_ = 0;
     bool unilateral_ = false;
     DistanceOrder order_ = DistanceOrder::Coloured;
+    std::uint8_t lanes_ = 0;                  // SIMD lanes the layouts were made for
 };
+
+// Lanes of the coloured sweep on this machine: 8 with AVX2 (chosen at run
+// time, also in the portable default build), 4 with SSE2, else 1. Every
+// width gives bit-identical results (the lanes are independent constraints,
+// each computing the scalar formula).
+int distanceSimdLanes();
+// Forces a narrower width (4 or 1; 0 restores the detected one): for tests
+// and benchmarks comparing the kernels. Not thread-safe; call between steps.
+void setDistanceSimdLanes(int lanes);
 
 }  // namespace fulcrum::detail
