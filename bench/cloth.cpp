@@ -8,6 +8,7 @@
 // structural stretch at the end, deepest penetration into the sphere.
 // Run: build-bench/bench/bench_cloth  (configure with -DFULCRUM_BUILD_BENCH=ON)
 // Optional arguments after the benchmark flags: --substeps=N --iterations=N --steps=N (600; fewer for callgrind)
+// --lanes=4|1 (the distance kernel's SIMD width: 8 with AVX2 by default, detected at run time)
 // Counters: median_ms / mean_ms (wall per step), cpu_ms (thread CPU per step), quality.
 #include <benchmark/benchmark.h>
 
@@ -22,6 +23,7 @@
 #include "particles/particle_metrics.hpp"
 #include "particles/particle_world.hpp"
 #include "particles/shape_query_adapter.hpp"
+#include "particles/xpbd_distance.hpp"
 #include "../tests/particles/interim_closest_point.hpp"  // until branch `shapes` lands (compiles to nothing after)
 #include "../tests/particles/rigid_test_world.hpp"
 
@@ -94,6 +96,7 @@ void clothScene(benchmark::State& state) {
         state.counters["sphere_penetration_m"] = deepest;
         state.counters["substeps"] = gSubsteps;
         state.counters["iterations"] = gIterations;
+        state.counters["lanes"] = detail::distanceSimdLanes();
         state.ResumeTiming();
     }
 }
@@ -107,6 +110,7 @@ int main(int argc, char** argv) {
         if (std::strncmp(argv[i], "--substeps=", 11) == 0) gSubsteps = std::atoi(argv[i] + 11);
         else if (std::strncmp(argv[i], "--iterations=", 13) == 0) gIterations = std::atoi(argv[i] + 13);
         else if (std::strncmp(argv[i], "--steps=", 8) == 0) gSteps = std::max(1, std::atoi(argv[i] + 8));
+        else if (std::strncmp(argv[i], "--lanes=", 8) == 0) detail::setDistanceSimdLanes(std::atoi(argv[i] + 8));
         else rest.push_back(argv[i]);
     }
     int restCount = static_cast<int>(rest.size());

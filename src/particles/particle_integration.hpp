@@ -40,10 +40,21 @@ bool hasExtraForces(const ParticleSystem& system, const AirSettings& air);
 void computeForceAccelerations(const ParticleSystem& system, const AirSettings& air, Real substep,
                                std::vector<Vec3>& accel);
 
+// How far the particles have drifted from reference positions (self-
+// collision's neighbour list: where it was built), measured in the
+// prediction's own pass: per axis, the range [lo, hi] of x - reference over
+// every particle after the prediction. Exact (min and max do not round), so
+// the answer does not depend on the SIMD width or order.
+struct DriftRange {
+    const Real* reference[3] = {nullptr, nullptr, nullptr};  // null: not measured
+    Real lo[3] = {0, 0, 0};
+    Real hi[3] = {0, 0, 0};
+};
+
 // Verlet prediction on the step's working copy; pinned particles jump to
 // their pin targets (`system` gives pins and the Verlet ratio). `accel` may be
-// empty (gravity only).
+// empty (gravity only). Fills `drift` if it has references.
 void predictPositions(ParticleSystem& system, ParticleSoA& particles, const Vec3& gravity, const std::vector<Vec3>& accel,
-                      Real substep);
+                      Real substep, DriftRange* drift = nullptr);
 
 }  // namespace fulcrum::detail

@@ -238,22 +238,24 @@ void ParticleWorld::step(Real dt, RigidCollider* collider) {
             Slot& slot = *active_[k];
             ParticleSystem& s = *slot.system;
             detail::ParticleSoA& p = slot.particles;
+            detail::DriftRange drift;
+            if (s.selfCollision) slot.selfCollision.requestDrift(p, drift);
             if (extraForces_[k]) {
                 p.store(s);  // forces read the system's positions (rare path: springs, drag, wind, user forces)
                 detail::computeForceAccelerations(s, air, h, slot.accel);
-                detail::predictPositions(s, p, settings_.gravity, slot.accel, h);
+                detail::predictPositions(s, p, settings_.gravity, slot.accel, h, &drift);
             } else {
                 static const std::vector<Vec3> kNone;
-                detail::predictPositions(s, p, settings_.gravity, kNone, h);
+                detail::predictPositions(s, p, settings_.gravity, kNone, h, &drift);
             }
-            slot.selfCollision.update(s, p);
+            slot.selfCollision.update(s, p, drift);
             coupling_.resetAttachmentMultipliers(s);
             for (int it = 0; it < settings_.iterations; ++it) {
-                const bool first = it == 0;
-                slot.stretch.solve(p, first);
-                slot.shear.solve(p, first);
-                slot.bend.solve(p, first);
-                slot.tethers.solve(p, first);
+                const bool first = it == 0, last = it + 1 == settings_.iterations;
+                slot.stretch.solve(p, first, last);
+                slot.shear.solve(p, first, last);
+                slot.bend.solve(p, first, last);
+                slot.tethers.solve(p, first, last);
                 if (collider) coupling_.solveAttachments(s, p, h);
                 slot.selfCollision.solve(p);
                 if (collider) coupling_.solveContacts(k, s, p, h);

@@ -6,36 +6,34 @@
 namespace fulcrum::detail {
 
 
-bool SelfCollision::listStillComplete(const ParticleSoA& p) const {
-    const std::size_t n = p.size();
-    if (builtX_.size() != n) return false;
-    double mx = 0, my = 0, mz = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        mx += static_cast<double>(p.x[i] - builtX_[i]);
-        my += static_cast<double>(p.y[i] - builtY_[i]);
-        mz += static_cast<double>(p.z[i] - builtZ_[i]);
-    }
-    const double inv = 1.0 / static_cast<double>(n);
-    const auto meanX = static_cast<Real>(mx * inv), meanY = static_cast<Real>(my * inv), meanZ = static_cast<Real>(mz * inv);
-    // Complete while every |d_i - mean| < skin / 2; 0.4 leaves a fifth of the
-    // skin for the corrections of the sub-step about to be solved.
-    const Real limit = Real(0.4) * skin_;
-    const Real limit2 = limit * limit;
-    Real worst2 = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const Real dx = p.x[i] - builtX_[i] - meanX, dy = p.y[i] - builtY_[i] - meanY, dz = p.z[i] - builtZ_[i] - meanZ;
-        worst2 = std::max(worst2, dx * dx + dy * dy + dz * dz);
-    }
-    return worst2 < limit2;
+void SelfCollision::requestDrift(const ParticleSoA& p, DriftRange& drift) const {
+    const bool usable = valid_ && builtX_.size() == p.size();
+    drift.reference[0] = usable ? builtX_.data() : nullptr;
+    drift.reference[1] = usable ? builtY_.data() : nullptr;
+    drift.reference[2] = usable ? builtZ_.data() : nullptr;
 }
 
-void SelfCollision::update(const ParticleSystem& s, const ParticleSoA& p) {
+bool SelfCollision::listStillComplete(const ParticleSoA& p, const DriftRange& drift) const {
+    if (builtX_.size() != p.size() || drift.reference[0] != builtX_.data()) return false;
+    // Complete while the half-diagonal of the displacements' box is below
+    // skin / 2; 0.4 leaves a fifth of the skin for the corrections of the
+    // sub-step about to be solved.
+    Real half2 = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        const Real half = Real(0.5) * (drift.hi[axis] - drift.lo[axis]);
+        half2 += half * half;
+    }
+    const Real limit = Real(0.4) * skin_;
+    return half2 < limit * limit;
+}
+
+void SelfCollision::update(const ParticleSystem& s, const ParticleSoA& p, const DriftRange& drift) {
     if (!s.selfCollision || p.size() < 2) {
         pairs_.clear();
         valid_ = false;
         return;
     }
-    if (valid_ && listStillComplete(p)) return;
+    if (valid_ && listStillComplete(p, drift)) return;
     findPairs(s, p);
 }
 

@@ -15,11 +15,15 @@
 //
 // When to search: a Verlet neighbour list (as in molecular dynamics). The
 // list holds every pair within 2r + skin when it was built; it stays complete
-// while no particle has moved more than skin / 2 relative to the system's
-// mean motion since then (two particles close in by at most the sum of their
-// relative displacements, and a uniform motion changes no distance). Each
-// sub-step checks that (one pass over the positions) and searches again only
-// when needed. The previous scheme searched once per step with a margin of
+// while no particle has moved more than skin / 2 relative to some common
+// motion m since then (two particles close in by at most |e_a - m| + |e_b - m|
+// for their displacements e, and a uniform motion changes no distance). Each
+// sub-step the prediction measures, in its own pass, the per-axis range of
+// the displacements e; with m the range's centre, every |e - m| is at most
+// the half-diagonal of that box, which must stay below 0.4 skin. (Measured
+// on the cloth benchmark: 566 searches in 600 steps against 569 with the
+// previous check, max |e - mean e|, which needed two extra passes: 7 % of the
+// step.) The search happens only when needed. The previous scheme searched once per step with a margin of
 // twice the largest relative travel of the whole step: once the 64 x 64 cloth
 // hit the sphere, parts at rest and parts still falling at 6 m/s made that
 // margin ~0.2 m, the hash cells held dozens of particles and the list tens of
@@ -29,6 +33,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "particles/particle_integration.hpp"
 #include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
 
@@ -36,9 +41,14 @@ namespace fulcrum::detail {
 
 class SelfCollision {
 public:
-    // Called every sub-step after the prediction: re-searches if the list may
-    // have become incomplete (or the system changed), else does nothing.
-    void update(const ParticleSystem& system, const ParticleSoA& particles);
+    // Points `drift` at the positions the list was built at, so the
+    // prediction measures how far the particles moved since (nothing when
+    // there is no list to check).
+    void requestDrift(const ParticleSoA& particles, DriftRange& drift) const;
+    // Called every sub-step after the prediction with what it measured:
+    // re-searches if the list may have become incomplete (or the system
+    // changed), else does nothing.
+    void update(const ParticleSystem& system, const ParticleSoA& particles, const DriftRange& drift);
     void solve(ParticleSoA& particles) const;
     std::size_t pairCount() const { return pairs_.size(); }
     std::size_t searchCount() const { return searches_; }
@@ -51,7 +61,7 @@ private:
         Real minDistance = 0;
     };
     void findPairs(const ParticleSystem& system, const ParticleSoA& particles);
-    bool listStillComplete(const ParticleSoA& particles) const;
+    bool listStillComplete(const ParticleSoA& particles, const DriftRange& drift) const;
 
     std::vector<std::uint32_t> cellStart_;   // start of each grid cell in the sorted arrays (cells + 1)
     std::vector<std::uint32_t> cellOf_;      // grid cell of each particle

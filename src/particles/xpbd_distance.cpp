@@ -2,14 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 #include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64)
-#include <emmintrin.h>
+#include <immintrin.h>
 #define FULCRUM_PARTICLES_SSE2 1
 #else
 #define FULCRUM_PARTICLES_SSE2 0
+#endif
+// The 8-wide kernel is compiled for AVX2 with a function attribute and chosen
+// at run time, so the portable default build (-march=x86-64, SSE2) uses it on
+// every CPU that has it. Same results either way: lanes are independent
+// constraints of one colour, each computing the scalar formula.
+#if FULCRUM_PARTICLES_SSE2 && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#define FULCRUM_PARTICLES_AVX2 1
+#define FULCRUM_AVX2_TARGET __attribute__((target("avx2")))
+#else
+#define FULCRUM_PARTICLES_AVX2 0
 #endif
 
 namespace fulcrum::detail {
@@ -19,36 +28,49 @@ namespace {
 // Below this squared length the two particles coincide: no direction to push along.
 constexpr Real kCoincident2 = Real(1e-24);
 
-// How the 4 lanes of a chunk find their particles (DistanceBatches::layout_).
+// How the lanes of a chunk find their particles (DistanceBatches::layout_).
+// Offsets are for 4 lanes; 8 lanes continue the pattern (see rebuild).
 enum ChunkLayout : std::uint8_t {
-    kGather = 0,       // anywhere: 8 scalar loads per coordinate
+    kGather = 0,       // anywhere: one scalar load per lane, coordinate and end
     kContiguous = 1,   // a0 + {0,1,2,3}, b0 + {0,1,2,3}: one load per coordinate and end
     kInterleaved = 2,  // a = a0 + {0,2,4,6}, b = a + 1 (a row's links): 8 floats from a0, 1 shuffle each
     kPairs = 3,        // a = a0 + {0,1,4,5}, b = a + 2 (a row's bend links): 8 floats from a0
 };
 
-// One constraint, scalar. The SIMD kernel below performs exactly these
+int detectedLanes() {
+#if FULCRUM_PARTICLES_AVX2
+    if (__builtin_cpu_supports("avx2")) return 8;
+#endif
+#if FULCRUM_PARTICLES_SSE2
+    return 4;
+#else
+    return 1;
+#endif
+}
+int gLanesOverride = 0;
+
+// One constraint, scalar. The SIMD kernels below perform exactly these
 // operations in the same order, so a lane's result is bit-identical to this.
-// `FirstIteration`: lambda is 0 (every sub-step starts from 0), so it is
-// neither read nor reset; with one iteration per sub-step (the default) that
-// skips 8 bytes of memory traffic per constraint, and the reset.
-template <bool FirstIteration>
+// `First`: lambda is 0 (every sub-step starts from 0), so it is not read.
+// `Keep`: a later iteration reads lambda, so store it; with one iteration per
+// sub-step (the default) neither happens: 8 bytes less traffic per constraint.
+template <bool First, bool Keep>
 inline void solveOne(ParticleSoA& p, std::uint32_t a, std::uint32_t b, Real rest, Real inverseDenominator,
                      Real alphaTilde, bool unilateral, Real& lambda) {
     const Real dx = p.x[a] - p.x[b], dy = p.y[a] - p.y[b], dz = p.z[a] - p.z[b];
     const Real len2 = dx * dx + dy * dy + dz * dz;
     if (len2 < kCoincident2) {
-        if constexpr (FirstIteration) lambda = 0;
+        if constexpr (First && Keep) lambda = 0;
         return;
     }
     const Real len = std::sqrt(len2);
     const Real C = len - rest;
     if (unilateral && C <= 0) {  // a slack tether does nothing
-        if constexpr (FirstIteration) lambda = 0;
+        if constexpr (First && Keep) lambda = 0;
         return;
     }
-    const Real dLambda = (-C - alphaTilde * (FirstIteration ? Real(0) : lambda)) * inverseDenominator;
-    lambda = FirstIteration ? dLambda : lambda + dLambda;
+    const Real dLambda = (-C - alphaTilde * (First ? Real(0) : lambda)) * inverseDenominator;
+    if constexpr (Keep) lambda = First ? dLambda : lambda + dLambda;
     const Real s = dLambda / len;
     const Real wa = p.w[a], wb = p.w[b];
     const Real nx = dx * s, ny = dy * s, nz = dz * s;
@@ -56,73 +78,86 @@ inline void solveOne(ParticleSoA& p, std::uint32_t a, std::uint32_t b, Real rest
     p.x[b] -= nx * wb; p.y[b] -= ny * wb; p.z[b] -= nz * wb;
 }
 
+// The slots of one sweep, handed to the SIMD kernels.
+struct SlotArrays {
+    const std::uint32_t* a;
+    const std::uint32_t* b;
+    const Real* rest;
+    const Real* inverseDenominator;
+    Real* lambda;
+    const std::uint8_t* layout;
+    Real alphaTilde;
+    bool unilateral;
+};
+
 #if FULCRUM_PARTICLES_SSE2
-inline __m128 gather(const Real* v, const std::uint32_t* index) {
+inline __m128 gather4(const Real* v, const std::uint32_t* index) {
     return _mm_set_ps(v[index[3]], v[index[2]], v[index[1]], v[index[0]]);
 }
-inline void scatter(Real* v, const std::uint32_t* index, __m128 value) {
+inline void scatter4(Real* v, const std::uint32_t* index, __m128 value) {
     alignas(16) float lanes[4];
     _mm_store_ps(lanes, value);
-    v[index[0]] = lanes[0];
-    v[index[1]] = lanes[1];
-    v[index[2]] = lanes[2];
-    v[index[3]] = lanes[3];
+    for (int i = 0; i < 4; ++i) v[index[i]] = lanes[i];
+}
+// Split / merge an 8-float window [a0, a0 + 8) into the a and b lanes.
+template <ChunkLayout Layout>
+inline void split4(const Real* v, __m128& outA, __m128& outB) {
+    const __m128 lo = _mm_loadu_ps(v), hi = _mm_loadu_ps(v + 4);
+    if constexpr (Layout == kInterleaved) {
+        outA = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+        outB = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+    } else {
+        outA = _mm_movelh_ps(lo, hi);
+        outB = _mm_movehl_ps(hi, lo);
+    }
+}
+template <ChunkLayout Layout>
+inline void merge4(Real* v, __m128 inA, __m128 inB) {
+    if constexpr (Layout == kInterleaved) {
+        _mm_storeu_ps(v, _mm_unpacklo_ps(inA, inB));
+        _mm_storeu_ps(v + 4, _mm_unpackhi_ps(inA, inB));
+    } else {
+        _mm_storeu_ps(v, _mm_movelh_ps(inA, inB));
+        _mm_storeu_ps(v + 4, _mm_movehl_ps(inB, inA));
+    }
 }
 
 // Four independent constraints (one colour), slots k..k+3.
-template <ChunkLayout Layout, bool FirstIteration>
-inline void solveFour(ParticleSoA& p, const std::uint32_t* a, const std::uint32_t* b, const Real* rest,
-                      const Real* inverseDenominator, Real* lambda, __m128 alphaTilde, bool unilateral) {
+template <ChunkLayout Layout, bool First, bool Keep>
+inline void solveFour(ParticleSoA& p, const SlotArrays& s, std::size_t k) {
+    const std::uint32_t* a = s.a + k;
+    const std::uint32_t* b = s.b + k;
     __m128 ax, ay, az, bx, by, bz, wa, wb;
     const std::uint32_t a0 = a[0];
-    // Split / merge an 8-float window [a0, a0 + 8) into the a and b lanes.
-    const auto split = [](const Real* v, __m128& outA, __m128& outB) {
-        const __m128 lo = _mm_loadu_ps(v), hi = _mm_loadu_ps(v + 4);
-        if constexpr (Layout == kInterleaved) {
-            outA = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
-            outB = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
-        } else {
-            outA = _mm_movelh_ps(lo, hi);
-            outB = _mm_movehl_ps(hi, lo);
-        }
-    };
-    const auto merge = [](Real* v, __m128 inA, __m128 inB) {
-        if constexpr (Layout == kInterleaved) {
-            _mm_storeu_ps(v, _mm_unpacklo_ps(inA, inB));
-            _mm_storeu_ps(v + 4, _mm_unpackhi_ps(inA, inB));
-        } else {
-            _mm_storeu_ps(v, _mm_movelh_ps(inA, inB));
-            _mm_storeu_ps(v + 4, _mm_movehl_ps(inB, inA));
-        }
-    };
     if constexpr (Layout == kContiguous) {
         const std::uint32_t b0 = b[0];
         ax = _mm_loadu_ps(&p.x[a0]); ay = _mm_loadu_ps(&p.y[a0]); az = _mm_loadu_ps(&p.z[a0]);
         bx = _mm_loadu_ps(&p.x[b0]); by = _mm_loadu_ps(&p.y[b0]); bz = _mm_loadu_ps(&p.z[b0]);
         wa = _mm_loadu_ps(&p.w[a0]); wb = _mm_loadu_ps(&p.w[b0]);
     } else if constexpr (Layout == kInterleaved || Layout == kPairs) {
-        split(&p.x[a0], ax, bx); split(&p.y[a0], ay, by); split(&p.z[a0], az, bz);
-        split(&p.w[a0], wa, wb);
+        split4<Layout>(&p.x[a0], ax, bx); split4<Layout>(&p.y[a0], ay, by); split4<Layout>(&p.z[a0], az, bz);
+        split4<Layout>(&p.w[a0], wa, wb);
     } else {
-        ax = gather(p.x.data(), a); ay = gather(p.y.data(), a); az = gather(p.z.data(), a);
-        bx = gather(p.x.data(), b); by = gather(p.y.data(), b); bz = gather(p.z.data(), b);
-        wa = gather(p.w.data(), a); wb = gather(p.w.data(), b);
+        ax = gather4(p.x.data(), a); ay = gather4(p.y.data(), a); az = gather4(p.z.data(), a);
+        bx = gather4(p.x.data(), b); by = gather4(p.y.data(), b); bz = gather4(p.z.data(), b);
+        wa = gather4(p.w.data(), a); wb = gather4(p.w.data(), b);
     }
     const __m128 dx = _mm_sub_ps(ax, bx), dy = _mm_sub_ps(ay, by), dz = _mm_sub_ps(az, bz);
     const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
     __m128 valid = _mm_cmpge_ps(len2, _mm_set1_ps(kCoincident2));
     const __m128 len = _mm_sqrt_ps(len2);
-    const __m128 C = _mm_sub_ps(len, _mm_loadu_ps(rest));
-    if (unilateral) valid = _mm_and_ps(valid, _mm_cmpgt_ps(C, _mm_setzero_ps()));
-    const __m128 oldLambda = FirstIteration ? _mm_setzero_ps() : _mm_loadu_ps(lambda);
+    const __m128 C = _mm_sub_ps(len, _mm_loadu_ps(s.rest + k));
+    if (s.unilateral) valid = _mm_and_ps(valid, _mm_cmpgt_ps(C, _mm_setzero_ps()));
+    const __m128 oldLambda = First ? _mm_setzero_ps() : _mm_loadu_ps(s.lambda + k);
     const __m128 negC = _mm_xor_ps(C, _mm_set1_ps(-0.0f));  // exact negation, as the scalar -C
-    __m128 dLambda = _mm_mul_ps(_mm_sub_ps(negC, _mm_mul_ps(alphaTilde, oldLambda)), _mm_loadu_ps(inverseDenominator));
+    __m128 dLambda = _mm_mul_ps(_mm_sub_ps(negC, _mm_mul_ps(_mm_set1_ps(s.alphaTilde), oldLambda)),
+                                _mm_loadu_ps(s.inverseDenominator + k));
     dLambda = _mm_and_ps(valid, dLambda);
-    _mm_storeu_ps(lambda, FirstIteration ? dLambda : _mm_add_ps(oldLambda, dLambda));
+    if constexpr (Keep) _mm_storeu_ps(s.lambda + k, First ? dLambda : _mm_add_ps(oldLambda, dLambda));
     // Invalid lanes divide 0 by 1: they move nothing.
     const __m128 safeLen = _mm_or_ps(_mm_and_ps(valid, len), _mm_andnot_ps(valid, _mm_set1_ps(1)));
-    const __m128 s = _mm_div_ps(dLambda, safeLen);
-    const __m128 nx = _mm_mul_ps(dx, s), ny = _mm_mul_ps(dy, s), nz = _mm_mul_ps(dz, s);
+    const __m128 sc = _mm_div_ps(dLambda, safeLen);
+    const __m128 nx = _mm_mul_ps(dx, sc), ny = _mm_mul_ps(dy, sc), nz = _mm_mul_ps(dz, sc);
     ax = _mm_add_ps(ax, _mm_mul_ps(nx, wa)); ay = _mm_add_ps(ay, _mm_mul_ps(ny, wa)); az = _mm_add_ps(az, _mm_mul_ps(nz, wa));
     bx = _mm_sub_ps(bx, _mm_mul_ps(nx, wb)); by = _mm_sub_ps(by, _mm_mul_ps(ny, wb)); bz = _mm_sub_ps(bz, _mm_mul_ps(nz, wb));
     if constexpr (Layout == kContiguous) {
@@ -130,15 +165,138 @@ inline void solveFour(ParticleSoA& p, const std::uint32_t* a, const std::uint32_
         _mm_storeu_ps(&p.x[a0], ax); _mm_storeu_ps(&p.y[a0], ay); _mm_storeu_ps(&p.z[a0], az);
         _mm_storeu_ps(&p.x[b0], bx); _mm_storeu_ps(&p.y[b0], by); _mm_storeu_ps(&p.z[b0], bz);
     } else if constexpr (Layout == kInterleaved || Layout == kPairs) {
-        merge(&p.x[a0], ax, bx); merge(&p.y[a0], ay, by); merge(&p.z[a0], az, bz);
+        merge4<Layout>(&p.x[a0], ax, bx); merge4<Layout>(&p.y[a0], ay, by); merge4<Layout>(&p.z[a0], az, bz);
     } else {
-        scatter(p.x.data(), a, ax); scatter(p.y.data(), a, ay); scatter(p.z.data(), a, az);
-        scatter(p.x.data(), b, bx); scatter(p.y.data(), b, by); scatter(p.z.data(), b, bz);
+        scatter4(p.x.data(), a, ax); scatter4(p.y.data(), a, ay); scatter4(p.z.data(), a, az);
+        scatter4(p.x.data(), b, bx); scatter4(p.y.data(), b, by); scatter4(p.z.data(), b, bz);
     }
+}
+
+// Chunks of 4 of the colour [begin, end); returns where the scalar tail starts.
+template <bool First, bool Keep>
+std::size_t solveChunksOfFour(ParticleSoA& p, const SlotArrays& s, std::size_t begin, std::size_t end) {
+    std::size_t k = begin;
+    for (; k + 4 <= end; k += 4) {
+        switch (s.layout[k]) {
+            case kContiguous: solveFour<kContiguous, First, Keep>(p, s, k); break;
+            case kInterleaved: solveFour<kInterleaved, First, Keep>(p, s, k); break;
+            case kPairs: solveFour<kPairs, First, Keep>(p, s, k); break;
+            default: solveFour<kGather, First, Keep>(p, s, k); break;
+        }
+    }
+    return k;
+}
+#endif
+
+#if FULCRUM_PARTICLES_AVX2
+// 8 lanes. AVX shuffles work within each 128-bit half, so the 16-float
+// window of an interleaved or pairs chunk splits into lanes in the order
+// of constraints {0, 1, 4, 5 | 2, 3, 6, 7}; rebuild() stores those chunks'
+// slots in that order, so no cross-half permute is needed.
+FULCRUM_AVX2_TARGET inline __m256 gather8(const Real* v, const std::uint32_t* index) {
+    return _mm256_set_ps(v[index[7]], v[index[6]], v[index[5]], v[index[4]], v[index[3]], v[index[2]], v[index[1]],
+                         v[index[0]]);
+}
+FULCRUM_AVX2_TARGET inline void scatter8(Real* v, const std::uint32_t* index, __m256 value) {
+    alignas(32) float lanes[8];
+    _mm256_store_ps(lanes, value);
+    for (int i = 0; i < 8; ++i) v[index[i]] = lanes[i];
+}
+template <ChunkLayout Layout>
+FULCRUM_AVX2_TARGET inline void split8(const Real* v, __m256& outA, __m256& outB) {
+    const __m256 lo = _mm256_loadu_ps(v), hi = _mm256_loadu_ps(v + 8);
+    if constexpr (Layout == kInterleaved) {
+        outA = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+        outB = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+    } else {
+        outA = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0));
+        outB = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2));
+    }
+}
+template <ChunkLayout Layout>
+FULCRUM_AVX2_TARGET inline void merge8(Real* v, __m256 inA, __m256 inB) {
+    if constexpr (Layout == kInterleaved) {
+        _mm256_storeu_ps(v, _mm256_unpacklo_ps(inA, inB));
+        _mm256_storeu_ps(v + 8, _mm256_unpackhi_ps(inA, inB));
+    } else {
+        _mm256_storeu_ps(v, _mm256_shuffle_ps(inA, inB, _MM_SHUFFLE(1, 0, 1, 0)));
+        _mm256_storeu_ps(v + 8, _mm256_shuffle_ps(inA, inB, _MM_SHUFFLE(3, 2, 3, 2)));
+    }
+}
+
+template <ChunkLayout Layout, bool First, bool Keep>
+FULCRUM_AVX2_TARGET inline void solveEight(ParticleSoA& p, const SlotArrays& s, std::size_t k) {
+    const std::uint32_t* a = s.a + k;
+    const std::uint32_t* b = s.b + k;
+    __m256 ax, ay, az, bx, by, bz, wa, wb;
+    const std::uint32_t a0 = a[0];
+    if constexpr (Layout == kContiguous) {
+        const std::uint32_t b0 = b[0];
+        ax = _mm256_loadu_ps(&p.x[a0]); ay = _mm256_loadu_ps(&p.y[a0]); az = _mm256_loadu_ps(&p.z[a0]);
+        bx = _mm256_loadu_ps(&p.x[b0]); by = _mm256_loadu_ps(&p.y[b0]); bz = _mm256_loadu_ps(&p.z[b0]);
+        wa = _mm256_loadu_ps(&p.w[a0]); wb = _mm256_loadu_ps(&p.w[b0]);
+    } else if constexpr (Layout == kInterleaved || Layout == kPairs) {
+        split8<Layout>(&p.x[a0], ax, bx); split8<Layout>(&p.y[a0], ay, by); split8<Layout>(&p.z[a0], az, bz);
+        split8<Layout>(&p.w[a0], wa, wb);
+    } else {
+        ax = gather8(p.x.data(), a); ay = gather8(p.y.data(), a); az = gather8(p.z.data(), a);
+        bx = gather8(p.x.data(), b); by = gather8(p.y.data(), b); bz = gather8(p.z.data(), b);
+        wa = gather8(p.w.data(), a); wb = gather8(p.w.data(), b);
+    }
+    const __m256 dx = _mm256_sub_ps(ax, bx), dy = _mm256_sub_ps(ay, by), dz = _mm256_sub_ps(az, bz);
+    const __m256 len2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    __m256 valid = _mm256_cmp_ps(len2, _mm256_set1_ps(kCoincident2), _CMP_GE_OQ);
+    const __m256 len = _mm256_sqrt_ps(len2);
+    const __m256 C = _mm256_sub_ps(len, _mm256_loadu_ps(s.rest + k));
+    if (s.unilateral) valid = _mm256_and_ps(valid, _mm256_cmp_ps(C, _mm256_setzero_ps(), _CMP_GT_OQ));
+    const __m256 oldLambda = First ? _mm256_setzero_ps() : _mm256_loadu_ps(s.lambda + k);
+    const __m256 negC = _mm256_xor_ps(C, _mm256_set1_ps(-0.0f));
+    __m256 dLambda = _mm256_mul_ps(_mm256_sub_ps(negC, _mm256_mul_ps(_mm256_set1_ps(s.alphaTilde), oldLambda)),
+                                   _mm256_loadu_ps(s.inverseDenominator + k));
+    dLambda = _mm256_and_ps(valid, dLambda);
+    if constexpr (Keep) _mm256_storeu_ps(s.lambda + k, First ? dLambda : _mm256_add_ps(oldLambda, dLambda));
+    const __m256 safeLen = _mm256_blendv_ps(_mm256_set1_ps(1), len, valid);
+    const __m256 sc = _mm256_div_ps(dLambda, safeLen);
+    const __m256 nx = _mm256_mul_ps(dx, sc), ny = _mm256_mul_ps(dy, sc), nz = _mm256_mul_ps(dz, sc);
+    ax = _mm256_add_ps(ax, _mm256_mul_ps(nx, wa)); ay = _mm256_add_ps(ay, _mm256_mul_ps(ny, wa));
+    az = _mm256_add_ps(az, _mm256_mul_ps(nz, wa));
+    bx = _mm256_sub_ps(bx, _mm256_mul_ps(nx, wb)); by = _mm256_sub_ps(by, _mm256_mul_ps(ny, wb));
+    bz = _mm256_sub_ps(bz, _mm256_mul_ps(nz, wb));
+    if constexpr (Layout == kContiguous) {
+        const std::uint32_t b0 = b[0];
+        _mm256_storeu_ps(&p.x[a0], ax); _mm256_storeu_ps(&p.y[a0], ay); _mm256_storeu_ps(&p.z[a0], az);
+        _mm256_storeu_ps(&p.x[b0], bx); _mm256_storeu_ps(&p.y[b0], by); _mm256_storeu_ps(&p.z[b0], bz);
+    } else if constexpr (Layout == kInterleaved || Layout == kPairs) {
+        merge8<Layout>(&p.x[a0], ax, bx); merge8<Layout>(&p.y[a0], ay, by); merge8<Layout>(&p.z[a0], az, bz);
+    } else {
+        scatter8(p.x.data(), a, ax); scatter8(p.y.data(), a, ay); scatter8(p.z.data(), a, az);
+        scatter8(p.x.data(), b, bx); scatter8(p.y.data(), b, by); scatter8(p.z.data(), b, bz);
+    }
+}
+
+template <bool First, bool Keep>
+FULCRUM_AVX2_TARGET std::size_t solveChunksOfEight(ParticleSoA& p, const SlotArrays& s, std::size_t begin, std::size_t end) {
+    std::size_t k = begin;
+    for (; k + 8 <= end; k += 8) {
+        switch (s.layout[k]) {
+            case kContiguous: solveEight<kContiguous, First, Keep>(p, s, k); break;
+            case kInterleaved: solveEight<kInterleaved, First, Keep>(p, s, k); break;
+            case kPairs: solveEight<kPairs, First, Keep>(p, s, k); break;
+            default: solveEight<kGather, First, Keep>(p, s, k); break;
+        }
+    }
+    return k;
 }
 #endif
 
 }  // namespace
+
+int distanceSimdLanes() { return gLanesOverride > 0 ? gLanesOverride : detectedLanes(); }
+
+void setDistanceSimdLanes(int lanes) {
+    const int best = detectedLanes();
+    gLanesOverride = lanes <= 0 ? 0 : (lanes >= 8 ? std::min(8, best) : (lanes >= 4 ? std::min(4, best) : 1));
+}
 
 void DistanceBatches::rebuild(const DistanceConstraintGroup& group, DistanceOrder order) {
     source_ = group.constraints;
@@ -208,28 +366,50 @@ void DistanceBatches::rebuild(const DistanceConstraintGroup& group, DistanceOrde
     inverseDenominator_.resize(slots);
     lambda_.assign(slots, 0);
     layout_.assign(slots, 0);
-    const auto matches = [&](std::size_t k, const std::uint32_t (&da)[4], std::uint32_t offset, bool fixedOffset) {
-        for (std::size_t i = 0; i < 4; ++i) {
-            if (a_[k + i] != a_[k] + da[i]) return false;
-            const std::uint32_t expectedB = fixedOffset ? a_[k + i] + offset : b_[k] + da[i];
+    // Chunk layouts for the lane count of this machine (distanceSimdLanes()).
+    lanes_ = static_cast<std::uint8_t>(distanceSimdLanes());
+    const std::size_t lanes = lanes_;
+    const auto matches = [&](std::size_t k, auto offsetOfLane, std::uint32_t bOffset, bool fixedOffset) {
+        for (std::size_t i = 0; i < lanes; ++i) {
+            const std::uint32_t da = offsetOfLane(i);
+            if (a_[k + i] != a_[k] + da) return false;
+            const std::uint32_t expectedB = fixedOffset ? a_[k + i] + bOffset : b_[k] + da;
             if (b_[k + i] != expectedB) return false;
         }
         return true;
     };
-    static constexpr std::uint32_t kRun[4] = {0, 1, 2, 3}, kEven[4] = {0, 2, 4, 6}, kPair[4] = {0, 1, 4, 5};
-    for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
-        for (std::size_t k = colourStart_[c]; k + 4 <= colourStart_[c + 1]; k += 4) {
-            if (matches(k, kRun, 0, false)) layout_[k] = kContiguous;
-            else if (matches(k, kEven, 1, true)) layout_[k] = kInterleaved;
-            else if (matches(k, kPair, 2, true)) layout_[k] = kPairs;
+    const auto run = [](std::size_t i) { return static_cast<std::uint32_t>(i); };
+    const auto even = [](std::size_t i) { return static_cast<std::uint32_t>(2 * i); };
+    const auto pairs = [](std::size_t i) { return static_cast<std::uint32_t>((i / 2) * 4 + (i % 2)); };  // 0,1,4,5,8,9,...
+    // 8-lane windows come out of the shuffles as constraints {0,1,4,5,2,3,6,7}.
+    static constexpr std::size_t kHalves[8] = {0, 1, 4, 5, 2, 3, 6, 7};
+    for (std::size_t c = 0; lanes > 1 && c + 1 < colourStart_.size(); ++c) {
+        for (std::size_t k = colourStart_[c]; k + lanes <= colourStart_[c + 1]; k += lanes) {
+            if (matches(k, run, 0, false)) layout_[k] = kContiguous;
+            else if (matches(k, even, 1, true)) layout_[k] = kInterleaved;
+            else if (matches(k, pairs, 2, true)) layout_[k] = kPairs;
             else layout_[k] = kGather;
+            if (lanes == 8 && (layout_[k] == kInterleaved || layout_[k] == kPairs)) {
+                std::uint32_t a[8], b[8], src[8];
+                for (std::size_t i = 0; i < 8; ++i) {
+                    a[i] = a_[k + kHalves[i]];
+                    b[i] = b_[k + kHalves[i]];
+                    src[i] = sourceIndex_[k + kHalves[i]];
+                }
+                for (std::size_t i = 0; i < 8; ++i) {
+                    a_[k + i] = a[i];
+                    b_[k + i] = b[i];
+                    sourceIndex_[k + i] = src[i];
+                }
+            }
         }
     }
 }
 
 void DistanceBatches::prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep,
                               DistanceOrder order) {
-    bool same = group.constraints.size() == source_.size() && !colourStart_.empty() && order == order_;
+    bool same = group.constraints.size() == source_.size() && !colourStart_.empty() && order == order_ &&
+                lanes_ == distanceSimdLanes();
     for (std::size_t g = 0; same && g < source_.size(); ++g) {
         same = group.constraints[g].a == source_[g].a && group.constraints[g].b == source_[g].b;
     }
@@ -243,42 +423,38 @@ void DistanceBatches::prepare(const DistanceConstraintGroup& group, const std::v
     }
 }
 
-template <bool FirstIteration>
+template <bool First, bool Keep>
 void DistanceBatches::solveRange(ParticleSoA& p, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
-        solveOne<FirstIteration>(p, a_[k], b_[k], rest_[k], inverseDenominator_[k], alphaTilde_, unilateral_, lambda_[k]);
+        solveOne<First, Keep>(p, a_[k], b_[k], rest_[k], inverseDenominator_[k], alphaTilde_, unilateral_, lambda_[k]);
     }
 }
 
-void DistanceBatches::solve(ParticleSoA& p, bool firstIteration) {
-    if (firstIteration) sweep<true>(p);
-    else sweep<false>(p);
+void DistanceBatches::solve(ParticleSoA& p, bool firstIteration, bool lastIteration) {
+    if (firstIteration) {
+        if (lastIteration) sweep<true, false>(p);
+        else sweep<true, true>(p);
+    } else {
+        sweep<false, true>(p);
+    }
 }
 
-template <bool FirstIteration>
+template <bool First, bool Keep>
 void DistanceBatches::sweep(ParticleSoA& p) {
+    [[maybe_unused]] const SlotArrays slots{a_.data(), b_.data(), rest_.data(), inverseDenominator_.data(),
+                                            lambda_.data(), layout_.data(), alphaTilde_, unilateral_};
     for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
         const std::size_t begin = colourStart_[c], end = colourStart_[c + 1];
         std::size_t k = begin;
-#if FULCRUM_PARTICLES_SSE2
-        const __m128 alphaTilde = _mm_set1_ps(alphaTilde_);
-        for (; k + 4 <= end; k += 4) {
-            const auto args = std::make_tuple(&a_[k], &b_[k], &rest_[k], &inverseDenominator_[k], &lambda_[k]);
-            const auto run = [&](auto layout) {
-                solveFour<decltype(layout)::value, FirstIteration>(p, std::get<0>(args), std::get<1>(args), std::get<2>(args),
-                                                   std::get<3>(args), std::get<4>(args), alphaTilde, unilateral_);
-            };
-            switch (layout_[k]) {
-                case kContiguous: run(std::integral_constant<ChunkLayout, kContiguous>{}); break;
-                case kInterleaved: run(std::integral_constant<ChunkLayout, kInterleaved>{}); break;
-                case kPairs: run(std::integral_constant<ChunkLayout, kPairs>{}); break;
-                default: run(std::integral_constant<ChunkLayout, kGather>{}); break;
-            }
-        }
+#if FULCRUM_PARTICLES_AVX2
+        if (lanes_ == 8) k = solveChunksOfEight<First, Keep>(p, slots, begin, end);
 #endif
-        solveRange<FirstIteration>(p, k, end);
+#if FULCRUM_PARTICLES_SSE2
+        if (lanes_ == 4) k = solveChunksOfFour<First, Keep>(p, slots, begin, end);
+#endif
+        solveRange<First, Keep>(p, k, end);
     }
-    solveRange<FirstIteration>(p, sequentialBegin_, a_.size());
+    solveRange<First, Keep>(p, sequentialBegin_, a_.size());
 }
 
 }  // namespace fulcrum::detail

@@ -17,9 +17,10 @@
 // Solved one after another in the group's order, each constraint waits for the
 // previous one's result (they share a particle): measured ~10 ns per constraint,
 // latency-bound. Instead the constraints are split into colours - sets that
-// share no particle - and a colour is solved 4 constraints at a time in SIMD
-// lanes (the graph colouring of solver-notes.md; constraints within a colour
-// are independent, so the result is the same whatever the lane count).
+// share no particle - and a colour is solved 8 (AVX2, chosen at run time) or
+// 4 (SSE2) constraints at a time in SIMD lanes (the graph colouring of
+// solver-notes.md; constraints within a colour are independent, so the result
+// is the same whatever the lane count: tested in Cloth.SimulationIsDeterministic).
 //
 // The colouring uses the structure every rope and cloth has: constraints
 // (a, a + d) with the same index offset d (1 along a rope or a cloth row,
@@ -30,7 +31,9 @@
 // of consecutive a's whose b's are consecutive too: 4 lanes load with one
 // unaligned SIMD load per coordinate and end instead of 8 scalar loads. For
 // d = 1 and 2 (along rows) the 4 lanes' 8 particles fill one window of 8
-// consecutive particles, split into a and b lanes with one shuffle. Any
+// consecutive particles, split into a and b lanes with one shuffle (8 lanes:
+// a window of 16, two in-half shuffles; the slots are stored in the order the
+// shuffles produce, so no cross-half permute is needed). Any
 // constraint that would still share a particle within its colour (duplicates,
 // a == b) goes to a final sequential list. Each class's colours are solved in
 // increasing offset order, so a cloth's stretch group sweeps along its rows,
@@ -73,15 +76,16 @@ public:
     void prepare(const DistanceConstraintGroup& group, const std::vector<Real>& inverseMass, Real substep,
                  DistanceOrder order = DistanceOrder::Coloured);
     // One Gauss-Seidel sweep over the colours. The first iteration of a
-    // sub-step starts the multipliers from 0 (no separate reset).
-    void solve(ParticleSoA& particles, bool firstIteration);
+    // sub-step starts the multipliers from 0 (no separate reset); the last
+    // does not store them (nothing reads them after it).
+    void solve(ParticleSoA& particles, bool firstIteration, bool lastIteration);
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
 
 private:
     void rebuild(const DistanceConstraintGroup& group, DistanceOrder order);
-    template <bool FirstIteration>
+    template <bool First, bool Keep>
     void sweep(ParticleSoA& p);
-    template <bool FirstIteration>
+    template <bool First, bool Keep>
     void solveRange(ParticleSoA& p, std::size_t begin, std::size_t end);
 
     std::vector<DistanceConstraint> source_;  // the group's constraints when coloured (change detection)
@@ -95,6 +99,16 @@ private:
     Real alphaTilde_ = 0;
     bool unilateral_ = false;
     DistanceOrder order_ = DistanceOrder::Coloured;
+    std::uint8_t lanes_ = 0;                  // SIMD lanes the layouts were made for
 };
+
+// Lanes of the coloured sweep on this machine: 8 with AVX2 (chosen at run
+// time, also in the portable default build), 4 with SSE2, else 1. Every
+// width gives bit-identical results (the lanes are independent constraints,
+// each computing the scalar formula).
+int distanceSimdLanes();
+// Forces a narrower width (4 or 1; 0 restores the detected one): for tests
+// and benchmarks comparing the kernels. Not thread-safe; call between steps.
+void setDistanceSimdLanes(int lanes);
 
 }  // namespace fulcrum::detail

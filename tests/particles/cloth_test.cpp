@@ -7,6 +7,7 @@
 #include "particles/particle_builders.hpp"
 #include "particles/particle_metrics.hpp"
 #include "particles/particle_world.hpp"
+#include "particles/xpbd_distance.hpp"
 #include "rigid_test_world.hpp"
 
 using namespace fulcrum;
@@ -179,10 +180,16 @@ TEST(Cloth, SelfCollisionKeepsFoldedLayersApart) {
     EXPECT_LT(run(false), radius);
 }
 
-// Same input, same build: bit-identical positions (determinism).
+// Same input, same build: bit-identical positions (determinism). Also
+// across the distance kernel's SIMD widths (8 lanes with AVX2, chosen at run
+// time, 4 with SSE2, 1): the same build gives the same results on machines
+// with and without AVX2. Two iterations, so the multipliers' load and store
+// paths are compared too.
 TEST(Cloth, SimulationIsDeterministic) {
-    const auto run = [] {
-        ParticleWorld world;
+    const auto run = [](int iterations) {
+        ParticleWorldSettings settings;
+        settings.iterations = iterations;
+        ParticleWorld world(settings);
         test_support::TestRigidWorld rigid;
         rigid.addStatic(Shape::sphere(Real(0.3)), {{0, Real(0.5), 0}, {}});
         rigid.addStatic(Shape::plane({0, 1, 0}, 0));
@@ -190,11 +197,25 @@ TEST(Cloth, SimulationIsDeterministic) {
         def.size = {16, 16};
         def.origin = {Real(-0.75), 1, Real(-0.75)};
         def.bendCompliance = 1;
+        def.pinned = {{0, 0}, {5, 0}, {10, 3}};  // uneven masses: each lane must meet its own constraint's data
         const ParticleSystemId id = world.addCloth(def, &rigid);
         for (int stepIndex = 0; stepIndex < 60; ++stepIndex) world.step(kDt, &rigid);
         return world.system(id).position;
     };
-    const std::vector<Vec3> a = run(), b = run();
+    const std::vector<Vec3> a = run(1), b = run(1);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "particle " << i;
+    for (const int iterations : {1, 2}) {
+        const std::vector<Vec3> widest = run(iterations);
+        for (const int lanes : {4, 1}) {
+            detail::setDistanceSimdLanes(lanes);
+            const std::vector<Vec3> narrow = run(iterations);
+            detail::setDistanceSimdLanes(0);
+            ASSERT_EQ(widest.size(), narrow.size());
+            for (std::size_t i = 0; i < widest.size(); ++i) {
+                ASSERT_EQ(widest[i], narrow[i]) << "particle " << i << ", " << lanes << " lanes vs "
+                                                << detail::distanceSimdLanes() << ", " << iterations << " iterations";
+            }
+        }
+    }
 }
