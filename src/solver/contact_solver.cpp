@@ -45,6 +45,8 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(colourOf_, 4 * bodyCount);
     grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
     grow(colourStart_, kColourCount + 2);
+    grow(blocks_, 4 * bodyCount / kWideLanes + kColourCount + 1);
+    grow(blockStart_, kColourCount + 2);
 }
 
 void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
@@ -120,6 +122,46 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
         const PendingConstraint& pc = pending_[pi];
         buildConstraint(w, contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
     }
+    wideDirty_ = false;
+    if (wide_) packWide();
+}
+
+// The coloured constraints into blocks of kWideLanes, colour by colour (a
+// block never mixes colours, so its lanes share no dynamic body). The overflow
+// colour stays scalar: its constraints may share bodies.
+void ContactSolver::packWide() {
+    blockStart_.assign(kColourCount + 1, 0);
+    std::size_t blocks = 0;
+    for (std::uint32_t c = 0; c < kColourCount; ++c) {
+        blockStart_[c] = static_cast<std::uint32_t>(blocks);
+        const std::uint32_t n = colourStart_[c + 1] - colourStart_[c];
+        blocks += (n + kWideLanes - 1) / kWideLanes;
+    }
+    blockStart_[kColourCount] = static_cast<std::uint32_t>(blocks);
+    blocks_.resize(blocks);
+    for (std::uint32_t c = 0; c < kColourCount; ++c) {
+        for (std::uint32_t i = colourStart_[c]; i < colourStart_[c + 1]; ++i) {
+            const std::uint32_t offset = i - colourStart_[c];
+            WideContactBlock& b = blocks_[blockStart_[c] + offset / kWideLanes];
+            const int lane = static_cast<int>(offset % kWideLanes);
+            if (lane == 0) {
+                b = WideContactBlock{};
+                for (int l = 0; l < kWideLanes; ++l) {
+                    b.bodyA[l] = b.bodyB[l] = 0;
+                    b.writeA[l] = b.writeB[l] = simd::kEmptyLane;
+                    b.constraint[l] = 0;
+                }
+            }
+            packLane(b, lane, constraints_[i], i, bodies_.data());
+        }
+    }
+}
+
+// Accumulated impulses from the blocks back into the scalar constraints.
+void ContactSolver::unpackWide() {
+    if (!wideDirty_) return;
+    for (const WideContactBlock& b : blocks_) unpackImpulses(b, constraints_.data());
+    wideDirty_ = false;
 }
 
 void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc,
@@ -281,7 +323,18 @@ void ContactSolver::updateDeltas(const WorldImpl& w) {
 }
 
 void ContactSolver::warmStart() {
-    for (ContactConstraint& k : constraints_) {
+    if (wide_) {
+        warmStartWide(blocks_.data(), blocks_.size(), bodies_.data());
+        warmStartRange(colourStart_[kColourCount], constraints_.size());
+        wideDirty_ = true;
+    } else {
+        warmStartRange(0, constraints_.size());
+    }
+}
+
+void ContactSolver::warmStartRange(std::size_t begin, std::size_t end) {
+    for (std::size_t ki = begin; ki < end; ++ki) {
+        ContactConstraint& k = constraints_[ki];
         SolverBody& a = bodies_[k.bodyA];
         SolverBody& b = bodies_[k.bodyB];
         Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
@@ -308,16 +361,22 @@ void ContactSolver::warmStart() {
 
 void ContactSolver::solve(bool useBias) {
     // Two instantiations: the relax pass has no bias branches at all.
+    const std::size_t begin = wide_ ? colourStart_[kColourCount] : 0;
+    if (wide_) {
+        solveWide(blocks_.data(), blocks_.size(), bodies_.data(), useBias, invH_, pushMax_);
+        wideDirty_ = true;
+    }
     if (useBias) {
-        solvePass<true>();
+        solvePass<true>(begin, constraints_.size());
     } else {
-        solvePass<false>();
+        solvePass<false>(begin, constraints_.size());
     }
 }
 
 template <bool useBias>
-void ContactSolver::solvePass() {
-    for (ContactConstraint& k : constraints_) {
+void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
+    for (std::size_t ki = begin; ki < end; ++ki) {
+        ContactConstraint& k = constraints_[ki];
         SolverBody& a = bodies_[k.bodyA];
         SolverBody& b = bodies_[k.bodyB];
         Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
@@ -420,6 +479,7 @@ void ContactSolver::solvePass() {
 }
 
 void ContactSolver::applyRestitution() {
+    unpackWide();
     for (ContactConstraint& k : constraints_) {
         if (k.restitution == 0) continue;
         SolverBody& a = bodies_[k.bodyA];
@@ -448,8 +508,9 @@ void ContactSolver::applyRestitution() {
     }
 }
 
-void ContactSolver::store(WorldImpl& w, ContactManager& manager) const {
+void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
     (void)w;
+    unpackWide();
     std::vector<Contact>& contacts = manager.contacts();
     for (const ContactConstraint& k : constraints_) {
         CachedManifold& m = contacts[k.contact].manifolds[k.manifold];

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fulcrum/math.hpp"
+#include "solver/contact_wide.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
@@ -36,6 +37,7 @@ struct SolverBody {
     Vec3 dp;                    // centre-of-mass displacement since the step's start
     Vec3 dtheta;                // rotation since the step's start as a rotation vector (R = exp(dtheta) R0)
     Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
+    Real padding[2] = {0, 0};   // 96 bytes: the wide kernels read whole rows of 4 floats (contact_wide.cpp)
 };
 
 // Implicit spring-damper coefficients (see the solver notes).
@@ -95,7 +97,13 @@ public:
     void solve(bool useBias);
     void applyRestitution();
     // Impulses (warm start) and end-of-step separations back into the contacts.
-    void store(WorldImpl& w, ContactManager& contacts) const;
+    void store(WorldImpl& w, ContactManager& contacts);
+
+    // Wide (SIMD, kWideLanes constraints at a time) or scalar solve; both give
+    // the same results (contact_wide.hpp says why). The scalar path is the
+    // reference; wide is the default. Set before a step, not during one.
+    void setWide(bool wide) { wide_ = wide; }
+    bool wide() const { return wide_; }
 
     std::size_t constraintCount() const { return constraints_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
@@ -113,7 +121,10 @@ private:
     };
     void colour();
     template <bool useBias>
-    void solvePass();
+    void solvePass(std::size_t begin, std::size_t end);
+    void warmStartRange(std::size_t begin, std::size_t end);
+    void packWide();
+    void unpackWide();
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
@@ -127,6 +138,10 @@ private:
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
+    std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
+    std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
+    bool wide_ = true;
+    bool wideDirty_ = false;                     // blocks_ hold impulses newer than constraints_
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };
