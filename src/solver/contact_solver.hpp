@@ -23,6 +23,7 @@
 
 namespace fulcrum {
 struct WorldImpl;
+class TaskSystem;
 }
 
 namespace fulcrum::detail {
@@ -104,6 +105,13 @@ public:
     // reference; wide is the default. Set before a step, not during one.
     void setWide(bool wide) { wide_ = wide; }
     bool wide() const { return wide_; }
+    // Runs the blocks of each colour across `tasks` (nullptr: on the calling
+    // thread). Blocks of a colour share no dynamic body, so the results are
+    // the same bit for bit for any thread count. Wide mode only.
+    void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
+    // The most blocks any colour has this step (a colour is split across
+    // threads from 16 blocks on: kBlocksPerTask in contact_solver.cpp).
+    std::size_t largestColourBlocks() const;
 
     std::size_t constraintCount() const { return constraints_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
@@ -123,6 +131,8 @@ private:
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);
+    template <class Kernel>
+    void forEachColour(Kernel&& kernel);
     void packWide();
     void unpackWide();
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
@@ -141,6 +151,7 @@ private:
     std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
     bool wide_ = true;
+    TaskSystem* tasks_ = nullptr;
     bool wideDirty_ = false;                     // blocks_ hold impulses newer than constraints_
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
