@@ -24,6 +24,25 @@ const Real kRecycleCosHalfAngle = std::cos(Real(0.5) * Real(0.1) * Real(3.141592
 
 bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 
+bool isRound(ShapeType t) { return t == ShapeType::Sphere || t == ShapeType::Capsule; }
+
+// Friction as the geometric mean, restitution as the maximum, rolling
+// resistance as the larger coefficient times the larger round radius.
+void mixMaterial(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB) {
+    const BodyParams& pa = w.params[dA];
+    const BodyParams& pb = w.params[dB];
+    c.friction = std::sqrt(pa.friction * pb.friction);
+    c.restitution = std::max(pa.restitution, pb.restitution);
+    const Real rolling = std::max(pa.rollingResistance, pb.rollingResistance);
+    c.rollingResistance = 0;
+    if (rolling > 0) {
+        Real radius = 0;
+        if (isRound(w.cold[dA].shape.type())) radius = std::max(radius, w.cold[dA].shape.radius());
+        if (isRound(w.cold[dB].shape.type())) radius = std::max(radius, w.cold[dB].shape.radius());
+        c.rollingResistance = rolling * radius;
+    }
+}
+
 }  // namespace
 
 bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
@@ -175,6 +194,7 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
     }
     const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);
     const Transform rel = relative(xA, xB);
+    mixMaterial(w, c, dA, dB);
 
     // Contact recycling (Box2D, 2026): if B hardly moved relative to A since the
     // last collide(), the manifold's features are still the right ones; move

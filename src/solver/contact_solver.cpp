@@ -31,8 +31,6 @@ Softness makeSoftness(Real hertz, Real zeta, Real h) {
     return {omega / a1, a2 * a3, a3};
 }
 
-bool isRound(ShapeType t) { return t == ShapeType::Sphere || t == ShapeType::Capsule; }
-
 }  // namespace
 
 void ContactSolver::reserve(std::size_t bodyCount) {
@@ -177,21 +175,17 @@ void ContactSolver::unpackWide() {
 
 void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc,
                                     ContactConstraint& k) const {
-    const std::uint32_t dA = w.bodySlots[c.slotA].dense;
-    const std::uint32_t dB = w.bodySlots[c.slotB].dense;
-    const BodyParams& pa = w.params[dA];
-    const BodyParams& pb = w.params[dB];
+    (void)w;
+    // Only the contact and the solver's own arrays: a static body is the zero
+    // body 0 with a zero centre (its anchor rB is then only ever multiplied by
+    // its zero velocity and zero inverse inertia).
     const std::uint32_t ia = pc.bodyA, ib = pc.bodyB, ci = pc.contact, mi = pc.manifold;
     const SolverBody& ba = bodies_[ia];
     const SolverBody& bb = bodies_[ib];
-    const BodyMotion& ma = w.motion[dA];
-    const BodyMotion& mb = w.motion[dB];
-    const Real friction = std::sqrt(pa.friction * pb.friction);
-    const Real restitution = std::max(pa.restitution, pb.restitution);
-    Real rollingRadius = 0;
-    if (isRound(w.cold[dA].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dA].shape.radius());
-    if (isRound(w.cold[dB].shape.type())) rollingRadius = std::max(rollingRadius, w.cold[dB].shape.radius());
-    const Real rolling = std::max(pa.rollingResistance, pb.rollingResistance) * rollingRadius;
+    const Vec3 comA = startCom_[ia], comB = startCom_[ib];
+    const Real friction = c.friction;
+    const Real restitution = c.restitution;
+    const Real rolling = c.rollingResistance;
     // Against static (and kinematic: infinite mass) bodies the stiffer softness.
     const bool stiff = ba.invMass == 0 || bb.invMass == 0;
     {
@@ -213,8 +207,8 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
             for (std::uint32_t pi = 0; pi < m.pointCount; ++pi) {
                 const CachedPoint& src = m.points[pi];
                 ConstraintPoint& cp = k.points[pi];
-                cp.rA = src.position - ma.com;
-                cp.rB = src.position - mb.com;
+                cp.rA = src.position - comA;
+                cp.rB = src.position - comB;
                 cp.rAxn = cross(cp.rA, n);
                 cp.rBxn = cross(cp.rB, n);
                 cp.angA = ba.invI * cp.rAxn;
@@ -224,13 +218,13 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
                 cp.normalMass = kn > 0 ? 1 / kn : 0;
                 cp.normalImpulse = src.normalImpulse;
                 cp.maxNormalImpulse = 0;
-                const Vec3 dv = mb.v + cross(mb.w, cp.rB) - ma.v - cross(ma.w, cp.rA);
+                const Vec3 dv = bb.v + cross(bb.w, cp.rB) - ba.v - cross(ba.w, cp.rA);
                 cp.relativeVelocity = dot(n, dv);
                 centre += src.position;
             }
             centre *= Real(1) / static_cast<Real>(m.pointCount);
-            const Vec3 rAc = centre - ma.com;
-            const Vec3 rBc = centre - mb.com;
+            const Vec3 rAc = centre - comA;
+            const Vec3 rBc = centre - comB;
             Real radius = 0;
             for (std::uint32_t pi = 0; pi < m.pointCount; ++pi) radius += length(m.points[pi].position - centre);
             k.twistRadius = radius / static_cast<Real>(m.pointCount);
