@@ -120,19 +120,24 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
         for (std::uint32_t mi = 0; mi < c.manifolds.size(); ++mi) pending_.push_back({ci, mi, ia, ib});
     }
     colour();
+    if (wide_) {
+        packWide(w, contacts);
+        return;
+    }
     constraints_.resize(pending_.size());
     for (std::size_t pi = 0; pi < pending_.size(); ++pi) {
         const PendingConstraint& pc = pending_[pi];
         buildConstraint(w, contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
     }
-    wideDirty_ = false;
-    if (wide_) packWide();
 }
 
 // The coloured constraints into blocks of kWideLanes, colour by colour (a
-// block never mixes colours, so its lanes share no dynamic body). The overflow
-// colour stays scalar: its constraints may share bodies.
-void ContactSolver::packWide() {
+// block never mixes colours, so its lanes share no dynamic body). Each is
+// built in a scratch constraint and packed straight into its lane: the wide
+// path keeps no scalar copy (that copy, written and read back once per step,
+// was 5 % of sphere_pile). The overflow colour stays scalar in constraints_:
+// its constraints may share bodies.
+void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& contacts) {
     blockStart_.assign(kColourCount + 1, 0);
     std::size_t blocks = 0;
     for (std::uint32_t c = 0; c < kColourCount; ++c) {
@@ -142,21 +147,22 @@ void ContactSolver::packWide() {
     }
     blockStart_[kColourCount] = static_cast<std::uint32_t>(blocks);
     blocks_.resize(blocks);
-    for (std::uint32_t c = 0; c < kColourCount; ++c) {
-        for (std::uint32_t i = colourStart_[c]; i < colourStart_[c + 1]; ++i) {
-            const std::uint32_t offset = i - colourStart_[c];
-            WideContactBlock& b = blocks_[blockStart_[c] + offset / kWideLanes];
-            const int lane = static_cast<int>(offset % kWideLanes);
-            if (lane == 0) {
-                b = WideContactBlock{};
-                for (int l = 0; l < kWideLanes; ++l) {
-                    b.bodyA[l] = b.bodyB[l] = 0;
-                    b.writeA[l] = b.writeB[l] = simd::kEmptyLane;
-                    b.constraint[l] = 0;
-                }
-            }
-            packLane(b, lane, constraints_[i], i, bodies_.data());
+    for (WideContactBlock& b : blocks_) clearBlock(b);
+    const std::uint32_t overflow = colourStart_[kColourCount];
+    constraints_.resize(pending_.size() - overflow);
+    ContactConstraint scratch;
+    for (std::size_t pi = 0; pi < pending_.size(); ++pi) {
+        const PendingConstraint& pc = pending_[pi];
+        const std::uint32_t slot = slotOf_[pi];
+        if (slot >= overflow) {
+            buildConstraint(w, contacts[pc.contact], pc, constraints_[slot - overflow]);
+            continue;
         }
+        const std::uint32_t c = colourOf_[pi];
+        const std::uint32_t offset = slot - colourStart_[c];
+        buildConstraint(w, contacts[pc.contact], pc, scratch);
+        packLane(blocks_[blockStart_[c] + offset / kWideLanes], static_cast<int>(offset % kWideLanes), scratch,
+                 bodies_.data());
     }
 }
 
@@ -164,13 +170,6 @@ std::size_t ContactSolver::largestColourBlocks() const {
     std::size_t largest = 0;
     for (std::size_t c = 0; c + 1 < blockStart_.size(); ++c) largest = std::max<std::size_t>(largest, blockStart_[c + 1] - blockStart_[c]);
     return largest;
-}
-
-// Accumulated impulses from the blocks back into the scalar constraints.
-void ContactSolver::unpackWide() {
-    if (!wideDirty_) return;
-    for (const WideContactBlock& b : blocks_) unpackImpulses(b, constraints_.data());
-    wideDirty_ = false;
 }
 
 void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc,
@@ -353,8 +352,7 @@ void ContactSolver::warmStart() {
         forEachColour([this](std::size_t first, std::size_t count) {
             warmStartWide(blocks_.data() + first, count, bodies_.data());
         });
-        warmStartRange(colourStart_[kColourCount], constraints_.size());
-        wideDirty_ = true;
+        warmStartRange(0, constraints_.size());
     } else {
         warmStartRange(0, constraints_.size());
     }
@@ -389,17 +387,16 @@ void ContactSolver::warmStartRange(std::size_t begin, std::size_t end) {
 
 void ContactSolver::solve(bool useBias) {
     // Two instantiations: the relax pass has no bias branches at all.
-    const std::size_t begin = wide_ ? colourStart_[kColourCount] : 0;
+    // Wide mode: the blocks, then the overflow colour (all constraints_ hold).
     if (wide_) {
         forEachColour([this, useBias](std::size_t first, std::size_t count) {
             solveWide(blocks_.data() + first, count, bodies_.data(), useBias, invH_, pushMax_);
         });
-        wideDirty_ = true;
     }
     if (useBias) {
-        solvePass<true>(begin, constraints_.size());
+        solvePass<true>(0, constraints_.size());
     } else {
-        solvePass<false>(begin, constraints_.size());
+        solvePass<false>(0, constraints_.size());
     }
 }
 
@@ -509,7 +506,7 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
 }
 
 void ContactSolver::applyRestitution() {
-    unpackWide();
+    if (wide_) restitutionWide(blocks_.data(), blocks_.size(), bodies_.data(), restitutionThreshold_);
     for (ContactConstraint& k : constraints_) {
         if (k.restitution == 0) continue;
         SolverBody& a = bodies_[k.bodyA];
@@ -540,8 +537,8 @@ void ContactSolver::applyRestitution() {
 
 void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
     (void)w;
-    unpackWide();
     std::vector<Contact>& contacts = manager.contacts();
+    if (wide_) storeWide(blocks_.data(), blocks_.size(), bodies_.data(), contacts.data());
     for (const ContactConstraint& k : constraints_) {
         CachedManifold& m = contacts[k.contact].manifolds[k.manifold];
         const SolverBody& a = bodies_[k.bodyA];

@@ -113,9 +113,13 @@ public:
     // threads from 16 blocks on: kBlocksPerTask in contact_solver.cpp).
     std::size_t largestColourBlocks() const;
 
-    std::size_t constraintCount() const { return constraints_.size(); }
+    std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
-    const std::vector<ContactConstraint>& constraints() const { return constraints_; }
+    // Every constraint's contact and solver bodies (islands).
+    struct ConstraintPair {
+        std::uint32_t contact, manifold, bodyA, bodyB;
+    };
+    const std::vector<ConstraintPair>& pairs() const { return pending_; }
     const std::vector<std::uint32_t>& denseOfSolverBody() const { return denseOf_; }
     const std::vector<SolverBody>& bodies() const { return bodies_; }
     std::vector<SolverBody>& mutableBodies() { return bodies_; }  // the joint solver works on the same bodies
@@ -124,17 +128,14 @@ public:
     const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
 
 private:
-    struct PendingConstraint {
-        std::uint32_t contact, manifold, bodyA, bodyB;
-    };
+    using PendingConstraint = ConstraintPair;
     void colour();
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);
     template <class Kernel>
     void forEachColour(Kernel&& kernel);
-    void packWide();
-    void unpackWide();
+    void packWide(const WorldImpl& w, const std::vector<Contact>& contacts);
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
@@ -142,7 +143,7 @@ private:
     std::vector<Quat> startQ_;
     std::vector<std::uint32_t> denseOf_;         // solver index -> dense (entry 0 unused)
     std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
-    std::vector<ContactConstraint> constraints_;
+    std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> colourOf_;
@@ -152,7 +153,6 @@ private:
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
     bool wide_ = true;
     TaskSystem* tasks_ = nullptr;
-    bool wideDirty_ = false;                     // blocks_ hold impulses newer than constraints_
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };

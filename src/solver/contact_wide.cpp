@@ -1,9 +1,11 @@
 #include "solver/contact_wide.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <type_traits>
 
+#include "solver/contact.hpp"
 #include "solver/contact_solver.hpp"
 
 namespace fulcrum::detail {
@@ -80,16 +82,28 @@ WideMat3 gatherInverseInertia(const SolverBody* bodies, const std::uint32_t* ind
 
 }  // namespace
 
-void packLane(WideContactBlock& b, int lane, const ContactConstraint& k, std::uint32_t constraintIndex,
-              const SolverBody* bodies) {
+void clearBlock(WideContactBlock& b) {
+    b = WideContactBlock{};
+    for (int l = 0; l < kWideLanes; ++l) {
+        b.bodyA[l] = b.bodyB[l] = 0;
+        b.writeA[l] = b.writeB[l] = kEmptyLane;
+        b.contact[l] = b.manifold[l] = b.lanePoints[l] = 0;
+    }
+}
+
+void packLane(WideContactBlock& b, int lane, const ContactConstraint& k, const SolverBody* bodies) {
     b.bodyA[lane] = k.bodyA;
     b.bodyB[lane] = k.bodyB;
     b.writeA[lane] = bodies[k.bodyA].invMass > 0 ? k.bodyA : kEmptyLane;
     b.writeB[lane] = bodies[k.bodyB].invMass > 0 ? k.bodyB : kEmptyLane;
-    b.constraint[lane] = constraintIndex;
-    b.laneCount = static_cast<std::uint32_t>(lane) + 1;
+    b.contact[lane] = k.contact;
+    b.manifold[lane] = k.manifold;
+    b.lanePoints[lane] = k.pointCount;
+    b.laneCount = std::max(b.laneCount, static_cast<std::uint32_t>(lane) + 1);
     if (k.pointCount > b.pointCount) b.pointCount = k.pointCount;
     if (k.rollingResistance > 0) b.rolling = true;
+    if (k.restitution != 0) b.bouncy = true;
+    setLane(b.restitution, lane, k.restitution);
     setLane(b.normal, lane, k.normal);
     setLane(b.tangent1, lane, k.tangent1);
     setLane(b.tangent2, lane, k.tangent2);
@@ -133,24 +147,6 @@ void packLane(WideContactBlock& b, int lane, const ContactConstraint& k, std::ui
     setLane(b.rollingMass1, lane, k.rollingMass.c1);
     setLane(b.rollingMass2, lane, k.rollingMass.c2);
     setLane(b.rollingImpulse, lane, k.rollingImpulse);
-}
-
-void unpackImpulses(const WideContactBlock& b, ContactConstraint* constraints) {
-    for (std::uint32_t lane = 0; lane < b.laneCount; ++lane) {
-        const int l = static_cast<int>(lane);
-        ContactConstraint& k = constraints[b.constraint[lane]];
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            ConstraintPoint& cp = k.points[i];
-            const WidePoint& wp = b.points[i];
-            cp.normalImpulse = wp.normalImpulse.lane(l);
-            cp.maxNormalImpulse = wp.maxNormalImpulse.lane(l);
-            cp.relativeVelocity = wp.relativeVelocity.lane(l);
-        }
-        k.tangentImpulse1 = b.tangentImpulse1.lane(l);
-        k.tangentImpulse2 = b.tangentImpulse2.lane(l);
-        k.twistImpulse = b.twistImpulse.lane(l);
-        k.rollingImpulse = b.rollingImpulse.lane(l);
-    }
 }
 
 // The twin of ContactSolver::warmStart's loop body.
@@ -307,6 +303,78 @@ void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, 
         solveBlocks<true>(blocks, count, bodies, invH, -pushMax);
     } else {
         solveBlocks<false>(blocks, count, bodies, invH, -pushMax);
+    }
+}
+
+// The twin of ContactSolver::applyRestitution: a lane takes part where the
+// scalar loop would not `continue` (restitution != 0, approached faster than
+// the threshold, received impulse); elsewhere it adds an exact zero.
+void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold) {
+    const FloatW zero = 0.0f, minusThreshold = -threshold;
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        WideContactBlock& k = blocks[bi];
+        if (!k.bouncy) continue;
+        std::array<FloatW, 8> rowA, rowB;
+        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
+        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
+        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        const MaskW bouncy = k.restitution != zero;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            WidePoint& cp = k.points[i];
+            const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
+            const FloatW vn = dot(k.normal, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
+            FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
+            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
+            impulse = newImpulse - cp.normalImpulse;
+            cp.normalImpulse = select(apply, newImpulse, cp.normalImpulse);
+            cp.maxNormalImpulse = select(apply, max(impulse, cp.maxNormalImpulse), cp.maxNormalImpulse);
+            impulse = select(apply, impulse, zero);
+            const Vec3W P = k.normal * impulse;
+            vA -= P * a.invMass;
+            wA -= cp.angA * impulse;
+            vB += P * b.invMass;
+            wB += cp.angB * impulse;
+        }
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+        scatterVelocity(bodies, k.writeA, a);
+        scatterVelocity(bodies, k.writeB, b);
+    }
+}
+
+// The twin of ContactSolver::store: impulses for the next step's warm start
+// and the end-of-step depths, lane by lane into the contacts' manifolds.
+void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts) {
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        const WideContactBlock& k = blocks[bi];
+        std::array<FloatW, 16> rowA, rowB;
+        const WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
+        const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
+        const Vec3W dp = b.dp - a.dp;
+        alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            const WidePoint& cp = k.points[i];
+            const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
+            d.store(depth[i]);
+            cp.normalImpulse.store(impulse[i]);
+            cp.maxNormalImpulse.store(maxImpulse[i]);
+        }
+        const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+        for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+            const int l = static_cast<int>(lane);
+            CachedManifold& m = contacts[k.contact[lane]].manifolds[k.manifold[lane]];
+            for (std::uint32_t i = 0; i < k.lanePoints[lane]; ++i) {
+                CachedPoint& dst = m.points[i];
+                dst.normalImpulse = impulse[i][lane];
+                dst.maxNormalImpulse = maxImpulse[i][lane];
+                dst.depthAfter = depth[i][lane];
+            }
+            m.frictionImpulse = friction.lane(l);
+            m.twistImpulse = k.twistImpulse.lane(l);
+            m.rollingImpulse = k.rollingImpulse.lane(l);
+        }
     }
 }
 

@@ -30,6 +30,7 @@ namespace fulcrum::detail {
 
 struct SolverBody;
 struct ContactConstraint;
+struct Contact;
 
 inline constexpr int kWideLanes = simd::kSimdLanes;
 
@@ -43,11 +44,13 @@ struct WidePoint {
 struct WideContactBlock {
     std::uint32_t bodyA[kWideLanes], bodyB[kWideLanes];    // gather: solver body (0: static)
     std::uint32_t writeA[kWideLanes], writeB[kWideLanes];  // scatter: the body if dynamic, else kEmptyLane
-    std::uint32_t constraint[kWideLanes];                  // index into the scalar constraints
+    std::uint32_t contact[kWideLanes], manifold[kWideLanes];  // where store() writes each lane's results
+    std::uint32_t lanePoints[kWideLanes];                  // each lane's point count
     std::uint32_t laneCount = 0, pointCount = 0;           // pointCount: the largest of the lanes
     bool rolling = false;                                  // a lane has rolling resistance
+    bool bouncy = false;                                   // a lane has restitution
     simd::Vec3W normal, tangent1, tangent2;
-    simd::FloatW friction, rollingResistance;
+    simd::FloatW friction, rollingResistance, restitution;
     simd::FloatW biasRate, massScale, impulseScale;
     WidePoint points[4];
     simd::Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
@@ -56,14 +59,16 @@ struct WideContactBlock {
     simd::Vec3W rollingImpulse;
 };
 
-// Lane `lane` of the block from a scalar constraint (prepare), and the
-// accumulated impulses back (before restitution and storing).
-void packLane(WideContactBlock& block, int lane, const ContactConstraint& k, std::uint32_t constraintIndex,
-              const SolverBody* bodies);
-void unpackImpulses(const WideContactBlock& block, ContactConstraint* constraints);
+// An empty block: every lane without bodies, masses or impulses.
+void clearBlock(WideContactBlock& block);
+// Lane `lane` of the block from a scalar constraint (prepare).
+void packLane(WideContactBlock& block, int lane, const ContactConstraint& k, const SolverBody* bodies);
 
 void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies);
 void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
                Real pushMax);
+// Twins of ContactSolver::applyRestitution and store.
+void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold);
+void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts);
 
 }  // namespace fulcrum::detail
