@@ -170,7 +170,8 @@ TEST(WideSolver, ParallelColoursGiveIdenticalResultsForAnyThreadCount) {
         }
         run(world, 90);
         // Many blocks per colour, or the test would not run anything in parallel.
-        EXPECT_GE(world.impl().contactSolver.largestColourBlocks(), std::size_t{32});
+        // (A colour is split from 16 blocks on: 18 blocks here with 8 lanes, 36 with 4.)
+        EXPECT_GE(world.impl().contactSolver.largestColourBlocks(), std::size_t{16});
         positions.emplace_back();
         velocities.emplace_back();
         for (BodyId id : ids) {
