@@ -92,9 +92,11 @@ void integratePositions(WorldImpl& w, Integrator method, Real h) {
                 // Isotropic bodies: the drift below is exactly a rotation at
                 // constant w (it cost ~45 % of sphere_pile's position stage and
                 // ~20 % of its step: three R I R^T and two inverses per body).
+                // Its world inverse inertia is the local one (no R I^-1 R^T below).
                 if (isIsotropic(p.localInertia)) {
                     m.q = integrateRotation(m.q, m.w, h);
-                    break;
+                    m.invInertiaWorld = p.invLocalInertia;
+                    continue;
                 }
                 // Torque-free drift at constant world angular momentum L = I_w(q) w.
                 // The rotation rate is taken at the midpoint orientation (second
