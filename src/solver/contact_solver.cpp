@@ -31,6 +31,24 @@ Softness makeSoftness(Real hertz, Real zeta, Real h) {
     return {omega / a1, a2 * a3, a3};
 }
 
+// toRotationVector for the small turns of one step, without atan2 (with the
+// atan2f/atanf calls, updateDeltas was 5.4 % of a sphere pile's instructions):
+// 2 atan(s / w) / s = (2 / w)(1 - x^2/3 + x^4/5 - x^6/7 + ...), x = s / w. For
+// x < 0.1 (turns under ~11 degrees since the step's start) the first omitted
+// term, x^8/9 < 1.2e-9, is far below float precision; larger turns take the
+// exact path.
+Vec3 stepRotationVector(const Quat& q) {
+    const Quat p = q.w < 0 ? -q : q;  // shortest arc
+    const Real s2 = lengthSquared(p.vec());
+    const Real w2 = p.w * p.w;
+    if (s2 < Real(0.01) * w2) {
+        const Real x2 = s2 / w2;
+        const Real series = 1 - x2 * (Real(1) / 3 - x2 * (Real(1) / 5 - x2 * (Real(1) / 7)));
+        return p.vec() * (Real(2) / p.w * series);
+    }
+    return toRotationVector(p);
+}
+
 }  // namespace
 
 void ContactSolver::reserve(std::size_t bodyCount) {
@@ -322,7 +340,7 @@ void ContactSolver::updateDeltas(const WorldImpl& w) {
     for (std::size_t i = 1; i < bodies_.size(); ++i) {
         const BodyMotion& m = w.motion[denseOf_[i]];
         bodies_[i].dp = m.com - startCom_[i];
-        bodies_[i].dtheta = toRotationVector(m.q * conjugate(startQ_[i]));
+        bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
     }
 }
 

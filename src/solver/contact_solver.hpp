@@ -6,12 +6,16 @@
 //   - a compact array of solver bodies: every awake dynamic or kinematic body,
 //     plus entry 0, an all-zero "static" body that stands for every static body
 //     (writes to it add zero, so constraints need no branch for static ends);
-//   - one ContactConstraint per manifold, with anchors relative to the centres
-//     of mass at the step's start, effective masses, softness and mixed
+//   - one constraint per manifold, with anchors relative to the centres of
+//     mass at the step's start, effective masses, softness and mixed
 //     friction/restitution/rolling resistance;
-//   - a graph colouring: constraints of one colour share no dynamic body, so a
-//     colour could run in parallel (later issue: threads and SIMD). Colours are
-//     solved in order, deterministically.
+//   - a graph colouring: constraints of one colour share no dynamic body.
+//     Colours are solved in order, deterministically. In wide mode (the
+//     default) each colour's constraints are packed kWideLanes at a time into
+//     SoA blocks and solved with SIMD (contact_wide.hpp), optionally spread
+//     over a TaskSystem; only the overflow colour is kept as ContactConstraint.
+//     The scalar mode (setWide(false)) keeps every constraint as a
+//     ContactConstraint and is the reference the wide mode equals bit for bit.
 // Per sub-step the step calls: gather velocities, warmStart, solve(bias),
 // scatter, [integrate positions], updateDeltas, relax (solve without bias),
 // scatter. After the sub-steps: applyRestitution, store.
