@@ -186,7 +186,9 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
 
 std::size_t ContactSolver::largestColourBlocks() const {
     std::size_t largest = 0;
-    for (std::size_t c = 0; c + 1 < blockStart_.size(); ++c) largest = std::max<std::size_t>(largest, blockStart_[c + 1] - blockStart_[c]);
+    for (std::size_t c = 0; c + 1 < blockStart_.size(); ++c) {
+        largest = std::max<std::size_t>(largest, blockStart_[c + 1] - blockStart_[c]);
+    }
     return largest;
 }
 

@@ -48,7 +48,8 @@ struct WideBody {
 #define FULCRUM_WIDE_INLINE inline __attribute__((always_inline))
 
 template <int K>
-FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uint32_t* index, std::array<FloatW, K>& row) {
+FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uint32_t* index,
+                                        std::array<FloatW, K>& row) {
     row = FloatW::gatherTransposed<K>(bodies, index);
     WideBody b;
     b.v = {row[0], row[1], row[2]};
@@ -77,7 +78,9 @@ Vec3W operator*(const WideMat3& m, const Vec3W& v) { return m.c0 * v.x + m.c1 * 
 WideMat3 gatherInverseInertia(const SolverBody* bodies, const std::uint32_t* index) {
     const std::array<FloatW, 24> row = FloatW::gatherTransposed<24>(bodies, index);
     constexpr int o = kInvIOffset;
-    return {{row[o], row[o + 1], row[o + 2]}, {row[o + 3], row[o + 4], row[o + 5]}, {row[o + 6], row[o + 7], row[o + 8]}};
+    return {{row[o], row[o + 1], row[o + 2]},
+            {row[o + 3], row[o + 4], row[o + 5]},
+            {row[o + 6], row[o + 7], row[o + 8]}};
 }
 
 }  // namespace

@@ -162,8 +162,8 @@ TEST(WideSolver, ParallelColoursGiveIdenticalResultsForAnyThreadCount) {
         for (int k = 0; k < 2; ++k) {
             for (int i = 0; i < 12; ++i) {
                 for (int j = 0; j < 10; ++j) {
-                    const Vec3 p{static_cast<Real>(i - 6) * Real(1.02) + Real(0.1) * static_cast<Real>(k % 2), Real(0.5) + static_cast<Real>(k),
-                                 static_cast<Real>(j - 6) * Real(1.02)};
+                    const Vec3 p{static_cast<Real>(i - 6) * Real(1.02) + Real(0.1) * static_cast<Real>(k % 2),
+                                 Real(0.5) + static_cast<Real>(k), static_cast<Real>(j - 6) * Real(1.02)};
                     ids.push_back((i + j + k) % 3 == 0 ? addSphere(world, p, Real(0.5)) : addBox(world, p));
                 }
             }
