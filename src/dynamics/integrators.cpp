@@ -9,6 +9,13 @@ namespace {
 bool moves(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 bool isDynamic(const BodyParams& p) { return p.type == BodyType::Dynamic && p.awake; }
 
+// I = s * identity (spheres, cubes, regular solids): I_w = R I R^T = I, so the
+// angular momentum drift below keeps w exactly and reduces to one rotation.
+bool isIsotropic(const Mat3& i) {
+    return i.c0.y == 0 && i.c0.z == 0 && i.c1.x == 0 && i.c1.z == 0 && i.c2.x == 0 && i.c2.y == 0 &&
+           i.c0.x == i.c1.y && i.c1.y == i.c2.z;
+}
+
 void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
     // Implicit (unconditionally stable) exponential decay: v *= 1 / (1 + h c).
     if (p.linearDamping > 0) m.v *= Real(1) / (1 + h * p.linearDamping);
@@ -82,6 +89,15 @@ void integratePositions(WorldImpl& w, Integrator method, Real h) {
             case Integrator::SemiImplicitEuler:
             case Integrator::Verlet: {
                 m.com += m.v * h;
+                // Isotropic bodies: the drift below is exactly a rotation at
+                // constant w (it cost ~45 % of sphere_pile's position stage and
+                // ~20 % of its step: three R I R^T and two inverses per body).
+                // Its world inverse inertia is the local one (no R I^-1 R^T below).
+                if (isIsotropic(p.localInertia)) {
+                    m.q = integrateRotation(m.q, m.w, h);
+                    m.invInertiaWorld = p.invLocalInertia;
+                    continue;
+                }
                 // Torque-free drift at constant world angular momentum L = I_w(q) w.
                 // The rotation rate is taken at the midpoint orientation (second
                 // order); afterwards w = I_w(q_new)^-1 L.

@@ -6,12 +6,16 @@
 //   - a compact array of solver bodies: every awake dynamic or kinematic body,
 //     plus entry 0, an all-zero "static" body that stands for every static body
 //     (writes to it add zero, so constraints need no branch for static ends);
-//   - one ContactConstraint per manifold, with anchors relative to the centres
-//     of mass at the step's start, effective masses, softness and mixed
+//   - one constraint per manifold, with anchors relative to the centres of
+//     mass at the step's start, effective masses, softness and mixed
 //     friction/restitution/rolling resistance;
-//   - a graph colouring: constraints of one colour share no dynamic body, so a
-//     colour could run in parallel (later issue: threads and SIMD). Colours are
-//     solved in order, deterministically.
+//   - a graph colouring: constraints of one colour share no dynamic body.
+//     Colours are solved in order, deterministically. In wide mode (the
+//     default) each colour's constraints are packed kWideLanes at a time into
+//     SoA blocks and solved with SIMD (contact_wide.hpp), optionally spread
+//     over a TaskSystem; only the overflow colour is kept as ContactConstraint.
+//     The scalar mode (setWide(false)) keeps every constraint as a
+//     ContactConstraint and is the reference the wide mode equals bit for bit.
 // Per sub-step the step calls: gather velocities, warmStart, solve(bias),
 // scatter, [integrate positions], updateDeltas, relax (solve without bias),
 // scatter. After the sub-steps: applyRestitution, store.
@@ -19,9 +23,11 @@
 #include <vector>
 
 #include "fulcrum/math.hpp"
+#include "solver/contact_wide.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
+class TaskSystem;
 }
 
 namespace fulcrum::detail {
@@ -36,6 +42,7 @@ struct SolverBody {
     Vec3 dp;                    // centre-of-mass displacement since the step's start
     Vec3 dtheta;                // rotation since the step's start as a rotation vector (R = exp(dtheta) R0)
     Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
+    Real padding[2] = {0, 0};   // 96 bytes: the wide kernels read whole rows of 4 floats (contact_wide.cpp)
 };
 
 // Implicit spring-damper coefficients (see the solver notes).
@@ -95,11 +102,28 @@ public:
     void solve(bool useBias);
     void applyRestitution();
     // Impulses (warm start) and end-of-step separations back into the contacts.
-    void store(WorldImpl& w, ContactManager& contacts) const;
+    void store(WorldImpl& w, ContactManager& contacts);
 
-    std::size_t constraintCount() const { return constraints_.size(); }
+    // Wide (SIMD, kWideLanes constraints at a time) or scalar solve; both give
+    // the same results (contact_wide.hpp says why). The scalar path is the
+    // reference; wide is the default. Set before a step, not during one.
+    void setWide(bool wide) { wide_ = wide; }
+    bool wide() const { return wide_; }
+    // Runs the blocks of each colour across `tasks` (nullptr: on the calling
+    // thread). Blocks of a colour share no dynamic body, so the results are
+    // the same bit for bit for any thread count. Wide mode only.
+    void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
+    // The most blocks any colour has this step (a colour is split across
+    // threads from 16 blocks on: kBlocksPerTask in contact_solver.cpp).
+    std::size_t largestColourBlocks() const;
+
+    std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
-    const std::vector<ContactConstraint>& constraints() const { return constraints_; }
+    // Every constraint's contact and solver bodies (islands).
+    struct ConstraintPair {
+        std::uint32_t contact, manifold, bodyA, bodyB;
+    };
+    const std::vector<ConstraintPair>& pairs() const { return pending_; }
     const std::vector<std::uint32_t>& denseOfSolverBody() const { return denseOf_; }
     const std::vector<SolverBody>& bodies() const { return bodies_; }
     std::vector<SolverBody>& mutableBodies() { return bodies_; }  // the joint solver works on the same bodies
@@ -108,12 +132,14 @@ public:
     const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
 
 private:
-    struct PendingConstraint {
-        std::uint32_t contact, manifold, bodyA, bodyB;
-    };
+    using PendingConstraint = ConstraintPair;
     void colour();
     template <bool useBias>
-    void solvePass();
+    void solvePass(std::size_t begin, std::size_t end);
+    void warmStartRange(std::size_t begin, std::size_t end);
+    template <class Kernel>
+    void forEachColour(Kernel&& kernel);
+    void packWide(const WorldImpl& w, const std::vector<Contact>& contacts);
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
@@ -121,12 +147,16 @@ private:
     std::vector<Quat> startQ_;
     std::vector<std::uint32_t> denseOf_;         // solver index -> dense (entry 0 unused)
     std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
-    std::vector<ContactConstraint> constraints_;
+    std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
+    std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
+    std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
+    bool wide_ = true;
+    TaskSystem* tasks_ = nullptr;
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };

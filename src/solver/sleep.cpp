@@ -41,7 +41,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     parent_.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) parent_[i] = i;
     // Solver index of a dense body: the constraints carry them, joints need a lookup.
-    for (const ContactConstraint& k : solver.constraints()) {
+    for (const ContactSolver::ConstraintPair& k : solver.pairs()) {
         if (k.bodyA == 0 || k.bodyB == 0) continue;
         if (!manager.contacts()[k.contact].touching) continue;
         const std::uint32_t ra = find(k.bodyA), rb = find(k.bodyB);

@@ -1,0 +1,384 @@
+#include "solver/contact_wide.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <type_traits>
+
+#include "solver/contact.hpp"
+#include "solver/contact_solver.hpp"
+
+namespace fulcrum::detail {
+
+using simd::FloatW;
+using simd::kEmptyLane;
+using simd::MaskW;
+using simd::Vec3W;
+
+namespace {
+
+static_assert(sizeof(SolverBody) == 24 * sizeof(float) && std::is_trivially_copyable_v<SolverBody>,
+              "the wide kernels read a solver body as 24 floats: v, invMass, w, dp, dtheta, invI, padding");
+
+// Float offsets in SolverBody (checked by the static_assert above and the field order).
+constexpr int kInvIOffset = 13;
+
+// One lane of a wide value, written in place (FloatW is kWideLanes floats in
+// lane order; a store/modify/load round trip cost 8 % of pyramid20's
+// instructions in packing alone).
+static_assert(sizeof(FloatW) == kWideLanes * sizeof(float) && std::is_trivially_copyable_v<FloatW>);
+void setLane(FloatW& w, int lane, Real value) {
+    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float), &value,
+                sizeof(float));
+}
+void setLane(Vec3W& w, int lane, const Vec3& value) {
+    setLane(w.x, lane, value.x);
+    setLane(w.y, lane, value.y);
+    setLane(w.z, lane, value.z);
+}
+
+// The body state one kernel needs, gathered by whole rows (simd.hpp: 2-2.7x
+// faster than field-by-field gathers).
+struct WideBody {
+    Vec3W v, w, dp, dtheta;
+    FloatW invMass;
+    FloatW spare;  // float 7 of the row (dp.x), written back unchanged
+};
+
+#define FULCRUM_WIDE_INLINE inline __attribute__((always_inline))
+
+template <int K>
+FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uint32_t* index,
+                                        std::array<FloatW, K>& row) {
+    row = FloatW::gatherTransposed<K>(bodies, index);
+    WideBody b;
+    b.v = {row[0], row[1], row[2]};
+    b.invMass = row[3];
+    b.w = {row[4], row[5], row[6]};
+    b.spare = row[7];
+    if constexpr (K >= 16) {
+        b.dp = {row[7], row[8], row[9]};
+        b.dtheta = {row[10], row[11], row[12]};
+    }
+    return b;
+}
+
+// Writes v and w (floats 0-7 of each row; invMass and dp.x unchanged).
+FULCRUM_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::uint32_t* index, const WideBody& b) {
+    const std::array<FloatW, 8> row = {b.v.x, b.v.y, b.v.z, b.invMass, b.w.x, b.w.y, b.w.z, b.spare};
+    FloatW::scatterTransposed<8>(bodies, index, row);
+}
+
+struct WideMat3 {
+    Vec3W c0, c1, c2;
+};
+// Same operation order as fulcrum's Mat3 * Vec3: c0 x + c1 y + c2 z.
+Vec3W operator*(const WideMat3& m, const Vec3W& v) { return m.c0 * v.x + m.c1 * v.y + m.c2 * v.z; }
+
+WideMat3 gatherInverseInertia(const SolverBody* bodies, const std::uint32_t* index) {
+    const std::array<FloatW, 24> row = FloatW::gatherTransposed<24>(bodies, index);
+    constexpr int o = kInvIOffset;
+    return {{row[o], row[o + 1], row[o + 2]},
+            {row[o + 3], row[o + 4], row[o + 5]},
+            {row[o + 6], row[o + 7], row[o + 8]}};
+}
+
+}  // namespace
+
+void clearBlock(WideContactBlock& b) {
+    b = WideContactBlock{};
+    for (int l = 0; l < kWideLanes; ++l) {
+        b.bodyA[l] = b.bodyB[l] = 0;
+        b.writeA[l] = b.writeB[l] = kEmptyLane;
+        b.contact[l] = b.manifold[l] = b.lanePoints[l] = 0;
+    }
+}
+
+void packLane(WideContactBlock& b, int lane, const ContactConstraint& k, const SolverBody* bodies) {
+    b.bodyA[lane] = k.bodyA;
+    b.bodyB[lane] = k.bodyB;
+    b.writeA[lane] = bodies[k.bodyA].invMass > 0 ? k.bodyA : kEmptyLane;
+    b.writeB[lane] = bodies[k.bodyB].invMass > 0 ? k.bodyB : kEmptyLane;
+    b.contact[lane] = k.contact;
+    b.manifold[lane] = k.manifold;
+    b.lanePoints[lane] = k.pointCount;
+    b.laneCount = std::max(b.laneCount, static_cast<std::uint32_t>(lane) + 1);
+    if (k.pointCount > b.pointCount) b.pointCount = k.pointCount;
+    if (k.rollingResistance > 0) b.rolling = true;
+    if (k.restitution != 0) b.bouncy = true;
+    setLane(b.restitution, lane, k.restitution);
+    setLane(b.normal, lane, k.normal);
+    setLane(b.tangent1, lane, k.tangent1);
+    setLane(b.tangent2, lane, k.tangent2);
+    setLane(b.friction, lane, k.friction);
+    setLane(b.rollingResistance, lane, k.rollingResistance);
+    setLane(b.biasRate, lane, k.softness.biasRate);
+    setLane(b.massScale, lane, k.softness.massScale);
+    setLane(b.impulseScale, lane, k.softness.impulseScale);
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        const ConstraintPoint& cp = k.points[i];
+        WidePoint& wp = b.points[i];
+        setLane(wp.rAxn, lane, cp.rAxn);
+        setLane(wp.rBxn, lane, cp.rBxn);
+        setLane(wp.angA, lane, cp.angA);
+        setLane(wp.angB, lane, cp.angB);
+        setLane(wp.baseSeparation, lane, cp.baseSeparation);
+        setLane(wp.normalMass, lane, cp.normalMass);
+        setLane(wp.normalImpulse, lane, cp.normalImpulse);
+        setLane(wp.maxNormalImpulse, lane, cp.maxNormalImpulse);
+        setLane(wp.relativeVelocity, lane, cp.relativeVelocity);
+    }
+    setLane(b.rAc1, lane, k.rAc1);
+    setLane(b.rAc2, lane, k.rAc2);
+    setLane(b.rBc1, lane, k.rBc1);
+    setLane(b.rBc2, lane, k.rBc2);
+    setLane(b.angA1, lane, k.angA1);
+    setLane(b.angA2, lane, k.angA2);
+    setLane(b.angB1, lane, k.angB1);
+    setLane(b.angB2, lane, k.angB2);
+    setLane(b.twistA, lane, k.twistA);
+    setLane(b.twistB, lane, k.twistB);
+    setLane(b.k11, lane, k.k11);
+    setLane(b.k12, lane, k.k12);
+    setLane(b.k22, lane, k.k22);
+    setLane(b.tangentImpulse1, lane, k.tangentImpulse1);
+    setLane(b.tangentImpulse2, lane, k.tangentImpulse2);
+    setLane(b.twistMass, lane, k.twistMass);
+    setLane(b.twistImpulse, lane, k.twistImpulse);
+    setLane(b.twistRadius, lane, k.twistRadius);
+    setLane(b.rollingMass0, lane, k.rollingMass.c0);
+    setLane(b.rollingMass1, lane, k.rollingMass.c1);
+    setLane(b.rollingMass2, lane, k.rollingMass.c2);
+    setLane(b.rollingImpulse, lane, k.rollingImpulse);
+}
+
+// The twin of ContactSolver::warmStart's loop body.
+void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies) {
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        WideContactBlock& k = blocks[bi];
+        std::array<FloatW, 8> rowA, rowB;
+        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
+        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
+        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        FloatW total = 0.0f;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            const WidePoint& cp = k.points[i];
+            total += cp.normalImpulse;
+            wA -= cp.angA * cp.normalImpulse;
+            wB += cp.angB * cp.normalImpulse;
+        }
+        const Vec3W P = k.normal * total + k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+        vA -= P * a.invMass;
+        vB += P * b.invMass;
+        Vec3W dwA = k.angA1 * k.tangentImpulse1 + k.angA2 * k.tangentImpulse2 + k.twistA * k.twistImpulse;
+        Vec3W dwB = k.angB1 * k.tangentImpulse1 + k.angB2 * k.tangentImpulse2 + k.twistB * k.twistImpulse;
+        if (k.rolling) {
+            dwA += gatherInverseInertia(bodies, k.bodyA) * k.rollingImpulse;
+            dwB += gatherInverseInertia(bodies, k.bodyB) * k.rollingImpulse;
+        }
+        wA -= dwA;
+        wB += dwB;
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+        scatterVelocity(bodies, k.writeA, a);
+        scatterVelocity(bodies, k.writeB, b);
+    }
+}
+
+namespace {
+
+// The twin of ContactSolver::solvePass.
+template <bool useBias>
+void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, FloatW invH, FloatW minusPushMax) {
+    const FloatW zero = 0.0f, one = 1.0f;
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        WideContactBlock& k = blocks[bi];
+        std::array<FloatW, 16> rowA, rowB;
+        WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
+        WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
+        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        const FloatW mA = a.invMass, mB = b.invMass;
+        const Vec3W dp = b.dp - a.dp;
+        const Vec3W n = k.normal;
+        FloatW totalNormal = zero;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            WidePoint& cp = k.points[i];
+            const FloatW s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn);
+            const MaskW speculative = s > zero;
+            FloatW bias, massScale, impulseScale;
+            if constexpr (useBias) {
+                bias = select(speculative, s * invH, max(minusPushMax, k.biasRate * s));
+                massScale = select(speculative, one, k.massScale);
+                impulseScale = select(speculative, zero, k.impulseScale);
+            } else {
+                bias = select(speculative, s * invH, zero);
+                massScale = one;
+                impulseScale = zero;
+            }
+            const FloatW vn = dot(n, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
+            FloatW impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
+            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
+            impulse = newImpulse - cp.normalImpulse;
+            if constexpr (useBias) {
+                const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
+                cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
+            }
+            cp.normalImpulse = newImpulse;
+            cp.maxNormalImpulse = max(impulse, cp.maxNormalImpulse);
+            totalNormal += newImpulse;
+            const Vec3W P = n * impulse;
+            vA -= P * mA;
+            wA -= cp.angA * impulse;
+            vB += P * mB;
+            wB += cp.angB * impulse;
+        }
+
+        {
+            const Vec3W dv = vB - vA;
+            const FloatW v1 = dot(dv, k.tangent1) + dot(wB, k.rBc1) - dot(wA, k.rAc1);
+            const FloatW v2 = dot(dv, k.tangent2) + dot(wB, k.rBc2) - dot(wA, k.rAc2);
+            const FloatW old1 = k.tangentImpulse1, old2 = k.tangentImpulse2;
+            FloatW new1 = old1 - (k.k11 * v1 + k.k12 * v2);
+            FloatW new2 = old2 - (k.k12 * v1 + k.k22 * v2);
+            const FloatW maxFriction = k.friction * totalNormal;
+            const FloatW mag2 = new1 * new1 + new2 * new2;
+            const MaskW outside = mag2 > maxFriction * maxFriction;
+            if (outside.any()) {
+                const FloatW scale = maxFriction / sqrt(mag2);
+                new1 = select(outside, new1 * scale, new1);
+                new2 = select(outside, new2 * scale, new2);
+            }
+            k.tangentImpulse1 = new1;
+            k.tangentImpulse2 = new2;
+            const FloatW d1 = new1 - old1, d2 = new2 - old2;
+            const Vec3W P = k.tangent1 * d1 + k.tangent2 * d2;
+            vA -= P * mA;
+            wA -= k.angA1 * d1 + k.angA2 * d2;
+            vB += P * mB;
+            wB += k.angB1 * d1 + k.angB2 * d2;
+
+            const FloatW maxTwist = maxFriction * k.twistRadius;
+            const FloatW wn = dot(wB - wA, n);
+            const FloatW oldT = k.twistImpulse;
+            // std::clamp(x, lo, hi) as libstdc++ computes it: min(max(x, lo), hi),
+            // with std::max(x, lo) = x < lo ? lo : x and std::min(t, hi) = hi < t ? hi : t.
+            const FloatW x = oldT - k.twistMass * wn, lo = -maxTwist;
+            const FloatW t = select(x < lo, lo, x);
+            const FloatW newT = select(maxTwist < t, maxTwist, t);
+            k.twistImpulse = newT;
+            const FloatW dT = newT - oldT;
+            wA -= k.twistA * dT;
+            wB += k.twistB * dT;
+        }
+
+        if (k.rolling) {
+            const MaskW active = k.rollingResistance > zero;
+            const FloatW maxRolling = k.rollingResistance * totalNormal;
+            const Vec3W oldR = k.rollingImpulse;
+            const WideMat3 rollingMass{k.rollingMass0, k.rollingMass1, k.rollingMass2};
+            Vec3W newR = oldR - rollingMass * (wB - wA);
+            const FloatW mag2 = lengthSquared(newR);
+            const MaskW outside = mag2 > maxRolling * maxRolling;
+            const FloatW scale = maxRolling / sqrt(mag2);
+            newR = select(outside, newR * scale, newR);
+            newR = select(active, newR, oldR);
+            k.rollingImpulse = newR;
+            const Vec3W T = newR - oldR;
+            wA -= gatherInverseInertia(bodies, k.bodyA) * T;
+            wB += gatherInverseInertia(bodies, k.bodyB) * T;
+        }
+
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+        scatterVelocity(bodies, k.writeA, a);
+        scatterVelocity(bodies, k.writeB, b);
+    }
+}
+
+}  // namespace
+
+void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH, Real pushMax) {
+    if (useBias) {
+        solveBlocks<true>(blocks, count, bodies, invH, -pushMax);
+    } else {
+        solveBlocks<false>(blocks, count, bodies, invH, -pushMax);
+    }
+}
+
+// The twin of ContactSolver::applyRestitution: a lane takes part where the
+// scalar loop would not `continue` (restitution != 0, approached faster than
+// the threshold, received impulse); elsewhere it adds an exact zero.
+void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold) {
+    const FloatW zero = 0.0f, minusThreshold = -threshold;
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        WideContactBlock& k = blocks[bi];
+        if (!k.bouncy) continue;
+        std::array<FloatW, 8> rowA, rowB;
+        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
+        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
+        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+        const MaskW bouncy = k.restitution != zero;
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            WidePoint& cp = k.points[i];
+            const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
+            const FloatW vn = dot(k.normal, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
+            FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
+            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
+            impulse = newImpulse - cp.normalImpulse;
+            cp.normalImpulse = select(apply, newImpulse, cp.normalImpulse);
+            cp.maxNormalImpulse = select(apply, max(impulse, cp.maxNormalImpulse), cp.maxNormalImpulse);
+            impulse = select(apply, impulse, zero);
+            const Vec3W P = k.normal * impulse;
+            vA -= P * a.invMass;
+            wA -= cp.angA * impulse;
+            vB += P * b.invMass;
+            wB += cp.angB * impulse;
+        }
+        a.v = vA;
+        a.w = wA;
+        b.v = vB;
+        b.w = wB;
+        scatterVelocity(bodies, k.writeA, a);
+        scatterVelocity(bodies, k.writeB, b);
+    }
+}
+
+// The twin of ContactSolver::store: impulses for the next step's warm start
+// and the end-of-step depths, lane by lane into the contacts' manifolds.
+void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts) {
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        const WideContactBlock& k = blocks[bi];
+        std::array<FloatW, 16> rowA, rowB;
+        const WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
+        const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
+        const Vec3W dp = b.dp - a.dp;
+        alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
+        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+            const WidePoint& cp = k.points[i];
+            const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
+            d.store(depth[i]);
+            cp.normalImpulse.store(impulse[i]);
+            cp.maxNormalImpulse.store(maxImpulse[i]);
+        }
+        const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+        for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+            const int l = static_cast<int>(lane);
+            CachedManifold& m = contacts[k.contact[lane]].manifolds[k.manifold[lane]];
+            for (std::uint32_t i = 0; i < k.lanePoints[lane]; ++i) {
+                CachedPoint& dst = m.points[i];
+                dst.normalImpulse = impulse[i][lane];
+                dst.maxNormalImpulse = maxImpulse[i][lane];
+                dst.depthAfter = depth[i][lane];
+            }
+            m.frictionImpulse = friction.lane(l);
+            m.twistImpulse = k.twistImpulse.lane(l);
+            m.rollingImpulse = k.rollingImpulse.lane(l);
+        }
+    }
+}
+
+}  // namespace fulcrum::detail
