@@ -31,8 +31,10 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     bodies_ = solver.mutableBodies().data();
     ctx_.h = h;
     ctx_.invH = 1 / h;
-    const Real hertz = std::min(JointTuning::kHertz, JointTuning::kMaxHertzPerSubstepRate / h);
-    ctx_.soft = jointSoftness(hertz, JointTuning::kDampingRatio, h);
+    const WorldDef& settings = w.settings;
+    const Real hertz = std::min(settings.jointHertz, JointTuning::kMaxHertzPerSubstepRate / h);
+    ctx_.soft = jointSoftness(hertz, settings.jointDampingRatio, h);
+    projectionSlop_ = settings.jointProjectionSlop;
     ctx_.limitSoft = ctx_.soft;
 
     for (std::uint32_t slot = 0; slot < w.joints.size(); ++slot) {
@@ -72,6 +74,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         j.localAxisA = data.localAxisA;
         j.localAxisB = data.localAxisB;
         j.impulse = data.impulses;
+        j.maxFrictionImpulse = h * def.frictionTorque;
         switch (def.type) {
             case JointType::Hinge:
             case JointType::Slider:
@@ -81,6 +84,12 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
                 j.motor = def.motor.enabled;
                 j.motorSpeed = def.motor.speed;
                 j.maxMotorImpulse = h * def.motor.maxForce;
+                // Friction in a hinge is a motor at speed 0 (only while the motor is off).
+                if (!j.motor && def.type == JointType::Hinge && def.frictionTorque > 0) {
+                    j.motor = true;
+                    j.motorSpeed = 0;
+                    j.maxMotorImpulse = j.maxFrictionImpulse;
+                }
                 j.spring = def.spring.enabled && (def.spring.stiffness > 0 || def.spring.damping > 0);
                 j.springTarget = def.spring.target;
                 springCoefficients(def.spring.stiffness, def.spring.damping, h, j.springBias, j.springGamma);
@@ -106,7 +115,17 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         if (!j.limit && def.type != JointType::Distance) j.impulse.lower = j.impulse.upper = 0;
         if (!j.motor) j.impulse.motor = 0;
         if (!j.spring) j.impulse.spring = 0;
+        if (j.maxFrictionImpulse == 0 || (def.type != JointType::Ball && def.type != JointType::ConeTwist)) {
+            j.maxFrictionImpulse = 0;
+            j.impulse.friction = {};
+        }
         constraints_.push_back(j);
+    }
+    if (settings.jointDirectSolve) {
+        trees_.build(constraints_, solver.mutableBodies());
+    } else {
+        for (JointConstraint& j : constraints_) j.direct = false;
+        trees_.build(empty_, solver.mutableBodies());
     }
 }
 
@@ -139,6 +158,9 @@ void JointSolver::solve(bool useBias) {
             case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
         }
     }
+    // The point rows of joint trees last, solved exactly, so they have the
+    // final word on the anchors (the error users see).
+    if (!trees_.empty()) trees_.solve(constraints_, bodies_, ctx_);
 }
 
 namespace {
@@ -153,7 +175,8 @@ void shiftBody(BodyMotion& m, const SolverBody& s, const Vec3& r, const Vec3& P)
 }  // namespace
 
 void JointSolver::projectPositions(WorldImpl& w) const {
-    const Real slop = JointTuning::kProjectionSlop;
+    const Real slop = projectionSlop_;
+    if (!(slop < std::numeric_limits<Real>::infinity())) return;
     for (const JointConstraint& j : constraints_) {
         if (j.type == JointType::Slider) continue;
         // Masses of the current orientations (the step's start is far off for a link spinning at 40 rad/s).
@@ -225,7 +248,7 @@ void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBo
     force = i.linear;
     torque = {};
     switch (j.type) {
-        case JointType::Ball: break;
+        case JointType::Ball: torque = i.friction; break;
         case JointType::Fixed: torque = i.angular; break;
         case JointType::Hinge: torque = i.angular + rotate(f.qA, j.localAxisA) * axial; break;
         case JointType::Slider:
@@ -243,7 +266,7 @@ void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBo
             const Real s = length(c);
             const Vec3 mid = axisA + axisB;
             const Real m = length(mid);
-            torque = (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper);
+            torque = (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
             if (s > Real(1e-6)) torque -= c * (i.swing / s);
             break;
         }

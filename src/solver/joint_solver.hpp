@@ -20,6 +20,7 @@
 
 #include "fulcrum/world.hpp"
 #include "solver/joints/joint_common.hpp"
+#include "solver/joints/tree_solver.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
@@ -35,11 +36,10 @@ class ContactSolver;
 // docs/joints.md records the measurements behind the values (chain scene:
 // zeta 5 -> 11.5 cm worst stretch, zeta 2 -> 8.3 cm, + projection -> 5.6 cm;
 // rigid rows lost half a double pendulum's energy in 20 s).
+// Hertz, damping ratio and slop are WorldDef settings (jointHertz,
+// jointDampingRatio, jointProjectionSlop); the cap is fixed.
 struct JointTuning {
-    static constexpr Real kHertz = 60;
-    static constexpr Real kDampingRatio = 2;
     static constexpr Real kMaxHertzPerSubstepRate = Real(0.25);
-    static constexpr Real kProjectionSlop = Real(0.005);  // m
 };
 
 class JointSolver {
@@ -61,6 +61,9 @@ public:
 
 private:
     std::vector<JointConstraint> constraints_;
+    std::vector<JointConstraint> empty_;
+    JointTreeSolver trees_;
+    Real projectionSlop_ = 0;
     std::vector<JointBreakEvent> events_;
     SolverBody* bodies_ = nullptr;
     JointContext ctx_;

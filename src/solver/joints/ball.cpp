@@ -1,4 +1,5 @@
-// Ball-and-socket: the anchors of A and B coincide (3 rows, solved as a 3x3 block).
+// Ball-and-socket: the anchors of A and B coincide (3 rows, solved as a 3x3 block),
+// plus optional dry friction against relative spin.
 #include "solver/joints/joint_common.hpp"
 
 namespace fulcrum::detail {
@@ -6,9 +7,13 @@ namespace fulcrum::detail {
 void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b) {
     const JointFrame f = currentFrame(j, a, b);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
+    a.w -= a.invI * j.impulse.friction;
+    b.w += b.invI * j.impulse.friction;
 }
 
 void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    solveFrictionBlock(a, b, j.maxFrictionImpulse, j.impulse.friction);
+    if (j.direct) return;  // the tree solver has the point rows
     const JointFrame f = currentFrame(j, a, b);
     solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx);
 }

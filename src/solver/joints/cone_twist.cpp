@@ -47,7 +47,7 @@ bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers
 void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b) {
     const JointFrame f = currentFrame(j, a, b);
     const ConeGeometry g = coneGeometry(j, f);
-    Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper);
+    Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper) + j.impulse.friction;
     if (g.hasSwing) T -= g.swingAxis * j.impulse.swing;
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * T;
@@ -58,6 +58,7 @@ void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
     const JointFrame f = currentFrame(j, a, b);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
+    solveFrictionBlock(a, b, j.maxFrictionImpulse, i.friction);
     if (swingLimited(j) && g.hasSwing) {
         const JointRow inward{Vec3{}, -g.swingAxis, -g.swingAxis};
         solveLimitRow(inward, a, b, j.swingLimit - g.swing, i.swing, ctx);
@@ -67,7 +68,7 @@ void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
     solveLimitRow(row, a, b, twist - j.lower, i.lower, ctx);
     const JointRow back{Vec3{}, -g.twistAxis, -g.twistAxis};
     solveLimitRow(back, a, b, j.upper - twist, i.upper, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+    if (!j.direct) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
 }
 
 }  // namespace fulcrum::detail

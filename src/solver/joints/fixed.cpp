@@ -16,7 +16,7 @@ void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b) {
 void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     JointFrame f = currentFrame(j, a, b);
     solveAngularBlock(a, b, angularError(j, f.qA, f.qB), j.impulse.angular, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx);
+    if (!j.direct) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx);
 }
 
 }  // namespace fulcrum::detail

@@ -77,7 +77,7 @@ void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointCon
         solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
     }
     solveAlignment(a, b, axisA, axisB, i.angular, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+    if (!j.direct) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
 }
 
 }  // namespace fulcrum::detail

@@ -36,6 +36,7 @@ struct JointImpulses {
     Real spring = 0, motor = 0;     // along the free axis (hinge, slider) or the distance
     Real lower = 0, upper = 0;      // limits (hinge, slider, distance min/max, cone-twist twist)
     Real swing = 0;                 // cone-twist swing cone
+    Vec3 friction;                  // ball / cone-twist joint friction (angular, world, on B)
 };
 
 // One joint prepared for this step.
@@ -57,6 +58,8 @@ struct JointConstraint {
     Real springTarget = 0, springBias = 0, springGamma = 0;  // implicit spring row (see springCoefficients)
     Real restLength = 0;              // distance joints
     bool rigidDistance = false;       // rod: min == max and no spring
+    bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here
+    Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     JointImpulses impulse;
 };
 
@@ -208,6 +211,21 @@ inline void solveAngularBlock(SolverBody& a, SolverBody& b, const Vec3& C, Vec3&
     }
     const Vec3 d = -(inverse(K) * (cdot + bias)) * massScale - lambda * impulseScale;
     lambda += d;
+    a.w -= a.invI * d;
+    b.w += b.invI * d;
+}
+
+// Joint friction (ball, cone-twist): the relative spin wB - wA -> 0 with the
+// angular impulse's magnitude clamped to h * frictionTorque (dry friction).
+inline void solveFrictionBlock(SolverBody& a, SolverBody& b, Real maxImpulse, Vec3& lambda) {
+    if (maxImpulse <= 0) return;
+    const Mat3 K = a.invI + b.invI;
+    if (!(determinant(K) > 0)) return;
+    const Vec3 old = lambda;
+    lambda -= inverse(K) * (b.w - a.w);
+    const Real len = length(lambda);
+    if (len > maxImpulse) lambda *= maxImpulse / len;
+    const Vec3 d = lambda - old;
     a.w -= a.invI * d;
     b.w += b.invI * d;
 }
