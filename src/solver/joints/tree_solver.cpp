@@ -11,42 +11,41 @@ bool hasPointBlock(JointType t) {
     return t == JointType::Ball || t == JointType::Hinge || t == JointType::ConeTwist || t == JointType::Fixed;
 }
 
-// In-place Cholesky of the n x n symmetric matrix a (lower triangle used).
-bool cholesky(double a[6][6], int n) {
-    for (int j = 0; j < n; ++j) {
+// In-place Cholesky of the N x N symmetric matrix a (lower triangle used).
+// Sizes are compile-time (3: joints, 6: bodies) so the loops unroll.
+template <int N>
+bool cholesky(double a[6][6]) {
+    for (int j = 0; j < N; ++j) {
         double s = a[j][j];
         for (int k = 0; k < j; ++k) s -= a[j][k] * a[j][k];
         if (!(s > 1e-300)) return false;
         const double d = std::sqrt(s);
         a[j][j] = d;
-        for (int i = j + 1; i < n; ++i) {
+        const double inv = 1 / d;
+        for (int i = j + 1; i < N; ++i) {
             double t = a[i][j];
             for (int k = 0; k < j; ++k) t -= a[i][k] * a[j][k];
-            a[i][j] = t / d;
+            a[i][j] = t * inv;
         }
     }
     return true;
 }
 
-// x <- (L L^T)^-1 x.
-void cholSolve(const double L[6][6], int n, double* x) {
-    for (int i = 0; i < n; ++i) {
+// x <- (L L^T)^-1 x, negated for joints (their factor is of -D): x <- D^-1 x.
+template <int N, bool negate>
+void applyInverse(const double L[6][6], double* x) {
+    for (int i = 0; i < N; ++i) {
         double t = x[i];
         for (int k = 0; k < i; ++k) t -= L[i][k] * x[k];
         x[i] = t / L[i][i];
     }
-    for (int i = n - 1; i >= 0; --i) {
+    for (int i = N - 1; i >= 0; --i) {
         double t = x[i];
-        for (int k = i + 1; k < n; ++k) t -= L[k][i] * x[k];
+        for (int k = i + 1; k < N; ++k) t -= L[k][i] * x[k];
         x[i] = t / L[i][i];
     }
-}
-
-// x <- D^-1 x for a node: bodies store chol(D), joints chol(-D).
-void applyInverse(const double L[6][6], int n, bool joint, double* x) {
-    cholSolve(L, n, x);
-    if (joint) {
-        for (int i = 0; i < n; ++i) x[i] = -x[i];
+    if (negate) {
+        for (int i = 0; i < N; ++i) x[i] = -x[i];
     }
 }
 
@@ -235,70 +234,15 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
     // Factor and forward-substitute, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
-        Factor& f = factors_[i];
-        const int dim = n.joint ? 3 : 6;
-        if (n.joint) {
-            for (int r = 0; r < 3; ++r) {
-                for (int c = 0; c < 3; ++c) f.D[r][c] = -f.D[r][c];
-            }
-        }
-        if (!cholesky(f.D, dim)) return false;
-        applyInverse(f.D, dim, n.joint, f.z);  // z <- D^-1 z
-        if (n.parent == kNone) continue;
-        const Node& p = nodes_[n.parent];
-        Factor& pf = factors_[n.parent];
-        const int pdim = p.joint ? 3 : 6;
-        // H(parent, this).
-        double J[3][6];
-        if (p.joint) {  // this is a body of the parent joint
-            const Factor& jf = factors_[n.parent];
-            jacobian(J, n.bodyIsA ? jf.rA : jf.rB, n.bodyIsA ? -1 : 1);
-            for (int r = 0; r < 3; ++r) {
-                for (int c = 0; c < 6; ++c) f.Hp[r][c] = J[r][c];
-            }
-        } else {  // this is a joint on the parent body: the transpose
-            jacobian(J, n.bodyIsA ? f.rA : f.rB, n.bodyIsA ? -1 : 1);
-            for (int r = 0; r < 6; ++r) {
-                for (int c = 0; c < 3; ++c) f.Hp[r][c] = J[c][r];
-            }
-        }
-        // D_parent -= Hp D^-1 Hp^T; z_parent -= Hp (D^-1 z).
-        double X[6][6];  // column c of X = D^-1 (row c of Hp)^T
-        for (int c = 0; c < pdim; ++c) {
-            double col[6];
-            for (int k = 0; k < dim; ++k) col[k] = f.Hp[c][k];
-            applyInverse(f.D, dim, n.joint, col);
-            for (int k = 0; k < dim; ++k) X[k][c] = col[k];
-        }
-        for (int r = 0; r < pdim; ++r) {
-            double zr = 0;
-            for (int k = 0; k < dim; ++k) zr += f.Hp[r][k] * f.z[k];
-            pf.z[r] -= zr;
-            for (int c = 0; c <= r; ++c) {
-                double s = 0;
-                for (int k = 0; k < dim; ++k) s += f.Hp[r][k] * X[k][c];
-                pf.D[r][c] -= s;
-                if (c != r) pf.D[c][r] -= s;
-            }
-        }
+        if (n.joint ? !eliminate<3, 6>(i) : !eliminate<6, 3>(i)) return false;
     }
     // Back-substitute, parents first: y = D^-1 z - D^-1 Hp^T y_parent.
     for (std::uint32_t i = end; i-- > begin;) {
-        const Node& n = nodes_[i];
-        Factor& f = factors_[i];
-        const int dim = n.joint ? 3 : 6;
-        for (int k = 0; k < dim; ++k) f.y[k] = f.z[k];
-        if (n.parent == kNone) continue;
-        const Factor& pf = factors_[n.parent];
-        const int pdim = nodes_[n.parent].joint ? 3 : 6;
-        double t[6];
-        for (int k = 0; k < dim; ++k) {
-            double s = 0;
-            for (int r = 0; r < pdim; ++r) s += f.Hp[r][k] * pf.y[r];
-            t[k] = s;
+        if (nodes_[i].joint) {
+            backSubstitute<3, 6>(i);
+        } else {
+            backSubstitute<6, 3>(i);
         }
-        applyInverse(f.D, dim, n.joint, t);
-        for (int k = 0; k < dim; ++k) f.y[k] -= t[k];
     }
     // Impulses: y = -(J M^-1 J^T)^-1 r, softened as a whole in the biased pass.
     for (std::uint32_t i = begin; i < end; ++i) {
@@ -312,6 +256,70 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
         applyPoint(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
     }
     return true;
+}
+
+template <int dim, int pdim>
+bool JointTreeSolver::eliminate(std::uint32_t i) {
+    constexpr bool joint = dim == 3;
+    const Node& n = nodes_[i];
+    Factor& f = factors_[i];
+    if (joint) {
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) f.D[r][c] = -f.D[r][c];
+        }
+    }
+    if (!cholesky<dim>(f.D)) return false;
+    applyInverse<dim, joint>(f.D, f.z);  // z <- D^-1 z
+    if (n.parent == kNone) return true;
+    Factor& pf = factors_[n.parent];
+    // H(parent, this).
+    double J[3][6];
+    if (!joint) {  // this is a body of the parent joint
+        jacobian(J, n.bodyIsA ? pf.rA : pf.rB, n.bodyIsA ? -1 : 1);
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 6; ++c) f.Hp[r][c] = J[r][c];
+        }
+    } else {  // this is a joint on the parent body: the transpose
+        jacobian(J, n.bodyIsA ? f.rA : f.rB, n.bodyIsA ? -1 : 1);
+        for (int r = 0; r < 6; ++r) {
+            for (int c = 0; c < 3; ++c) f.Hp[r][c] = J[c][r];
+        }
+    }
+    // D_parent -= Hp D^-1 Hp^T; z_parent -= Hp (D^-1 z).
+    double X[pdim][6];  // X[c] = D^-1 (row c of Hp)^T
+    for (int c = 0; c < pdim; ++c) {
+        for (int k = 0; k < dim; ++k) X[c][k] = f.Hp[c][k];
+        applyInverse<dim, joint>(f.D, X[c]);
+    }
+    for (int r = 0; r < pdim; ++r) {
+        double zr = 0;
+        for (int k = 0; k < dim; ++k) zr += f.Hp[r][k] * f.z[k];
+        pf.z[r] -= zr;
+        for (int c = 0; c <= r; ++c) {
+            double s = 0;
+            for (int k = 0; k < dim; ++k) s += f.Hp[r][k] * X[c][k];
+            pf.D[r][c] -= s;
+        }
+    }
+    return true;
+}
+
+template <int dim, int pdim>
+void JointTreeSolver::backSubstitute(std::uint32_t i) {
+    constexpr bool joint = dim == 3;
+    const Node& n = nodes_[i];
+    Factor& f = factors_[i];
+    for (int k = 0; k < dim; ++k) f.y[k] = f.z[k];
+    if (n.parent == kNone) return;
+    const Factor& pf = factors_[n.parent];
+    double t[6];
+    for (int k = 0; k < dim; ++k) {
+        double s = 0;
+        for (int r = 0; r < pdim; ++r) s += f.Hp[r][k] * pf.y[r];
+        t[k] = s;
+    }
+    applyInverse<dim, joint>(f.D, t);
+    for (int k = 0; k < dim; ++k) f.y[k] -= t[k];
 }
 
 void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx) {

@@ -71,6 +71,10 @@ private:
         std::uint32_t ref, parentPos;
         bool joint, bodyIsA;
     };
+    template <int dim, int pdim>
+    bool eliminate(std::uint32_t node);
+    template <int dim, int pdim>
+    void backSubstitute(std::uint32_t node);
     bool solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints, SolverBody* bodies,
                    const JointContext& ctx);
 
