@@ -29,6 +29,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     constraints_.clear();
     events_.clear();
     bodies_ = solver.mutableBodies().data();
+    allBodies_ = &solver.mutableBodies();
     ctx_.h = h;
     ctx_.invH = 1 / h;
     const WorldDef& settings = w.settings;
@@ -129,23 +130,36 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     }
 }
 
+void JointSolver::refreshRotations() {
+    // exp(dtheta) of every solver body, once per pass: a body is shared by up to
+    // six joints in the grid benchmark, and each needs the exact rotation.
+    const std::vector<SolverBody>& all = *allBodies_;
+    rotations_.resize(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) rotations_[i] = deltaRotation(all[i]);
+    ctx_.rotations = rotations_.data();
+}
+
 void JointSolver::warmStart() {
+    refreshRotations();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
         SolverBody& b = bodies_[j.bodyB];
         switch (j.type) {
-            case JointType::Ball: warmStartBall(j, a, b); break;
-            case JointType::Hinge: warmStartHinge(j, a, b); break;
-            case JointType::Slider: warmStartSlider(j, a, b); break;
-            case JointType::Distance: warmStartDistance(j, a, b); break;
-            case JointType::Fixed: warmStartFixed(j, a, b); break;
-            case JointType::ConeTwist: warmStartConeTwist(j, a, b); break;
+            case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
+            case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
+            case JointType::Slider: warmStartSlider(j, a, b, ctx_); break;
+            case JointType::Distance: warmStartDistance(j, a, b, ctx_); break;
+            case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
+            case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
         }
     }
 }
 
 void JointSolver::solve(bool useBias) {
     ctx_.useBias = useBias;
+    // The biased pass follows this sub-step's warm start (same deltas); the
+    // relax pass follows the position update.
+    if (!useBias) refreshRotations();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
         SolverBody& b = bodies_[j.bodyB];

@@ -48,7 +48,7 @@ public:
     void reserve(std::size_t jointCount);
     // Builds the constraints of the enabled joints whose bodies are awake (or static).
     void prepare(WorldImpl& w, ContactSolver& bodies, Real h);
-    void warmStart();
+    void warmStart();  // also computes the bodies' rotations for the biased pass
     void solve(bool useBias);
     // After the sub-step's position integration: moves the joined bodies so the
     // anchors meet again (one nonlinear Gauss-Seidel pass, no velocity change).
@@ -60,8 +60,11 @@ public:
     std::span<const JointBreakEvent> breakEvents() const { return events_; }
 
 private:
+    void refreshRotations();
     std::vector<JointConstraint> constraints_;
     std::vector<JointConstraint> empty_;
+    std::vector<Quat> rotations_;
+    const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;
     Real projectionSlop_ = 0;
     std::vector<JointBreakEvent> events_;

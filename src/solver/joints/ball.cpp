@@ -4,8 +4,9 @@
 
 namespace fulcrum::detail {
 
-void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b) {
-    const JointFrame f = currentFrame(j, a, b);
+void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b, ctx);
+    if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * j.impulse.friction;
     b.w += b.invI * j.impulse.friction;
@@ -14,8 +15,9 @@ void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b) {
 void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     solveFrictionBlock(a, b, j.maxFrictionImpulse, j.impulse.friction);
     if (j.direct) return;  // the tree solver has the point rows
-    const JointFrame f = currentFrame(j, a, b);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx);
+    if (!j.pointMassValid) return;
+    const JointFrame f = currentFrame(j, a, b, ctx);
+    solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }
 
 }  // namespace fulcrum::detail

@@ -44,9 +44,10 @@ bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers
 
 }  // namespace
 
-void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b) {
-    const JointFrame f = currentFrame(j, a, b);
+void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
+    if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper) + j.impulse.friction;
     if (g.hasSwing) T -= g.swingAxis * j.impulse.swing;
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
@@ -55,7 +56,7 @@ void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b) {
 }
 
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b);
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
     solveFrictionBlock(a, b, j.maxFrictionImpulse, i.friction);
@@ -68,7 +69,7 @@ void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
     solveLimitRow(row, a, b, twist - j.lower, i.lower, ctx);
     const JointRow back{Vec3{}, -g.twistAxis, -g.twistAxis};
     solveLimitRow(back, a, b, j.upper - twist, i.upper, ctx);
-    if (!j.direct) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+    if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx, j.pointMass);
 }
 
 }  // namespace fulcrum::detail

@@ -59,12 +59,15 @@ struct JointConstraint {
     Real restLength = 0;              // distance joints
     bool rigidDistance = false;       // rod: min == max and no spring
     bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here
+    bool pointMassValid = false;      // pointMass holds the inverse of the 3x3 point block's K
+    Mat3 pointMass = Mat3::zero();    // K^-1 at the sub-step's start (warm start), reused by its passes
     Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     JointImpulses impulse;
 };
 
 struct JointContext {
     Real h = 0, invH = 0;
+    const Quat* rotations = nullptr;  // per solver body: exp(dtheta), refreshed once per pass (JointSolver)
     Softness soft;          // joints' equality rows (biased pass)
     Softness limitSoft;     // violated limits (biased pass)
     bool useBias = true;
@@ -177,12 +180,12 @@ inline void applyPoint(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3&
     b.w += b.invI * cross(rB, P);
 }
 
-// Point-to-point: pB - pA = C -> 0 (3 rows as one block).
+// Point-to-point: pB - pA = C -> 0 (3 rows as one block). `invK` is the
+// block's effective mass, computed once per sub-step (cachePointMass): the
+// anchors turn little within a sub-step, and recomputing the 3x3 inverse in
+// every pass cost the ball-joint grid a third of its time.
 inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& C, Vec3& lambda,
-                            const JointContext& ctx) {
-    const Mat3 K = pointInverseMass(a, b, rA, rB);
-    const Real det = determinant(K);
-    if (!(det > 0)) return;
+                            const JointContext& ctx, const Mat3& invK) {
     const Vec3 cdot = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
     Vec3 bias;
     Real massScale = 1, impulseScale = 0;
@@ -191,9 +194,15 @@ inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const 
         massScale = ctx.soft.massScale;
         impulseScale = ctx.soft.impulseScale;
     }
-    const Vec3 d = -(inverse(K) * (cdot + bias)) * massScale - lambda * impulseScale;
+    const Vec3 d = -(invK * (cdot + bias)) * massScale - lambda * impulseScale;
     lambda += d;
     applyPoint(a, b, rA, rB, d);
+}
+
+inline void cachePointMass(JointConstraint& j, const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    const Mat3 K = pointInverseMass(a, b, rA, rB);
+    j.pointMassValid = determinant(K) > 0;
+    j.pointMass = j.pointMassValid ? inverse(K) : Mat3::zero();
 }
 
 // Angular lock: the rotation vector C of B from its rest pose relative to A -> 0.
@@ -246,8 +255,7 @@ inline Quat deltaRotation(const SolverBody& b) {
     return angle > Real(0) ? Quat::fromAxisAngle(b.dtheta, angle) : Quat::identity();
 }
 
-inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
-    const Quat dqA = deltaRotation(a), dqB = deltaRotation(b);
+inline JointFrame frameFrom(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const Quat& dqA, const Quat& dqB) {
     JointFrame f;
     f.rA = rotate(dqA, j.rA0);
     f.rB = rotate(dqB, j.rB0);
@@ -255,6 +263,16 @@ inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, co
     f.qA = dqA * j.qA0;
     f.qB = dqB * j.qB0;
     return f;
+}
+
+// The joint's geometry now, from the bodies' deltas (exact rotation).
+inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
+    return frameFrom(j, a, b, deltaRotation(a), deltaRotation(b));
+}
+
+// The same inside a pass, with the rotations the pass computed once per body.
+inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const JointContext& ctx) {
+    return frameFrom(j, a, b, ctx.rotations[j.bodyA], ctx.rotations[j.bodyB]);
 }
 
 // Rotation of B away from its rest pose relative to A, as a world rotation vector.
@@ -272,17 +290,17 @@ inline Real twistAngle(const Quat& relative0, const Quat& qA, const Quat& qB, co
 
 // ---- per joint type (src/solver/joints/<type>.cpp)
 
-void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 
 // Force (N) and torque (N m) the joint applied to body B over the last sub-step,
