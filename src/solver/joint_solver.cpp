@@ -141,6 +141,7 @@ void JointSolver::refreshRotations() {
 
 void JointSolver::warmStart() {
     refreshRotations();
+    trees_.newSubstep();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
         SolverBody& b = bodies_[j.bodyB];

@@ -32,9 +32,10 @@
 // is a tree when it has no loop: joints = bodies - 1 + (joints to static or
 // kinematic ends), with at most one such end (two anchors to the static world
 // close a loop through it). Loops (the grid benchmark) stay Gauss-Seidel.
-// The factorization is redone in every pass because the anchors turn with the
-// bodies in every sub-step; it costs a few hundred flops per node (double
-// precision: the elimination of a 100:1 chain loses digits in float).
+// The factorization is redone once per sub-step (the anchors turn with the
+// bodies); the sub-step's other passes reuse it. Double precision: the
+// elimination works with products of masses and lever arms over whole trees.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +51,11 @@ public:
     // One exact pass over every tree's point rows (biased or relax, ctx.useBias).
     void solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx);
     bool empty() const { return nodes_.empty(); }
+    // A new sub-step: the next pass factors again (the anchors have turned).
+    void newSubstep() {
+        factored_ = false;
+        std::fill(valid_.begin(), valid_.end(), std::uint8_t{1});
+    }
     std::size_t treeCount() const { return trees_; }
 
 private:
@@ -75,13 +81,17 @@ private:
     bool eliminate(std::uint32_t node);
     template <int dim, int pdim>
     void backSubstitute(std::uint32_t node);
+    template <int dim, int pdim>
+    void forward(std::uint32_t node);
     bool solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints, SolverBody* bodies,
-                   const JointContext& ctx);
+                   const JointContext& ctx, bool refactor);
 
     std::vector<Node> nodes_;       // elimination order: every tree's children before its parents
     std::vector<Factor> factors_;
     std::vector<std::uint32_t> treeStart_;  // nodes_ of tree t: [treeStart_[t], treeStart_[t + 1])
     std::size_t trees_ = 0;
+    std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
+    bool factored_ = false;
     // build() scratch
     std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, componentOf_;
     std::vector<std::uint32_t> bodies_, joints_, worldJoints_;
