@@ -122,12 +122,52 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         }
         constraints_.push_back(j);
     }
+    colour(solver.mutableBodies());
     if (settings.jointDirectSolve) {
         trees_.build(constraints_, solver.mutableBodies());
     } else {
         for (JointConstraint& j : constraints_) j.direct = false;
         trees_.build(empty_, solver.mutableBodies());
     }
+}
+
+void JointSolver::colour(const std::vector<SolverBody>& bodies) {
+    // Greedy, in creation order: the first colour where neither dynamic end is
+    // taken. Static and kinematic ends (never written) take no slot. Joints
+    // beyond kColourCount colours go to the last, solved one after another.
+    const std::size_t n = constraints_.size();
+    const std::size_t words = (bodies.size() + 63) / 64;
+    colourBits_.assign(kColourCount * words, 0);
+    colourOf_.resize(n);
+    std::uint32_t counts[kColourCount + 1] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+        const JointConstraint& k = constraints_[i];
+        const bool dynA = bodies[k.bodyA].invMass > 0, dynB = bodies[k.bodyB].invMass > 0;
+        std::uint32_t c = kColourCount;
+        for (std::uint32_t col = 0; col < kColourCount; ++col) {
+            std::uint64_t* bits = colourBits_.data() + col * words;
+            const bool usedA = dynA && (bits[k.bodyA >> 6] >> (k.bodyA & 63) & 1u);
+            const bool usedB = dynB && (bits[k.bodyB >> 6] >> (k.bodyB & 63) & 1u);
+            if (usedA || usedB) continue;
+            if (dynA) bits[k.bodyA >> 6] |= std::uint64_t{1} << (k.bodyA & 63);
+            if (dynB) bits[k.bodyB >> 6] |= std::uint64_t{1} << (k.bodyB & 63);
+            c = col;
+            break;
+        }
+        colourOf_[i] = c;
+        ++counts[c];
+    }
+    colourStart_.assign(kColourCount + 2, 0);
+    for (std::uint32_t c = 0; c <= kColourCount; ++c) colourStart_[c + 1] = colourStart_[c] + counts[c];
+    std::uint32_t cursor[kColourCount + 1];
+    for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
+    scratch_.resize(n);
+    creationOrder_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        creationOrder_[i] = cursor[colourOf_[i]];
+        scratch_[cursor[colourOf_[i]]++] = constraints_[i];
+    }
+    constraints_.swap(scratch_);
 }
 
 void JointSolver::refreshRotations() {
@@ -192,7 +232,12 @@ void shiftBody(BodyMotion& m, const SolverBody& s, const Vec3& r, const Vec3& P)
 void JointSolver::projectPositions(WorldImpl& w) const {
     const Real slop = projectionSlop_;
     if (!(slop < std::numeric_limits<Real>::infinity())) return;
-    for (const JointConstraint& j : constraints_) {
+    // In creation order, not colour order: chains are usually made from their
+    // anchor outwards, and the position pass (Gauss-Seidel) carries a
+    // correction along a chain best in that order (colour order: benchmark
+    // chain 1.08 -> 1.20 cm, ragdoll test 0.5 -> 1.7 cm).
+    for (const std::uint32_t index : creationOrder_) {
+        const JointConstraint& j = constraints_[index];
         if (j.type == JointType::Slider) continue;
         // Masses of the current orientations (the step's start is far off for a link spinning at 40 rad/s).
         SolverBody sa = bodies_[j.bodyA];

@@ -11,9 +11,12 @@
 // the impulses for warm starting, computes reaction forces and breaks joints
 // over their thresholds.
 //
-// Order: joints before contacts in every pass (Box2D v3's order). Solved in
-// creation order, not graph-coloured (the colouring lives in the contact
-// solver; joints are few next to contacts).
+// Order: joints before contacts in every pass (Box2D v3's order). Joints are
+// graph-coloured on their own (greedy, creation order; contacts have their
+// colouring in the contact solver) and solved colour by colour, so a colour
+// can later run on several threads or SIMD lanes with the same result.
+// Point rows of joint trees (chains, ragdolls) are solved exactly by the tree
+// solver (joints/tree_solver.hpp) after the Gauss-Seidel rows of each pass.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -57,12 +60,22 @@ public:
     void store(WorldImpl& w);
 
     std::size_t constraintCount() const { return constraints_.size(); }
+    // Graph colouring: the joints of colour k, [colourStart(k), colourStart(k + 1))
+    // in the solve order, share no dynamic body, so one colour may run in
+    // parallel with identical results; the last colour holds the overflow and
+    // must run in order. The tree solver's trees share no body with each other.
+    std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
+    std::uint32_t colourStart(std::size_t k) const { return colourStart_[k]; }
     std::span<const JointBreakEvent> breakEvents() const { return events_; }
 
 private:
+    static constexpr std::uint32_t kColourCount = 24;
+    void colour(const std::vector<SolverBody>& bodies);
     void refreshRotations();
     std::vector<JointConstraint> constraints_;
-    std::vector<JointConstraint> empty_;
+    std::vector<JointConstraint> empty_, scratch_;
+    std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
+    std::vector<std::uint64_t> colourBits_;
     std::vector<Quat> rotations_;
     const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;
