@@ -11,8 +11,8 @@ namespace {
 // Chains and mass ratios are solved exactly by the joint-tree solver
 // (src/solver/joints/tree_solver.hpp). Measured worst errors at 4 sub-steps:
 // 20-link chain 0.51 cm (was 1.00 cm with Gauss-Seidel point rows); 100:1 mass
-// ratio 0.01 mm (was 2.8 cm); 100 links released horizontal 0.84 cm at the
-// world's default 5 sub-steps (1.04 cm at 4, 0.62 cm at 8).
+// ratio 0.01 mm (was 2.8 cm); 100 links released horizontal 0.86 cm at the
+// world's default 5 sub-steps (1.08 cm at 4, 0.62 cm at 8).
 
 JointDef rope(BodyId a, BodyId b, Vec3 anchorA, Vec3 anchorB, Real maxLength) {
     JointDef j = jointDef(JointType::Distance, a, b, anchorA);
