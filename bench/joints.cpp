@@ -2,7 +2,7 @@
 // (11 bodies each) on the ground, and a 30 x 30 x 30 grid of spheres joined by
 // ball joints to their neighbours below and beside, hanging from the top layer.
 //
-//   bench_joints [--quick] [--scene chain|ragdolls|grid] [--gauss-seidel]
+//   bench_joints [--quick] [--scene chain|ragdolls|grid] [--gauss-seidel] [--steps N]
 //
 // Per scene: median and mean ms per step, and the quality metric: the worst
 // joint error (m) over the run and at the end, and the bodies asleep at the
@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <numeric>
@@ -179,11 +180,13 @@ void run(Scene& s) {
 
 int main(int argc, char** argv) {
     bool quick = false;
+    int steps = 0;
     WorldDef def;
     std::string only;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--gauss-seidel") == 0) def.jointDirectSolve = false;
+        if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
     }
     const std::vector<std::pair<std::string, std::function<void(Scene&)>>> scenes = {
@@ -195,7 +198,7 @@ int main(int argc, char** argv) {
         if (!only.empty() && only != name) continue;
         Scene s(name, def);
         build(s);
-        s.steps = quick ? 60 : (name == "grid" ? 120 : 600);
+        s.steps = steps > 0 ? steps : (quick ? 60 : (name == "grid" ? 120 : 600));
         run(s);
     }
 }
