@@ -136,6 +136,11 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies) {
     // taken. Static and kinematic ends (never written) take no slot. Joints
     // beyond kColourCount colours go to the last, solved one after another.
     const std::size_t n = constraints_.size();
+    if (n == 0) {
+        colourStart_.clear();
+        creationOrder_.clear();
+        return;
+    }
     const std::size_t words = (bodies.size() + 63) / 64;
     colourBits_.assign(kColourCount * words, 0);
     colourOf_.resize(n);
@@ -173,6 +178,7 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies) {
 void JointSolver::refreshRotations() {
     // exp(dtheta) of every solver body, once per pass: a body is shared by up to
     // six joints in the grid benchmark, and each needs the exact rotation.
+    if (constraints_.empty()) return;  // contacts only: nothing to do (and nothing to allocate)
     const std::vector<SolverBody>& all = *allBodies_;
     rotations_.resize(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) rotations_[i] = deltaRotation(all[i]);

@@ -8,16 +8,19 @@ void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const Joint
     const JointFrame f = currentFrame(j, a, b, ctx);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
-    a.w -= a.invI * j.impulse.friction;
-    b.w += b.invI * j.impulse.friction;
+    cacheFriction(j, a, b, f.rA, f.rB);
+    if (j.frictionValid) {
+        applyFriction(j, a, b, f.rA, f.rB, j.impulse.friction);
+    } else {
+        j.impulse.friction = {};
+    }
 }
 
 void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    solveFrictionBlock(a, b, j.maxFrictionImpulse, j.impulse.friction);
-    if (j.direct) return;  // the tree solver has the point rows
-    if (!j.pointMassValid) return;
+    if (j.direct && !j.frictionValid) return;  // the tree solver has the point rows
     const JointFrame f = currentFrame(j, a, b, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
+    solveFrictionBlock(j, a, b, f.rA, f.rB);
+    if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }
 
 }  // namespace fulcrum::detail

@@ -48,18 +48,24 @@ void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const 
     const JointFrame f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
-    Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper) + j.impulse.friction;
+    Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper);
     if (g.hasSwing) T -= g.swingAxis * j.impulse.swing;
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * T;
     b.w += b.invI * T;
+    cacheFriction(j, a, b, f.rA, f.rB);
+    if (j.frictionValid) {
+        applyFriction(j, a, b, f.rA, f.rB, j.impulse.friction);
+    } else {
+        j.impulse.friction = {};
+    }
 }
 
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
-    solveFrictionBlock(a, b, j.maxFrictionImpulse, i.friction);
+    solveFrictionBlock(j, a, b, f.rA, f.rB);
     if (swingLimited(j) && g.hasSwing) {
         const JointRow inward{Vec3{}, -g.swingAxis, -g.swingAxis};
         solveLimitRow(inward, a, b, j.swingLimit - g.swing, i.swing, ctx);

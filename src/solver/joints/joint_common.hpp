@@ -61,6 +61,8 @@ struct JointConstraint {
     bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here
     bool pointMassValid = false;      // pointMass holds the inverse of the 3x3 point block's K
     Mat3 pointMass = Mat3::zero();    // K^-1 at the sub-step's start (warm start), reused by its passes
+    bool frictionValid = false;       // friction (ball, cone-twist): see cacheFriction
+    Mat3 frictionMass = Mat3::zero(), frictionCoupling = Mat3::zero();
     Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     JointImpulses impulse;
 };
@@ -226,17 +228,49 @@ inline void solveAngularBlock(SolverBody& a, SolverBody& b, const Vec3& C, Vec3&
 
 // Joint friction (ball, cone-twist): the relative spin wB - wA -> 0 with the
 // angular impulse's magnitude clamped to h * frictionTorque (dry friction).
-inline void solveFrictionBlock(SolverBody& a, SolverBody& b, Real maxImpulse, Vec3& lambda) {
-    if (maxImpulse <= 0) return;
-    const Mat3 K = a.invI + b.invI;
+//
+// The friction torque T comes with the point impulse P = coupling * T that
+// keeps the anchors' relative velocity unchanged, and its effective mass is
+// the Schur complement of the point block,
+//     K = K_ww - K_wp K_pp^-1 K_pw,   K_ww = IA^-1 + IB^-1,  K_wp = IB^-1 [rB]x + IA^-1 [rA]x,
+// i.e. the spin as the joint allows it (a lever turning about its anchor),
+// not the free body's. With the free body's mass alone, a light body far from
+// its anchor (a 1 cm ball on a 1 m lever, inertia 4e-5 vs 1 kg m^2 about the
+// anchor) was not slowed at all, and the warm-started impulse spun it up by
+// 2,000 rad/s per sub-step until it blew up. Both are computed at the sub-step's
+// warm start (cacheFriction).
+inline void cacheFriction(JointConstraint& j, const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    j.frictionValid = false;
+    if (j.maxFrictionImpulse <= 0) return;
+    const Mat3 Kww = a.invI + b.invI;
+    const Mat3 Kpp = pointInverseMass(a, b, rA, rB);
+    if (!(determinant(Kpp) > 0)) return;
+    const Mat3 Kwp = b.invI * Mat3::skew(rB) + a.invI * Mat3::skew(rA);
+    const Mat3 KppInv = inverse(Kpp);
+    const Mat3 Kpw = transpose(Kwp);
+    const Mat3 K = Kww - Kwp * KppInv * Kpw;
     if (!(determinant(K) > 0)) return;
+    j.frictionMass = inverse(K);
+    j.frictionCoupling = Mat3::zero() - KppInv * Kpw;
+    j.frictionValid = true;
+}
+
+inline void applyFriction(const JointConstraint& j, SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& T) {
+    const Vec3 P = j.frictionCoupling * T;
+    a.v -= P * a.invMass;
+    a.w -= a.invI * (T + cross(rA, P));
+    b.v += P * b.invMass;
+    b.w += b.invI * (T + cross(rB, P));
+}
+
+inline void solveFrictionBlock(JointConstraint& j, SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    if (!j.frictionValid) return;
+    Vec3& lambda = j.impulse.friction;
     const Vec3 old = lambda;
-    lambda -= inverse(K) * (b.w - a.w);
+    lambda -= j.frictionMass * (b.w - a.w);
     const Real len = length(lambda);
-    if (len > maxImpulse) lambda *= maxImpulse / len;
-    const Vec3 d = lambda - old;
-    a.w -= a.invI * d;
-    b.w += b.invI * d;
+    if (len > j.maxFrictionImpulse) lambda *= j.maxFrictionImpulse / len;
+    applyFriction(j, a, b, rA, rB, lambda - old);
 }
 
 // ---- current geometry of a joint from the bodies' deltas

@@ -74,7 +74,13 @@ void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vec
     const auto eligible = [&](const JointConstraint& j) {
         return hasPointBlock(j.type) && (dynamic(j.bodyA) || dynamic(j.bodyB));
     };
-    for (JointConstraint& j : joints) j.direct = false;
+    bool any = false;
+    for (JointConstraint& j : joints) {
+        j.direct = false;
+        any = any || eligible(j);
+    }
+    valid_.clear();
+    if (!any) return;
 
     // Components of dynamic bodies over eligible joints (union-find).
     parentOf_.resize(nb);
@@ -86,16 +92,13 @@ void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vec
         }
         return i;
     };
-    bool any = false;
     for (const JointConstraint& j : joints) {
         if (!eligible(j)) continue;
-        any = true;
         if (dynamic(j.bodyA) && dynamic(j.bodyB)) {
             const std::uint32_t ra = find(j.bodyA), rb = find(j.bodyB);
             if (ra != rb) parentOf_[ra > rb ? ra : rb] = ra < rb ? ra : rb;
         }
     }
-    if (!any) return;
 
     // Per component (indexed by its root): bodies, joints, joints to a non-dynamic end.
     bodies_.assign(nb, 0);
