@@ -33,14 +33,14 @@ namespace fulcrum::detail {
 
 class ContactSolver;
 
-// Joint stiffness: soft at kHertz with damping ratio kDampingRatio, capped at a
-// quarter of the sub-step rate (solver notes); anchor separations beyond
-// kProjectionSlop are removed at the position level after each sub-step.
-// docs/joints.md records the measurements behind the values (chain scene:
-// zeta 5 -> 11.5 cm worst stretch, zeta 2 -> 8.3 cm, + projection -> 5.6 cm;
-// rigid rows lost half a double pendulum's energy in 20 s).
-// Hertz, damping ratio and slop are WorldDef settings (jointHertz,
-// jointDampingRatio, jointProjectionSlop); the cap is fixed.
+// Joint stiffness: soft at WorldDef::jointHertz (60) with damping ratio
+// jointDampingRatio (2), capped at a quarter of the sub-step rate (solver
+// notes; half the rate exploded); anchor separations beyond
+// jointProjectionSlop (5 mm) are removed at the position level after each
+// sub-step. docs/joints.md records the measurements behind the values (chain
+// scene, Gauss-Seidel rows: zeta 5 -> 11.5 cm worst stretch, zeta 2 -> 8.3 cm,
+// + projection -> 5.6 cm; rigid rows lost half a double pendulum's energy in
+// 20 s; with the tree solver 1.1 cm).
 struct JointTuning {
     static constexpr Real kMaxHertzPerSubstepRate = Real(0.25);
 };
