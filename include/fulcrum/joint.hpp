@@ -60,6 +60,12 @@ struct JointDef {
     Real twistLower = Real(-0.7853982);
     Real twistUpper = Real(0.7853982);
 
+    // Dry friction in the joint (N m): a torque up to this opposes the relative
+    // spin of B against A. Ball and cone-twist: about any axis; hinge: about its
+    // axis when the motor is off (a motor at speed 0 does the same). Ragdolls
+    // use it so limbs stop instead of swinging for ever. >= 0; 0: frictionless.
+    Real frictionTorque = 0;
+
     Real breakForce = std::numeric_limits<Real>::infinity();   // N; the joint breaks above it
     Real breakTorque = std::numeric_limits<Real>::infinity();  // N m
     bool collideConnected = false;

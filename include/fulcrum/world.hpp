@@ -45,6 +45,11 @@ struct WorldDef {
     Real contactPushMaxVelocity = 3;    // m/s: the fastest an overlap is pushed apart; > 0
     Real speculativeMargin = Real(0.02);  // m: contact points are made this far before touching (plus the motion of a step); >= 0
     Real restitutionThreshold = 1;      // m/s: slower impacts don't bounce; >= 0
+    // ---- joint solver tuning (docs/joints.md explains each one)
+    Real jointHertz = 60;                  // stiffness of the soft joint rows (capped at 1/4 of the sub-step rate); > 0
+    Real jointDampingRatio = 2;            // > 0
+    Real jointProjectionSlop = Real(0.005);  // m: anchor separations beyond it are removed at the position level; >= 0 (inf: never)
+    bool jointDirectSolve = true;          // joints forming trees (chains, ragdolls) solved exactly, in linear time
     // ---- sleeping: a group of touching bodies whose every body stays below both
     // speeds for `timeToSleep` seconds falls asleep.
     Real linearSleepVelocity = Real(0.05);   // m/s, >= 0

@@ -11,15 +11,19 @@
 // the impulses for warm starting, computes reaction forces and breaks joints
 // over their thresholds.
 //
-// Order: joints before contacts in every pass (Box2D v3's order). Solved in
-// creation order, not graph-coloured (the colouring lives in the contact
-// solver; joints are few next to contacts).
+// Order: joints before contacts in every pass (Box2D v3's order). Joints are
+// graph-coloured on their own (greedy, creation order; contacts have their
+// colouring in the contact solver) and solved colour by colour, so a colour
+// can later run on several threads or SIMD lanes with the same result.
+// Point rows of joint trees (chains, ragdolls) are solved exactly by the tree
+// solver (joints/tree_solver.hpp) after the Gauss-Seidel rows of each pass.
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "fulcrum/world.hpp"
 #include "solver/joints/joint_common.hpp"
+#include "solver/joints/tree_solver.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
@@ -29,17 +33,16 @@ namespace fulcrum::detail {
 
 class ContactSolver;
 
-// Joint stiffness: soft at kHertz with damping ratio kDampingRatio, capped at a
-// quarter of the sub-step rate (solver notes); anchor separations beyond
-// kProjectionSlop are removed at the position level after each sub-step.
-// docs/joints.md records the measurements behind the values (chain scene:
-// zeta 5 -> 11.5 cm worst stretch, zeta 2 -> 8.3 cm, + projection -> 5.6 cm;
-// rigid rows lost half a double pendulum's energy in 20 s).
+// Joint stiffness: soft at WorldDef::jointHertz (60) with damping ratio
+// jointDampingRatio (2), capped at a quarter of the sub-step rate (solver
+// notes; half the rate exploded); anchor separations beyond
+// jointProjectionSlop (5 mm) are removed at the position level after each
+// sub-step. docs/joints.md records the measurements behind the values (chain
+// scene, Gauss-Seidel rows: zeta 5 -> 11.5 cm worst stretch, zeta 2 -> 8.3 cm,
+// + projection -> 5.6 cm; rigid rows lost half a double pendulum's energy in
+// 20 s; with the tree solver 1.1 cm).
 struct JointTuning {
-    static constexpr Real kHertz = 60;
-    static constexpr Real kDampingRatio = 2;
     static constexpr Real kMaxHertzPerSubstepRate = Real(0.25);
-    static constexpr Real kProjectionSlop = Real(0.005);  // m
 };
 
 class JointSolver {
@@ -48,7 +51,7 @@ public:
     void reserve(std::size_t jointCount);
     // Builds the constraints of the enabled joints whose bodies are awake (or static).
     void prepare(WorldImpl& w, ContactSolver& bodies, Real h);
-    void warmStart();
+    void warmStart();  // also computes the bodies' rotations for the biased pass
     void solve(bool useBias);
     // After the sub-step's position integration: moves the joined bodies so the
     // anchors meet again (one nonlinear Gauss-Seidel pass, no velocity change).
@@ -57,10 +60,26 @@ public:
     void store(WorldImpl& w);
 
     std::size_t constraintCount() const { return constraints_.size(); }
+    // Graph colouring: the joints of colour k, [colourStart(k), colourStart(k + 1))
+    // in the solve order, share no dynamic body, so one colour may run in
+    // parallel with identical results; the last colour holds the overflow and
+    // must run in order. The tree solver's trees share no body with each other.
+    std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
+    std::uint32_t colourStart(std::size_t k) const { return colourStart_[k]; }
     std::span<const JointBreakEvent> breakEvents() const { return events_; }
 
 private:
+    static constexpr std::uint32_t kColourCount = 24;
+    void colour(const std::vector<SolverBody>& bodies);
+    void refreshRotations();
     std::vector<JointConstraint> constraints_;
+    std::vector<JointConstraint> empty_, scratch_;
+    std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
+    std::vector<std::uint64_t> colourBits_;
+    std::vector<Quat> rotations_;
+    const std::vector<SolverBody>* allBodies_ = nullptr;
+    JointTreeSolver trees_;
+    Real projectionSlop_ = 0;
     std::vector<JointBreakEvent> events_;
     SolverBody* bodies_ = nullptr;
     JointContext ctx_;

@@ -147,7 +147,11 @@ void WorldImpl::step(Real dt) {
     }
     // Joint impulses for warm starting, reaction forces, breaking.
     if (hasJoints) jointSolver.store(*this);
-    if (settings.continuousCollision) detail::solveContinuous(*this, solver, contactManager, dt);
+    if (settings.continuousCollision) {
+        detail::solveContinuous(*this, solver, contactManager, dt);
+        // Time of impact moves fast bodies back alone: close the joints it opened.
+        if (hasJoints) jointSolver.projectPositions(*this);
+    }
     // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
     detail::stepParticles(*this, dt);
     sleepManager.update(*this, solver, contactManager, dt);

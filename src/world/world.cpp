@@ -40,6 +40,9 @@ void validateSettings(const WorldDef& def) {
     requirePositive(kWorldSubject, "contactPushMaxVelocity", def.contactPushMaxVelocity);
     requireNonNegative(kWorldSubject, "speculativeMargin", def.speculativeMargin);
     requireNonNegative(kWorldSubject, "restitutionThreshold", def.restitutionThreshold);
+    requirePositive(kWorldSubject, "jointHertz", def.jointHertz);
+    requirePositive(kWorldSubject, "jointDampingRatio", def.jointDampingRatio);
+    if (!(def.jointProjectionSlop >= 0)) fail(kWorldSubject, "jointProjectionSlop", "must be >= 0 (inf: no projection), got " + detail::formatReal(def.jointProjectionSlop));
     requireNonNegative(kWorldSubject, "linearSleepVelocity", def.linearSleepVelocity);
     requireNonNegative(kWorldSubject, "angularSleepVelocity", def.angularSleepVelocity);
     requireNonNegative(kWorldSubject, "timeToSleep", def.timeToSleep);

@@ -147,6 +147,8 @@ JointId World::createJoint(const JointDef& def) {
     }
     requireBreakThreshold(who, "breakForce", def.breakForce);
     requireBreakThreshold(who, "breakTorque", def.breakTorque);
+    detail::requireFinite(who, "frictionTorque", def.frictionTorque);
+    detail::requireNonNegative(who, "frictionTorque", def.frictionTorque);
 
     // Distance joints: negative lengths mean "the distance at creation" (joint.hpp);
     // for a soft one (stiffness or damping > 0) the spring's rest length is the

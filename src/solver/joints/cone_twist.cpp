@@ -44,20 +44,28 @@ bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers
 
 }  // namespace
 
-void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b) {
-    const JointFrame f = currentFrame(j, a, b);
+void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
+    if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper);
     if (g.hasSwing) T -= g.swingAxis * j.impulse.swing;
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * T;
     b.w += b.invI * T;
+    cacheFriction(j, a, b, f.rA, f.rB);
+    if (j.frictionValid) {
+        applyFriction(j, a, b, f.rA, f.rB, j.impulse.friction);
+    } else {
+        j.impulse.friction = {};
+    }
 }
 
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b);
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
+    solveFrictionBlock(j, a, b, f.rA, f.rB);
     if (swingLimited(j) && g.hasSwing) {
         const JointRow inward{Vec3{}, -g.swingAxis, -g.swingAxis};
         solveLimitRow(inward, a, b, j.swingLimit - g.swing, i.swing, ctx);
@@ -67,7 +75,7 @@ void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
     solveLimitRow(row, a, b, twist - j.lower, i.lower, ctx);
     const JointRow back{Vec3{}, -g.twistAxis, -g.twistAxis};
     solveLimitRow(back, a, b, j.upper - twist, i.upper, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+    if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx, j.pointMass);
 }
 
 }  // namespace fulcrum::detail

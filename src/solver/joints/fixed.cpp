@@ -6,17 +6,18 @@
 
 namespace fulcrum::detail {
 
-void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b) {
-    const JointFrame f = currentFrame(j, a, b);
+void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b, ctx);
+    if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * j.impulse.angular;
     b.w += b.invI * j.impulse.angular;
 }
 
 void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    JointFrame f = currentFrame(j, a, b);
+    JointFrame f = currentFrame(j, a, b, ctx);
     solveAngularBlock(a, b, angularError(j, f.qA, f.qB), j.impulse.angular, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx);
+    if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }
 
 }  // namespace fulcrum::detail

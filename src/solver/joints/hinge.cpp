@@ -47,9 +47,10 @@ void solveAlignment(SolverBody& a, SolverBody& b, const Vec3& axisA, const Vec3&
 
 }  // namespace
 
-void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b) {
-    const JointFrame f = currentFrame(j, a, b);
+void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
+    if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     // Only the perpendicular part of the alignment impulse belongs to its rows.
     j.impulse.angular -= axis * dot(axis, j.impulse.angular);
     const Vec3 T = j.impulse.angular + axis * axialImpulse(j.impulse);
@@ -59,7 +60,7 @@ void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b) {
 }
 
 void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b);
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axisA = rotate(f.qA, j.localAxisA);
     const Vec3 axisB = rotate(f.qB, j.localAxisB);
     const JointRow row = angularRow(axisA);
@@ -77,7 +78,7 @@ void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointCon
         solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
     }
     solveAlignment(a, b, axisA, axisB, i.angular, ctx);
-    solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx);
+    if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx, j.pointMass);
 }
 
 }  // namespace fulcrum::detail

@@ -36,6 +36,7 @@ struct JointImpulses {
     Real spring = 0, motor = 0;     // along the free axis (hinge, slider) or the distance
     Real lower = 0, upper = 0;      // limits (hinge, slider, distance min/max, cone-twist twist)
     Real swing = 0;                 // cone-twist swing cone
+    Vec3 friction;                  // ball / cone-twist joint friction (angular, world, on B)
 };
 
 // One joint prepared for this step.
@@ -57,11 +58,18 @@ struct JointConstraint {
     Real springTarget = 0, springBias = 0, springGamma = 0;  // implicit spring row (see springCoefficients)
     Real restLength = 0;              // distance joints
     bool rigidDistance = false;       // rod: min == max and no spring
+    bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here
+    bool pointMassValid = false;      // pointMass holds the inverse of the 3x3 point block's K
+    Mat3 pointMass = Mat3::zero();    // K^-1 at the sub-step's start (warm start), reused by its passes
+    bool frictionValid = false;       // friction (ball, cone-twist): see cacheFriction
+    Mat3 frictionMass = Mat3::zero(), frictionCoupling = Mat3::zero();
+    Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     JointImpulses impulse;
 };
 
 struct JointContext {
     Real h = 0, invH = 0;
+    const Quat* rotations = nullptr;  // per solver body: exp(dtheta), refreshed once per pass (JointSolver)
     Softness soft;          // joints' equality rows (biased pass)
     Softness limitSoft;     // violated limits (biased pass)
     bool useBias = true;
@@ -174,12 +182,12 @@ inline void applyPoint(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3&
     b.w += b.invI * cross(rB, P);
 }
 
-// Point-to-point: pB - pA = C -> 0 (3 rows as one block).
+// Point-to-point: pB - pA = C -> 0 (3 rows as one block). `invK` is the
+// block's effective mass, computed once per sub-step (cachePointMass): the
+// anchors turn little within a sub-step, and recomputing the 3x3 inverse in
+// every pass cost the ball-joint grid a third of its time.
 inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& C, Vec3& lambda,
-                            const JointContext& ctx) {
-    const Mat3 K = pointInverseMass(a, b, rA, rB);
-    const Real det = determinant(K);
-    if (!(det > 0)) return;
+                            const JointContext& ctx, const Mat3& invK) {
     const Vec3 cdot = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
     Vec3 bias;
     Real massScale = 1, impulseScale = 0;
@@ -188,9 +196,15 @@ inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const 
         massScale = ctx.soft.massScale;
         impulseScale = ctx.soft.impulseScale;
     }
-    const Vec3 d = -(inverse(K) * (cdot + bias)) * massScale - lambda * impulseScale;
+    const Vec3 d = -(invK * (cdot + bias)) * massScale - lambda * impulseScale;
     lambda += d;
     applyPoint(a, b, rA, rB, d);
+}
+
+inline void cachePointMass(JointConstraint& j, const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    const Mat3 K = pointInverseMass(a, b, rA, rB);
+    j.pointMassValid = determinant(K) > 0;
+    j.pointMass = j.pointMassValid ? inverse(K) : Mat3::zero();
 }
 
 // Angular lock: the rotation vector C of B from its rest pose relative to A -> 0.
@@ -212,6 +226,53 @@ inline void solveAngularBlock(SolverBody& a, SolverBody& b, const Vec3& C, Vec3&
     b.w += b.invI * d;
 }
 
+// Joint friction (ball, cone-twist): the relative spin wB - wA -> 0 with the
+// angular impulse's magnitude clamped to h * frictionTorque (dry friction).
+//
+// The friction torque T comes with the point impulse P = coupling * T that
+// keeps the anchors' relative velocity unchanged, and its effective mass is
+// the Schur complement of the point block,
+//     K = K_ww - K_wp K_pp^-1 K_pw,   K_ww = IA^-1 + IB^-1,  K_wp = IB^-1 [rB]x + IA^-1 [rA]x,
+// i.e. the spin as the joint allows it (a lever turning about its anchor),
+// not the free body's. With the free body's mass alone, a light body far from
+// its anchor (a 1 cm ball on a 1 m lever, inertia 4e-5 vs 1 kg m^2 about the
+// anchor) was not slowed at all, and the warm-started impulse spun it up by
+// 2,000 rad/s per sub-step until it blew up. Both are computed at the sub-step's
+// warm start (cacheFriction).
+inline void cacheFriction(JointConstraint& j, const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    j.frictionValid = false;
+    if (j.maxFrictionImpulse <= 0) return;
+    const Mat3 Kww = a.invI + b.invI;
+    const Mat3 Kpp = pointInverseMass(a, b, rA, rB);
+    if (!(determinant(Kpp) > 0)) return;
+    const Mat3 Kwp = b.invI * Mat3::skew(rB) + a.invI * Mat3::skew(rA);
+    const Mat3 KppInv = inverse(Kpp);
+    const Mat3 Kpw = transpose(Kwp);
+    const Mat3 K = Kww - Kwp * KppInv * Kpw;
+    if (!(determinant(K) > 0)) return;
+    j.frictionMass = inverse(K);
+    j.frictionCoupling = Mat3::zero() - KppInv * Kpw;
+    j.frictionValid = true;
+}
+
+inline void applyFriction(const JointConstraint& j, SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& T) {
+    const Vec3 P = j.frictionCoupling * T;
+    a.v -= P * a.invMass;
+    a.w -= a.invI * (T + cross(rA, P));
+    b.v += P * b.invMass;
+    b.w += b.invI * (T + cross(rB, P));
+}
+
+inline void solveFrictionBlock(JointConstraint& j, SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB) {
+    if (!j.frictionValid) return;
+    Vec3& lambda = j.impulse.friction;
+    const Vec3 old = lambda;
+    lambda -= j.frictionMass * (b.w - a.w);
+    const Real len = length(lambda);
+    if (len > j.maxFrictionImpulse) lambda *= j.maxFrictionImpulse / len;
+    applyFriction(j, a, b, rA, rB, lambda - old);
+}
+
 // ---- current geometry of a joint from the bodies' deltas
 
 struct JointFrame {
@@ -228,8 +289,7 @@ inline Quat deltaRotation(const SolverBody& b) {
     return angle > Real(0) ? Quat::fromAxisAngle(b.dtheta, angle) : Quat::identity();
 }
 
-inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
-    const Quat dqA = deltaRotation(a), dqB = deltaRotation(b);
+inline JointFrame frameFrom(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const Quat& dqA, const Quat& dqB) {
     JointFrame f;
     f.rA = rotate(dqA, j.rA0);
     f.rB = rotate(dqB, j.rB0);
@@ -237,6 +297,16 @@ inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, co
     f.qA = dqA * j.qA0;
     f.qB = dqB * j.qB0;
     return f;
+}
+
+// The joint's geometry now, from the bodies' deltas (exact rotation).
+inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
+    return frameFrom(j, a, b, deltaRotation(a), deltaRotation(b));
+}
+
+// The same inside a pass, with the rotations the pass computed once per body.
+inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const JointContext& ctx) {
+    return frameFrom(j, a, b, ctx.rotations[j.bodyA], ctx.rotations[j.bodyB]);
 }
 
 // Rotation of B away from its rest pose relative to A, as a world rotation vector.
@@ -254,17 +324,17 @@ inline Real twistAngle(const Quat& relative0, const Quat& qA, const Quat& qB, co
 
 // ---- per joint type (src/solver/joints/<type>.cpp)
 
-void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b);
+void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 
 // Force (N) and torque (N m) the joint applied to body B over the last sub-step,

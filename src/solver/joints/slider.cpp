@@ -53,8 +53,8 @@ void solvePerpendicular(SolverBody& a, SolverBody& b, const Vec3& axis, const Ve
 
 }  // namespace
 
-void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b) {
-    const JointFrame f = currentFrame(j, a, b);
+void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+    const JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     j.impulse.linear -= axis * dot(axis, j.impulse.linear);
     applyLinear(a, b, f.rA + f.d, f.rB, j.impulse.linear + axis * axialImpulse(j.impulse));
@@ -63,7 +63,7 @@ void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b) {
 }
 
 void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    JointFrame f = currentFrame(j, a, b);
+    JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     const Vec3 leverA = f.rA + f.d;
     const JointRow row = linearRow(axis, leverA, f.rB);
