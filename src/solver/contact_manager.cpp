@@ -24,6 +24,13 @@ const Real kRecycleCosHalfAngle = std::cos(Real(0.5) * Real(0.1) * Real(3.141592
 
 bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 
+// What the parallel pass of update() found for one contact.
+constexpr std::uint8_t kTouching = 1;    // collided: the new touching state
+constexpr std::uint8_t kWakeA = 2;       // collided: body A sleeps and must wake
+constexpr std::uint8_t kWakeB = 4;
+constexpr std::uint8_t kCollided = 8;    // collided (touching state valid)
+constexpr std::uint8_t kSeparated = 16;  // fat boxes apart: destroy
+
 }  // namespace
 
 bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
@@ -63,14 +70,10 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     for (std::vector<ContactEvent>* v : {&beginEvents, &endEvents, &sensorBeginEvents, &sensorEndEvents}) {
         if (v->capacity() < wantEvents) v->reserve(2 * wantEvents);
     }
-    if (scratch_.capacity() < 4) scratch_.reserve(4);
     broad_.reservePairs(8 * std::bit_ceil(bodyCount));
-    if (!warmedBuffer_) {
-        // Grow the narrow phase's output to a few manifolds now rather than in a step.
-        for (int i = 0; i < 4; ++i) buffer_.push();
-        buffer_.clear();
-        warmedBuffer_ = true;
-    }
+    ensureWorkers(1);
+    if (tightBoxes_.capacity() < bodyCount) tightBoxes_.reserve(std::max(bodyCount, 2 * tightBoxes_.capacity()));
+    if (contactFlags_.capacity() < contacts_.size()) contactFlags_.reserve(contacts_.capacity());
     const std::size_t wantReports = 2 * bodyCount;
     if (w.contacts.size() < wantReports) {
         w.contacts.reserve(std::max(wantReports, 2 * w.contacts.size()));
@@ -78,6 +81,18 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
             w.contacts.emplace_back();
             w.contacts.back().points.reserve(4);
         }
+    }
+}
+
+void ContactManager::ensureWorkers(std::size_t workers) {
+    if (narrow_.size() >= workers) return;
+    narrow_.resize(workers);
+    for (NarrowScratch& n : narrow_) {
+        // Grow the narrow phase's output to a few manifolds now rather than in a step.
+        if (n.manifolds.capacity() >= 4) continue;
+        n.manifolds.reserve(4);
+        for (int i = 0; i < 4; ++i) n.buffer.push();
+        n.buffer.clear();
     }
 }
 
@@ -157,7 +172,9 @@ void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
     freeContact_ = index;
 }
 
-void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
+std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& ns) const {
+    ManifoldBuffer& buffer = ns.buffer;
+    std::vector<CachedManifold>& scratch = ns.manifolds;
     const std::uint32_t dA = w.bodySlots[c.slotA].dense;
     const std::uint32_t dB = w.bodySlots[c.slotB].dense;
     const BodyParams& pa = w.params[dA];
@@ -194,23 +211,23 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
                 touching = touching || p.depth > -kTouchSlop;
             }
         }
-        updateTouching(w, c, touching);
-        return;
+        return kCollided | (touching ? kTouching : 0);
     }
     c.hasPose = true;
     c.relativePose = rel;
-    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, margin, buffer_);
+    std::uint8_t flags = 0;
+    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, margin, buffer);
 
     bool touching = false;
     if (c.sensor) {
-        for (const Manifold& m : buffer_) touching = touching || (m.pointCount > 0 && m.maxDepth() >= 0);
+        for (const Manifold& m : buffer) touching = touching || (m.pointCount > 0 && m.maxDepth() >= 0);
         c.manifolds.clear();
     } else {
-        scratch_.clear();
-        for (const Manifold& m : buffer_) {
+        scratch.clear();
+        for (const Manifold& m : buffer) {
             if (m.pointCount == 0) continue;
-            scratch_.emplace_back();
-            CachedManifold& out = scratch_.back();
+            scratch.emplace_back();
+            CachedManifold& out = scratch.back();
             out.normal = m.normal;
             out.localNormal = inverseRotate(xA.q, m.normal);
             out.childA = m.childA;
@@ -260,17 +277,16 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
                 }
             }
         }
-        c.manifolds.resize(scratch_.size());
-        std::copy(scratch_.begin(), scratch_.end(), c.manifolds.begin());
+        c.manifolds.resize(scratch.size());
+        std::copy(scratch.begin(), scratch.end(), c.manifolds.begin());
         // A sleeping body near an awake one wakes (with its island) as soon as
-        // they have contact points, so the solver sees both.
+        // they have contact points, so the solver sees both (update() wakes it).
         if (!c.manifolds.empty()) {
-            if (pa.type != BodyType::Static && !pa.awake) w.wakeBody(dA);
-            if (pb.type != BodyType::Static && !pb.awake) w.wakeBody(dB);
+            if (pa.type != BodyType::Static && !pa.awake) flags |= kWakeA;
+            if (pb.type != BodyType::Static && !pb.awake) flags |= kWakeB;
         }
     }
-
-    updateTouching(w, c, touching);
+    return flags | kCollided | (touching ? kTouching : 0);
 }
 
 void ContactManager::updateTouching(WorldImpl& w, Contact& c, bool touching) {
@@ -292,32 +308,63 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     sensorBeginEvents.clear();
     sensorEndEvents.clear();
 
-    // 1. Proxies follow the awake bodies (fattened by the coming step's motion).
-    const std::size_t count = w.motion.size();
+    TaskSystem& tasks = w.taskSystem();
+    ensureWorkers(tasks.workerCount());
+
+    // 1. Proxies follow the awake bodies (fattened by the coming step's motion):
+    // the tight boxes in parallel, the tree updates serially in body order.
+    const auto count = static_cast<std::uint32_t>(w.motion.size());
+    if (tightBoxes_.size() < count) tightBoxes_.resize(count);
+    tasks.parallelFor(count, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t d = begin; d < end; ++d) {
+            if (isAwakeMover(w.params[d])) tightBoxes_[d] = w.cold[d].shape.bounds(w.originTransform(d));
+        }
+    });
     for (std::uint32_t d = 0; d < count; ++d) {
         if (!isAwakeMover(w.params[d])) continue;
-        const AABB box = w.cold[d].shape.bounds(w.originTransform(d));
-        broad_.moveProxy(proxyOfSlot_[w.denseToSlot[d]], box, w.motion[d].v * dt);
+        broad_.moveProxy(proxyOfSlot_[w.denseToSlot[d]], tightBoxes_[d], w.motion[d].v * dt);
     }
 
     // 2. New pairs, sorted by proxy ids: a deterministic order.
-    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w})) {
+    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w}, tasks)) {
         createContact(w, pair.userA, pair.userB, pair.a, pair.b);
     }
 
-    // 3. End pairs whose fat boxes separated; collide the rest that can have moved.
-    for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
+    // 3. End pairs whose fat boxes separated; collide the rest that can have
+    // moved. In parallel, each contact writing only itself and its flag slot;
+    // then, in contact order, the destructions, wakes and events, so the result
+    // is the same for any thread count. (A body woken here gets its contacts
+    // with other sleeping bodies collided next step: they have not moved, so
+    // their manifolds still hold.)
+    const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
+    if (contactFlags_.size() < contactCount) contactFlags_.resize(contactCount);
+    tasks.parallelFor(contactCount, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+        NarrowScratch& ns = narrow_[worker];
+        for (std::uint32_t i = begin; i < end; ++i) {
+            Contact& c = contacts_[i];
+            std::uint8_t flags = 0;
+            if (!c.alive) {
+            } else if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
+                flags = kSeparated;
+            } else if (isAwakeMover(w.params[w.bodySlots[c.slotA].dense]) ||
+                       isAwakeMover(w.params[w.bodySlots[c.slotB].dense])) {
+                // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
+                flags = collideContact(w, c, dt, ns);
+            }
+            contactFlags_[i] = flags;
+        }
+    });
+    for (std::uint32_t i = 0; i < contactCount; ++i) {
+        const std::uint8_t flags = contactFlags_[i];
+        if (flags == 0) continue;
         Contact& c = contacts_[i];
-        if (!c.alive) continue;
-        if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
+        if ((flags & kSeparated) != 0) {
             destroyContact(w, i);
             continue;
         }
-        const bool moverA = isAwakeMover(w.params[w.bodySlots[c.slotA].dense]);
-        const bool moverB = isAwakeMover(w.params[w.bodySlots[c.slotB].dense]);
-        // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
-        if (!moverA && !moverB) continue;
-        collideContact(w, contacts_[i], dt);
+        if ((flags & kWakeA) != 0 && !w.params[w.bodySlots[c.slotA].dense].awake) w.wakeBody(w.bodySlots[c.slotA].dense);
+        if ((flags & kWakeB) != 0 && !w.params[w.bodySlots[c.slotB].dense].awake) w.wakeBody(w.bodySlots[c.slotB].dense);
+        updateTouching(w, c, (flags & kTouching) != 0);
     }
 }
 

@@ -71,16 +71,24 @@ private:
     friend struct fulcrum::SnapshotAccess;
     void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
-    void collideContact(WorldImpl& w, Contact& c, Real dt);
+    // Per-worker narrow-phase scratch (threads: docs/threading.md).
+    struct alignas(64) NarrowScratch {
+        ManifoldBuffer buffer;
+        std::vector<CachedManifold> manifolds;
+    };
+    // Runs on any worker: reads the world, writes only c and scratch; returns
+    // kTouching / kWakeA / kWakeB flags that update() applies in index order.
+    std::uint8_t collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& scratch) const;
+    void ensureWorkers(std::size_t workers);
     void updateTouching(WorldImpl& w, Contact& c, bool touching);
 
     BroadPhase broad_;
     std::vector<ProxyId> proxyOfSlot_;
     std::vector<Contact> contacts_;
     std::uint32_t freeContact_ = UINT32_MAX;
-    ManifoldBuffer buffer_;
-    bool warmedBuffer_ = false;
-    std::vector<CachedManifold> scratch_;
+    std::vector<NarrowScratch> narrow_;       // one per worker
+    std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
+    std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
 };
 
 }  // namespace fulcrum::detail
