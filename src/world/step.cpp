@@ -56,6 +56,7 @@
 // this thread in index order, so results are bit-identical for every thread
 // count and scheduler (tests/threads/step_determinism_test.cpp). No heap
 // allocation happens here: every scratch array is sized at body creation.
+#include <atomic>
 #include <cmath>
 
 #include "dynamics/forces.hpp"
@@ -184,9 +185,22 @@ void WorldImpl::step(Real dt) {
     sleepManager.update(*this, solver, contactManager, dt);
     contactManager.report(*this);
 
-    for (detail::ForceTorque& a : applied) a = {};
+    // Clear the user forces and look for a non-finite state, per body range in
+    // parallel; the lowest bad index is an order-independent merge (an atomic min).
+    std::atomic<std::uint32_t> firstBad{kNoIndexBody};
+    tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        std::uint32_t bad = kNoIndexBody;
+        for (std::uint32_t i = begin; i < end; ++i) {
+            applied[i] = {};
+            if (bad == kNoIndexBody && params[i].type != BodyType::Static && *firstNonFinite(motion[i]) != '\0') bad = i;
+        }
+        std::uint32_t seen = firstBad.load(std::memory_order_relaxed);
+        while (bad < seen && !firstBad.compare_exchange_weak(seen, bad, std::memory_order_relaxed)) {
+        }
+    });
     ++stepCount;
     time = t0 + static_cast<double>(dt);
+    if (firstBad.load(std::memory_order_relaxed) == kNoIndexBody) return;
 
     // Contacts spread a NaN to the bodies touching it, so name a body whose
     // forces went non-finite first: that is where the NaN came from.
