@@ -74,6 +74,7 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     ensureWorkers(1);
     if (tightBoxes_.capacity() < bodyCount) tightBoxes_.reserve(std::max(bodyCount, 2 * tightBoxes_.capacity()));
     if (contactFlags_.capacity() < contacts_.size()) contactFlags_.reserve(contacts_.capacity());
+    if (reportStart_.capacity() < contacts_.size() + 1) reportStart_.reserve(contacts_.capacity() + 1);
     const std::size_t wantReports = 2 * bodyCount;
     if (w.contacts.size() < wantReports) {
         w.contacts.reserve(std::max(wantReports, 2 * w.contacts.size()));
@@ -368,24 +369,55 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     }
 }
 
+namespace {
+
+// Whether a manifold is reported (a point within kTouchSlop), and its deepest point.
+bool reportable(const CachedManifold& m, Real& deepest) {
+    deepest = -1e30f;
+    for (std::uint32_t k = 0; k < m.pointCount; ++k) deepest = std::max(deepest, m.points[k].depthAfter);
+    return m.pointCount > 0 && deepest > -kTouchSlop;
+}
+
+}  // namespace
+
 void ContactManager::report(WorldImpl& w) const {
-    std::size_t n = 0;
-    for (const Contact& c : contacts_) {
-        if (!c.alive || c.sensor) continue;
-        for (const CachedManifold& m : c.manifolds) {
-            Real deepest = -1e30f;
-            for (std::uint32_t k = 0; k < m.pointCount; ++k) deepest = std::max(deepest, m.points[k].depthAfter);
-            if (m.pointCount == 0 || deepest <= -kTouchSlop) continue;
-            if (n == w.contacts.size()) w.contacts.emplace_back();
-            ContactReport& r = w.contacts[n++];
-            r.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
-            r.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
-            r.normal = m.normal;
-            r.depth = deepest;
-            r.points.resize(m.pointCount);
-            for (std::uint32_t k = 0; k < m.pointCount; ++k) r.points[k] = m.points[k].position;
+    // In parallel and in contact order: count each contact's reports, place
+    // them by prefix sums (serial), then fill each contact's slots.
+    TaskSystem& tasks = w.taskSystem();
+    const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
+    if (reportStart_.size() < contactCount + 1) reportStart_.resize(contactCount + 1);
+    tasks.parallelFor(contactCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const Contact& c = contacts_[i];
+            std::uint32_t count = 0;
+            Real deepest = 0;
+            if (c.alive && !c.sensor)
+                for (const CachedManifold& m : c.manifolds) count += reportable(m, deepest) ? 1u : 0u;
+            reportStart_[i + 1] = count;
         }
-    }
+    });
+    reportStart_[0] = 0;
+    for (std::uint32_t i = 0; i < contactCount; ++i) reportStart_[i + 1] += reportStart_[i];
+    const std::size_t n = reportStart_[contactCount];
+    while (w.contacts.size() < n) w.contacts.emplace_back();
+    tasks.parallelFor(contactCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const Contact& c = contacts_[i];
+            if (reportStart_[i + 1] == reportStart_[i]) continue;
+            std::size_t r = reportStart_[i];
+            for (const CachedManifold& m : c.manifolds) {
+                Real deepest = 0;
+                if (!reportable(m, deepest)) continue;
+                ContactReport& out = w.contacts[r++];
+                out.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
+                out.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
+                out.normal = m.normal;
+                out.depth = deepest;
+                out.points.resize(m.pointCount);
+                for (std::uint32_t k = 0; k < m.pointCount; ++k) out.points[k] = m.points[k].position;
+            }
+        }
+    });
     w.contactReportCount = n;
 }
 

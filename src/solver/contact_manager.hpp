@@ -89,6 +89,7 @@ private:
     std::vector<NarrowScratch> narrow_;       // one per worker
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
+    mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())
 };
 
 }  // namespace fulcrum::detail
