@@ -21,6 +21,13 @@
 // contact: the soft solver rests bodies a fraction of a millimetre apart or
 // into each other, and a strict depth > 0 would flicker between frames.
 // A touching manifold with a sleeping body wakes the sleeping body's island.
+//
+// Threads (docs/threading.md): update() computes tight boxes, runs the broad
+// phase's queries and collides the contacts as parallelFor calls on
+// w.taskSystem(); each contact writes only itself and its flag byte, and the
+// destructions, wakes and events are applied afterwards in contact order, so
+// the result is the same for any thread count. report() fills the reports in
+// parallel at offsets from a prefix sum.
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -48,14 +48,18 @@
 // body's state is checked for NaN/inf (NumericalError names the body).
 //
 // Threads (docs/threading.md): the per-body and per-pair loops run as
-// parallelFor calls on taskSystem(): the broad phase's tree queries and the
-// narrow phase per contact (ContactManager::update), and here the start
-// transforms and the velocity and position integration per body. Every range
-// writes only the slots of the indices it covers and anything order-dependent
-// (contact creation, events, wakes, tree updates) is applied afterwards on
-// this thread in index order, so results are bit-identical for every thread
-// count and scheduler (tests/threads/step_determinism_test.cpp). No heap
-// allocation happens here: every scratch array is sized at body creation.
+// parallelFor calls on taskSystem(): the broad phase's tree queries, the
+// narrow phase per contact (ContactManager::update) and the contact report
+// (ContactManager::report), and here the start transforms, the velocity and
+// position integration per body and the end-of-step NaN check. The contact
+// solver (src/solver) is still serial: its colours are the solver branch's.
+// Every range writes only the slots of the indices it covers and anything
+// order-dependent (contact creation, events, wakes, tree updates) is applied
+// afterwards on this thread in index order, so results are bit-identical for
+// every thread count and scheduler (tests/threads/step_determinism_test.cpp).
+// No heap allocation happens here in steady state: every scratch array is
+// sized at body creation, per-worker buffers on the first step with a given
+// worker count.
 #include <atomic>
 #include <cmath>
 
