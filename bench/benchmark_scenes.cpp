@@ -2,7 +2,7 @@
 // pyramid_large, box_pile and sphere_pile in Fulcrum and (when built with it)
 // Bullet 3, in the same run. scripts/bench.sh builds and runs it.
 //
-//   bench_benchmark_scenes [--quick] [--scene NAME] [--fulcrum-only]
+//   bench_benchmark_scenes [--quick] [--scene NAME] [--fulcrum-only] [--threads N]
 //
 // Per scene and engine: median and mean ms per step, mean over the first 120
 // steps, total seconds, the quality metric (worst horizontal drift and top box
@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -27,11 +28,12 @@ using bench::BodySpec;
 using bench::RunResult;
 using bench::SceneSpec;
 
-RunResult runFulcrum(const SceneSpec& scene) {
+RunResult runFulcrum(const SceneSpec& scene, int threads) {
     RunResult r;
     r.ran = true;
     fulcrum::WorldDef def;
     def.sleeping = scene.sleeping;
+    def.threads = threads;
     fulcrum::World world(def);
     std::vector<fulcrum::BodyId> ids;
     const fulcrum::Shape unitBox = fulcrum::Shape::box({0.5f, 0.5f, 0.5f});
@@ -105,12 +107,14 @@ void printRow(const SceneSpec& scene, const char* engine, const RunResult& r, do
 int main(int argc, char** argv) {
     bool quick = false, fulcrumOnly = false;
     std::string only;
+    int threads = 1;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         else if (std::strcmp(argv[i], "--fulcrum-only") == 0) fulcrumOnly = true;
         else if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
+        else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
         else {
-            std::fprintf(stderr, "usage: %s [--quick] [--scene NAME] [--fulcrum-only]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--quick] [--scene NAME] [--fulcrum-only] [--threads N]\n", argv[0]);
             return 2;
         }
     }
@@ -118,7 +122,7 @@ int main(int argc, char** argv) {
     std::printf("|---|---|---|---|---|---|---|---|\n");
     for (const SceneSpec& scene : bench::allScenes(quick)) {
         if (!only.empty() && scene.name.rfind(only, 0) != 0) continue;
-        const RunResult f = runFulcrum(scene);
+        const RunResult f = runFulcrum(scene, threads);
         RunResult b;
 #ifdef FULCRUM_HAVE_BULLET
         if (!fulcrumOnly) b = bench::runBullet(scene);

@@ -103,6 +103,7 @@ struct ParticleReport {
 };
 
 struct WorldImpl;
+class TaskSystem;  // fulcrum/task_system.hpp
 
 class World {
 public:
@@ -121,6 +122,11 @@ public:
     void setSolverIterations(int iterations);
     void setSleepingEnabled(bool enabled);
     void setThreadCount(int threads);
+    // Runs the step's parallel loops on a user's scheduler (docs/threading.md)
+    // instead of the built-in pool sized by `threads`. Not owned: it must
+    // outlive the world or be replaced first; nullptr goes back to the built-in
+    // pool. Results are bit-identical whatever scheduler and thread count.
+    void setTaskSystem(TaskSystem* tasks);
 
     // ---- bodies
     BodyId createBody(const BodyDef& def);

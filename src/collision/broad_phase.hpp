@@ -45,13 +45,16 @@
 //     and create the proxy instead). The next update then reports all of its
 //     allowed overlaps as new.
 //
-// ---- Threads (later) ------------------------------------------------------------
-// updatePairs() runs one tree query per entry of the move buffer. The queries
-// only read the trees, the proxy records and the move buffer, so they can run
-// as a parallel-for over the move buffer with one output buffer per task; the
-// merged result is then sorted, so it is identical for any thread count. The
-// canPair predicate must therefore be thread-safe. Moves (tree updates) stay
-// serial: they are cheap because most moves stay inside their fat box.
+// ---- Threads ---------------------------------------------------------------------
+// updatePairs(canPair, tasks) runs one tree query per entry of the move buffer
+// as a parallel-for over the move buffer. The queries only read the trees, the
+// proxy records and the move buffer, so they need no locks; each worker appends
+// to its own buffer, the buffers are concatenated and the result is sorted by
+// (a, b), so it is identical for any thread count and scheduler (no pair can
+// be found twice: the rule "both moved: the smaller id reports" holds per
+// query). The canPair predicate must therefore be thread-safe. Moves (tree
+// updates) stay serial: they are cheap because most moves stay inside their
+// fat box.
 //
 // No heap allocation in steady state: the move buffer, the pair buffer, the
 // proxy records and the trees' node arrays are reused and grow by doubling.
@@ -65,6 +68,7 @@
 #include "collision/collision_filter.hpp"
 #include "collision/dynamic_tree.hpp"
 #include "fulcrum/body.hpp"
+#include "fulcrum/task_system.hpp"
 
 namespace fulcrum {
 
@@ -115,11 +119,16 @@ public:
     template <PairPredicate Predicate>
     std::span<const ProxyPair> updatePairs(const Predicate& canPair);
     std::span<const ProxyPair> updatePairs() { return updatePairs(AcceptAllPairs{}); }
+    // The same, with the queries run in parallel on `tasks` (same result).
+    template <PairPredicate Predicate>
+    std::span<const ProxyPair> updatePairs(const Predicate& canPair, TaskSystem& tasks);
 
     // Grows the new-pair buffer so updatePairs() need not allocate (the world
     // calls it when bodies are created).
     void reservePairs(std::size_t count) {
         if (pairs_.capacity() < count) pairs_.reserve(count);
+        for (WorkerPairs& wp : workerPairs_)
+            if (wp.pairs.capacity() < count) wp.pairs.reserve(count);
     }
 
     // Whether two proxies' fat boxes overlap: the caller ends a pair when false.
@@ -182,7 +191,8 @@ private:
         return !config_.requireDynamic || a == BodyType::Dynamic || b == BodyType::Dynamic;
     }
     template <typename Predicate>
-    void findNewPairs(const MoveEntry& entry, const Predicate& canPair);
+    void findNewPairs(const MoveEntry& entry, const Predicate& canPair, std::vector<ProxyPair>& out) const;
+    void finishUpdate();  // sorts pairs_ and empties the move buffer
 
     BroadPhaseConfig config_;
     DynamicTree staticTree_;
@@ -191,12 +201,19 @@ private:
     ProxyId freeRecord_ = kNullProxy;
     std::vector<MoveEntry> moveBuffer_;
     std::vector<ProxyPair> pairs_;
+    // Per-worker outputs of the parallel queries (one cache line apart: their
+    // size fields change on every push). Reserved like pairs_ once a worker
+    // count is known, so steady-state steps allocate nothing.
+    struct alignas(64) WorkerPairs {
+        std::vector<ProxyPair> pairs;
+    };
+    std::vector<WorkerPairs> workerPairs_;
 };
 
 // ---- templates ------------------------------------------------------------------
 
 template <typename Predicate>
-void BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair) {
+void BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, std::vector<ProxyPair>& out) const {
     const ProxyId self = entry.proxy;
     const ProxyRecord& me = record(self);
     const AABB& box = fatAABB(self);
@@ -223,7 +240,7 @@ void BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair) 
         const ProxyRecord& first = selfFirst ? me : them;
         const ProxyRecord& second = selfFirst ? them : me;
         if (!canPair(first.userValue, second.userValue)) return true;
-        pairs_.push_back({selfFirst ? self : other, selfFirst ? other : self, first.userValue, second.userValue});
+        out.push_back({selfFirst ? self : other, selfFirst ? other : self, first.userValue, second.userValue});
         return true;
     };
     movingTree_.query(box, visit);
@@ -237,18 +254,46 @@ void BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair) 
 template <PairPredicate Predicate>
 std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair) {
     pairs_.clear();
-    // One independent, read-only query per moved proxy: the place for a
-    // parallel-for (per-task output buffers, concatenated, then sorted below).
     for (const MoveEntry& entry : moveBuffer_) {
-        if (entry.proxy != kNullProxy) findNewPairs(entry, canPair);
+        if (entry.proxy != kNullProxy) findNewPairs(entry, canPair, pairs_);
     }
+    finishUpdate();
+    return pairs_;
+}
+
+template <PairPredicate Predicate>
+std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, TaskSystem& tasks) {
+    const std::uint32_t workers = tasks.workerCount();
+    if (workers <= 1) return updatePairs(canPair);
+    if (workerPairs_.size() < workers) {
+        workerPairs_.resize(workers);
+        for (WorkerPairs& wp : workerPairs_) wp.pairs.reserve(pairs_.capacity());
+    }
+    for (WorkerPairs& wp : workerPairs_) wp.pairs.clear();
+    // A query costs ~0.3-1 us; 32 of them amortise a range's scheduling.
+    const auto count = static_cast<std::uint32_t>(moveBuffer_.size());
+    tasks.parallelFor(count, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+        std::vector<ProxyPair>& out = workerPairs_[worker].pairs;
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const MoveEntry& entry = moveBuffer_[i];
+            if (entry.proxy != kNullProxy) findNewPairs(entry, canPair, out);
+        }
+    });
+    // Concatenated in worker order, which depends on timing; the sort in
+    // finishUpdate() makes the result a function of the pairs alone.
+    pairs_.clear();
+    for (const WorkerPairs& wp : workerPairs_) pairs_.insert(pairs_.end(), wp.pairs.begin(), wp.pairs.end());
+    finishUpdate();
+    return pairs_;
+}
+
+inline void BroadPhase::finishUpdate() {
     std::sort(pairs_.begin(), pairs_.end(),
               [](const ProxyPair& l, const ProxyPair& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
     for (const MoveEntry& entry : moveBuffer_) {
         if (entry.proxy != kNullProxy) record(entry.proxy).moveIndex = -1;
     }
     moveBuffer_.clear();
-    return pairs_;
 }
 
 template <typename Callback>

@@ -24,9 +24,8 @@ void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
 
 }  // namespace
 
-void integrateVelocities(WorldImpl& w, Integrator method, Real h) {
-    const std::size_t count = w.motion.size();
-    for (std::size_t i = 0; i < count; ++i) {
+void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
         const BodyParams& p = w.params[i];
         if (!isDynamic(p)) continue;
         BodyMotion& m = w.motion[i];
@@ -68,9 +67,8 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h) {
     }
 }
 
-void integratePositions(WorldImpl& w, Integrator method, Real h) {
-    const std::size_t count = w.motion.size();
-    for (std::size_t i = 0; i < count; ++i) {
+void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
         const BodyParams& p = w.params[i];
         if (!moves(p)) continue;
         BodyMotion& m = w.motion[i];

@@ -13,7 +13,12 @@ namespace fulcrum::detail {
 //   semi-implicit Euler:  v += a h, w += I^-1 tau h (the gyroscopic effect comes from the drift).
 //   Verlet:               first half kick v += a h/2, w += I^-1 tau h/2.
 // Damping v *= 1 / (1 + h c) for every integrator.
-void integrateVelocities(WorldImpl& w, Integrator method, Real h);
+// The body range [begin, end) only: bodies are independent, so the step runs
+// disjoint ranges on several threads (src/world/step.cpp).
+void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end);
+inline void integrateVelocities(WorldImpl& w, Integrator method, Real h) {
+    integrateVelocities(w, method, h, 0, w.motion.size());
+}
 
 // Stage 4: advance positions and orientations from the (possibly solver-corrected) velocities.
 //   explicit Euler:       x += v_old h, q rotated by w_old.
@@ -21,7 +26,10 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h);
 //   Verlet:               drift x += v_half h; q turns at constant angular momentum.
 // Kinematic bodies move at their velocity whatever the integrator.
 // Refreshes every moved body's world inverse inertia.
-void integratePositions(WorldImpl& w, Integrator method, Real h);
+void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end);
+inline void integratePositions(WorldImpl& w, Integrator method, Real h) {
+    integratePositions(w, method, h, 0, w.motion.size());
+}
 
 // Stage 5: Verlet's second half kick (evaluates forces at the new positions at
 // `timeAfter`); nothing for the Euler methods.

@@ -43,6 +43,13 @@ void mixMaterial(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t
     }
 }
 
+// What the parallel pass of update() found for one contact.
+constexpr std::uint8_t kTouching = 1;    // collided: the new touching state
+constexpr std::uint8_t kWakeA = 2;       // collided: body A sleeps and must wake
+constexpr std::uint8_t kWakeB = 4;
+constexpr std::uint8_t kCollided = 8;    // collided (touching state valid)
+constexpr std::uint8_t kSeparated = 16;  // fat boxes apart: destroy
+
 }  // namespace
 
 bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
@@ -82,14 +89,11 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     for (std::vector<ContactEvent>* v : {&beginEvents, &endEvents, &sensorBeginEvents, &sensorEndEvents}) {
         if (v->capacity() < wantEvents) v->reserve(2 * wantEvents);
     }
-    if (scratch_.capacity() < 4) scratch_.reserve(4);
     broad_.reservePairs(8 * std::bit_ceil(bodyCount));
-    if (!warmedBuffer_) {
-        // Grow the narrow phase's output to a few manifolds now rather than in a step.
-        for (int i = 0; i < 4; ++i) buffer_.push();
-        buffer_.clear();
-        warmedBuffer_ = true;
-    }
+    ensureWorkers(1);
+    if (tightBoxes_.capacity() < bodyCount) tightBoxes_.reserve(std::max(bodyCount, 2 * tightBoxes_.capacity()));
+    if (contactFlags_.capacity() < contacts_.size()) contactFlags_.reserve(contacts_.capacity());
+    if (reportStart_.capacity() < contacts_.size() + 1) reportStart_.reserve(contacts_.capacity() + 1);
     const std::size_t wantReports = 2 * bodyCount;
     if (w.contacts.size() < wantReports) {
         w.contacts.reserve(std::max(wantReports, 2 * w.contacts.size()));
@@ -97,6 +101,18 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
             w.contacts.emplace_back();
             w.contacts.back().points.reserve(4);
         }
+    }
+}
+
+void ContactManager::ensureWorkers(std::size_t workers) {
+    if (narrow_.size() >= workers) return;
+    narrow_.resize(workers);
+    for (NarrowScratch& n : narrow_) {
+        // Grow the narrow phase's output to a few manifolds now rather than in a step.
+        if (n.manifolds.capacity() >= 4) continue;
+        n.manifolds.reserve(4);
+        for (int i = 0; i < 4; ++i) n.buffer.push();
+        n.buffer.clear();
     }
 }
 
@@ -176,7 +192,9 @@ void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
     freeContact_ = index;
 }
 
-void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
+std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& ns) const {
+    ManifoldBuffer& buffer = ns.buffer;
+    std::vector<CachedManifold>& scratch = ns.manifolds;
     const std::uint32_t dA = w.bodySlots[c.slotA].dense;
     const std::uint32_t dB = w.bodySlots[c.slotB].dense;
     const BodyParams& pa = w.params[dA];
@@ -214,23 +232,23 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
                 touching = touching || p.depth > -kTouchSlop;
             }
         }
-        updateTouching(w, c, touching);
-        return;
+        return kCollided | (touching ? kTouching : 0);
     }
     c.hasPose = true;
     c.relativePose = rel;
-    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, margin, buffer_);
+    std::uint8_t flags = 0;
+    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, margin, buffer);
 
     bool touching = false;
     if (c.sensor) {
-        for (const Manifold& m : buffer_) touching = touching || (m.pointCount > 0 && m.maxDepth() >= 0);
+        for (const Manifold& m : buffer) touching = touching || (m.pointCount > 0 && m.maxDepth() >= 0);
         c.manifolds.clear();
-    } else if (buffer_.size() == 1 && c.manifolds.size() <= 1) {
+    } else if (buffer.size() == 1 && c.manifolds.size() <= 1) {
         // One manifold in, at most one before (every convex pair): rebuilt in
         // place from a copy of the old points' ids, positions and impulses,
         // without the scratch manifold and its copy back (~290 bytes zeroed
         // and copied twice per pair; the same results as the general path).
-        const Manifold& m = buffer_[0];
+        const Manifold& m = buffer[0];
         if (m.pointCount == 0) {
             c.manifolds.clear();
         } else {
@@ -290,15 +308,16 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
                 }
                 if (match != UINT32_MAX) dst.normalImpulse = oldImpulse[match];
             }
-            if (pa.type != BodyType::Static && !pa.awake) w.wakeBody(dA);
-            if (pb.type != BodyType::Static && !pb.awake) w.wakeBody(dB);
+            // A sleeping body near an awake one wakes (update() wakes it).
+            if (pa.type != BodyType::Static && !pa.awake) flags |= kWakeA;
+            if (pb.type != BodyType::Static && !pb.awake) flags |= kWakeB;
         }
     } else {
-        scratch_.clear();
-        for (const Manifold& m : buffer_) {
+        scratch.clear();
+        for (const Manifold& m : buffer) {
             if (m.pointCount == 0) continue;
-            scratch_.emplace_back();
-            CachedManifold& out = scratch_.back();
+            scratch.emplace_back();
+            CachedManifold& out = scratch.back();
             out.normal = m.normal;
             out.localNormal = inverseRotate(xA.q, m.normal);
             out.childA = m.childA;
@@ -348,17 +367,16 @@ void ContactManager::collideContact(WorldImpl& w, Contact& c, Real dt) {
                 }
             }
         }
-        c.manifolds.resize(scratch_.size());
-        std::copy(scratch_.begin(), scratch_.end(), c.manifolds.begin());
+        c.manifolds.resize(scratch.size());
+        std::copy(scratch.begin(), scratch.end(), c.manifolds.begin());
         // A sleeping body near an awake one wakes (with its island) as soon as
-        // they have contact points, so the solver sees both.
+        // they have contact points, so the solver sees both (update() wakes it).
         if (!c.manifolds.empty()) {
-            if (pa.type != BodyType::Static && !pa.awake) w.wakeBody(dA);
-            if (pb.type != BodyType::Static && !pb.awake) w.wakeBody(dB);
+            if (pa.type != BodyType::Static && !pa.awake) flags |= kWakeA;
+            if (pb.type != BodyType::Static && !pb.awake) flags |= kWakeB;
         }
     }
-
-    updateTouching(w, c, touching);
+    return flags | kCollided | (touching ? kTouching : 0);
 }
 
 void ContactManager::updateTouching(WorldImpl& w, Contact& c, bool touching) {
@@ -380,53 +398,115 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     sensorBeginEvents.clear();
     sensorEndEvents.clear();
 
-    // 1. Proxies follow the awake bodies (fattened by the coming step's motion).
-    const std::size_t count = w.motion.size();
+    TaskSystem& tasks = w.taskSystem();
+    ensureWorkers(tasks.workerCount());
+
+    // 1. Proxies follow the awake bodies (fattened by the coming step's motion):
+    // the tight boxes in parallel, the tree updates serially in body order.
+    const auto count = static_cast<std::uint32_t>(w.motion.size());
+    if (tightBoxes_.size() < count) tightBoxes_.resize(count);
+    tasks.parallelFor(count, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t d = begin; d < end; ++d) {
+            if (isAwakeMover(w.params[d])) tightBoxes_[d] = w.cold[d].shape.bounds(w.originTransform(d));
+        }
+    });
     for (std::uint32_t d = 0; d < count; ++d) {
         if (!isAwakeMover(w.params[d])) continue;
-        const AABB box = w.cold[d].shape.bounds(w.originTransform(d));
-        broad_.moveProxy(proxyOfSlot_[w.denseToSlot[d]], box, w.motion[d].v * dt);
+        broad_.moveProxy(proxyOfSlot_[w.denseToSlot[d]], tightBoxes_[d], w.motion[d].v * dt);
     }
 
     // 2. New pairs, sorted by proxy ids: a deterministic order.
-    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w})) {
+    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w}, tasks)) {
         createContact(w, pair.userA, pair.userB, pair.a, pair.b);
     }
 
-    // 3. End pairs whose fat boxes separated; collide the rest that can have moved.
-    for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
+    // 3. End pairs whose fat boxes separated; collide the rest that can have
+    // moved. In parallel, each contact writing only itself and its flag slot;
+    // then, in contact order, the destructions, wakes and events, so the result
+    // is the same for any thread count. (A body woken here gets its contacts
+    // with other sleeping bodies collided next step: they have not moved, so
+    // their manifolds still hold.)
+    const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
+    if (contactFlags_.size() < contactCount) contactFlags_.resize(contactCount);
+    tasks.parallelFor(contactCount, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+        NarrowScratch& ns = narrow_[worker];
+        for (std::uint32_t i = begin; i < end; ++i) {
+            Contact& c = contacts_[i];
+            std::uint8_t flags = 0;
+            if (!c.alive) {
+            } else if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
+                flags = kSeparated;
+            } else if (isAwakeMover(w.params[w.bodySlots[c.slotA].dense]) ||
+                       isAwakeMover(w.params[w.bodySlots[c.slotB].dense])) {
+                // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
+                flags = collideContact(w, c, dt, ns);
+            }
+            contactFlags_[i] = flags;
+        }
+    });
+    for (std::uint32_t i = 0; i < contactCount; ++i) {
+        const std::uint8_t flags = contactFlags_[i];
+        if (flags == 0) continue;
         Contact& c = contacts_[i];
-        if (!c.alive) continue;
-        if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
+        if ((flags & kSeparated) != 0) {
             destroyContact(w, i);
             continue;
         }
-        const bool moverA = isAwakeMover(w.params[w.bodySlots[c.slotA].dense]);
-        const bool moverB = isAwakeMover(w.params[w.bodySlots[c.slotB].dense]);
-        // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
-        if (!moverA && !moverB) continue;
-        collideContact(w, contacts_[i], dt);
+        if ((flags & kWakeA) != 0 && !w.params[w.bodySlots[c.slotA].dense].awake) w.wakeBody(w.bodySlots[c.slotA].dense);
+        if ((flags & kWakeB) != 0 && !w.params[w.bodySlots[c.slotB].dense].awake) w.wakeBody(w.bodySlots[c.slotB].dense);
+        updateTouching(w, c, (flags & kTouching) != 0);
     }
 }
 
+namespace {
+
+// Whether a manifold is reported (a point within kTouchSlop), and its deepest point.
+bool reportable(const CachedManifold& m, Real& deepest) {
+    deepest = -1e30f;
+    for (std::uint32_t k = 0; k < m.pointCount; ++k) deepest = std::max(deepest, m.points[k].depthAfter);
+    return m.pointCount > 0 && deepest > -kTouchSlop;
+}
+
+}  // namespace
+
 void ContactManager::report(WorldImpl& w) const {
-    std::size_t n = 0;
-    for (const Contact& c : contacts_) {
-        if (!c.alive || c.sensor) continue;
-        for (const CachedManifold& m : c.manifolds) {
-            Real deepest = -1e30f;
-            for (std::uint32_t k = 0; k < m.pointCount; ++k) deepest = std::max(deepest, m.points[k].depthAfter);
-            if (m.pointCount == 0 || deepest <= -kTouchSlop) continue;
-            if (n == w.contacts.size()) w.contacts.emplace_back();
-            ContactReport& r = w.contacts[n++];
-            r.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
-            r.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
-            r.normal = m.normal;
-            r.depth = deepest;
-            r.points.resize(m.pointCount);
-            for (std::uint32_t k = 0; k < m.pointCount; ++k) r.points[k] = m.points[k].position;
+    // In parallel and in contact order: count each contact's reports, place
+    // them by prefix sums (serial), then fill each contact's slots.
+    TaskSystem& tasks = w.taskSystem();
+    const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
+    if (reportStart_.size() < contactCount + 1) reportStart_.resize(contactCount + 1);
+    tasks.parallelFor(contactCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const Contact& c = contacts_[i];
+            std::uint32_t count = 0;
+            Real deepest = 0;
+            if (c.alive && !c.sensor)
+                for (const CachedManifold& m : c.manifolds) count += reportable(m, deepest) ? 1u : 0u;
+            reportStart_[i + 1] = count;
         }
-    }
+    });
+    reportStart_[0] = 0;
+    for (std::uint32_t i = 0; i < contactCount; ++i) reportStart_[i + 1] += reportStart_[i];
+    const std::size_t n = reportStart_[contactCount];
+    while (w.contacts.size() < n) w.contacts.emplace_back();
+    tasks.parallelFor(contactCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const Contact& c = contacts_[i];
+            if (reportStart_[i + 1] == reportStart_[i]) continue;
+            std::size_t r = reportStart_[i];
+            for (const CachedManifold& m : c.manifolds) {
+                Real deepest = 0;
+                if (!reportable(m, deepest)) continue;
+                ContactReport& out = w.contacts[r++];
+                out.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
+                out.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
+                out.normal = m.normal;
+                out.depth = deepest;
+                out.points.resize(m.pointCount);
+                for (std::uint32_t k = 0; k < m.pointCount; ++k) out.points[k] = m.points[k].position;
+            }
+        }
+    });
     w.contactReportCount = n;
 }
 

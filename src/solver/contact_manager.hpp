@@ -21,6 +21,13 @@
 // contact: the soft solver rests bodies a fraction of a millimetre apart or
 // into each other, and a strict depth > 0 would flicker between frames.
 // A touching manifold with a sleeping body wakes the sleeping body's island.
+//
+// Threads (docs/threading.md): update() computes tight boxes, runs the broad
+// phase's queries and collides the contacts as parallelFor calls on
+// w.taskSystem(); each contact writes only itself and its flag byte, and the
+// destructions, wakes and events are applied afterwards in contact order, so
+// the result is the same for any thread count. report() fills the reports in
+// parallel at offsets from a prefix sum.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -71,16 +78,25 @@ private:
     friend struct fulcrum::SnapshotAccess;
     void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
-    void collideContact(WorldImpl& w, Contact& c, Real dt);
+    // Per-worker narrow-phase scratch (threads: docs/threading.md).
+    struct alignas(64) NarrowScratch {
+        ManifoldBuffer buffer;
+        std::vector<CachedManifold> manifolds;
+    };
+    // Runs on any worker: reads the world, writes only c and scratch; returns
+    // kTouching / kWakeA / kWakeB flags that update() applies in index order.
+    std::uint8_t collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& scratch) const;
+    void ensureWorkers(std::size_t workers);
     void updateTouching(WorldImpl& w, Contact& c, bool touching);
 
     BroadPhase broad_;
     std::vector<ProxyId> proxyOfSlot_;
     std::vector<Contact> contacts_;
     std::uint32_t freeContact_ = UINT32_MAX;
-    ManifoldBuffer buffer_;
-    bool warmedBuffer_ = false;
-    std::vector<CachedManifold> scratch_;
+    std::vector<NarrowScratch> narrow_;       // one per worker
+    std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
+    std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
+    mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())
 };
 
 }  // namespace fulcrum::detail

@@ -47,9 +47,20 @@
 // After the sub-steps: user forces are cleared, time advances, and every moving
 // body's state is checked for NaN/inf (NumericalError names the body).
 //
-// Threads: the step is single-threaded for now; WorldDef::threads is stored
-// and validated so scenes and tools can already set it. No heap allocation
-// happens here: every scratch array is sized at body creation.
+// Threads (docs/threading.md): the per-body and per-pair loops run as
+// parallelFor calls on taskSystem(): the broad phase's tree queries, the
+// narrow phase per contact (ContactManager::update) and the contact report
+// (ContactManager::report), and here the start transforms, the velocity and
+// position integration per body and the end-of-step NaN check. The contact
+// solver (src/solver) is still serial: its colours are the solver branch's.
+// Every range writes only the slots of the indices it covers and anything
+// order-dependent (contact creation, events, wakes, tree updates) is applied
+// afterwards on this thread in index order, so results are bit-identical for
+// every thread count and scheduler (tests/threads/step_determinism_test.cpp).
+// No heap allocation happens here in steady state: every scratch array is
+// sized at body creation, per-worker buffers on the first step with a given
+// worker count.
+#include <atomic>
 #include <cmath>
 
 #include "dynamics/forces.hpp"
@@ -73,7 +84,24 @@ const char* firstNonFinite(const detail::BodyMotion& m) {
 
 constexpr std::uint32_t kNoIndexBody = UINT32_MAX;
 
+// Bodies per range of the per-body loops: integrating one costs ~20-60 ns, so
+// 256 of them amortise a range's scheduling (~0.1-0.2 us on the pool).
+constexpr std::uint32_t kBodiesPerRange = 256;
+
 }  // namespace
+
+TaskSystem& WorldImpl::taskSystem() {
+    if (userTasks != nullptr) return *userTasks;
+    if (settings.threads <= 1) return inlineTasks;
+    if (ownedPool == nullptr || ownedPoolThreads != settings.threads) {
+        ownedPool.reset();  // join the old threads before starting new ones
+        ThreadPoolDef def;
+        def.threads = static_cast<std::uint32_t>(settings.threads);
+        ownedPool = makeThreadPool(def);
+        ownedPoolThreads = settings.threads;
+    }
+    return *ownedPool;
+}
 
 void WorldImpl::step(Real dt) {
     const Integrator method = settings.integrator;
@@ -81,7 +109,11 @@ void WorldImpl::step(Real dt) {
     const Real h = dt / static_cast<Real>(substeps);
     const double hd = static_cast<double>(dt) / substeps;
 
-    for (std::size_t i = 0; i < motion.size(); ++i) previous[i] = originTransform(static_cast<std::uint32_t>(i));
+    TaskSystem& tasks = taskSystem();
+    const auto bodyCount = static_cast<std::uint32_t>(motion.size());
+    tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t i = begin; i < end; ++i) previous[i] = originTransform(i);
+    });
 
     // Turning sleeping off wakes everything once.
     if (!settings.sleeping && wasSleeping) {
@@ -109,7 +141,9 @@ void WorldImpl::step(Real dt) {
         // forces at exactly this state and time).
         if (method != Integrator::Verlet || s == 0) detail::evaluateForces(*this, tStart);
         // Stage 2
-        detail::integrateVelocities(*this, method, h);
+        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+            detail::integrateVelocities(*this, method, h, begin, end);
+        });
         // Stage 3: warm start and solve with soft position bias.
         if (hasConstraints) {
             solver.gatherVelocities(*this);
@@ -122,7 +156,9 @@ void WorldImpl::step(Real dt) {
             solver.scatterVelocities(*this);
         }
         // Stage 4
-        detail::integratePositions(*this, method, h);
+        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+            detail::integratePositions(*this, method, h, begin, end);
+        });
         // Joints: put the anchors back together at the position level.
         if (hasJoints) jointSolver.projectPositions(*this);
         // Relax: the bias-free pass removes the velocity the soft push added.
@@ -157,9 +193,22 @@ void WorldImpl::step(Real dt) {
     sleepManager.update(*this, solver, contactManager, dt);
     contactManager.report(*this);
 
-    for (detail::ForceTorque& a : applied) a = {};
+    // Clear the user forces and look for a non-finite state, per body range in
+    // parallel; the lowest bad index is an order-independent merge (an atomic min).
+    std::atomic<std::uint32_t> firstBad{kNoIndexBody};
+    tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        std::uint32_t bad = kNoIndexBody;
+        for (std::uint32_t i = begin; i < end; ++i) {
+            applied[i] = {};
+            if (bad == kNoIndexBody && params[i].type != BodyType::Static && *firstNonFinite(motion[i]) != '\0') bad = i;
+        }
+        std::uint32_t seen = firstBad.load(std::memory_order_relaxed);
+        while (bad < seen && !firstBad.compare_exchange_weak(seen, bad, std::memory_order_relaxed)) {
+        }
+    });
     ++stepCount;
     time = t0 + static_cast<double>(dt);
+    if (firstBad.load(std::memory_order_relaxed) == kNoIndexBody) return;
 
     // Contacts spread a NaN to the bodies touching it, so name a body whose
     // forces went non-finite first: that is where the NaN came from.

@@ -57,6 +57,7 @@
 #include <string>
 #include <vector>
 
+#include "fulcrum/task_system.hpp"
 #include "fulcrum/world.hpp"
 #include "solver/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
@@ -199,6 +200,15 @@ struct WorldImpl {
     // their broad-phase proxy since it was last moved. Rebuilt lazily per step;
     // code that moves bodies outside step() and setTransform must invalidate it.
     detail::StrayBodies strayBodies;
+
+    // ---- threads (src/world/step.cpp, docs/threading.md): the scheduler the
+    // step's parallel loops run on. A user's (setTaskSystem) if set, else the
+    // inline one for threads == 1, else a pool created on first use.
+    TaskSystem* userTasks = nullptr;
+    std::unique_ptr<TaskSystem> ownedPool;
+    int ownedPoolThreads = 0;
+    InlineTaskSystem inlineTasks;
+    TaskSystem& taskSystem();
 
     // Wakes a non-static body and, if it sleeps, its whole island; resets its sleep timer.
     void wakeBody(std::uint32_t dense);

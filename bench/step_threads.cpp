@@ -1,0 +1,163 @@
+// How much of a step runs in parallel, and what 2 threads gain: the scenes of
+// bench/scenes.hpp (box_pile, sphere_pile, ...) stepped three ways.
+//
+//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick]
+//
+// 1. On a timing wrapper around the inline task system (one thread): the
+//    calling thread's CPU time inside parallelFor calls over its CPU time in
+//    World::step is the parallel fraction p. Thread CPU time, not wall time,
+//    so the figure holds on a machine shared with other work. Amdahl's bound
+//    for N threads is 1 / ((1 - p) + p / N).
+// 2. On the built-in pool with 1 thread and with N threads (default 2): wall
+//    ms per step (median, mean) and the speed-up; those need idle cores, so
+//    the load average is printed with them.
+// 3. The final state of every run is hashed: the runs must agree to the bit.
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "fulcrum/fulcrum.hpp"
+#include "fulcrum/task_system.hpp"
+#include "scenes.hpp"
+
+namespace {
+
+double threadCpuSeconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// The inline task system, timing the CPU spent inside parallelFor.
+class TimingTaskSystem final : public fulcrum::TaskSystem {
+public:
+    double parallelSeconds = 0;
+    std::uint64_t calls = 0;
+    std::uint32_t workerCount() const noexcept override { return 1; }
+    void parallelFor(std::uint32_t count, std::uint32_t, fulcrum::RangeFn fn) override {
+        if (count == 0) return;
+        ++calls;
+        const double t0 = threadCpuSeconds();
+        fn(0, count, 0);
+        parallelSeconds += threadCpuSeconds() - t0;
+    }
+};
+
+fulcrum::World build(const bench::SceneSpec& scene, int threads) {
+    fulcrum::WorldDef def;
+    def.sleeping = scene.sleeping;
+    def.threads = threads;
+    fulcrum::World world(def);
+    for (const bench::BodySpec& b : scene.bodies) {
+        fulcrum::BodyDef d;
+        d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
+        d.shape = b.kind == bench::BodySpec::Kind::Sphere ? fulcrum::Shape::sphere(b.hx)
+                                                           : fulcrum::Shape::box({b.hx, b.hy, b.hz});
+        if (!b.isStatic) d.mass = b.mass;
+        d.position = {b.x, b.y, b.z};
+        d.friction = scene.friction;
+        world.createBody(d);
+    }
+    return world;
+}
+
+std::uint64_t hashState(const fulcrum::World& world) {
+    std::uint64_t h = 14695981039346656037ull;
+    const auto add = [&](float v) {
+        std::uint32_t bits = 0;
+        std::memcpy(&bits, &v, sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+    };
+    for (const fulcrum::BodyId id : world.bodies()) {
+        const fulcrum::Vec3 p = world.position(id), v = world.linearVelocity(id);
+        const fulcrum::Quat q = world.orientation(id);
+        for (const float x : {p.x, p.y, p.z, v.x, v.y, v.z, q.w, q.x, q.y, q.z}) add(x);
+    }
+    return h;
+}
+
+struct Timing {
+    std::vector<double> stepMs;
+    double cpuSeconds = 0;  // calling thread
+    std::uint64_t hash = 0;
+};
+
+Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskSystem* tasks) {
+    fulcrum::World world = build(scene, threads);
+    if (tasks != nullptr) world.setTaskSystem(tasks);
+    Timing t;
+    t.stepMs.reserve(static_cast<std::size_t>(steps));
+    for (int i = 0; i < steps; ++i) {
+        const double c0 = threadCpuSeconds();
+        const auto t0 = std::chrono::steady_clock::now();
+        world.step(scene.dt);
+        const auto t1 = std::chrono::steady_clock::now();
+        t.cpuSeconds += threadCpuSeconds() - c0;
+        t.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+    t.hash = hashState(world);
+    return t;
+}
+
+double median(std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size()); }
+
+double loadAverage() {
+    double load = -1;
+    if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+        if (std::fscanf(f, "%lf", &load) != 1) load = -1;
+        std::fclose(f);
+    }
+    return load;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string only;
+    int steps = 0, threads = 2;
+    bool quick = false;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
+        else if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
+        else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) threads = std::max(2, std::atoi(argv[++i]));
+        else if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        else {
+            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick]\n", argv[0]);
+            return 2;
+        }
+    }
+    std::printf("| scene | steps | parallel fraction p | Amdahl bound, %d threads | 1 thread ms (median/mean) | %d threads ms "
+                "(median/mean) | speed-up (mean) | load | bit-identical |\n",
+                threads, threads);
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    for (const bench::SceneSpec& scene : bench::allScenes(quick)) {
+        if (!only.empty() && scene.name.rfind(only, 0) != 0) continue;
+        const int n = steps > 0 ? steps : scene.steps;
+        TimingTaskSystem timing;
+        const Timing serial = run(scene, n, 1, &timing);
+        const double p = timing.parallelSeconds / serial.cpuSeconds;
+        const double bound = 1 / ((1 - p) + p / threads);
+        const double load0 = loadAverage();
+        const Timing one = run(scene, n, 1, nullptr);
+        const Timing many = run(scene, n, threads, nullptr);
+        const double load1 = loadAverage();
+        std::printf("| %s | %d | %.3f (%llu calls) | %.2f | %.3f / %.3f | %.3f / %.3f | %.2f | %.1f-%.1f | %s |\n",
+                    scene.name.c_str(), n, p, static_cast<unsigned long long>(timing.calls), bound, median(one.stepMs),
+                    mean(one.stepMs), median(many.stepMs), mean(many.stepMs), mean(one.stepMs) / mean(many.stepMs),
+                    std::min(load0, load1), std::max(load0, load1),
+                    serial.hash == one.hash && one.hash == many.hash ? "yes" : "NO");
+        std::fflush(stdout);
+    }
+    return 0;
+}
