@@ -375,7 +375,7 @@ void printScene(const SceneSpec& scene, const std::vector<Result>& results) {
         std::printf("| %s | %d | %.3f | %.3f | %.3f | %.2f | %s | ", r.engine.c_str(), r.threads, median(r.stepMs), m,
                     mean(r.stepMs, 120), total, r.quality.c_str());
         if (reference > 0 && m > 0) {
-            std::printf("%.2f |\n", reference / m);
+            std::printf("%.3g |\n", reference / m);
         } else {
             std::printf("- |\n");
         }

@@ -39,7 +39,7 @@ public:
     std::string name() const override { return "MuJoCo"; }
     std::string settings() const override {
         return "MuJoCo 2.2.2 (double): Euler integrator, Newton solver (100 iterations, tolerance 1e-8), pyramidal "
-               "cone, condim 3, default solref/solimp, geom friction = the pair mu (MuJoCo takes the max); joints as a "
+               "cone, condim 3, default solref/solimp, geom friction = the pair mu (MuJoCo takes the max); ball joints as "
                "`connect` equality constraints between free bodies (a 100-deep kinematic tree exceeds 2.2's XML nesting limit); nconmax = 12 per dynamic body, njmax = 4 per contact; "
                "no sleeping; no particle cloth in 2.2's API (its composite cloth is a tree of bodies), not run";
     }
