@@ -5,12 +5,12 @@
 // docs/benchmarks.md).
 //
 //   bench_benchmark_scenes [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco]
-//                          [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS per engine and scene: 90, --quick 20]
+//                          [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS per engine and scene: 60, --quick 20]
 //
 // Per scene, a table: engine, threads, median and mean ms per step, mean over
 // the first 120 steps, total seconds, the quality metric and Fulcrum's
-// one-thread mean time divided by the row's (below 1: Fulcrum is faster; on
-// Fulcrum's own rows with more threads: the speed-up). Then one table of the
+// one-thread time divided by the row's, of the medians and of the means (below
+// 1: Fulcrum is faster; on Fulcrum's own rows with more threads: the speed-up). Then one table of the
 // accuracy probes for every engine, and (--sizes) the bytes per body and per
 // contact of Fulcrum's hot data.
 #include <algorithm>
@@ -175,7 +175,7 @@ std::pair<double, double> spinEnergyMomentum(const BodySpec& spec, const BodySta
 
 // Seconds one engine may spend stepping one scene; a slower engine stops there
 // and its row says after how many steps (the harness must finish in minutes).
-double gBudgetSeconds = 90;
+double gBudgetSeconds = 60;
 
 Result run(Engine& engine, const SceneSpec& scene) {
     Result r;
@@ -359,11 +359,14 @@ std::vector<Factory> engines(const Options& o) {
 
 void printScene(const SceneSpec& scene, const std::vector<Result>& results) {
     std::printf("\n### %s (%d steps)\n\n", scene.name.c_str(), scene.steps);
-    std::printf("| engine | threads | median ms | mean ms | first 120 ms | total s | quality | Fulcrum 1t / this (mean) |\n");
+    std::printf("| engine | threads | median ms | mean ms | first 120 ms | total s | quality | Fulcrum 1t / this: medians (means) |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
-    double reference = 0;
+    double reference = 0, referenceMedian = 0;
     for (const Result& r : results) {
-        if (r.ran && r.engine == "Fulcrum" && r.threads == 1) reference = mean(r.stepMs, r.stepMs.size());
+        if (r.ran && r.engine == "Fulcrum" && r.threads == 1) {
+            reference = mean(r.stepMs, r.stepMs.size());
+            referenceMedian = median(r.stepMs);
+        }
     }
     for (const Result& r : results) {
         if (!r.ran) {
@@ -375,7 +378,7 @@ void printScene(const SceneSpec& scene, const std::vector<Result>& results) {
         std::printf("| %s | %d | %.3f | %.3f | %.3f | %.2f | %s | ", r.engine.c_str(), r.threads, median(r.stepMs), m,
                     mean(r.stepMs, 120), total, r.quality.c_str());
         if (reference > 0 && m > 0) {
-            std::printf("%.3g |\n", reference / m);
+            std::printf("%.3g (%.3g) |\n", referenceMedian / median(r.stepMs), reference / m);
         } else {
             std::printf("- |\n");
         }
