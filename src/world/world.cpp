@@ -329,6 +329,12 @@ void World::setTransform(BodyId id, const Vec3& position, const Quat& orientatio
     const Subject who = subjectOf(w, d);
     requireFinite(who, "position", position);
     const Quat q = detail::requireOrientation(who, "orientation", orientation);
+    // A static or kinematic body never sleeps, so waking it alone would leave
+    // sleeping bodies it left or now overlaps hanging in the air or buried:
+    // wake every body near its old and new place (within the speculative margin).
+    const bool movesOthers = w.params[d].type != BodyType::Dynamic;
+    AABB reach;
+    if (movesOthers) reach = w.cold[d].shape.bounds(w.originTransform(d));
     detail::BodyMotion& m = w.motion[d];
     m.q = q;
     m.com = position + rotate(q, w.params[d].localCom);
@@ -336,6 +342,12 @@ void World::setTransform(BodyId id, const Vec3& position, const Quat& orientatio
     w.previous[d] = {position, q};  // a teleport: don't interpolate across it
     w.wakeBody(d);
     w.contactManager.bodyTeleported(w, d);
+    if (movesOthers) {
+        reach = merge(reach, w.cold[d].shape.bounds(w.originTransform(d)));
+        for (const BodyId other : overlapAABB(reach.fattened(w.settings.speculativeMargin))) {
+            w.wakeBody(w.resolveBody(other, "World::setTransform"));
+        }
+    }
 }
 
 void World::setLinearVelocity(BodyId id, const Vec3& v) {
@@ -468,7 +480,28 @@ void World::setForceCallback(BodyId id, ForceCallback callback) {
 
 void World::step(Real dt) {
     if (!std::isfinite(dt) || dt <= 0) fail(kWorldSubject, "step dt", "must be a positive finite time, got " + formatReal(dt));
-    impl_->step(dt);
+    WorldImpl& w = *impl_;
+    if (w.nonFiniteSinceStep != 0) {
+        // The previous step threw NumericalError. Stepping on would feed NaN
+        // boxes to the broad phase, so refuse until every body is finite again
+        // (the user set its state, destroyed it, or restored a snapshot).
+        for (std::uint32_t i = 0; i < w.motion.size(); ++i) {
+            const detail::BodyMotion& m = w.motion[i];
+            if (w.params[i].type == BodyType::Static) continue;
+            if (!isFinite(m.com) || !isFinite(m.q) || !isFinite(m.v) || !isFinite(m.w)) {
+                throw NumericalError(w.describeBody(i) + " (index " + std::to_string(w.denseToSlot[i]) +
+                                     "): state is still NaN/inf since step " + std::to_string(w.nonFiniteSinceStep) +
+                                     "; set its state, destroy it or restore a snapshot before stepping again");
+            }
+        }
+        w.nonFiniteSinceStep = 0;
+    }
+    try {
+        w.step(dt);
+    } catch (const NumericalError&) {
+        w.nonFiniteSinceStep = w.stepCount;
+        throw;
+    }
 }
 Real World::time() const { return static_cast<Real>(impl_->time); }
 std::uint64_t World::stepCount() const { return impl_->stepCount; }

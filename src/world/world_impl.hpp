@@ -157,6 +157,7 @@ struct WorldImpl {
     WorldDef settings;
     double time = 0;                 // double: a float clock loses sub-steps after hours
     std::uint64_t stepCount = 0;
+    std::uint64_t nonFiniteSinceStep = 0;  // != 0: that step threw NumericalError (World::step)
     std::uint64_t nextBodySerial = 0;
 
     // ---- bodies (see the comment at the top)

@@ -220,6 +220,17 @@ TEST(Validation, NaNStateThrowsNumericalErrorNamingTheBody) {
     const std::string msg = errorOf<NumericalError>([&] { world.step(Real(1) / 60); });
     EXPECT_THAT(msg, AllOf(HasSubstr("body 'ball'"), HasSubstr("(index 2)"), HasSubstr("NaN/inf"), HasSubstr("step 42"),
                            HasSubstr("t = 0.7")));
-    // NumericalError is a fulcrum::Error.
+    // NumericalError is a fulcrum::Error. The world refuses to step on while a
+    // body is still NaN (the broad phase would be fed NaN boxes)...
+    EXPECT_THAT(errorOf<NumericalError>([&] { world.step(Real(1) / 60); }),
+                AllOf(HasSubstr("body 'ball'"), HasSubstr("still NaN/inf since step 42")));
     EXPECT_THROW(world.step(Real(1) / 60), Error);
+    // ... and steps again once the body is repaired: it then falls freely
+    // (v = g t after 10 steps, within rounding).
+    world.setForceCallback(ball, {});
+    world.setTransform(ball, {0, 50, 0}, Quat::identity());
+    world.setLinearVelocity(ball, {});
+    world.setAngularVelocity(ball, {});
+    for (int i = 0; i < 10; ++i) world.step(Real(1) / 60);
+    EXPECT_NEAR(world.linearVelocity(ball).y, Real(-9.81) * Real(10) / 60, Real(1e-4));
 }

@@ -26,7 +26,10 @@ const check = (ok, message) => { if (!ok) failures.push(message); };
 
 let context;
 try {
-  context = await chromium.launchPersistentContext(userDataDir, {
+  // Chromium's cold start can take tens of seconds on a loaded 2-core CI
+  // machine (CI once timed out at 15 s while ctest ran other tests beside it),
+  // so launch with a generous timeout and retry once before reporting failure.
+  const launchOptions = {
     executablePath,
     headless: true,
     viewport: { width: 1000, height: 700 },
@@ -34,8 +37,16 @@ try {
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
            // WebGL on the CPU: recent Chromium only falls back to SwiftShader when asked to.
            '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-    timeout: 15000,
-  });
+    timeout: 60000,
+  };
+  for (let attempt = 1; !context; ++attempt) {
+    try {
+      context = await chromium.launchPersistentContext(userDataDir, launchOptions);
+    } catch (e) {
+      if (attempt >= 2) throw e;
+      report.launchRetries = attempt;
+    }
+  }
   const page = context.pages()[0] ?? await context.newPage();
   const external = [];
   await context.route('**/*', (route) => {
@@ -48,9 +59,9 @@ try {
   page.on('pageerror', (e) => errors.push(String(e)));
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
 
-  await page.goto(pathToFileURL(resolve(pagePath)).href, { waitUntil: 'load', timeout: 10000 });
+  await page.goto(pathToFileURL(resolve(pagePath)).href, { waitUntil: 'load', timeout: 30000 });
   await page.waitForFunction(() => window.fulcrumViewer?.ready && window.fulcrumViewer.framesRendered > 2,
-                             null, { timeout: 10000 });
+                             null, { timeout: 30000 });
 
   const info = await page.evaluate(() => {
     const v = window.fulcrumViewer;
