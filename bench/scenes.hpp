@@ -1,39 +1,125 @@
 #pragma once
-// The benchmark scenes of docs/benchmark-scenes.md as engine-neutral lists of
-// boxes and spheres, so Fulcrum and the peer engines build exactly the same
-// thing. Header-only: bench/CMakeLists.txt makes an executable of every .cpp.
+// The benchmark scenes and accuracy probes of docs/benchmark-scenes.md as
+// engine-neutral descriptions (bodies, ball joints, one cloth), so Fulcrum and
+// the peer engines (bench/peers/) build exactly the same thing; and the
+// interface every engine implements for the harness (bench/benchmark_scenes.cpp).
+// Header-only: bench/CMakeLists.txt makes an executable of every bench/*.cpp.
+//
+// Everything here is double: the adapters cast to their engine's scalar.
 #include <cmath>
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace bench {
 
-struct BodySpec {
-    enum class Kind { Box, Sphere } kind = Kind::Box;
-    float x = 0, y = 0, z = 0;
-    float hx = 0.5f, hy = 0.5f, hz = 0.5f;  // box half extents; sphere radius in hx
-    bool isStatic = false;
-    float mass = 1;
+// ---- small math, enough for building scenes and measuring them --------------
+struct V3 {
+    double x = 0, y = 0, z = 0;
 };
+inline V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V3 operator*(V3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+inline double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline double length(V3 a) { return std::sqrt(dot(a, a)); }
+
+struct Q {  // unit quaternion, w first
+    double w = 1, x = 0, y = 0, z = 0;
+};
+inline Q operator*(Q a, Q b) {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+inline Q conjugate(Q q) { return {q.w, -q.x, -q.y, -q.z}; }
+inline Q axisAngle(V3 axis, double angle) {
+    const double n = length(axis), s = std::sin(0.5 * angle) / n;
+    return {std::cos(0.5 * angle), axis.x * s, axis.y * s, axis.z * s};
+}
+inline V3 rotate(Q q, V3 v) {
+    const V3 u{q.x, q.y, q.z};
+    const V3 t = cross(u, v) * 2;
+    return v + t * q.w + cross(u, t);
+}
+
+// ---- scene description ---------------------------------------------------------
+struct BodySpec {
+    enum class Kind { Box, Sphere, Capsule } kind = Kind::Box;
+    V3 position;                  // centre (= centre of mass: every shape here is symmetric)
+    Q orientation;
+    V3 half{0.5, 0.5, 0.5};       // box: half extents; sphere: radius in x; capsule: radius x, half height y (axis: local y)
+    V3 linearVelocity, angularVelocity;  // world frame, at the start
+    bool isStatic = false;
+    double mass = 1;
+};
+
+struct JointSpec {  // ball-and-socket; a = -1 is the static world
+    int a = -1, b = -1;
+    V3 anchor;      // world space at creation
+};
+
+// docs/benchmark-scenes.md's cloth (the harness measures it from particle positions).
+struct ClothSpec {
+    int n = 0;                    // n x n particles; 0: no cloth
+    double spacing = 0.05;
+    double particleMass = 0.01;
+    double height = 3;            // held horizontal at this y, centred on x = z = 0
+    V3 sphereCenter{0, 1, 0};
+    double sphereRadius = 0.8;
+};
+
+enum class Probe { None, FreeFall, Pendulum, Slope20, Slope30, Spin };
 
 struct SceneSpec {
     std::string name;
+    enum class Kind { Bodies, Chain, Cloth, Probe } kind = Kind::Bodies;
+    Probe probe = Probe::None;
     std::vector<BodySpec> bodies;
+    std::vector<JointSpec> joints;
+    ClothSpec cloth;
     int steps = 600;
-    float dt = 1.0f / 60;
-    float friction = 0.6f;     // effective pair coefficient
+    double dt = 1.0 / 60;
+    V3 gravity{0, -9.81, 0};
+    double friction = 0.6;     // effective pair coefficient
     bool sleeping = true;
     bool pyramid = false;      // quality = drift and top sink
-    int topIndex = -1;         // the top box of a pyramid
+    int topIndex = -1;         // the top box of a pyramid; the free end of the chain
+    bool fixedCost = false;    // report microseconds per step: the cost of a step with almost nothing to do
 };
 
-inline void addGround(SceneSpec& s, float half) {
+// ---- what an engine implements -------------------------------------------------
+struct BodyState {
+    V3 position;
+    Q orientation;
+    V3 linearVelocity, angularVelocity;  // world frame
+};
+
+class Engine {
+public:
+    virtual ~Engine() = default;
+    virtual std::string name() const = 0;
+    virtual int threads() const { return 1; }
+    // Builds the whole scene (bodies in order, then joints, then the cloth).
+    // Returns false, with the reason in `why`, when the engine can't hold it.
+    virtual bool build(const SceneSpec& scene, std::string& why) = 0;
+    virtual void step() = 0;
+    // Before reading state after steps (MuJoCo computes poses lazily); not timed.
+    virtual void sync() {}
+    virtual BodyState body(std::size_t index) const = 0;
+    virtual bool asleep(std::size_t index) const = 0;
+    virtual double deepestPenetration() const = 0;   // m, over the contacts of the last step
+    virtual std::vector<V3> clothParticles() const { return {}; }  // particle (i, j) at j * n + i
+    virtual std::string settings() const = 0;       // the defaults it runs with, for the docs
+    virtual std::string note() const { return {}; } // anything odd in the last run (e.g. an overflow)
+};
+
+// ---- the scenes ---------------------------------------------------------------
+inline void addGround(SceneSpec& s, double half) {
     BodySpec g;
     g.isStatic = true;
-    g.hx = half;
-    g.hy = 0.5f;
-    g.hz = half;
-    g.y = -0.5f;
+    g.half = {half, 0.5, half};
+    g.position = {0, -0.5, 0};
     s.bodies.push_back(g);
 }
 
@@ -48,8 +134,7 @@ inline SceneSpec pyramid(const std::string& name, int base, int steps) {
         const int count = base - row;
         for (int i = 0; i < count; ++i) {
             BodySpec b;
-            b.x = static_cast<float>(i) - 0.5f * static_cast<float>(count - 1);
-            b.y = 0.5f + static_cast<float>(row);
+            b.position = {i - 0.5 * (count - 1), 0.5 + row, 0};
             s.bodies.push_back(b);
         }
     }
@@ -60,39 +145,32 @@ inline SceneSpec pyramid(const std::string& name, int base, int steps) {
 // Floor 40 x 40 m (top at y = 0) inside four static walls 10 m tall, inner size 32 x 32 m.
 inline void addArena(SceneSpec& s) {
     addGround(s, 20);
-    const float inner = 16, t = 0.5f, hh = 5;
-    const float xs[4] = {inner + t, -(inner + t), 0, 0};
-    const float zs[4] = {0, 0, inner + t, -(inner + t)};
+    const double inner = 16, t = 0.5, hh = 5;
+    const double xs[4] = {inner + t, -(inner + t), 0, 0};
+    const double zs[4] = {0, 0, inner + t, -(inner + t)};
     for (int i = 0; i < 4; ++i) {
         BodySpec w;
         w.isStatic = true;
-        w.x = xs[i];
-        w.z = zs[i];
-        w.y = hh;
-        w.hy = hh;
-        w.hx = i < 2 ? t : inner + 2 * t;
-        w.hz = i < 2 ? inner + 2 * t : t;
+        w.position = {xs[i], hh, zs[i]};
+        w.half = {i < 2 ? t : inner + 2 * t, hh, i < 2 ? inner + 2 * t : t};
         s.bodies.push_back(w);
     }
 }
 
 // nx x ny x nz grid spaced `spacing`, lowest layer at y = 2, layer k shifted by
 // ((k mod 2) 0.25, 0, (floor(k/2) mod 2) 0.25) so columns don't line up.
-inline SceneSpec pile(const std::string& name, BodySpec::Kind kind, int nx, int ny, int nz, float spacing, int steps) {
+inline SceneSpec pile(const std::string& name, BodySpec::Kind kind, int nx, int ny, int nz, double spacing, int steps) {
     SceneSpec s;
     s.name = name;
     s.steps = steps;
     addArena(s);
     for (int k = 0; k < ny; ++k) {
-        const float sx = static_cast<float>(k % 2) * 0.25f, sz = static_cast<float>((k / 2) % 2) * 0.25f;
+        const double sx = (k % 2) * 0.25, sz = ((k / 2) % 2) * 0.25;
         for (int i = 0; i < nx; ++i) {
             for (int j = 0; j < nz; ++j) {
                 BodySpec b;
                 b.kind = kind;
-                if (kind == BodySpec::Kind::Sphere) b.hx = b.hy = b.hz = 0.5f;
-                b.x = (static_cast<float>(i) - 0.5f * static_cast<float>(nx - 1)) * spacing + sx;
-                b.z = (static_cast<float>(j) - 0.5f * static_cast<float>(nz - 1)) * spacing + sz;
-                b.y = 2 + static_cast<float>(k) * spacing;
+                b.position = {(i - 0.5 * (nx - 1)) * spacing + sx, 2 + k * spacing, (j - 0.5 * (nz - 1)) * spacing + sz};
                 s.bodies.push_back(b);
             }
         }
@@ -100,30 +178,162 @@ inline SceneSpec pile(const std::string& name, BodySpec::Kind kind, int nx, int 
     return s;
 }
 
+// 100 capsule links (radius 0.1, half-height 0.4, 1 m between anchors, 1 kg)
+// along +x from the world anchor (0, 60, 0), ball joints end to end.
+inline SceneSpec chain(int links, int steps) {
+    SceneSpec s;
+    s.name = "chain";
+    s.kind = SceneSpec::Kind::Chain;
+    s.steps = steps;
+    const Q alongX = axisAngle({0, 0, 1}, 1.5707963267948966);  // capsule axis y -> x
+    for (int i = 0; i < links; ++i) {
+        BodySpec b;
+        b.kind = BodySpec::Kind::Capsule;
+        b.half = {0.1, 0.4, 0.1};
+        b.position = {0.5 + i, 60, 0};
+        b.orientation = alongX;
+        s.bodies.push_back(b);
+        s.joints.push_back({i - 1, i, {static_cast<double>(i), 60, 0}});
+    }
+    s.topIndex = links - 1;
+    return s;
+}
+
+inline SceneSpec cloth(int n, int steps) {
+    SceneSpec s;
+    s.name = n == 64 ? "cloth" : "cloth(" + std::to_string(n) + ")";
+    s.kind = SceneSpec::Kind::Cloth;
+    s.steps = steps;
+    addGround(s, 50);
+    BodySpec sphere;
+    sphere.kind = BodySpec::Kind::Sphere;
+    sphere.isStatic = true;
+    sphere.half = {0.8, 0.8, 0.8};
+    sphere.position = {0, 1, 0};
+    s.bodies.push_back(sphere);
+    s.cloth.n = n;
+    return s;
+}
+
+// ---- accuracy probes ----------------------------------------------------------
+inline SceneSpec freeFall() {  // sphere from rest, 1 s: analytic y = -4.905
+    SceneSpec s;
+    s.name = "free fall 1 s";
+    s.kind = SceneSpec::Kind::Probe;
+    s.probe = Probe::FreeFall;
+    s.steps = 60;
+    s.sleeping = false;
+    BodySpec b;
+    b.kind = BodySpec::Kind::Sphere;
+    s.bodies.push_back(b);
+    return s;
+}
+
+// 1 m pendulum from 10 degrees: a sphere of radius 0.1 on a ball joint 1 m
+// above its centre. Its own inertia lengthens the period by sqrt(1 + 0.4 r^2/L^2)
+// = 1.002: expected 2.014 s. (A smaller bob is a worse test of the engines, not
+// a better pendulum: with radius 0.02 the lever-arm-to-inertia ratio is 6000:1
+// and Bullet's and ODE's iterative solvers swing at a 4 s and 2.5 s period.)
+inline SceneSpec pendulum() {
+    SceneSpec s;
+    s.name = "pendulum period";
+    s.kind = SceneSpec::Kind::Probe;
+    s.probe = Probe::Pendulum;
+    s.steps = 1500;  // 25 s: 10 periods and some
+    s.sleeping = false;  // it would fall asleep at a turning point in some engines
+    const double a = 10 * 3.14159265358979323846 / 180;
+    BodySpec b;
+    b.kind = BodySpec::Kind::Sphere;
+    b.half = {0.1, 0.1, 0.1};
+    b.position = {std::sin(a), 10 - std::cos(a), 0};
+    s.bodies.push_back(b);
+    s.joints.push_back({-1, 0, {0, 10, 0}});
+    return s;
+}
+
+// A unit cube (1 kg, pair friction 0.5) resting on a static slope tilted by `degrees` about z.
+inline SceneSpec slope(int degrees) {
+    SceneSpec s;
+    s.name = "slope " + std::to_string(degrees) + " deg, 2 s";
+    s.kind = SceneSpec::Kind::Probe;
+    s.probe = degrees == 20 ? Probe::Slope20 : Probe::Slope30;
+    s.steps = 120;
+    s.friction = 0.5;
+    s.sleeping = false;
+    const double a = degrees * 3.14159265358979323846 / 180;
+    const Q tilt = axisAngle({0, 0, 1}, a);
+    const V3 normal = rotate(tilt, {0, 1, 0});
+    BodySpec ground;
+    ground.isStatic = true;
+    ground.half = {20, 0.5, 20};
+    ground.orientation = tilt;
+    ground.position = normal * -0.5;  // top face through the origin
+    s.bodies.push_back(ground);
+    BodySpec box;
+    box.orientation = tilt;
+    box.position = normal * 0.5;
+    s.bodies.push_back(box);
+    return s;
+}
+
+// A free box (half extents 0.1, 0.5, 1.0), spun about its intermediate axis
+// (y) at (0, 5, 0.01) rad/s in zero gravity for 10 s.
+inline SceneSpec spin() {
+    SceneSpec s;
+    s.name = "intermediate-axis spin 10 s";
+    s.kind = SceneSpec::Kind::Probe;
+    s.probe = Probe::Spin;
+    s.steps = 600;
+    s.gravity = {0, 0, 0};
+    s.sleeping = false;
+    BodySpec b;
+    b.half = {0.1, 0.5, 1.0};
+    b.position = {0, 5, 0};
+    b.angularVelocity = {0, 5, 0.01};
+    s.bodies.push_back(b);
+    return s;
+}
+
+// Fixed cost per step: ten unit boxes resting on the ground 2 m apart (no
+// box-box contacts), sleeping off so every step does the whole pipeline.
+inline SceneSpec tenBoxes() {
+    SceneSpec s;
+    s.name = "ten_boxes";
+    s.steps = 600;
+    s.sleeping = false;
+    s.fixedCost = true;
+    addGround(s, 50);
+    for (int i = 0; i < 10; ++i) {
+        BodySpec b;
+        b.position = {2.0 * i - 9, 0.5, 0};
+        s.bodies.push_back(b);
+    }
+    return s;
+}
+
 inline std::vector<SceneSpec> allScenes(bool quick) {
     std::vector<SceneSpec> scenes;
+    const int steps = quick ? 120 : 600;
+    scenes.push_back(tenBoxes());
+    scenes.push_back(pyramid("pyramid20", 20, steps));
     if (quick) {
-        scenes.push_back(pyramid("pyramid20", 20, 120));
-        scenes.push_back(pyramid("pyramid_large(30)", 30, 120));
-        scenes.push_back(pile("box_pile(500)", BodySpec::Kind::Box, 10, 5, 10, 1.5f, 120));
-        scenes.push_back(pile("sphere_pile(1000)", BodySpec::Kind::Sphere, 10, 10, 10, 1.2f, 120));
+        scenes.push_back(pyramid("pyramid_large(30)", 30, steps));
+        scenes.push_back(pile("box_pile(500)", BodySpec::Kind::Box, 10, 5, 10, 1.5, steps));
+        scenes.push_back(pile("sphere_pile(1000)", BodySpec::Kind::Sphere, 10, 10, 10, 1.2, steps));
+        scenes.push_back(chain(100, steps));
+        scenes.push_back(cloth(32, steps));
     } else {
-        scenes.push_back(pyramid("pyramid20", 20, 600));
-        scenes.push_back(pyramid("pyramid_large", 60, 600));
-        scenes.push_back(pile("box_pile", BodySpec::Kind::Box, 20, 10, 20, 1.5f, 600));
-        scenes.push_back(pile("sphere_pile", BodySpec::Kind::Sphere, 25, 16, 25, 1.2f, 600));
+        scenes.push_back(pyramid("pyramid_large", 60, steps));
+        scenes.push_back(pile("box_pile", BodySpec::Kind::Box, 20, 10, 20, 1.5, steps));
+        scenes.push_back(pile("sphere_pile", BodySpec::Kind::Sphere, 25, 16, 25, 1.2, steps));
+        scenes.push_back(chain(100, steps));
+        scenes.push_back(cloth(64, steps));
     }
     return scenes;
 }
 
-// What every engine reports for a scene.
-struct RunResult {
-    bool ran = false;
-    std::vector<double> stepMs;
-    double drift = 0;        // pyramids: worst horizontal drift (m)
-    double sink = 0;         // pyramids: top box sink (m)
-    int asleep = 0;          // bodies asleep at the end
-    double penetration = 0;  // deepest penetration at the end (m)
-};
+inline std::vector<SceneSpec> allProbes() {
+    return {freeFall(), pendulum(), slope(20), slope(30), spin()};
+}
 
 }  // namespace bench

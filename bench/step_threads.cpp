@@ -55,14 +55,25 @@ fulcrum::World build(const bench::SceneSpec& scene, int threads) {
     def.sleeping = scene.sleeping;
     def.threads = threads;
     fulcrum::World world(def);
+    const auto real = [](double v) { return static_cast<fulcrum::Real>(v); };
+    const auto vec = [&](bench::V3 v) { return fulcrum::Vec3{real(v.x), real(v.y), real(v.z)}; };
     for (const bench::BodySpec& b : scene.bodies) {
         fulcrum::BodyDef d;
         d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
-        d.shape = b.kind == bench::BodySpec::Kind::Sphere ? fulcrum::Shape::sphere(b.hx)
-                                                           : fulcrum::Shape::box({b.hx, b.hy, b.hz});
-        if (!b.isStatic) d.mass = b.mass;
-        d.position = {b.x, b.y, b.z};
-        d.friction = scene.friction;
+        switch (b.kind) {
+            case bench::BodySpec::Kind::Sphere: d.shape = fulcrum::Shape::sphere(real(b.half.x)); break;
+            case bench::BodySpec::Kind::Capsule:
+                d.shape = fulcrum::Shape::capsule(real(b.half.x), real(b.half.y));
+                break;
+            case bench::BodySpec::Kind::Box: d.shape = fulcrum::Shape::box(vec(b.half)); break;
+        }
+        if (!b.isStatic) d.mass = real(b.mass);
+        d.position = vec(b.position);
+        d.orientation = fulcrum::Quat{real(b.orientation.w), real(b.orientation.x), real(b.orientation.y),
+                                      real(b.orientation.z)};
+        d.linearVelocity = vec(b.linearVelocity);
+        d.angularVelocity = vec(b.angularVelocity);
+        d.friction = real(scene.friction);
         world.createBody(d);
     }
     return world;
@@ -97,7 +108,7 @@ Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskS
     for (int i = 0; i < steps; ++i) {
         const double c0 = threadCpuSeconds();
         const auto t0 = std::chrono::steady_clock::now();
-        world.step(scene.dt);
+        world.step(static_cast<fulcrum::Real>(scene.dt));
         const auto t1 = std::chrono::steady_clock::now();
         t.cpuSeconds += threadCpuSeconds() - c0;
         t.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());

@@ -1,93 +1,183 @@
-#include "bullet_scenes.hpp"
-
+// Bullet 3 (Debian's libbullet-dev, single precision) running bench/scenes.hpp
+// at its defaults: btDiscreteDynamicsWorld with btDbvtBroadphase and
+// btSequentialImpulseConstraintSolver (10 iterations, split impulse on for
+// penetration recovery), one stepSimulation(dt, 0) per step (exactly one
+// internal step of dt), sleeping (deactivation) on unless the scene turns it
+// off. The cloth is a btSoftBody patch in a btSoftRigidDynamicsWorld.
+#include <BulletSoftBody/btSoftBodyHelpers.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 
+#include "peers.hpp"
+
 namespace bench {
+namespace {
 
-RunResult runBullet(const SceneSpec& scene) {
-    RunResult r;
-    r.ran = true;
-    btDefaultCollisionConfiguration config;
-    btCollisionDispatcher dispatcher(&config);
-    btDbvtBroadphase broadphase;
-    btSequentialImpulseConstraintSolver solver;
-    btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
-    world.setGravity(btVector3(0, -9.81f, 0));
+btVector3 bt(V3 v) { return {static_cast<btScalar>(v.x), static_cast<btScalar>(v.y), static_cast<btScalar>(v.z)}; }
+V3 toV3(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
-    std::vector<std::unique_ptr<btCollisionShape>> shapes;
-    std::vector<std::unique_ptr<btDefaultMotionState>> states;
-    std::vector<std::unique_ptr<btRigidBody>> bodies;
-    // Bullet combines friction as the product: each body gets sqrt(mu) for a pair value mu.
-    const float friction = std::sqrt(scene.friction);
-    btCollisionShape* unitBox = nullptr;
-    btCollisionShape* unitSphere = nullptr;
-    for (const BodySpec& b : scene.bodies) {
-        btCollisionShape* shape = nullptr;
-        if (b.kind == BodySpec::Kind::Sphere) {
-            if (unitSphere == nullptr) {
-                shapes.push_back(std::make_unique<btSphereShape>(b.hx));
-                unitSphere = shapes.back().get();
-            }
-            shape = unitSphere;
-        } else if (!b.isStatic && b.hx == 0.5f && b.hy == 0.5f && b.hz == 0.5f) {
-            if (unitBox == nullptr) {
-                shapes.push_back(std::make_unique<btBoxShape>(btVector3(0.5f, 0.5f, 0.5f)));
-                unitBox = shapes.back().get();
-            }
-            shape = unitBox;
+class BulletEngine final : public Engine {
+public:
+    std::string name() const override { return "Bullet"; }
+    std::string settings() const override {
+        return "Bullet 3.24 (float): btDiscreteDynamicsWorld, btDbvtBroadphase, btSequentialImpulseConstraintSolver "
+               "(10 iterations, split impulse), stepSimulation(dt, 0); each body friction sqrt(mu) (Bullet multiplies "
+               "the two); sleeping (deactivation) on except the pyramids and probes; no gyroscopic term (Bullet's "
+               "default); cloth: btSoftBody::CreatePatch with diagonals + generateBendingConstraints(2), 1 position "
+               "iteration, collision margin 0.02 m";
+    }
+
+    ~BulletEngine() override {
+        if (world_ == nullptr) return;
+        for (btTypedConstraint* c : constraints_) world_->removeConstraint(c);
+        for (const auto& b : bodies_) world_->removeRigidBody(b.get());
+        if (cloth_ != nullptr) static_cast<btSoftRigidDynamicsWorld*>(world_.get())->removeSoftBody(cloth_);
+        delete cloth_;
+        for (btTypedConstraint* c : constraints_) delete c;
+    }
+
+    bool build(const SceneSpec& scene, std::string& /*why*/) override {
+        scene_ = &scene;
+        if (scene.cloth.n > 0) {
+            auto config = std::make_unique<btSoftBodyRigidBodyCollisionConfiguration>();
+            dispatcher_ = std::make_unique<btCollisionDispatcher>(config.get());
+            config_ = std::move(config);
         } else {
-            shapes.push_back(std::make_unique<btBoxShape>(btVector3(b.hx, b.hy, b.hz)));
-            shape = shapes.back().get();
+            config_ = std::make_unique<btDefaultCollisionConfiguration>();
+            dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
         }
-        const float mass = b.isStatic ? 0.0f : b.mass;
-        btVector3 inertia(0, 0, 0);
-        if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-        btTransform xf;
-        xf.setIdentity();
-        xf.setOrigin(btVector3(b.x, b.y, b.z));
-        states.push_back(std::make_unique<btDefaultMotionState>(xf));
-        btRigidBody::btRigidBodyConstructionInfo info(mass, states.back().get(), shape, inertia);
-        info.m_friction = friction;
-        info.m_restitution = 0;
-        bodies.push_back(std::make_unique<btRigidBody>(info));
-        if (!scene.sleeping && mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
-        world.addRigidBody(bodies.back().get());
+        broadphase_ = std::make_unique<btDbvtBroadphase>();
+        solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
+        if (scene.cloth.n > 0) {
+            world_ = std::make_unique<btSoftRigidDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+        } else {
+            world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+        }
+        world_->setGravity(bt(scene.gravity));
+
+        // Bullet combines friction as the product: each body gets sqrt(mu) for a pair value mu.
+        const auto friction = static_cast<btScalar>(std::sqrt(scene.friction));
+        btCollisionShape* unitBox = nullptr;
+        btCollisionShape* unitSphere = nullptr;
+        for (const BodySpec& b : scene.bodies) {
+            btCollisionShape* shape = nullptr;
+            if (b.kind == BodySpec::Kind::Sphere && b.half.x == 0.5 && !b.isStatic) {
+                if (unitSphere == nullptr) unitSphere = addShape(std::make_unique<btSphereShape>(btScalar(0.5)));
+                shape = unitSphere;
+            } else if (b.kind == BodySpec::Kind::Sphere) {
+                shape = addShape(std::make_unique<btSphereShape>(static_cast<btScalar>(b.half.x)));
+            } else if (b.kind == BodySpec::Kind::Capsule) {
+                shape = addShape(std::make_unique<btCapsuleShape>(static_cast<btScalar>(b.half.x), static_cast<btScalar>(2 * b.half.y)));
+            } else if (!b.isStatic && b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) {
+                if (unitBox == nullptr) unitBox = addShape(std::make_unique<btBoxShape>(btVector3(0.5f, 0.5f, 0.5f)));
+                shape = unitBox;
+            } else {
+                shape = addShape(std::make_unique<btBoxShape>(bt(b.half)));
+            }
+            const auto mass = static_cast<btScalar>(b.isStatic ? 0.0 : b.mass);
+            btVector3 inertia(0, 0, 0);
+            if (mass > 0) shape->calculateLocalInertia(mass, inertia);
+            btTransform xf(btQuaternion(static_cast<btScalar>(b.orientation.x), static_cast<btScalar>(b.orientation.y),
+                                        static_cast<btScalar>(b.orientation.z), static_cast<btScalar>(b.orientation.w)),
+                           bt(b.position));
+            states_.push_back(std::make_unique<btDefaultMotionState>(xf));
+            btRigidBody::btRigidBodyConstructionInfo info(mass, states_.back().get(), shape, inertia);
+            info.m_friction = friction;
+            info.m_restitution = 0;
+            bodies_.push_back(std::make_unique<btRigidBody>(info));
+            btRigidBody& body = *bodies_.back();
+            body.setLinearVelocity(bt(b.linearVelocity));
+            body.setAngularVelocity(bt(b.angularVelocity));
+            if (!scene.sleeping && mass > 0) body.setActivationState(DISABLE_DEACTIVATION);
+            world_->addRigidBody(&body);
+        }
+        for (const JointSpec& j : scene.joints) {
+            btRigidBody& b = *bodies_[static_cast<std::size_t>(j.b)];
+            const btVector3 pivotB = b.getCenterOfMassTransform().inverse() * bt(j.anchor);
+            btTypedConstraint* c = nullptr;
+            if (j.a < 0) {
+                c = new btPoint2PointConstraint(b, pivotB);
+            } else {
+                btRigidBody& a = *bodies_[static_cast<std::size_t>(j.a)];
+                c = new btPoint2PointConstraint(a, b, a.getCenterOfMassTransform().inverse() * bt(j.anchor), pivotB);
+            }
+            constraints_.push_back(c);
+            world_->addConstraint(c, /*disableCollisionsBetweenLinkedBodies=*/true);
+        }
+        if (scene.cloth.n > 0) buildCloth(scene.cloth);
+        return true;
     }
 
-    std::vector<btVector3> start;
-    for (const auto& b : bodies) start.push_back(b->getCenterOfMassPosition());
-    r.stepMs.reserve(static_cast<std::size_t>(scene.steps));
-    for (int i = 0; i < scene.steps; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        world.stepSimulation(scene.dt, 0, scene.dt);
-        const auto t1 = std::chrono::steady_clock::now();
-        r.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    void step() override { world_->stepSimulation(static_cast<btScalar>(scene_->dt), 0, static_cast<btScalar>(scene_->dt)); }
+
+    BodyState body(std::size_t i) const override {
+        const btRigidBody& b = *bodies_[i];
+        const btQuaternion q = b.getOrientation();
+        return {toV3(b.getCenterOfMassPosition()), {q.w(), q.x(), q.y(), q.z()}, toV3(b.getLinearVelocity()),
+                toV3(b.getAngularVelocity())};
+    }
+    bool asleep(std::size_t i) const override { return bodies_[i]->getActivationState() == ISLAND_SLEEPING; }
+
+    double deepestPenetration() const override {
+        double deepest = 0;
+        for (int m = 0; m < dispatcher_->getNumManifolds(); ++m) {
+            const btPersistentManifold* manifold = dispatcher_->getManifoldByIndexInternal(m);
+            for (int c = 0; c < manifold->getNumContacts(); ++c) {
+                deepest = std::max(deepest, static_cast<double>(-manifold->getContactPoint(c).getDistance()));
+            }
+        }
+        return deepest;
     }
 
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-        if (scene.bodies[i].isStatic) continue;
-        const btVector3 p = bodies[i]->getCenterOfMassPosition();
-        const double dx = p.x() - start[i].x(), dz = p.z() - start[i].z();
-        r.drift = std::max(r.drift, std::sqrt(dx * dx + dz * dz));
-        if (bodies[i]->getActivationState() == ISLAND_SLEEPING) ++r.asleep;
+    std::vector<V3> clothParticles() const override {
+        std::vector<V3> out;
+        if (cloth_ == nullptr) return out;
+        for (int i = 0; i < cloth_->m_nodes.size(); ++i) out.push_back(toV3(cloth_->m_nodes[i].m_x));
+        return out;
     }
-    if (scene.topIndex >= 0) {
-        const auto top = static_cast<std::size_t>(scene.topIndex);
-        r.sink = start[top].y() - bodies[top]->getCenterOfMassPosition().y();
+
+private:
+    btCollisionShape* addShape(std::unique_ptr<btCollisionShape> s) {
+        shapes_.push_back(std::move(s));
+        return shapes_.back().get();
     }
-    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-        const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-        for (int c = 0; c < manifold->getNumContacts(); ++c) {
-            r.penetration = std::max(r.penetration, static_cast<double>(-manifold->getContactPoint(c).getDistance()));
-        }
+
+    void buildCloth(const ClothSpec& c) {
+        auto* soft = static_cast<btSoftRigidDynamicsWorld*>(world_.get());
+        btSoftBodyWorldInfo& info = soft->getWorldInfo();
+        info.m_gravity = bt(scene_->gravity);
+        info.m_sparsesdf.Initialize();
+        const double half = 0.5 * c.spacing * (c.n - 1);
+        const auto y = static_cast<btScalar>(c.height), h = static_cast<btScalar>(half);
+        // Node (i, j) = j * n + i, i along x, j along z: the harness's numbering.
+        cloth_ = btSoftBodyHelpers::CreatePatch(info, {-h, y, -h}, {h, y, -h}, {-h, y, h}, {h, y, h}, c.n, c.n, 0,
+                                                /*gendiags=*/true);
+        cloth_->generateBendingConstraints(2, cloth_->m_materials[0]);
+        cloth_->setTotalMass(static_cast<btScalar>(c.particleMass * c.n * c.n));
+        cloth_->getCollisionShape()->setMargin(btScalar(0.02));  // the particle radius Fulcrum uses
+        soft->addSoftBody(cloth_);
     }
-    for (const auto& b : bodies) world.removeRigidBody(b.get());
-    return r;
-}
+
+    const SceneSpec* scene_ = nullptr;
+    std::unique_ptr<btCollisionConfiguration> config_;
+    std::unique_ptr<btCollisionDispatcher> dispatcher_;
+    std::unique_ptr<btBroadphaseInterface> broadphase_;
+    std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+    std::unique_ptr<btDiscreteDynamicsWorld> world_;
+    std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+    std::vector<std::unique_ptr<btDefaultMotionState>> states_;
+    std::vector<std::unique_ptr<btRigidBody>> bodies_;
+    std::vector<btTypedConstraint*> constraints_;
+    btSoftBody* cloth_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> makeBullet() { return std::make_unique<BulletEngine>(); }
 
 }  // namespace bench

@@ -1,29 +1,10 @@
 // No heap allocation inside World::step with ropes and cloths once the world
 // has warmed up, and bit-identical results for the same input (global
-// operator new is counted while `gCounting` is set, as in tests/world).
+// operator new is counted by support/counting_allocator.hpp).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include "fulcrum/world.hpp"
-
-namespace {
-std::atomic<bool> gCounting{false};
-std::atomic<long> gAllocations{0};
-}  // namespace
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-void* operator new(std::size_t size) {
-    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/counting_allocator.hpp"
 
 using namespace fulcrum;
 
@@ -70,11 +51,9 @@ World buildScene() {
 TEST(ParticlesWorldAllocation, StepAllocatesNothingAfterWarmUp) {
     World world = buildScene();
     for (int i = 0; i < 30; ++i) world.step(Real(1) / 60);  // contacts, pairs and scratch reach their size
-    gAllocations = 0;
-    gCounting = true;
+    fulcrum::test::CountAllocations count;
     for (int i = 0; i < 30; ++i) world.step(Real(1) / 60);
-    gCounting = false;
-    EXPECT_EQ(gAllocations.load(), 0);
+    EXPECT_EQ(count.stop(), 0);
 }
 
 TEST(ParticlesWorldAllocation, SameInputGivesBitIdenticalParticles) {

@@ -1,30 +1,8 @@
 // Contact and sensor events, the joint rule, and no allocation per step with contacts.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include "contacts/helpers.hpp"
-
-// The counting operator new forwards to malloc, so delete must call free; GCC's
-// sanitizer build inlines both and flags the (intended) pairing.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-
-namespace {
-std::atomic<bool> gCounting{false};
-std::atomic<long> gAllocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/counting_allocator.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -128,10 +106,8 @@ TEST(Allocation, NoAllocationPerStepWithContacts) {
     d.linearVelocity = {2, 0, 0};
     world.createBody(d);
     run(world, 10);
-    gAllocations = 0;
-    gCounting = true;
+    fulcrum::test::CountAllocations count;
     run(world, 60);
-    gCounting = false;
-    EXPECT_EQ(gAllocations.load(), 0);
+    EXPECT_EQ(count.stop(), 0);
     EXPECT_FALSE(world.contacts().empty());
 }

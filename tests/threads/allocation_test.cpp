@@ -1,54 +1,21 @@
-// No heap allocation per parallelFor call in steady state: global operator new
-// is counted while gCounting is set (the same technique as
-// tests/world/determinism_and_allocation_test.cpp). The lambdas capture more
+// No heap allocation per parallelFor call in steady state
+// (support/counting_allocator.hpp counts global operator new). The lambdas capture more
 // than std::function's small buffer holds, so a std::function in the path
 // would allocate on every call.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstdint>
-#include <cstdlib>
-#include <new>
 #include <vector>
 
 #include "fulcrum/world.hpp"
 #include "reverse_scheduler.hpp"
+#include "support/counting_allocator.hpp"
 #include "world/deterministic_parallel.hpp"
 #include "world/thread_pool.hpp"
 
-namespace {
-std::atomic<bool> gCounting{false};
-std::atomic<long> gAllocations{0};
-}  // namespace
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-void* operator new(std::size_t size) {
-    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-
 using namespace fulcrum;
-
-namespace {
-
-class CountAllocations {
-public:
-    CountAllocations() {
-        gAllocations.store(0);
-        gCounting.store(true);
-    }
-    ~CountAllocations() { gCounting.store(false); }
-    CountAllocations(const CountAllocations&) = delete;
-    CountAllocations& operator=(const CountAllocations&) = delete;
-    long count() const { return gAllocations.load(); }
-};
-
-}  // namespace
+using fulcrum::test::CountAllocations;
 
 TEST(Allocation, ParallelForAllocatesNothingPerCall) {
     for (std::uint32_t threads : {1u, 2u, 4u}) {

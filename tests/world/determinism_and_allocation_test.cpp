@@ -1,35 +1,9 @@
 // Same input -> bit-identical output, and no heap allocation inside step() once
-// the world is built (global operator new is counted while `gCounting` is set).
-#include <atomic>
-#include <cstdlib>
+// the world is built (support/counting_allocator.hpp counts global operator new).
 #include <cstring>
-#include <new>
 
 #include "dynamics/test_scenes.hpp"
-
-// GCC's sanitizer build inlines the counting new (malloc) and delete (free) and
-// flags the intended pairing.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-
-namespace {
-std::atomic<bool> gCounting{false};
-std::atomic<long> gAllocations{0};
-}  // namespace
-
-// The replacements pair malloc with free on purpose; GCC's -Wmismatched-new-delete
-// sees `new` in gtest inlined against this `delete` and misfires.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-void* operator new(std::size_t size) {
-    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/counting_allocator.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -100,13 +74,11 @@ TEST(Allocation, StepDoesNotAllocateInSteadyState) {
         buildScene(world);
         world.step(Real(1) / 60);  // warm-up
         world.applyForce(world.bodies()[3], {1, 0, 0}, {0, 0, 0});
-        gAllocations = 0;
-        gCounting = true;
+        CountAllocations count;
         for (int i = 0; i < 30; ++i) world.step(Real(1) / 60);
         const EnergyReport e = world.energy();
         const Vec3 l = world.angularMomentum();
-        gCounting = false;
-        EXPECT_EQ(gAllocations.load(), 0) << toString(integrator);
+        EXPECT_EQ(count.stop(), 0) << toString(integrator);
         EXPECT_TRUE(std::isfinite(e.total) && isFinite(l));
     }
 }

@@ -1,0 +1,53 @@
+// The counting global operator new of counting_allocator.hpp. Every form of
+// operator new ends in one of the two counting functions below (libstdc++'s
+// array and nothrow forms call them), so an allocation by any container,
+// aligned (SIMD) types included, is counted while counting is on. The
+// replacements pair malloc / aligned_alloc with free on purpose.
+#include "support/counting_allocator.hpp"
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<bool> gCounting{false};
+std::atomic<long> gAllocations{0};
+
+void* allocate(std::size_t size, std::size_t alignment) {
+    if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1, std::memory_order_relaxed);
+    if (size == 0) size = 1;
+    void* p = nullptr;
+    if (alignment <= alignof(std::max_align_t)) {
+        p = std::malloc(size);
+    } else {
+        size = (size + alignment - 1) / alignment * alignment;  // aligned_alloc wants a multiple
+        p = std::aligned_alloc(alignment, size);
+    }
+    if (p == nullptr) throw std::bad_alloc();
+    return p;
+}
+}  // namespace
+
+namespace fulcrum::test {
+void setCountingAllocations(bool on) { gCounting.store(on, std::memory_order_relaxed); }
+long allocationCount() { return gAllocations.load(std::memory_order_relaxed); }
+void resetAllocationCount() { gAllocations.store(0, std::memory_order_relaxed); }
+}  // namespace fulcrum::test
+
+// GCC's sanitizer build inlines these into callers and flags the intended
+// malloc/free pairing.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+void* operator new(std::size_t size) { return allocate(size, 0); }
+void* operator new[](std::size_t size) { return allocate(size, 0); }
+void* operator new(std::size_t size, std::align_val_t a) { return allocate(size, static_cast<std::size_t>(a)); }
+void* operator new[](std::size_t size, std::align_val_t a) { return allocate(size, static_cast<std::size_t>(a)); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
