@@ -125,6 +125,9 @@ void WorldImpl::step(Real dt) {
     contactManager.update(*this, dt);
     // Constraints are prepared once per step on the step's start configuration.
     detail::ContactSolver& solver = contactSolver;
+    // The solver splits each large graph colour across the same task system
+    // (bit-identical for any thread count: tests/solver/simd_solver_test.cpp).
+    solver.setTaskSystem(&tasks);
     solver.prepare(*this, contactManager, dt, h);
     // Joints work on the contact solver's bodies, in the same passes, before
     // the contacts (Box2D v3's order; docs/joints.md has the measurements).
