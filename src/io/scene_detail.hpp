@@ -11,6 +11,10 @@
 
 namespace fulcrum::detail {
 
+// The scene format version this build reads and writes (the top-level
+// "version" key; optional when reading).
+inline constexpr long long kSceneFormatVersion = 1;
+
 // Shortest text that reads back to the same value ("0.1", "-1", "1e+300").
 std::string formatNumber(double v);
 std::string formatNumber(float v);

@@ -30,8 +30,6 @@ using nlohmann::json;
 using detail::childPath;
 
 constexpr Real kPi = std::numbers::pi_v<Real>;
-// The scene format version this build reads (the optional top-level "version" key).
-constexpr long long kSceneFormatVersion = 1;
 
 class Parser {
 public:
@@ -637,9 +635,9 @@ Scene Parser::parse() {
     // is refused for its version rather than for the keys it added.
     if (const auto it = doc.find("version"); it != doc.end()) {
         const long long version = integer(*it, childPath(root, "version"), 1, std::numeric_limits<int>::max(), "version");
-        if (version != kSceneFormatVersion) {
+        if (version != detail::kSceneFormatVersion) {
             fail(childPath(root, "version"), "unsupported scene format version " + std::to_string(version) +
-                                                 " (this build reads version " + std::to_string(kSceneFormatVersion) + ")");
+                                                 " (this build reads version " + std::to_string(detail::kSceneFormatVersion) + ")");
         }
     }
     checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths"}, "a scene");

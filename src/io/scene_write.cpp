@@ -213,6 +213,7 @@ ojson clothJson(const SceneCloth& cloth) {
 std::string sceneToJson(const Scene& scene) {
     const WorldDef defaults;
     ojson doc;
+    doc["version"] = detail::kSceneFormatVersion;
     if (!scene.description.empty()) doc["description"] = scene.description;
     ojson world;
     world["gravity"] = vec(scene.world.gravity);

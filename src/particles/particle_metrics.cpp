@@ -36,7 +36,12 @@ namespace {
 class PenetrationProbe final : public RigidShapeVisitor {
 public:
     explicit PenetrationProbe(const ParticleSystem& s) : s_(s) {}
-    void visit(std::uint32_t, const Shape& shape, const Transform& xf) override {
+    void visit(std::uint32_t body, const Shape& shape, const Transform& xf) override {
+        // Attached particles sit on or inside their body by design (the
+        // particle contacts skip it too): that is the attachment, not a collision.
+        for (const ParticleAttachment& a : s_.attachments) {
+            if (a.body == body) return;
+        }
         for (std::size_t i = 0; i < s_.particleCount(); ++i) {
             const detail::SurfacePoint q = detail::surfaceQuery(shape, xf, s_.position[i]);
             deepest = std::max(deepest, s_.radius[i] - q.distance);

@@ -24,7 +24,8 @@ struct ParticleSystemReport {
 
 Vec3 centroid(const ParticleSystem& system);
 StretchStats structuralStretch(const ParticleSystem& system);
-// Deepest overlap r - d over every particle and every rigid shape near the system.
+// Deepest overlap r - d over every particle and every rigid shape near the
+// system, except the bodies the system is attached to.
 Real maxPenetration(const ParticleSystem& system, const RigidCollider& collider);
 ParticleSystemReport report(const ParticleSystem& system, const RigidCollider* collider);
 

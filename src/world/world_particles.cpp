@@ -36,28 +36,6 @@ ParticleSystemId addSystem(WorldImpl& w, ParticleSystem system) {
     return id;
 }
 
-// Deepest overlap r - d of any particle sphere with any rigid shape near the
-// system, skipping the bodies the system is attached to: its attached
-// particles sit on or inside them by design (the particle contacts skip them
-// too), so counting them would report the attachment, not a collision.
-class PenetrationProbe final : public RigidShapeVisitor {
-public:
-    explicit PenetrationProbe(const ParticleSystem& s) : s_(s) {}
-    void visit(std::uint32_t body, const Shape& shape, const Transform& xf) override {
-        for (const ParticleAttachment& a : s_.attachments) {
-            if (a.body == body) return;
-        }
-        for (std::size_t i = 0; i < s_.particleCount(); ++i) {
-            const detail::SurfacePoint q = detail::surfaceQuery(shape, xf, s_.position[i]);
-            deepest = std::max(deepest, s_.radius[i] - q.distance);
-        }
-    }
-    Real deepest = 0;
-
-private:
-    const ParticleSystem& s_;
-};
-
 }  // namespace
 
 ParticleSystemId World::createRope(const RopeDef& def) {
@@ -128,17 +106,7 @@ ParticleReport World::particleReport(ParticleSystemId id) const {
     const StretchStats stretch = structuralStretch(s);
     r.maxStretch = stretch.max;
     r.meanStretch = stretch.mean;
-    if (s.particleCount() > 0) {
-        AABB box;
-        Real maxRadius = 0;
-        for (std::size_t i = 0; i < s.particleCount(); ++i) {
-            box.grow(s.position[i]);
-            maxRadius = std::max(maxRadius, s.radius[i]);
-        }
-        PenetrationProbe probe(s);
-        collider.queryShapes(box.fattened(maxRadius), probe);
-        r.maxPenetration = probe.deepest;
-    }
+    r.maxPenetration = maxPenetration(s, collider);
     return r;
 }
 

@@ -91,6 +91,8 @@ TEST(SceneRoundTrip, EveryFieldSurvivesSaveAndLoad) {
       "cloths": [{"name": "c", "origin": [1, 2, 3], "size": [4, 5], "pinned": [[0, 0], [3, 4]]}]})",
                                    "all.json");
     const std::string saved = sceneToJson(scene);
+    // Written files say which format version they are (the first key).
+    EXPECT_EQ(saved.rfind("{\n  \"version\": 1,", 0), 0u) << saved.substr(0, 40);
     const Scene again = parseScene(saved, "saved.json");
     EXPECT_TRUE(again == scene) << saved;
     // The comparison itself is sharp: a one-ulp change is a difference.
