@@ -19,7 +19,7 @@
 //
 // The format (docs/snapshots.md): a 32-byte header - magic "FULCSNAP", format
 // version, sizeof(Real), payload size, FNV-1a 64 checksum of the payload -
-// then the payload, little-endian. A file from another version, a corrupt or a
+// then the payload, little-endian. A file from an unsupported version, a corrupt or a
 // truncated file is rejected with a fulcrum::Error naming the file, the byte
 // and the part being read ("run.snap: truncated at byte 1234 (bodies[17])").
 //
@@ -36,8 +36,11 @@
 
 namespace fulcrum {
 
-// The format version this build writes and the only one it reads.
-inline constexpr std::uint32_t kSnapshotVersion = 2;  // 2: joint solver runtime state
+// The format version this build writes. It also reads version 2 (the fields
+// version 3 added take their defaults); older or newer versions are refused.
+// 2: joint solver runtime state; 3: joint friction (JointDef::frictionTorque
+// and its impulse) and the WorldDef joint solver settings.
+inline constexpr std::uint32_t kSnapshotVersion = 3;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

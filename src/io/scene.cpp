@@ -70,7 +70,7 @@ bool SceneJoint::operator==(const SceneJoint& o) const {
            a.spring.damping == b.spring.damping && a.minLength == b.minLength && a.maxLength == b.maxLength &&
            a.stiffness == b.stiffness && a.damping == b.damping && a.swingLimit == b.swingLimit &&
            a.twistLower == b.twistLower && a.twistUpper == b.twistUpper && a.breakForce == b.breakForce &&
-           a.breakTorque == b.breakTorque && a.collideConnected == b.collideConnected;
+           a.breakTorque == b.breakTorque && a.collideConnected == b.collideConnected && a.frictionTorque == b.frictionTorque;
 }
 
 bool SceneSpring::operator==(const SceneSpring& o) const {
@@ -98,7 +98,8 @@ bool Scene::operator==(const Scene& o) const {
     const WorldDef &a = world, &b = o.world;
     return description == o.description && a.gravity == b.gravity && a.integrator == b.integrator &&
            a.substeps == b.substeps && a.solverIterations == b.solverIterations && a.sleeping == b.sleeping &&
-           a.threads == b.threads && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
+           a.threads == b.threads && a.jointHertz == b.jointHertz && a.jointDampingRatio == b.jointDampingRatio &&
+           a.jointProjectionSlop == b.jointProjectionSlop && a.jointDirectSolve == b.jointDirectSolve && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
            springs == o.springs && ropes == o.ropes && cloths == o.cloths;
 }
 

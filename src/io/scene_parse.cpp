@@ -191,7 +191,9 @@ private:
 
 void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) const {
     requireObject(j, path);
-    checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads"}, "");
+    checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads",
+                        "joint_hertz", "joint_damping_ratio", "joint_projection_slop", "joint_direct_solve"},
+              "");
     WorldDef& w = scene.world;
     opt(j, path, "gravity", [&](const json& v, const std::string& p) { w.gravity = vec3(v, p); });
     opt(j, path, "dt", [&](const json& v, const std::string& p) { scene.dt = positive(v, p, "dt"); });
@@ -214,6 +216,24 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
         w.integrator = *integrator;
     });
     opt(j, path, "sleeping", [&](const json& v, const std::string& p) { w.sleeping = boolean(v, p); });
+    // Joint solver tuning (WorldDef, docs/joints.md).
+    opt(j, path, "joint_hertz", [&](const json& v, const std::string& p) { w.jointHertz = positive(v, p, "joint_hertz"); });
+    opt(j, path, "joint_damping_ratio", [&](const json& v, const std::string& p) {
+        w.jointDampingRatio = positive(v, p, "joint_damping_ratio");
+    });
+    // JSON has no infinity: "off" stands for it (no position projection).
+    opt(j, path, "joint_projection_slop", [&](const json& v, const std::string& p) {
+        if (v.is_string()) {
+            if (v.get<std::string>() != "off") {
+                fail(p, "joint_projection_slop must be a number >= 0 (m) or \"off\", got \"" + v.get<std::string>() + "\"");
+            }
+            w.jointProjectionSlop = std::numeric_limits<Real>::infinity();
+        } else {
+            if (!v.is_number()) fail(p, "expected a number >= 0 (m) or \"off\", got " + typeName(v));
+            w.jointProjectionSlop = nonNegative(v, p, "joint_projection_slop");
+        }
+    });
+    opt(j, path, "joint_direct_solve", [&](const json& v, const std::string& p) { w.jointDirectSolve = boolean(v, p); });
 }
 
 ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) const {
@@ -460,16 +480,26 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
     if (!type) fail(typePath, "unknown joint type '" + typeName + "' (valid: " + detail::jointTypeList() + ")");
     d.type = *type;
     const std::string what = "a " + typeName + " joint";
+    // Joint friction exists for the rotational joints only (the solver ignores
+    // it on the others), so elsewhere the key is a mistake worth naming.
+    const bool hasFriction = d.type == JointType::Ball || d.type == JointType::Hinge || d.type == JointType::ConeTwist;
+    if (!hasFriction && member(j, "friction_torque") != nullptr) {
+        fail(childPath(path, "friction_torque"), "friction_torque applies only to ball, hinge and cone_twist joints, not to " + what);
+    }
 #define FULCRUM_JOINT_COMMON "name", "type", "body_a", "body_b", "anchor", "break_force", "break_torque", "collide_connected"
     switch (d.type) {
-        case JointType::Ball:
+        case JointType::Ball: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "friction_torque"}, what); break;
         case JointType::Fixed: checkKeys(j, path, {FULCRUM_JOINT_COMMON}, what); break;
         case JointType::Hinge:
+            checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "limits", "motor", "spring", "friction_torque"}, what);
+            break;
         case JointType::Slider: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "limits", "motor", "spring"}, what); break;
         case JointType::Distance:
             checkKeys(j, path, {FULCRUM_JOINT_COMMON, "anchor_b", "min_length", "max_length", "stiffness", "damping"}, what);
             break;
-        case JointType::ConeTwist: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "swing_limit", "twist_limits"}, what); break;
+        case JointType::ConeTwist:
+            checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "swing_limit", "twist_limits", "friction_torque"}, what);
+            break;
     }
 #undef FULCRUM_JOINT_COMMON
     opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
@@ -522,6 +552,7 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
     opt(j, path, "break_force", [&](const json& v, const std::string& p) { d.breakForce = positive(v, p, "break_force"); });
     opt(j, path, "break_torque", [&](const json& v, const std::string& p) { d.breakTorque = positive(v, p, "break_torque"); });
     opt(j, path, "collide_connected", [&](const json& v, const std::string& p) { d.collideConnected = boolean(v, p); });
+    opt(j, path, "friction_torque", [&](const json& v, const std::string& p) { d.frictionTorque = nonNegative(v, p, "friction_torque"); });
 }
 
 void Parser::parseSpring(const json& j, const std::string& path, const Scene& scene, SceneSpring& spring) const {

@@ -1,6 +1,7 @@
 // Writing a Scene as JSON. Keys that hold their default value are left out,
 // so a saved file reads like a hand-written one; parseScene fills the same
 // defaults back in, which is what makes load -> save -> load exact.
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 
@@ -155,6 +156,7 @@ ojson jointJson(const SceneJoint& joint) {
     if (d.breakForce != defaults.breakForce) j["break_force"] = num(d.breakForce);
     if (d.breakTorque != defaults.breakTorque) j["break_torque"] = num(d.breakTorque);
     if (d.collideConnected) j["collide_connected"] = true;
+    if (d.frictionTorque != defaults.frictionTorque) j["friction_torque"] = num(d.frictionTorque);
     return j;
 }
 
@@ -224,6 +226,13 @@ std::string sceneToJson(const Scene& scene) {
     world["sleeping"] = scene.world.sleeping;
     if (scene.world.solverIterations != defaults.solverIterations) world["solver_iterations"] = scene.world.solverIterations;
     if (scene.world.threads != defaults.threads) world["threads"] = scene.world.threads;
+    if (scene.world.jointHertz != defaults.jointHertz) world["joint_hertz"] = num(scene.world.jointHertz);
+    if (scene.world.jointDampingRatio != defaults.jointDampingRatio) world["joint_damping_ratio"] = num(scene.world.jointDampingRatio);
+    if (scene.world.jointProjectionSlop != defaults.jointProjectionSlop) {
+        // JSON has no infinity: "off" (no position projection) stands for it.
+        world["joint_projection_slop"] = std::isinf(scene.world.jointProjectionSlop) ? ojson("off") : ojson(num(scene.world.jointProjectionSlop));
+    }
+    if (scene.world.jointDirectSolve != defaults.jointDirectSolve) world["joint_direct_solve"] = scene.world.jointDirectSolve;
     doc["world"] = std::move(world);
     ojson bodies = ojson::array();
     for (const SceneBody& b : scene.bodies) bodies.push_back(bodyJson(b));

@@ -36,6 +36,7 @@
 #include <map>
 #include <type_traits>
 
+#include "world/snapshot_versions.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
@@ -100,6 +101,9 @@ class Writer {
 public:
     static constexpr bool kReading = false;
     std::vector<std::uint8_t> out;
+    // The format version written: fields added in a later version are left
+    // out of an older one (tests write version 2 to prove it still loads).
+    std::uint32_t version = kSnapshotVersion;
 
     void at(const char*, std::size_t = kNoIndexSize) {}
     template <typename T>
@@ -122,8 +126,11 @@ class Reader {
 public:
     static constexpr bool kReading = true;
 
-    Reader(std::span<const std::uint8_t> payload, std::string source, bool truncated)
-        : data_(payload), source_(std::move(source)), truncated_(truncated) {}
+    Reader(std::span<const std::uint8_t> payload, std::string source, bool truncated, std::uint32_t fileVersion)
+        : version(fileVersion), data_(payload), source_(std::move(source)), truncated_(truncated) {}
+
+    // The file's format version: fields added later keep their defaults when reading an older file.
+    const std::uint32_t version;
 
     void at(const char* section, std::size_t index = kNoIndexSize) {
         section_ = section;
@@ -248,6 +255,12 @@ void io(A& a, WorldDef& s) {
     io(a, s.restitutionThreshold);
     io(a, s.linearSleepVelocity), io(a, s.angularSleepVelocity), io(a, s.timeToSleep);
     io(a, s.continuousCollision);
+    if (a.version >= 3) {
+        // Joint solver tuning (version 3). A version-2 file was written when
+        // these were constants equal to today's defaults, so the defaults it
+        // keeps on reading reproduce its run.
+        io(a, s.jointHertz), io(a, s.jointDampingRatio), io(a, s.jointProjectionSlop), io(a, s.jointDirectSolve);
+    }
 }
 
 // ---- bodies
@@ -294,6 +307,7 @@ void io(A& a, JointDef& d) {
     io(a, d.minLength), io(a, d.maxLength), io(a, d.stiffness), io(a, d.damping);
     io(a, d.swingLimit), io(a, d.twistLower), io(a, d.twistUpper);
     io(a, d.breakForce), io(a, d.breakTorque), io(a, d.collideConnected);
+    if (a.version >= 3) io(a, d.frictionTorque);  // version 3 (version 2: frictionless, 0)
 }
 template <typename A>
 void io(A& a, JointData& j) {
@@ -308,6 +322,11 @@ void io(A& a, JointData& j) {
     io(a, j.impulses.linear), io(a, j.impulses.angular), io(a, j.impulses.axial), io(a, j.impulses.spring);
     io(a, j.impulses.motor), io(a, j.impulses.lower), io(a, j.impulses.upper), io(a, j.impulses.swing);
     io(a, j.reactionForce), io(a, j.reactionTorque);
+    // Version 3: the ball / cone-twist friction impulse (warm started like the
+    // others; hinge friction rides on the motor impulse above). The tree
+    // solver keeps nothing between steps: it finds the trees in every
+    // prepare() and factors again every sub-step.
+    if (a.version >= 3) io(a, j.impulses.friction);
 }
 
 // ---- contacts
@@ -757,8 +776,13 @@ std::string fileLabel(const std::filesystem::path& path) { return path.string();
 
 namespace fulcrum {
 
-std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData) {
+std::vector<std::uint8_t> detail::saveSnapshotAsVersion(const World& world, std::uint32_t version, std::string_view userData) {
+    if (version < kOldestSnapshotVersion || version > kSnapshotVersion) {
+        throw Error("saving a snapshot: cannot write format version " + std::to_string(version) + " (this build writes " +
+                    std::to_string(kOldestSnapshotVersion) + " to " + std::to_string(kSnapshotVersion) + ")");
+    }
     detail::Writer w;
+    w.version = version;
     w.out.resize(detail::kHeaderSize);
     std::string data(userData);
     // The field lists serve reading and writing alike; writing only reads.
@@ -768,12 +792,16 @@ std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_v
     const std::uint64_t checksum = detail::fnv1a(w.out.data() + detail::kHeaderSize, payload);
     detail::Writer header;
     for (char c : detail::kMagic) header.put(static_cast<std::uint8_t>(c), 1);
-    header.put(kSnapshotVersion, 4);
+    header.put(version, 4);
     header.put(sizeof(Real), 4);
     header.put(payload, 8);
     header.put(checksum, 8);
     std::copy(header.out.begin(), header.out.end(), w.out.begin());
     return std::move(w.out);
+}
+
+std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData) {
+    return detail::saveSnapshotAsVersion(world, kSnapshotVersion, userData);
 }
 
 void saveSnapshot(const World& world, const std::filesystem::path& path, std::string_view userData) {
@@ -801,9 +829,9 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
                     std::to_string(kHeaderSize) + " bytes)");
     }
     const std::uint64_t version = le(8, 4);
-    if (version != kSnapshotVersion) {
-        throw Error(source + ": unsupported snapshot version " + std::to_string(version) + " (this build reads " +
-                    std::to_string(kSnapshotVersion) + ")");
+    if (version < detail::kOldestSnapshotVersion || version > kSnapshotVersion) {
+        throw Error(source + ": unsupported snapshot version " + std::to_string(version) + " (this build reads versions " +
+                    std::to_string(detail::kOldestSnapshotVersion) + " to " + std::to_string(kSnapshotVersion) + ")");
     }
     const std::uint64_t realSize = le(12, 4);
     if (realSize != sizeof(Real)) {
@@ -825,7 +853,7 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
     }
 
     // A truncated file is still parsed, to say in which part it ends.
-    detail::Reader reader(payload, source, truncated);
+    detail::Reader reader(payload, source, truncated, static_cast<std::uint32_t>(version));
     std::string data;
     World world;
     WorldImpl& w = world.impl();
