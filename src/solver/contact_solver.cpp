@@ -1,4 +1,5 @@
 #include "solver/contact_solver.hpp"
+#include "solver/graph_colouring.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -289,32 +290,13 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
 
 void ContactSolver::colour() {
     const std::size_t n = pending_.size();
-    const std::size_t words = (bodies_.size() + 63) / 64;
-    colourBits_.assign(kColourCount * words, 0);
-    colourOf_.resize(n);
-    std::uint32_t counts[kColourCount + 1] = {};
-    for (std::size_t i = 0; i < n; ++i) {
-        const PendingConstraint& k = pending_[i];
-        // Bodies of infinite mass (static, kinematic) are never written with a
-        // change, so they don't take a colour slot.
-        const bool dynA = bodies_[k.bodyA].invMass > 0;
-        const bool dynB = bodies_[k.bodyB].invMass > 0;
-        std::uint32_t c = kColourCount;
-        for (std::uint32_t col = 0; col < kColourCount; ++col) {
-            std::uint64_t* bits = colourBits_.data() + col * words;
-            const bool usedA = dynA && (bits[k.bodyA >> 6] >> (k.bodyA & 63) & 1u);
-            const bool usedB = dynB && (bits[k.bodyB >> 6] >> (k.bodyB & 63) & 1u);
-            if (usedA || usedB) continue;
-            if (dynA) bits[k.bodyA >> 6] |= std::uint64_t{1} << (k.bodyA & 63);
-            if (dynB) bits[k.bodyB >> 6] |= std::uint64_t{1} << (k.bodyB & 63);
-            c = col;
-            break;
-        }
-        colourOf_[i] = c;
-        ++counts[c];
-    }
-    colourStart_.assign(kColourCount + 2, 0);
-    for (std::uint32_t c = 0; c <= kColourCount; ++c) colourStart_[c + 1] = colourStart_[c] + counts[c];
+    colourGreedily<kColourCount>(
+        n, bodies_.size(),
+        [&](std::size_t i) {
+            const PendingConstraint& k = pending_[i];
+            return ConstraintEnds{k.bodyA, k.bodyB, bodies_[k.bodyA].invMass > 0, bodies_[k.bodyB].invMass > 0};
+        },
+        colourBits_, colourOf_, colourStart_);
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
     slotOf_.resize(n);

@@ -7,6 +7,7 @@
 
 #include "solver/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
+#include "solver/graph_colouring.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
@@ -141,29 +142,13 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies) {
         creationOrder_.clear();
         return;
     }
-    const std::size_t words = (bodies.size() + 63) / 64;
-    colourBits_.assign(kColourCount * words, 0);
-    colourOf_.resize(n);
-    std::uint32_t counts[kColourCount + 1] = {};
-    for (std::size_t i = 0; i < n; ++i) {
-        const JointConstraint& k = constraints_[i];
-        const bool dynA = bodies[k.bodyA].invMass > 0, dynB = bodies[k.bodyB].invMass > 0;
-        std::uint32_t c = kColourCount;
-        for (std::uint32_t col = 0; col < kColourCount; ++col) {
-            std::uint64_t* bits = colourBits_.data() + col * words;
-            const bool usedA = dynA && (bits[k.bodyA >> 6] >> (k.bodyA & 63) & 1u);
-            const bool usedB = dynB && (bits[k.bodyB >> 6] >> (k.bodyB & 63) & 1u);
-            if (usedA || usedB) continue;
-            if (dynA) bits[k.bodyA >> 6] |= std::uint64_t{1} << (k.bodyA & 63);
-            if (dynB) bits[k.bodyB >> 6] |= std::uint64_t{1} << (k.bodyB & 63);
-            c = col;
-            break;
-        }
-        colourOf_[i] = c;
-        ++counts[c];
-    }
-    colourStart_.assign(kColourCount + 2, 0);
-    for (std::uint32_t c = 0; c <= kColourCount; ++c) colourStart_[c + 1] = colourStart_[c] + counts[c];
+    colourGreedily<kColourCount>(
+        n, bodies.size(),
+        [&](std::size_t i) {
+            const JointConstraint& k = constraints_[i];
+            return ConstraintEnds{k.bodyA, k.bodyB, bodies[k.bodyA].invMass > 0, bodies[k.bodyB].invMass > 0};
+        },
+        colourBits_, colourOf_, colourStart_);
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
     scratch_.resize(n);
