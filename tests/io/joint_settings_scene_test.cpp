@@ -10,6 +10,7 @@
 
 #include "fulcrum/scene.hpp"
 #include "fulcrum/world.hpp"
+#include "io/scene_error_expectations.hpp"
 
 namespace fulcrum {
 namespace {
@@ -24,25 +25,8 @@ std::string leverScene(const std::string& world, const std::string& jointExtra, 
            "}]}";
 }
 
-SceneError parseError(const std::string& text) {
-    try {
-        parseScene(text, "test.json");
-    } catch (const SceneError& e) {
-        return e;
-    }
-    ADD_FAILURE() << "no SceneError for: " << text;
-    return SceneError("", "", 0, 0, "");
-}
-
-void expectError(const std::string& text, const std::string& path, const std::string& reason, int line = 0) {
-    const SceneError e = parseError(text);
-    EXPECT_EQ(e.path(), path) << e.what();
-    EXPECT_NE(e.reason().find(reason), std::string::npos) << "reason '" << e.reason() << "' lacks '" << reason << "'";
-    if (line > 0) {
-        EXPECT_EQ(e.line(), line) << e.what();
-    }
-    EXPECT_NE(std::string(e.what()).find("test.json"), std::string::npos) << e.what();
-}
+using test::expectError;
+using test::parseError;
 
 TEST(JointSettingsScene, ReadIntoWorldDefAndJointDef) {
     const Scene s = parseScene(leverScene(R"(, "joint_hertz": 30, "joint_damping_ratio": 0.7, "joint_projection_slop": 0.02,

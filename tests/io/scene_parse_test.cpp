@@ -7,34 +7,15 @@
 #include <string>
 
 #include "fulcrum/scene.hpp"
+#include "io/scene_error_expectations.hpp"
 
 namespace fulcrum {
 namespace {
 
 Scene parse(const std::string& text) { return parseScene(text, "test.json"); }
 
-// Parses `text`, expects a SceneError and returns it.
-SceneError parseError(const std::string& text) {
-    try {
-        parseScene(text, "test.json");
-    } catch (const SceneError& e) {
-        return e;
-    }
-    ADD_FAILURE() << "no SceneError for: " << text;
-    return SceneError("", "", 0, 0, "");
-}
-
-// Expects parsing to fail at `path` (and `line` when > 0) with a reason containing `reason`.
-void expectError(const std::string& text, const std::string& path, const std::string& reason, int line = 0) {
-    const SceneError e = parseError(text);
-    EXPECT_EQ(e.path(), path) << e.what();
-    EXPECT_NE(e.reason().find(reason), std::string::npos) << "reason '" << e.reason() << "' lacks '" << reason << "'";
-    if (line > 0) {
-        EXPECT_EQ(e.line(), line) << e.what();
-    }
-    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "what() must be one line";
-    EXPECT_NE(std::string(e.what()).find("test.json"), std::string::npos) << e.what();
-}
+using test::expectError;
+using test::parseError;
 
 std::string body(const std::string& extra) {
     return R"({"bodies": [{"name": "b", "shape": {"type": "sphere", "radius": 1})" + extra + "}]}";
