@@ -298,14 +298,23 @@ void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBo
     const Real axial = i.spring + i.motor + i.lower - i.upper;
     force = i.linear;
     torque = {};
+    // Friction (ball, cone-twist) and the free-axis rows (hinge, slider) carry
+    // the share of the point / perpendicular / alignment rows that goes with
+    // them (coupled_row.hpp, cacheFriction); it is not in those rows'
+    // accumulated impulses, so it is added here. Torques are about B's anchor:
+    // a force at the anchor adds none.
+    const bool axialRows = (j.type == JointType::Hinge || j.type == JointType::Slider) && (j.spring || j.motor || j.limit);
+    if (axialRows) {
+        const Vec3 P = j.axial.apply.linear * axial;
+        force += P;
+        torque += j.axial.apply.angularB * axial - cross(f.rB, P);
+    }
+    if (j.frictionValid) force += j.frictionCoupling * i.friction;
     switch (j.type) {
-        case JointType::Ball: torque = i.friction; break;
-        case JointType::Fixed: torque = i.angular; break;
-        case JointType::Hinge: torque = i.angular + rotate(f.qA, j.localAxisA) * axial; break;
-        case JointType::Slider:
-            force += rotate(f.qA, j.localAxisA) * axial;
-            torque = i.angular;
-            break;
+        case JointType::Ball: torque += i.friction; break;
+        case JointType::Fixed: torque += i.angular; break;
+        case JointType::Hinge: torque += i.angular; break;
+        case JointType::Slider: torque += i.angular; break;
         case JointType::Distance: {
             const Real len = length(f.d);
             force = len > Real(1e-6) ? f.d * ((i.axial + axial) / len) : Vec3{};
@@ -317,7 +326,7 @@ void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBo
             const Real s = length(c);
             const Vec3 mid = axisA + axisB;
             const Real m = length(mid);
-            torque = (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
+            torque += (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
             if (s > Real(1e-6)) torque -= c * (i.swing / s);
             break;
         }

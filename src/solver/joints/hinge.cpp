@@ -7,7 +7,7 @@
 //
 // The angle is B's rotation relative to A about the axis, measured from the
 // pose at creation (swing-twist decomposition, joint_common.hpp), in (-pi, pi].
-#include "solver/joints/joint_common.hpp"
+#include "solver/joints/coupled_row.hpp"
 
 namespace fulcrum::detail {
 
@@ -53,29 +53,32 @@ void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     // Only the perpendicular part of the alignment impulse belongs to its rows.
     j.impulse.angular -= axis * dot(axis, j.impulse.angular);
-    const Vec3 T = j.impulse.angular + axis * axialImpulse(j.impulse);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
-    a.w -= a.invI * T;
-    b.w += b.invI * T;
+    a.w -= a.invI * j.impulse.angular;
+    b.w += b.invI * j.impulse.angular;
+    // The axial rows turn B about the axis with the point and alignment rows'
+    // share (coupled_row.hpp), computed once per sub-step.
+    if (j.spring || j.motor || j.limit) {
+        coupleHingeRow(a, b, f.rA, f.rB, axis, j.axial);
+        applyRow(j.axial.apply, a, b, axialImpulse(j.impulse));
+    }
 }
 
 void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axisA = rotate(f.qA, j.localAxisA);
     const Vec3 axisB = rotate(f.qB, j.localAxisB);
-    const JointRow row = angularRow(axisA);
     JointImpulses& i = j.impulse;
-    if (j.spring || j.limit) {
-        const Real angle = twistAngle(j.relative0, f.qA, f.qB, j.localAxisA);
-        if (j.spring) solveSpringRow(row, a, b, angle - j.springTarget, j.springBias, j.springGamma, i.spring);
-        if (j.motor) solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
+    if (j.spring || j.motor || j.limit) {
+        CoupledRow row = j.axial;
+        row.measure = angularRow(axisA);
+        const Real angle = j.spring || j.limit ? twistAngle(j.relative0, f.qA, f.qB, j.localAxisA) : Real(0);
+        if (j.spring) solveCoupledSpring(row, a, b, angle - j.springTarget, j.springBias, j.springGamma, i.spring);
+        if (j.motor) solveCoupledMotor(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
         if (j.limit) {
-            solveLimitRow(row, a, b, angle - j.lower, i.lower, ctx);
-            const JointRow down{Vec3{}, -axisA, -axisA};
-            solveLimitRow(down, a, b, j.upper - angle, i.upper, ctx);
+            solveCoupledLimit(row, 1, a, b, angle - j.lower, i.lower, ctx);
+            solveCoupledLimit(row, -1, a, b, j.upper - angle, i.upper, ctx);
         }
-    } else if (j.motor) {
-        solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
     }
     solveAlignment(a, b, axisA, axisB, i.angular, ctx);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx, j.pointMass);

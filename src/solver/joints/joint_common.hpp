@@ -39,6 +39,20 @@ struct JointImpulses {
     Vec3 friction;                  // ball / cone-twist joint friction (angular, world, on B)
 };
 
+// A scalar row: +linear and +angularB act on B, -linear and -angularA on A.
+struct JointRow {
+    Vec3 linear, angularA, angularB;
+};
+
+// The free-axis row of a hinge or slider solved with the joint's held rows
+// (coupled_row.hpp): `apply` is a unit impulse with the held rows' share,
+// `invMass` its effective inverse mass, both from the sub-step's warm start.
+struct CoupledRow {
+    JointRow measure;  // the free row itself (its velocity)
+    JointRow apply;
+    Real invMass = 0;
+};
+
 // One joint prepared for this step.
 struct JointConstraint {
     std::uint32_t slot = 0;           // WorldImpl::joints index
@@ -64,6 +78,7 @@ struct JointConstraint {
     bool frictionValid = false;       // friction (ball, cone-twist): see cacheFriction
     Mat3 frictionMass = Mat3::zero(), frictionCoupling = Mat3::zero();
     Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
+    CoupledRow axial;                 // hinge, slider: the free axis's rows (spring, motor, friction, limits)
     JointImpulses impulse;
 };
 
@@ -73,11 +88,6 @@ struct JointContext {
     Softness soft;          // joints' equality rows (biased pass)
     Softness limitSoft;     // violated limits (biased pass)
     bool useBias = true;
-};
-
-// A scalar row: +linear and +angularB act on B, -linear and -angularA on A.
-struct JointRow {
-    Vec3 linear, angularA, angularB;
 };
 
 inline Real rowVelocity(const JointRow& r, const SolverBody& a, const SolverBody& b) {

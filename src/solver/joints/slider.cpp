@@ -7,7 +7,7 @@
 // The linear rows act at B's anchor; on A the lever arm is rA + d (the point
 // of A under B's anchor), which makes the rows exact for any separation
 // (Catto's prismatic joint, Box2D).
-#include "solver/joints/joint_common.hpp"
+#include "solver/joints/coupled_row.hpp"
 
 namespace fulcrum::detail {
 
@@ -57,24 +57,32 @@ void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const Joi
     const JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     j.impulse.linear -= axis * dot(axis, j.impulse.linear);
-    applyLinear(a, b, f.rA + f.d, f.rB, j.impulse.linear + axis * axialImpulse(j.impulse));
+    applyLinear(a, b, f.rA + f.d, f.rB, j.impulse.linear);
     a.w -= a.invI * j.impulse.angular;
     b.w += b.invI * j.impulse.angular;
+    // The axial rows move B along the axis with the angular lock's and the
+    // perpendicular rows' share (coupled_row.hpp), once per sub-step.
+    if (j.spring || j.motor || j.limit) {
+        coupleSliderRow(a, b, f.rA + f.d, f.rB, axis, j.axial);
+        applyRow(j.axial.apply, a, b, axialImpulse(j.impulse));
+    }
 }
 
 void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     JointFrame f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     const Vec3 leverA = f.rA + f.d;
-    const JointRow row = linearRow(axis, leverA, f.rB);
     const Real x = dot(f.d, axis);
     JointImpulses& i = j.impulse;
-    if (j.spring) solveSpringRow(row, a, b, x - j.springTarget, j.springBias, j.springGamma, i.spring);
-    if (j.motor) solveMotorRow(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
-    if (j.limit) {
-        solveLimitRow(row, a, b, x - j.lower, i.lower, ctx);
-        const JointRow back{-row.linear, -row.angularA, -row.angularB};
-        solveLimitRow(back, a, b, j.upper - x, i.upper, ctx);
+    if (j.spring || j.motor || j.limit) {
+        CoupledRow row = j.axial;
+        row.measure = linearRow(axis, leverA, f.rB);
+        if (j.spring) solveCoupledSpring(row, a, b, x - j.springTarget, j.springBias, j.springGamma, i.spring);
+        if (j.motor) solveCoupledMotor(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
+        if (j.limit) {
+            solveCoupledLimit(row, 1, a, b, x - j.lower, i.lower, ctx);
+            solveCoupledLimit(row, -1, a, b, j.upper - x, i.upper, ctx);
+        }
     }
     solveAngularBlock(a, b, angularError(j, f.qA, f.qB), i.angular, ctx);
     solvePerpendicular(a, b, axis, leverA, f.rB, f.d, i.linear, ctx);

@@ -1,0 +1,133 @@
+// The free-axis row of hinges and sliders solved with the joint's held rows: see coupled_row.hpp.
+#include "solver/joints/coupled_row.hpp"
+
+#include <cmath>
+
+namespace fulcrum::detail {
+
+namespace {
+
+// K_ij = J_i M^-1 J_j^T for two rows on bodies a, b (JointRow sign conventions).
+double coupling(const SolverBody& a, const SolverBody& b, const JointRow& r, const JointRow& s) {
+    return static_cast<double>((a.invMass + b.invMass) * dot(r.linear, s.linear) + dot(r.angularA, a.invI * s.angularA) +
+                               dot(r.angularB, b.invI * s.angularB));
+}
+
+}  // namespace
+
+bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, int count, const JointRow& measure,
+               JointRow& apply, Real& invMass) {
+    apply = measure;
+    invMass = rowInverseMass(measure, a, b);
+    // Cholesky of K_oo (count x count, double: the lever's I_cm and m r^2 differ by orders of magnitude).
+    double L[kMaxHeldRows][kMaxHeldRows] = {};
+    double rhs[kMaxHeldRows] = {};
+    for (int i = 0; i < count; ++i) {
+        for (int k = 0; k <= i; ++k) L[i][k] = coupling(a, b, held[i], held[k]);
+        rhs[i] = -coupling(a, b, held[i], measure);
+    }
+    double scale = 0;
+    for (int i = 0; i < count; ++i) scale = std::fmax(scale, L[i][i]);
+    for (int j = 0; j < count; ++j) {
+        double s = L[j][j];
+        for (int k = 0; k < j; ++k) s -= L[j][k] * L[j][k];
+        if (!(s > 1e-9 * scale)) return false;
+        const double d = std::sqrt(s);
+        L[j][j] = d;
+        for (int i = j + 1; i < count; ++i) {
+            double t = L[i][j];
+            for (int k = 0; k < j; ++k) t -= L[i][k] * L[j][k];
+            L[i][j] = t / d;
+        }
+    }
+    double c[kMaxHeldRows];
+    for (int i = 0; i < count; ++i) {
+        double t = rhs[i];
+        for (int k = 0; k < i; ++k) t -= L[i][k] * c[k];
+        c[i] = t / L[i][i];
+    }
+    for (int i = count; i-- > 0;) {
+        double t = c[i];
+        for (int k = i + 1; k < count; ++k) t -= L[k][i] * c[k];
+        c[i] = t / L[i][i];
+    }
+    // Schur complement K_aa - K_ao K_oo^-1 K_oa = K_aa + K_ao c.
+    double k = coupling(a, b, measure, measure);
+    for (int i = 0; i < count; ++i) k -= rhs[i] * c[i];
+    if (!(k > 1e-12 * coupling(a, b, measure, measure))) return false;
+    for (int i = 0; i < count; ++i) {
+        const Real ci = static_cast<Real>(c[i]);
+        apply.linear += held[i].linear * ci;
+        apply.angularA += held[i].angularA * ci;
+        apply.angularB += held[i].angularB * ci;
+    }
+    invMass = static_cast<Real>(k);
+    return true;
+}
+
+void coupleHingeRow(const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& axisA,
+                    CoupledRow& out) {
+    Vec3 p1, p2;
+    orthonormalBasis(axisA, p1, p2);
+    const JointRow held[5] = {linearRow({1, 0, 0}, rA, rB), linearRow({0, 1, 0}, rA, rB), linearRow({0, 0, 1}, rA, rB),
+                              angularRow(p1), angularRow(p2)};
+    out.measure = angularRow(axisA);
+    coupleRow(a, b, held, 5, out.measure, out.apply, out.invMass);
+}
+
+void coupleSliderRow(const SolverBody& a, const SolverBody& b, const Vec3& leverA, const Vec3& rB, const Vec3& axis,
+                     CoupledRow& out) {
+    Vec3 p1, p2;
+    orthonormalBasis(axis, p1, p2);
+    const JointRow held[5] = {angularRow({1, 0, 0}), angularRow({0, 1, 0}), angularRow({0, 0, 1}),
+                              linearRow(p1, leverA, rB), linearRow(p2, leverA, rB)};
+    out.measure = linearRow(axis, leverA, rB);
+    coupleRow(a, b, held, 5, out.measure, out.apply, out.invMass);
+}
+
+namespace {
+
+void applyCoupled(const CoupledRow& r, Real sign, SolverBody& a, SolverBody& b, Real impulse) {
+    applyRow(r.apply, a, b, sign * impulse);
+}
+
+}  // namespace
+
+void solveCoupledLimit(const CoupledRow& r, Real sign, SolverBody& a, SolverBody& b, Real C, Real& lambda,
+                       const JointContext& ctx) {
+    const Real k = r.invMass;
+    if (!(k > 0)) return;
+    Real bias = 0, massScale = 1, impulseScale = 0;
+    if (C > 0) {
+        bias = C * ctx.invH;
+    } else if (ctx.useBias) {
+        bias = ctx.limitSoft.biasRate * C;
+        massScale = ctx.limitSoft.massScale;
+        impulseScale = ctx.limitSoft.impulseScale;
+    }
+    const Real velocity = sign * rowVelocity(r.measure, a, b);
+    const Real d = -massScale * (velocity + bias) / k - impulseScale * lambda;
+    const Real next = lambda + d > 0 ? lambda + d : Real(0);
+    applyCoupled(r, sign, a, b, next - lambda);
+    lambda = next;
+}
+
+void solveCoupledMotor(const CoupledRow& r, SolverBody& a, SolverBody& b, Real speed, Real maxImpulse, Real& lambda) {
+    const Real k = r.invMass;
+    if (!(k > 0)) return;
+    const Real d = -(rowVelocity(r.measure, a, b) - speed) / k;
+    Real next = lambda + d;
+    next = next > maxImpulse ? maxImpulse : (next < -maxImpulse ? -maxImpulse : next);
+    applyCoupled(r, 1, a, b, next - lambda);
+    lambda = next;
+}
+
+void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma, Real& lambda) {
+    const Real k = r.invMass;
+    if (!(k + gamma > 0)) return;
+    const Real d = -(rowVelocity(r.measure, a, b) + biasRate * C + gamma * lambda) / (k + gamma);
+    lambda += d;
+    applyCoupled(r, 1, a, b, d);
+}
+
+}  // namespace fulcrum::detail
