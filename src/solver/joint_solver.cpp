@@ -29,6 +29,8 @@ void JointSolver::reserve(std::size_t jointCount) {
 void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     constraints_.clear();
     events_.clear();
+    // After a snapshot load the per-body joint lists start out of sync (O(1) check).
+    if (!graph_.inSync(w)) graph_.rebuild(w);
     bodies_ = solver.mutableBodies().data();
     allBodies_ = &solver.mutableBodies();
     ctx_.h = h;

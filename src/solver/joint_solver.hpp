@@ -23,6 +23,7 @@
 
 #include "fulcrum/world.hpp"
 #include "solver/joints/joint_common.hpp"
+#include "solver/joints/joint_graph.hpp"
 #include "solver/joints/tree_solver.hpp"
 
 namespace fulcrum {
@@ -67,6 +68,11 @@ public:
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
     std::uint32_t colourStart(std::size_t k) const { return colourStart_[k]; }
     std::span<const JointBreakEvent> breakEvents() const { return events_; }
+    // Per-body joint lists (joint_graph.hpp): World keeps them on joint
+    // creation and destruction; the contact manager asks them which pairs
+    // joints keep from colliding.
+    JointGraph& graph() { return graph_; }
+    const JointGraph& graph() const { return graph_; }
 
 private:
     static constexpr std::uint32_t kColourCount = 24;
@@ -79,6 +85,7 @@ private:
     std::vector<Quat> rotations_;
     const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;
+    JointGraph graph_;
     Real projectionSlop_ = 0;
     std::vector<JointBreakEvent> events_;
     SolverBody* bodies_ = nullptr;

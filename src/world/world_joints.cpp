@@ -196,12 +196,14 @@ JointId World::createJoint(const JointDef& def) {
     j.reactionForce = {};
     j.reactionTorque = {};
     w.jointSolver.reserve(w.joints.size());
+    w.jointSolver.graph().add(w, slot);
     jointChangedPairs(w, j.def);
     return {slot, j.generation};
 }
 
 void World::destroyJoint(JointId id) {
     detail::JointData& j = impl_->resolveJoint(id, "World::destroyJoint");
+    impl_->jointSolver.graph().remove(*impl_, id.index);
     j.alive = false;
     jointChangedPairs(*impl_, j.def);
     ++j.generation;

@@ -1,0 +1,44 @@
+#pragma once
+// Which joints each body has: per body slot, a linked list of its joints (by
+// joint slot), kept as joints are created and destroyed (a body's destruction
+// destroys its joints first).
+//
+// Why: the broad phase asks, for every new candidate pair, whether a joint
+// between the two bodies keeps them from colliding (collideConnected off).
+// Scanning every joint for that was ~20 % of the ragdoll pile's step
+// (docs/joints.md); the lists make it O(joints of the body with fewer).
+//
+// A world filled by a snapshot load (which writes WorldImpl::joints directly)
+// starts out of sync; until JointSolver::prepare rebuilds the lists (every
+// step, O(1) when in sync), the question falls back to the scan.
+#include <cstdint>
+#include <vector>
+
+namespace fulcrum {
+struct WorldImpl;
+}
+
+namespace fulcrum::detail {
+
+class JointGraph {
+public:
+    // After a joint was created in `jointSlot` (alive, bodies set).
+    void add(const WorldImpl& w, std::uint32_t jointSlot);
+    // Before or after a joint is destroyed (its def still names its bodies).
+    void remove(const WorldImpl& w, std::uint32_t jointSlot);
+    void rebuild(const WorldImpl& w);
+    bool inSync(const WorldImpl& w) const;
+    // An enabled joint without collideConnected joins the bodies in these slots.
+    bool keepsApart(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) const;
+
+private:
+    static constexpr std::uint32_t kNone = UINT32_MAX;
+    void link(std::uint32_t body, std::uint32_t jointSlot, int end);
+    std::uint32_t& nextOf(const WorldImpl& w, std::uint32_t jointSlot, std::uint32_t body);
+    std::vector<std::uint32_t> head_;     // per body slot: its first joint slot (kNone: none)
+    std::vector<std::uint32_t> degree_;   // per body slot: how many joints
+    std::vector<std::uint32_t> next_;     // per joint slot, 2 entries: the next joint on bodyA's / bodyB's list
+    std::size_t jointSlots_ = 0;          // WorldImpl::joints.size() the lists describe
+};
+
+}  // namespace fulcrum::detail
