@@ -159,21 +159,31 @@ void run(Scene& s) {
     std::vector<double> ms;
     ms.reserve(static_cast<std::size_t>(s.steps));
     double worst = 0, end = 0;
+    int worstStep = -1;
+    JointType worstType = JointType::Ball;
     for (int i = 0; i < s.steps; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         s.world.step(Real(1) / 60);
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         end = 0;
-        for (JointId j : s.joints) end = std::max(end, double(s.world.jointError(j)));
-        worst = std::max(worst, end);
+        for (JointId j : s.joints) {
+            const double e = s.world.jointError(j);
+            end = std::max(end, e);
+            if (e > worst) {
+                worst = e;
+                worstStep = i;
+                worstType = s.world.jointDef(j).type;
+            }
+        }
     }
     std::vector<double> sorted = ms;
     std::sort(sorted.begin(), sorted.end());
     const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
     std::size_t asleep = 0;
     for (BodyId b : s.world.bodies()) asleep += s.world.bodyType(b) == BodyType::Dynamic && !s.world.isAwake(b);
-    std::printf("%-10s bodies %6zu joints %6zu steps %4d  median %8.3f ms  mean %8.3f ms  worst joint error %.4f m (end %.4f m)  asleep %zu\n",
-                s.name.c_str(), s.world.bodyCount(), s.joints.size(), s.steps, sorted[sorted.size() / 2], mean, worst, end, asleep);
+    std::printf("%-10s bodies %6zu joints %6zu steps %4d  median %8.3f ms  mean %8.3f ms  worst joint error %.4f m (%s, step %d; end %.4f m)  asleep %zu\n",
+                s.name.c_str(), s.world.bodyCount(), s.joints.size(), s.steps, sorted[sorted.size() / 2], mean, worst,
+                toString(worstType), worstStep, end, asleep);
 }
 
 }  // namespace
