@@ -16,9 +16,11 @@ Vec3 springForceOnB(const Vec3& pA, const Vec3& pB, const Vec3& vRel, Real restL
 
 void evaluateForces(WorldImpl& w, double time) {
     const Vec3 g = w.settings.gravity;
-    const std::size_t count = w.motion.size();
     const Real t = static_cast<Real>(time);
-    for (std::size_t i = 0; i < count; ++i) {
+    // Awake bodies only (world_impl.hpp, "Awake list"): a sleeping body's
+    // forces are not used until it wakes, and the step re-evaluates them then.
+    // Its ForceCallback is not called while it sleeps.
+    for (const std::uint32_t i : w.awakeBodies) {
         ForceTorque& out = w.forces[i];
         const BodyParams& p = w.params[i];
         if (p.type != BodyType::Dynamic) {
@@ -47,11 +49,12 @@ void evaluateForces(WorldImpl& w, double time) {
         if (a != kNoIndex) vA = w.motion[a].v + cross(w.motion[a].w, pA - w.motion[a].com);
         if (b != kNoIndex) vB = w.motion[b].v + cross(w.motion[b].w, pB - w.motion[b].com);
         const Vec3 f = springForceOnB(pA, pB, vB - vA, s.restLength, s.stiffness, s.damping);
-        if (a != kNoIndex && w.params[a].type == BodyType::Dynamic) {
+        // A sleeping end keeps its forces untouched (they are not used while it sleeps).
+        if (a != kNoIndex && w.params[a].type == BodyType::Dynamic && w.params[a].awake) {
             w.forces[a].force -= f;
             w.forces[a].torque -= cross(pA - w.motion[a].com, f);
         }
-        if (b != kNoIndex && w.params[b].type == BodyType::Dynamic) {
+        if (b != kNoIndex && w.params[b].type == BodyType::Dynamic && w.params[b].awake) {
             w.forces[b].force += f;
             w.forces[b].torque += cross(pB - w.motion[b].com, f);
         }

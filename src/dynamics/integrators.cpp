@@ -25,7 +25,8 @@ void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
 }  // namespace
 
 void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         if (!isDynamic(p)) continue;
         BodyMotion& m = w.motion[i];
@@ -68,7 +69,8 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
 }
 
 void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         if (!moves(p)) continue;
         BodyMotion& m = w.motion[i];
@@ -112,20 +114,19 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                 break;
             }
         }
-        w.updateWorldInertia(static_cast<std::uint32_t>(i));
+        w.updateWorldInertia(i);
     }
 }
 
 void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter) {
     if (method != Integrator::Verlet) return;
     const Real half = Real(0.5) * h;
-    const std::size_t count = w.motion.size();
     // Velocity-dependent forces (drag, spring damping, callbacks) at the new
     // position need a velocity there, which the second kick is about to
     // produce. Evaluate them at the predictor v_half + a_old h/2 (the velocity
     // the kick would give if the acceleration did not change): the error is
     // O(h^2) in the force, so the scheme stays second order.
-    for (std::size_t i = 0; i < count; ++i) {
+    for (const std::uint32_t i : w.awakeBodies) {
         if (!isDynamic(w.params[i])) continue;
         BodyMotion& m = w.motion[i];
         w.scratch[i].dv = m.v;
@@ -134,7 +135,7 @@ void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter) 
         m.w += m.invInertiaWorld * w.forces[i].torque * half;
     }
     evaluateForces(w, timeAfter);
-    for (std::size_t i = 0; i < count; ++i) {
+    for (const std::uint32_t i : w.awakeBodies) {
         if (!isDynamic(w.params[i])) continue;
         BodyMotion& m = w.motion[i];
         m.v = w.scratch[i].dv + w.forces[i].force * (m.invMass * half);

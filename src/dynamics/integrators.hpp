@@ -13,11 +13,12 @@ namespace fulcrum::detail {
 //   semi-implicit Euler:  v += a h, w += I^-1 tau h (the gyroscopic effect comes from the drift).
 //   Verlet:               first half kick v += a h/2, w += I^-1 tau h/2.
 // Damping v *= 1 / (1 + h c) for every integrator.
-// The body range [begin, end) only: bodies are independent, so the step runs
-// disjoint ranges on several threads (src/world/step.cpp).
+// The range [begin, end) of w.awakeBodies only (sleeping and static bodies
+// never move): bodies are independent, so the step runs disjoint ranges on
+// several threads (src/world/step.cpp).
 void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end);
 inline void integrateVelocities(WorldImpl& w, Integrator method, Real h) {
-    integrateVelocities(w, method, h, 0, w.motion.size());
+    integrateVelocities(w, method, h, 0, w.awakeBodies.size());
 }
 
 // Stage 4: advance positions and orientations from the (possibly solver-corrected) velocities.
@@ -28,7 +29,7 @@ inline void integrateVelocities(WorldImpl& w, Integrator method, Real h) {
 // Refreshes every moved body's world inverse inertia.
 void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end);
 inline void integratePositions(WorldImpl& w, Integrator method, Real h) {
-    integratePositions(w, method, h, 0, w.motion.size());
+    integratePositions(w, method, h, 0, w.awakeBodies.size());
 }
 
 // Stage 5: Verlet's second half kick (evaluates forces at the new positions at

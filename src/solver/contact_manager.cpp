@@ -64,6 +64,7 @@ bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
 void ContactManager::addBody(WorldImpl& w, std::uint32_t dense) {
     const std::uint32_t slot = w.denseToSlot[dense];
     if (proxyOfSlot_.size() <= slot) proxyOfSlot_.resize(slot + 1, kNullProxy);
+    if (headOfSlot_.size() <= slot) headOfSlot_.resize(slot + 1, UINT32_MAX);
     const BodyParams& p = w.params[dense];
     const AABB box = w.cold[dense].shape.bounds(w.originTransform(dense));
     proxyOfSlot_[slot] = broad_.createProxy(box, p.type, p.filter, slot);
@@ -93,6 +94,12 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     if (tightBoxes_.capacity() < bodyCount) tightBoxes_.reserve(std::max(bodyCount, 2 * tightBoxes_.capacity()));
     if (contactFlags_.capacity() < contacts_.size()) contactFlags_.reserve(contacts_.capacity());
     if (reportStart_.capacity() < contacts_.size() + 1) reportStart_.reserve(contacts_.capacity() + 1);
+    if (links_.capacity() < contacts_.size()) links_.reserve(contacts_.capacity());
+    links_.resize(contacts_.size());
+    if (activeContacts_.capacity() < contacts_.size()) activeContacts_.reserve(contacts_.capacity());
+    const std::size_t wantMarks = contacts_.capacity() / 64 + 1;
+    if (marks_.capacity() < wantMarks) marks_.reserve(wantMarks);
+    marks_.resize(contacts_.size() / 64 + 1, 0);
     const std::size_t wantReports = 2 * bodyCount;
     if (w.contacts.size() < wantReports) {
         if (w.contacts.capacity() < wantReports) w.contacts.reserve(std::max(wantReports, 2 * w.contacts.capacity()));
@@ -116,6 +123,7 @@ void ContactManager::ensureWorkers(std::size_t workers) {
 }
 
 void ContactManager::removeBody(WorldImpl& w, std::uint32_t slot) {
+    w.ensureContactReport();  // the last step's report still holds the contacts destroyed here
     for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
         Contact& c = contacts_[i];
         if (!c.alive || (c.slotA != slot && c.slotB != slot)) continue;
@@ -132,9 +140,13 @@ void ContactManager::bodyTeleported(WorldImpl& w, std::uint32_t dense) {
     const std::uint32_t slot = w.denseToSlot[dense];
     const AABB box = w.cold[dense].shape.bounds(w.originTransform(dense));
     broad_.moveProxy(proxyOfSlot_[slot], box, Vec3::zero());
+    // A teleported static body wakes nothing it merely left, yet its contacts
+    // with sleeping bodies may now have apart fat boxes: look at every contact.
+    if (w.params[dense].type == BodyType::Static) visitAll_ = true;
 }
 
 void ContactManager::resetPairs(WorldImpl& w, std::uint32_t slot) {
+    w.ensureContactReport();  // the last step's report still holds the contacts destroyed here
     for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
         const Contact& c = contacts_[i];
         if (c.alive && (c.slotA == slot || c.slotB == slot)) destroyContact(w, i);
@@ -152,6 +164,8 @@ void ContactManager::createContact(WorldImpl& w, std::uint32_t slotA, std::uint3
         index = static_cast<std::uint32_t>(contacts_.size());
         contacts_.emplace_back();
         contacts_.back().manifolds.reserve(1);
+        links_.resize(contacts_.size());
+        marks_.resize(contacts_.size() / 64 + 1, 0);
     }
     Contact& c = contacts_[index];
     // Canonical order: the smaller slot is A, so events name bodies the same way every run.
@@ -170,10 +184,90 @@ void ContactManager::createContact(WorldImpl& w, std::uint32_t slotA, std::uint3
     c.hasPose = false;
     c.sensor = w.params[w.bodySlots[slotA].dense].isSensor || w.params[w.bodySlots[slotB].dense].isSensor;
     c.manifolds.clear();
+    if (!linksRebuild_) linkContact(index);
+    markContact(index);  // a new contact is visited in the update that made it
+}
+
+void ContactManager::linkContact(std::uint32_t index) {
+    const Contact& c = contacts_[index];
+    ContactLinks& l = links_[index];
+    const std::uint32_t slots[2] = {c.slotA, c.slotB};
+    for (int e = 0; e < 2; ++e) {
+        std::uint32_t& head = headOfSlot_[slots[e]];
+        l.prev[e] = UINT32_MAX;
+        l.next[e] = head;
+        if (head != UINT32_MAX) {
+            ContactLinks& h = links_[head];
+            h.prev[contacts_[head].slotA == slots[e] ? 0 : 1] = index;
+        }
+        head = index;
+    }
+}
+
+void ContactManager::unlinkContact(std::uint32_t index) {
+    const Contact& c = contacts_[index];
+    ContactLinks& l = links_[index];
+    const std::uint32_t slots[2] = {c.slotA, c.slotB};
+    for (int e = 0; e < 2; ++e) {
+        if (l.prev[e] != UINT32_MAX) {
+            const std::uint32_t p = l.prev[e];
+            links_[p].next[contacts_[p].slotA == slots[e] ? 0 : 1] = l.next[e];
+        } else {
+            headOfSlot_[slots[e]] = l.next[e];
+        }
+        if (l.next[e] != UINT32_MAX) {
+            const std::uint32_t n = l.next[e];
+            links_[n].prev[contacts_[n].slotA == slots[e] ? 0 : 1] = l.prev[e];
+        }
+        l.prev[e] = l.next[e] = UINT32_MAX;
+    }
+}
+
+void ContactManager::rebuildLinks() {
+    headOfSlot_.assign(proxyOfSlot_.size(), UINT32_MAX);
+    links_.assign(contacts_.size(), ContactLinks{});
+    marks_.resize(contacts_.size() / 64 + 1, 0);
+    for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
+        if (contacts_[i].alive) linkContact(i);
+    }
+    linksRebuild_ = false;
+}
+
+void ContactManager::gatherActiveContacts(const WorldImpl& w) {
+    activeContacts_.clear();
+    const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
+    if (visitAll_) {
+        for (std::uint32_t i = 0; i < contactCount; ++i) {
+            if (contacts_[i].alive) activeContacts_.push_back(i);
+        }
+        std::fill(marks_.begin(), marks_.end(), 0);
+        visitAll_ = false;
+        return;
+    }
+    for (const std::uint32_t d : w.awakeBodies) {
+        const std::uint32_t slot = w.denseToSlot[d];
+        for (std::uint32_t i = headOfSlot_[slot]; i != UINT32_MAX;) {
+            markContact(i);
+            i = links_[i].next[contacts_[i].slotA == slot ? 0 : 1];
+        }
+    }
+    // Ascending contact order from the bitmap: the order of the full pass.
+    for (std::size_t word = 0; word < marks_.size(); ++word) {
+        std::uint64_t bits = marks_[word];
+        if (bits == 0) continue;
+        marks_[word] = 0;
+        while (bits != 0) {
+            const auto bit = static_cast<std::uint32_t>(std::countr_zero(bits));
+            bits &= bits - 1;
+            const auto i = static_cast<std::uint32_t>(word * 64 + bit);
+            if (contacts_[i].alive) activeContacts_.push_back(i);
+        }
+    }
 }
 
 void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
     Contact& c = contacts_[index];
+    if (!linksRebuild_) unlinkContact(index);
     if (c.touching) {
         const BodyId a = {c.slotA, w.bodySlots[c.slotA].generation};
         const BodyId b = {c.slotB, w.bodySlots[c.slotB].generation};
@@ -399,18 +493,21 @@ void ContactManager::update(WorldImpl& w, Real dt) {
 
     TaskSystem& tasks = w.taskSystem();
     ensureWorkers(tasks.workerCount());
+    if (linksRebuild_) rebuildLinks();
 
     // 1. Proxies follow the awake bodies (fattened by the coming step's motion):
     // the tight boxes in parallel, the tree updates serially in body order.
-    const auto count = static_cast<std::uint32_t>(w.motion.size());
-    if (tightBoxes_.size() < count) tightBoxes_.resize(count);
-    tasks.parallelFor(count, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        for (std::uint32_t d = begin; d < end; ++d) {
-            if (isAwakeMover(w.params[d])) tightBoxes_[d] = w.cold[d].shape.bounds(w.originTransform(d));
+    // w.awakeBodies is the ascending list of awake non-static bodies (refreshed by the step).
+    const std::vector<std::uint32_t>& awake = w.awakeBodies;
+    const auto awakeCount = static_cast<std::uint32_t>(awake.size());
+    if (tightBoxes_.size() < w.motion.size()) tightBoxes_.resize(w.motion.size());
+    tasks.parallelFor(awakeCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t k = begin; k < end; ++k) {
+            const std::uint32_t d = awake[k];
+            tightBoxes_[d] = w.cold[d].shape.bounds(w.originTransform(d));
         }
     });
-    for (std::uint32_t d = 0; d < count; ++d) {
-        if (!isAwakeMover(w.params[d])) continue;
+    for (const std::uint32_t d : awake) {
         broad_.moveProxy(proxyOfSlot_[w.denseToSlot[d]], tightBoxes_[d], w.motion[d].v * dt);
     }
 
@@ -425,27 +522,28 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     // is the same for any thread count. (A body woken here gets its contacts
     // with other sleeping bodies collided next step: they have not moved, so
     // their manifolds still hold.)
-    const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
-    if (contactFlags_.size() < contactCount) contactFlags_.resize(contactCount);
-    tasks.parallelFor(contactCount, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+    gatherActiveContacts(w);
+    const auto activeCount = static_cast<std::uint32_t>(activeContacts_.size());
+    if (contactFlags_.size() < activeCount) contactFlags_.resize(activeCount);
+    tasks.parallelFor(activeCount, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
         NarrowScratch& ns = narrow_[worker];
-        for (std::uint32_t i = begin; i < end; ++i) {
-            Contact& c = contacts_[i];
+        for (std::uint32_t k = begin; k < end; ++k) {
+            Contact& c = contacts_[activeContacts_[k]];
             std::uint8_t flags = 0;
-            if (!c.alive) {
-            } else if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
+            if (!broad_.testOverlap(c.proxyA, c.proxyB)) {
                 flags = kSeparated;
             } else if (isAwakeMover(w.params[w.bodySlots[c.slotA].dense]) ||
                        isAwakeMover(w.params[w.bodySlots[c.slotB].dense])) {
                 // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
                 flags = collideContact(w, c, dt, ns);
             }
-            contactFlags_[i] = flags;
+            contactFlags_[k] = flags;
         }
     });
-    for (std::uint32_t i = 0; i < contactCount; ++i) {
-        const std::uint8_t flags = contactFlags_[i];
+    for (std::uint32_t k = 0; k < activeCount; ++k) {
+        const std::uint8_t flags = contactFlags_[k];
         if (flags == 0) continue;
+        const std::uint32_t i = activeContacts_[k];
         Contact& c = contacts_[i];
         if ((flags & kSeparated) != 0) {
             destroyContact(w, i);

@@ -22,6 +22,18 @@
 // into each other, and a strict depth > 0 would flicker between frames.
 // A touching manifold with a sleeping body wakes the sleeping body's island.
 //
+// Sleeping costs nothing (docs/solver.md, "Sleeping"): update() moves the
+// proxies of the awake bodies only (WorldImpl::awakeBodies) and visits only
+// the contacts that can change: those of an awake body (each body keeps a
+// doubly linked list of its contacts, as Box2D's contact edges) and those
+// created this step, gathered through a bitmap so they come out in ascending
+// contact order, the order the full pass used. A contact whose bodies are both
+// asleep or static has nothing to do: neither proxy moved, so its fat boxes
+// still overlap and its manifolds still hold. (A static body teleported by
+// setTransform moves its proxy without waking anything: the next update then
+// visits every contact once.) report() is not called by the step: the world
+// builds the report when it is read (WorldImpl::ensureContactReport).
+//
 // Threads (docs/threading.md): update() computes tight boxes, runs the broad
 // phase's queries and collides the contacts as parallelFor calls on
 // w.taskSystem(); each contact writes only itself and its flag byte, and the
@@ -71,6 +83,8 @@ public:
     const std::vector<Contact>& contacts() const { return contacts_; }
     const BroadPhase& broadPhase() const { return broad_; }
     ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
+    // Contacts the last update() visited (tests: a sleeping world visits none).
+    std::size_t visitedContactCount() const { return activeContacts_.size(); }
 
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
@@ -88,6 +102,17 @@ private:
     std::uint8_t collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& scratch) const;
     void ensureWorkers(std::size_t workers);
     void updateTouching(WorldImpl& w, Contact& c, bool touching);
+    // Per-body contact lists (slot-indexed heads, links parallel to contacts_).
+    void linkContact(std::uint32_t index);
+    void unlinkContact(std::uint32_t index);
+    void rebuildLinks();
+    void markContact(std::uint32_t index) { marks_[index >> 6] |= std::uint64_t(1) << (index & 63); }
+    // The contacts update() must visit, ascending, into activeContacts_.
+    void gatherActiveContacts(const WorldImpl& w);
+    struct ContactLinks {
+        std::uint32_t prev[2] = {UINT32_MAX, UINT32_MAX};  // [0]: in slotA's list, [1]: in slotB's
+        std::uint32_t next[2] = {UINT32_MAX, UINT32_MAX};
+    };
 
     BroadPhase broad_;
     std::vector<ProxyId> proxyOfSlot_;
@@ -97,6 +122,12 @@ private:
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
     mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())
+    std::vector<ContactLinks> links_;         // per contact
+    std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact (UINT32_MAX: none)
+    std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
+    std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending
+    bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)
+    bool visitAll_ = true;                    // the next update visits every contact
 };
 
 }  // namespace fulcrum::detail

@@ -86,6 +86,11 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
         p.sleepIsland = tag;
         m.v = {};
         m.w = {};
+        // Off the awake list at the next refresh; its previous[] (set at this
+        // step's start) needs the one refresh that makes it equal to its
+        // transform for the rest of its sleep (world_impl.hpp).
+        w.awakeListHasSleepers = true;
+        w.markPreviousStale(denseOf[i]);
     }
 }
 

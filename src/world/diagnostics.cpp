@@ -99,6 +99,7 @@ Vec3 World::angularMomentum() const {
 }
 
 std::vector<ContactReport> World::contacts() const {
+    impl_->ensureContactReport();  // built on first read after a step (world_impl.hpp)
     const auto first = impl_->contacts.begin();
     return {first, first + static_cast<std::ptrdiff_t>(impl_->contactReportCount)};
 }

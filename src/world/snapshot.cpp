@@ -785,6 +785,8 @@ std::vector<std::uint8_t> detail::saveSnapshotAsVersion(const World& world, std:
     w.version = version;
     w.out.resize(detail::kHeaderSize);
     std::string data(userData);
+    // The contact report is built when read (world_impl.hpp): the snapshot holds it.
+    const_cast<WorldImpl&>(world.impl()).ensureContactReport();
     // The field lists serve reading and writing alike; writing only reads.
     detail::worldState(w, const_cast<WorldImpl&>(world.impl()), data);
 

@@ -110,19 +110,38 @@ void WorldImpl::step(Real dt) {
     const double hd = static_cast<double>(dt) / substeps;
 
     TaskSystem& tasks = taskSystem();
-    const auto bodyCount = static_cast<std::uint32_t>(motion.size());
-    tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        for (std::uint32_t i = begin; i < end; ++i) previous[i] = originTransform(i);
-    });
-
     // Turning sleeping off wakes everything once.
     if (!settings.sleeping && wasSleeping) {
         for (std::uint32_t i = 0; i < motion.size(); ++i) wakeBody(i);
     }
     wasSleeping = settings.sleeping;
 
+    // The per-body stages walk the awake list only (world_impl.hpp): a body
+    // that sleeps or is static costs nothing per step.
+    refreshAwakeList();
+    // previous[] = the transform at the start of the step: the awake bodies,
+    // plus the few that stopped moving since the last step (sleeping, static
+    // and teleported bodies keep previous[] equal to their transform).
+    if (previousAllStale) {
+        const auto all = static_cast<std::uint32_t>(motion.size());
+        tasks.parallelFor(all, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+            for (std::uint32_t i = begin; i < end; ++i) previous[i] = originTransform(i);
+        });
+        previousAllStale = false;
+    } else {
+        for (const std::uint32_t i : previousStale) previous[i] = originTransform(i);
+        const auto awakeCount = static_cast<std::uint32_t>(awakeBodies.size());
+        tasks.parallelFor(awakeCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+            for (std::uint32_t k = begin; k < end; ++k) previous[awakeBodies[k]] = originTransform(awakeBodies[k]);
+        });
+    }
+    previousStale.clear();
+
     // Collision: broad phase, contacts, narrow phase (wakes what awake bodies touch).
     contactManager.update(*this, dt);
+    // The bodies it woke move in this step.
+    refreshAwakeList();
+    const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
     // Constraints are prepared once per step on the step's start configuration.
     detail::ContactSolver& solver = contactSolver;
     // The solver splits each large graph colour across the same task system
@@ -194,21 +213,34 @@ void WorldImpl::step(Real dt) {
     // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
     detail::stepParticles(*this, dt);
     sleepManager.update(*this, solver, contactManager, dt);
-    contactManager.report(*this);
+    // Built when read (World::contacts(), snapshots): world_impl.hpp.
+    contactReportStale = true;
 
     // Clear the user forces and look for a non-finite state, per body range in
     // parallel; the lowest bad index is an order-independent merge (an atomic min).
+    // Only the bodies that moved: the awake list of the integration (the sleep
+    // manager's removals wait for the next refresh) and the bodies woken since
+    // (a particle impulse). A user force wakes its body, so no sleeping body
+    // holds one.
     std::atomic<std::uint32_t> firstBad{kNoIndexBody};
+    const auto checkBody = [&](std::uint32_t i, std::uint32_t& bad) {
+        applied[i] = {};
+        if (*firstNonFinite(motion[i]) != '\0') bad = std::min(bad, i);
+    };
     tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         std::uint32_t bad = kNoIndexBody;
-        for (std::uint32_t i = begin; i < end; ++i) {
-            applied[i] = {};
-            if (bad == kNoIndexBody && params[i].type != BodyType::Static && *firstNonFinite(motion[i]) != '\0') bad = i;
-        }
+        for (std::uint32_t k = begin; k < end; ++k) checkBody(awakeBodies[k], bad);
         std::uint32_t seen = firstBad.load(std::memory_order_relaxed);
         while (bad < seen && !firstBad.compare_exchange_weak(seen, bad, std::memory_order_relaxed)) {
         }
     });
+    {
+        std::uint32_t bad = firstBad.load(std::memory_order_relaxed);
+        for (const std::uint32_t i : wokenBodies) {
+            if (params[i].type != BodyType::Static) checkBody(i, bad);
+        }
+        firstBad.store(bad, std::memory_order_relaxed);
+    }
     ++stepCount;
     time = t0 + static_cast<double>(dt);
     if (firstBad.load(std::memory_order_relaxed) == kNoIndexBody) return;

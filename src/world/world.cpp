@@ -75,17 +75,85 @@ void WorldImpl::wakeBody(std::uint32_t dense) {
     if (p.type == BodyType::Static) return;
     p.sleepTime = 0;
     if (p.awake) return;
+    const auto queue = [this](std::uint32_t d) {
+        if (wokenBodies.size() >= motion.size()) {
+            awakeListRebuild = true;  // (cannot happen between two refreshes; a bound, not a path)
+            wokenBodies.clear();
+        }
+        if (!awakeListRebuild) wokenBodies.push_back(d);
+    };
     const std::uint32_t island = p.sleepIsland;
     if (island == 0) {
         p.awake = true;
+        queue(dense);
         return;
     }
     // The island's bodies wake together (a linear scan: waking is an event, not per step).
-    for (detail::BodyParams& q : params) {
+    for (std::uint32_t d = 0; d < params.size(); ++d) {
+        detail::BodyParams& q = params[d];
         if (q.sleepIsland != island) continue;
         q.awake = true;
         q.sleepTime = 0;
         q.sleepIsland = 0;
+        queue(d);
+    }
+}
+
+void WorldImpl::reserveAwakeList(std::size_t bodyCount) {
+    // Geometric growth: reserving exactly on every creation would reallocate every time.
+    for (std::vector<std::uint32_t>* v : {&awakeBodies, &wokenBodies, &awakeMergeScratch, &previousStale}) {
+        if (v->capacity() < bodyCount) v->reserve(std::max(bodyCount, 2 * v->capacity()));
+    }
+    if (inAwakeList.capacity() < bodyCount) inAwakeList.reserve(std::max(bodyCount, 2 * inAwakeList.capacity()));
+}
+
+void WorldImpl::refreshAwakeList() {
+    const auto count = static_cast<std::uint32_t>(motion.size());
+    if (awakeListRebuild) {
+        awakeBodies.clear();
+        inAwakeList.assign(count, 0);
+        for (std::uint32_t d = 0; d < count; ++d) {
+            if (params[d].type == BodyType::Static || !params[d].awake) continue;
+            awakeBodies.push_back(d);
+            inAwakeList[d] = 1;
+        }
+        wokenBodies.clear();
+        awakeListRebuild = false;
+        awakeListHasSleepers = false;
+        return;
+    }
+    if (awakeListHasSleepers) {
+        std::size_t kept = 0;
+        for (const std::uint32_t d : awakeBodies) {
+            if (params[d].awake) {
+                awakeBodies[kept++] = d;
+            } else {
+                inAwakeList[d] = 0;
+            }
+        }
+        awakeBodies.resize(kept);
+        awakeListHasSleepers = false;
+    }
+    if (wokenBodies.empty()) return;
+    // The newly woken, sorted, merged into the sorted list from the back (in place, no allocation).
+    awakeMergeScratch.clear();
+    for (const std::uint32_t d : wokenBodies) {
+        if (!params[d].awake || inAwakeList[d] != 0) continue;
+        inAwakeList[d] = 1;
+        awakeMergeScratch.push_back(d);
+    }
+    wokenBodies.clear();
+    if (awakeMergeScratch.empty()) return;
+    std::sort(awakeMergeScratch.begin(), awakeMergeScratch.end());
+    std::size_t a = awakeBodies.size(), b = awakeMergeScratch.size();
+    awakeBodies.resize(a + b);
+    std::size_t out = a + b;
+    while (b > 0) {
+        if (a > 0 && awakeBodies[a - 1] > awakeMergeScratch[b - 1]) {
+            awakeBodies[--out] = awakeBodies[--a];
+        } else {
+            awakeBodies[--out] = awakeMergeScratch[--b];
+        }
     }
 }
 
@@ -215,6 +283,13 @@ BodyId World::createBody(const BodyDef& def) {
         w.bodySlots[slotIndex].dense = dense;
     }
     w.contactManager.addBody(w, dense);
+    // The new body is the last dense index: queued like a woken body, its previous[] like a teleport.
+    w.reserveAwakeList(w.motion.size());
+    if (!w.awakeListRebuild) {
+        w.inAwakeList.push_back(0);
+        if (p.awake && p.type != BodyType::Static) w.wokenBodies.push_back(dense);
+    }
+    w.markPreviousStale(dense);
     w.contactManager.reserve(w, w.motion.size());
     w.contactSolver.reserve(w.motion.size());
     w.sleepManager.reserve(w.motion.size());
@@ -236,7 +311,9 @@ void World::destroyBody(BodyId id) {
     }
 
     detail::detachParticlesFromBody(w, id.index);  // no particle keeps the slot (world/particle_coupling.hpp)
+    w.ensureContactReport();  // the last step's report still names this body's contacts
     w.contactManager.removeBody(w, id.index);
+    w.invalidateAwakeList();  // the swap-remove below renumbers a body
 
     // Swap-remove from the dense arrays.
     const std::uint32_t last = static_cast<std::uint32_t>(w.motion.size() - 1);
@@ -344,6 +421,7 @@ void World::setTransform(BodyId id, const Vec3& position, const Quat& orientatio
     m.com = position + rotate(q, w.params[d].localCom);
     w.updateWorldInertia(d);
     w.previous[d] = {position, q};  // a teleport: don't interpolate across it
+    w.markPreviousStale(d);         // the next step refreshes it, as for every body
     w.wakeBody(d);
     w.contactManager.bodyTeleported(w, d);
     if (movesOthers) {

@@ -1,0 +1,257 @@
+// Sleeping costs nothing: the awake list (WorldImpl::awakeBodies), the
+// per-body contact lists of the contact manager and the lazy contact report
+// (docs/solver.md, "Sleeping"). Each is an acceleration structure, so the tests
+// check them against what they stand for after every step of scenes that go
+// through every way a body falls asleep or wakes: the list must equal the
+// awake non-static bodies in dense order, a sleeping body must not move and
+// must keep previousTransform() equal to its transform (interpolation of a
+// still body is still), and results must be bit-identical to a world that
+// built everything from scratch (a snapshot restored mid-run).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include "contacts/helpers.hpp"
+#include "determinism/state_hash.hpp"
+#include "fulcrum/snapshot.hpp"
+#include "world/world_impl.hpp"
+
+using namespace fulcrum;
+using namespace fulcrum::test;
+
+namespace {
+
+bool sameBits(const Transform& a, const Transform& b) {
+    return std::memcmp(&a.p, &b.p, sizeof a.p) == 0 && std::memcmp(&a.q, &b.q, sizeof a.q) == 0;
+}
+
+// The awake list equals the awake non-static bodies in ascending dense order,
+// and every body asleep since the last check did not move and interpolates still.
+class Checker {
+public:
+    void check(World& world) {
+        WorldImpl& w = world.impl();
+        w.refreshAwakeList();  // applies the pending changes; the list is a pure function of the state
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t d = 0; d < w.motion.size(); ++d) {
+            if (w.params[d].type != BodyType::Static && w.params[d].awake) expected.push_back(d);
+        }
+        ASSERT_EQ(w.awakeBodies, expected) << "awake list out of date at step " << world.stepCount();
+        std::vector<std::pair<BodyId, Transform>> asleep;
+        for (const BodyId id : world.bodies()) {
+            if (world.bodyType(id) == BodyType::Static || world.isAwake(id)) continue;
+            const Transform now = world.transform(id);
+            asleep.emplace_back(id, now);
+            for (const auto& [was, before] : asleepBefore_) {
+                if (was != id) continue;
+                EXPECT_TRUE(sameBits(now, before)) << "a sleeping body moved at step " << world.stepCount();
+                EXPECT_TRUE(sameBits(world.previousTransform(id), now))
+                    << "a sleeping body's previousTransform differs from its transform at step " << world.stepCount();
+            }
+        }
+        asleepBefore_ = std::move(asleep);
+    }
+    void forget() { asleepBefore_.clear(); }  // after a teleport of a sleeping body
+
+private:
+    std::vector<std::pair<BodyId, Transform>> asleepBefore_;
+};
+
+struct Pile {
+    std::vector<BodyId> towerA, towerB, towerC, loose;
+};
+
+// Three 4-box towers far apart (three islands), two loose boxes.
+Pile buildPile(World& world) {
+    addGround(world);
+    Pile p;
+    for (int i = 0; i < 4; ++i) {
+        const Real y = Real(0.5) + static_cast<Real>(i);
+        p.towerA.push_back(addBox(world, {-6, y, 0}));
+        p.towerB.push_back(addBox(world, {0, y, 0}));
+        p.towerC.push_back(addBox(world, {6, y, 0}));
+    }
+    p.loose.push_back(addBox(world, {0, Real(0.5), 6}));
+    p.loose.push_back(addBox(world, {0, Real(0.5), -6}));
+    return p;
+}
+
+void stepChecked(World& world, Checker& checker, int steps) {
+    for (int i = 0; i < steps; ++i) {
+        world.step(kDt);
+        checker.check(world);
+        if (::testing::Test::HasFatalFailure()) return;
+    }
+}
+
+bool allAsleep(const World& world) {
+    for (const BodyId id : world.bodies()) {
+        if (world.bodyType(id) != BodyType::Static && world.isAwake(id)) return false;
+    }
+    return true;
+}
+
+bool anyAwake(const World& world, const std::vector<BodyId>& ids) {
+    for (const BodyId id : ids) {
+        if (world.isAwake(id)) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+// Resting towers fall asleep (timeToSleep 0.5 s after settling), and then a
+// step does no per-body and no per-contact work: the integrators and forces
+// walk an empty awake list, the contact manager visits no contact, the solver
+// has only its static stand-in, and no body moves by a single bit.
+TEST(SleepCost, SleepingWorldStepsWithoutPerBodyWork) {
+    World world;
+    Checker checker;
+    buildPile(world);
+    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
+    ASSERT_TRUE(allAsleep(world));
+    // The body state alone (stateHash also counts the steps).
+    const auto bodyHash = [&world] {
+        StateHasher h;
+        for (const BodyId id : world.bodies()) {
+            h.add(world.position(id)), h.add(world.orientation(id));
+            h.add(world.linearVelocity(id)), h.add(world.angularVelocity(id));
+            h.add64(world.isAwake(id) ? 1 : 0);
+        }
+        return h.value();
+    };
+    const std::uint64_t before = bodyHash();
+    const std::size_t reports = world.contacts().size();
+    EXPECT_GT(reports, 12u);  // every box rests on something: at least one manifold each
+    stepChecked(world, checker, 30);
+    const WorldImpl& w = world.impl();
+    EXPECT_TRUE(w.awakeBodies.empty());
+    EXPECT_EQ(w.contactManager.visitedContactCount(), 0u);
+    EXPECT_EQ(w.contactSolver.denseOfSolverBody().size(), 1u);  // entry 0: the static stand-in
+    EXPECT_EQ(bodyHash(), before);
+    EXPECT_EQ(world.contacts().size(), reports);  // the lazy report still lists the resting contacts
+}
+
+// Every way to wake, one island at a time: touch (a ball dropped on tower A),
+// a user force (tower B), a teleport (a loose box), a destroyed support (tower
+// C's bottom box: the boxes above it fall), a joint to a sleeping body. Other
+// islands stay asleep and the awake list follows exactly.
+TEST(SleepCost, AwakeListFollowsEveryWake) {
+    World world;
+    Checker checker;
+    const Pile p = buildPile(world);
+    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
+    ASSERT_TRUE(allAsleep(world));
+
+    // Touch.
+    addSphere(world, {-6, Real(6), 0}, Real(0.3), 2);
+    bool woke = false;
+    for (int i = 0; i < 90 && !woke; ++i) {
+        stepChecked(world, checker, 1);
+        woke = world.isAwake(p.towerA[3]);
+    }
+    EXPECT_TRUE(woke);
+    EXPECT_FALSE(anyAwake(world, p.towerB));
+    EXPECT_FALSE(anyAwake(world, p.towerC));
+
+    // User force on the bottom box: the whole island wakes.
+    world.applyForceAtCenter(p.towerB[0], {0, 1, 0});
+    EXPECT_TRUE(world.isAwake(p.towerB[3]));
+    stepChecked(world, checker, 2);
+    EXPECT_FALSE(anyAwake(world, p.towerC));
+
+    // Teleport of a sleeping loose box onto the ground elsewhere: it wakes and settles.
+    if (!world.isAwake(p.loose[0])) {
+        world.setTransform(p.loose[0], {3, Real(0.6), 6}, Quat{});
+        checker.forget();
+        EXPECT_TRUE(world.isAwake(p.loose[0]));
+    }
+    stepChecked(world, checker, 2);
+
+    // Destroying tower C's bottom box while it sleeps: the box above loses its
+    // support, wakes, and falls (the dense arrays are renumbered: full rebuild).
+    ASSERT_FALSE(world.isAwake(p.towerC[1]));
+    const Real yBefore = world.position(p.towerC[1]).y;
+    world.destroyBody(p.towerC[0]);
+    EXPECT_TRUE(world.isAwake(p.towerC[1]));
+    stepChecked(world, checker, 30);
+    EXPECT_LT(world.position(p.towerC[1]).y, yBefore - Real(0.5));  // fell most of a box height
+
+    // A joint made on a sleeping body wakes its island (a rod to the other
+    // loose box, anchored where they are, so nothing is yanked).
+    for (int i = 0; i < 300 && world.isAwake(p.loose[1]); ++i) stepChecked(world, checker, 1);
+    ASSERT_FALSE(world.isAwake(p.loose[1]));
+    JointDef j;
+    j.type = JointType::Ball;
+    j.bodyA = p.loose[0];
+    j.bodyB = p.loose[1];
+    j.anchor = world.position(p.loose[1]);
+    world.createJoint(j);
+    stepChecked(world, checker, 2);
+    EXPECT_TRUE(world.isAwake(p.loose[1]));
+    stepChecked(world, checker, 240);
+}
+
+// A snapshot of a half-asleep world resumes bit for bit: the restored world
+// rebuilds its awake list, contact lists and previous transforms from scratch,
+// the running one keeps them incrementally; both give the same states and the
+// same contact reports at every step.
+TEST(SleepCost, HalfAsleepSnapshotResumesBitIdentical) {
+    World world;
+    const Pile p = buildPile(world);
+    for (int i = 0; i < 300 && !allAsleep(world); ++i) world.step(kDt);
+    ASSERT_TRUE(allAsleep(world));
+    world.applyLinearImpulseAtCenter(p.towerB[3], {Real(0.5), 0, 0});
+    world.step(kDt);
+    ASSERT_TRUE(world.isAwake(p.towerB[0]));
+    ASSERT_FALSE(world.isAwake(p.towerA[0]));
+    World restored = loadSnapshotFromMemory(saveSnapshotToMemory(world));
+    Checker checker;
+    for (int i = 0; i < 120; ++i) {
+        world.step(kDt);
+        restored.step(kDt);
+        checker.check(restored);
+        ASSERT_EQ(stateHash(restored), stateHash(world)) << "step " << i;
+        if (i % 10 == 0) {
+            const std::vector<ContactReport> a = world.contacts(), b = restored.contacts();
+            ASSERT_EQ(a.size(), b.size());
+            for (std::size_t k = 0; k < a.size(); ++k) {
+                EXPECT_EQ(a[k].bodyA, b[k].bodyA);
+                EXPECT_EQ(a[k].bodyB, b[k].bodyB);
+                EXPECT_EQ(std::memcmp(&a[k].depth, &b[k].depth, sizeof(Real)), 0);
+                ASSERT_EQ(a[k].points.size(), b[k].points.size());
+                EXPECT_EQ(std::memcmp(a[k].points.data(), b[k].points.data(), a[k].points.size() * sizeof(Vec3)), 0);
+            }
+        }
+    }
+}
+
+// The report is built when read, from the contacts as the last step left
+// them: reading it after every step or only once gives the same reports, and
+// destroying a body between the step and the read does not drop the body's
+// contacts from the last step's report (they are reported as of the step).
+TEST(SleepCost, LazyContactReportEqualsTheStepsReport) {
+    World eager, lazy;
+    const Pile pe = buildPile(eager);
+    const Pile pl = buildPile(lazy);
+    for (int i = 0; i < 20; ++i) {
+        eager.step(kDt);
+        (void)eager.contacts();
+        lazy.step(kDt);
+    }
+    const std::vector<ContactReport> fromEager = eager.contacts();
+    eager.destroyBody(pe.towerA[0]);
+    lazy.destroyBody(pl.towerA[0]);
+    const std::vector<ContactReport> fromLazy = lazy.contacts();
+    ASSERT_EQ(fromLazy.size(), fromEager.size());
+    bool namesDestroyed = false;
+    for (std::size_t k = 0; k < fromLazy.size(); ++k) {
+        EXPECT_EQ(fromLazy[k].bodyA, fromEager[k].bodyA);
+        EXPECT_EQ(fromLazy[k].bodyB, fromEager[k].bodyB);
+        EXPECT_EQ(fromLazy[k].depth, fromEager[k].depth);
+        namesDestroyed = namesDestroyed || fromLazy[k].bodyA == pl.towerA[0] || fromLazy[k].bodyB == pl.towerA[0];
+    }
+    EXPECT_TRUE(namesDestroyed);
+    EXPECT_EQ(stateHash(lazy), stateHash(eager));
+}
