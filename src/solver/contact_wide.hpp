@@ -31,6 +31,8 @@ namespace fulcrum::detail {
 struct SolverBody;
 struct ContactConstraint;
 struct Contact;
+struct CachedManifold;
+struct Softness;
 
 inline constexpr int kWideLanes = simd::kSimdLanes;
 
@@ -63,6 +65,20 @@ struct WideContactBlock {
 void clearBlock(WideContactBlock& block);
 // Lane `lane` of the block from a scalar constraint (prepare).
 void packLane(WideContactBlock& block, int lane, const ContactConstraint& k, const SolverBody* bodies);
+
+// What ContactSolver::buildConstraint reads for one constraint.
+struct LaneSource {
+    const CachedManifold* manifold = nullptr;
+    std::uint32_t bodyA = 0, bodyB = 0, contact = 0, manifoldIndex = 0;
+    Real friction = 0, restitution = 0, rollingResistance = 0;
+};
+// A whole block built kWideLanes constraints at a time: lanes [0, laneCount)
+// from `lanes`, the rest empty. The same operations in the same order as
+// buildConstraint followed by packLane, so the same bits (the scalar build is
+// the reference; tests/solver/simd_solver_test.cpp compares the two solvers
+// step by step). startCom: each solver body's centre of mass at the step's start.
+void buildBlock(WideContactBlock& block, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
+                const Vec3* startCom, const Softness& dynamicSoftness, const Softness& stiffSoftness);
 
 void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies);
 void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
