@@ -78,6 +78,7 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
     grow(colourStart_, kColourCount + 2);
     grow(blocks_, 4 * bodyCount / kWideLanes + kColourCount + 1);
+    grow(blockExtras_, 4 * bodyCount / kWideLanes + kColourCount + 1);
     grow(blockStart_, kColourCount + 2);
 }
 
@@ -165,7 +166,7 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
 // The coloured constraints into blocks of kWideLanes, colour by colour (a
 // block never mixes colours, so its lanes share no dynamic body). Each block
 // is built kWideLanes constraints at a time (buildBlock, contact_wide.cpp:
-// the twin of buildConstraint + packLane, the same bits); the wide path keeps
+// the twin of buildConstraint, the same bits); the wide path keeps
 // no scalar copy (that copy, written and read back once per step, was 5 % of
 // sphere_pile). The overflow colour stays scalar in constraints_: its
 // constraints may share bodies.
@@ -186,6 +187,7 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
     }
     blockStart_[kColourCount] = static_cast<std::uint32_t>(blocks);
     blocks_.resize(blocks);
+    if (blockExtras_.size() < blocks) blockExtras_.resize(blocks);  // never shrinks: no re-initialising
     blockColour_.resize(blocks);
     for (std::uint32_t c = 0; c < kColourCount; ++c) {
         for (std::uint32_t b = blockStart_[c]; b < blockStart_[c + 1]; ++b) blockColour_[b] = c;
@@ -212,8 +214,8 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
                 lane.restitution = contact.restitution;
                 lane.rollingResistance = contact.rollingResistance;
             }
-            buildBlock(blocks_[bi], lanes, static_cast<int>(last - first), bodies_.data(), startCom_.data(),
-                       contactSoftness_, staticSoftness_);
+            buildBlock(blocks_[bi], blockExtras_[bi], lanes, static_cast<int>(last - first), bodies_.data(),
+                       startCom_.data(), contactSoftness_, staticSoftness_);
         }
     });
 

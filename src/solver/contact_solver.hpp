@@ -162,6 +162,7 @@ private:
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
+    std::vector<WideBlockExtra> blockExtras_;    // per block; touched only by blocks that need it
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
     bool wide_ = true;
     TaskSystem* tasks_ = nullptr;

@@ -95,70 +95,22 @@ void clearBlock(WideContactBlock& b) {
     }
 }
 
-void packLane(WideContactBlock& b, int lane, const ContactConstraint& k, const SolverBody* bodies) {
-    b.bodyA[lane] = k.bodyA;
-    b.bodyB[lane] = k.bodyB;
-    b.writeA[lane] = bodies[k.bodyA].invMass > 0 ? k.bodyA : kEmptyLane;
-    b.writeB[lane] = bodies[k.bodyB].invMass > 0 ? k.bodyB : kEmptyLane;
-    b.contact[lane] = k.contact;
-    b.manifold[lane] = k.manifold;
-    b.lanePoints[lane] = k.pointCount;
-    b.laneCount = std::max(b.laneCount, static_cast<std::uint32_t>(lane) + 1);
-    if (k.pointCount > b.pointCount) b.pointCount = k.pointCount;
-    if (k.rollingResistance > 0) b.rolling = true;
-    if (k.restitution != 0) b.bouncy = true;
-    setLane(b.restitution, lane, k.restitution);
-    setLane(b.normal, lane, k.normal);
-    setLane(b.tangent1, lane, k.tangent1);
-    setLane(b.tangent2, lane, k.tangent2);
-    setLane(b.friction, lane, k.friction);
-    setLane(b.rollingResistance, lane, k.rollingResistance);
-    setLane(b.biasRate, lane, k.softness.biasRate);
-    setLane(b.massScale, lane, k.softness.massScale);
-    setLane(b.impulseScale, lane, k.softness.impulseScale);
-    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-        const ConstraintPoint& cp = k.points[i];
-        WidePoint& wp = b.points[i];
-        setLane(wp.rAxn, lane, cp.rAxn);
-        setLane(wp.rBxn, lane, cp.rBxn);
-        setLane(wp.angA, lane, cp.angA);
-        setLane(wp.angB, lane, cp.angB);
-        setLane(wp.baseSeparation, lane, cp.baseSeparation);
-        setLane(wp.normalMass, lane, cp.normalMass);
-        setLane(wp.normalImpulse, lane, cp.normalImpulse);
-        setLane(wp.maxNormalImpulse, lane, cp.maxNormalImpulse);
-        setLane(wp.relativeVelocity, lane, cp.relativeVelocity);
-    }
-    setLane(b.rAc1, lane, k.rAc1);
-    setLane(b.rAc2, lane, k.rAc2);
-    setLane(b.rBc1, lane, k.rBc1);
-    setLane(b.rBc2, lane, k.rBc2);
-    setLane(b.angA1, lane, k.angA1);
-    setLane(b.angA2, lane, k.angA2);
-    setLane(b.angB1, lane, k.angB1);
-    setLane(b.angB2, lane, k.angB2);
-    setLane(b.twistA, lane, k.twistA);
-    setLane(b.twistB, lane, k.twistB);
-    setLane(b.k11, lane, k.k11);
-    setLane(b.k12, lane, k.k12);
-    setLane(b.k22, lane, k.k22);
-    setLane(b.tangentImpulse1, lane, k.tangentImpulse1);
-    setLane(b.tangentImpulse2, lane, k.tangentImpulse2);
-    setLane(b.twistMass, lane, k.twistMass);
-    setLane(b.twistImpulse, lane, k.twistImpulse);
-    setLane(b.twistRadius, lane, k.twistRadius);
-    setLane(b.rollingMass0, lane, k.rollingMass.c0);
-    setLane(b.rollingMass1, lane, k.rollingMass.c1);
-    setLane(b.rollingMass2, lane, k.rollingMass.c2);
-    setLane(b.rollingImpulse, lane, k.rollingImpulse);
-}
-
 // Measured on a settled 600-sphere pile (callgrind, 30 steps): building one
 // constraint in a scratch ContactConstraint and packing it into its lane took
-// ~840 + ~220 instructions; built four at a time here, see docs/solver.md.
-void buildBlock(WideContactBlock& k, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
-                const Vec3* startCom, const Softness& dynamicSoftness, const Softness& stiffSoftness) {
+// ~840 + ~220 instructions; built four at a time here: ~450 per constraint
+// (docs/solver.md).
+void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
+                const SolverBody* bodies, const Vec3* startCom, const Softness& dynamicSoftness,
+                const Softness& stiffSoftness) {
     clearBlock(k);
+    for (int l = 0; l < laneCount; ++l) {
+        k.pointCount = std::max(k.pointCount, lanes[l].manifold->pointCount);
+        k.rolling = k.rolling || lanes[l].rollingResistance > 0;
+    }
+    if (k.pointCount > 1 || k.rolling) {
+        extra = WideBlockExtra{};
+        k.extra = &extra;
+    }
     // The per-lane inputs, lane by lane (zero in empty lanes).
     alignas(32) float nx[kWideLanes] = {}, ny[kWideLanes] = {}, nz[kWideLanes] = {}, sign[kWideLanes] = {};
     alignas(32) float count[kWideLanes] = {}, friction[kWideLanes] = {}, restitution[kWideLanes] = {};
@@ -181,8 +133,6 @@ void buildBlock(WideContactBlock& k, const LaneSource* lanes, int laneCount, con
         k.contact[l] = src.contact;
         k.manifold[l] = src.manifoldIndex;
         k.lanePoints[l] = m.pointCount;
-        if (m.pointCount > k.pointCount) k.pointCount = m.pointCount;
-        if (src.rollingResistance > 0) k.rolling = true;
         if (src.restitution != 0) k.bouncy = true;
         active[l] = 1;
         nx[l] = m.normal.x;
@@ -215,10 +165,10 @@ void buildBlock(WideContactBlock& k, const LaneSource* lanes, int laneCount, con
         if (src.rollingResistance > 0) {
             const Mat3 kr = ba.invI + bb.invI;
             const Mat3 rollingMass = std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
-            setLane(k.rollingMass0, l, rollingMass.c0);
-            setLane(k.rollingMass1, l, rollingMass.c1);
-            setLane(k.rollingMass2, l, rollingMass.c2);
-            setLane(k.rollingImpulse, l, m.rollingImpulse);
+            setLane(extra.rollingMass0, l, rollingMass.c0);
+            setLane(extra.rollingMass1, l, rollingMass.c1);
+            setLane(extra.rollingMass2, l, rollingMass.c2);
+            setLane(extra.rollingImpulse, l, m.rollingImpulse);
         }
     }
     k.laneCount = static_cast<std::uint32_t>(laneCount);
@@ -272,7 +222,7 @@ void buildBlock(WideContactBlock& k, const LaneSource* lanes, int laneCount, con
         const Vec3W angB = invIB * rBxn;
         const FloatW kn = mA + mB + dot(rAxn, angA) + dot(rBxn, angB);
         const Vec3W dv = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
-        WidePoint& wp = k.points[i];
+        WidePoint& wp = k.point(i);
         wp.rAxn = keep3(on, rAxn);
         wp.rBxn = keep3(on, rBxn);
         wp.angA = keep3(on, angA);
@@ -336,7 +286,7 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         FloatW total = 0.0f;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.points[i];
+            const WidePoint& cp = k.point(i);
             total += cp.normalImpulse;
             wA -= cp.angA * cp.normalImpulse;
             wB += cp.angB * cp.normalImpulse;
@@ -347,8 +297,8 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
         Vec3W dwA = k.angA1 * k.tangentImpulse1 + k.angA2 * k.tangentImpulse2 + k.twistA * k.twistImpulse;
         Vec3W dwB = k.angB1 * k.tangentImpulse1 + k.angB2 * k.tangentImpulse2 + k.twistB * k.twistImpulse;
         if (k.rolling) {
-            dwA += gatherInverseInertia(bodies, k.bodyA) * k.rollingImpulse;
-            dwB += gatherInverseInertia(bodies, k.bodyB) * k.rollingImpulse;
+            dwA += gatherInverseInertia(bodies, k.bodyA) * k.extra->rollingImpulse;
+            dwB += gatherInverseInertia(bodies, k.bodyB) * k.extra->rollingImpulse;
         }
         wA -= dwA;
         wB += dwB;
@@ -378,7 +328,7 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
         const Vec3W n = k.normal;
         FloatW totalNormal = zero;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.points[i];
+            WidePoint& cp = k.point(i);
             const FloatW s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn);
             const MaskW speculative = s > zero;
             FloatW bias, massScale, impulseScale;
@@ -450,15 +400,16 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
         if (k.rolling) {
             const MaskW active = k.rollingResistance > zero;
             const FloatW maxRolling = k.rollingResistance * totalNormal;
-            const Vec3W oldR = k.rollingImpulse;
-            const WideMat3 rollingMass{k.rollingMass0, k.rollingMass1, k.rollingMass2};
+            WideBlockExtra& e = *k.extra;
+            const Vec3W oldR = e.rollingImpulse;
+            const WideMat3 rollingMass{e.rollingMass0, e.rollingMass1, e.rollingMass2};
             Vec3W newR = oldR - rollingMass * (wB - wA);
             const FloatW mag2 = lengthSquared(newR);
             const MaskW outside = mag2 > maxRolling * maxRolling;
             const FloatW scale = maxRolling / sqrt(mag2);
             newR = select(outside, newR * scale, newR);
             newR = select(active, newR, oldR);
-            k.rollingImpulse = newR;
+            e.rollingImpulse = newR;
             const Vec3W T = newR - oldR;
             wA -= gatherInverseInertia(bodies, k.bodyA) * T;
             wB += gatherInverseInertia(bodies, k.bodyB) * T;
@@ -497,7 +448,7 @@ void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bo
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         const MaskW bouncy = k.restitution != zero;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.points[i];
+            WidePoint& cp = k.point(i);
             const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
             const FloatW vn = dot(k.normal, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
             FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
@@ -532,7 +483,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
         const Vec3W dp = b.dp - a.dp;
         alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.points[i];
+            const WidePoint& cp = k.point(i);
             const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
             d.store(depth[i]);
             cp.normalImpulse.store(impulse[i]);
@@ -550,7 +501,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
             }
             m.frictionImpulse = friction.lane(l);
             m.twistImpulse = k.twistImpulse.lane(l);
-            m.rollingImpulse = k.rollingImpulse.lane(l);
+            m.rollingImpulse = k.rolling ? k.extra->rollingImpulse.lane(l) : Vec3{};
         }
     }
 }
