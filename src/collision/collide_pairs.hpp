@@ -12,6 +12,8 @@ using ConvexPairFn = bool (*)(const ConvexShape& a, const ConvexShape& b, Real m
 
 // collide_sphere.cpp
 bool collideSphereSphere(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m);
+// The same for spheres given by centre and radius (the dispatcher's fast path).
+bool collideSphereCentres(const Vec3& ca, Real ra, const Vec3& cb, Real rb, Real margin, Manifold& m);
 bool collideSphereCapsule(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m);
 bool collideSphereBox(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m);
 bool collideTriangleSphere(const ConvexShape& tri, const ConvexShape& b, Real margin, Manifold& m);

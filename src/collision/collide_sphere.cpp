@@ -29,8 +29,12 @@ bool spherePoints(const Vec3& ca, Real ra, const Vec3& cb, Real rb, const Vec3& 
 
 }  // namespace
 
+bool collideSphereCentres(const Vec3& ca, Real ra, const Vec3& cb, Real rb, Real margin, Manifold& m) {
+    return spherePoints(ca, ra, cb, rb, {0, 1, 0}, 0, margin, m);
+}
+
 bool collideSphereSphere(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m) {
-    return spherePoints(a.xf.p, a.radius, b.xf.p, b.radius, {0, 1, 0}, 0, margin, m);
+    return collideSphereCentres(a.xf.p, a.radius, b.xf.p, b.radius, margin, m);
 }
 
 bool collideSphereCapsule(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m) {

@@ -122,7 +122,17 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
 void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real speculativeMargin,
              ManifoldBuffer& out) {
     out.clear();
-    collideRecursive(a, xa, b, xb, speculativeMargin, out, 0, 0, 0, 0);
+    if (a.type() == ShapeType::Sphere && b.type() == ShapeType::Sphere) {
+        // Sphere against sphere, nearly every pair of a sphere pile, straight
+        // to its pair function: no recursion, no ConvexShapes, no dispatch table.
+        // collideSphereSphere is this same call (kinds equal: no flip), so the
+        // same bits. Measured on a settled 600-sphere pile: collideRecursive
+        // was 1.6 % of the step's instructions (docs/solver.md).
+        Manifold& m = out.push();
+        if (!collideSphereCentres(xa.p, a.radius(), xb.p, b.radius(), speculativeMargin, m)) out.pop();
+    } else {
+        collideRecursive(a, xa, b, xb, speculativeMargin, out, 0, 0, 0, 0);
+    }
     for (std::size_t i = 0; i < out.size(); ++i) {
         Manifold& m = out[i];
         for (std::uint32_t k = 0; k < m.pointCount; ++k) {

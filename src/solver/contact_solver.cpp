@@ -23,6 +23,14 @@ constexpr std::uint32_t kColourCount = 32;
 // ~0.2-0.5 us of work, a hand-off to a spinning worker about as much.
 constexpr std::uint32_t kBlocksPerTask = 8;
 
+// Ranges for the once-per-step loops spread over threads: building a block
+// (four constraints) is ~0.3-0.6 us, storing one ~0.1 us, and gathering or
+// scattering a body a few ns, so these sizes keep a range well above the
+// pool's hand-off cost.
+constexpr std::uint32_t kBlocksPerBuildTask = 16;
+constexpr std::uint32_t kConstraintsPerTask = 64;
+constexpr std::uint32_t kBodiesPerTask = 1024;
+
 Softness makeSoftness(Real hertz, Real zeta, Real h) {
     if (hertz == 0) return {0, 1, 0};
     const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
@@ -64,10 +72,13 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(constraints_, 4 * bodyCount);
     grow(pending_, 4 * bodyCount);
     grow(slotOf_, 4 * bodyCount);
+    grow(pendingOfSlot_, 4 * bodyCount);
+    grow(blockColour_, 4 * bodyCount / kWideLanes + kColourCount + 1);
     grow(colourOf_, 4 * bodyCount);
     grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
     grow(colourStart_, kColourCount + 2);
     grow(blocks_, 4 * bodyCount / kWideLanes + kColourCount + 1);
+    grow(blockExtras_, 4 * bodyCount / kWideLanes + kColourCount + 1);
     grow(blockStart_, kColourCount + 2);
 }
 
@@ -144,18 +155,28 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
         return;
     }
     constraints_.resize(pending_.size());
-    for (std::size_t pi = 0; pi < pending_.size(); ++pi) {
-        const PendingConstraint& pc = pending_[pi];
-        buildConstraint(w, contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
-    }
+    forRanges(pending_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t pi = begin; pi < end; ++pi) {
+            const PendingConstraint& pc = pending_[pi];
+            buildConstraint(w, contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
+        }
+    });
 }
 
 // The coloured constraints into blocks of kWideLanes, colour by colour (a
-// block never mixes colours, so its lanes share no dynamic body). Each is
-// built in a scratch constraint and packed straight into its lane: the wide
-// path keeps no scalar copy (that copy, written and read back once per step,
-// was 5 % of sphere_pile). The overflow colour stays scalar in constraints_:
-// its constraints may share bodies.
+// block never mixes colours, so its lanes share no dynamic body). Each block
+// is built kWideLanes constraints at a time (buildBlock, contact_wide.cpp:
+// the twin of buildConstraint, the same bits); the wide path keeps
+// no scalar copy (that copy, written and read back once per step, was 5 % of
+// sphere_pile). The overflow colour stays scalar in constraints_: its
+// constraints may share bodies.
+//
+// Blocks are built in parallel, one block per index: a block's lanes, its
+// lane count and its flags are written by one call only, and every constraint
+// depends only on its contact and the solver bodies, so the blocks are the
+// same bits for any thread count. (Building per pending constraint instead
+// would have two threads writing lanes of the same block: false sharing, and
+// the block-wide flags would need a second pass.)
 void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& contacts) {
     blockStart_.assign(kColourCount + 1, 0);
     std::size_t blocks = 0;
@@ -166,23 +187,46 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
     }
     blockStart_[kColourCount] = static_cast<std::uint32_t>(blocks);
     blocks_.resize(blocks);
-    for (WideContactBlock& b : blocks_) clearBlock(b);
+    if (blockExtras_.size() < blocks) blockExtras_.resize(blocks);  // never shrinks: no re-initialising
+    blockColour_.resize(blocks);
+    for (std::uint32_t c = 0; c < kColourCount; ++c) {
+        for (std::uint32_t b = blockStart_[c]; b < blockStart_[c + 1]; ++b) blockColour_[b] = c;
+    }
+    pendingOfSlot_.resize(pending_.size());
+    for (std::size_t pi = 0; pi < pending_.size(); ++pi) pendingOfSlot_[slotOf_[pi]] = static_cast<std::uint32_t>(pi);
+
+    forRanges(blocks, kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
+        LaneSource lanes[kWideLanes];
+        for (std::size_t bi = begin; bi < end; ++bi) {
+            const std::uint32_t c = blockColour_[bi];
+            const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
+            const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
+            for (std::uint32_t slot = first; slot < last; ++slot) {
+                const PendingConstraint& pc = pending_[pendingOfSlot_[slot]];
+                const Contact& contact = contacts[pc.contact];
+                LaneSource& lane = lanes[slot - first];
+                lane.manifold = &contact.manifolds[pc.manifold];
+                lane.bodyA = pc.bodyA;
+                lane.bodyB = pc.bodyB;
+                lane.contact = pc.contact;
+                lane.manifoldIndex = pc.manifold;
+                lane.friction = contact.friction;
+                lane.restitution = contact.restitution;
+                lane.rollingResistance = contact.rollingResistance;
+            }
+            buildBlock(blocks_[bi], blockExtras_[bi], lanes, static_cast<int>(last - first), bodies_.data(),
+                       startCom_.data(), contactSoftness_, staticSoftness_);
+        }
+    });
+
     const std::uint32_t overflow = colourStart_[kColourCount];
     constraints_.resize(pending_.size() - overflow);
-    ContactConstraint scratch;
-    for (std::size_t pi = 0; pi < pending_.size(); ++pi) {
-        const PendingConstraint& pc = pending_[pi];
-        const std::uint32_t slot = slotOf_[pi];
-        if (slot >= overflow) {
-            buildConstraint(w, contacts[pc.contact], pc, constraints_[slot - overflow]);
-            continue;
+    forRanges(constraints_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const PendingConstraint& pc = pending_[pendingOfSlot_[overflow + i]];
+            buildConstraint(w, contacts[pc.contact], pc, constraints_[i]);
         }
-        const std::uint32_t c = colourOf_[pi];
-        const std::uint32_t offset = slot - colourStart_[c];
-        buildConstraint(w, contacts[pc.contact], pc, scratch);
-        packLane(blocks_[blockStart_[c] + offset / kWideLanes], static_cast<int>(offset % kWideLanes), scratch,
-                 bodies_.data());
-    }
+    });
 }
 
 std::size_t ContactSolver::largestColourBlocks() const {
@@ -279,7 +323,7 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
             k.twistImpulse = m.twistImpulse;
             if (rolling > 0) {
                 const Mat3 kr = ba.invI + bb.invI;
-                if (std::fabs(determinant(kr)) > 0) k.rollingMass = inverse(kr);
+                k.rollingMass = std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
                 k.rollingImpulse = m.rollingImpulse;
             } else {
                 k.rollingMass = Mat3::zero();
@@ -303,29 +347,50 @@ void ContactSolver::colour() {
     for (std::size_t i = 0; i < n; ++i) slotOf_[i] = cursor[colourOf_[i]]++;
 }
 
-void ContactSolver::gatherVelocities(const WorldImpl& w) {
-    for (std::size_t i = 1; i < bodies_.size(); ++i) {
-        const BodyMotion& m = w.motion[denseOf_[i]];
-        bodies_[i].v = m.v;
-        bodies_[i].w = m.w;
+// The per-body loops below run in ranges of bodies (solver index - 1) across
+// the task system: each body is read and written by one call only.
+template <class Fn>
+void ContactSolver::forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn) const {
+    if (count == 0) return;
+    if (tasks_ == nullptr || tasks_->workerCount() == 1 || count < 2 * std::size_t{minRange}) {
+        fn(std::size_t{0}, count);
+        return;
     }
+    tasks_->parallelFor(static_cast<std::uint32_t>(count), minRange,
+                        [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+                            fn(std::size_t{begin}, std::size_t{end});
+                        });
+}
+
+void ContactSolver::gatherVelocities(const WorldImpl& w) {
+    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin + 1; i <= end; ++i) {
+            const BodyMotion& m = w.motion[denseOf_[i]];
+            bodies_[i].v = m.v;
+            bodies_[i].w = m.w;
+        }
+    });
 }
 
 void ContactSolver::scatterVelocities(WorldImpl& w) const {
-    for (std::size_t i = 1; i < bodies_.size(); ++i) {
-        if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
-        BodyMotion& m = w.motion[denseOf_[i]];
-        m.v = bodies_[i].v;
-        m.w = bodies_[i].w;
-    }
+    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin + 1; i <= end; ++i) {
+            if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
+            BodyMotion& m = w.motion[denseOf_[i]];
+            m.v = bodies_[i].v;
+            m.w = bodies_[i].w;
+        }
+    });
 }
 
 void ContactSolver::updateDeltas(const WorldImpl& w) {
-    for (std::size_t i = 1; i < bodies_.size(); ++i) {
-        const BodyMotion& m = w.motion[denseOf_[i]];
-        bodies_[i].dp = m.com - startCom_[i];
-        bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
-    }
+    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin + 1; i <= end; ++i) {
+            const BodyMotion& m = w.motion[denseOf_[i]];
+            bodies_[i].dp = m.com - startCom_[i];
+            bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
+        }
+    });
 }
 
 // kernel(firstBlock, blockCount) over the blocks of every colour, colour by
@@ -540,8 +605,19 @@ void ContactSolver::applyRestitution() {
 void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
     (void)w;
     std::vector<Contact>& contacts = manager.contacts();
-    if (wide_) storeWide(blocks_.data(), blocks_.size(), bodies_.data(), contacts.data());
-    for (const ContactConstraint& k : constraints_) {
+    // Every lane and constraint writes its own manifold: in parallel.
+    if (wide_) {
+        forRanges(blocks_.size(), kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
+            storeWide(blocks_.data() + begin, end - begin, bodies_.data(), contacts.data());
+        });
+    }
+    forRanges(constraints_.size(), kConstraintsPerTask,
+              [&](std::size_t begin, std::size_t end) { storeRange(contacts, begin, end); });
+}
+
+void ContactSolver::storeRange(std::vector<Contact>& contacts, std::size_t begin, std::size_t end) const {
+    for (std::size_t ki = begin; ki < end; ++ki) {
+        const ContactConstraint& k = constraints_[ki];
         CachedManifold& m = contacts[k.contact].manifolds[k.manifold];
         const SolverBody& a = bodies_[k.bodyA];
         const SolverBody& b = bodies_[k.bodyB];

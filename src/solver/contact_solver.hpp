@@ -139,7 +139,13 @@ private:
     void warmStartRange(std::size_t begin, std::size_t end);
     template <class Kernel>
     void forEachColour(Kernel&& kernel);
+    // fn(begin, end) over [0, count), across the task system when there is
+    // one and count holds at least two ranges of minRange; each index is
+    // handled by exactly one call, so per-index writes stay deterministic.
+    template <class Fn>
+    void forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn) const;
     void packWide(const WorldImpl& w, const std::vector<Contact>& contacts);
+    void storeRange(std::vector<Contact>& contacts, std::size_t begin, std::size_t end) const;
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
 
     std::vector<SolverBody> bodies_;
@@ -150,10 +156,13 @@ private:
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
+    std::vector<std::uint32_t> pendingOfSlot_;   // the inverse: colour-ordered slot -> pending index
+    std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
+    std::vector<WideBlockExtra> blockExtras_;    // per block; touched only by blocks that need it
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
     bool wide_ = true;
     TaskSystem* tasks_ = nullptr;

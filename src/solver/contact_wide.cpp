@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <type_traits>
 
@@ -94,62 +95,185 @@ void clearBlock(WideContactBlock& b) {
     }
 }
 
-void packLane(WideContactBlock& b, int lane, const ContactConstraint& k, const SolverBody* bodies) {
-    b.bodyA[lane] = k.bodyA;
-    b.bodyB[lane] = k.bodyB;
-    b.writeA[lane] = bodies[k.bodyA].invMass > 0 ? k.bodyA : kEmptyLane;
-    b.writeB[lane] = bodies[k.bodyB].invMass > 0 ? k.bodyB : kEmptyLane;
-    b.contact[lane] = k.contact;
-    b.manifold[lane] = k.manifold;
-    b.lanePoints[lane] = k.pointCount;
-    b.laneCount = std::max(b.laneCount, static_cast<std::uint32_t>(lane) + 1);
-    if (k.pointCount > b.pointCount) b.pointCount = k.pointCount;
-    if (k.rollingResistance > 0) b.rolling = true;
-    if (k.restitution != 0) b.bouncy = true;
-    setLane(b.restitution, lane, k.restitution);
-    setLane(b.normal, lane, k.normal);
-    setLane(b.tangent1, lane, k.tangent1);
-    setLane(b.tangent2, lane, k.tangent2);
-    setLane(b.friction, lane, k.friction);
-    setLane(b.rollingResistance, lane, k.rollingResistance);
-    setLane(b.biasRate, lane, k.softness.biasRate);
-    setLane(b.massScale, lane, k.softness.massScale);
-    setLane(b.impulseScale, lane, k.softness.impulseScale);
-    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-        const ConstraintPoint& cp = k.points[i];
-        WidePoint& wp = b.points[i];
-        setLane(wp.rAxn, lane, cp.rAxn);
-        setLane(wp.rBxn, lane, cp.rBxn);
-        setLane(wp.angA, lane, cp.angA);
-        setLane(wp.angB, lane, cp.angB);
-        setLane(wp.baseSeparation, lane, cp.baseSeparation);
-        setLane(wp.normalMass, lane, cp.normalMass);
-        setLane(wp.normalImpulse, lane, cp.normalImpulse);
-        setLane(wp.maxNormalImpulse, lane, cp.maxNormalImpulse);
-        setLane(wp.relativeVelocity, lane, cp.relativeVelocity);
+// Measured on a settled 600-sphere pile (callgrind, 30 steps): building one
+// constraint in a scratch ContactConstraint and packing it into its lane took
+// ~840 + ~220 instructions; built four at a time here: ~450 per constraint
+// (docs/solver.md).
+void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
+                const SolverBody* bodies, const Vec3* startCom, const Softness& dynamicSoftness,
+                const Softness& stiffSoftness) {
+    clearBlock(k);
+    for (int l = 0; l < laneCount; ++l) {
+        k.pointCount = std::max(k.pointCount, lanes[l].manifold->pointCount);
+        k.rolling = k.rolling || lanes[l].rollingResistance > 0;
     }
-    setLane(b.rAc1, lane, k.rAc1);
-    setLane(b.rAc2, lane, k.rAc2);
-    setLane(b.rBc1, lane, k.rBc1);
-    setLane(b.rBc2, lane, k.rBc2);
-    setLane(b.angA1, lane, k.angA1);
-    setLane(b.angA2, lane, k.angA2);
-    setLane(b.angB1, lane, k.angB1);
-    setLane(b.angB2, lane, k.angB2);
-    setLane(b.twistA, lane, k.twistA);
-    setLane(b.twistB, lane, k.twistB);
-    setLane(b.k11, lane, k.k11);
-    setLane(b.k12, lane, k.k12);
-    setLane(b.k22, lane, k.k22);
-    setLane(b.tangentImpulse1, lane, k.tangentImpulse1);
-    setLane(b.tangentImpulse2, lane, k.tangentImpulse2);
-    setLane(b.twistMass, lane, k.twistMass);
-    setLane(b.twistImpulse, lane, k.twistImpulse);
-    setLane(b.twistRadius, lane, k.twistRadius);
-    setLane(b.rollingMass0, lane, k.rollingMass.c0);
-    setLane(b.rollingMass1, lane, k.rollingMass.c1);
-    setLane(b.rollingMass2, lane, k.rollingMass.c2);
-    setLane(b.rollingImpulse, lane, k.rollingImpulse);
+    if (k.pointCount > 1 || k.rolling) {
+        extra = WideBlockExtra{};
+        k.extra = &extra;
+    }
+    // The per-lane inputs, lane by lane (zero in empty lanes).
+    alignas(32) float nx[kWideLanes] = {}, ny[kWideLanes] = {}, nz[kWideLanes] = {}, sign[kWideLanes] = {};
+    alignas(32) float count[kWideLanes] = {}, friction[kWideLanes] = {}, restitution[kWideLanes] = {};
+    alignas(32) float rolling[kWideLanes] = {}, biasRate[kWideLanes] = {}, massScale[kWideLanes] = {};
+    alignas(32) float impulseScale[kWideLanes] = {}, twistImpulse[kWideLanes] = {}, active[kWideLanes] = {};
+    alignas(32) float fx[kWideLanes] = {}, fy[kWideLanes] = {}, fz[kWideLanes] = {};
+    alignas(32) float cax[kWideLanes] = {}, cay[kWideLanes] = {}, caz[kWideLanes] = {};
+    alignas(32) float cbx[kWideLanes] = {}, cby[kWideLanes] = {}, cbz[kWideLanes] = {};
+    alignas(32) float px[4][kWideLanes] = {}, py[4][kWideLanes] = {}, pz[4][kWideLanes] = {};
+    alignas(32) float depth[4][kWideLanes] = {}, impulse[4][kWideLanes] = {};
+    for (int l = 0; l < laneCount; ++l) {
+        const LaneSource& src = lanes[l];
+        const CachedManifold& m = *src.manifold;
+        const SolverBody& ba = bodies[src.bodyA];
+        const SolverBody& bb = bodies[src.bodyB];
+        k.bodyA[l] = src.bodyA;
+        k.bodyB[l] = src.bodyB;
+        k.writeA[l] = ba.invMass > 0 ? src.bodyA : kEmptyLane;
+        k.writeB[l] = bb.invMass > 0 ? src.bodyB : kEmptyLane;
+        k.contact[l] = src.contact;
+        k.manifold[l] = src.manifoldIndex;
+        k.lanePoints[l] = m.pointCount;
+        if (src.restitution != 0) k.bouncy = true;
+        active[l] = 1;
+        nx[l] = m.normal.x;
+        ny[l] = m.normal.y;
+        nz[l] = m.normal.z;
+        sign[l] = std::copysign(Real(1), m.normal.z);
+        count[l] = static_cast<Real>(m.pointCount);
+        friction[l] = src.friction;
+        restitution[l] = src.restitution;
+        rolling[l] = src.rollingResistance;
+        const Softness& soft = ba.invMass == 0 || bb.invMass == 0 ? stiffSoftness : dynamicSoftness;
+        biasRate[l] = soft.biasRate;
+        massScale[l] = soft.massScale;
+        impulseScale[l] = soft.impulseScale;
+        fx[l] = m.frictionImpulse.x;
+        fy[l] = m.frictionImpulse.y;
+        fz[l] = m.frictionImpulse.z;
+        twistImpulse[l] = m.twistImpulse;
+        const Vec3 comA = startCom[src.bodyA], comB = startCom[src.bodyB];
+        cax[l] = comA.x, cay[l] = comA.y, caz[l] = comA.z;
+        cbx[l] = comB.x, cby[l] = comB.y, cbz[l] = comB.z;
+        for (std::uint32_t i = 0; i < m.pointCount; ++i) {
+            const CachedPoint& p = m.points[i];
+            px[i][l] = p.position.x;
+            py[i][l] = p.position.y;
+            pz[i][l] = p.position.z;
+            depth[i][l] = p.depth;
+            impulse[i][l] = p.normalImpulse;
+        }
+        if (src.rollingResistance > 0) {
+            const Mat3 kr = ba.invI + bb.invI;
+            const Mat3 rollingMass = std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
+            setLane(extra.rollingMass0, l, rollingMass.c0);
+            setLane(extra.rollingMass1, l, rollingMass.c1);
+            setLane(extra.rollingMass2, l, rollingMass.c2);
+            setLane(extra.rollingImpulse, l, m.rollingImpulse);
+        }
+    }
+    k.laneCount = static_cast<std::uint32_t>(laneCount);
+
+    const FloatW zero = 0.0f, one = 1.0f;
+    const MaskW laneActive = FloatW::load(active) > zero;
+    const auto keep = [&](MaskW mask, FloatW v) { return select(mask, v, zero); };
+    const auto keep3 = [&](MaskW mask, const Vec3W& v) { return Vec3W{keep(mask, v.x), keep(mask, v.y), keep(mask, v.z)}; };
+
+    std::array<FloatW, 8> rowA, rowB;
+    const WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
+    const WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
+    const WideMat3 invIA = gatherInverseInertia(bodies, k.bodyA);
+    const WideMat3 invIB = gatherInverseInertia(bodies, k.bodyB);
+    const FloatW mA = a.invMass, mB = b.invMass;
+    const Vec3W comA{FloatW::load(cax), FloatW::load(cay), FloatW::load(caz)};
+    const Vec3W comB{FloatW::load(cbx), FloatW::load(cby), FloatW::load(cbz)};
+    const Vec3W n{FloatW::load(nx), FloatW::load(ny), FloatW::load(nz)};
+
+    // orthonormalBasis (vec3.hpp), lane-wise.
+    const FloatW s = FloatW::load(sign);
+    const FloatW basisA = FloatW(-1.0f) / (s + n.z);
+    const FloatW basisB = n.x * n.y * basisA;
+    const Vec3W t1{one + s * n.x * n.x * basisA, s * basisB, -s * n.x};
+    const Vec3W t2{basisB, s + n.y * n.y * basisA, -n.y};
+
+    k.normal = n;  // zero in empty lanes already
+    k.tangent1 = keep3(laneActive, t1);
+    k.tangent2 = keep3(laneActive, t2);
+    k.friction = FloatW::load(friction);
+    k.restitution = FloatW::load(restitution);
+    k.rollingResistance = FloatW::load(rolling);
+    k.biasRate = FloatW::load(biasRate);
+    k.massScale = FloatW::load(massScale);
+    k.impulseScale = FloatW::load(impulseScale);
+
+    const FloatW pointCount = FloatW::load(count);
+    Vec3W position[4];
+    MaskW pointActive[4];
+    Vec3W centre{zero, zero, zero};
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        const MaskW on = pointCount > FloatW(static_cast<float>(i));
+        pointActive[i] = on;
+        const Vec3W p{FloatW::load(px[i]), FloatW::load(py[i]), FloatW::load(pz[i])};
+        position[i] = p;
+        const Vec3W rA = p - comA;
+        const Vec3W rB = p - comB;
+        const Vec3W rAxn = cross(rA, n);
+        const Vec3W rBxn = cross(rB, n);
+        const Vec3W angA = invIA * rAxn;
+        const Vec3W angB = invIB * rBxn;
+        const FloatW kn = mA + mB + dot(rAxn, angA) + dot(rBxn, angB);
+        const Vec3W dv = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
+        WidePoint& wp = k.point(i);
+        wp.rAxn = keep3(on, rAxn);
+        wp.rBxn = keep3(on, rBxn);
+        wp.angA = keep3(on, angA);
+        wp.angB = keep3(on, angB);
+        wp.baseSeparation = keep(on, -FloatW::load(depth[i]));
+        wp.normalMass = keep(on & (kn > zero), one / kn);
+        wp.normalImpulse = FloatW::load(impulse[i]);
+        wp.maxNormalImpulse = zero;
+        wp.relativeVelocity = keep(on, dot(n, dv));
+        centre = select(on, centre + p, centre);
+    }
+    centre = centre * (one / pointCount);
+    const Vec3W rAc = centre - comA;
+    const Vec3W rBc = centre - comB;
+    FloatW radius = zero;
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        radius = select(pointActive[i], radius + length(position[i] - centre), radius);
+    }
+    k.twistRadius = keep(laneActive, radius / pointCount);
+
+    const Vec3W rAc1 = cross(rAc, t1), rAc2 = cross(rAc, t2);
+    const Vec3W rBc1 = cross(rBc, t1), rBc2 = cross(rBc, t2);
+    const Vec3W angA1 = invIA * rAc1, angA2 = invIA * rAc2;
+    const Vec3W angB1 = invIB * rBc1, angB2 = invIB * rBc2;
+    k.rAc1 = keep3(laneActive, rAc1);
+    k.rAc2 = keep3(laneActive, rAc2);
+    k.rBc1 = keep3(laneActive, rBc1);
+    k.rBc2 = keep3(laneActive, rBc2);
+    k.angA1 = keep3(laneActive, angA1);
+    k.angA2 = keep3(laneActive, angA2);
+    k.angB1 = keep3(laneActive, angB1);
+    k.angB2 = keep3(laneActive, angB2);
+    const FloatW mSum = mA + mB;
+    const FloatW t11 = mSum + dot(rAc1, angA1) + dot(rBc1, angB1);
+    const FloatW t12 = dot(rAc1, angA2) + dot(rBc1, angB2);
+    const FloatW t22 = mSum + dot(rAc2, angA2) + dot(rBc2, angB2);
+    const FloatW det = t11 * t22 - t12 * t12;
+    const MaskW invertible = laneActive & (det > zero);
+    const FloatW inv = one / det;
+    k.k11 = keep(invertible, t22 * inv);
+    k.k12 = keep(invertible, -t12 * inv);
+    k.k22 = keep(invertible, t11 * inv);
+    const Vec3W twistA = invIA * n, twistB = invIB * n;
+    k.twistA = twistA;  // n is zero in empty lanes
+    k.twistB = twistB;
+    const FloatW kt = dot(n, twistA) + dot(n, twistB);
+    k.twistMass = keep(laneActive & (kt > zero), one / kt);
+    const Vec3W frictionImpulse{FloatW::load(fx), FloatW::load(fy), FloatW::load(fz)};
+    k.tangentImpulse1 = keep(laneActive, dot(frictionImpulse, t1));
+    k.tangentImpulse2 = keep(laneActive, dot(frictionImpulse, t2));
+    k.twistImpulse = FloatW::load(twistImpulse);
 }
 
 // The twin of ContactSolver::warmStart's loop body.
@@ -162,7 +286,7 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         FloatW total = 0.0f;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.points[i];
+            const WidePoint& cp = k.point(i);
             total += cp.normalImpulse;
             wA -= cp.angA * cp.normalImpulse;
             wB += cp.angB * cp.normalImpulse;
@@ -173,8 +297,8 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
         Vec3W dwA = k.angA1 * k.tangentImpulse1 + k.angA2 * k.tangentImpulse2 + k.twistA * k.twistImpulse;
         Vec3W dwB = k.angB1 * k.tangentImpulse1 + k.angB2 * k.tangentImpulse2 + k.twistB * k.twistImpulse;
         if (k.rolling) {
-            dwA += gatherInverseInertia(bodies, k.bodyA) * k.rollingImpulse;
-            dwB += gatherInverseInertia(bodies, k.bodyB) * k.rollingImpulse;
+            dwA += gatherInverseInertia(bodies, k.bodyA) * k.extra->rollingImpulse;
+            dwB += gatherInverseInertia(bodies, k.bodyB) * k.extra->rollingImpulse;
         }
         wA -= dwA;
         wB += dwB;
@@ -204,7 +328,7 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
         const Vec3W n = k.normal;
         FloatW totalNormal = zero;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.points[i];
+            WidePoint& cp = k.point(i);
             const FloatW s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn);
             const MaskW speculative = s > zero;
             FloatW bias, massScale, impulseScale;
@@ -276,15 +400,16 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
         if (k.rolling) {
             const MaskW active = k.rollingResistance > zero;
             const FloatW maxRolling = k.rollingResistance * totalNormal;
-            const Vec3W oldR = k.rollingImpulse;
-            const WideMat3 rollingMass{k.rollingMass0, k.rollingMass1, k.rollingMass2};
+            WideBlockExtra& e = *k.extra;
+            const Vec3W oldR = e.rollingImpulse;
+            const WideMat3 rollingMass{e.rollingMass0, e.rollingMass1, e.rollingMass2};
             Vec3W newR = oldR - rollingMass * (wB - wA);
             const FloatW mag2 = lengthSquared(newR);
             const MaskW outside = mag2 > maxRolling * maxRolling;
             const FloatW scale = maxRolling / sqrt(mag2);
             newR = select(outside, newR * scale, newR);
             newR = select(active, newR, oldR);
-            k.rollingImpulse = newR;
+            e.rollingImpulse = newR;
             const Vec3W T = newR - oldR;
             wA -= gatherInverseInertia(bodies, k.bodyA) * T;
             wB += gatherInverseInertia(bodies, k.bodyB) * T;
@@ -323,7 +448,7 @@ void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bo
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         const MaskW bouncy = k.restitution != zero;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.points[i];
+            WidePoint& cp = k.point(i);
             const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
             const FloatW vn = dot(k.normal, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
             FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
@@ -358,7 +483,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
         const Vec3W dp = b.dp - a.dp;
         alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.points[i];
+            const WidePoint& cp = k.point(i);
             const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
             d.store(depth[i]);
             cp.normalImpulse.store(impulse[i]);
@@ -376,7 +501,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
             }
             m.frictionImpulse = friction.lane(l);
             m.twistImpulse = k.twistImpulse.lane(l);
-            m.rollingImpulse = k.rollingImpulse.lane(l);
+            m.rollingImpulse = k.rolling ? k.extra->rollingImpulse.lane(l) : Vec3{};
         }
     }
 }

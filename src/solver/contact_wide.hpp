@@ -31,6 +31,8 @@ namespace fulcrum::detail {
 struct SolverBody;
 struct ContactConstraint;
 struct Contact;
+struct CachedManifold;
+struct Softness;
 
 inline constexpr int kWideLanes = simd::kSimdLanes;
 
@@ -39,30 +41,57 @@ struct WidePoint {
     simd::FloatW baseSeparation, normalMass, normalImpulse, maxNormalImpulse, relativeVelocity;
 };
 
-// kWideLanes constraints of one colour. Lanes past laneCount are empty: no
-// bodies, zero masses and impulses.
-struct WideContactBlock {
-    std::uint32_t bodyA[kWideLanes], bodyB[kWideLanes];    // gather: solver body (0: static)
-    std::uint32_t writeA[kWideLanes], writeB[kWideLanes];  // scatter: the body if dynamic, else kEmptyLane
-    std::uint32_t contact[kWideLanes], manifold[kWideLanes];  // where store() writes each lane's results
-    std::uint32_t lanePoints[kWideLanes];                  // each lane's point count
-    std::uint32_t laneCount = 0, pointCount = 0;           // pointCount: the largest of the lanes
-    bool rolling = false;                                  // a lane has rolling resistance
-    bool bouncy = false;                                   // a lane has restitution
-    simd::Vec3W normal, tangent1, tangent2;
-    simd::FloatW friction, rollingResistance, restitution;
-    simd::FloatW biasRate, massScale, impulseScale;
-    WidePoint points[4];
-    simd::Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
-    simd::FloatW k11, k12, k22, tangentImpulse1, tangentImpulse2, twistMass, twistImpulse, twistRadius;
+// What a block needs only when a lane has more than one point or rolling
+// resistance, kept out of the block so that blocks of one-point contacts
+// (sphere piles) are dense: measured on sphere_pile, see docs/solver.md.
+struct WideBlockExtra {
+    WidePoint points[3];                                   // points 1-3
     simd::Vec3W rollingMass0, rollingMass1, rollingMass2;  // columns
     simd::Vec3W rollingImpulse;
 };
 
+// kWideLanes constraints of one colour. Lanes past laneCount are empty: no
+// bodies, zero masses and impulses. Points past a lane's count are zero.
+struct WideContactBlock {
+    std::uint32_t bodyA[kWideLanes], bodyB[kWideLanes];    // gather: solver body (0: static)
+    std::uint32_t writeA[kWideLanes], writeB[kWideLanes];  // scatter: the body if dynamic, else kEmptyLane
+    std::uint32_t laneCount = 0, pointCount = 0;           // pointCount: the largest of the lanes
+    bool rolling = false;                                  // a lane has rolling resistance
+    bool bouncy = false;                                   // a lane has restitution
+    WideBlockExtra* extra = nullptr;                       // points 1-3 and rolling; set iff pointCount > 1 or rolling
+    simd::Vec3W normal, tangent1, tangent2;
+    simd::FloatW friction, biasRate, massScale, impulseScale;
+    WidePoint point0;
+    simd::Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
+    simd::FloatW k11, k12, k22, tangentImpulse1, tangentImpulse2, twistMass, twistImpulse, twistRadius;
+    // Cold: restitution and store only.
+    simd::FloatW rollingResistance, restitution;
+    std::uint32_t contact[kWideLanes], manifold[kWideLanes];  // where store() writes each lane's results
+    std::uint32_t lanePoints[kWideLanes];                  // each lane's point count
+
+    WidePoint& point(std::uint32_t i) { return i == 0 ? point0 : extra->points[i - 1]; }
+    const WidePoint& point(std::uint32_t i) const { return i == 0 ? point0 : extra->points[i - 1]; }
+};
+
 // An empty block: every lane without bodies, masses or impulses.
 void clearBlock(WideContactBlock& block);
-// Lane `lane` of the block from a scalar constraint (prepare).
-void packLane(WideContactBlock& block, int lane, const ContactConstraint& k, const SolverBody* bodies);
+
+// What ContactSolver::buildConstraint reads for one constraint.
+struct LaneSource {
+    const CachedManifold* manifold = nullptr;
+    std::uint32_t bodyA = 0, bodyB = 0, contact = 0, manifoldIndex = 0;
+    Real friction = 0, restitution = 0, rollingResistance = 0;
+};
+// A whole block built kWideLanes constraints at a time: lanes [0, laneCount)
+// from `lanes`, the rest empty. The same operations in the same order as
+// buildConstraint (the scalar reference), so the same bits:
+// tests/solver/simd_solver_test.cpp compares the two solvers step by step.
+// startCom: each solver body's centre of mass at the step's start. `extra`
+// is this block's own side storage, used (and then attached) only when a
+// lane has several points or rolling resistance.
+void buildBlock(WideContactBlock& block, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
+                const SolverBody* bodies, const Vec3* startCom, const Softness& dynamicSoftness,
+                const Softness& stiffSoftness);
 
 void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies);
 void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
