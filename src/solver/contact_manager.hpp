@@ -109,8 +109,10 @@ private:
     void markContact(std::uint32_t index) { marks_[index >> 6] |= std::uint64_t(1) << (index & 63); }
     // The contacts update() must visit, ascending, into activeContacts_.
     void gatherActiveContacts(const WorldImpl& w);
+    // [0]: the contact's place in slotA's list, [1]: in slotB's. Entries are
+    // keys (contact * 2 + end), UINT32_MAX at the list's ends.
     struct ContactLinks {
-        std::uint32_t prev[2] = {UINT32_MAX, UINT32_MAX};  // [0]: in slotA's list, [1]: in slotB's
+        std::uint32_t prev[2] = {UINT32_MAX, UINT32_MAX};
         std::uint32_t next[2] = {UINT32_MAX, UINT32_MAX};
     };
 
@@ -123,7 +125,7 @@ private:
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
     mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())
     std::vector<ContactLinks> links_;         // per contact
-    std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact (UINT32_MAX: none)
+    std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending
     bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)

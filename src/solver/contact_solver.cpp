@@ -31,6 +31,25 @@ constexpr std::uint32_t kBlocksPerBuildTask = 16;
 constexpr std::uint32_t kConstraintsPerTask = 64;
 constexpr std::uint32_t kBodiesPerTask = 1024;
 
+// How far ahead the constraint build and the store prefetch their contacts
+// (manifolds half as far): a block takes ~0.5 us, a miss to memory ~0.1 us.
+constexpr std::size_t kPrefetchBlocks = 8;
+
+void prefetchContact(const Contact& c) {
+    __builtin_prefetch(&c);
+    __builtin_prefetch(reinterpret_cast<const char*>(&c) + sizeof(Contact) - 1);
+}
+
+// The lines of a manifold the build and store use: the normal and first
+// point at the start, the friction state at the end (a one-point manifold
+// leaves the middle alone).
+void prefetchManifold(const CachedManifold* m) {
+    const char* p = reinterpret_cast<const char*>(m);
+    __builtin_prefetch(p);
+    __builtin_prefetch(p + 64);
+    __builtin_prefetch(p + sizeof(CachedManifold) - 1);
+}
+
 Softness makeSoftness(Real hertz, Real zeta, Real h) {
     if (hertz == 0) return {0, 1, 0};
     const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
@@ -195,9 +214,28 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
     pendingOfSlot_.resize(pending_.size());
     for (std::size_t pi = 0; pi < pending_.size(); ++pi) pendingOfSlot_[slotOf_[pi]] = static_cast<std::uint32_t>(pi);
 
+    // Blocks go in colour order, so their contacts and manifolds are read in
+    // no particular order: prefetch the contacts kPrefetchBlocks blocks ahead and
+    // their manifolds (one pointer further) half as far ahead.
+    const auto prefetchBlock = [&](std::size_t bi, bool manifolds) {
+        if (bi >= blocks) return;
+        const std::uint32_t c = blockColour_[bi];
+        const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
+        const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
+        for (std::uint32_t slot = first; slot < last; ++slot) {
+            const PendingConstraint& pc = pending_[pendingOfSlot_[slot]];
+            if (manifolds) {
+                prefetchManifold(contacts[pc.contact].manifolds.data() + pc.manifold);
+            } else {
+                prefetchContact(contacts[pc.contact]);
+            }
+        }
+    };
     forRanges(blocks, kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
         LaneSource lanes[kWideLanes];
         for (std::size_t bi = begin; bi < end; ++bi) {
+            prefetchBlock(bi + kPrefetchBlocks, false);
+            prefetchBlock(bi + kPrefetchBlocks / 2, true);
             const std::uint32_t c = blockColour_[bi];
             const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
             const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
@@ -608,7 +646,21 @@ void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
     // Every lane and constraint writes its own manifold: in parallel.
     if (wide_) {
         forRanges(blocks_.size(), kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
-            storeWide(blocks_.data() + begin, end - begin, bodies_.data(), contacts.data());
+            // One block at a time with its manifolds prefetched (random in memory, as in packWide).
+            for (std::size_t bi = begin; bi < end; ++bi) {
+                for (std::size_t ahead : {bi + kPrefetchBlocks, bi + kPrefetchBlocks / 2}) {
+                    if (ahead >= blocks_.size()) continue;
+                    const WideContactBlock& k = blocks_[ahead];
+                    for (std::uint32_t l = 0; l < k.laneCount; ++l) {
+                        if (ahead == bi + kPrefetchBlocks) {
+                            prefetchContact(contacts[k.contact[l]]);
+                        } else {
+                            prefetchManifold(contacts[k.contact[l]].manifolds.data() + k.manifold[l]);
+                        }
+                    }
+                }
+                storeWide(blocks_.data() + bi, 1, bodies_.data(), contacts.data());
+            }
         });
     }
     forRanges(constraints_.size(), kConstraintsPerTask,

@@ -44,6 +44,8 @@ class ContactSolver;
 // 20 s; with the tree solver 1.1 cm).
 struct JointTuning {
     static constexpr Real kMaxHertzPerSubstepRate = Real(0.25);
+    // Position projection: Gauss-Seidel passes at most (JointSolver::projectPositions).
+    static constexpr int kMaxProjectionPasses = 4;
 };
 
 class JointSolver {
@@ -78,6 +80,7 @@ private:
     static constexpr std::uint32_t kColourCount = 24;
     void colour(const std::vector<SolverBody>& bodies);
     void refreshRotations();
+    bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
     std::vector<JointConstraint> constraints_;
     std::vector<JointConstraint> empty_, scratch_;
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;

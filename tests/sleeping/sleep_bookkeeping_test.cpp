@@ -255,3 +255,23 @@ TEST(SleepCost, LazyContactReportEqualsTheStepsReport) {
     EXPECT_TRUE(namesDestroyed);
     EXPECT_EQ(stateHash(lazy), stateHash(eager));
 }
+
+// Turning sleeping off wakes every body at the next step and the list holds
+// them all; turned back on, the resting towers fall asleep again (0.5 s below
+// the sleep speeds) and the list empties.
+TEST(SleepCost, SleepingOffAndOnAgain) {
+    World world;
+    Checker checker;
+    const Pile p = buildPile(world);
+    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
+    ASSERT_TRUE(allAsleep(world));
+    world.setSleepingEnabled(false);
+    stepChecked(world, checker, 1);
+    EXPECT_EQ(world.impl().awakeBodies.size(), world.bodyCount() - 1);  // all but the ground
+    stepChecked(world, checker, 30);
+    world.setSleepingEnabled(true);
+    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
+    EXPECT_TRUE(allAsleep(world));
+    EXPECT_TRUE(world.impl().awakeBodies.empty());
+    EXPECT_FALSE(anyAwake(world, p.towerA));
+}
