@@ -188,3 +188,30 @@ TEST(LeverReaction, FrictionAndLimitLoadsAreReported) {
         }
     }
 }
+
+// A block 0.5 m beside its vertical slider's anchor, held by a stalled motor
+// (speed 0) or resting on the lower limit: the slider reports m g up and,
+// from its angular lock, the moment m g r about z (1 %).
+TEST(LeverReaction, OffsetSliderHoldingALoad) {
+    for (const bool direct : {true, false}) {
+        for (const bool motor : {true, false}) {
+            World w(world(direct));
+            const BodyId b = w.createBody(boxBody(Real(kMass), {Real(kLever), 0, 0}, {Real(0.05), Real(0.05), Real(0.05)}));
+            JointDef j = jointDef(JointType::Slider, kWorldBody, b, {0, 0, 0}, {0, 1, 0});
+            if (motor) {
+                j.motor = {true, 0, Real(3 * kMass * kG)};
+            } else {
+                j.hasLimits = true;
+                j.lowerLimit = 0;
+                j.upperLimit = 1;
+            }
+            const JointId id = w.createJoint(j);
+            for (int i = 0; i < 60; ++i) w.step(kDt);
+            const Vec3 f = w.jointReactionForce(id), t = w.jointReactionTorque(id);
+            EXPECT_NEAR(f.y / (kMass * kG), 1, 0.01) << direct << motor;
+            EXPECT_LT(std::hypot(f.x, f.z), 0.01 * kMass * kG) << direct << motor;
+            EXPECT_NEAR(t.z / kGravityTorque, 1, 0.01) << direct << motor;
+            EXPECT_LT(std::hypot(t.x, t.y), 0.01 * kGravityTorque) << direct << motor;
+        }
+    }
+}
