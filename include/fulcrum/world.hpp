@@ -50,8 +50,10 @@ struct WorldDef {
     Real jointDampingRatio = 2;            // > 0
     Real jointProjectionSlop = Real(0.005);  // m: anchor separations beyond it are removed at the position level; >= 0 (inf: never)
     bool jointDirectSolve = true;          // joints forming trees (chains, ragdolls) solved exactly, in linear time
-    // ---- sleeping: a group of touching bodies whose every body stays below both
-    // speeds for `timeToSleep` seconds falls asleep.
+    // ---- sleeping: a group of touching bodies falls asleep once, for `timeToSleep`
+    // seconds, its mass-weighted RMS speed stayed below linearSleepVelocity, no
+    // body of it moved faster than twice that, and none spun faster than
+    // angularSleepVelocity (a lone body: its own speed below linearSleepVelocity).
     Real linearSleepVelocity = Real(0.05);   // m/s, >= 0
     Real angularSleepVelocity = Real(0.05);  // rad/s, >= 0
     Real timeToSleep = Real(0.5);            // s, >= 0

@@ -23,13 +23,14 @@ constexpr std::uint32_t kColourCount = 32;
 // ~0.2-0.5 us of work, a hand-off to a spinning worker about as much.
 constexpr std::uint32_t kBlocksPerTask = 8;
 
-// Ranges for the once-per-step loops spread over threads: building a block
-// (four constraints) is ~0.3-0.6 us, storing one ~0.1 us, and gathering or
-// scattering a body a few ns, so these sizes keep a range well above the
-// pool's hand-off cost.
+// Ranges for the loops spread over threads: building a block (four
+// constraints) is ~0.3-0.6 us, storing one ~0.1 us, and gathering or
+// scattering a body ~5 ns, so these sizes keep a range above the pool's
+// hand-off cost (~0.1-0.2 us). 256 bodies as in step.cpp's per-body loops
+// (which also makes the 600-body piles of tests/threads take the parallel path).
 constexpr std::uint32_t kBlocksPerBuildTask = 16;
 constexpr std::uint32_t kConstraintsPerTask = 64;
-constexpr std::uint32_t kBodiesPerTask = 1024;
+constexpr std::uint32_t kBodiesPerTask = 256;
 
 // How far ahead the constraint build and the store prefetch their contacts
 // (manifolds half as far): a block takes ~0.5 us, a miss to memory ~0.1 us.

@@ -23,19 +23,10 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     const Real lin2 = s.linearSleepVelocity * s.linearSleepVelocity;
     const Real ang2 = s.angularSleepVelocity * s.angularSleepVelocity;
 
-    // Timers of the bodies that were awake this step.
-    for (std::size_t i = 1; i < n; ++i) {
-        const std::uint32_t d = denseOf[i];
-        BodyParams& p = w.params[d];
-        if (!p.awake) continue;
-        const BodyMotion& m = w.motion[d];
-        if (!s.sleeping || !p.allowSleep || lengthSquared(m.v) > lin2 || lengthSquared(m.w) > ang2) {
-            p.sleepTime = 0;
-        } else {
-            p.sleepTime += dt;
-        }
+    if (!s.sleeping) {
+        for (std::size_t i = 1; i < n; ++i) w.params[denseOf[i]].sleepTime = 0;
+        return;
     }
-    if (!s.sleeping) return;
 
     // Islands over touching contacts and joints between awake bodies.
     parent_.resize(n);
@@ -63,6 +54,30 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
         if (ia == 0 || ib == 0) continue;
         const std::uint32_t ra = find(ia), rb = find(ib);
         if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
+    }
+
+    // Timers of the bodies that were awake this step (the measure: sleep.hpp).
+    islandEnergy_.assign(n, 0);
+    islandMass_.assign(n, 0);
+    for (std::uint32_t i = 1; i < n; ++i) {
+        const std::uint32_t d = denseOf[i], root = find(i);
+        islandEnergy_[root] += w.params[d].mass * lengthSquared(w.motion[d].v);
+        islandMass_[root] += w.params[d].mass;
+    }
+    const Real bodyCap2 = kBodySpeedCap * kBodySpeedCap * lin2;
+    for (std::uint32_t i = 1; i < n; ++i) {
+        const std::uint32_t d = denseOf[i], root = find(i);
+        BodyParams& p = w.params[d];
+        if (!p.awake) continue;
+        const BodyMotion& m = w.motion[d];
+        const Real v2 = lengthSquared(m.v);
+        // Kinematic bodies (no mass, nothing in the island's energy) keep the plain test.
+        const bool still = p.mass > 0 ? islandEnergy_[root] <= lin2 * islandMass_[root] && v2 <= bodyCap2 : v2 <= lin2;
+        if (!p.allowSleep || !still || lengthSquared(m.w) > ang2) {
+            p.sleepTime = 0;
+        } else {
+            p.sleepTime += dt;
+        }
     }
 
     islandMinTime_.assign(n, Real(1e30));

@@ -16,7 +16,12 @@
 // Around the sub-steps: before them the collision pipeline (broad phase, contacts,
 // narrow phase, events) and the solver's prepare (constraints on the step's start
 // configuration, graph colouring); after them restitution, impulse storage,
-// continuous collision (time of impact), islands and sleeping, contact reports.
+// continuous collision (time of impact), islands and sleeping; the contact
+// report is only marked stale (built when read: world_impl.hpp).
+//
+// Every per-body stage walks the awake list (WorldImpl::awakeBodies, ascending
+// dense indices of the awake non-static bodies), so sleeping and static bodies
+// cost nothing per step (docs/solver.md, "Sleeping").
 //
 // This is the shape of Box2D v3's soft step (integrate velocities, warm start
 // and solve, integrate positions, relax), so the constraint solver slots in
@@ -50,7 +55,7 @@
 // Threads (docs/threading.md): the per-body and per-pair loops run as
 // parallelFor calls on taskSystem(): the broad phase's tree queries, the
 // narrow phase per contact (ContactManager::update) and the contact report
-// (ContactManager::report), and here the start transforms, the velocity and
+// (ContactManager::report, when read), and here the start transforms, the velocity and
 // position integration per body and the end-of-step NaN check. The contact
 // solver (src/solver) is still serial: its colours are the solver branch's.
 // Every range writes only the slots of the indices it covers and anything

@@ -275,3 +275,52 @@ TEST(SleepCost, SleepingOffAndOnAgain) {
     EXPECT_TRUE(world.impl().awakeBodies.empty());
     EXPECT_FALSE(anyAwake(world, p.towerA));
 }
+
+namespace {
+
+// Zero gravity: a 99 kg box at rest and a 1 kg box drifting at `speed` inside
+// the slack of a 3 m rope (a distance joint, min 0): one island, whose
+// mass-weighted RMS speed is speed / 10.
+bool ropePairSleeps(Real speed, Real seconds) {
+    WorldDef def;
+    def.gravity = {};
+    World world(def);
+    const BodyId heavy = addBox(world, {0, 0, 0}, Vec3::splat(Real(0.5)), 99);
+    const BodyId light = addBox(world, {0, 0, Real(-1)}, Vec3::splat(Real(0.1)), 1);
+    JointDef rope;
+    rope.type = JointType::Distance;
+    rope.bodyA = heavy;
+    rope.bodyB = light;
+    rope.anchor = {0, 0, 0};
+    rope.anchorB = {0, 0, Real(-1)};
+    rope.minLength = 0;
+    rope.maxLength = 3;
+    world.createJoint(rope);
+    world.setLinearVelocity(light, {speed, 0, 0});  // 1 m of drift per 12 s at 0.08 m/s: the rope stays slack
+    const int steps = static_cast<int>(seconds / kDt);
+    for (int i = 0; i < steps; ++i) world.step(kDt);
+    return !world.isAwake(light) && !world.isAwake(heavy);
+}
+
+}  // namespace
+
+// The sleep measure (src/solver/sleep.hpp): an island is still when its
+// mass-weighted RMS speed is below linearSleepVelocity (0.05 m/s) and no body
+// of it is faster than twice that. A lone body is held to 0.05 m/s exactly.
+TEST(SleepMeasure, IslandRmsSpeedWithAPerBodyCap) {
+    // RMS 0.008 m/s, the light body at 0.08 < 0.1: asleep after timeToSleep (0.5 s).
+    EXPECT_TRUE(ropePairSleeps(Real(0.08), 1));
+    // The light body at 0.12 m/s > 0.1 (RMS only 0.012): never, though the island barely moves.
+    EXPECT_FALSE(ropePairSleeps(Real(0.12), 3));
+
+    // A lone body drifting at 0.07 m/s (above the sleep speed) stays awake; at 0.03 it sleeps.
+    for (const Real speed : {Real(0.07), Real(0.03)}) {
+        WorldDef def;
+        def.gravity = {};
+        World world(def);
+        const BodyId box = addBox(world, {0, 0, 0});
+        world.setLinearVelocity(box, {speed, 0, 0});
+        for (int i = 0; i < 120; ++i) world.step(kDt);
+        EXPECT_EQ(world.isAwake(box), speed > Real(0.05)) << "speed " << speed;
+    }
+}
