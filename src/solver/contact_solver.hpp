@@ -160,6 +160,7 @@ private:
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> pendingOfSlot_;   // the inverse: colour-ordered slot -> pending index
     std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
+    std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by slot
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
