@@ -93,6 +93,7 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(pending_, 4 * bodyCount);
     grow(slotOf_, 4 * bodyCount);
     grow(pendingOfSlot_, 4 * bodyCount);
+    grow(laneSources_, 4 * bodyCount);
     grow(blockColour_, 4 * bodyCount / kWideLanes + kColourCount + 1);
     grow(colourOf_, 4 * bodyCount);
     grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
@@ -215,46 +216,47 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
     pendingOfSlot_.resize(pending_.size());
     for (std::size_t pi = 0; pi < pending_.size(); ++pi) pendingOfSlot_[slotOf_[pi]] = static_cast<std::uint32_t>(pi);
 
-    // Blocks go in colour order, so their contacts and manifolds are read in
-    // no particular order: prefetch the contacts kPrefetchBlocks blocks ahead and
-    // their manifolds (one pointer further) half as far ahead.
-    const auto prefetchBlock = [&](std::size_t bi, bool manifolds) {
-        if (bi >= blocks) return;
-        const std::uint32_t c = blockColour_[bi];
-        const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
-        const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
-        for (std::uint32_t slot = first; slot < last; ++slot) {
-            const PendingConstraint& pc = pending_[pendingOfSlot_[slot]];
-            if (manifolds) {
-                prefetchManifold(contacts[pc.contact].manifolds.data() + pc.manifold);
-            } else {
-                prefetchContact(contacts[pc.contact]);
+    // The lanes' inputs staged in colour order first, in pending (contact)
+    // order: the contacts are read one after another and the manifold reads
+    // are independent, so many are in flight at once. Built straight from the
+    // manifolds in colour order, the block build waited on the first read of
+    // each lane's manifold for ~40 % of its time (perf, 10,000-sphere pile).
+    const std::uint32_t colouredCount = colourStart_[kColourCount];
+    laneSources_.resize(colouredCount);
+    forRanges(pending_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t pi = begin; pi < end; ++pi) {
+            const std::uint32_t slot = slotOf_[pi];
+            if (slot >= colouredCount) continue;
+            const PendingConstraint& pc = pending_[pi];
+            const Contact& contact = contacts[pc.contact];
+            const CachedManifold& m = contact.manifolds[pc.manifold];
+            LaneSource& lane = laneSources_[slot];
+            lane.normal = m.normal;
+            lane.pointCount = m.pointCount;
+            lane.frictionImpulse = m.frictionImpulse;
+            lane.twistImpulse = m.twistImpulse;
+            lane.rollingImpulse = m.rollingImpulse;
+            lane.bodyA = pc.bodyA;
+            lane.bodyB = pc.bodyB;
+            lane.contact = pc.contact;
+            lane.manifoldIndex = pc.manifold;
+            lane.friction = contact.friction;
+            lane.restitution = contact.restitution;
+            lane.rollingResistance = contact.rollingResistance;
+            for (std::uint32_t i = 0; i < m.pointCount; ++i) {
+                lane.points[i].position = m.points[i].position;
+                lane.points[i].depth = m.points[i].depth;
+                lane.points[i].normalImpulse = m.points[i].normalImpulse;
             }
         }
-    };
+    });
     forRanges(blocks, kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
-        LaneSource lanes[kWideLanes];
         for (std::size_t bi = begin; bi < end; ++bi) {
-            prefetchBlock(bi + kPrefetchBlocks, false);
-            prefetchBlock(bi + kPrefetchBlocks / 2, true);
             const std::uint32_t c = blockColour_[bi];
             const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
             const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
-            for (std::uint32_t slot = first; slot < last; ++slot) {
-                const PendingConstraint& pc = pending_[pendingOfSlot_[slot]];
-                const Contact& contact = contacts[pc.contact];
-                LaneSource& lane = lanes[slot - first];
-                lane.manifold = &contact.manifolds[pc.manifold];
-                lane.bodyA = pc.bodyA;
-                lane.bodyB = pc.bodyB;
-                lane.contact = pc.contact;
-                lane.manifoldIndex = pc.manifold;
-                lane.friction = contact.friction;
-                lane.restitution = contact.restitution;
-                lane.rollingResistance = contact.rollingResistance;
-            }
-            buildBlock(blocks_[bi], blockExtras_[bi], lanes, static_cast<int>(last - first), bodies_.data(),
-                       startCom_.data(), contactSoftness_, staticSoftness_);
+            buildBlock(blocks_[bi], blockExtras_[bi], laneSources_.data() + first, static_cast<int>(last - first),
+                       bodies_.data(), startCom_.data(), contactSoftness_, staticSoftness_);
         }
     });
 

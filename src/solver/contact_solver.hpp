@@ -11,7 +11,7 @@
 //     friction/restitution/rolling resistance;
 //   - a graph colouring: constraints of one colour share no dynamic body.
 //     Colours are solved in order, deterministically. In wide mode (the
-//     default) each colour's constraints are packed kWideLanes at a time into
+//     default) each colour's constraints are built kWideLanes at a time into
 //     SoA blocks and solved with SIMD (contact_wide.hpp), optionally spread
 //     over a TaskSystem; only the overflow colour is kept as ContactConstraint.
 //     The scalar mode (setWide(false)) keeps every constraint as a
@@ -109,9 +109,11 @@ public:
     // reference; wide is the default. Set before a step, not during one.
     void setWide(bool wide) { wide_ = wide; }
     bool wide() const { return wide_; }
-    // Runs the blocks of each colour across `tasks` (nullptr: on the calling
-    // thread). Blocks of a colour share no dynamic body, so the results are
-    // the same bit for bit for any thread count. Wide mode only.
+    // Runs the blocks of each colour (wide mode), the constraint build, the
+    // store and the per-body gather/scatter/delta loops across `tasks`
+    // (nullptr: on the calling thread). Blocks of a colour share no dynamic
+    // body and every other loop writes only its own indices, so the results
+    // are the same bit for bit for any thread count.
     void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
     // The most blocks any colour has this step (a colour is split across
     // threads from 16 blocks on: kBlocksPerTask in contact_solver.cpp).
@@ -158,6 +160,7 @@ private:
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> pendingOfSlot_;   // the inverse: colour-ordered slot -> pending index
     std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
+    std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by slot
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])

@@ -111,7 +111,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     k.bouncy = false;
     k.extra = nullptr;
     for (int l = 0; l < laneCount; ++l) {
-        k.pointCount = std::max(k.pointCount, lanes[l].manifold->pointCount);
+        k.pointCount = std::max(k.pointCount, lanes[l].pointCount);
         k.rolling = k.rolling || lanes[l].rollingResistance > 0;
     }
     if (k.pointCount > 1 || k.rolling) {
@@ -136,7 +136,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     alignas(32) float depth[4][kWideLanes] = {}, impulse[4][kWideLanes] = {};
     for (int l = 0; l < laneCount; ++l) {
         const LaneSource& src = lanes[l];
-        const CachedManifold& m = *src.manifold;
+        const LaneSource& m = src;
         const SolverBody& ba = bodies[src.bodyA];
         const SolverBody& bb = bodies[src.bodyB];
         k.bodyA[l] = src.bodyA;
@@ -168,7 +168,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
         cax[l] = comA.x, cay[l] = comA.y, caz[l] = comA.z;
         cbx[l] = comB.x, cby[l] = comB.y, cbz[l] = comB.z;
         for (std::uint32_t i = 0; i < m.pointCount; ++i) {
-            const CachedPoint& p = m.points[i];
+            const LaneSource::Point& p = m.points[i];
             px[i][l] = p.position.x;
             py[i][l] = p.position.y;
             pz[i][l] = p.position.z;

@@ -76,11 +76,22 @@ struct WideContactBlock {
 // An empty block: every lane without bodies, masses or impulses.
 void clearBlock(WideContactBlock& block);
 
-// What ContactSolver::buildConstraint reads for one constraint.
+// What ContactSolver::buildConstraint reads for one constraint, copied out of
+// its contact and manifold (prepare stages these in colour order, so the block
+// build reads them sequentially instead of chasing one manifold allocation
+// per lane).
 struct LaneSource {
-    const CachedManifold* manifold = nullptr;
+    Vec3 normal;
+    std::uint32_t pointCount = 0;
+    Vec3 frictionImpulse;
+    Real twistImpulse = 0;
+    Vec3 rollingImpulse;
     std::uint32_t bodyA = 0, bodyB = 0, contact = 0, manifoldIndex = 0;
     Real friction = 0, restitution = 0, rollingResistance = 0;
+    struct Point {
+        Vec3 position;
+        Real depth = 0, normalImpulse = 0;
+    } points[4];
 };
 // A whole block built kWideLanes constraints at a time: lanes [0, laneCount)
 // from `lanes`, the rest empty. The same operations in the same order as
