@@ -92,6 +92,13 @@ bool allAsleep(const World& world) {
     return true;
 }
 
+// Steps (checking the awake list every step) until every body sleeps, at most
+// 5 s; true if they all did.
+bool stepCheckedUntilAllAsleep(World& world, Checker& checker) {
+    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
+    return allAsleep(world);
+}
+
 bool anyAwake(const World& world, const std::vector<BodyId>& ids) {
     for (const BodyId id : ids) {
         if (world.isAwake(id)) return true;
@@ -109,8 +116,7 @@ TEST(SleepCost, SleepingWorldStepsWithoutPerBodyWork) {
     World world;
     Checker checker;
     buildPile(world);
-    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
-    ASSERT_TRUE(allAsleep(world));
+    ASSERT_TRUE(stepCheckedUntilAllAsleep(world, checker));
     // The body state alone (stateHash also counts the steps).
     const auto bodyHash = [&world] {
         StateHasher h;
@@ -141,8 +147,7 @@ TEST(SleepCost, AwakeListFollowsEveryWake) {
     World world;
     Checker checker;
     const Pile p = buildPile(world);
-    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
-    ASSERT_TRUE(allAsleep(world));
+    ASSERT_TRUE(stepCheckedUntilAllAsleep(world, checker));
 
     // Touch.
     addSphere(world, {-6, Real(6), 0}, Real(0.3), 2);
@@ -263,8 +268,7 @@ TEST(SleepCost, SleepingOffAndOnAgain) {
     World world;
     Checker checker;
     const Pile p = buildPile(world);
-    for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
-    ASSERT_TRUE(allAsleep(world));
+    ASSERT_TRUE(stepCheckedUntilAllAsleep(world, checker));
     world.setSleepingEnabled(false);
     stepChecked(world, checker, 1);
     EXPECT_EQ(world.impl().awakeBodies.size(), world.bodyCount() - 1);  // all but the ground

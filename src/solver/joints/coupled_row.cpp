@@ -97,17 +97,7 @@ void solveCoupledLimit(const CoupledRow& r, Real sign, SolverBody& a, SolverBody
                        const JointContext& ctx) {
     const Real k = r.invMass;
     if (!(k > 0)) return;
-    Real bias = 0, massScale = 1, impulseScale = 0;
-    if (C > 0) {
-        bias = C * ctx.invH;
-    } else if (ctx.useBias) {
-        bias = ctx.limitSoft.biasRate * C;
-        massScale = ctx.limitSoft.massScale;
-        impulseScale = ctx.limitSoft.impulseScale;
-    }
-    const Real velocity = sign * rowVelocity(r.measure, a, b);
-    const Real d = -massScale * (velocity + bias) / k - impulseScale * lambda;
-    const Real next = lambda + d > 0 ? lambda + d : Real(0);
+    const Real next = nextLimitImpulse(sign * rowVelocity(r.measure, a, b), C, k, lambda, ctx);
     applyCoupled(r, sign, a, b, next - lambda);
     lambda = next;
 }

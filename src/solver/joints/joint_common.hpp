@@ -126,10 +126,11 @@ inline void solveEqualityRow(const JointRow& r, SolverBody& a, SolverBody& b, Re
     applyRow(r, a, b, d);
 }
 
-// One-sided limit row: keeps C >= 0 with lambda >= 0 (speculative while C > 0).
-inline void solveLimitRow(const JointRow& r, SolverBody& a, SolverBody& b, Real C, Real& lambda, const JointContext& ctx) {
-    const Real k = rowInverseMass(r, a, b);
-    if (k <= 0) return;
+// The next accumulated impulse (>= 0) of a one-sided limit row with inverse
+// effective mass k > 0, row velocity `velocity` and position error C: rigid and
+// speculative while C > 0 (the gap may close in one sub-step, no further), soft
+// once violated. Shared by the plain rows and the coupled free-axis rows.
+inline Real nextLimitImpulse(Real velocity, Real C, Real k, Real lambda, const JointContext& ctx) {
     Real bias = 0, massScale = 1, impulseScale = 0;
     if (C > 0) {
         bias = C * ctx.invH;
@@ -138,8 +139,15 @@ inline void solveLimitRow(const JointRow& r, SolverBody& a, SolverBody& b, Real 
         massScale = ctx.limitSoft.massScale;
         impulseScale = ctx.limitSoft.impulseScale;
     }
-    const Real d = -massScale * (rowVelocity(r, a, b) + bias) / k - impulseScale * lambda;
-    const Real next = lambda + d > 0 ? lambda + d : Real(0);
+    const Real d = -massScale * (velocity + bias) / k - impulseScale * lambda;
+    return lambda + d > 0 ? lambda + d : Real(0);
+}
+
+// One-sided limit row: keeps C >= 0 with lambda >= 0 (speculative while C > 0).
+inline void solveLimitRow(const JointRow& r, SolverBody& a, SolverBody& b, Real C, Real& lambda, const JointContext& ctx) {
+    const Real k = rowInverseMass(r, a, b);
+    if (k <= 0) return;
+    const Real next = nextLimitImpulse(rowVelocity(r, a, b), C, k, lambda, ctx);
     applyRow(r, a, b, next - lambda);
     lambda = next;
 }
