@@ -128,6 +128,7 @@ private:
     std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending
+    std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending
     bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)
     bool visitAll_ = true;                    // the next update visits every contact
 };
