@@ -239,7 +239,9 @@ public:
     EnergyReport energy() const;
     Vec3 linearMomentum() const;
     Vec3 angularMomentum() const;                      // about the world origin
-    std::vector<ContactReport> contacts() const;       // manifolds of the last step
+    // The touching manifolds of the last step, built when first read after it
+    // (const, but not safe to call from two threads at once).
+    std::vector<ContactReport> contacts() const;
 
     // ---- events of the last step (valid until the next step; no allocation)
     std::span<const ContactEvent> contactBeginEvents() const;  // pairs that started touching
