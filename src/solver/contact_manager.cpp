@@ -59,6 +59,17 @@ constexpr std::uint8_t kWakeB = 4;
 constexpr std::uint8_t kCollided = 8;    // collided (touching state valid)
 constexpr std::uint8_t kSeparated = 16;  // fat boxes apart: destroy
 
+// A fresh narrow-phase point into a cached one: the geometry only; the
+// impulses are the caller's (kept for a matched point, zero for a new one).
+inline void copyGeometry(CachedPoint& dst, const ContactPoint& src) {
+    dst.position = src.position;
+    dst.localA = src.localAnchorA;
+    dst.localB = src.localAnchorB;
+    dst.depth = src.depth;
+    dst.depthAfter = src.depth;
+    dst.featureId = src.featureId;
+}
+
 }  // namespace
 
 bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
@@ -391,12 +402,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
                     continue;
                 }
                 const ContactPoint& src = m.points[k];
-                dst.position = src.position;
-                dst.localA = src.localAnchorA;
-                dst.localB = src.localAnchorB;
-                dst.depth = src.depth;
-                dst.depthAfter = src.depth;
-                dst.featureId = src.featureId;
+                copyGeometry(dst, src);
                 dst.normalImpulse = 0;
                 dst.maxNormalImpulse = 0;
                 touching = touching || src.depth > -kTouchSlop;
@@ -446,12 +452,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
             for (std::uint32_t k = 0; k < m.pointCount; ++k) {
                 const ContactPoint& src = m.points[k];
                 CachedPoint& dst = out.points[k];
-                dst.position = src.position;
-                dst.localA = src.localAnchorA;
-                dst.localB = src.localAnchorB;
-                dst.depth = src.depth;
-                dst.depthAfter = src.depth;
-                dst.featureId = src.featureId;
+                copyGeometry(dst, src);
                 touching = touching || src.depth > -kTouchSlop;
                 if (old == nullptr) continue;
                 // Match by feature id; failing that (a box-box manifold may swap its
