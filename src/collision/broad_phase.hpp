@@ -109,6 +109,12 @@ public:
     // New tight box and the displacement over the step. Returns true when the
     // fat box changed (the proxy joins the move buffer), false when it still fits.
     bool moveProxy(ProxyId id, const AABB& tightBox, const Vec3& displacement);
+    // Whether moveProxy would change the fat box (const: safe to call for many
+    // proxies in parallel before the moves, DynamicTree::mustMove).
+    bool proxyMustMove(ProxyId id, const AABB& tightBox, const Vec3& displacement) const {
+        const ProxyRecord& r = record(id);
+        return treeOf(r.type).mustMove(r.leaf, tightBox, displacement);
+    }
     // Sets the filter and refreshes the proxy (see the contract above).
     void setFilter(ProxyId id, const CollisionFilter& filter);
     // Forget the proxy's pairs: the next update reports all its allowed overlaps.

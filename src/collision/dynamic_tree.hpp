@@ -125,6 +125,10 @@ public:
     // Updates the proxy for a new tight box. Returns true when the stored fat box
     // changed (the leaf was reinserted), false when the old fat box still fits.
     bool moveProxy(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement);
+    // Whether moveProxy would reinsert the leaf. Reads only the leaf's own box,
+    // which moving other proxies never changes, so callers may test many
+    // proxies in parallel and then move only those that need it, in order.
+    bool mustMove(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) const;
 
     const AABB& fatAABB(std::int32_t proxyId) const { return nodes_[static_cast<std::size_t>(proxyId)].box; }
     std::uint32_t userValue(std::int32_t proxyId) const { return nodes_[static_cast<std::size_t>(proxyId)].userValue; }

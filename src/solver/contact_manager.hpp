@@ -107,6 +107,11 @@ private:
     void unlinkContact(std::uint32_t index);
     void rebuildLinks();
     void markContact(std::uint32_t index) { marks_[index >> 6] |= std::uint64_t(1) << (index & 63); }
+    // aliveBits_ follows alive with the links (kept by create/destroy, rebuilt by rebuildLinks).
+    void setAliveBit(std::uint32_t index, bool alive) {
+        const std::uint64_t bit = std::uint64_t(1) << (index & 63);
+        aliveBits_[index >> 6] = alive ? (aliveBits_[index >> 6] | bit) : (aliveBits_[index >> 6] & ~bit);
+    }
     // The contacts update() must visit, ascending, into activeContacts_.
     void gatherActiveContacts(const WorldImpl& w);
     // [0]: the contact's place in slotA's list, [1]: in slotB's. Entries are
@@ -127,6 +132,8 @@ private:
     std::vector<ContactLinks> links_;         // per contact
     std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
+    std::vector<std::uint64_t> aliveBits_;    // one bit per contact: alive (valid when !linksRebuild_)
+    std::vector<std::uint8_t> proxyMoves_;    // per awake body: its tight box left its fat box (update())
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending
     std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending
     bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)
