@@ -1,7 +1,7 @@
 // How much of a step runs in parallel, and what 2 threads gain: the scenes of
 // bench/scenes.hpp (box_pile, sphere_pile, ...) stepped three ways.
 //
-//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick]
+//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only]
 //
 // 1. On a timing wrapper around the inline task system (one thread): the
 //    calling thread's CPU time inside parallelFor calls over its CPU time in
@@ -141,21 +141,22 @@ double loadAverage() {
 int main(int argc, char** argv) {
     std::string only;
     int steps = 0, threads = 2;
-    bool quick = false;
+    bool quick = false, pOnly = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
         else if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
         else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) threads = std::max(2, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        else if (std::strcmp(argv[i], "--p-only") == 0) pOnly = true;
         else {
-            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only]\n", argv[0]);
             return 2;
         }
     }
     std::printf("| scene | steps | parallel fraction p | Amdahl bound, %d threads | 1 thread ms (median/mean) | %d threads ms "
-                "(median/mean) | speed-up (mean) | load | bit-identical |\n",
+                "(median/mean) | speed-up (mean) | load | bit-identical | state hash |\n",
                 threads, threads);
-    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
     for (const bench::SceneSpec& scene : bench::allScenes(quick)) {
         if (!only.empty() && scene.name.rfind(only, 0) != 0) continue;
         const int n = steps > 0 ? steps : scene.steps;
@@ -163,15 +164,20 @@ int main(int argc, char** argv) {
         const Timing serial = run(scene, n, 1, &timing);
         const double p = timing.parallelSeconds / serial.cpuSeconds;
         const double bound = 1 / ((1 - p) + p / threads);
+        if (pOnly) {  // the one-thread run alone (for profiling its serial part)
+            std::printf("| %s | %d | %.3f (%llu calls) | %.2f | | | | | | %016llx |\n", scene.name.c_str(), n, p,
+                        static_cast<unsigned long long>(timing.calls), bound, static_cast<unsigned long long>(serial.hash));
+            continue;
+        }
         const double load0 = loadAverage();
         const Timing one = run(scene, n, 1, nullptr);
         const Timing many = run(scene, n, threads, nullptr);
         const double load1 = loadAverage();
-        std::printf("| %s | %d | %.3f (%llu calls) | %.2f | %.3f / %.3f | %.3f / %.3f | %.2f | %.1f-%.1f | %s |\n",
+        std::printf("| %s | %d | %.3f (%llu calls) | %.2f | %.3f / %.3f | %.3f / %.3f | %.2f | %.1f-%.1f | %s | %016llx |\n",
                     scene.name.c_str(), n, p, static_cast<unsigned long long>(timing.calls), bound, median(one.stepMs),
                     mean(one.stepMs), median(many.stepMs), mean(many.stepMs), mean(one.stepMs) / mean(many.stepMs),
                     std::min(load0, load1), std::max(load0, load1),
-                    serial.hash == one.hash && one.hash == many.hash ? "yes" : "NO");
+                    serial.hash == one.hash && one.hash == many.hash ? "yes" : "NO", static_cast<unsigned long long>(serial.hash));
         std::fflush(stdout);
     }
     return 0;

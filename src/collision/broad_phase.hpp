@@ -109,6 +109,28 @@ public:
     // New tight box and the displacement over the step. Returns true when the
     // fat box changed (the proxy joins the move buffer), false when it still fits.
     bool moveProxy(ProxyId id, const AABB& tightBox, const Vec3& displacement);
+    // Whether moveProxy would change the fat box (const: safe to call for many
+    // proxies in parallel before the moves, DynamicTree::mustMove).
+    bool proxyMustMove(ProxyId id, const AABB& tightBox, const Vec3& displacement) const {
+        const ProxyRecord& r = record(id);
+        return treeOf(r.type).mustMove(r.leaf, tightBox, displacement);
+    }
+    // moveProxy in two halves (DynamicTree::setFatBox / reinsert), for a proxy
+    // proxyMustMove said must move: setFatBox gives it its new fat box and its
+    // move-buffer entry at once; reinsertProxy, called for each such proxy
+    // before the next updatePairs, restructures the tree. In between,
+    // testOverlap and fatAABB are exact and may run on other threads while
+    // the reinsertions run on one.
+    void setFatBox(ProxyId id, const AABB& tightBox, const Vec3& displacement) {
+        ProxyRecord& r = record(id);
+        const AABB before = treeOf(r.type).fatAABB(r.leaf);
+        treeOf(r.type).setFatBox(r.leaf, tightBox, displacement);
+        markMoved(id, before, false);
+    }
+    void reinsertProxy(ProxyId id) {
+        const ProxyRecord& r = record(id);
+        treeOf(r.type).reinsert(r.leaf);
+    }
     // Sets the filter and refreshes the proxy (see the contract above).
     void setFilter(ProxyId id, const CollisionFilter& filter);
     // Forget the proxy's pairs: the next update reports all its allowed overlaps.

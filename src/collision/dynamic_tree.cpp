@@ -87,20 +87,23 @@ void DynamicTree::destroyProxy(std::int32_t proxyId) {
     --proxyCount_;
 }
 
-bool DynamicTree::moveProxy(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) {
+bool DynamicTree::mustMove(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) const {
     assert(isProxy(proxyId));
     assert(isFinite(tightBox.min) && isFinite(tightBox.max) && !tightBox.isEmpty());
-    const AABB& stored = node(proxyId).box;
-    if (stored.contains(tightBox)) {
-        // Still inside, but maybe far too large: a body that moved fast and then
-        // slowed down keeps a long box and collects useless pairs. Shrink when
-        // the stored box pokes out of a generous envelope around the tight box
-        // (4 margins plus the predicted motion both ways; the idea is from
-        // Box2D 2.4's MoveProxy). A steady mover never triggers this.
-        const Vec3 reach = abs(displacement * config_.displacementScale) + Vec3::splat(4 * config_.margin);
-        const AABB envelope{tightBox.min - reach, tightBox.max + reach};
-        if (envelope.contains(stored)) return false;
-    }
+    const AABB& stored = nodes_[static_cast<std::size_t>(proxyId)].box;
+    if (!stored.contains(tightBox)) return true;
+    // Still inside, but maybe far too large: a body that moved fast and then
+    // slowed down keeps a long box and collects useless pairs. Shrink when
+    // the stored box pokes out of a generous envelope around the tight box
+    // (4 margins plus the predicted motion both ways; the idea is from
+    // Box2D 2.4's MoveProxy). A steady mover never triggers this.
+    const Vec3 reach = abs(displacement * config_.displacementScale) + Vec3::splat(4 * config_.margin);
+    const AABB envelope{tightBox.min - reach, tightBox.max + reach};
+    return !envelope.contains(stored);
+}
+
+bool DynamicTree::moveProxy(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) {
+    if (!mustMove(proxyId, tightBox, displacement)) return false;
     removeLeaf(proxyId);
     node(proxyId).box = fatten(tightBox, displacement);
     insertLeaf(proxyId);

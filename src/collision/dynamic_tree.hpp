@@ -125,6 +125,25 @@ public:
     // Updates the proxy for a new tight box. Returns true when the stored fat box
     // changed (the leaf was reinserted), false when the old fat box still fits.
     bool moveProxy(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement);
+    // Whether moveProxy would reinsert the leaf. Reads only the leaf's own box,
+    // which moving other proxies never changes, so callers may test many
+    // proxies in parallel and then move only those that need it, in order.
+    bool mustMove(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) const;
+    // moveProxy in two halves, so the leaf's new fat box is final before the
+    // tree is restructured: setFatBox writes the leaf's box only (the
+    // ancestors are stale until reinsert), reinsert(proxyId) then removes and
+    // re-inserts the leaf. Between the two, fatAABB() of every leaf is exact and
+    // queries are not allowed. After every leaf given a new box is reinserted
+    // (in any order) the tree is valid again. reinsert never reallocates the
+    // node pool (removal frees the node insertion takes), so fatAABB() may be
+    // read by other threads while it runs.
+    void setFatBox(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) {
+        node(proxyId).box = fatten(tightBox, displacement);
+    }
+    void reinsert(std::int32_t proxyId) {
+        removeLeaf(proxyId);
+        insertLeaf(proxyId);
+    }
 
     const AABB& fatAABB(std::int32_t proxyId) const { return nodes_[static_cast<std::size_t>(proxyId)].box; }
     std::uint32_t userValue(std::int32_t proxyId) const { return nodes_[static_cast<std::size_t>(proxyId)].userValue; }

@@ -84,13 +84,14 @@ public:
     const BroadPhase& broadPhase() const { return broad_; }
     ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
     // Contacts the last update() visited (tests: a sleeping world visits none).
-    std::size_t visitedContactCount() const { return activeContacts_.size(); }
+    std::size_t visitedContactCount() const { return activeContacts_.size() + newContacts_.size(); }
 
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
 private:
     friend struct fulcrum::SnapshotAccess;
-    void createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
+    // Returns the new contact's index.
+    std::uint32_t createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
     void destroyContact(WorldImpl& w, std::uint32_t index);
     // Per-worker narrow-phase scratch (threads: docs/threading.md).
     struct alignas(64) NarrowScratch {
@@ -107,7 +108,12 @@ private:
     void unlinkContact(std::uint32_t index);
     void rebuildLinks();
     void markContact(std::uint32_t index) { marks_[index >> 6] |= std::uint64_t(1) << (index & 63); }
-    // The contacts update() must visit, ascending, into activeContacts_.
+    // aliveBits_ follows alive with the links (kept by create/destroy, rebuilt by rebuildLinks).
+    void setAliveBit(std::uint32_t index, bool alive) {
+        const std::uint64_t bit = std::uint64_t(1) << (index & 63);
+        aliveBits_[index >> 6] = alive ? (aliveBits_[index >> 6] | bit) : (aliveBits_[index >> 6] & ~bit);
+    }
+    // The existing contacts update() must visit, ascending, into activeContacts_.
     void gatherActiveContacts(const WorldImpl& w);
     // [0]: the contact's place in slotA's list, [1]: in slotB's. Entries are
     // keys (contact * 2 + end), UINT32_MAX at the list's ends.
@@ -127,7 +133,10 @@ private:
     std::vector<ContactLinks> links_;         // per contact
     std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
-    std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending
+    std::vector<std::uint64_t> aliveBits_;    // one bit per contact: alive (valid when !linksRebuild_)
+    std::vector<std::uint8_t> proxyMoves_;    // per awake body: its tight box left its fat box (update())
+    std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending (made before it)
+    std::vector<std::uint32_t> newContacts_;     // the contacts this update made, ascending
     std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending
     bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)
     bool visitAll_ = true;                    // the next update visits every contact

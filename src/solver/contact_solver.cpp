@@ -31,6 +31,14 @@ constexpr std::uint32_t kBlocksPerTask = 8;
 constexpr std::uint32_t kBlocksPerBuildTask = 16;
 constexpr std::uint32_t kConstraintsPerTask = 64;
 constexpr std::uint32_t kBodiesPerTask = 256;
+// The pending-constraint list is built over fixed blocks of contact slots (a
+// constant, so the block sums do not depend on the thread count); a block is
+// ~1-2 us of work.
+constexpr std::size_t kContactsPerBlock = 256;
+constexpr std::uint32_t kContactBlocksPerTask = 2;
+// The colour-ordered slots are placed per fixed block of constraints (a block
+// counts its colours, ~1 us): colour().
+constexpr std::size_t kSlotsPerBlock = 1024;
 
 // How far ahead the constraint build and the store prefetch their contacts
 // (manifolds half as far): a block takes ~0.5 us, a miss to memory ~0.1 us.
@@ -91,12 +99,15 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(solverOfDense_, bodyCount);
     grow(constraints_, 4 * bodyCount);
     grow(pending_, 4 * bodyCount);
+    grow(contactEnds_, 4 * bodyCount);
+    grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
     grow(slotOf_, 4 * bodyCount);
+    grow(slotCursor_, (kColourCount + 1) * (4 * bodyCount / kSlotsPerBlock + 2));
     grow(pendingOfSlot_, 4 * bodyCount);
     grow(laneSources_, 4 * bodyCount);
     grow(blockColour_, 4 * bodyCount / kWideLanes + kColourCount + 1);
     grow(colourOf_, 4 * bodyCount);
-    grow(colourBits_, kColourCount * (bodyCount / 64 + 2));
+    grow(colourBits_, bodyCount + 1);
     grow(colourStart_, kColourCount + 2);
     grow(blocks_, 4 * bodyCount / kWideLanes + kColourCount + 1);
     grow(blockExtras_, 4 * bodyCount / kWideLanes + kColourCount + 1);
@@ -122,54 +133,100 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
     staticSoftness_ = makeSoftness(std::min(2 * s.contactHertz, Real(0.25) / h), s.contactDampingRatio, h);
     (void)dt;
 
-    // ---- solver bodies: awake dynamic and kinematic bodies, entry 0 = static
+    // ---- solver bodies: awake dynamic and kinematic bodies, entry 0 = static.
+    // They are the awake list (w.awakeBodies: ascending dense indices of the
+    // awake non-static bodies, refreshed by the step just before), so solver
+    // body i is awakeBodies[i - 1] and each entry is filled by one index.
+    const std::vector<std::uint32_t>& awake = w.awakeBodies;
     const std::size_t count = w.motion.size();
+    const std::size_t solverCount = awake.size() + 1;
     solverOfDense_.assign(count, 0);
-    bodies_.clear();
-    denseOf_.clear();
-    startCom_.clear();
-    startQ_.clear();
-    bodies_.push_back({});
-    denseOf_.push_back(kNoIndex);
-    startCom_.push_back({});
-    startQ_.push_back({});
-    for (std::uint32_t d = 0; d < count; ++d) {
-        const BodyParams& p = w.params[d];
-        if (p.type == BodyType::Static || !p.awake) continue;
-        const BodyMotion& m = w.motion[d];
-        solverOfDense_[d] = static_cast<std::uint32_t>(bodies_.size());
-        SolverBody b;
-        b.v = m.v;
-        b.w = m.w;
-        b.invMass = m.invMass;
-        b.invI = m.invInertiaWorld;
-        bodies_.push_back(b);
-        denseOf_.push_back(d);
-        startCom_.push_back(m.com);
-        startQ_.push_back(m.q);
-    }
+    bodies_.resize(solverCount);
+    denseOf_.resize(solverCount);
+    startCom_.resize(solverCount);
+    startQ_.resize(solverCount);
+    bodies_[0] = SolverBody{};
+    denseOf_[0] = kNoIndex;
+    startCom_[0] = {};
+    startQ_[0] = {};
+    forRanges(awake.size(), kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            const std::uint32_t d = awake[k];
+            const std::size_t i = k + 1;
+            const BodyMotion& m = w.motion[d];
+            solverOfDense_[d] = static_cast<std::uint32_t>(i);
+            SolverBody b;
+            b.v = m.v;
+            b.w = m.w;
+            b.invMass = m.invMass;
+            b.invI = m.invInertiaWorld;
+            bodies_[i] = b;
+            denseOf_[i] = d;
+            startCom_[i] = m.com;
+            startQ_[i] = m.q;
+        }
+    });
 
     // ---- constraints, one per manifold of every contact with an awake body.
     // First the list of (contact, manifold, bodies), coloured; then each
     // constraint is built in place at its colour's position (no copies of the
     // ~600-byte constraints: measured -5 % on sphere_pile).
-    pending_.clear();
+    // The list is built in parallel over fixed blocks of contacts: each block
+    // finds its contacts' solver bodies and manifold counts (contactEnds_,
+    // per contact), the block totals are summed in block order, and each block
+    // writes its entries from its own offset: the list one thread builds.
     std::vector<Contact>& contacts = manager.contacts();
-    for (std::uint32_t ci = 0; ci < contacts.size(); ++ci) {
-        Contact& c = contacts[ci];
-        c.solved = false;
-        if (!c.alive || c.sensor || c.manifolds.empty()) continue;
-        const std::uint32_t dA = w.bodySlots[c.slotA].dense;
-        const std::uint32_t dB = w.bodySlots[c.slotB].dense;
-        const std::uint32_t ia = solverOfDense_[dA], ib = solverOfDense_[dB];
-        // Both static or asleep: not part of this step.
-        if (ia == 0 && ib == 0) continue;
-        // A sleeping body paired with an awake one was woken by the contact manager.
-        if ((ia == 0 && w.params[dA].type != BodyType::Static) || (ib == 0 && w.params[dB].type != BodyType::Static)) continue;
-        if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;
-        c.solved = true;
-        for (std::uint32_t mi = 0; mi < c.manifolds.size(); ++mi) pending_.push_back({ci, mi, ia, ib});
-    }
+    const std::size_t contactCount = contacts.size();
+    const std::size_t contactBlocks = (contactCount + kContactsPerBlock - 1) / kContactsPerBlock;
+    contactEnds_.resize(contactCount);
+    pendingBlockStart_.resize(contactBlocks + 1);
+    forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t block = begin; block < end; ++block) {
+            const std::size_t first = block * kContactsPerBlock;
+            const std::size_t last = std::min(first + kContactsPerBlock, contactCount);
+            std::uint32_t total = 0;
+            for (std::size_t ci = first; ci < last; ++ci) {
+                Contact& c = contacts[ci];
+                c.solved = false;
+                ContactEnds& ends = contactEnds_[ci];
+                ends.manifolds = 0;
+                if (!c.alive || c.sensor || c.manifolds.empty()) continue;
+                const std::uint32_t dA = w.bodySlots[c.slotA].dense;
+                const std::uint32_t dB = w.bodySlots[c.slotB].dense;
+                const std::uint32_t ia = solverOfDense_[dA], ib = solverOfDense_[dB];
+                // Both static or asleep: not part of this step.
+                if (ia == 0 && ib == 0) continue;
+                // A sleeping body paired with an awake one was woken by the contact manager.
+                if ((ia == 0 && w.params[dA].type != BodyType::Static) ||
+                    (ib == 0 && w.params[dB].type != BodyType::Static))
+                    continue;
+                if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;
+                c.solved = true;
+                ends.bodyA = ia;
+                ends.bodyB = ib;
+                ends.manifolds = static_cast<std::uint32_t>(c.manifolds.size());
+                total += ends.manifolds;
+            }
+            pendingBlockStart_[block + 1] = total;
+        }
+    });
+    pendingBlockStart_[0] = 0;
+    for (std::size_t block = 0; block < contactBlocks; ++block) pendingBlockStart_[block + 1] += pendingBlockStart_[block];
+    pending_.resize(pendingBlockStart_[contactBlocks]);
+    forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t block = begin; block < end; ++block) {
+            const std::size_t first = block * kContactsPerBlock;
+            const std::size_t last = std::min(first + kContactsPerBlock, contactCount);
+            std::uint32_t out = pendingBlockStart_[block];
+            if (out == pendingBlockStart_[block + 1]) continue;  // nothing solved here (a sleeping part of the world)
+            for (std::size_t ci = first; ci < last; ++ci) {
+                const ContactEnds& ends = contactEnds_[ci];
+                for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
+                    pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
+                }
+            }
+        }
+    });
     colour();
     if (wide_) {
         packWide(w, contacts);
@@ -213,8 +270,6 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
     for (std::uint32_t c = 0; c < kColourCount; ++c) {
         for (std::uint32_t b = blockStart_[c]; b < blockStart_[c + 1]; ++b) blockColour_[b] = c;
     }
-    pendingOfSlot_.resize(pending_.size());
-    for (std::size_t pi = 0; pi < pending_.size(); ++pi) pendingOfSlot_[slotOf_[pi]] = static_cast<std::uint32_t>(pi);
 
     // The lanes' inputs staged in colour order first, in pending (contact)
     // order: the contacts are read one after another and the manifold reads
@@ -382,10 +437,43 @@ void ContactSolver::colour() {
             return ConstraintEnds{k.bodyA, k.bodyB, bodies_[k.bodyA].invMass > 0, bodies_[k.bodyB].invMass > 0};
         },
         colourBits_, colourOf_, colourStart_);
-    std::uint32_t cursor[kColourCount + 1];
-    for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
+    // Constraint i goes to slot colourStart[c] + (how many constraints before i
+    // have colour c), and pendingOfSlot_ is the inverse. In parallel over fixed
+    // blocks of constraints: each block counts its colours, the counts are
+    // summed in block order into each block's cursors, and each block fills its
+    // own slots: the slots of one pass in constraint order.
+    const std::size_t blocks = (n + kSlotsPerBlock - 1) / kSlotsPerBlock;
+    slotCursor_.resize(blocks * (kColourCount + 1));
+    forRanges(blocks, 1, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t block = begin; block < end; ++block) {
+            std::uint32_t* counts = slotCursor_.data() + block * (kColourCount + 1);
+            std::fill(counts, counts + kColourCount + 1, 0u);
+            const std::size_t last = std::min(n, (block + 1) * kSlotsPerBlock);
+            for (std::size_t i = block * kSlotsPerBlock; i < last; ++i) ++counts[colourOf_[i]];
+        }
+    });
+    for (std::uint32_t c = 0; c <= kColourCount; ++c) {
+        std::uint32_t cursor = colourStart_[c];
+        for (std::size_t block = 0; block < blocks; ++block) {
+            std::uint32_t& slot = slotCursor_[block * (kColourCount + 1) + c];
+            const std::uint32_t count = slot;
+            slot = cursor;
+            cursor += count;
+        }
+    }
     slotOf_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) slotOf_[i] = cursor[colourOf_[i]]++;
+    pendingOfSlot_.resize(n);
+    forRanges(blocks, 1, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t block = begin; block < end; ++block) {
+            std::uint32_t* cursor = slotCursor_.data() + block * (kColourCount + 1);
+            const std::size_t last = std::min(n, (block + 1) * kSlotsPerBlock);
+            for (std::size_t i = block * kSlotsPerBlock; i < last; ++i) {
+                const std::uint32_t slot = cursor[colourOf_[i]]++;
+                slotOf_[i] = slot;
+                pendingOfSlot_[slot] = static_cast<std::uint32_t>(i);
+            }
+        }
+    });
 }
 
 // The per-body loops below run in ranges of bodies (solver index - 1) across

@@ -157,12 +157,18 @@ private:
     std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
+    struct ContactEnds {
+        std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
+    };
+    std::vector<ContactEnds> contactEnds_;       // per contact slot: prepare()'s pending-list pass
+    std::vector<std::uint32_t> pendingBlockStart_;  // per block of contacts: its first pending entry
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> pendingOfSlot_;   // the inverse: colour-ordered slot -> pending index
+    std::vector<std::uint32_t> slotCursor_;      // colour(): per block of constraints, each colour's next slot
     std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
     std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by slot
     std::vector<std::uint32_t> colourOf_;
-    std::vector<std::uint64_t> colourBits_;      // per colour, one bit per solver body
+    std::vector<std::uint64_t> colourBits_;      // per solver body, the colours it has (graph_colouring.hpp)
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
     std::vector<WideBlockExtra> blockExtras_;    // per block; touched only by blocks that need it

@@ -3,6 +3,7 @@
 // solvers (Box2D v3's "graph colouring" solver sets): within one colour no two
 // constraints write the same body, so a colour's constraints can be solved in
 // any order, in SIMD lanes or on several threads, with the same result.
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -22,27 +23,30 @@ struct ConstraintEnds {
 // (deterministic); one that finds none goes to the overflow colour `Colours`,
 // solved one constraint after another. Fills colourOf[i], and colourStart so
 // that colour c holds [colourStart[c], colourStart[c + 1]) for c = 0..Colours.
-// No allocation once the vectors have their capacity (bits: Colours words per
-// 64 bodies).
+// `used` holds one mask per body of the colours it already has (Colours <= 64),
+// so a constraint's colour is the lowest zero bit of its two bodies' masks ORed:
+// one test instead of up to Colours (the former layout, one bitset per colour,
+// tested colour by colour and read up to 2 x Colours cache lines: the colouring
+// was 0.9 % of a 10,000-sphere pile's collapse, serial). The same colours.
+// No allocation once the vectors have their capacity (used: one word per body).
 template <std::uint32_t Colours, class Ends>
-void colourGreedily(std::size_t count, std::size_t bodyCount, Ends&& ends, std::vector<std::uint64_t>& bits,
+void colourGreedily(std::size_t count, std::size_t bodyCount, Ends&& ends, std::vector<std::uint64_t>& used,
                     std::vector<std::uint32_t>& colourOf, std::vector<std::uint32_t>& colourStart) {
-    const std::size_t words = (bodyCount + 63) / 64;
-    bits.assign(Colours * words, 0);
+    static_assert(Colours >= 1 && Colours <= 64, "one 64-bit mask per body");
+    constexpr std::uint64_t kAllColours = Colours == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << Colours) - 1;
+    used.assign(bodyCount, 0);
     colourOf.resize(count);
     std::uint32_t counts[Colours + 1] = {};
     for (std::size_t i = 0; i < count; ++i) {
         const ConstraintEnds e = ends(i);
+        const std::uint64_t taken = (e.dynamicA ? used[e.a] : 0) | (e.dynamicB ? used[e.b] : 0);
+        const std::uint64_t free = ~taken & kAllColours;
         std::uint32_t c = Colours;
-        for (std::uint32_t col = 0; col < Colours; ++col) {
-            std::uint64_t* used = bits.data() + col * words;
-            const bool usedA = e.dynamicA && (used[e.a >> 6] >> (e.a & 63) & 1u);
-            const bool usedB = e.dynamicB && (used[e.b >> 6] >> (e.b & 63) & 1u);
-            if (usedA || usedB) continue;
-            if (e.dynamicA) used[e.a >> 6] |= std::uint64_t{1} << (e.a & 63);
-            if (e.dynamicB) used[e.b >> 6] |= std::uint64_t{1} << (e.b & 63);
-            c = col;
-            break;
+        if (free != 0) {
+            c = static_cast<std::uint32_t>(std::countr_zero(free));
+            const std::uint64_t bit = std::uint64_t{1} << c;
+            if (e.dynamicA) used[e.a] |= bit;
+            if (e.dynamicB) used[e.b] |= bit;
         }
         colourOf[i] = c;
         ++counts[c];
