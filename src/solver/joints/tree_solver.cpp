@@ -340,7 +340,9 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
             if (!refactor) continue;
             // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
-            // eliminated before everything else (build()).
+            // eliminated before everything else (build()). A contracted leaf's
+            // share is added here by its joint; the share of a contracted body
+            // with a child joint by that child, below, with the coupling.
             for (int r0 = 0; r0 < 3; ++r0) {
                 for (int c = 0; c < 3; ++c) f.D[r0][c] = 0;
             }
