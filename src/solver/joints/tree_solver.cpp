@@ -265,7 +265,11 @@ void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vec
         // block -J_q M^-1 J_c^T, so a chain becomes a block-tridiagonal system of
         // 3x3 joint blocks (the joint-space K = J M^-1 J^T) and the 6x6 body
         // blocks remain only at branch points (a ragdoll's torso and pelvis) and
-        // at a free tree's root. Same exact solution, no fill-in.
+        // at a free tree's root. Same exact solution, no fill-in. Measured with
+        // the inverted blocks (side by side, bench_joints): chain 0.65-0.72 ->
+        // 0.26-0.27 ms/step, worst joint error unchanged (0.54 cm); callgrind
+        // (120 chain steps) 491 M -> 369 M instructions; ragdoll pile (first 60
+        // steps) 4,343 M -> 3,722 M.
         const std::uint32_t count = static_cast<std::uint32_t>(queue.size());
         children_.assign(count, 0);
         for (std::uint32_t q = 0; q < count; ++q) {
