@@ -248,6 +248,15 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
     for (const std::uint32_t index : creationOrder_) {
         const JointConstraint& j = constraints_[index];
         if (j.type == JointType::Slider) continue;
+        const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(w.motion[j.denseA].q, j.localAnchorA);
+        const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : w.motion[j.denseA].com + rA;
+        const Vec3 rB = rotate(w.motion[j.denseB].q, j.localAnchorB);
+        const Vec3 d = w.motion[j.denseB].com + rB - pA;
+        // Point joints within the slop (nearly all, every sub-step) stop here,
+        // before the masses are gathered (chain benchmark, callgrind 120 steps:
+        // projection 15.8 M -> see docs/joints.md).
+        const Real e = length(d);
+        if (j.type != JointType::Distance && e <= slop) continue;
         // Masses of the current orientations (the step's start is far off for a link spinning at 40 rad/s).
         SolverBody sa = bodies_[j.bodyA];
         SolverBody sb = bodies_[j.bodyB];
@@ -255,10 +264,6 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
         if (sb.invMass > 0) sb.invI = w.motion[j.denseB].invInertiaWorld;
         BodyMotion* ma = j.denseA == kNoIndex || sa.invMass == 0 ? nullptr : &w.motion[j.denseA];
         BodyMotion* mb = sb.invMass == 0 ? nullptr : &w.motion[j.denseB];
-        const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(w.motion[j.denseA].q, j.localAnchorA);
-        const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : w.motion[j.denseA].com + rA;
-        const Vec3 rB = rotate(w.motion[j.denseB].q, j.localAnchorB);
-        const Vec3 d = w.motion[j.denseB].com + rB - pA;
         Vec3 P;
         if (j.type == JointType::Distance) {
             const Real len = length(d);
@@ -280,8 +285,6 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
             if (k <= 0) continue;
             P = n * (-C / k);
         } else {
-            const Real e = length(d);
-            if (e <= slop) continue;
             const Mat3 K = pointInverseMass(sa, sb, rA, rB);
             if (!(determinant(K) > 0)) continue;
             P = -(inverse(K) * (d * ((e - slop) / e)));

@@ -93,7 +93,7 @@ private:
         bool joint, bodyIsA;
     };
     template <int dim, int pdim>
-    bool eliminate(std::uint32_t node, const SolverBody* bodies);
+    bool eliminate(std::uint32_t node);
     template <int dim, int pdim>
     void backSubstitute(std::uint32_t node);
     template <int dim, int pdim>
