@@ -6,8 +6,9 @@
 // the AVX2 copy's functions and block types are its translation unit's own:
 // the linker can never pick an AVX2-compiled copy of them for code that runs
 // on a CPU without AVX2. (Shared inline functions this file calls, Vec3 and
-// std:: ones, are inlined; `nm contact_wide_avx2.cpp.o` lists no weak
-// symbols, checked 2026-11-22. Keep it so: no shared out-of-line templates.)
+// std:: ones, are inlined: `nm contact_wide_avx2.cpp.o` lists no weak code
+// symbols, only typeinfo and gatherTransposed's zero rows, checked 2026-11-22
+// in Release. Keep it so: no shared out-of-line templates called from here.)
 #ifndef FULCRUM_WIDE_NS
 #error "define FULCRUM_WIDE_NS and FULCRUM_WIDE_POLICY before including contact_wide_kernels.hpp"
 #endif
@@ -43,7 +44,7 @@ struct WidePoint {
 // resistance, kept out of the block so that blocks of one-point contacts
 // (sphere piles) are dense: measured on sphere_pile, see docs/solver.md.
 struct WideBlockExtra {
-    WidePoint points[3];                                   // points 1-3
+    WidePoint points[3];                             // points 1-3
     Vec3W rollingMass0, rollingMass1, rollingMass2;  // columns
     Vec3W rollingImpulse;
 };
