@@ -32,7 +32,12 @@ const char* simdPathName(SimdPath path) {
 
 bool avx2Available() {
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    static const bool available = avx2KernelsCompiled() && __builtin_cpu_supports("avx2");
+    // cpu_init first: a World built by a static constructor may get here
+    // before libgcc's own initialiser has run (GCC's documentation).
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return avx2KernelsCompiled() && __builtin_cpu_supports("avx2");
+    }();
     return available;
 #else
     return false;
