@@ -2,6 +2,7 @@
 // choice of width at run time (contact_wide.hpp).
 #include "solver/contact_wide.hpp"
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -20,6 +21,14 @@
 #include "solver/contact_wide_kernels.hpp"
 
 namespace fulcrum::detail {
+
+// The scalar part of buildBlock that calls shared inline functions (Mat3
+// inverse and determinant): here, so that no AVX2-compiled copy of them
+// exists (contact_wide_kernels.hpp). The same operations as buildConstraint's.
+Mat3 rollingMassOf(const Mat3& invIA, const Mat3& invIB) {
+    const Mat3 kr = invIA + invIB;
+    return std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
+}
 
 const char* simdPathName(SimdPath path) {
     switch (path) {
