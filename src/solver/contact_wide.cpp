@@ -2,6 +2,7 @@
 // choice of width at run time (contact_wide.hpp).
 #include "solver/contact_wide.hpp"
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -21,6 +22,14 @@
 
 namespace fulcrum::detail {
 
+// The scalar part of buildBlock that calls shared inline functions (Mat3
+// inverse and determinant): here, so that no AVX2-compiled copy of them
+// exists (contact_wide_kernels.hpp). The same operations as buildConstraint's.
+Mat3 rollingMassOf(const Mat3& invIA, const Mat3& invIB) {
+    const Mat3 kr = invIA + invIB;
+    return std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
+}
+
 const char* simdPathName(SimdPath path) {
     switch (path) {
         case SimdPath::Scalar: return "scalar";
@@ -32,7 +41,12 @@ const char* simdPathName(SimdPath path) {
 
 bool avx2Available() {
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    static const bool available = avx2KernelsCompiled() && __builtin_cpu_supports("avx2");
+    // cpu_init first: a World built by a static constructor may get here
+    // before libgcc's own initialiser has run (GCC's documentation).
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return avx2KernelsCompiled() && __builtin_cpu_supports("avx2");
+    }();
     return available;
 #else
     return false;

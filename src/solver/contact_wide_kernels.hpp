@@ -6,8 +6,11 @@
 // the AVX2 copy's functions and block types are its translation unit's own:
 // the linker can never pick an AVX2-compiled copy of them for code that runs
 // on a CPU without AVX2. (Shared inline functions this file calls, Vec3 and
-// std:: ones, are inlined; `nm contact_wide_avx2.cpp.o` lists no weak
-// symbols, checked 2026-11-22. Keep it so: no shared out-of-line templates.)
+// std:: ones, are inlined: `nm contact_wide_avx2.cpp.o` lists no weak code
+// symbols, only typeinfo and gatherTransposed's zero rows, checked 2026-11-22
+// in Release and in the ASan build. Keep it so: scalar helpers that are not
+// inlined everywhere (in the ASan build, fulcrum::inverse(Mat3) was not) are
+// called through a function defined in contact_wide.cpp, like rollingMassOf.)
 #ifndef FULCRUM_WIDE_NS
 #error "define FULCRUM_WIDE_NS and FULCRUM_WIDE_POLICY before including contact_wide_kernels.hpp"
 #endif
@@ -23,6 +26,12 @@
 #include "solver/contact.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/contact_wide.hpp"
+
+namespace fulcrum::detail {
+// (inverse of invIA + invIB, or zero if singular: the rolling-resistance mass.
+// Defined in contact_wide.cpp, so that it is compiled without AVX2.)
+Mat3 rollingMassOf(const Mat3& invIA, const Mat3& invIB);
+}  // namespace fulcrum::detail
 
 namespace fulcrum::detail::FULCRUM_WIDE_NS {
 namespace {
@@ -43,7 +52,7 @@ struct WidePoint {
 // resistance, kept out of the block so that blocks of one-point contacts
 // (sphere piles) are dense: measured on sphere_pile, see docs/solver.md.
 struct WideBlockExtra {
-    WidePoint points[3];                                   // points 1-3
+    WidePoint points[3];                             // points 1-3
     Vec3W rollingMass0, rollingMass1, rollingMass2;  // columns
     Vec3W rollingImpulse;
 };
@@ -219,8 +228,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
             impulse[i][l] = p.normalImpulse;
         }
         if (src.rollingResistance > 0) {
-            const Mat3 kr = ba.invI + bb.invI;
-            const Mat3 rollingMass = std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
+            const Mat3 rollingMass = rollingMassOf(ba.invI, bb.invI);
             setLane(extra.rollingMass0, l, rollingMass.c0);
             setLane(extra.rollingMass1, l, rollingMass.c1);
             setLane(extra.rollingMass2, l, rollingMass.c2);
