@@ -54,10 +54,12 @@
 //
 // Threads (docs/threading.md): the per-body and per-pair loops run as
 // parallelFor calls on taskSystem(): the broad phase's tree queries, the
-// narrow phase per contact (ContactManager::update) and the contact report
-// (ContactManager::report, when read), and here the start transforms, the velocity and
-// position integration per body and the end-of-step NaN check. The contact
-// solver (src/solver) is still serial: its colours are the solver branch's.
+// narrow phase per contact with the tree re-insertions beside it
+// (ContactManager::update), the contact report (ContactManager::report, when
+// read), the contact solver's per-body, per-constraint and per-colour loops
+// (ContactSolver), the islands' per-index parts (SleepManager), and here the
+// start transforms, force evaluation (all but ForceCallbacks), the velocity and
+// position integration per body and the end-of-step NaN check.
 // Every range writes only the slots of the indices it covers and anything
 // order-dependent (contact creation, events, wakes, tree updates) is applied
 // afterwards on this thread in index order, so results are bit-identical for
