@@ -106,12 +106,24 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                 // up to unbiased rounding. (Mapping back with the quaternion rotate()
                 // instead leaves a ~1-ulp *bias* per sub-step from the unit-length
                 // assumption: |L| drifted by 1.5e-4 over 1,920 sub-steps; now ~1e-6.)
+                //
+                // The midpoint rate only sets how far the body turns (it is not
+                // part of that round trip), so it maps L with R I^-1 R^T as three
+                // matrix-vector products instead of forming I_w(qMid) and its
+                // inverse; and the new orientation's matrix R serves both w and
+                // the world inverse inertia. Chain benchmark (100 capsules, 120
+                // steps, callgrind): position stage 98 M -> 67 M instructions,
+                // 0.261 -> 0.247 ms/step median side by side.
                 const Vec3 angularMomentum = worldInertia(m.q, p.localInertia) * m.w;
                 const Quat qMid = integrateRotation(m.q, m.w, Real(0.5) * h);
-                const Vec3 omegaMid = inverse(worldInertia(qMid, p.localInertia)) * angularMomentum;
+                const Mat3 rMid = toMat3(qMid);
+                const Vec3 omegaMid = rMid * (p.invLocalInertia * transposeMul(rMid, angularMomentum));
                 m.q = integrateRotation(m.q, omegaMid, h);
-                m.w = inverse(worldInertia(m.q, p.localInertia)) * angularMomentum;
-                break;
+                const Mat3 r = toMat3(m.q);
+                m.w = inverse(rotateInertia(r, p.localInertia)) * angularMomentum;
+                // As WorldImpl::updateWorldInertia, without converting q again.
+                m.invInertiaWorld = rotateInertia(r, p.invLocalInertia);
+                continue;
             }
         }
         w.updateWorldInertia(i);

@@ -13,6 +13,10 @@
 // The default (FloatW, MaskW, Vec3W) is the widest one the build allows: AVX2
 // with -mavx2, else SSE2 on x86, else PortablePolicy<4>. Defining
 // FULCRUM_SIMD_PORTABLE forces the portable one (to debug, or to compare).
+// The default differs between files compiled with and without -mavx2 (the
+// contact solver compiles its kernels both ways: contact_wide.hpp), so code
+// shared between such files names a policy instead of using the defaults, and
+// kSimdLanes has internal linkage.
 //
 // ---- Results are the scalar results, lane by lane -------------------------------
 // Every lane computes exactly what the scalar code `a op b` computes: add, sub,
@@ -494,6 +498,6 @@ using DefaultPolicy = Sse2Policy;
 using FloatW = FloatWide<DefaultPolicy>;
 using MaskW = MaskWide<DefaultPolicy>;
 using Vec3W = Vec3Wide<DefaultPolicy>;
-inline constexpr int kSimdLanes = DefaultPolicy::kLanes;
+constexpr int kSimdLanes = DefaultPolicy::kLanes;  // not inline: it differs between -mavx2 files and others
 
 }  // namespace fulcrum::simd

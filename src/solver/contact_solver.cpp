@@ -105,13 +105,24 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(slotCursor_, (kColourCount + 1) * (4 * bodyCount / kSlotsPerBlock + 2));
     grow(pendingOfSlot_, 4 * bodyCount);
     grow(laneSources_, 4 * bodyCount);
-    grow(blockColour_, 4 * bodyCount / kWideLanes + kColourCount + 1);
+    grow(blockColour_, bodyCount + kColourCount + 1);  // 4 constraints per body, 4 lanes (the narrowest)
     grow(colourOf_, 4 * bodyCount);
     grow(colourBits_, bodyCount + 1);
     grow(colourStart_, kColourCount + 2);
-    grow(blocks_, 4 * bodyCount / kWideLanes + kColourCount + 1);
-    grow(blockExtras_, 4 * bodyCount / kWideLanes + kColourCount + 1);
+    if (blocks_) blocks_->reserve(4 * bodyCount / static_cast<std::size_t>(blocks_->lanes()) + kColourCount + 1);
     grow(blockStart_, kColourCount + 2);
+}
+
+SimdPath ContactSolver::setSimdPath(SimdPath path) {
+    if (path == SimdPath::Avx2 && !avx2Available()) path = SimdPath::Sse2;
+    simd_ = path;
+    wide_ = path != SimdPath::Scalar;
+    if (wide_ && (!blocks_ || blocks_->path() != path)) {
+        const std::size_t capacity = blocks_ ? blocks_->size() * static_cast<std::size_t>(blocks_->lanes()) : 0;
+        blocks_ = makeWideBlocks(path);
+        blocks_->reserve(capacity / static_cast<std::size_t>(blocks_->lanes()) + kColourCount + 1);
+    }
+    return simd_;
 }
 
 void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
@@ -256,6 +267,8 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
 // would have two threads writing lanes of the same block: false sharing, and
 // the block-wide flags would need a second pass.)
 void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& contacts) {
+    WideBlocks& wideBlocks = *blocks_;
+    const auto kWideLanes = static_cast<std::uint32_t>(wideBlocks.lanes());
     blockStart_.assign(kColourCount + 1, 0);
     std::size_t blocks = 0;
     for (std::uint32_t c = 0; c < kColourCount; ++c) {
@@ -264,8 +277,7 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
         blocks += (n + kWideLanes - 1) / kWideLanes;
     }
     blockStart_[kColourCount] = static_cast<std::uint32_t>(blocks);
-    blocks_.resize(blocks);
-    if (blockExtras_.size() < blocks) blockExtras_.resize(blocks);  // never shrinks: no re-initialising
+    wideBlocks.resize(blocks);
     blockColour_.resize(blocks);
     for (std::uint32_t c = 0; c < kColourCount; ++c) {
         for (std::uint32_t b = blockStart_[c]; b < blockStart_[c + 1]; ++b) blockColour_[b] = c;
@@ -310,8 +322,8 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
             const std::uint32_t c = blockColour_[bi];
             const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
             const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
-            buildBlock(blocks_[bi], blockExtras_[bi], laneSources_.data() + first, static_cast<int>(last - first),
-                       bodies_.data(), startCom_.data(), contactSoftness_, staticSoftness_);
+            wideBlocks.build(bi, laneSources_.data() + first, static_cast<int>(last - first), bodies_.data(),
+                             startCom_.data(), contactSoftness_, staticSoftness_);
         }
     });
 
@@ -527,7 +539,7 @@ void ContactSolver::updateDeltas(const WorldImpl& w) {
 template <class Kernel>
 void ContactSolver::forEachColour(Kernel&& kernel) {
     if (tasks_ == nullptr || tasks_->workerCount() == 1) {
-        kernel(std::size_t{0}, blocks_.size());
+        kernel(std::size_t{0}, blocks_->size());
         return;
     }
     for (std::uint32_t c = 0; c < kColourCount; ++c) {
@@ -546,7 +558,7 @@ void ContactSolver::forEachColour(Kernel&& kernel) {
 void ContactSolver::warmStart() {
     if (wide_) {
         forEachColour([this](std::size_t first, std::size_t count) {
-            warmStartWide(blocks_.data() + first, count, bodies_.data());
+            blocks_->warmStart(first, count, bodies_.data());
         });
         warmStartRange(0, constraints_.size());
     } else {
@@ -586,7 +598,7 @@ void ContactSolver::solve(bool useBias) {
     // Wide mode: the blocks, then the overflow colour (all constraints_ hold).
     if (wide_) {
         forEachColour([this, useBias](std::size_t first, std::size_t count) {
-            solveWide(blocks_.data() + first, count, bodies_.data(), useBias, invH_, pushMax_);
+            blocks_->solve(first, count, bodies_.data(), useBias, invH_, pushMax_);
         });
     }
     if (useBias) {
@@ -702,7 +714,7 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
 }
 
 void ContactSolver::applyRestitution() {
-    if (wide_) restitutionWide(blocks_.data(), blocks_.size(), bodies_.data(), restitutionThreshold_);
+    if (wide_) blocks_->restitution(bodies_.data(), restitutionThreshold_);
     for (ContactConstraint& k : constraints_) {
         if (k.restitution == 0) continue;
         SolverBody& a = bodies_[k.bodyA];
@@ -736,21 +748,24 @@ void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
     std::vector<Contact>& contacts = manager.contacts();
     // Every lane and constraint writes its own manifold: in parallel.
     if (wide_) {
-        forRanges(blocks_.size(), kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
+        const WideBlocks& wideBlocks = *blocks_;
+        forRanges(wideBlocks.size(), kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
             // One block at a time with its manifolds prefetched (random in memory, as in packWide).
             for (std::size_t bi = begin; bi < end; ++bi) {
                 for (std::size_t ahead : {bi + kPrefetchBlocks, bi + kPrefetchBlocks / 2}) {
-                    if (ahead >= blocks_.size()) continue;
-                    const WideContactBlock& k = blocks_[ahead];
-                    for (std::uint32_t l = 0; l < k.laneCount; ++l) {
+                    if (ahead >= wideBlocks.size()) continue;
+                    const std::uint32_t *contact = nullptr, *manifold = nullptr;
+                    std::uint32_t laneCount = 0;
+                    wideBlocks.laneTargets(ahead, contact, manifold, laneCount);
+                    for (std::uint32_t l = 0; l < laneCount; ++l) {
                         if (ahead == bi + kPrefetchBlocks) {
-                            prefetchContact(contacts[k.contact[l]]);
+                            prefetchContact(contacts[contact[l]]);
                         } else {
-                            prefetchManifold(contacts[k.contact[l]].manifolds.data() + k.manifold[l]);
+                            prefetchManifold(contacts[contact[l]].manifolds.data() + manifold[l]);
                         }
                     }
                 }
-                storeWide(blocks_.data() + bi, 1, bodies_.data(), contacts.data());
+                wideBlocks.store(bi, 1, bodies_.data(), contacts.data());
             }
         });
     }

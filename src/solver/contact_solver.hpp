@@ -11,15 +11,17 @@
 //     friction/restitution/rolling resistance;
 //   - a graph colouring: constraints of one colour share no dynamic body.
 //     Colours are solved in order, deterministically. In wide mode (the
-//     default) each colour's constraints are built kWideLanes at a time into
-//     SoA blocks and solved with SIMD (contact_wide.hpp), optionally spread
-//     over a TaskSystem; only the overflow colour is kept as ContactConstraint.
-//     The scalar mode (setWide(false)) keeps every constraint as a
-//     ContactConstraint and is the reference the wide mode equals bit for bit.
+//     default) each colour's constraints are built 4 or 8 at a time (SSE2 or
+//     AVX2, chosen at run time: setSimdPath) into SoA blocks and solved with
+//     SIMD (contact_wide.hpp), optionally spread over a TaskSystem; only the
+//     overflow colour is kept as ContactConstraint. The scalar mode
+//     (SimdPath::Scalar) keeps every constraint as a ContactConstraint and is
+//     the reference both wide modes equal bit for bit.
 // Per sub-step the step calls: gather velocities, warmStart, solve(bias),
 // scatter, [integrate positions], updateDeltas, relax (solve without bias),
 // scatter. After the sub-steps: applyRestitution, store.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "fulcrum/math.hpp"
@@ -90,6 +92,7 @@ struct SolverSettings {
 
 class ContactSolver {
 public:
+    ContactSolver() { setSimdPath(initialSimdPath()); }
     // Grows the per-step buffers for `bodyCount` bodies (at body creation).
     void reserve(std::size_t bodyCount);
     // Builds solver bodies and constraints for the contacts with an awake body.
@@ -104,11 +107,16 @@ public:
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(WorldImpl& w, ContactManager& contacts);
 
-    // Wide (SIMD, kWideLanes constraints at a time) or scalar solve; both give
-    // the same results (contact_wide.hpp says why). The scalar path is the
-    // reference; wide is the default. Set before a step, not during one.
-    void setWide(bool wide) { wide_ = wide; }
-    bool wide() const { return wide_; }
+    // Scalar, 4-lane (SSE2) or 8-lane (AVX2) solve; all give the same results
+    // (contact_wide.hpp says why). The scalar path is the reference; the
+    // default is initialSimdPath() (FULCRUM_SIMD, else the widest the CPU
+    // runs). Avx2 where the CPU lacks it gives Sse2. Set before a step, not
+    // during one; returns the path now in use.
+    SimdPath setSimdPath(SimdPath path);
+    SimdPath simdPath() const { return simd_; }
+    // Wide: the machine's best wide path (as the default); else scalar.
+    void setWide(bool wide) { setSimdPath(wide ? bestSimdPath() : SimdPath::Scalar); }
+    bool wide() const { return simd_ != SimdPath::Scalar; }
     // Runs the blocks of each colour (wide mode), the constraint build, the
     // store and the per-body gather/scatter/delta loops across `tasks`
     // (nullptr: on the calling thread). Blocks of a colour share no dynamic
@@ -170,10 +178,10 @@ private:
     std::vector<std::uint32_t> colourOf_;
     std::vector<std::uint64_t> colourBits_;      // per solver body, the colours it has (graph_colouring.hpp)
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
-    std::vector<WideContactBlock> blocks_;       // wide mode: the coloured constraints, kWideLanes per block
-    std::vector<WideBlockExtra> blockExtras_;    // per block; touched only by blocks that need it
+    std::unique_ptr<WideBlocks> blocks_;         // wide mode: the coloured constraints, lanes() per block
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
-    bool wide_ = true;
+    SimdPath simd_ = SimdPath::Scalar;           // set by the constructor
+    bool wide_ = false;                          // simd_ != Scalar
     TaskSystem* tasks_ = nullptr;
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;

@@ -1,522 +1,63 @@
+// The 4-lane contact kernels (SSE2 on x86-64, portable C++ elsewhere) and the
+// choice of width at run time (contact_wide.hpp).
 #include "solver/contact_wide.hpp"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
+#include <cstdlib>
 #include <cstring>
-#include <type_traits>
+#include <string>
 
+#include "fulcrum/error.hpp"
+#include "math/simd.hpp"
 #include "solver/contact.hpp"
 #include "solver/contact_solver.hpp"
 
+#if defined(FULCRUM_SIMD_PORTABLE) || !FULCRUM_SIMD_HAS_SSE2
+#define FULCRUM_WIDE_POLICY simd::PortablePolicy<4>
+#else
+#define FULCRUM_WIDE_POLICY simd::Sse2Policy
+#endif
+#define FULCRUM_WIDE_NS sse2
+#include "solver/contact_wide_kernels.hpp"
+
 namespace fulcrum::detail {
 
-using simd::FloatW;
-using simd::kEmptyLane;
-using simd::MaskW;
-using simd::Vec3W;
-
-namespace {
-
-static_assert(sizeof(SolverBody) == 24 * sizeof(float) && std::is_trivially_copyable_v<SolverBody>,
-              "the wide kernels read a solver body as 24 floats: v, invMass, w, dp, dtheta, invI, padding");
-
-// Float offsets in SolverBody (checked by the static_assert above and the field order).
-constexpr int kInvIOffset = 13;
-
-// One lane of a wide value, written in place (FloatW is kWideLanes floats in
-// lane order; a store/modify/load round trip cost 8 % of pyramid20's
-// instructions in packing alone).
-static_assert(sizeof(FloatW) == kWideLanes * sizeof(float) && std::is_trivially_copyable_v<FloatW>);
-void setLane(FloatW& w, int lane, Real value) {
-    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float), &value,
-                sizeof(float));
-}
-void setLane(Vec3W& w, int lane, const Vec3& value) {
-    setLane(w.x, lane, value.x);
-    setLane(w.y, lane, value.y);
-    setLane(w.z, lane, value.z);
+const char* simdPathName(SimdPath path) {
+    switch (path) {
+        case SimdPath::Scalar: return "scalar";
+        case SimdPath::Sse2: return "sse2";
+        case SimdPath::Avx2: return "avx2";
+    }
+    return "?";
 }
 
-// The body state one kernel needs, gathered by whole rows (simd.hpp: 2-2.7x
-// faster than field-by-field gathers).
-struct WideBody {
-    Vec3W v, w, dp, dtheta;
-    FloatW invMass;
-    FloatW spare;  // float 7 of the row (dp.x), written back unchanged
-};
-
-#define FULCRUM_WIDE_INLINE inline __attribute__((always_inline))
-
-template <int K>
-FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uint32_t* index,
-                                        std::array<FloatW, K>& row) {
-    row = FloatW::gatherTransposed<K>(bodies, index);
-    WideBody b;
-    b.v = {row[0], row[1], row[2]};
-    b.invMass = row[3];
-    b.w = {row[4], row[5], row[6]};
-    b.spare = row[7];
-    if constexpr (K >= 16) {
-        b.dp = {row[7], row[8], row[9]};
-        b.dtheta = {row[10], row[11], row[12]};
-    }
-    return b;
+bool avx2Available() {
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+    static const bool available = avx2KernelsCompiled() && __builtin_cpu_supports("avx2");
+    return available;
+#else
+    return false;
+#endif
 }
 
-// Writes v and w (floats 0-7 of each row; invMass and dp.x unchanged).
-FULCRUM_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::uint32_t* index, const WideBody& b) {
-    const std::array<FloatW, 8> row = {b.v.x, b.v.y, b.v.z, b.invMass, b.w.x, b.w.y, b.w.z, b.spare};
-    FloatW::scatterTransposed<8>(bodies, index, row);
+SimdPath bestSimdPath() { return avx2Available() ? SimdPath::Avx2 : SimdPath::Sse2; }
+
+SimdPath initialSimdPath() {
+    static const SimdPath path = [] {
+        const char* text = std::getenv("FULCRUM_SIMD");
+        if (text == nullptr || *text == 0) return bestSimdPath();
+        if (std::strcmp(text, "scalar") == 0) return SimdPath::Scalar;
+        if (std::strcmp(text, "sse2") == 0) return SimdPath::Sse2;
+        if (std::strcmp(text, "avx2") == 0) return bestSimdPath();  // sse2 where the CPU lacks AVX2
+        throw Error(std::string("environment variable FULCRUM_SIMD is '") + text +
+                    "': expected scalar, sse2 or avx2 (or unset: the fastest this CPU runs)");
+    }();
+    return path;
 }
 
-struct WideMat3 {
-    Vec3W c0, c1, c2;
-};
-// Same operation order as fulcrum's Mat3 * Vec3: c0 x + c1 y + c2 z.
-Vec3W operator*(const WideMat3& m, const Vec3W& v) { return m.c0 * v.x + m.c1 * v.y + m.c2 * v.z; }
-
-WideMat3 gatherInverseInertia(const SolverBody* bodies, const std::uint32_t* index) {
-    const std::array<FloatW, 24> row = FloatW::gatherTransposed<24>(bodies, index);
-    constexpr int o = kInvIOffset;
-    return {{row[o], row[o + 1], row[o + 2]},
-            {row[o + 3], row[o + 4], row[o + 5]},
-            {row[o + 6], row[o + 7], row[o + 8]}};
-}
-
-}  // namespace
-
-void clearBlock(WideContactBlock& b) {
-    b = WideContactBlock{};
-    for (int l = 0; l < kWideLanes; ++l) {
-        b.bodyA[l] = b.bodyB[l] = 0;
-        b.writeA[l] = b.writeB[l] = kEmptyLane;
-        b.contact[l] = b.manifold[l] = b.lanePoints[l] = 0;
-    }
-}
-
-// Measured on a settled 600-sphere pile (callgrind, 30 steps): building one
-// constraint in a scratch ContactConstraint and packing it into its lane took
-// ~840 + ~220 instructions; built four at a time here: ~450 per constraint
-// (docs/solver.md).
-void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
-                const SolverBody* bodies, const Vec3* startCom, const Softness& dynamicSoftness,
-                const Softness& stiffSoftness) {
-    // Every field is written exactly once below (no clearBlock first: the
-    // blocks are cold memory, and clearing them first doubled the stores; with
-    // it, 40 % of buildBlock's samples stalled on the store buffer, perf on the
-    // 10,000-sphere pile).
-    k.pointCount = 0;
-    k.rolling = false;
-    k.bouncy = false;
-    k.extra = nullptr;
-    for (int l = 0; l < laneCount; ++l) {
-        k.pointCount = std::max(k.pointCount, lanes[l].pointCount);
-        k.rolling = k.rolling || lanes[l].rollingResistance > 0;
-    }
-    if (k.pointCount > 1 || k.rolling) {
-        extra = WideBlockExtra{};
-        k.extra = &extra;
-    }
-    for (int l = laneCount; l < kWideLanes; ++l) {
-        k.bodyA[l] = k.bodyB[l] = 0;
-        k.writeA[l] = k.writeB[l] = kEmptyLane;
-        k.contact[l] = k.manifold[l] = k.lanePoints[l] = 0;
-    }
-    if (k.pointCount == 0) k.point0 = WidePoint{};  // not produced by the narrow phase; kept safe
-    // The per-lane inputs, lane by lane (zero in empty lanes).
-    alignas(32) float nx[kWideLanes] = {}, ny[kWideLanes] = {}, nz[kWideLanes] = {}, sign[kWideLanes] = {};
-    alignas(32) float count[kWideLanes] = {}, friction[kWideLanes] = {}, restitution[kWideLanes] = {};
-    alignas(32) float rolling[kWideLanes] = {}, biasRate[kWideLanes] = {}, massScale[kWideLanes] = {};
-    alignas(32) float impulseScale[kWideLanes] = {}, twistImpulse[kWideLanes] = {}, active[kWideLanes] = {};
-    alignas(32) float fx[kWideLanes] = {}, fy[kWideLanes] = {}, fz[kWideLanes] = {};
-    alignas(32) float cax[kWideLanes] = {}, cay[kWideLanes] = {}, caz[kWideLanes] = {};
-    alignas(32) float cbx[kWideLanes] = {}, cby[kWideLanes] = {}, cbz[kWideLanes] = {};
-    alignas(32) float px[4][kWideLanes] = {}, py[4][kWideLanes] = {}, pz[4][kWideLanes] = {};
-    alignas(32) float depth[4][kWideLanes] = {}, impulse[4][kWideLanes] = {};
-    for (int l = 0; l < laneCount; ++l) {
-        const LaneSource& src = lanes[l];
-        const LaneSource& m = src;
-        const SolverBody& ba = bodies[src.bodyA];
-        const SolverBody& bb = bodies[src.bodyB];
-        k.bodyA[l] = src.bodyA;
-        k.bodyB[l] = src.bodyB;
-        k.writeA[l] = ba.invMass > 0 ? src.bodyA : kEmptyLane;
-        k.writeB[l] = bb.invMass > 0 ? src.bodyB : kEmptyLane;
-        k.contact[l] = src.contact;
-        k.manifold[l] = src.manifoldIndex;
-        k.lanePoints[l] = m.pointCount;
-        if (src.restitution != 0) k.bouncy = true;
-        active[l] = 1;
-        nx[l] = m.normal.x;
-        ny[l] = m.normal.y;
-        nz[l] = m.normal.z;
-        sign[l] = std::copysign(Real(1), m.normal.z);
-        count[l] = static_cast<Real>(m.pointCount);
-        friction[l] = src.friction;
-        restitution[l] = src.restitution;
-        rolling[l] = src.rollingResistance;
-        const Softness& soft = ba.invMass == 0 || bb.invMass == 0 ? stiffSoftness : dynamicSoftness;
-        biasRate[l] = soft.biasRate;
-        massScale[l] = soft.massScale;
-        impulseScale[l] = soft.impulseScale;
-        fx[l] = m.frictionImpulse.x;
-        fy[l] = m.frictionImpulse.y;
-        fz[l] = m.frictionImpulse.z;
-        twistImpulse[l] = m.twistImpulse;
-        const Vec3 comA = startCom[src.bodyA], comB = startCom[src.bodyB];
-        cax[l] = comA.x, cay[l] = comA.y, caz[l] = comA.z;
-        cbx[l] = comB.x, cby[l] = comB.y, cbz[l] = comB.z;
-        for (std::uint32_t i = 0; i < m.pointCount; ++i) {
-            const LaneSource::Point& p = m.points[i];
-            px[i][l] = p.position.x;
-            py[i][l] = p.position.y;
-            pz[i][l] = p.position.z;
-            depth[i][l] = p.depth;
-            impulse[i][l] = p.normalImpulse;
-        }
-        if (src.rollingResistance > 0) {
-            const Mat3 kr = ba.invI + bb.invI;
-            const Mat3 rollingMass = std::fabs(determinant(kr)) > 0 ? inverse(kr) : Mat3::zero();
-            setLane(extra.rollingMass0, l, rollingMass.c0);
-            setLane(extra.rollingMass1, l, rollingMass.c1);
-            setLane(extra.rollingMass2, l, rollingMass.c2);
-            setLane(extra.rollingImpulse, l, m.rollingImpulse);
-        }
-    }
-    k.laneCount = static_cast<std::uint32_t>(laneCount);
-
-    const FloatW zero = 0.0f, one = 1.0f;
-    const MaskW laneActive = FloatW::load(active) > zero;
-    const auto keep = [&](MaskW mask, FloatW v) { return select(mask, v, zero); };
-    const auto keep3 = [&](MaskW mask, const Vec3W& v) { return Vec3W{keep(mask, v.x), keep(mask, v.y), keep(mask, v.z)}; };
-
-    std::array<FloatW, 8> rowA, rowB;
-    const WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
-    const WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
-    const WideMat3 invIA = gatherInverseInertia(bodies, k.bodyA);
-    const WideMat3 invIB = gatherInverseInertia(bodies, k.bodyB);
-    const FloatW mA = a.invMass, mB = b.invMass;
-    const Vec3W comA{FloatW::load(cax), FloatW::load(cay), FloatW::load(caz)};
-    const Vec3W comB{FloatW::load(cbx), FloatW::load(cby), FloatW::load(cbz)};
-    const Vec3W n{FloatW::load(nx), FloatW::load(ny), FloatW::load(nz)};
-
-    // orthonormalBasis (vec3.hpp), lane-wise.
-    const FloatW s = FloatW::load(sign);
-    const FloatW basisA = FloatW(-1.0f) / (s + n.z);
-    const FloatW basisB = n.x * n.y * basisA;
-    const Vec3W t1{one + s * n.x * n.x * basisA, s * basisB, -s * n.x};
-    const Vec3W t2{basisB, s + n.y * n.y * basisA, -n.y};
-
-    k.normal = n;  // zero in empty lanes already
-    k.tangent1 = keep3(laneActive, t1);
-    k.tangent2 = keep3(laneActive, t2);
-    k.friction = FloatW::load(friction);
-    k.restitution = FloatW::load(restitution);
-    k.rollingResistance = FloatW::load(rolling);
-    k.biasRate = FloatW::load(biasRate);
-    k.massScale = FloatW::load(massScale);
-    k.impulseScale = FloatW::load(impulseScale);
-
-    const FloatW pointCount = FloatW::load(count);
-    Vec3W position[4];
-    MaskW pointActive[4];
-    Vec3W centre{zero, zero, zero};
-    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-        const MaskW on = pointCount > FloatW(static_cast<float>(i));
-        pointActive[i] = on;
-        const Vec3W p{FloatW::load(px[i]), FloatW::load(py[i]), FloatW::load(pz[i])};
-        position[i] = p;
-        const Vec3W rA = p - comA;
-        const Vec3W rB = p - comB;
-        const Vec3W rAxn = cross(rA, n);
-        const Vec3W rBxn = cross(rB, n);
-        const Vec3W angA = invIA * rAxn;
-        const Vec3W angB = invIB * rBxn;
-        const FloatW kn = mA + mB + dot(rAxn, angA) + dot(rBxn, angB);
-        const Vec3W dv = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
-        WidePoint& wp = k.point(i);
-        wp.rAxn = keep3(on, rAxn);
-        wp.rBxn = keep3(on, rBxn);
-        wp.angA = keep3(on, angA);
-        wp.angB = keep3(on, angB);
-        wp.baseSeparation = keep(on, -FloatW::load(depth[i]));
-        wp.normalMass = keep(on & (kn > zero), one / kn);
-        wp.normalImpulse = FloatW::load(impulse[i]);
-        wp.maxNormalImpulse = zero;
-        wp.relativeVelocity = keep(on, dot(n, dv));
-        centre = select(on, centre + p, centre);
-    }
-    centre = centre * (one / pointCount);
-    const Vec3W rAc = centre - comA;
-    const Vec3W rBc = centre - comB;
-    FloatW radius = zero;
-    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-        radius = select(pointActive[i], radius + length(position[i] - centre), radius);
-    }
-    k.twistRadius = keep(laneActive, radius / pointCount);
-
-    const Vec3W rAc1 = cross(rAc, t1), rAc2 = cross(rAc, t2);
-    const Vec3W rBc1 = cross(rBc, t1), rBc2 = cross(rBc, t2);
-    const Vec3W angA1 = invIA * rAc1, angA2 = invIA * rAc2;
-    const Vec3W angB1 = invIB * rBc1, angB2 = invIB * rBc2;
-    k.rAc1 = keep3(laneActive, rAc1);
-    k.rAc2 = keep3(laneActive, rAc2);
-    k.rBc1 = keep3(laneActive, rBc1);
-    k.rBc2 = keep3(laneActive, rBc2);
-    k.angA1 = keep3(laneActive, angA1);
-    k.angA2 = keep3(laneActive, angA2);
-    k.angB1 = keep3(laneActive, angB1);
-    k.angB2 = keep3(laneActive, angB2);
-    const FloatW mSum = mA + mB;
-    const FloatW t11 = mSum + dot(rAc1, angA1) + dot(rBc1, angB1);
-    const FloatW t12 = dot(rAc1, angA2) + dot(rBc1, angB2);
-    const FloatW t22 = mSum + dot(rAc2, angA2) + dot(rBc2, angB2);
-    const FloatW det = t11 * t22 - t12 * t12;
-    const MaskW invertible = laneActive & (det > zero);
-    const FloatW inv = one / det;
-    k.k11 = keep(invertible, t22 * inv);
-    k.k12 = keep(invertible, -t12 * inv);
-    k.k22 = keep(invertible, t11 * inv);
-    const Vec3W twistA = invIA * n, twistB = invIB * n;
-    k.twistA = twistA;  // n is zero in empty lanes
-    k.twistB = twistB;
-    const FloatW kt = dot(n, twistA) + dot(n, twistB);
-    k.twistMass = keep(laneActive & (kt > zero), one / kt);
-    const Vec3W frictionImpulse{FloatW::load(fx), FloatW::load(fy), FloatW::load(fz)};
-    k.tangentImpulse1 = keep(laneActive, dot(frictionImpulse, t1));
-    k.tangentImpulse2 = keep(laneActive, dot(frictionImpulse, t2));
-    k.twistImpulse = FloatW::load(twistImpulse);
-}
-
-// The twin of ContactSolver::warmStart's loop body.
-void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies) {
-    for (std::size_t bi = 0; bi < count; ++bi) {
-        WideContactBlock& k = blocks[bi];
-        std::array<FloatW, 8> rowA, rowB;
-        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
-        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
-        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
-        FloatW total = 0.0f;
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.point(i);
-            total += cp.normalImpulse;
-            wA -= cp.angA * cp.normalImpulse;
-            wB += cp.angB * cp.normalImpulse;
-        }
-        const Vec3W P = k.normal * total + k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
-        vA -= P * a.invMass;
-        vB += P * b.invMass;
-        Vec3W dwA = k.angA1 * k.tangentImpulse1 + k.angA2 * k.tangentImpulse2 + k.twistA * k.twistImpulse;
-        Vec3W dwB = k.angB1 * k.tangentImpulse1 + k.angB2 * k.tangentImpulse2 + k.twistB * k.twistImpulse;
-        if (k.rolling) {
-            dwA += gatherInverseInertia(bodies, k.bodyA) * k.extra->rollingImpulse;
-            dwB += gatherInverseInertia(bodies, k.bodyB) * k.extra->rollingImpulse;
-        }
-        wA -= dwA;
-        wB += dwB;
-        a.v = vA;
-        a.w = wA;
-        b.v = vB;
-        b.w = wB;
-        scatterVelocity(bodies, k.writeA, a);
-        scatterVelocity(bodies, k.writeB, b);
-    }
-}
-
-namespace {
-
-// The twin of ContactSolver::solvePass.
-template <bool useBias>
-void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, FloatW invH, FloatW minusPushMax) {
-    const FloatW zero = 0.0f, one = 1.0f;
-    for (std::size_t bi = 0; bi < count; ++bi) {
-        WideContactBlock& k = blocks[bi];
-        std::array<FloatW, 16> rowA, rowB;
-        WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
-        WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
-        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
-        const FloatW mA = a.invMass, mB = b.invMass;
-        const Vec3W dp = b.dp - a.dp;
-        const Vec3W n = k.normal;
-        FloatW totalNormal = zero;
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.point(i);
-            const FloatW s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn);
-            const MaskW speculative = s > zero;
-            FloatW bias, massScale, impulseScale;
-            if constexpr (useBias) {
-                bias = select(speculative, s * invH, max(minusPushMax, k.biasRate * s));
-                massScale = select(speculative, one, k.massScale);
-                impulseScale = select(speculative, zero, k.impulseScale);
-            } else {
-                bias = select(speculative, s * invH, zero);
-                massScale = one;
-                impulseScale = zero;
-            }
-            const FloatW vn = dot(n, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
-            FloatW impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
-            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
-            impulse = newImpulse - cp.normalImpulse;
-            if constexpr (useBias) {
-                const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
-                cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
-            }
-            cp.normalImpulse = newImpulse;
-            cp.maxNormalImpulse = max(impulse, cp.maxNormalImpulse);
-            totalNormal += newImpulse;
-            const Vec3W P = n * impulse;
-            vA -= P * mA;
-            wA -= cp.angA * impulse;
-            vB += P * mB;
-            wB += cp.angB * impulse;
-        }
-
-        {
-            const Vec3W dv = vB - vA;
-            const FloatW v1 = dot(dv, k.tangent1) + dot(wB, k.rBc1) - dot(wA, k.rAc1);
-            const FloatW v2 = dot(dv, k.tangent2) + dot(wB, k.rBc2) - dot(wA, k.rAc2);
-            const FloatW old1 = k.tangentImpulse1, old2 = k.tangentImpulse2;
-            FloatW new1 = old1 - (k.k11 * v1 + k.k12 * v2);
-            FloatW new2 = old2 - (k.k12 * v1 + k.k22 * v2);
-            const FloatW maxFriction = k.friction * totalNormal;
-            const FloatW mag2 = new1 * new1 + new2 * new2;
-            const MaskW outside = mag2 > maxFriction * maxFriction;
-            if (outside.any()) {
-                const FloatW scale = maxFriction / sqrt(mag2);
-                new1 = select(outside, new1 * scale, new1);
-                new2 = select(outside, new2 * scale, new2);
-            }
-            k.tangentImpulse1 = new1;
-            k.tangentImpulse2 = new2;
-            const FloatW d1 = new1 - old1, d2 = new2 - old2;
-            const Vec3W P = k.tangent1 * d1 + k.tangent2 * d2;
-            vA -= P * mA;
-            wA -= k.angA1 * d1 + k.angA2 * d2;
-            vB += P * mB;
-            wB += k.angB1 * d1 + k.angB2 * d2;
-
-            const FloatW maxTwist = maxFriction * k.twistRadius;
-            const FloatW wn = dot(wB - wA, n);
-            const FloatW oldT = k.twistImpulse;
-            // std::clamp(x, lo, hi) as libstdc++ computes it: min(max(x, lo), hi),
-            // with std::max(x, lo) = x < lo ? lo : x and std::min(t, hi) = hi < t ? hi : t.
-            const FloatW x = oldT - k.twistMass * wn, lo = -maxTwist;
-            const FloatW t = select(x < lo, lo, x);
-            const FloatW newT = select(maxTwist < t, maxTwist, t);
-            k.twistImpulse = newT;
-            const FloatW dT = newT - oldT;
-            wA -= k.twistA * dT;
-            wB += k.twistB * dT;
-        }
-
-        if (k.rolling) {
-            const MaskW active = k.rollingResistance > zero;
-            const FloatW maxRolling = k.rollingResistance * totalNormal;
-            WideBlockExtra& e = *k.extra;
-            const Vec3W oldR = e.rollingImpulse;
-            const WideMat3 rollingMass{e.rollingMass0, e.rollingMass1, e.rollingMass2};
-            Vec3W newR = oldR - rollingMass * (wB - wA);
-            const FloatW mag2 = lengthSquared(newR);
-            const MaskW outside = mag2 > maxRolling * maxRolling;
-            const FloatW scale = maxRolling / sqrt(mag2);
-            newR = select(outside, newR * scale, newR);
-            newR = select(active, newR, oldR);
-            e.rollingImpulse = newR;
-            const Vec3W T = newR - oldR;
-            wA -= gatherInverseInertia(bodies, k.bodyA) * T;
-            wB += gatherInverseInertia(bodies, k.bodyB) * T;
-        }
-
-        a.v = vA;
-        a.w = wA;
-        b.v = vB;
-        b.w = wB;
-        scatterVelocity(bodies, k.writeA, a);
-        scatterVelocity(bodies, k.writeB, b);
-    }
-}
-
-}  // namespace
-
-void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH, Real pushMax) {
-    if (useBias) {
-        solveBlocks<true>(blocks, count, bodies, invH, -pushMax);
-    } else {
-        solveBlocks<false>(blocks, count, bodies, invH, -pushMax);
-    }
-}
-
-// The twin of ContactSolver::applyRestitution: a lane takes part where the
-// scalar loop would not `continue` (restitution != 0, approached faster than
-// the threshold, received impulse); elsewhere it adds an exact zero.
-void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold) {
-    const FloatW zero = 0.0f, minusThreshold = -threshold;
-    for (std::size_t bi = 0; bi < count; ++bi) {
-        WideContactBlock& k = blocks[bi];
-        if (!k.bouncy) continue;
-        std::array<FloatW, 8> rowA, rowB;
-        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
-        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
-        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
-        const MaskW bouncy = k.restitution != zero;
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.point(i);
-            const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
-            const FloatW vn = dot(k.normal, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
-            FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
-            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
-            impulse = newImpulse - cp.normalImpulse;
-            cp.normalImpulse = select(apply, newImpulse, cp.normalImpulse);
-            cp.maxNormalImpulse = select(apply, max(impulse, cp.maxNormalImpulse), cp.maxNormalImpulse);
-            impulse = select(apply, impulse, zero);
-            const Vec3W P = k.normal * impulse;
-            vA -= P * a.invMass;
-            wA -= cp.angA * impulse;
-            vB += P * b.invMass;
-            wB += cp.angB * impulse;
-        }
-        a.v = vA;
-        a.w = wA;
-        b.v = vB;
-        b.w = wB;
-        scatterVelocity(bodies, k.writeA, a);
-        scatterVelocity(bodies, k.writeB, b);
-    }
-}
-
-// The twin of ContactSolver::store: impulses for the next step's warm start
-// and the end-of-step depths, lane by lane into the contacts' manifolds.
-void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts) {
-    for (std::size_t bi = 0; bi < count; ++bi) {
-        const WideContactBlock& k = blocks[bi];
-        std::array<FloatW, 16> rowA, rowB;
-        const WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
-        const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
-        const Vec3W dp = b.dp - a.dp;
-        alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.point(i);
-            const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
-            d.store(depth[i]);
-            cp.normalImpulse.store(impulse[i]);
-            cp.maxNormalImpulse.store(maxImpulse[i]);
-        }
-        const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
-        for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
-            const int l = static_cast<int>(lane);
-            CachedManifold& m = contacts[k.contact[lane]].manifolds[k.manifold[lane]];
-            for (std::uint32_t i = 0; i < k.lanePoints[lane]; ++i) {
-                CachedPoint& dst = m.points[i];
-                dst.normalImpulse = impulse[i][lane];
-                dst.maxNormalImpulse = maxImpulse[i][lane];
-                dst.depthAfter = depth[i][lane];
-            }
-            m.frictionImpulse = friction.lane(l);
-            m.twistImpulse = k.twistImpulse.lane(l);
-            m.rollingImpulse = k.rolling ? k.extra->rollingImpulse.lane(l) : Vec3{};
-        }
-    }
+std::unique_ptr<WideBlocks> makeWideBlocks(SimdPath path) {
+    if (path == SimdPath::Sse2) return std::make_unique<sse2::Blocks>(SimdPath::Sse2);
+    if (path == SimdPath::Avx2 && avx2Available()) return makeAvx2Blocks();
+    return nullptr;
 }
 
 }  // namespace fulcrum::detail

@@ -1,12 +1,24 @@
 #pragma once
-// The wide (SIMD) contact solver: kSimdLanes constraints of one graph colour
-// solved at once (4 with SSE2, the x86-64 default build; 8 when the library is
-// built with -mavx2), with the constraint data in structure-of-arrays blocks
-// and the bodies gathered and scattered per lane.
+// The wide (SIMD) contact solver: the constraints of one graph colour solved
+// a block of 4 or 8 at a time, with the constraint data in structure-of-arrays
+// blocks and the bodies gathered and scattered per lane.
+//
+// ---- Two widths, chosen at run time ---------------------------------------------
+// The kernels (contact_wide_kernels.hpp) are written once over a simd.hpp
+// policy and compiled twice: 4 lanes with SSE2 in contact_wide.cpp (every
+// x86-64 CPU; PortablePolicy<4> elsewhere) and 8 lanes with AVX2 in
+// contact_wide_avx2.cpp (only that file is compiled with -mavx2, and never
+// with -mfma: see CMakeLists.txt and simd.hpp on contraction). Each ContactSolver
+// picks one when it is made: AVX2 if the CPU has it (__builtin_cpu_supports),
+// else SSE2; the environment variable FULCRUM_SIMD=scalar|sse2|avx2 and
+// ContactSolver::setSimdPath override that (tests, benchmarks). The two
+// widths and the scalar reference give the same bits (below), so the choice
+// changes only the speed: measured in docs/solver.md ("8 lanes").
 //
 // Why it is correct: constraints of one colour share no dynamic body (the
 // colouring in contact_solver.cpp), so the lanes of a block never write the
-// same body and a block's result does not depend on the order of its lanes.
+// same body and a block's result does not depend on the order of its lanes,
+// nor on how a colour is cut into blocks (4 or 8 lanes).
 // Static bodies are solver body 0 (all zeros) and kinematic bodies have
 // infinite mass: they are gathered (a kinematic body has a velocity) but
 // never scattered (writeA/writeB hold kEmptyLane), so lanes may share them.
@@ -21,60 +33,19 @@
 // zero. The only freedom left is the sign of a zero (x - 0 vs x - (-0) when x
 // is itself zero), which no later operation turns into a different non-zero
 // value (there is no division by a velocity). tests/solver/simd_solver_test.cpp
-// checks positions and velocities for equality over a pile's whole fall.
+// checks positions and velocities for equality over a pile's whole fall, for
+// the scalar path, 4 lanes and 8 lanes.
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 
-#include "math/simd.hpp"
+#include "fulcrum/math.hpp"
 
 namespace fulcrum::detail {
 
 struct SolverBody;
-struct ContactConstraint;
 struct Contact;
-struct CachedManifold;
 struct Softness;
-
-inline constexpr int kWideLanes = simd::kSimdLanes;
-
-struct WidePoint {
-    simd::Vec3W rAxn, rBxn, angA, angB;
-    simd::FloatW baseSeparation, normalMass, normalImpulse, maxNormalImpulse, relativeVelocity;
-};
-
-// What a block needs only when a lane has more than one point or rolling
-// resistance, kept out of the block so that blocks of one-point contacts
-// (sphere piles) are dense: measured on sphere_pile, see docs/solver.md.
-struct WideBlockExtra {
-    WidePoint points[3];                                   // points 1-3
-    simd::Vec3W rollingMass0, rollingMass1, rollingMass2;  // columns
-    simd::Vec3W rollingImpulse;
-};
-
-// kWideLanes constraints of one colour. Lanes past laneCount are empty: no
-// bodies, zero masses and impulses. Points past a lane's count are zero.
-struct WideContactBlock {
-    std::uint32_t bodyA[kWideLanes], bodyB[kWideLanes];    // gather: solver body (0: static)
-    std::uint32_t writeA[kWideLanes], writeB[kWideLanes];  // scatter: the body if dynamic, else kEmptyLane
-    std::uint32_t laneCount = 0, pointCount = 0;           // pointCount: the largest of the lanes
-    bool rolling = false;                                  // a lane has rolling resistance
-    bool bouncy = false;                                   // a lane has restitution
-    WideBlockExtra* extra = nullptr;                       // points 1-3 and rolling; set iff pointCount > 1 or rolling
-    simd::Vec3W normal, tangent1, tangent2;
-    simd::FloatW friction, biasRate, massScale, impulseScale;
-    WidePoint point0;
-    simd::Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
-    simd::FloatW k11, k12, k22, tangentImpulse1, tangentImpulse2, twistMass, twistImpulse, twistRadius;
-    // Cold: restitution and store only.
-    simd::FloatW rollingResistance, restitution;
-    std::uint32_t contact[kWideLanes], manifold[kWideLanes];  // where store() writes each lane's results
-    std::uint32_t lanePoints[kWideLanes];                  // each lane's point count
-
-    WidePoint& point(std::uint32_t i) { return i == 0 ? point0 : extra->points[i - 1]; }
-    const WidePoint& point(std::uint32_t i) const { return i == 0 ? point0 : extra->points[i - 1]; }
-};
-
-// An empty block: every lane without bodies, masses or impulses.
-void clearBlock(WideContactBlock& block);
 
 // What ContactSolver::buildConstraint reads for one constraint, copied out of
 // its contact and manifold (prepare stages these in colour order, so the block
@@ -93,22 +64,59 @@ struct LaneSource {
         Real depth = 0, normalImpulse = 0;
     } points[4];
 };
-// A whole block built kWideLanes constraints at a time: lanes [0, laneCount)
-// from `lanes`, the rest empty. The same operations in the same order as
-// buildConstraint (the scalar reference), so the same bits:
-// tests/solver/simd_solver_test.cpp compares the two solvers step by step.
-// startCom: each solver body's centre of mass at the step's start. `extra`
-// is this block's own side storage, used (and then attached) only when a
-// lane has several points or rolling resistance.
-void buildBlock(WideContactBlock& block, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
-                const SolverBody* bodies, const Vec3* startCom, const Softness& dynamicSoftness,
-                const Softness& stiffSoftness);
 
-void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies);
-void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
-               Real pushMax);
-// Twins of ContactSolver::applyRestitution and store.
-void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold);
-void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts);
+// Which code solves the coloured contact constraints.
+enum class SimdPath : std::uint8_t {
+    Scalar,  // ContactConstraint one at a time: the reference
+    Sse2,    // 4 lanes (SSE2 on x86-64, portable C++ elsewhere)
+    Avx2,    // 8 lanes (AVX2, only where the CPU has it)
+};
+const char* simdPathName(SimdPath path);
+// The 8-lane kernels are compiled in and this CPU runs them.
+bool avx2Available();
+// The fastest path this machine runs: Avx2 if avx2Available(), else Sse2.
+SimdPath bestSimdPath();
+// FULCRUM_SIMD (scalar, sse2 or avx2; avx2 falls back to sse2 where the CPU
+// lacks it) if set, else bestSimdPath(). Read once per process. An unknown
+// value throws fulcrum::Error naming the variable and the accepted values.
+SimdPath initialSimdPath();
+
+// The blocks of one step and the kernels over them, for one width: the part
+// of the solver that depends on the lane count, behind one virtual call per
+// colour (or per block for build and store).
+class WideBlocks {
+public:
+    virtual ~WideBlocks() = default;
+    virtual SimdPath path() const = 0;
+    virtual int lanes() const = 0;
+    virtual std::size_t size() const = 0;
+    virtual void reserve(std::size_t blocks) = 0;
+    // Blocks [0, blocks); their contents are undefined until built.
+    virtual void resize(std::size_t blocks) = 0;
+    // Block `block` from lanes [0, laneCount) of `lanes`, the rest empty. The
+    // same operations in the same order as ContactSolver::buildConstraint (the
+    // scalar reference), so the same bits. startCom: each solver body's centre
+    // of mass at the step's start.
+    virtual void build(std::size_t block, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
+                       const Vec3* startCom, const Softness& dynamicSoftness, const Softness& stiffSoftness) = 0;
+    // Twins of ContactSolver::warmStart, solve, applyRestitution and store, over
+    // blocks [first, first + count).
+    virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies) = 0;
+    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
+                       Real pushMax) = 0;
+    virtual void restitution(SolverBody* bodies, Real threshold) = 0;
+    // Where block `block` stores its lanes' results (for the store's prefetch).
+    virtual void laneTargets(std::size_t block, const std::uint32_t*& contact, const std::uint32_t*& manifold,
+                             std::uint32_t& laneCount) const = 0;
+    virtual void store(std::size_t first, std::size_t count, const SolverBody* bodies, Contact* contacts) const = 0;
+};
+
+// The blocks for `path` (Sse2, or Avx2 when avx2Available(); nullptr otherwise).
+std::unique_ptr<WideBlocks> makeWideBlocks(SimdPath path);
+// From contact_wide_avx2.cpp, for makeWideBlocks: whether that file was
+// compiled with AVX2 (not on non-x86 targets or other compilers), and its
+// 8-lane blocks (nullptr where it was not).
+bool avx2KernelsCompiled();
+std::unique_ptr<WideBlocks> makeAvx2Blocks();
 
 }  // namespace fulcrum::detail

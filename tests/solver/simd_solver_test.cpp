@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 
 #include "contacts/helpers.hpp"
 #include "fulcrum/task_system.hpp"
@@ -67,16 +68,14 @@ WorldDef awakeWorld() {
     return d;
 }
 
-}  // namespace
-
-// Wide and scalar solves give equal positions, orientations and velocities
-// after every one of 240 steps (4 s: the fall, the impacts, the paddle's
-// sweep and the settling). Equality is exact (==; a zero's sign may differ,
-// which no later operation can turn into a different value).
-TEST(WideSolver, AgreesWithScalarSolverStepByStep) {
+// Wide (4 or 8 lanes) and scalar solves give equal positions, orientations
+// and velocities after every one of 240 steps (4 s: the fall, the impacts,
+// the paddle's sweep and the settling). Equality is exact (==; a zero's sign
+// may differ, which no later operation can turn into a different value).
+void expectWideAgreesWithScalar(detail::SimdPath path) {
     World wide(awakeWorld()), scalar(awakeWorld());
-    wide.impl().contactSolver.setWide(true);
-    scalar.impl().contactSolver.setWide(false);
+    ASSERT_EQ(wide.impl().contactSolver.setSimdPath(path), path);
+    scalar.impl().contactSolver.setSimdPath(detail::SimdPath::Scalar);
     const std::vector<BodyId> a = buildMixedPile(wide);
     const std::vector<BodyId> b = buildMixedPile(scalar);
     std::size_t maxConstraints = 0;
@@ -91,12 +90,37 @@ TEST(WideSolver, AgreesWithScalarSolverStepByStep) {
             const Vec3 wa = wide.angularVelocity(a[i]), wb = scalar.angularVelocity(b[i]);
             const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z && va == vb &&
                               wa == wb;
-            ASSERT_TRUE(same) << "body " << i << " differs at step " << step << ": position (" << pa.x << ", "
+            ASSERT_TRUE(same) << detail::simdPathName(path) << ": body " << i << " differs at step " << step
+                              << ": position (" << pa.x << ", "
                               << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", " << pb.z << ")";
         }
     }
     // The pile really exercised the solver: well over one block per colour.
     EXPECT_GT(maxConstraints, std::size_t{150});
+}
+
+}  // namespace
+
+TEST(WideSolver, FourLanesAgreeWithScalarSolverStepByStep) { expectWideAgreesWithScalar(detail::SimdPath::Sse2); }
+
+TEST(WideSolver, EightLanesAgreeWithScalarSolverStepByStep) {
+    if (!detail::avx2Available()) GTEST_SKIP() << "this CPU (or this build) has no AVX2: the 8-lane path cannot run";
+    expectWideAgreesWithScalar(detail::SimdPath::Avx2);
+}
+
+// A solver made without FULCRUM_SIMD in the environment takes the widest path
+// the CPU runs; asking for AVX2 where it is missing gives SSE2, never a crash.
+TEST(WideSolver, DefaultPathIsTheWidestTheCpuRuns) {
+    World world(awakeWorld());
+    detail::ContactSolver& solver = world.impl().contactSolver;
+    if (std::getenv("FULCRUM_SIMD") == nullptr) {
+        EXPECT_EQ(solver.simdPath(), detail::bestSimdPath());
+    }
+    const detail::SimdPath expected = detail::avx2Available() ? detail::SimdPath::Avx2 : detail::SimdPath::Sse2;
+    EXPECT_EQ(solver.setSimdPath(detail::SimdPath::Avx2), expected);
+    EXPECT_TRUE(solver.wide());
+    solver.setWide(false);
+    EXPECT_EQ(solver.simdPath(), detail::SimdPath::Scalar);
 }
 
 // Same input, same output: two wide runs of the pile are identical.
@@ -156,6 +180,7 @@ TEST(WideSolver, ParallelColoursGiveIdenticalResultsForAnyThreadCount) {
         poolDef.threads = threads;
         const std::unique_ptr<TaskSystem> pool = makeThreadPool(poolDef);
         World world(awakeWorld());
+        world.impl().contactSolver.setWide(true);  // whatever FULCRUM_SIMD says
         world.impl().contactSolver.setTaskSystem(pool.get());
         addGround(world);
         std::vector<BodyId> ids;

@@ -12,8 +12,7 @@ bool hasPointBlock(JointType t) {
 }
 
 // In-place Cholesky of the N x N symmetric matrix a (lower triangle used).
-// Sizes are compile-time (3: joints, 6: bodies) so the loops unroll. The
-// diagonal keeps the factor's reciprocal: the solves multiply instead of
+// The diagonal keeps the factor's reciprocal: the solves multiply instead of
 // dividing (chain scene: 0.82 -> 0.66 ms/step median, side by side).
 template <int N>
 bool cholesky(double a[6][6]) {
@@ -32,9 +31,9 @@ bool cholesky(double a[6][6]) {
     return true;
 }
 
-// x <- (L L^T)^-1 x, negated for joints (their factor is of -D): x <- D^-1 x.
-template <int N, bool negate>
-void applyInverse(const double L[6][6], double* x) {
+// x <- (L L^T)^-1 x.
+template <int N>
+void applyCholeskyInverse(const double L[6][6], double* x) {
     for (int i = 0; i < N; ++i) {
         double t = x[i];
         for (int k = 0; k < i; ++k) t -= L[i][k] * x[k];
@@ -45,8 +44,46 @@ void applyInverse(const double L[6][6], double* x) {
         for (int k = i + 1; k < N; ++k) t -= L[k][i] * x[k];
         x[i] = t * L[i][i];
     }
-    if (negate) {
-        for (int i = 0; i < N; ++i) x[i] = -x[i];
+}
+
+// a <- a^-1 in place (a symmetric; the lower triangle is read, the whole
+// inverse written). Joints' blocks are negative definite, bodies' positive
+// definite; false if singular. Every later use of the block is then a dense
+// mat-vec of independent multiply-adds instead of two dependent triangular
+// solves (the solver's other passes apply D^-1 about 5 times per node).
+template <int N>
+bool invertInPlace(double a[6][6]) {
+    if constexpr (N == 3) {
+        // Adjugate of -D (positive definite): Sylvester's minors say whether it is.
+        const double m00 = -a[0][0], m10 = -a[1][0], m11 = -a[1][1], m20 = -a[2][0], m21 = -a[2][1], m22 = -a[2][2];
+        const double c00 = m11 * m22 - m21 * m21;
+        const double c10 = m21 * m20 - m10 * m22;
+        const double c20 = m10 * m21 - m11 * m20;
+        const double det = m00 * c00 + m10 * c10 + m20 * c20;
+        const double minor2 = m00 * m11 - m10 * m10;
+        if (!(m00 > 1e-300) || !(minor2 > 1e-300) || !(det > 1e-300)) return false;
+        const double s = -1 / det;  // D^-1 = -(-D)^-1
+        const double c11 = m00 * m22 - m20 * m20;
+        const double c21 = m20 * m10 - m00 * m21;
+        const double c22 = minor2;
+        a[0][0] = c00 * s, a[1][1] = c11 * s, a[2][2] = c22 * s;
+        a[0][1] = a[1][0] = c10 * s;
+        a[0][2] = a[2][0] = c20 * s;
+        a[1][2] = a[2][1] = c21 * s;
+        return true;
+    } else {
+        double L[6][6];
+        for (int r = 0; r < N; ++r) {
+            for (int c = 0; c <= r; ++c) L[r][c] = a[r][c];
+        }
+        if (!cholesky<N>(L)) return false;
+        for (int c = 0; c < N; ++c) {
+            double e[6] = {};
+            e[c] = 1;
+            applyCholeskyInverse<N>(L, e);
+            for (int r = 0; r < N; ++r) a[r][c] = e[r];
+        }
+        return true;
     }
 }
 
@@ -60,6 +97,35 @@ void jacobian(double out[3][6], const Vec3& r, double s) {
             out[i][k] = i == k ? s : 0;
             out[i][3 + k] = -s * skew[i][k];
         }
+    }
+}
+
+// out = J_p M^-1 J_c^T on one body, for the point rows of two joints with
+// anchors p, c and signs sp, sc (+1 on B, -1 on A):
+//     sp sc (invMass I - [p]x invI [c]x)      (J = s [I, -[r]x], [r]x^T = -[r]x).
+// With p = c and sp = sc, the body's share of the joint's K = J M^-1 J^T.
+void pointCoupling(double out[3][3], const SolverBody& b, const Vec3& p, double sp, const Vec3& c, double sc) {
+    double I[3][3];
+    for (int r = 0; r < 3; ++r) {
+        for (int k = 0; k < 3; ++k) I[r][k] = static_cast<double>(b.invI(r, k));
+    }
+    const double px = p.x, py = p.y, pz = p.z, cx = c.x, cy = c.y, cz = c.z;
+    // T = invI [c]x: row r of T is (row r of invI) x c.
+    double T[3][3];
+    for (int r = 0; r < 3; ++r) {
+        T[r][0] = I[r][1] * cz - I[r][2] * cy;
+        T[r][1] = I[r][2] * cx - I[r][0] * cz;
+        T[r][2] = I[r][0] * cy - I[r][1] * cx;
+    }
+    // [p]x T: column k = p x (column k of T).
+    const double s = sp * sc;
+    const double m = static_cast<double>(b.invMass);
+    for (int k = 0; k < 3; ++k) {
+        const double t0 = T[0][k], t1 = T[1][k], t2 = T[2][k];
+        out[0][k] = -s * (py * t2 - pz * t1);
+        out[1][k] = -s * (pz * t0 - px * t2);
+        out[2][k] = -s * (px * t1 - py * t0);
+        out[k][k] += s * m;
     }
 }
 
@@ -106,6 +172,7 @@ void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vec
     worldJoints_.assign(nb, 0);
     componentOf_.assign(nb, kNone);  // root -> its first joint to a non-dynamic end
     visited_.assign(nb + nj, 0);     // bodies [0, nb), joints [nb, nb + nj)
+    contracted_.assign(nb, 0);
     for (std::uint32_t k = 0; k < nj; ++k) {
         const JointConstraint& j = joints[k];
         if (!eligible(j)) continue;
@@ -186,18 +253,57 @@ void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vec
                 }
             }
         }
-        const std::uint32_t base = static_cast<std::uint32_t>(nodes_.size());
+        // Contraction: a body with at most one child joint (every link of a
+        // chain, a ragdoll's limbs and head) is eliminated first, while its D is
+        // still its mass M, whose inverse the solver body already holds. Its
+        // parent joint q and child joint c then couple directly through the 3x3
+        // block -J_q M^-1 J_c^T, so a chain becomes a block-tridiagonal system of
+        // 3x3 joint blocks (the joint-space K = J M^-1 J^T) and the 6x6 body
+        // blocks remain only at branch points (a ragdoll's torso and pelvis) and
+        // at a free tree's root. Same exact solution, no fill-in.
         const std::uint32_t count = static_cast<std::uint32_t>(queue.size());
+        children_.assign(count, 0);
+        for (std::uint32_t q = 0; q < count; ++q) {
+            if (queue[q].parentPos != kNone) ++children_[queue[q].parentPos];
+        }
+        const auto isContracted = [&](std::uint32_t q) {
+            return !queue[q].joint && queue[q].parentPos != kNone && children_[q] <= 1;
+        };
+        for (std::uint32_t q = 0; q < count; ++q) {
+            if (!queue[q].joint) contracted_[queue[q].ref] = isContracted(q) ? 1 : 0;
+        }
+        const std::uint32_t base = static_cast<std::uint32_t>(nodes_.size());
+        nodeOf_.assign(count, kNone);
+        std::uint32_t next = base;
+        for (std::uint32_t q = count; q-- > 0;) {
+            if (!isContracted(q)) nodeOf_[q] = next++;
+        }
         treeStart_.push_back(base);
         for (std::uint32_t q = count; q-- > 0;) {
+            if (isContracted(q)) continue;
             const Pending& p = queue[q];
             Node n;
             n.ref = p.ref;
             n.joint = p.joint;
             n.bodyIsA = p.bodyIsA;
-            n.parent = p.parentPos == kNone ? kNone : base + (count - 1 - p.parentPos);
+            if (p.parentPos != kNone) {
+                if (p.joint && isContracted(p.parentPos)) {
+                    const Pending& via = queue[p.parentPos];  // a body; its parent is a joint
+                    n.parent = nodeOf_[via.parentPos];
+                    n.via = via.ref;
+                    n.viaIsA = p.bodyIsA;
+                    n.viaIsParentA = via.bodyIsA;
+                } else {
+                    n.parent = nodeOf_[p.parentPos];
+                }
+            }
+            if (p.joint) {
+                const JointConstraint& j = joints[p.ref];
+                n.ownA = dynamic(j.bodyA) && contracted_[j.bodyA] != 0;
+                n.ownB = dynamic(j.bodyB) && contracted_[j.bodyB] != 0;
+                joints[p.ref].direct = true;
+            }
             nodes_.push_back(n);
-            if (p.joint) joints[p.ref].direct = true;
         }
         ++trees_;
     }
@@ -213,11 +319,6 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
         Factor& f = factors_[i];
-        if (refactor) {
-            for (auto& row : f.D) {
-                for (double& x : row) x = 0;
-            }
-        }
         if (n.joint) {
             JointConstraint& j = joints[n.ref];
             const SolverBody& a = bodies[j.bodyA];
@@ -228,38 +329,73 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
             if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
             f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
-        } else if (!refactor) {
-            for (double& z : f.z) z = 0;
+            if (!refactor) continue;
+            // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
+            // eliminated before everything else (build()).
+            for (int r0 = 0; r0 < 3; ++r0) {
+                for (int c = 0; c < 3; ++c) f.D[r0][c] = 0;
+            }
+            double K[3][3];
+            if (n.ownA) {
+                pointCoupling(K, a, fr.rA, -1, fr.rA, -1);
+                for (int r0 = 0; r0 < 3; ++r0) {
+                    for (int c = 0; c < 3; ++c) f.D[r0][c] -= K[r0][c];
+                }
+            }
+            if (n.ownB) {
+                pointCoupling(K, b, fr.rB, 1, fr.rB, 1);
+                for (int r0 = 0; r0 < 3; ++r0) {
+                    for (int c = 0; c < 3; ++c) f.D[r0][c] -= K[r0][c];
+                }
+            }
         } else {
+            for (double& z : f.z) z = 0;
+            if (!refactor) continue;
             const SolverBody& b = bodies[n.ref];
+            for (auto& row : f.D) {
+                for (double& x : row) x = 0;
+            }
             const double m = 1.0 / static_cast<double>(b.invMass);
             const Mat3 I = inverse(b.invI);
             for (int k = 0; k < 3; ++k) {
                 f.D[k][k] = m;
                 for (int l = 0; l < 3; ++l) f.D[3 + k][3 + l] = static_cast<double>(I(k, l));
-                f.z[k] = f.z[3 + k] = 0;
             }
         }
     }
     // Factor (or reuse this sub-step's factor) and forward-substitute, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
+        const bool parentJoint = n.parent != kNone && nodes_[n.parent].joint;
         if (!refactor) {
-            if (n.joint) {
-                forward<3, 6>(i);
-            } else {
+            if (!n.joint) {
                 forward<6, 3>(i);
+            } else if (parentJoint) {
+                forward<3, 3>(i);
+            } else {
+                forward<3, 6>(i);
             }
-        } else if (n.joint ? !eliminate<3, 6>(i) : !eliminate<6, 3>(i)) {
-            return false;
+            continue;
         }
+        bool ok;
+        if (!n.joint) {
+            ok = eliminate<6, 3>(i, bodies);
+        } else if (parentJoint) {
+            ok = eliminate<3, 3>(i, bodies);
+        } else {
+            ok = eliminate<3, 6>(i, bodies);
+        }
+        if (!ok) return false;
     }
     // Back-substitute, parents first: y = D^-1 z - D^-1 Hp^T y_parent.
     for (std::uint32_t i = end; i-- > begin;) {
-        if (nodes_[i].joint) {
-            backSubstitute<3, 6>(i);
-        } else {
+        const Node& n = nodes_[i];
+        if (!n.joint) {
             backSubstitute<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            backSubstitute<3, 3>(i);
+        } else {
+            backSubstitute<3, 6>(i);
         }
     }
     // Impulses: y = -(J M^-1 J^T)^-1 r, softened as a whole in the biased pass.
@@ -277,37 +413,48 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
 }
 
 template <int dim, int pdim>
-bool JointTreeSolver::eliminate(std::uint32_t i) {
-    constexpr bool joint = dim == 3;
+bool JointTreeSolver::eliminate(std::uint32_t i, const SolverBody* bodies) {
     const Node& n = nodes_[i];
     Factor& f = factors_[i];
-    if (joint) {
-        for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 3; ++c) f.D[r][c] = -f.D[r][c];
-        }
+    if (!invertInPlace<dim>(f.D)) return false;  // f.D <- D^-1
+    double z[6];
+    for (int r = 0; r < dim; ++r) {
+        double t = 0;
+        for (int k = 0; k < dim; ++k) t += f.D[r][k] * f.z[k];
+        z[r] = t;
     }
-    if (!cholesky<dim>(f.D)) return false;
-    applyInverse<dim, joint>(f.D, f.z);  // z <- D^-1 z
+    for (int r = 0; r < dim; ++r) f.z[r] = z[r];
     if (n.parent == kNone) return true;
     Factor& pf = factors_[n.parent];
     // H(parent, this).
-    double J[3][6];
-    if (!joint) {  // this is a body of the parent joint
+    if constexpr (dim == 6) {  // a body of the parent joint
+        double J[3][6];
         jacobian(J, n.bodyIsA ? pf.rA : pf.rB, n.bodyIsA ? -1 : 1);
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 6; ++c) f.Hp[r][c] = J[r][c];
         }
-    } else {  // this is a joint on the parent body: the transpose
+    } else if constexpr (pdim == 6) {  // a joint on the parent body: the transpose
+        double J[3][6];
         jacobian(J, n.bodyIsA ? f.rA : f.rB, n.bodyIsA ? -1 : 1);
         for (int r = 0; r < 6; ++r) {
             for (int c = 0; c < 3; ++c) f.Hp[r][c] = J[c][r];
         }
+    } else {  // a joint on a contracted body whose parent joint is the parent: -J_p M^-1 J^T
+        const SolverBody& via = bodies[n.via];
+        double C[3][3];
+        pointCoupling(C, via, n.viaIsParentA ? pf.rA : pf.rB, n.viaIsParentA ? -1 : 1, n.viaIsA ? f.rA : f.rB,
+                      n.viaIsA ? -1 : 1);
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) f.Hp[r][c] = -C[r][c];
+        }
     }
-    // D_parent -= Hp D^-1 Hp^T; z_parent -= Hp (D^-1 z).
-    double X[pdim][6];  // X[c] = D^-1 (row c of Hp)^T
+    // X = D^-1 Hp^T (kept for back-substitution); D_parent -= Hp X; z_parent -= Hp (D^-1 z).
     for (int c = 0; c < pdim; ++c) {
-        for (int k = 0; k < dim; ++k) X[c][k] = f.Hp[c][k];
-        applyInverse<dim, joint>(f.D, X[c]);
+        for (int k = 0; k < dim; ++k) {
+            double t = 0;
+            for (int l = 0; l < dim; ++l) t += f.D[k][l] * f.Hp[c][l];
+            f.X[c][k] = t;
+        }
     }
     for (int r = 0; r < pdim; ++r) {
         double zr = 0;
@@ -315,7 +462,7 @@ bool JointTreeSolver::eliminate(std::uint32_t i) {
         pf.z[r] -= zr;
         for (int c = 0; c <= r; ++c) {
             double s = 0;
-            for (int k = 0; k < dim; ++k) s += f.Hp[r][k] * X[c][k];
+            for (int k = 0; k < dim; ++k) s += f.Hp[r][k] * f.X[c][k];
             pf.D[r][c] -= s;
         }
     }
@@ -325,10 +472,15 @@ bool JointTreeSolver::eliminate(std::uint32_t i) {
 // Forward substitution alone, on the stored factor.
 template <int dim, int pdim>
 void JointTreeSolver::forward(std::uint32_t i) {
-    constexpr bool joint = dim == 3;
     const Node& n = nodes_[i];
     Factor& f = factors_[i];
-    applyInverse<dim, joint>(f.D, f.z);
+    double z[6];
+    for (int r = 0; r < dim; ++r) {
+        double t = 0;
+        for (int k = 0; k < dim; ++k) t += f.D[r][k] * f.z[k];
+        z[r] = t;
+    }
+    for (int r = 0; r < dim; ++r) f.z[r] = z[r];
     if (n.parent == kNone) return;
     Factor& pf = factors_[n.parent];
     for (int r = 0; r < pdim; ++r) {
@@ -340,20 +492,18 @@ void JointTreeSolver::forward(std::uint32_t i) {
 
 template <int dim, int pdim>
 void JointTreeSolver::backSubstitute(std::uint32_t i) {
-    constexpr bool joint = dim == 3;
     const Node& n = nodes_[i];
     Factor& f = factors_[i];
-    for (int k = 0; k < dim; ++k) f.y[k] = f.z[k];
-    if (n.parent == kNone) return;
-    const Factor& pf = factors_[n.parent];
-    double t[6];
-    for (int k = 0; k < dim; ++k) {
-        double s = 0;
-        for (int r = 0; r < pdim; ++r) s += f.Hp[r][k] * pf.y[r];
-        t[k] = s;
+    if (n.parent == kNone) {
+        for (int k = 0; k < dim; ++k) f.y[k] = f.z[k];
+        return;
     }
-    applyInverse<dim, joint>(f.D, t);
-    for (int k = 0; k < dim; ++k) f.y[k] -= t[k];
+    const Factor& pf = factors_[n.parent];
+    for (int k = 0; k < dim; ++k) {
+        double s = f.z[k];
+        for (int r = 0; r < pdim; ++r) s -= f.X[r][k] * pf.y[r];
+        f.y[k] = s;
+    }
 }
 
 void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx) {

@@ -35,6 +35,15 @@
 // The factorization is redone once per sub-step (the anchors turn with the
 // bodies); the sub-step's other passes reuse it. Double precision: the
 // elimination works with products of masses and lever arms over whole trees.
+//
+// Speed (docs/joints.md has the figures). A body with at most one child joint
+// (every link of a chain; a ragdoll's head and limbs) is eliminated first,
+// while its block is still its mass, whose inverse the solver body holds: its
+// two joints then couple through a 3x3 block, so a chain is solved as the
+// block-tridiagonal joint-space system K = J M^-1 J^T, and 6x6 body blocks
+// remain only where a body branches (a ragdoll's torso and pelvis) or roots a
+// free tree. Each factored block is stored inverted, so the later passes are
+// dense mat-vecs rather than dependent triangular solves.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -63,12 +72,18 @@ private:
     struct Node {
         std::uint32_t parent = kNone;  // node index of the parent (kNone: the root of its tree)
         std::uint32_t ref = 0;         // joint: index in the joint list; body: solver body index
+        // Joint nodes whose parent is a joint (through a contracted body, below):
+        // that body's solver index, and whether it is this joint's / the parent joint's body A.
+        std::uint32_t via = kNone;
+        bool viaIsA = false, viaIsParentA = false;
         bool joint = false;
         bool bodyIsA = false;          // body nodes: is it its parent joint's body A? joints: is the parent body its A?
+        bool ownA = false, ownB = false;  // joint nodes: ends that are contracted bodies (their M^-1 goes into D directly)
     };
     struct Factor {
-        double D[6][6];        // Cholesky factor of D (bodies) or of -D (joints), lower triangle
+        double D[6][6];        // D (lower triangle), then D^-1 after elimination (full, symmetric)
         double Hp[6][6];       // H(parent, this): dim(parent) x dim(this)
+        double X[6][6];        // D^-1 Hp^T, stored as X[c][k] = (D^-1 (row c of Hp)^T)_k: back-substitution
         double z[6];           // right-hand side, then D^-1 z after forward substitution
         double y[6];           // solution
         Vec3 rA, rB;           // joint nodes: anchors of this pass
@@ -78,7 +93,7 @@ private:
         bool joint, bodyIsA;
     };
     template <int dim, int pdim>
-    bool eliminate(std::uint32_t node);
+    bool eliminate(std::uint32_t node, const SolverBody* bodies);
     template <int dim, int pdim>
     void backSubstitute(std::uint32_t node);
     template <int dim, int pdim>
@@ -95,7 +110,8 @@ private:
     // build() scratch
     std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, componentOf_;
     std::vector<std::uint32_t> bodies_, joints_, worldJoints_;
-    std::vector<std::uint8_t> visited_;
+    std::vector<std::uint8_t> visited_, contracted_;
+    std::vector<std::uint32_t> children_, nodeOf_;
     std::vector<Pending> queue_;
 };
 
