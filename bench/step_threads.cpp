@@ -1,7 +1,11 @@
 // How much of a step runs in parallel, and what 2 threads gain: the scenes of
 // bench/scenes.hpp (box_pile, sphere_pile, ...) stepped three ways.
 //
-//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only]
+//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only]
+//
+// --p-only: the timing run alone (to profile the step as p sees it);
+// --one-thread-only: one run with threads = 1 (the inline task system), for
+// instruction counts under callgrind. Both print the final state's hash.
 //
 // 1. On a timing wrapper around the inline task system (one thread): the
 //    calling thread's CPU time inside parallelFor calls over its CPU time in
@@ -141,15 +145,16 @@ double loadAverage() {
 int main(int argc, char** argv) {
     std::string only;
     int steps = 0, threads = 2;
-    bool quick = false, pOnly = false;
+    bool quick = false, pOnly = false, oneThreadOnly = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
         else if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
         else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) threads = std::max(2, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         else if (std::strcmp(argv[i], "--p-only") == 0) pOnly = true;
+        else if (std::strcmp(argv[i], "--one-thread-only") == 0) oneThreadOnly = true;
         else {
-            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only]\n", argv[0]);
             return 2;
         }
     }
@@ -160,6 +165,12 @@ int main(int argc, char** argv) {
     for (const bench::SceneSpec& scene : bench::allScenes(quick)) {
         if (!only.empty() && scene.name.rfind(only, 0) != 0) continue;
         const int n = steps > 0 ? steps : scene.steps;
+        if (oneThreadOnly) {
+            const Timing one = run(scene, n, 1, nullptr);
+            std::printf("| %s | %d | | | %.3f / %.3f | | | | | %016llx |\n", scene.name.c_str(), n, median(one.stepMs),
+                        mean(one.stepMs), static_cast<unsigned long long>(one.hash));
+            continue;
+        }
         TimingTaskSystem timing;
         const Timing serial = run(scene, n, 1, &timing);
         const double p = timing.parallelSeconds / serial.cpuSeconds;

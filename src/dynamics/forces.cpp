@@ -15,12 +15,18 @@ Vec3 springForceOnB(const Vec3& pA, const Vec3& pB, const Vec3& vRel, Real restL
 }
 
 void evaluateForces(WorldImpl& w, double time) {
+    if (evaluateBodyForces(w, 0, static_cast<std::uint32_t>(w.awakeBodies.size()))) addCallbackForces(w, time);
+    addSpringForces(w);
+}
+
+bool evaluateBodyForces(WorldImpl& w, std::uint32_t begin, std::uint32_t end) {
     const Vec3 g = w.settings.gravity;
-    const Real t = static_cast<Real>(time);
+    bool callbacks = false;
     // Awake bodies only (world_impl.hpp, "Awake list"): a sleeping body's
     // forces are not used until it wakes, and the step re-evaluates them then.
     // Its ForceCallback is not called while it sleeps.
-    for (const std::uint32_t i : w.awakeBodies) {
+    for (std::uint32_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         ForceTorque& out = w.forces[i];
         const BodyParams& p = w.params[i];
         if (p.type != BodyType::Dynamic) {
@@ -29,18 +35,30 @@ void evaluateForces(WorldImpl& w, double time) {
         }
         const BodyMotion& m = w.motion[i];
         Vec3 f = w.applied[i].force + g * (p.mass * p.gravityScale);
-        Vec3 tau = w.applied[i].torque;
         if (p.linearDrag > 0 || p.quadraticDrag > 0) f -= m.v * (p.linearDrag + p.quadraticDrag * length(m.v));
-        const ForceCallback& cb = w.cold[i].callback;
-        if (cb) {
-            const Wrench wr = cb(BodyKinematics{m.com, m.q, m.v, m.w, p.mass, t});
-            f += wr.force;
-            tau += wr.torque;
-        }
         out.force = f;
-        out.torque = tau;
+        out.torque = w.applied[i].torque;
+        callbacks = callbacks || static_cast<bool>(w.cold[i].callback);
     }
+    return callbacks;
+}
 
+// The callbacks' wrenches, added after the rest of each body's force: the
+// additions evaluateForces always did, in the same order.
+void addCallbackForces(WorldImpl& w, double time) {
+    const Real t = static_cast<Real>(time);
+    for (const std::uint32_t i : w.awakeBodies) {
+        const BodyParams& p = w.params[i];
+        const ForceCallback& cb = w.cold[i].callback;
+        if (p.type != BodyType::Dynamic || !cb) continue;
+        const BodyMotion& m = w.motion[i];
+        const Wrench wr = cb(BodyKinematics{m.com, m.q, m.v, m.w, p.mass, t});
+        w.forces[i].force += wr.force;
+        w.forces[i].torque += wr.torque;
+    }
+}
+
+void addSpringForces(WorldImpl& w) {
     for (const SpringData& s : w.springs) {
         if (!s.alive) continue;
         const std::uint32_t a = w.denseOrNone(s.bodyA), b = w.denseOrNone(s.bodyB);

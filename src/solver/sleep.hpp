@@ -53,6 +53,11 @@ public:
             islandTag_.reserve(2 * bodyCount + 1);
             islandEnergy_.reserve(2 * bodyCount + 1);
             islandMass_.reserve(2 * bodyCount + 1);
+            root_.reserve(2 * bodyCount + 1);
+            bodyEnergy_.reserve(2 * bodyCount + 1);
+            bodyMass_.reserve(2 * bodyCount + 1);
+            bodyTime_.reserve(2 * bodyCount + 1);
+            joins_.reserve(8 * bodyCount + 1);
         }
     }
 
@@ -64,6 +69,11 @@ private:
     std::vector<std::uint32_t> islandTag_;
     std::vector<Real> islandEnergy_;  // per island root: sum of m v^2
     std::vector<Real> islandMass_;    // per island root: sum of m
+    std::vector<std::uint32_t> root_;  // per solver body: its island's root (after the unions)
+    std::vector<Real> bodyEnergy_;     // per solver body: m v^2
+    std::vector<Real> bodyMass_;       // per solver body: m
+    std::vector<Real> bodyTime_;       // per solver body: its timer (0 when not awake), for the island minimum
+    std::vector<std::uint8_t> joins_;  // per solver constraint: a touching contact between two awake bodies
     static constexpr Real kBodySpeedCap = 2;  // times linearSleepVelocity, for a body in a still island
     std::uint32_t nextIsland_ = 1;
 };

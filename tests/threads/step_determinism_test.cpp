@@ -178,6 +178,58 @@ TEST(ThreadedStep, SpherePileIsBitIdenticalForAnyThreadCount) {
                         [](const World& w) { checkPile(w, kY); });
 }
 
+// Islands and sleep timers (SleepManager::update runs its per-constraint and
+// per-body loops on the task system): a layer of 600 boxes resting on the
+// ground in 20 rows of touching boxes, every row one island through its
+// contacts. At the end of each even row a kinematic sphere spins about the
+// row's axis (its contact point lies on the spin axis, so it pushes nothing)
+// and keeps its row's island awake; the odd rows fall asleep. Every body must
+// fall asleep (or not) at the same step for every thread count and scheduler
+// (the state hash includes the awake flags): a dropped range of the timers
+// would leave an island awake, a dropped range of the "joins" (touching
+// contacts between awake bodies) would split an even row and let part of it
+// sleep. Physics check: even rows awake, odd rows asleep, every box within
+// 1 cm of where it rests.
+TEST(ThreadedStep, RestingLayerFallsAsleepTheSameForAnyThreadCount) {
+    constexpr int kRows = 20, kPerRow = 30;
+    const auto rowZ = [](int r) { return Real(-15) + Real(1.5) * static_cast<Real>(r); };
+    const auto build = [&] {
+        World world;
+        BodyDef ground;
+        ground.type = BodyType::Static;
+        ground.shape = Shape::box({40, 1, 40});
+        ground.position = {0, -1, 0};
+        world.createBody(ground);
+        for (int r = 0; r < kRows; ++r) {
+            for (int i = 0; i < kPerRow; ++i) {
+                BodyDef d;
+                d.shape = Shape::box({Real(0.5), Real(0.5), Real(0.5)});
+                d.mass = 1;
+                d.position = {Real(-15) + static_cast<Real>(i), Real(0.5), rowZ(r)};
+                world.createBody(d);
+            }
+            if (r % 2 != 0) continue;
+            BodyDef spinner;
+            spinner.type = BodyType::Kinematic;
+            spinner.shape = Shape::sphere(Real(0.5));
+            spinner.position = {Real(-15) + static_cast<Real>(kPerRow), Real(0.5), rowZ(r)};
+            spinner.angularVelocity = {3, 0, 0};
+            world.createBody(spinner);
+        }
+        return world;
+    };
+    expectIdenticalRuns(build, 60, Real(1) / 60, [&](const World& w) {
+        for (const BodyId id : w.bodies()) {
+            if (w.bodyType(id) != BodyType::Dynamic) continue;
+            const Vec3 p = w.position(id);
+            const int row = static_cast<int>(std::lround((p.z + Real(15)) / Real(1.5)));
+            ASSERT_EQ(w.isAwake(id), row % 2 == 0) << "row " << row << ": only the rows with a spinner stay awake";
+            ASSERT_NEAR(p.y, Real(0.5), Real(0.01)) << "a resting box moved";
+            ASSERT_NEAR(p.z, rowZ(row), Real(0.01)) << "a resting box moved";
+        }
+    });
+}
+
 // Joints (a ball-joint chain), a rope tied to a box, a cloth on a sphere and a
 // small box pile (tests/determinism's mixed scene), long enough for the pile
 // to settle and fall asleep. Physics check: the rope's pinned end holds and
