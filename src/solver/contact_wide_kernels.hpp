@@ -7,8 +7,8 @@
 // the linker can never pick an AVX2-compiled copy of them for code that runs
 // on a CPU without AVX2. (Shared inline functions this file calls, Vec3 and
 // std:: ones, are inlined: `nm contact_wide_avx2.cpp.o` lists no weak code
-// symbols, only typeinfo and gatherTransposed's zero rows, checked 2026-11-22
-// in Release and in the ASan build. Keep it so: scalar helpers that are not
+// symbols but FloatWide<Avx2Policy>'s own, which only AVX2 code calls, checked
+// 2026-11-22 in Release and in the ASan build. Keep it so: scalar helpers that are not
 // inlined everywhere (in the ASan build, fulcrum::inverse(Mat3) was not) are
 // called through a function defined in contact_wide.cpp, like rollingMassOf.)
 #ifndef FULCRUM_WIDE_NS
