@@ -11,6 +11,8 @@
 #if FULCRUM_SIMD_HAS_AVX2 && !defined(FULCRUM_SIMD_PORTABLE)
 #define FULCRUM_WIDE_POLICY simd::Avx2Policy
 #define FULCRUM_WIDE_NS avx2
+#define FULCRUM_WIDE_LEAVE() _mm256_zeroupper()  // see contact_wide_kernels.hpp
+#include <immintrin.h>
 #include "solver/contact_wide_kernels.hpp"
 
 namespace fulcrum::detail {

@@ -14,6 +14,18 @@
 #ifndef FULCRUM_WIDE_NS
 #error "define FULCRUM_WIDE_NS and FULCRUM_WIDE_POLICY before including contact_wide_kernels.hpp"
 #endif
+// FULCRUM_WIDE_LEAVE(): run as each entry point returns. The AVX2 copy defines
+// it as _mm256_zeroupper(): GCC 12 let a kernel reached by a tail call from
+// its entry point return with the upper halves of the ymm registers dirty, and
+// every legacy-SSE instruction after it (the rest of the step is SSE2 code)
+// then paid for the dirty state: box_pile, 270 steps, perf samples of
+// ContactSolver::updateDeltas 119 (4-lane path) -> 383 (8-lane), of
+// integratePositions 277 -> 497, and the 8-lane step 8-15 % slower than the
+// 4-lane one although it ran 16 % fewer instructions. The statement after
+// the call also keeps the compiler from making it a tail call.
+#ifndef FULCRUM_WIDE_LEAVE
+#define FULCRUM_WIDE_LEAVE() ((void)0)
+#endif
 
 #include <algorithm>
 #include <array>
@@ -581,20 +593,25 @@ public:
     void resize(std::size_t blocks) override {
         blocks_.resize(blocks);
         if (extras_.size() < blocks) extras_.resize(blocks);  // never shrinks: no re-initialising
+        FULCRUM_WIDE_LEAVE();
     }
     void build(std::size_t block, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
                const Vec3* startCom, const Softness& dynamicSoftness, const Softness& stiffSoftness) override {
         buildBlock(blocks_[block], extras_[block], lanes, laneCount, bodies, startCom, dynamicSoftness, stiffSoftness);
+        FULCRUM_WIDE_LEAVE();
     }
     void warmStart(std::size_t first, std::size_t count, SolverBody* bodies) override {
         warmStartWide(blocks_.data() + first, count, bodies);
+        FULCRUM_WIDE_LEAVE();
     }
     void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
                Real pushMax) override {
         solveWide(blocks_.data() + first, count, bodies, useBias, invH, pushMax);
+        FULCRUM_WIDE_LEAVE();
     }
     void restitution(SolverBody* bodies, Real threshold) override {
         restitutionWide(blocks_.data(), blocks_.size(), bodies, threshold);
+        FULCRUM_WIDE_LEAVE();
     }
     void laneTargets(std::size_t block, const std::uint32_t*& contact, const std::uint32_t*& manifold,
                      std::uint32_t& laneCount) const override {
@@ -605,6 +622,7 @@ public:
     }
     void store(std::size_t first, std::size_t count, const SolverBody* bodies, Contact* contacts) const override {
         storeWide(blocks_.data() + first, count, bodies, contacts);
+        FULCRUM_WIDE_LEAVE();
     }
 
 private:
