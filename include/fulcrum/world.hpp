@@ -53,7 +53,9 @@ struct WorldDef {
     // ---- sleeping: a group of touching bodies falls asleep once, for `timeToSleep`
     // seconds, its mass-weighted RMS speed stayed below linearSleepVelocity, no
     // body of it moved faster than twice that, and none spun faster than
-    // angularSleepVelocity (a lone body: its own speed below linearSleepVelocity).
+    // angularSleepVelocity unless its farthest point moved slower than
+    // linearSleepVelocity (a lone body: its own speed below linearSleepVelocity
+    // and its spin below angularSleepVelocity).
     Real linearSleepVelocity = Real(0.05);   // m/s, >= 0
     Real angularSleepVelocity = Real(0.05);  // rad/s, >= 0
     Real timeToSleep = Real(0.5);            // s, >= 0

@@ -106,29 +106,12 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                 // up to unbiased rounding. (Mapping back with the quaternion rotate()
                 // instead leaves a ~1-ulp *bias* per sub-step from the unit-length
                 // assumption: |L| drifted by 1.5e-4 over 1,920 sub-steps; now ~1e-6.)
-                //
-                // The midpoint rate only sets how far the body turns (it is not
-                // part of that round trip), so it maps L with R I^-1 R^T as three
-                // matrix-vector products instead of forming I_w(qMid) and its
-                // inverse; and the new orientation's matrix R serves both w and
-                // the world inverse inertia. Chain benchmark (100 capsules, 120
-                // steps, callgrind): position stage 98 M -> 67 M instructions,
-                // 0.261 -> 0.247 ms/step median side by side.
-                // L = R (I (R^T w)): three mat-vecs instead of forming I_w. The same
-                // matrix up to unbiased rounding as the I_w whose inverse gave w
-                // (tumbling box, 10 s at 240 Hz: max |d|L|/|L|| 7.3e-6 -> 8.7e-6,
-                // energy 2.4e-5 -> 2.1e-5; chain callgrind 323 M -> 315 M).
-                const Mat3 r0 = toMat3(m.q);
-                const Vec3 angularMomentum = r0 * (p.localInertia * transposeMul(r0, m.w));
+                const Vec3 angularMomentum = worldInertia(m.q, p.localInertia) * m.w;
                 const Quat qMid = integrateRotation(m.q, m.w, Real(0.5) * h);
-                const Mat3 rMid = toMat3(qMid);
-                const Vec3 omegaMid = rMid * (p.invLocalInertia * transposeMul(rMid, angularMomentum));
+                const Vec3 omegaMid = inverse(worldInertia(qMid, p.localInertia)) * angularMomentum;
                 m.q = integrateRotation(m.q, omegaMid, h);
-                const Mat3 r = toMat3(m.q);
-                m.w = inverse(rotateInertia(r, p.localInertia)) * angularMomentum;
-                // As WorldImpl::updateWorldInertia, without converting q again.
-                m.invInertiaWorld = rotateInertia(r, p.invLocalInertia);
-                continue;
+                m.w = inverse(worldInertia(m.q, p.localInertia)) * angularMomentum;
+                break;
             }
         }
         w.updateWorldInertia(i);

@@ -36,10 +36,10 @@ inline void integratePositions(WorldImpl& w, Integrator method, Real h) {
 // `timeAfter`); nothing for the Euler methods.
 void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter);
 
-// World inertia tensor R I_body R^T (not inverted), for the rotation matrix R.
-inline Mat3 rotateInertia(const Mat3& r, const Mat3& inertiaBody) { return r * inertiaBody * transpose(r); }
-
 // World inertia tensor R I_body R^T (not inverted).
-inline Mat3 worldInertia(const Quat& q, const Mat3& inertiaBody) { return rotateInertia(toMat3(q), inertiaBody); }
+inline Mat3 worldInertia(const Quat& q, const Mat3& inertiaBody) {
+    const Mat3 r = toMat3(q);
+    return r * inertiaBody * transpose(r);
+}
 
 }  // namespace fulcrum::detail

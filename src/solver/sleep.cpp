@@ -108,7 +108,13 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
             // Kinematic bodies (no mass, nothing in the island's energy) keep the plain test.
             const bool still =
                 p.mass > 0 ? islandEnergy_[root] <= lin2 * islandMass_[root] && v2 <= bodyCap2 : v2 <= lin2;
-            if (!p.allowSleep || !still || lengthSquared(m.w) > ang2) {
+            // Rotation: the spin below angularSleepVelocity or, in a group, the
+            // speed it gives the body's farthest point below the sleep speed
+            // (Box2D's measure): sleep.hpp, "Rotation".
+            const Real w2 = lengthSquared(m.w);
+            const bool inGroup = p.mass > 0 && islandMass_[root] > bodyMass_[i];
+            const bool turning = w2 > ang2 && !(inGroup && w2 * p.extent * p.extent <= lin2);
+            if (!p.allowSleep || !still || turning) {
                 p.sleepTime = 0;
             } else {
                 p.sleepTime += dt;

@@ -285,7 +285,9 @@ namespace {
 // Zero gravity: a 99 kg box at rest and a 1 kg box drifting at `speed` inside
 // the slack of a 3 m rope (a distance joint, min 0): one island, whose
 // mass-weighted RMS speed is speed / 10.
-bool ropePairSleeps(Real speed, Real seconds) {
+// `spin`: the light box's angular velocity about y (rad/s); it is a cube, so
+// with no torque its spin stays constant.
+bool ropePairSleeps(Real speed, Real seconds, Real spin = 0) {
     WorldDef def;
     def.gravity = {};
     World world(def);
@@ -301,6 +303,7 @@ bool ropePairSleeps(Real speed, Real seconds) {
     rope.maxLength = 3;
     world.createJoint(rope);
     world.setLinearVelocity(light, {speed, 0, 0});  // 1 m of drift per 12 s at 0.08 m/s: the rope stays slack
+    world.setAngularVelocity(light, {0, spin, 0});
     const int steps = static_cast<int>(seconds / kDt);
     for (int i = 0; i < steps; ++i) world.step(kDt);
     return !world.isAwake(light) && !world.isAwake(heavy);
@@ -327,4 +330,25 @@ TEST(SleepMeasure, IslandRmsSpeedWithAPerBodyCap) {
         for (int i = 0; i < 120; ++i) world.step(kDt);
         EXPECT_EQ(world.isAwake(box), speed > Real(0.05)) << "speed " << speed;
     }
+}
+
+// Rotation (src/solver/sleep.hpp): a body of a group is still when its spin is
+// below angularSleepVelocity (0.05 rad/s) or the speed the spin gives its
+// farthest point is below linearSleepVelocity (0.05 m/s). The light box is a
+// 0.2 m cube: its farthest corner is sqrt(3) * 0.1 = 0.173 m from its centre.
+TEST(SleepMeasure, GroupRotationByItsFarthestPointsSpeed) {
+    // 0.2 rad/s, 4x the angular sleep speed, moves the corner at 0.035 m/s: asleep.
+    EXPECT_TRUE(ropePairSleeps(0, 1, Real(0.2)));
+    // 0.4 rad/s moves it at 0.069 m/s: never.
+    EXPECT_FALSE(ropePairSleeps(0, 3, Real(0.4)));
+
+    // A lone body keeps the plain spin test: the same cube at 0.2 rad/s stays awake.
+    WorldDef def;
+    def.gravity = {};
+    World world(def);
+    const BodyId cube = addBox(world, {0, 0, 0}, Vec3::splat(Real(0.1)), 1);
+    world.setAngularVelocity(cube, {0, Real(0.2), 0});
+    for (int i = 0; i < static_cast<int>(3 / kDt); ++i) world.step(kDt);
+    EXPECT_TRUE(world.isAwake(cube));
+    EXPECT_NEAR(world.angularVelocity(cube).y, Real(0.2), Real(1e-5));  // torque-free: the spin holds
 }
