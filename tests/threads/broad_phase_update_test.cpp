@@ -15,6 +15,7 @@
 #include <string>
 
 #include "fulcrum/world.hpp"
+#include "ground.hpp"
 #include "reverse_scheduler.hpp"
 #include "world/world_impl.hpp"
 
@@ -24,11 +25,7 @@ namespace {
 
 World buildSpherePile() {
     World world;
-    BodyDef ground;
-    ground.type = BodyType::Static;
-    ground.shape = Shape::box({40, 1, 40});
-    ground.position = {0, -1, 0};
-    world.createBody(ground);
+    test::addGroundSlab(world);
     for (int y = 0; y < 6; ++y) {
         for (int z = 0; z < 10; ++z) {
             for (int x = 0; x < 10; ++x) {

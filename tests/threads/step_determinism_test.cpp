@@ -30,6 +30,7 @@
 #include "fulcrum/scene.hpp"
 #include "fulcrum/task_system.hpp"
 #include "fulcrum/world.hpp"
+#include "ground.hpp"
 #include "reverse_scheduler.hpp"
 
 using namespace fulcrum;
@@ -128,11 +129,7 @@ void expectIdenticalRuns(const std::function<World()>& build, int steps, Real dt
 // step and the pile collapses sideways (many contacts begin and end).
 World buildPile(bool spheres, int nx, int ny, int nz) {
     World world;
-    BodyDef ground;
-    ground.type = BodyType::Static;
-    ground.shape = Shape::box({40, 1, 40});
-    ground.position = {0, -1, 0};
-    world.createBody(ground);
+    test::addGroundSlab(world);
     const Shape shape = spheres ? Shape::sphere(Real(0.5)) : Shape::box({Real(0.5), Real(0.5), Real(0.5)});
     for (int y = 0; y < ny; ++y) {
         for (int z = 0; z < nz; ++z) {
@@ -195,11 +192,7 @@ TEST(ThreadedStep, RestingLayerFallsAsleepTheSameForAnyThreadCount) {
     const auto rowZ = [](int r) { return Real(-15) + Real(1.5) * static_cast<Real>(r); };
     const auto build = [&] {
         World world;
-        BodyDef ground;
-        ground.type = BodyType::Static;
-        ground.shape = Shape::box({40, 1, 40});
-        ground.position = {0, -1, 0};
-        world.createBody(ground);
+        test::addGroundSlab(world);
         for (int r = 0; r < kRows; ++r) {
             for (int i = 0; i < kPerRow; ++i) {
                 BodyDef d;

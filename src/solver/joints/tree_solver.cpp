@@ -87,6 +87,18 @@ bool invertInPlace(double a[6][6]) {
     }
 }
 
+// x <- A x for the N x N block A (a factored block, stored inverted).
+template <int N>
+void multiplyInPlace(const double a[6][6], double* x) {
+    double y[6];
+    for (int r = 0; r < N; ++r) {
+        double t = 0;
+        for (int k = 0; k < N; ++k) t += a[r][k] * x[k];
+        y[r] = t;
+    }
+    for (int r = 0; r < N; ++r) x[r] = y[r];
+}
+
 // The 3 x 6 Jacobian block of a point row on one body: [s I, -s [r]x] with
 // s = +1 on B, -1 on A (J v = s (v - r x w)).
 void jacobian(double out[3][6], const Vec3& r, double s) {
@@ -445,13 +457,7 @@ bool JointTreeSolver::eliminate(std::uint32_t i) {
     const Node& n = nodes_[i];
     Factor& f = factors_[i];
     if (!invertInPlace<dim>(f.D)) return false;  // f.D <- D^-1
-    double z[6];
-    for (int r = 0; r < dim; ++r) {
-        double t = 0;
-        for (int k = 0; k < dim; ++k) t += f.D[r][k] * f.z[k];
-        z[r] = t;
-    }
-    for (int r = 0; r < dim; ++r) f.z[r] = z[r];
+    multiplyInPlace<dim>(f.D, f.z);  // z <- D^-1 z
     if (n.parent == kNone) return true;
     Factor& pf = factors_[n.parent];
     // H(parent, this).
@@ -494,13 +500,7 @@ template <int dim, int pdim>
 void JointTreeSolver::forward(std::uint32_t i) {
     const Node& n = nodes_[i];
     Factor& f = factors_[i];
-    double z[6];
-    for (int r = 0; r < dim; ++r) {
-        double t = 0;
-        for (int k = 0; k < dim; ++k) t += f.D[r][k] * f.z[k];
-        z[r] = t;
-    }
-    for (int r = 0; r < dim; ++r) f.z[r] = z[r];
+    multiplyInPlace<dim>(f.D, f.z);  // z <- D^-1 z
     if (n.parent == kNone) return;
     Factor& pf = factors_[n.parent];
     for (int r = 0; r < pdim; ++r) {
