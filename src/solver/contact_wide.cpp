@@ -55,16 +55,17 @@ bool avx2Available() {
 
 SimdPath bestSimdPath() { return avx2Available() ? SimdPath::Avx2 : SimdPath::Sse2; }
 
+SimdPath simdPathFromSetting(const char* text) {
+    if (text == nullptr || *text == 0) return bestSimdPath();
+    if (std::strcmp(text, "scalar") == 0) return SimdPath::Scalar;
+    if (std::strcmp(text, "sse2") == 0) return SimdPath::Sse2;
+    if (std::strcmp(text, "avx2") == 0) return bestSimdPath();  // sse2 where the CPU lacks AVX2
+    throw Error(std::string("environment variable FULCRUM_SIMD is '") + text +
+                "': expected scalar, sse2 or avx2 (or unset: the fastest this CPU runs)");
+}
+
 SimdPath initialSimdPath() {
-    static const SimdPath path = [] {
-        const char* text = std::getenv("FULCRUM_SIMD");
-        if (text == nullptr || *text == 0) return bestSimdPath();
-        if (std::strcmp(text, "scalar") == 0) return SimdPath::Scalar;
-        if (std::strcmp(text, "sse2") == 0) return SimdPath::Sse2;
-        if (std::strcmp(text, "avx2") == 0) return bestSimdPath();  // sse2 where the CPU lacks AVX2
-        throw Error(std::string("environment variable FULCRUM_SIMD is '") + text +
-                    "': expected scalar, sse2 or avx2 (or unset: the fastest this CPU runs)");
-    }();
+    static const SimdPath path = simdPathFromSetting(std::getenv("FULCRUM_SIMD"));
     return path;
 }
 

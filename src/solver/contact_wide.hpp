@@ -80,6 +80,9 @@ SimdPath bestSimdPath();
 // lacks it) if set, else bestSimdPath(). Read once per process. An unknown
 // value throws fulcrum::Error naming the variable and the accepted values.
 SimdPath initialSimdPath();
+// The path a FULCRUM_SIMD value names (null or empty: bestSimdPath()); throws
+// fulcrum::Error naming the variable and the accepted values for anything else.
+SimdPath simdPathFromSetting(const char* text);
 
 // The blocks of one step and the kernels over them, for one width: the part
 // of the solver that depends on the lane count, behind one virtual call per

@@ -6,6 +6,8 @@
 // unequal masses, partly filled blocks). Both must also give the right physics.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <cmath>
 #include <cstdlib>
 
@@ -106,6 +108,24 @@ TEST(WideSolver, FourLanesAgreeWithScalarSolverStepByStep) { expectWideAgreesWit
 TEST(WideSolver, EightLanesAgreeWithScalarSolverStepByStep) {
     if (!detail::avx2Available()) GTEST_SKIP() << "this CPU (or this build) has no AVX2: the 8-lane path cannot run";
     expectWideAgreesWithScalar(detail::SimdPath::Avx2);
+}
+
+// FULCRUM_SIMD's values, and a clear error for a value it doesn't know.
+TEST(WideSolver, SimdSettingIsParsedOrRejectedWithItsName) {
+    EXPECT_EQ(detail::simdPathFromSetting(nullptr), detail::bestSimdPath());
+    EXPECT_EQ(detail::simdPathFromSetting(""), detail::bestSimdPath());
+    EXPECT_EQ(detail::simdPathFromSetting("scalar"), detail::SimdPath::Scalar);
+    EXPECT_EQ(detail::simdPathFromSetting("sse2"), detail::SimdPath::Sse2);
+    EXPECT_EQ(detail::simdPathFromSetting("avx2"), detail::bestSimdPath());  // sse2 without AVX2
+    try {
+        detail::simdPathFromSetting("avx512");
+        FAIL() << "an unknown FULCRUM_SIMD value was accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("FULCRUM_SIMD"), std::string::npos) << what;
+        EXPECT_NE(what.find("'avx512'"), std::string::npos) << what;
+        EXPECT_NE(what.find("scalar, sse2 or avx2"), std::string::npos) << what;
+    }
 }
 
 // A solver made without FULCRUM_SIMD in the environment takes the widest path
