@@ -204,21 +204,11 @@ void WorldImpl::step(Real dt) {
         // Joints: put the anchors back together at the position level.
         if (hasJoints) jointSolver.projectPositions(*this);
         // Relax: the bias-free pass removes the velocity the soft push added.
-        // Joints and contacts together get a second round: a limb wedged
-        // between the floor, another body and its own joint (whose tree is
-        // solved exactly, after which the contacts undo part of it) otherwise
-        // keeps a velocity the next sub-step undoes again, for ever: 0.02 m/s
-        // and 0.5 rad/s on forearms standing still, which kept a 100-ragdoll
-        // pile from sleeping (tests/joints: Ragdoll.APileComesToRestAndSleeps).
-        // Pure contact scenes and pure joint scenes keep one round.
         if (hasConstraints) {
             solver.updateDeltas(*this);
             solver.gatherVelocities(*this);
-            const int relaxRounds = hasJoints && hasContacts ? 2 : 1;
-            for (int round = 0; round < relaxRounds; ++round) {
-                jointSolver.solve(false);
-                solver.solve(false);
-            }
+            jointSolver.solve(false);
+            solver.solve(false);
             solver.scatterVelocities(*this);
         }
         // Stage 5

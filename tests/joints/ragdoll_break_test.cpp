@@ -295,13 +295,12 @@ TEST(JointValidation, ClearErrors) {
 // Twenty-four ragdolls dropped onto each other (6 columns 1.2 m apart, 4
 // high, as in bench_joints' pile) come to rest and fall asleep within 10 s.
 // Forearms end up wedged between the floor, another ragdoll and their own
-// elbow; a body held so must end with zero velocity, not with a velocity its
-// constraints undo every sub-step. With a single joints-then-contacts round in
-// the solver's bias-free pass, wedged forearms here kept 0.028 m/s (and in the
-// bench's 100-ragdoll pile 0.02 m/s and 0.5 rad/s for ever, keeping the pile
-// awake) while standing still; the step now runs a second round when joints
-// and contacts are both present (src/world/step.cpp). Which limbs wedge
-// depends on the pile to the last bit, so this pile is one that did.
+// elbow, where the joint's position projection and the contacts undo each
+// other every sub-step: such a body stands still with a velocity (here 0.028
+// m/s) that never decays. Sleeping now tests how far bodies actually moved
+// (src/solver/sleep.hpp, "Held bodies"); on the velocities alone this pile
+// never slept. Which limbs wedge depends on the pile to the last bit, so this
+// pile is one that did.
 TEST(Ragdoll, APileComesToRestAndSleeps) {
     WorldDef def = worldDef(5);  // the world default, as the bench
     def.sleeping = true;
