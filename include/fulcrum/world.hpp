@@ -132,6 +132,7 @@ public:
     void setSolverIterations(int iterations);
     void setSleepingEnabled(bool enabled);
     void setThreadCount(int threads);
+    void setParallelMinBodies(std::uint32_t minimum);  // WorldDef::parallelMinBodies
     // Runs the step's parallel loops on a user's scheduler (docs/threading.md)
     // instead of the built-in pool sized by `threads`. Not owned: it must
     // outlive the world or be replaced first; nullptr goes back to the built-in

@@ -275,10 +275,14 @@ TEST(ThreadedStep, SmallStepsOnTheCallerKeepTheResult) {
     constexpr int kY = 4;
     World single = buildPile(false, 10, kY, 10);
     std::vector<World> threaded;
-    for (const std::uint32_t minBodies : {0u, 512u, 200u}) {
+    for (const std::uint32_t minBodies : {0u, 512u}) {
         threaded.push_back(buildPile(false, 10, kY, 10, minBodies));
         threaded.back().setThreadCount(2);
     }
+    threaded.push_back(buildPile(false, 10, kY, 10));
+    threaded.back().setThreadCount(2);
+    threaded.back().setParallelMinBodies(200);  // the setter, as WorldDef::parallelMinBodies
+    ASSERT_EQ(threaded.back().settings().parallelMinBodies, 200u);
     for (int s = 0; s < 150; ++s) {
         single.step(Real(1) / 60);
         for (World& w : threaded) {
