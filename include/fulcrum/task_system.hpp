@@ -121,11 +121,12 @@ struct ThreadPoolDef {
     // condition variable, in pause-loop iterations (each ~10-140 cycles,
     // depending on the CPU). Spinning keeps back-to-back parallelFor calls (the
     // solver's colours) cheap; sleeping keeps idle cores free for the rest of
-    // the program. 0 sleeps at once.
-    std::uint32_t spinIterations = 2000;
+    // the program. 0 sleeps at once. The default (~0.5-2 ms) outlasts the
+    // serial gaps inside a step, so a step wakes no sleeper (docs/threading.md).
+    std::uint32_t spinIterations = 100000;
     // Target number of ranges per worker per call, for load balancing; the
     // pool never cuts ranges smaller than minRange.
-    std::uint32_t rangesPerWorker = 4;
+    std::uint32_t rangesPerWorker = 16;
 };
 
 // The built-in pool: def.threads - 1 worker threads plus the thread that calls
