@@ -46,6 +46,18 @@ struct CurrentPoolScope {
 // More workers than this is a mistake (a negative int converted to unsigned).
 constexpr std::uint32_t kMaxThreads = 1024;
 
+// A span word: generation (24 bits) | end (20) | next (20) (thread_pool.hpp).
+constexpr std::uint64_t kChunkBits = 20;
+constexpr std::uint64_t kChunkMask = (std::uint64_t{1} << kChunkBits) - 1;
+constexpr std::uint32_t kGenerationMask = (1u << 24) - 1;
+constexpr std::uint64_t kMaxChunks = kChunkMask;
+std::uint64_t spanWord(std::uint64_t generation, std::uint64_t end, std::uint64_t next) {
+    return generation << (2 * kChunkBits) | end << kChunkBits | next;
+}
+std::uint64_t generationOf(std::uint64_t word) { return word >> (2 * kChunkBits); }
+std::uint64_t endOf(std::uint64_t word) { return (word >> kChunkBits) & kChunkMask; }
+std::uint64_t nextOf(std::uint64_t word) { return word & kChunkMask; }
+
 }  // namespace
 
 ThreadPool::ThreadPool(const ThreadPoolDef& def) {
@@ -58,6 +70,7 @@ ThreadPool::ThreadPool(const ThreadPoolDef& def) {
     workerCount_ = threads;
     spinIterations_ = def.spinIterations;
     rangesPerWorker_ = def.rangesPerWorker;
+    spans_ = std::vector<Span>(threads);
     threads_.reserve(threads - 1);
     try {
         for (std::uint32_t i = 1; i < threads; ++i) threads_.emplace_back([this, i] { workerMain(i); });
@@ -83,7 +96,9 @@ void ThreadPool::stopAndJoin() noexcept {
 std::uint32_t ThreadPool::chunkSize(std::uint32_t count, std::uint32_t minRange) const noexcept {
     const std::uint64_t target = std::uint64_t(workerCount_) * rangesPerWorker_;
     const std::uint64_t even = (std::uint64_t(count) + target - 1) / target;
-    return static_cast<std::uint32_t>(std::max<std::uint64_t>({even, minRange, 1}));
+    // At most kMaxChunks chunks (a span word's 20-bit fields).
+    const std::uint64_t fewest = (std::uint64_t(count) + kMaxChunks - 1) / kMaxChunks;
+    return static_cast<std::uint32_t>(std::max<std::uint64_t>({even, fewest, minRange, 1}));
 }
 
 void ThreadPool::parallelFor(std::uint32_t count, std::uint32_t minRange, RangeFn fn) {
@@ -107,8 +122,14 @@ void ThreadPool::parallelFor(std::uint32_t count, std::uint32_t minRange, RangeF
     chunkCount_ = std::int64_t(count / size);  // >= 2 here; the remainder goes to the last
     doneChunks_.store(0, std::memory_order_relaxed);
     cancelled_.store(false, std::memory_order_relaxed);
+    generation_ = (generation_ + 1) & kGenerationMask;
+    const auto chunks = static_cast<std::uint64_t>(chunkCount_), workers = spans_.size();
+    for (std::size_t w = 0; w < workers; ++w) {
+        spans_[w].word.store(spanWord(generation_, chunks * (w + 1) / workers, chunks * w / workers),
+                             std::memory_order_release);
+    }
     // Publish (seq_cst: pairs with the sleeper count, see the header).
-    unclaimedChunks_.store(chunkCount_, std::memory_order_seq_cst);
+    published_.store(generation_, std::memory_order_seq_cst);
     if (const std::uint32_t sleeping = sleepers_.load(std::memory_order_seq_cst); sleeping > 0) {
         // The caller takes a chunk itself, so chunkCount - 1 helpers are enough.
         const std::int64_t helpers = std::min<std::int64_t>(chunkCount_ - 1, sleeping);
@@ -121,7 +142,7 @@ void ThreadPool::parallelFor(std::uint32_t count, std::uint32_t minRange, RangeF
 
     {
         CurrentPoolScope scope(this, 0);
-        runChunks(0);
+        runChunks(0, generation_);
     }
     // Chunks still in flight on other workers: short, so spin, then yield the
     // core in case their thread was preempted (the machine may be oversubscribed).
@@ -139,19 +160,27 @@ void ThreadPool::parallelFor(std::uint32_t count, std::uint32_t minRange, RangeF
     }
 }
 
-void ThreadPool::runChunks(std::uint32_t workerIndex) noexcept {
-    for (;;) {
-        const std::int64_t unclaimed = unclaimedChunks_.fetch_sub(1, std::memory_order_acquire);
-        if (unclaimed <= 0) return;
-        // We own chunk (chunkCount - unclaimed) of the current job: its fields are stable.
-        // The last chunk takes the remainder, so every range holds at least
-        // chunkSize >= minRange indices.
-        const std::int64_t chunk = chunkCount_ - unclaimed;
-        const std::uint64_t begin = std::uint64_t(chunk) * chunkSize_;
-        const std::uint64_t end = chunk + 1 == chunkCount_ ? count_ : begin + chunkSize_;
-        if (!cancelled_.load(std::memory_order_relaxed))
-            runRange(static_cast<std::uint32_t>(begin), static_cast<std::uint32_t>(end), workerIndex);
-        doneChunks_.fetch_add(1, std::memory_order_release);
+void ThreadPool::runChunks(std::uint32_t workerIndex, std::uint64_t generation) noexcept {
+    const std::size_t workers = spans_.size();
+    for (std::size_t k = 0; k < workers; ++k) {
+        std::atomic<std::uint64_t>& span = spans_[(workerIndex + k) % workers].word;
+        std::uint64_t word = span.load(std::memory_order_acquire);
+        for (;;) {
+            if (generationOf(word) != generation) return;  // that job is over
+            if (nextOf(word) >= endOf(word)) break;       // this span is done: the next one
+            if (!span.compare_exchange_weak(word, word + 1, std::memory_order_acquire, std::memory_order_acquire))
+                continue;  // word now holds the current value
+            // We own chunk nextOf(word) of this job: its fields are stable.
+            // The last chunk takes the remainder, so every range holds at
+            // least chunkSize >= minRange indices.
+            const std::uint64_t chunk = nextOf(word);
+            const std::uint64_t begin = chunk * chunkSize_;
+            const std::uint64_t end = chunk + 1 == std::uint64_t(chunkCount_) ? count_ : begin + chunkSize_;
+            if (!cancelled_.load(std::memory_order_relaxed))
+                runRange(static_cast<std::uint32_t>(begin), static_cast<std::uint32_t>(end), workerIndex);
+            doneChunks_.fetch_add(1, std::memory_order_release);
+            word = span.load(std::memory_order_acquire);
+        }
     }
 }
 
@@ -165,24 +194,26 @@ void ThreadPool::runRange(std::uint32_t begin, std::uint32_t end, std::uint32_t 
     }
 }
 
-void ThreadPool::waitForWork() noexcept {
+void ThreadPool::waitForWork(std::uint32_t seen) noexcept {
     for (std::uint32_t i = 0; i < spinIterations_; ++i) {
-        if (unclaimedChunks_.load(std::memory_order_relaxed) > 0 || stop_.load(std::memory_order_relaxed)) return;
+        if (published_.load(std::memory_order_relaxed) != seen || stop_.load(std::memory_order_relaxed)) return;
         cpuPause();
     }
     std::unique_lock lock(sleepMutex_);
     sleepers_.fetch_add(1, std::memory_order_seq_cst);
-    wake_.wait(lock, [this] {
-        return unclaimedChunks_.load(std::memory_order_seq_cst) > 0 || stop_.load(std::memory_order_seq_cst);
+    wake_.wait(lock, [this, seen] {
+        return published_.load(std::memory_order_seq_cst) != seen || stop_.load(std::memory_order_seq_cst);
     });
     sleepers_.fetch_sub(1, std::memory_order_relaxed);
 }
 
 void ThreadPool::workerMain(std::uint32_t workerIndex) noexcept {
     CurrentPoolScope scope(this, workerIndex);
+    std::uint32_t seen = 0;
     while (!stop_.load(std::memory_order_acquire)) {
-        waitForWork();
-        runChunks(workerIndex);
+        waitForWork(seen);
+        seen = published_.load(std::memory_order_acquire);
+        runChunks(workerIndex, seen);
     }
 }
 
