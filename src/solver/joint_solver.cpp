@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -29,6 +30,7 @@ void JointSolver::reserve(std::size_t jointCount) {
 void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     constraints_.clear();
     events_.clear();
+    framesStale_ = true;
     // After a snapshot load the per-body joint lists start out of sync (O(1) check).
     if (!graph_.inSync(w)) graph_.rebuild(w);
     bodies_ = solver.mutableBodies().data();
@@ -162,18 +164,50 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies) {
     constraints_.swap(scratch_);
 }
 
-void JointSolver::refreshRotations() {
-    // exp(dtheta) of every solver body, once per pass: a body is shared by up to
-    // six joints in the grid benchmark, and each needs the exact rotation.
+namespace {
+
+bool sameBits(const Vec3& x, const Vec3& y) { return std::memcmp(&x, &y, sizeof(Vec3)) == 0; }
+
+}  // namespace
+
+void JointSolver::refreshFrames() {
+    // Every joint's frame (anchors, separation, orientations) for its bodies'
+    // current deltas, computed only where a body's deltas changed since the
+    // last refresh (compared bit for bit, so a kept frame has exactly the bits
+    // a recomputed one would): the deltas change only with the positions
+    // (ContactSolver::updateDeltas), so the relax pass's frames serve the next
+    // sub-step's warm start and biased passes unchanged, and each body's
+    // exp(dtheta) is computed once per sub-step, not once per pass. Before,
+    // the frame was recomputed in the warm start and in every pass (three
+    // times per joint and sub-step in the chain benchmark) and the rotations
+    // twice per sub-step.
     if (constraints_.empty()) return;  // contacts only: nothing to do (and nothing to allocate)
     const std::vector<SolverBody>& all = *allBodies_;
-    rotations_.resize(all.size());
-    for (std::size_t i = 0; i < all.size(); ++i) rotations_[i] = deltaRotation(all[i]);
-    ctx_.rotations = rotations_.data();
+    const std::size_t n = all.size();
+    frameDeltas_.resize(n);
+    rotations_.resize(n);
+    deltasChanged_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const SolverBody& b = all[i];
+        BodyDeltas& kept = frameDeltas_[i];
+        if (!framesStale_ && sameBits(kept.dp, b.dp) && sameBits(kept.dtheta, b.dtheta)) {
+            deltasChanged_[i] = 0;
+            continue;
+        }
+        kept.dp = b.dp;
+        kept.dtheta = b.dtheta;
+        rotations_[i] = deltaRotation(b);
+        deltasChanged_[i] = 1;
+    }
+    for (JointConstraint& j : constraints_) {
+        if (!framesStale_ && !deltasChanged_[j.bodyA] && !deltasChanged_[j.bodyB]) continue;
+        updateFrame(j.frame, j, all[j.bodyA], all[j.bodyB], rotations_[j.bodyA], rotations_[j.bodyB]);
+    }
+    framesStale_ = false;
 }
 
 void JointSolver::warmStart() {
-    refreshRotations();
+    refreshFrames();
     trees_.newSubstep();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
@@ -193,7 +227,7 @@ void JointSolver::solve(bool useBias) {
     ctx_.useBias = useBias;
     // The biased pass follows this sub-step's warm start (same deltas); the
     // relax pass follows the position update.
-    if (!useBias) refreshRotations();
+    if (!useBias) refreshFrames();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
         SolverBody& b = bodies_[j.bodyB];

@@ -79,13 +79,23 @@ public:
 private:
     static constexpr std::uint32_t kColourCount = 24;
     void colour(const std::vector<SolverBody>& bodies);
-    void refreshRotations();
+    void refreshFrames();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
     std::vector<JointConstraint> constraints_;
     std::vector<JointConstraint> empty_, scratch_;
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
     std::vector<std::uint64_t> colourBits_;
+    // refreshFrames' cache, per solver body: the deltas its rotation and the
+    // frames of its joints were computed from, the rotation, and whether the
+    // deltas changed at the last refresh. framesStale_: prepare() rebuilt the
+    // constraints (every frame is recomputed).
+    struct BodyDeltas {
+        Vec3 dp, dtheta;
+    };
+    std::vector<BodyDeltas> frameDeltas_;
     std::vector<Quat> rotations_;
+    std::vector<std::uint8_t> deltasChanged_;
+    bool framesStale_ = true;
     const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;
     JointGraph graph_;

@@ -348,7 +348,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             JointConstraint& j = joints[n.ref];
             const SolverBody& a = bodies[j.bodyA];
             const SolverBody& b = bodies[j.bodyB];
-            const JointFrame fr = currentFrame(j, a, b, ctx);
+            const JointFrame& fr = currentFrame(j, a, b, ctx);
             f.rA = fr.rA;
             f.rB = fr.rB;
             Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
@@ -542,7 +542,7 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
         for (std::uint32_t i = begin; i < end; ++i) {
             if (!nodes_[i].joint) continue;
             JointConstraint& j = joints[nodes_[i].ref];
-            const JointFrame fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
+            const JointFrame& fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
             const Mat3 K = pointInverseMass(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB);
             if (!(determinant(K) > 0)) continue;
             solvePointBlock(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));
