@@ -127,16 +127,47 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         }
         constraints_.push_back(j);
     }
-    colour(solver.mutableBodies());
-    if (settings.jointDirectSolve) {
-        trees_.build(constraints_, solver.mutableBodies());
-    } else {
+    // The colouring and the joint trees depend only on which joints join which
+    // solver bodies (sameStructureAsLastStep): in a scene whose joints and
+    // sleeping don't change, the same as the last step's, so kept (chain
+    // benchmark, callgrind, 120 steps: tree build 8.0 M + colouring 2.8 M ->
+    // see docs/joints.md).
+    const bool same = sameStructureAsLastStep(solver.mutableBodies(), settings.jointDirectSolve);
+    colour(solver.mutableBodies(), same);
+    if (!settings.jointDirectSolve) {
         for (JointConstraint& j : constraints_) j.direct = false;
-        trees_.build(empty_, solver.mutableBodies());
+        if (!same) trees_.build(empty_, solver.mutableBodies());
+    } else if (same) {
+        trees_.reuse(constraints_);
+    } else {
+        trees_.build(constraints_, solver.mutableBodies());
     }
 }
 
-void JointSolver::colour(const std::vector<SolverBody>& bodies) {
+bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
+    nextStructure_.clear();
+    for (const JointConstraint& j : constraints_) {
+        std::uint32_t flags = static_cast<std::uint32_t>(j.type) << 4;
+        const auto endFlags = [&](std::uint32_t i, std::uint32_t shift) {
+            const SolverBody& b = bodies[i];
+            if (!(b.invMass > 0)) return;
+            flags |= 1u << shift;
+            if (determinant(b.invI) > 0) flags |= 2u << shift;
+        };
+        endFlags(j.bodyA, 0);
+        endFlags(j.bodyB, 2);
+        nextStructure_.push_back({j.slot, j.bodyA, j.bodyB, flags});
+    }
+    const bool same = structureValid_ && structureDirect_ == directSolve && structureBodies_ == bodies.size() &&
+                      structure_ == nextStructure_;
+    structure_.swap(nextStructure_);
+    structureBodies_ = bodies.size();
+    structureDirect_ = directSolve;
+    structureValid_ = true;
+    return same;
+}
+
+void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructure) {
     // Greedy, in creation order: the first colour where neither dynamic end is
     // taken. Static and kinematic ends (never written) take no slot. Joints
     // beyond kColourCount colours go to the last, solved one after another.
@@ -146,13 +177,16 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies) {
         creationOrder_.clear();
         return;
     }
-    colourGreedily<kColourCount>(
-        n, bodies.size(),
-        [&](std::size_t i) {
-            const JointConstraint& k = constraints_[i];
-            return ConstraintEnds{k.bodyA, k.bodyB, bodies[k.bodyA].invMass > 0, bodies[k.bodyB].invMass > 0};
-        },
-        colourBits_, colourOf_, colourStart_);
+    // The same structure as the last step's gives the same colours (kept in colourOf_).
+    if (!sameStructure) {
+        colourGreedily<kColourCount>(
+            n, bodies.size(),
+            [&](std::size_t i) {
+                const JointConstraint& k = constraints_[i];
+                return ConstraintEnds{k.bodyA, k.bodyB, bodies[k.bodyA].invMass > 0, bodies[k.bodyB].invMass > 0};
+            },
+            colourBits_, colourOf_, colourStart_);
+    }
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
     scratch_.resize(n);

@@ -78,9 +78,22 @@ public:
 
 private:
     static constexpr std::uint32_t kColourCount = 24;
-    void colour(const std::vector<SolverBody>& bodies);
+    void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
+    bool sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve);
     void refreshFrames();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
+    // What the colouring and the joint trees depend on, per constraint in
+    // creation order (prepare() compares it with the last step's and, if
+    // equal, keeps both): the joint, its solver bodies and type, and whether
+    // each end is dynamic and has an invertible inertia.
+    struct StructureKey {
+        std::uint32_t slot, bodyA, bodyB;
+        std::uint32_t typeAndFlags;
+        bool operator==(const StructureKey&) const = default;
+    };
+    std::vector<StructureKey> structure_, nextStructure_;
+    std::size_t structureBodies_ = 0;
+    bool structureDirect_ = false, structureValid_ = false;
     std::vector<JointConstraint> constraints_;
     std::vector<JointConstraint> empty_, scratch_;
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;

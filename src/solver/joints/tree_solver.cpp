@@ -149,6 +149,18 @@ struct BodyCoupling {
 }  // namespace
 
 void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies) {
+    findTrees(joints, bodies);
+    direct_.resize(joints.size());
+    for (std::size_t k = 0; k < joints.size(); ++k) direct_[k] = joints[k].direct ? 1 : 0;
+}
+
+void JointTreeSolver::reuse(std::vector<JointConstraint>& joints) {
+    for (std::size_t k = 0; k < joints.size(); ++k) joints[k].direct = direct_[k] != 0;
+    valid_.assign(trees_, 1);
+    factored_ = false;
+}
+
+void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies) {
     nodes_.clear();
     trees_ = 0;
     treeStart_.clear();
