@@ -61,7 +61,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         }
         if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;  // nothing can move
 
-        JointConstraint j;
+        JointConstraint& j = constraints_.emplace_back();  // built in place (it is ~0.6 kB)
         j.slot = slot;
         j.bodyA = ia;
         j.bodyB = ib;
@@ -125,7 +125,6 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
             j.maxFrictionImpulse = 0;
             j.impulse.friction = {};
         }
-        constraints_.push_back(j);
     }
     // The colouring and the joint trees depend only on which joints join which
     // solver bodies (sameStructureAsLastStep): in a scene whose joints and
@@ -200,7 +199,11 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructu
 
 namespace {
 
-bool sameBits(const Vec3& x, const Vec3& y) { return std::memcmp(&x, &y, sizeof(Vec3)) == 0; }
+// The deltas a body's rotation and frames were computed from; compared bit
+// for bit (a kept frame then has exactly the bits a recomputed one would).
+bool sameDeltas(const SolverBody& b, const Vec3& dp, const Vec3& dtheta) {
+    return std::memcmp(&b.dp, &dp, sizeof(Vec3)) == 0 && std::memcmp(&b.dtheta, &dtheta, sizeof(Vec3)) == 0;
+}
 
 }  // namespace
 
@@ -224,7 +227,7 @@ void JointSolver::refreshFrames() {
     for (std::size_t i = 0; i < n; ++i) {
         const SolverBody& b = all[i];
         BodyDeltas& kept = frameDeltas_[i];
-        if (!framesStale_ && sameBits(kept.dp, b.dp) && sameBits(kept.dtheta, b.dtheta)) {
+        if (!framesStale_ && sameDeltas(b, kept.dp, kept.dtheta)) {
             deltasChanged_[i] = 0;
             continue;
         }
@@ -365,6 +368,9 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
 }
 
 void JointSolver::store(WorldImpl& w) {
+    // The reactions read each joint's frame: current after the last relax
+    // pass (nothing is recomputed unless the deltas changed since).
+    refreshFrames();
     for (const JointConstraint& j : constraints_) {
         JointData& data = w.joints[j.slot];
         data.impulses = j.impulse;
@@ -383,8 +389,8 @@ void JointSolver::store(WorldImpl& w) {
     }
 }
 
-void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque) {
-    const JointFrame f = currentFrame(j, a, b);
+void jointReaction(const JointConstraint& j, const SolverBody&, const SolverBody&, Real invH, Vec3& force, Vec3& torque) {
+    const JointFrame& f = j.frame;
     const JointImpulses& i = j.impulse;
     const Real axial = i.spring + i.motor + i.lower - i.upper;
     force = i.linear;

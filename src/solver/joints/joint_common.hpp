@@ -329,23 +329,8 @@ inline void updateFrame(JointFrame& f, const JointConstraint& j, const SolverBod
     }
 }
 
-inline JointFrame frameFrom(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const Quat& dqA, const Quat& dqB) {
-    JointFrame f;
-    f.rA = rotate(dqA, j.rA0);
-    f.rB = rotate(dqB, j.rB0);
-    f.d = j.centreDelta + (b.dp - a.dp) + f.rB - f.rA;
-    f.qA = dqA * j.qA0;
-    f.qB = dqB * j.qB0;
-    return f;
-}
-
-// The joint's geometry now, from the bodies' deltas (exact rotation).
-inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
-    return frameFrom(j, a, b, deltaRotation(a), deltaRotation(b));
-}
-
-// The same inside a pass: the frame JointSolver::refreshFrames computed for
-// the bodies' current deltas (the same bits as frameFrom with them).
+// The joint's geometry inside a pass: the frame JointSolver::refreshFrames
+// computed (updateFrame) for its bodies' current deltas.
 inline const JointFrame& currentFrame(const JointConstraint& j, const SolverBody&, const SolverBody&, const JointContext&) {
     return j.frame;
 }
@@ -379,7 +364,8 @@ void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const 
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 
 // Force (N) and torque (N m) the joint applied to body B over the last sub-step,
-// from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor.
+// from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor
+// (j.frame: JointSolver::store refreshes it first).
 void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque);
 
 }  // namespace fulcrum::detail
