@@ -25,6 +25,9 @@ Softness jointSoftness(Real hertz, Real zeta, Real h) {
 void JointSolver::reserve(std::size_t jointCount) {
     if (constraints_.capacity() < jointCount) constraints_.reserve(2 * jointCount);
     if (events_.capacity() < jointCount) events_.reserve(2 * jointCount);
+    if (rowJoints_.capacity() < jointCount) rowJoints_.reserve(2 * jointCount);
+    if (structure_.capacity() < jointCount) structure_.reserve(2 * jointCount);
+    if (nextStructure_.capacity() < jointCount) nextStructure_.reserve(2 * jointCount);
 }
 
 void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
@@ -140,6 +143,15 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         trees_.reuse(constraints_);
     } else {
         trees_.build(constraints_, solver.mutableBodies());
+    }
+    // The joints with rows for the Gauss-Seidel passes: all but a tree's
+    // frictionless ball joints, whose only rows, the point block, the tree
+    // solver has (a chain's joints skip the call per pass).
+    rowJoints_.clear();
+    for (std::uint32_t k = 0; k < constraints_.size(); ++k) {
+        const JointConstraint& j = constraints_[k];
+        if (j.type == JointType::Ball && j.direct && !(j.maxFrictionImpulse > 0)) continue;
+        rowJoints_.push_back(k);
     }
 }
 
@@ -265,7 +277,8 @@ void JointSolver::solve(bool useBias) {
     // The biased pass follows this sub-step's warm start (same deltas); the
     // relax pass follows the position update.
     if (!useBias) refreshFrames();
-    for (JointConstraint& j : constraints_) {
+    for (const std::uint32_t index : rowJoints_) {
+        JointConstraint& j = constraints_[index];
         SolverBody& a = bodies_[j.bodyA];
         SolverBody& b = bodies_[j.bodyB];
         switch (j.type) {

@@ -97,6 +97,7 @@ private:
     std::vector<JointConstraint> constraints_;
     std::vector<JointConstraint> empty_, scratch_;
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
+    std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
     std::vector<std::uint64_t> colourBits_;
     // refreshFrames' cache, per solver body: the deltas its rotation and the
     // frames of its joints were computed from, the rotation, and whether the

@@ -310,7 +310,12 @@ inline void solveFrictionBlock(JointConstraint& j, SolverBody& a, SolverBody& b,
 // rotation, which is its exponential map.
 inline Quat deltaRotation(const SolverBody& b) {
     const Real angle = length(b.dtheta);
-    return angle > Real(0) ? Quat::fromAxisAngle(b.dtheta, angle) : Quat::identity();
+    if (!(angle > Real(0))) return Quat::identity();
+    // Quat::fromAxisAngle(dtheta, angle) without measuring the axis's length a
+    // second time (the same bits: normalize divides by the same length).
+    const Vec3 n = b.dtheta / angle;
+    const Real s = std::sin(Real(0.5) * angle);
+    return {std::cos(Real(0.5) * angle), n.x * s, n.y * s, n.z * s};
 }
 
 // Ball and distance joints read only the anchors and their separation.
