@@ -55,7 +55,8 @@ struct WorldDef {
     // body of it moved faster than twice that, and none spun faster than
     // angularSleepVelocity unless its farthest point moved slower than
     // linearSleepVelocity (a lone body: its own speed below linearSleepVelocity
-    // and its spin below angularSleepVelocity).
+    // and its spin below angularSleepVelocity). Each speed is the smaller of the
+    // velocity and how far the body moved over the step (docs/solver.md, "Held bodies").
     Real linearSleepVelocity = Real(0.05);   // m/s, >= 0
     Real angularSleepVelocity = Real(0.05);  // rad/s, >= 0
     Real timeToSleep = Real(0.5);            // s, >= 0

@@ -50,11 +50,27 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     bodyEnergy_.resize(n);
     bodyMass_.resize(n);
     if (n > 0) parent_[0] = 0;
+    // The speeds the test uses: each the smaller of the body's velocity and
+    // how fast it actually moved over the step (sleep.hpp, "Held bodies").
+    const Real invDt = dt > 0 ? Real(1) / dt : 0;
+    speed2_.resize(n);
+    spin2_.resize(n);
     tasks.parallelFor(bodyCount - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t i = begin + 1; i <= end; ++i) {
             const std::uint32_t d = denseOf[i];
+            const BodyMotion& m = w.motion[d];
+            const Real moved2 = lengthSquared(m.com - solver.startCom(i)) * invDt * invDt;
+            speed2_[i] = std::min(lengthSquared(m.v), moved2);
+            // The turn over the step is only known modulo a full turn: used
+            // while the spin turns the body by less than a radian a step.
+            const Real w2 = lengthSquared(m.w);
+            spin2_[i] = w2;
+            if (w2 * dt * dt < 1) {
+                const Vec3 turn = toRotationVector(m.q * conjugate(solver.startOrientation(i)));
+                spin2_[i] = std::min(w2, lengthSquared(turn) * invDt * invDt);
+            }
             parent_[i] = i;
-            bodyEnergy_[i] = w.params[d].mass * lengthSquared(w.motion[d].v);
+            bodyEnergy_[i] = w.params[d].mass * speed2_[i];
             bodyMass_[i] = w.params[d].mass;
         }
     });
@@ -103,15 +119,14 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
             BodyParams& p = w.params[d];
             bodyTime_[i] = 0;
             if (!p.awake) continue;
-            const BodyMotion& m = w.motion[d];
-            const Real v2 = lengthSquared(m.v);
+            const Real v2 = speed2_[i];
             // Kinematic bodies (no mass, nothing in the island's energy) keep the plain test.
             const bool still =
                 p.mass > 0 ? islandEnergy_[root] <= lin2 * islandMass_[root] && v2 <= bodyCap2 : v2 <= lin2;
             // Rotation: the spin below angularSleepVelocity or, in a group, the
             // speed it gives the body's farthest point below the sleep speed
             // (Box2D's measure): sleep.hpp, "Rotation".
-            const Real w2 = lengthSquared(m.w);
+            const Real w2 = spin2_[i];
             const bool inGroup = p.mass > 0 && islandMass_[root] > bodyMass_[i];
             const bool turning = w2 > ang2 && !(inGroup && w2 * p.extent * p.extent <= lin2);
             if (!p.allowSleep || !still || turning) {

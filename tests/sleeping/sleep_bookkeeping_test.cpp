@@ -352,3 +352,26 @@ TEST(SleepMeasure, GroupRotationByItsFarthestPointsSpeed) {
     EXPECT_TRUE(world.isAwake(cube));
     EXPECT_NEAR(world.angularVelocity(cube).y, Real(0.2), Real(1e-5));  // torque-free: the spin holds
 }
+
+// The speeds tested are the smaller of a body's velocity and how far it moved
+// over the step (sleep.hpp, "Held bodies": the wedged-limb case is
+// Ragdoll.APileComesToRestAndSleeps in tests/joints). Moving bodies must stay
+// awake on both counts: a lone body gliding at 0.06 m/s (above the 0.05 m/s
+// sleep speed) and one spinning at exactly a full turn per step, whose turn over
+// the step alone would read zero, keep their timers at zero for 3 s.
+TEST(SleepMeasure, DisplacementNeverHidesMotion) {
+    WorldDef def;
+    def.gravity = {};
+    World world(def);
+    const BodyId glider = addBox(world, {0, 0, 0}, Vec3::splat(Real(0.1)), 1);
+    world.setLinearVelocity(glider, {Real(0.06), 0, 0});
+    const BodyId spinner = addBox(world, {5, 0, 0}, Vec3::splat(Real(0.1)), 1);
+    const Real fullTurnPerStep = Real(2 * 3.14159265358979) / kDt;
+    world.setAngularVelocity(spinner, {0, fullTurnPerStep, 0});
+    const int steps = 180;  // 3 s
+    for (int i = 0; i < steps; ++i) world.step(kDt);
+    EXPECT_TRUE(world.isAwake(glider));
+    EXPECT_NEAR(world.position(glider).x, 0.06 * steps * kDt, 1e-5);  // x = v t
+    EXPECT_TRUE(world.isAwake(spinner));
+    EXPECT_NEAR(world.angularVelocity(spinner).y, fullTurnPerStep, 1e-3);
+}
