@@ -38,6 +38,11 @@ struct WorldDef {
     int solverIterations = 1;   // constraint iterations per sub-step (>= 1)
     bool sleeping = true;
     int threads = 1;            // >= 1; results are identical for every count
+    // Steps with fewer awake bodies than this run on the calling thread alone
+    // even when threads > 1: handing each small loop to the pool's workers costs
+    // more than it saves (docs/threading.md, "Small steps"). 0: always use the
+    // pool. A task system of the user's (World::setTaskSystem) is always used.
+    std::uint32_t parallelMinBodies = 512;
 
     // ---- contact solver tuning (docs/solver.md explains each one)
     Real contactHertz = 60;             // stiffness of the soft contact (capped at 1/6 of the sub-step rate, static contacts 2x under 1/4); > 0
@@ -127,6 +132,7 @@ public:
     void setSolverIterations(int iterations);
     void setSleepingEnabled(bool enabled);
     void setThreadCount(int threads);
+    void setParallelMinBodies(std::uint32_t minimum);  // WorldDef::parallelMinBodies
     // Runs the step's parallel loops on a user's scheduler (docs/threading.md)
     // instead of the built-in pool sized by `threads`. Not owned: it must
     // outlive the world or be replaced first; nullptr goes back to the built-in

@@ -99,7 +99,7 @@ constexpr std::uint32_t kBodiesPerRange = 256;
 
 TaskSystem& WorldImpl::taskSystem() {
     if (userTasks != nullptr) return *userTasks;
-    if (settings.threads <= 1) return inlineTasks;
+    if (settings.threads <= 1 || stepOnCaller) return inlineTasks;
     if (ownedPool == nullptr || ownedPoolThreads != settings.threads) {
         ownedPool.reset();  // join the old threads before starting new ones
         ThreadPoolDef def;
@@ -116,7 +116,6 @@ void WorldImpl::step(Real dt) {
     const Real h = dt / static_cast<Real>(substeps);
     const double hd = static_cast<double>(dt) / substeps;
 
-    TaskSystem& tasks = taskSystem();
     // Turning sleeping off wakes everything once.
     if (!settings.sleeping && wasSleeping) {
         for (std::uint32_t i = 0; i < motion.size(); ++i) wakeBody(i);
@@ -126,6 +125,10 @@ void WorldImpl::step(Real dt) {
     // The per-body stages walk the awake list only (world_impl.hpp): a body
     // that sleeps or is static costs nothing per step.
     refreshAwakeList();
+    // A small step runs on this thread alone (WorldDef::parallelMinBodies):
+    // decided once, here, for the whole step.
+    stepOnCaller = awakeBodies.size() < settings.parallelMinBodies;
+    TaskSystem& tasks = taskSystem();
     // previous[] = the transform at the start of the step: the awake bodies,
     // plus the few that stopped moving since the last step (sleeping, static
     // and teleported bodies keep previous[] equal to their transform).
@@ -261,6 +264,7 @@ void WorldImpl::step(Real dt) {
         }
         firstBad.store(bad, std::memory_order_relaxed);
     }
+    stepOnCaller = false;  // the contact report, built when read, may use the pool again
     ++stepCount;
     time = t0 + static_cast<double>(dt);
     if (firstBad.load(std::memory_order_relaxed) == kNoIndexBody) return;

@@ -194,6 +194,7 @@ void World::setThreadCount(int threads) {
     if (threads < 1) fail(kWorldSubject, "threads", "must be at least 1, got " + std::to_string(threads));
     impl_->settings.threads = threads;
 }
+void World::setParallelMinBodies(std::uint32_t minimum) { impl_->settings.parallelMinBodies = minimum; }
 void World::setTaskSystem(TaskSystem* tasks) { impl_->userTasks = tasks; }
 
 // ---------------------------------------------------------------- bodies

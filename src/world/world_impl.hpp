@@ -261,6 +261,7 @@ struct WorldImpl {
     std::unique_ptr<TaskSystem> ownedPool;
     int ownedPoolThreads = 0;
     InlineTaskSystem inlineTasks;
+    bool stepOnCaller = false;  // this step is below settings.parallelMinBodies: inline
     TaskSystem& taskSystem();
 
     // Wakes a non-static body and, if it sleeps, its whole island; resets its sleep timer.

@@ -24,7 +24,9 @@ using namespace fulcrum;
 namespace {
 
 World buildSpherePile() {
-    World world;
+    WorldDef def;
+    def.parallelMinBodies = 0;  // the pool on every step, however many are awake
+    World world(def);
     test::addGroundSlab(world);
     for (int y = 0; y < 6; ++y) {
         for (int z = 0; z < 10; ++z) {

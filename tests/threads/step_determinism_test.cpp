@@ -127,8 +127,12 @@ void expectIdenticalRuns(const std::function<World()>& build, int steps, Real dt
 // A heap of `nx * ny * nz` bodies on a static ground box, stacked in columns
 // a hair apart and turned a little each, so contacts exist from the first
 // step and the pile collapses sideways (many contacts begin and end).
-World buildPile(bool spheres, int nx, int ny, int nz) {
-    World world;
+// parallelMinBodies 0: the built-in pool runs every step, however few bodies
+// are awake (the default steps small worlds inline: WorldDef::parallelMinBodies).
+World buildPile(bool spheres, int nx, int ny, int nz, std::uint32_t parallelMinBodies = 0) {
+    WorldDef def;
+    def.parallelMinBodies = parallelMinBodies;
+    World world(def);
     test::addGroundSlab(world);
     const Shape shape = spheres ? Shape::sphere(Real(0.5)) : Shape::box({Real(0.5), Real(0.5), Real(0.5)});
     for (int y = 0; y < ny; ++y) {
@@ -191,7 +195,9 @@ TEST(ThreadedStep, RestingLayerFallsAsleepTheSameForAnyThreadCount) {
     constexpr int kRows = 20, kPerRow = 30;
     const auto rowZ = [](int r) { return Real(-15) + Real(1.5) * static_cast<Real>(r); };
     const auto build = [&] {
-        World world;
+        WorldDef def;
+        def.parallelMinBodies = 0;  // the odd rows' sleep takes the awake count below the default
+        World world(def);
         test::addGroundSlab(world);
         for (int r = 0; r < kRows; ++r) {
             for (int i = 0; i < kPerRow; ++i) {
@@ -256,4 +262,34 @@ TEST(ThreadedStep, SwitchingThreadsBetweenStepsKeepsTheResult) {
         ASSERT_EQ(test::stateHash(switching), test::stateHash(single)) << "step " << s + 1 << " with threads " << t;
     }
     checkPile(switching, kY);
+}
+
+// Small steps run on the calling thread (WorldDef::parallelMinBodies, default
+// 512 awake bodies). The choice is made per step, so a pile whose awake count
+// crosses the threshold switches between the pool and the caller mid-run; the
+// bits must not notice. A 400-box pile stepped on the pool at 2 threads with
+// the threshold at 0 (always the pool), at the default (always inline here)
+// and at 200 (the pool while all 400 are awake, inline once the pile falls
+// asleep at step ~140) ends bit-identical to one thread after every step. Physics check as for the piles.
+TEST(ThreadedStep, SmallStepsOnTheCallerKeepTheResult) {
+    constexpr int kY = 4;
+    World single = buildPile(false, 10, kY, 10);
+    std::vector<World> threaded;
+    for (const std::uint32_t minBodies : {0u, 512u}) {
+        threaded.push_back(buildPile(false, 10, kY, 10, minBodies));
+        threaded.back().setThreadCount(2);
+    }
+    threaded.push_back(buildPile(false, 10, kY, 10));
+    threaded.back().setThreadCount(2);
+    threaded.back().setParallelMinBodies(200);  // the setter, as WorldDef::parallelMinBodies
+    ASSERT_EQ(threaded.back().settings().parallelMinBodies, 200u);
+    for (int s = 0; s < 150; ++s) {
+        single.step(Real(1) / 60);
+        for (World& w : threaded) {
+            w.step(Real(1) / 60);
+            ASSERT_EQ(test::stateHash(w), test::stateHash(single)) << "step " << s + 1 << ", minimum "
+                                                                   << w.settings().parallelMinBodies;
+        }
+    }
+    checkPile(threaded.back(), kY);
 }
