@@ -78,14 +78,38 @@ public:
 
 private:
     static constexpr std::uint32_t kColourCount = 24;
-    void colour(const std::vector<SolverBody>& bodies);
-    void refreshRotations();
+    void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
+    bool sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve);
+    void refreshFrames();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
+    // What the colouring and the joint trees depend on, per constraint in
+    // creation order (prepare() compares it with the last step's and, if
+    // equal, keeps both): the joint, its solver bodies and type, and whether
+    // each end is dynamic and has an invertible inertia.
+    struct StructureKey {
+        std::uint32_t slot, bodyA, bodyB;
+        std::uint32_t typeAndFlags;
+        bool operator==(const StructureKey&) const = default;
+    };
+    std::vector<StructureKey> structure_, nextStructure_;
+    std::size_t structureBodies_ = 0;
+    bool structureDirect_ = false, structureValid_ = false;
     std::vector<JointConstraint> constraints_;
     std::vector<JointConstraint> empty_, scratch_;
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
+    std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
     std::vector<std::uint64_t> colourBits_;
+    // refreshFrames' cache, per solver body: the deltas its rotation and the
+    // frames of its joints were computed from, the rotation, and whether the
+    // deltas changed at the last refresh. framesStale_: prepare() rebuilt the
+    // constraints (every frame is recomputed).
+    struct BodyDeltas {
+        Vec3 dp, dtheta;
+    };
+    std::vector<BodyDeltas> frameDeltas_;
     std::vector<Quat> rotations_;
+    std::vector<std::uint8_t> deltasChanged_;
+    bool framesStale_ = true;
     const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;
     JointGraph graph_;

@@ -5,7 +5,7 @@
 namespace fulcrum::detail {
 
 void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     cacheFriction(j, a, b, f.rA, f.rB);
@@ -17,8 +17,9 @@ void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const Joint
 }
 
 void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    if (j.direct && !j.frictionValid) return;  // the tree solver has the point rows
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    // The tree solver has the point rows (JointSolver skips a tree's frictionless ball joints).
+    if (j.direct && !j.frictionValid) return;
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     solveFrictionBlock(j, a, b, f.rA, f.rB);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }

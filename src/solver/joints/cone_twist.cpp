@@ -45,7 +45,7 @@ bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers
 }  // namespace
 
 void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     Vec3 T = g.twistAxis * (j.impulse.lower - j.impulse.upper);
@@ -62,7 +62,7 @@ void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const 
 }
 
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
     solveFrictionBlock(j, a, b, f.rA, f.rB);

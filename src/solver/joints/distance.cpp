@@ -21,7 +21,7 @@ bool direction(const JointFrame& f, Vec3& n, Real& len) {
 }  // namespace
 
 void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     Vec3 n;
     Real len = 0;
     if (!direction(f, n, len)) return;
@@ -30,7 +30,7 @@ void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const J
 }
 
 void solveDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     Vec3 n;
     Real len = 0;
     if (!direction(f, n, len)) return;

@@ -7,7 +7,7 @@
 namespace fulcrum::detail {
 
 void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * j.impulse.angular;
@@ -15,7 +15,7 @@ void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
 }
 
 void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     solveAngularBlock(a, b, angularError(j, f.qA, f.qB), j.impulse.angular, ctx);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }

@@ -48,7 +48,7 @@ void solveAlignment(SolverBody& a, SolverBody& b, const Vec3& axisA, const Vec3&
 }  // namespace
 
 void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
     // Only the perpendicular part of the alignment impulse belongs to its rows.
@@ -65,7 +65,7 @@ void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
 }
 
 void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axisA = rotate(f.qA, j.localAxisA);
     const Vec3 axisB = rotate(f.qB, j.localAxisB);
     JointImpulses& i = j.impulse;

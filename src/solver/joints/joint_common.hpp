@@ -53,6 +53,13 @@ struct CoupledRow {
     Real invMass = 0;
 };
 
+// The geometry of a joint now, from its bodies' deltas since the step's start.
+struct JointFrame {
+    Vec3 rA, rB;   // anchors from each centre of mass, world, now
+    Vec3 d;        // pB - pA
+    Quat qA, qB;   // orientations now (not kept for ball and distance joints: JointSolver::refreshFrames)
+};
+
 // One joint prepared for this step.
 struct JointConstraint {
     std::uint32_t slot = 0;           // WorldImpl::joints index
@@ -80,11 +87,16 @@ struct JointConstraint {
     Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     CoupledRow axial;                 // hinge, slider: the free axis's rows (spring, motor, friction, limits)
     JointImpulses impulse;
+    // The geometry for the current deltas (dp, dtheta) of its bodies, kept by
+    // JointSolver::refreshFrames: the deltas change only when the positions do
+    // (ContactSolver::updateDeltas), so one frame serves the warm start and
+    // every biased pass of a sub-step, and the relax pass and the next
+    // sub-step's warm start (which see the same deltas).
+    JointFrame frame;
 };
 
 struct JointContext {
     Real h = 0, invH = 0;
-    const Quat* rotations = nullptr;  // per solver body: exp(dtheta), refreshed once per pass (JointSolver)
     Softness soft;          // joints' equality rows (biased pass)
     Softness limitSoft;     // violated limits (biased pass)
     bool useBias = true;
@@ -293,38 +305,39 @@ inline void solveFrictionBlock(JointConstraint& j, SolverBody& a, SolverBody& b,
 
 // ---- current geometry of a joint from the bodies' deltas
 
-struct JointFrame {
-    Vec3 rA, rB;   // anchors from each centre of mass, world, now
-    Vec3 d;        // pB - pA
-    Quat qA, qB;   // orientations now
-};
-
 // Rotation since the step's start. The solver keeps it as a rotation vector
 // (the contact rows only need it to first order); joints need the exact
 // rotation, which is its exponential map.
 inline Quat deltaRotation(const SolverBody& b) {
     const Real angle = length(b.dtheta);
-    return angle > Real(0) ? Quat::fromAxisAngle(b.dtheta, angle) : Quat::identity();
+    if (!(angle > Real(0))) return Quat::identity();
+    // Quat::fromAxisAngle(dtheta, angle) without measuring the axis's length a
+    // second time (the same bits: normalize divides by the same length).
+    const Vec3 n = b.dtheta / angle;
+    const Real s = std::sin(Real(0.5) * angle);
+    return {std::cos(Real(0.5) * angle), n.x * s, n.y * s, n.z * s};
 }
 
-inline JointFrame frameFrom(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const Quat& dqA, const Quat& dqB) {
-    JointFrame f;
+// Ball and distance joints read only the anchors and their separation.
+inline bool frameNeedsOrientations(JointType t) { return t != JointType::Ball && t != JointType::Distance; }
+
+// f <- the joint's geometry for rotations dqA, dqB since the step's start
+// (orientations only where the joint type reads them).
+inline void updateFrame(JointFrame& f, const JointConstraint& j, const SolverBody& a, const SolverBody& b, const Quat& dqA,
+                        const Quat& dqB) {
     f.rA = rotate(dqA, j.rA0);
     f.rB = rotate(dqB, j.rB0);
     f.d = j.centreDelta + (b.dp - a.dp) + f.rB - f.rA;
-    f.qA = dqA * j.qA0;
-    f.qB = dqB * j.qB0;
-    return f;
+    if (frameNeedsOrientations(j.type)) {
+        f.qA = dqA * j.qA0;
+        f.qB = dqB * j.qB0;
+    }
 }
 
-// The joint's geometry now, from the bodies' deltas (exact rotation).
-inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b) {
-    return frameFrom(j, a, b, deltaRotation(a), deltaRotation(b));
-}
-
-// The same inside a pass, with the rotations the pass computed once per body.
-inline JointFrame currentFrame(const JointConstraint& j, const SolverBody& a, const SolverBody& b, const JointContext& ctx) {
-    return frameFrom(j, a, b, ctx.rotations[j.bodyA], ctx.rotations[j.bodyB]);
+// The joint's geometry inside a pass: the frame JointSolver::refreshFrames
+// computed (updateFrame) for its bodies' current deltas.
+inline const JointFrame& currentFrame(const JointConstraint& j, const SolverBody&, const SolverBody&, const JointContext&) {
+    return j.frame;
 }
 
 // Rotation of B away from its rest pose relative to A, as a world rotation vector.
@@ -356,7 +369,8 @@ void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const 
 void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
 
 // Force (N) and torque (N m) the joint applied to body B over the last sub-step,
-// from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor.
+// from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor
+// (j.frame: JointSolver::store refreshes it first).
 void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque);
 
 }  // namespace fulcrum::detail

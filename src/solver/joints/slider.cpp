@@ -54,7 +54,7 @@ void solvePerpendicular(SolverBody& a, SolverBody& b, const Vec3& axis, const Ve
 }  // namespace
 
 void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    const JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     j.impulse.linear -= axis * dot(axis, j.impulse.linear);
     applyLinear(a, b, f.rA + f.d, f.rB, j.impulse.linear);
@@ -69,7 +69,7 @@ void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const Joi
 }
 
 void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
-    JointFrame f = currentFrame(j, a, b, ctx);
+    const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     const Vec3 leverA = f.rA + f.d;
     const Real x = dot(f.d, axis);

@@ -133,15 +133,27 @@ struct BodyCoupling {
             T[r][2] = invI[r][0] * cy - invI[r][1] * cx;
         }
     }
-    // out (+)= s (invMass I - [p]x T), T = invI [c]x; `add` accumulates.
-    template <bool add>
+    // D -= invMass I - [c]x T with T = invI [c]x: the body's share of the K
+    // of a joint anchored at c on it (D = minus the joint's K). Symmetric, so
+    // only the lower triangle, which is all the elimination reads (the same
+    // bits as adding couple(c, T, -1) there, with 6 entries instead of 9).
+    void subtractShare(double D[][6], const Vec3& c, const double T[3][3]) const {
+        const double cx = c.x, cy = c.y, cz = c.z;
+        D[0][0] += (cy * T[2][0] - cz * T[1][0]) - invMass;
+        D[1][0] += cz * T[0][0] - cx * T[2][0];
+        D[1][1] += (cz * T[0][1] - cx * T[2][1]) - invMass;
+        D[2][0] += cx * T[1][0] - cy * T[0][0];
+        D[2][1] += cx * T[1][1] - cy * T[0][1];
+        D[2][2] += (cx * T[1][2] - cy * T[0][2]) - invMass;
+    }
+    // out = s (invMass I - [p]x T), T = invI [c]x: the coupling of anchors p and c.
     void couple(double out[][6], const Vec3& p, const double T[3][3], double s) const {
         const double px = p.x, py = p.y, pz = p.z;
         for (int k = 0; k < 3; ++k) {
             const double t0 = T[0][k], t1 = T[1][k], t2 = T[2][k];
             double col[3] = {-s * (py * t2 - pz * t1), -s * (pz * t0 - px * t2), -s * (px * t1 - py * t0)};
             col[k] += s * invMass;
-            for (int r = 0; r < 3; ++r) out[r][k] = add ? out[r][k] + col[r] : col[r];
+            for (int r = 0; r < 3; ++r) out[r][k] = col[r];
         }
     }
 };
@@ -149,6 +161,18 @@ struct BodyCoupling {
 }  // namespace
 
 void JointTreeSolver::build(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies) {
+    findTrees(joints, bodies);
+    direct_.resize(joints.size());
+    for (std::size_t k = 0; k < joints.size(); ++k) direct_[k] = joints[k].direct ? 1 : 0;
+}
+
+void JointTreeSolver::reuse(std::vector<JointConstraint>& joints) {
+    for (std::size_t k = 0; k < joints.size(); ++k) joints[k].direct = direct_[k] != 0;
+    valid_.assign(trees_, 1);
+    factored_ = false;
+}
+
+void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies) {
     nodes_.clear();
     trees_ = 0;
     treeStart_.clear();
@@ -348,7 +372,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             JointConstraint& j = joints[n.ref];
             const SolverBody& a = bodies[j.bodyA];
             const SolverBody& b = bodies[j.bodyB];
-            const JointFrame fr = currentFrame(j, a, b, ctx);
+            const JointFrame& fr = currentFrame(j, a, b, ctx);
             f.rA = fr.rA;
             f.rB = fr.rB;
             Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
@@ -359,19 +383,17 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             // eliminated before everything else (build()). A contracted leaf's
             // share is added here by its joint; the share of a contracted body
             // with a child joint by that child, below, with the coupling.
-            for (int r0 = 0; r0 < 3; ++r0) {
-                for (int c = 0; c < 3; ++c) f.D[r0][c] = 0;
-            }
+            f.D[0][0] = f.D[1][0] = f.D[1][1] = f.D[2][0] = f.D[2][1] = f.D[2][2] = 0;  // lower triangle: all that is read
             double T[3][3];
             if (n.ownA) {
                 const BodyCoupling ca(a);
                 ca.rightSkew(T, fr.rA);
-                ca.couple<true>(f.D, fr.rA, T, -1);
+                ca.subtractShare(f.D, fr.rA, T);
             }
             if (n.ownB) {
                 const BodyCoupling cb(b);
                 cb.rightSkew(T, fr.rB);
-                cb.couple<true>(f.D, fr.rB, T, -1);
+                cb.subtractShare(f.D, fr.rB, T);
             }
             if (n.via != kNone) {
                 // The contracted body between this joint (anchor c) and the
@@ -383,10 +405,10 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
                 const Vec3& p = n.viaIsParentA ? pf.rA : pf.rB;
                 const double sc = n.viaIsA ? -1 : 1, sp = n.viaIsParentA ? -1 : 1;
                 cv.rightSkew(T, c);
-                cv.couple<true>(f.D, c, T, -1);
-                cv.couple<false>(f.Hp, p, T, -sp * sc);
+                cv.subtractShare(f.D, c, T);
+                cv.couple(f.Hp, p, T, -sp * sc);
                 cv.rightSkew(T, p);
-                cv.couple<true>(pf.D, p, T, -1);
+                cv.subtractShare(pf.D, p, T);
             }
         } else {
             for (double& z : f.z) z = 0;
@@ -542,7 +564,7 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
         for (std::uint32_t i = begin; i < end; ++i) {
             if (!nodes_[i].joint) continue;
             JointConstraint& j = joints[nodes_[i].ref];
-            const JointFrame fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
+            const JointFrame& fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
             const Mat3 K = pointInverseMass(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB);
             if (!(determinant(K) > 0)) continue;
             solvePointBlock(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));

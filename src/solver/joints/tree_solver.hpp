@@ -57,6 +57,11 @@ public:
     // Finds the trees among `joints` (marks their `direct` flag). Bodies are
     // the contact solver's solver bodies (entry 0: static).
     void build(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
+    // The trees of the last build(), for a joint list of the same structure
+    // (same joints in the same order between the same solver bodies, the same
+    // of them dynamic and with invertible inertia: JointSolver::prepare checks
+    // it): marks the same `direct` flags and skips the search.
+    void reuse(std::vector<JointConstraint>& joints);
     // One exact pass over every tree's point rows (biased or relax, ctx.useBias).
     void solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx);
     bool empty() const { return nodes_.empty(); }
@@ -98,6 +103,7 @@ private:
     void backSubstitute(std::uint32_t node);
     template <int dim, int pdim>
     void forward(std::uint32_t node);
+    void findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
     bool solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints, SolverBody* bodies,
                    const JointContext& ctx, bool refactor);
 
@@ -106,6 +112,7 @@ private:
     std::vector<std::uint32_t> treeStart_;  // nodes_ of tree t: [treeStart_[t], treeStart_[t + 1])
     std::size_t trees_ = 0;
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
+    std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
     // build() scratch
     std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, componentOf_;
