@@ -173,6 +173,9 @@ public:
     // callback(proxyId, userValue) -> bool (false stops).
     template <typename Callback>
     void query(const AABB& box, Callback&& callback) const;
+    // The same over the static bodies' proxies only.
+    template <typename Callback>
+    void queryStatic(const AABB& box, Callback&& callback) const;
     // callback(input, proxyId, userValue) -> Real, as DynamicTree::rayCast; the
     // clipped fraction carries over from the moving tree to the static tree.
     template <typename Callback>
@@ -325,6 +328,13 @@ void BroadPhase::query(const AABB& box, Callback&& callback) const {
     };
     if (!movingTree_.query(box, forward)) return;
     staticTree_.query(box, forward);
+}
+
+template <typename Callback>
+void BroadPhase::queryStatic(const AABB& box, Callback&& callback) const {
+    staticTree_.query(box, [&](std::int32_t, std::uint32_t proxy) {
+        return static_cast<bool>(callback(static_cast<ProxyId>(proxy), record(static_cast<ProxyId>(proxy)).userValue));
+    });
 }
 
 template <typename Callback>

@@ -54,7 +54,7 @@ void solveContinuous(WorldImpl& w, const ContactSolver& solver, const ContactMan
         const AABB swept = merge(shape.bounds(x0), shape.bounds(x1));
         const std::uint32_t selfSlot = w.denseToSlot[d];
         Real best = 1;
-        broad.query(swept, [&](ProxyId, std::uint32_t otherSlot) {
+        const auto hit = [&](ProxyId, std::uint32_t otherSlot) {
             if (otherSlot == selfSlot) return true;
             const std::uint32_t od = w.bodySlots[otherSlot].dense;
             const BodyParams& op = w.params[od];
@@ -78,7 +78,15 @@ void solveContinuous(WorldImpl& w, const ContactSolver& solver, const ContactMan
                 if (r.state == ToiResult::State::Hit && r.time > 0 && r.time / dt < best) best = r.time / dt;
             }
             return true;
-        });
+        };
+        // Only a bullet is swept against moving bodies: the others need the
+        // static tree alone (benchmark chain, no static body: the query of the
+        // moving tree was 4 % of the step's instructions).
+        if (p.isBullet) {
+            broad.query(swept, hit);
+        } else {
+            broad.queryStatic(swept, hit);
+        }
         if (best >= 1) continue;
         // A body the solver already stopped at the surface (the speculative
         // contact worked) hits at the very end of its path: leave it there.
