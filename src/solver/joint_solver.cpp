@@ -219,44 +219,43 @@ bool sameDeltas(const SolverBody& b, const Vec3& dp, const Vec3& dtheta) {
 
 }  // namespace
 
-void JointSolver::refreshFrames() {
-    // Every joint's frame (anchors, separation, orientations) for its bodies'
-    // current deltas, computed only where a body's deltas changed since the
-    // last refresh (compared bit for bit, so a kept frame has exactly the bits
-    // a recomputed one would): the deltas change only with the positions
-    // (ContactSolver::updateDeltas), so the relax pass's frames serve the next
-    // sub-step's warm start and biased passes unchanged, and each body's
-    // exp(dtheta) is computed once per sub-step, not once per pass. Before,
-    // the frame was recomputed in the warm start and in every pass (three
-    // times per joint and sub-step in the chain benchmark) and the rotations
-    // twice per sub-step.
+void JointSolver::refreshRotations() {
+    // Each body's exp(dtheta), recomputed only where its deltas changed since
+    // the last refresh (compared bit for bit, so a kept rotation, and a kept
+    // joint frame, has exactly the bits a recomputed one would). The deltas
+    // change only with the positions (ContactSolver::updateDeltas), so this
+    // runs once per sub-step's worth of change, not once per pass. Each
+    // joint's frame is then brought up to date where it is used (currentFrame:
+    // recomputed if one of its bodies changed since), inside the passes'
+    // own sweeps over the joints. A separate sweep over every constraint per
+    // pass (first tried) adds a walk over ~50 MB of constraints in the
+    // 76,560-joint grid, which is memory-bound; single runs of it read slower
+    // than before by wall clock (216-266 vs 185-200 ms/step, loaded machine),
+    // interleaved runs of this one are within noise of before (docs/joints.md).
     if (constraints_.empty()) return;  // contacts only: nothing to do (and nothing to allocate)
     const std::vector<SolverBody>& all = *allBodies_;
     const std::size_t n = all.size();
     frameDeltas_.resize(n);
     rotations_.resize(n);
-    deltasChanged_.resize(n);
+    changedAt_.resize(n);
+    ++generation_;
     for (std::size_t i = 0; i < n; ++i) {
         const SolverBody& b = all[i];
         BodyDeltas& kept = frameDeltas_[i];
-        if (!framesStale_ && sameDeltas(b, kept.dp, kept.dtheta)) {
-            deltasChanged_[i] = 0;
-            continue;
-        }
+        if (!framesStale_ && sameDeltas(b, kept.dp, kept.dtheta)) continue;
         kept.dp = b.dp;
         kept.dtheta = b.dtheta;
         rotations_[i] = deltaRotation(b);
-        deltasChanged_[i] = 1;
-    }
-    for (JointConstraint& j : constraints_) {
-        if (!framesStale_ && !deltasChanged_[j.bodyA] && !deltasChanged_[j.bodyB]) continue;
-        updateFrame(j.frame, j, all[j.bodyA], all[j.bodyB], rotations_[j.bodyA], rotations_[j.bodyB]);
+        changedAt_[i] = generation_;
     }
     framesStale_ = false;
+    ctx_.rotations = rotations_.data();
+    ctx_.changedAt = changedAt_.data();
+    ctx_.generation = generation_;
 }
 
 void JointSolver::warmStart() {
-    refreshFrames();
+    refreshRotations();
     trees_.newSubstep();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
@@ -276,7 +275,7 @@ void JointSolver::solve(bool useBias) {
     ctx_.useBias = useBias;
     // The biased pass follows this sub-step's warm start (same deltas); the
     // relax pass follows the position update.
-    if (!useBias) refreshFrames();
+    if (!useBias) refreshRotations();
     for (const std::uint32_t index : rowJoints_) {
         JointConstraint& j = constraints_[index];
         SolverBody& a = bodies_[j.bodyA];
@@ -383,10 +382,11 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
 void JointSolver::store(WorldImpl& w) {
     // The reactions read each joint's frame: current after the last relax
     // pass (nothing is recomputed unless the deltas changed since).
-    refreshFrames();
-    for (const JointConstraint& j : constraints_) {
+    refreshRotations();
+    for (JointConstraint& j : constraints_) {
         JointData& data = w.joints[j.slot];
         data.impulses = j.impulse;
+        currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
         jointReaction(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_.invH, data.reactionForce, data.reactionTorque);
         const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
         if (force <= data.def.breakForce && torque <= data.def.breakTorque) continue;

@@ -80,7 +80,7 @@ private:
     static constexpr std::uint32_t kColourCount = 24;
     void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
     bool sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve);
-    void refreshFrames();
+    void refreshRotations();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
     // What the colouring and the joint trees depend on, per constraint in
     // creation order (prepare() compares it with the last step's and, if
@@ -99,16 +99,16 @@ private:
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
     std::vector<std::uint64_t> colourBits_;
-    // refreshFrames' cache, per solver body: the deltas its rotation and the
-    // frames of its joints were computed from, the rotation, and whether the
-    // deltas changed at the last refresh. framesStale_: prepare() rebuilt the
-    // constraints (every frame is recomputed).
+    // refreshRotations' cache, per solver body: the deltas its rotation was
+    // computed from, the rotation, and the refresh (generation_) at which its
+    // deltas last changed; framesStale_: prepare() rebuilt the constraints.
     struct BodyDeltas {
         Vec3 dp, dtheta;
     };
     std::vector<BodyDeltas> frameDeltas_;
     std::vector<Quat> rotations_;
-    std::vector<std::uint8_t> deltasChanged_;
+    std::vector<std::uint64_t> changedAt_;
+    std::uint64_t generation_ = 0;
     bool framesStale_ = true;
     const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;

@@ -57,7 +57,7 @@ struct CoupledRow {
 struct JointFrame {
     Vec3 rA, rB;   // anchors from each centre of mass, world, now
     Vec3 d;        // pB - pA
-    Quat qA, qB;   // orientations now (not kept for ball and distance joints: JointSolver::refreshFrames)
+    Quat qA, qB;   // orientations now (not kept for ball and distance joints: updateFrame)
 };
 
 // One joint prepared for this step.
@@ -87,16 +87,22 @@ struct JointConstraint {
     Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     CoupledRow axial;                 // hinge, slider: the free axis's rows (spring, motor, friction, limits)
     JointImpulses impulse;
-    // The geometry for the current deltas (dp, dtheta) of its bodies, kept by
-    // JointSolver::refreshFrames: the deltas change only when the positions do
-    // (ContactSolver::updateDeltas), so one frame serves the warm start and
-    // every biased pass of a sub-step, and the relax pass and the next
-    // sub-step's warm start (which see the same deltas).
+    // The geometry for the current deltas (dp, dtheta) of its bodies, and the
+    // rotation refresh at which it was computed (currentFrame): the deltas
+    // change only when the positions do (ContactSolver::updateDeltas), so one
+    // frame serves the warm start and every biased pass of a sub-step, and
+    // the relax pass and the next sub-step's warm start (the same deltas).
     JointFrame frame;
+    std::uint64_t frameAt = 0;
 };
 
 struct JointContext {
     Real h = 0, invH = 0;
+    // Per solver body (JointSolver::refreshRotations): exp(dtheta), and the
+    // refresh at which its deltas last changed; `generation`: the latest refresh.
+    const Quat* rotations = nullptr;
+    const std::uint64_t* changedAt = nullptr;
+    std::uint64_t generation = 0;
     Softness soft;          // joints' equality rows (biased pass)
     Softness limitSoft;     // violated limits (biased pass)
     bool useBias = true;
@@ -334,9 +340,14 @@ inline void updateFrame(JointFrame& f, const JointConstraint& j, const SolverBod
     }
 }
 
-// The joint's geometry inside a pass: the frame JointSolver::refreshFrames
-// computed (updateFrame) for its bodies' current deltas.
-inline const JointFrame& currentFrame(const JointConstraint& j, const SolverBody&, const SolverBody&, const JointContext&) {
+// The joint's geometry inside a pass: its kept frame, recomputed first if
+// one of its bodies' deltas changed since it was computed (the same bits as
+// computing it every time: the inputs are the same).
+inline const JointFrame& currentFrame(JointConstraint& j, const SolverBody& a, const SolverBody& b, const JointContext& ctx) {
+    if (j.frameAt < ctx.changedAt[j.bodyA] || j.frameAt < ctx.changedAt[j.bodyB]) {
+        updateFrame(j.frame, j, a, b, ctx.rotations[j.bodyA], ctx.rotations[j.bodyB]);
+        j.frameAt = ctx.generation;
+    }
     return j.frame;
 }
 
@@ -370,7 +381,7 @@ void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
 
 // Force (N) and torque (N m) the joint applied to body B over the last sub-step,
 // from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor
-// (j.frame: JointSolver::store refreshes it first).
+// (j.frame: JointSolver::store brings it up to date first).
 void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque);
 
 }  // namespace fulcrum::detail
