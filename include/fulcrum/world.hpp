@@ -53,6 +53,12 @@ struct WorldDef {
     // ---- joint solver tuning (docs/joints.md explains each one)
     Real jointHertz = 60;                  // stiffness of the soft joint rows (capped at 1/4 of the sub-step rate); > 0
     Real jointDampingRatio = 2;            // > 0
+    // A body turns at most this far per sub-step (rad): a faster spin is scaled
+    // down to it when positions are integrated, as in Box2D. Beyond ~1 rad per
+    // sub-step the joints' and contacts' linearisation fails: a chain yanked
+    // taut after falling loose spun a link up to 670 rad/s and blew up
+    // (docs/integrators.md, "Spin limit"). > 0; inf: no limit.
+    Real maxRotationPerSubstep = Real(0.25 * 3.14159265358979);
     Real jointProjectionSlop = Real(0.005);  // m: anchor separations beyond it are removed at the position level; >= 0 (inf: never)
     bool jointDirectSolve = true;          // joints forming trees (chains, ragdolls) solved exactly, in linear time
     // ---- sleeping: a group of touching bodies falls asleep once, for `timeToSleep`

@@ -161,6 +161,7 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
 }
 
 void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
+    const Real maxTurn = w.settings.maxRotationPerSubstep;
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
@@ -171,6 +172,8 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
             m.q = integrateRotation(m.q, m.w, h);
             continue;
         }
+        // The spin limit (WorldDef::maxRotationPerSubstep).
+        if (const Real w2 = lengthSquared(m.w); w2 * h * h > maxTurn * maxTurn) m.w *= maxTurn / (std::sqrt(w2) * h);
         switch (method) {
             case Integrator::ExplicitEuler:
                 // The old velocity: the current one minus what forces added this

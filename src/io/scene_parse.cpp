@@ -192,7 +192,8 @@ private:
 void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) const {
     requireObject(j, path);
     checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads",
-                        "joint_hertz", "joint_damping_ratio", "joint_projection_slop", "joint_direct_solve"},
+                        "joint_hertz", "joint_damping_ratio", "joint_projection_slop", "joint_direct_solve",
+                        "max_rotation_per_substep"},
               "");
     WorldDef& w = scene.world;
     opt(j, path, "gravity", [&](const json& v, const std::string& p) { w.gravity = vec3(v, p); });
@@ -234,6 +235,17 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
         }
     });
     opt(j, path, "joint_direct_solve", [&](const json& v, const std::string& p) { w.jointDirectSolve = boolean(v, p); });
+    opt(j, path, "max_rotation_per_substep", [&](const json& v, const std::string& p) {
+        if (v.is_string()) {
+            if (v.get<std::string>() != "off") {
+                fail(p, "max_rotation_per_substep must be a number > 0 (rad) or \"off\", got \"" + v.get<std::string>() + "\"");
+            }
+            w.maxRotationPerSubstep = std::numeric_limits<Real>::infinity();
+        } else {
+            if (!v.is_number()) fail(p, "expected a number > 0 (rad) or \"off\", got " + typeName(v));
+            w.maxRotationPerSubstep = positive(v, p, "max_rotation_per_substep");
+        }
+    });
 }
 
 ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) const {

@@ -42,6 +42,7 @@ void validateSettings(const WorldDef& def) {
     requireNonNegative(kWorldSubject, "restitutionThreshold", def.restitutionThreshold);
     requirePositive(kWorldSubject, "jointHertz", def.jointHertz);
     requirePositive(kWorldSubject, "jointDampingRatio", def.jointDampingRatio);
+    if (!(def.maxRotationPerSubstep > 0)) fail(kWorldSubject, "maxRotationPerSubstep", "must be > 0 (inf: no limit), got " + detail::formatReal(def.maxRotationPerSubstep));
     if (!(def.jointProjectionSlop >= 0)) fail(kWorldSubject, "jointProjectionSlop", "must be >= 0 (inf: no projection), got " + detail::formatReal(def.jointProjectionSlop));
     requireNonNegative(kWorldSubject, "linearSleepVelocity", def.linearSleepVelocity);
     requireNonNegative(kWorldSubject, "angularSleepVelocity", def.angularSleepVelocity);

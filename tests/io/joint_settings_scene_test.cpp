@@ -152,5 +152,40 @@ TEST(JointSettingsScene, FrictionTorqueFromTheFileHoldsOrSlipsAtMgL) {
     EXPECT_GT(dropAfterOneSecond("2"), Real(0.1));
 }
 
+// max_rotation_per_substep (WorldDef::maxRotationPerSubstep, the spin limit):
+// read, "off" for no limit, written only when not the default, round-trips,
+// built into the world; bad values name the path.
+TEST(JointSettingsScene, SpinLimitKey) {
+    const Scene s = parseScene(leverScene(R"(, "max_rotation_per_substep": 0.5)", ""), "spin.json");
+    EXPECT_EQ(s.world.maxRotationPerSubstep, Real(0.5));
+    const Scene off = parseScene(leverScene(R"(, "max_rotation_per_substep": "off")", ""), "off.json");
+    EXPECT_TRUE(std::isinf(off.world.maxRotationPerSubstep));
+    const std::string saved = sceneToJson(off);
+    EXPECT_NE(saved.find("\"max_rotation_per_substep\": \"off\""), std::string::npos) << saved;
+    EXPECT_TRUE(parseScene(saved, "saved.json") == off);
+    EXPECT_TRUE(parseScene(sceneToJson(s), "saved.json") == s);
+    Scene changed = s;
+    changed.world.maxRotationPerSubstep = std::nextafter(changed.world.maxRotationPerSubstep, Real(1));
+    EXPECT_FALSE(changed == s);
+    const std::string plain = sceneToJson(parseScene(leverScene("", ""), "plain.json"));
+    EXPECT_EQ(plain.find("max_rotation_per_substep"), std::string::npos) << plain;
+    EXPECT_EQ(buildWorld(s).settings().maxRotationPerSubstep, Real(0.5));
+    expectError(leverScene(R"(, "max_rotation_per_substep": 0)", ""), "world.max_rotation_per_substep",
+                "max_rotation_per_substep must be positive, got 0");
+    expectError(leverScene(R"(, "max_rotation_per_substep": "none")", ""), "world.max_rotation_per_substep",
+                "must be a number > 0 (rad) or \"off\", got \"none\"");
+    // The API boundary: WorldDef validation names the field.
+    WorldDef def;
+    def.maxRotationPerSubstep = 0;
+    try {
+        World w(def);
+        ADD_FAILURE() << "maxRotationPerSubstep 0 accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("maxRotationPerSubstep"), std::string::npos) << e.what();
+    }
+    def.maxRotationPerSubstep = std::numeric_limits<Real>::quiet_NaN();
+    EXPECT_THROW(World{def}, Error);
+}
+
 }  // namespace
 }  // namespace fulcrum
