@@ -104,6 +104,21 @@ private:
         }
         return static_cast<Real>(d);
     }
+    // A number (> 0 if strictlyPositive, else >= 0) or "off", which stands for
+    // infinity (JSON has none): world settings that can be switched off.
+    Real numberOrOff(const json& v, const std::string& path, std::string_view field, bool strictlyPositive,
+                     const char* unit) const {
+        const std::string range = std::string(strictlyPositive ? "> 0" : ">= 0") + " (" + unit + ")";
+        if (v.is_string()) {
+            if (v.get<std::string>() != "off") {
+                fail(path, std::string(field) + " must be a number " + range + " or \"off\", got \"" + v.get<std::string>() + "\"");
+            }
+            return std::numeric_limits<Real>::infinity();
+        }
+        if (!v.is_number()) fail(path, "expected a number " + range + " or \"off\", got " + typeName(v));
+        return strictlyPositive ? positive(v, path, field) : nonNegative(v, path, field);
+    }
+
     Real positive(const json& v, const std::string& path, std::string_view field) const {
         const Real r = number(v, path);
         if (!(r > 0)) fail(path, std::string(field) + " must be positive, got " + detail::formatNumber(r));
@@ -224,27 +239,11 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     });
     // JSON has no infinity: "off" stands for it (no position projection).
     opt(j, path, "joint_projection_slop", [&](const json& v, const std::string& p) {
-        if (v.is_string()) {
-            if (v.get<std::string>() != "off") {
-                fail(p, "joint_projection_slop must be a number >= 0 (m) or \"off\", got \"" + v.get<std::string>() + "\"");
-            }
-            w.jointProjectionSlop = std::numeric_limits<Real>::infinity();
-        } else {
-            if (!v.is_number()) fail(p, "expected a number >= 0 (m) or \"off\", got " + typeName(v));
-            w.jointProjectionSlop = nonNegative(v, p, "joint_projection_slop");
-        }
+        w.jointProjectionSlop = numberOrOff(v, p, "joint_projection_slop", false, "m");
     });
     opt(j, path, "joint_direct_solve", [&](const json& v, const std::string& p) { w.jointDirectSolve = boolean(v, p); });
     opt(j, path, "max_rotation_per_substep", [&](const json& v, const std::string& p) {
-        if (v.is_string()) {
-            if (v.get<std::string>() != "off") {
-                fail(p, "max_rotation_per_substep must be a number > 0 (rad) or \"off\", got \"" + v.get<std::string>() + "\"");
-            }
-            w.maxRotationPerSubstep = std::numeric_limits<Real>::infinity();
-        } else {
-            if (!v.is_number()) fail(p, "expected a number > 0 (rad) or \"off\", got " + typeName(v));
-            w.maxRotationPerSubstep = positive(v, p, "max_rotation_per_substep");
-        }
+        w.maxRotationPerSubstep = numberOrOff(v, p, "max_rotation_per_substep", true, "rad");
     });
 }
 

@@ -443,12 +443,8 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
 void ContactSolver::colour() {
     const std::size_t n = pending_.size();
     colourGreedily<kColourCount>(
-        n, bodies_.size(),
-        [&](std::size_t i) {
-            const PendingConstraint& k = pending_[i];
-            return ConstraintEnds{k.bodyA, k.bodyB, bodies_[k.bodyA].invMass > 0, bodies_[k.bodyB].invMass > 0};
-        },
-        colourBits_, colourOf_, colourStart_);
+        n, bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); }, colourBits_,
+        colourOf_, colourStart_);
     // Constraint i goes to slot colourStart[c] + (how many constraints before i
     // have colour c), and pendingOfSlot_ is the inverse. In parallel over fixed
     // blocks of constraints: each block counts its colours, the counts are

@@ -18,6 +18,13 @@ struct ConstraintEnds {
     bool dynamicA = false, dynamicB = false;
 };
 
+// The ends of a constraint with solver-body indices bodyA, bodyB into
+// `bodies` (anything with invMass): dynamic when the body has mass.
+template <class Constraint, class Body>
+ConstraintEnds constraintEnds(const Constraint& k, const Body* bodies) {
+    return {k.bodyA, k.bodyB, bodies[k.bodyA].invMass > 0, bodies[k.bodyB].invMass > 0};
+}
+
 // Constraint i (ends(i) -> ConstraintEnds) takes the first of `Colours`
 // colours in which neither of its dynamic bodies is used yet, in index order
 // (deterministic); one that finds none goes to the overflow colour `Colours`,

@@ -191,12 +191,8 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructu
     // The same structure as the last step's gives the same colours (kept in colourOf_).
     if (!sameStructure) {
         colourGreedily<kColourCount>(
-            n, bodies.size(),
-            [&](std::size_t i) {
-                const JointConstraint& k = constraints_[i];
-                return ConstraintEnds{k.bodyA, k.bodyB, bodies[k.bodyA].invMass > 0, bodies[k.bodyB].invMass > 0};
-            },
-            colourBits_, colourOf_, colourStart_);
+            n, bodies.size(), [&](std::size_t i) { return constraintEnds(constraints_[i], bodies.data()); }, colourBits_,
+            colourOf_, colourStart_);
     }
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
