@@ -62,10 +62,12 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
             const Real moved2 = lengthSquared(m.com - solver.startCom(i)) * invDt * invDt;
             speed2_[i] = std::min(lengthSquared(m.v), moved2);
             // The turn over the step is only known modulo a full turn: used
-            // while the spin turns the body by less than a radian a step.
+            // while the spin turns the body by less than a radian a step. And
+            // only asked for when the spin alone fails the test (the turn is
+            // an atan2 per body; a spin under the sleep spin passes anyway).
             const Real w2 = lengthSquared(m.w);
             spin2_[i] = w2;
-            if (w2 * dt * dt < 1) {
+            if (w2 > ang2 && w2 * dt * dt < 1) {
                 const Vec3 turn = toRotationVector(m.q * conjugate(solver.startOrientation(i)));
                 spin2_[i] = std::min(w2, lengthSquared(turn) * invDt * invDt);
             }

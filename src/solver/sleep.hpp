@@ -70,17 +70,9 @@ public:
 
     void reserve(std::size_t bodyCount) {
         if (parent_.capacity() < bodyCount + 1) {
-            parent_.reserve(2 * bodyCount + 1);
-            islandMinTime_.reserve(2 * bodyCount + 1);
-            islandTag_.reserve(2 * bodyCount + 1);
-            islandEnergy_.reserve(2 * bodyCount + 1);
-            islandMass_.reserve(2 * bodyCount + 1);
-            root_.reserve(2 * bodyCount + 1);
-            bodyEnergy_.reserve(2 * bodyCount + 1);
-            bodyMass_.reserve(2 * bodyCount + 1);
-            bodyTime_.reserve(2 * bodyCount + 1);
-            speed2_.reserve(2 * bodyCount + 1);
-            spin2_.reserve(2 * bodyCount + 1);
+            const auto perBody = [&](auto&... v) { (v.reserve(2 * bodyCount + 1), ...); };
+            perBody(parent_, islandMinTime_, islandTag_, islandEnergy_, islandMass_, root_, bodyEnergy_, bodyMass_,
+                    bodyTime_, speed2_, spin2_);
             joins_.reserve(8 * bodyCount + 1);
         }
     }
