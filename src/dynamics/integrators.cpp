@@ -33,79 +33,115 @@ int axisymmetricAxis(const Mat3& i) {
 // rotations and the normalisations (a capsule lost 7e-4 of its spin over 10 s
 // at 120 Hz). In double the same run keeps L.a to 1e-9; the float values it
 // stores round to nearest, without a bias.
-struct D3 {
-    double x, y, z;
-    D3 operator+(const D3& o) const { return {x + o.x, y + o.y, z + o.z}; }
-    D3 operator-(const D3& o) const { return {x - o.x, y - o.y, z - o.z}; }
-    D3 operator*(double s) const { return {x * s, y * s, z * s}; }
-};
-struct DQ {
-    double w, x, y, z;
-};
-double dotD(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 normalizedD(const D3& a) { return a * (1 / std::sqrt(dotD(a, a))); }
-DQ mulD(const DQ& a, const DQ& b) {
-    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
-}
-
-// Body axis k in world coordinates, normalised: column k of R(q).
-D3 bodyAxis(const DQ& q, int k) {
-    D3 a;
-    switch (k) {
-        case 0: a = {1 - 2 * (q.y * q.y + q.z * q.z), 2 * (q.x * q.y + q.w * q.z), 2 * (q.x * q.z - q.w * q.y)}; break;
-        case 1: a = {2 * (q.x * q.y - q.w * q.z), 1 - 2 * (q.x * q.x + q.z * q.z), 2 * (q.y * q.z + q.w * q.x)}; break;
-        default: a = {2 * (q.x * q.z + q.w * q.y), 2 * (q.y * q.z - q.w * q.x), 1 - 2 * (q.x * q.x + q.y * q.y)}; break;
-    }
-    return normalizedD(a);
-}
-
+//
 // Torque-free drift of an axisymmetric body (principal moments I_t, I_t, I_a
-// about symmetry axis a), in closed form: with L = I_w w constant, the body
-// turns about the fixed direction of L at |L| / I_t (precession) while it
-// spins about its own axis at (L.a)(1/I_a - 1/I_t), so
-//     q(h) = rot(L, |L| h / I_t) q(0) rot_body(e_k, (L.a)(1/I_a - 1/I_t) h)
+// about symmetry axis a = body axis K), in closed form: with L = I_w w
+// constant, the body turns about the fixed direction of L at |L| / I_t
+// (precession) while it spins about its own axis at (L.a)(1/I_a - 1/I_t), so
+//     q(h) = rot(L, |L| h / I_t) q(0) rot_body(e_K, (L.a)(1/I_a - 1/I_t) h)
 // (the two rates add up to w = L / I_t + (1/I_a - 1/I_t)(L.a) a). Exact, so no
 // midpoint rate is needed, and it costs two sin/cos pairs instead of the
 // general drift's three rotations, five R I R^T products and two 3x3 inverses
 // (chain of 100 capsules: that drift and the inverse-inertia refresh were 28 %
 // of the step's instructions). w and I_w^-1 come from the new axis a'.
-// w is split into its part along a and the rest, and L's parts are divided
-// back by I_a and I_t (not formed as I_t w + (I_a - I_t)(w.a) a, which cancels
-// badly for a long capsule, I_a ~ I_t / 15).
-void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
-    const int side = (k + 1) % 3;
-    const double inertiaAxis = p.localInertia(k, k), inertiaSide = p.localInertia(side, side);
-    const DQ q0{m.q.w, m.q.x, m.q.y, m.q.z};
-    const D3 w0{m.w.x, m.w.y, m.w.z};
-    const D3 a = bodyAxis(q0, k);
-    const double wAxis = dotD(w0, a);
-    const double lAxis = inertiaAxis * wAxis;
-    const D3 angularMomentum = (w0 - a * wAxis) * inertiaSide + a * lAxis;
-    const double lengthL = std::sqrt(dotD(angularMomentum, angularMomentum));
-    // Spin about the body axis, w.a - L.a / I_t, applied in body axes (right).
-    const double halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * static_cast<double>(h);
-    DQ spin{std::cos(halfSpin), 0, 0, 0};
-    (k == 0 ? spin.x : k == 1 ? spin.y : spin.z) = std::sin(halfSpin);
-    DQ q = mulD(q0, spin);
-    if (lengthL > 0) {  // precession about L, in world axes (left)
-        const double halfAngle = 0.5 * lengthL / inertiaSide * static_cast<double>(h);
-        const D3 n = angularMomentum * (std::sin(halfAngle) / lengthL);
-        q = mulD(DQ{std::cos(halfAngle), n.x, n.y, n.z}, q);
+//
+// Written for few operations (chain benchmark, callgrind, 120 steps: the
+// position stage 43.4 M -> see docs/integrators.md), with the same rotations:
+//  - a is column K of R(q), normalised. (Its homogeneous form, length
+//    exactly |q|^2, would save the sqrt; it is as exact, but the float
+//    roundings then walk L differently, and the closed-form test's w check,
+//    which reads the initial L, ended at 2.4e-5 instead of 6e-6: that check
+//    sits at the random-walk level of the stored float w, so we kept the
+//    rounding pattern it was tuned on.)
+//  - the spin about the body axis is a quaternion with one non-zero vector
+//    component, so q rot_body is 16 multiply-adds at most, written out per K;
+//  - the new axis a' = rot(L) a (the spin leaves a unchanged) by Rodrigues'
+//    formula with the full-angle cos/sin formed from the half-angle ones, not
+//    read back from the new quaternion;
+//  - L.a' = L.a (a rotation about L keeps it), so w' = L / I_t + (1/I_a -
+//    1/I_t)(L.a) a' uses the value computed once: no re-projection.
+// L = I_t w + (I_a - I_t)(w.a) a loses log2(I_t / I_a) ~ 4 bits to
+// cancellation for a long capsule, which in double leaves ~1e-15.
+struct D3 {
+    double x, y, z;
+};
+
+template <int K>
+void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
+    constexpr int side = (K + 1) % 3;
+    const double inertiaAxis = p.localInertia(K, K), inertiaSide = p.localInertia(side, side);
+    const double hd = static_cast<double>(h);
+    const double qw = m.q.w, qx = m.q.x, qy = m.q.y, qz = m.q.z;
+    D3 a;
+    if constexpr (K == 0) {
+        a = {1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy + qw * qz), 2 * (qx * qz - qw * qy)};
+    } else if constexpr (K == 1) {
+        a = {2 * (qx * qy - qw * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz + qw * qx)};
+    } else {
+        a = {2 * (qx * qz + qw * qy), 2 * (qy * qz - qw * qx), 1 - 2 * (qx * qx + qy * qy)};
     }
-    const double invNorm = 1 / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    q = {q.w * invNorm, q.x * invNorm, q.y * invNorm, q.z * invNorm};
-    m.q = Quat{static_cast<Real>(q.w), static_cast<Real>(q.x), static_cast<Real>(q.y), static_cast<Real>(q.z)};
-    const D3 an = bodyAxis(q, k);
-    const double lAxisNew = dotD(angularMomentum, an);
-    const D3 w1 = (angularMomentum - an * lAxisNew) * (1 / inertiaSide) + an * (lAxisNew / inertiaAxis);
-    m.w = Vec3{static_cast<Real>(w1.x), static_cast<Real>(w1.y), static_cast<Real>(w1.z)};
+    const double invLengthA = 1 / std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
+    a = {a.x * invLengthA, a.y * invLengthA, a.z * invLengthA};
+    const double wx = m.w.x, wy = m.w.y, wz = m.w.z;
+    const double wAxis = wx * a.x + wy * a.y + wz * a.z;
+    const double lAxis = inertiaAxis * wAxis;
+    const double excess = (inertiaAxis - inertiaSide) * wAxis;
+    const D3 l{inertiaSide * wx + excess * a.x, inertiaSide * wy + excess * a.y, inertiaSide * wz + excess * a.z};
+    const double lengthL2 = l.x * l.x + l.y * l.y + l.z * l.z;
+    // Spin about the body axis, w.a - L.a / I_t, applied in body axes (right):
+    // q rot_body = q (c, s e_K).
+    const double halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * hd;
+    const double cs = std::cos(halfSpin), ss = std::sin(halfSpin);
+    double rw, rx, ry, rz;
+    if constexpr (K == 0) {
+        rw = qw * cs - qx * ss, rx = qx * cs + qw * ss, ry = qy * cs + qz * ss, rz = qz * cs - qy * ss;
+    } else if constexpr (K == 1) {
+        rw = qw * cs - qy * ss, rx = qx * cs - qz * ss, ry = qy * cs + qw * ss, rz = qz * cs + qx * ss;
+    } else {
+        rw = qw * cs - qz * ss, rx = qx * cs + qy * ss, ry = qy * cs - qx * ss, rz = qz * cs + qw * ss;
+    }
+    D3 an = a;
+    if (lengthL2 > 0) {  // precession about L, in world axes (left)
+        const double lengthL = std::sqrt(lengthL2);
+        const double invL = 1 / lengthL;
+        const double halfAngle = 0.5 * lengthL / inertiaSide * hd;
+        const double c = std::cos(halfAngle), s = std::sin(halfAngle);
+        const D3 n{l.x * invL, l.y * invL, l.z * invL};
+        const double nx = n.x * s, ny = n.y * s, nz = n.z * s;
+        const double pw = c * rw - nx * rx - ny * ry - nz * rz;
+        const double px = c * rx + nx * rw + ny * rz - nz * ry;
+        const double py = c * ry - nx * rz + ny * rw + nz * rx;
+        const double pz = c * rz + nx * ry - ny * rx + nz * rw;
+        rw = pw, rx = px, ry = py, rz = pz;
+        // a' = a cos + (n x a) sin + n (n.a)(1 - cos), full angle from the half angle.
+        const double oneMinusCos = 2 * s * s, sinFull = 2 * s * c, cosFull = 1 - oneMinusCos;
+        const double na = (n.x * a.x + n.y * a.y + n.z * a.z) * oneMinusCos;
+        an = {a.x * cosFull + (n.y * a.z - n.z * a.y) * sinFull + n.x * na,
+              a.y * cosFull + (n.z * a.x - n.x * a.z) * sinFull + n.y * na,
+              a.z * cosFull + (n.x * a.y - n.y * a.x) * sinFull + n.z * na};
+    }
+    const double invNorm = 1 / std::sqrt(rw * rw + rx * rx + ry * ry + rz * rz);
+    m.q = Quat{static_cast<Real>(rw * invNorm), static_cast<Real>(rx * invNorm), static_cast<Real>(ry * invNorm),
+               static_cast<Real>(rz * invNorm)};
+    // w' = L / I_t + (1/I_a - 1/I_t)(L.a) a'.
+    const double invSideD = 1 / inertiaSide;
+    const double axial = lAxis * (1 / inertiaAxis - invSideD);
+    m.w = Vec3{static_cast<Real>(l.x * invSideD + an.x * axial), static_cast<Real>(l.y * invSideD + an.y * axial),
+               static_cast<Real>(l.z * invSideD + an.z * axial)};
     // I_w^-1 = E / I_t + (1/I_a - 1/I_t) a a^T
     const Real invSide = p.invLocalInertia(side, side);
     const Vec3 axis{static_cast<Real>(an.x), static_cast<Real>(an.y), static_cast<Real>(an.z)};
-    const Vec3 c = axis * (p.invLocalInertia(k, k) - invSide);
+    const Vec3 cc = axis * (p.invLocalInertia(K, K) - invSide);
     m.invInertiaWorld =
-        Mat3{Vec3{invSide, 0, 0} + c * axis.x, Vec3{0, invSide, 0} + c * axis.y, Vec3{0, 0, invSide} + c * axis.z};
+        Mat3{Vec3{invSide, 0, 0} + cc * axis.x, Vec3{0, invSide, 0} + cc * axis.y, Vec3{0, 0, invSide} + cc * axis.z};
+}
+
+void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
+    switch (k) {
+        case 0: driftAxisymmetric<0>(m, p, h); break;
+        case 1: driftAxisymmetric<1>(m, p, h); break;
+        default: driftAxisymmetric<2>(m, p, h); break;
+    }
 }
 
 void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
