@@ -141,6 +141,7 @@ public:
         node(proxyId).box = fatten(tightBox, displacement);
     }
     void reinsert(std::int32_t proxyId) {
+        if (updateInPlace(proxyId)) return;
         removeLeaf(proxyId);
         insertLeaf(proxyId);
     }
@@ -198,6 +199,10 @@ private:
     std::int32_t findBestSiblingGreedy(const AABB& leafBox) const;
     void rotate(std::int32_t node);
     void refit(std::int32_t node);
+    // A leaf whose new box still lies inside its parent's box keeps its place:
+    // only its ancestors' boxes are refitted, up to the first one that does
+    // not change. Returns false (nothing done) when the box left the parent's.
+    bool updateInPlace(std::int32_t leaf);
     std::size_t partitionRange(std::size_t begin, std::size_t end);
 
     TreeNode& node(std::int32_t i) { return nodes_[static_cast<std::size_t>(i)]; }
