@@ -9,22 +9,46 @@ namespace {
 bool moves(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 bool isDynamic(const BodyParams& p) { return p.type == BodyType::Dynamic && p.awake; }
 
-// I = s * identity (spheres, cubes, regular solids): I_w = R I R^T = I, so the
-// angular momentum drift below keeps w exactly and reduces to one rotation.
-bool isIsotropic(const Mat3& i) {
-    return i.c0.y == 0 && i.c0.z == 0 && i.c1.x == 0 && i.c1.z == 0 && i.c2.x == 0 && i.c2.y == 0 &&
-           i.c0.x == i.c1.y && i.c1.y == i.c2.z;
+// The symmetry of a body's inertia, which picks its drift below (one pass
+// over the off-diagonal entries for both questions: the two separate tests
+// were 1 % of the chain benchmark's instructions).
+//   kIsotropic: I = s * identity (spheres, cubes, regular solids): I_w = R I R^T
+//     = I, so the angular momentum drift keeps w exactly and reduces to one rotation;
+//   0, 1, 2: diagonal with exactly two equal entries (capsules, cylinders, boxes
+//     with two equal sides, ragdoll limbs): the index of the symmetry axis;
+//   kGeneral: anything else.
+constexpr int kIsotropic = -1, kGeneral = -2;
+int inertiaSymmetry(const Mat3& i) {
+    if (i.c0.y != 0 || i.c0.z != 0 || i.c1.x != 0 || i.c1.z != 0 || i.c2.x != 0 || i.c2.y != 0) return kGeneral;
+    const bool xy = i.c0.x == i.c1.y, yz = i.c1.y == i.c2.z;
+    if (xy && yz) return kIsotropic;
+    if (yz) return 0;
+    if (i.c0.x == i.c2.z) return 1;
+    if (xy) return 2;
+    return kGeneral;
 }
 
-// I = diag with exactly two equal entries (capsules, cylinders, boxes with two
-// equal sides, ragdoll limbs): returns the index of the symmetry axis, else -1.
-// Isotropic inertia is handled before this is asked.
-int axisymmetricAxis(const Mat3& i) {
-    if (i.c0.y != 0 || i.c0.z != 0 || i.c1.x != 0 || i.c1.z != 0 || i.c2.x != 0 || i.c2.y != 0) return -1;
-    if (i.c1.y == i.c2.z) return 0;
-    if (i.c0.x == i.c2.z) return 1;
-    if (i.c0.x == i.c1.y) return 2;
-    return -1;
+// sin and cos of a half-angle of the drift. The spin limit
+// (WorldDef::maxRotationPerSubstep, default pi/4) keeps both of the drift's
+// half-angles within pi/8 (the precession rate |L| / I_t and the spin rate
+// are each at most |w|), where the Taylor series to x^13 and x^14 are exact to
+// double rounding (the next terms are below 2.3e-17 for |x| <= 0.5); beyond
+// 0.5 (the limit off) the library's. The library's sincos was 3.8 % of the
+// chain benchmark's instructions (two calls per link and sub-step, ~70
+// instructions each); these are ~30 for both.
+void halfAngleSinCos(double x, double& s, double& c) {
+    if (!(std::fabs(x) <= 0.5)) {
+        s = std::sin(x);
+        c = std::cos(x);
+        return;
+    }
+    const double z = x * x;
+    s = x + x * z *
+                (-1.0 / 6 +
+                 z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800))))));
+    c = 1 + z * (-0.5 + z * (1.0 / 24 +
+                             z * (-1.0 / 720 +
+                                  z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
 }
 
 // The axisymmetric drift below works in double: in float, the axial angular
@@ -91,7 +115,8 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
     // Spin about the body axis, w.a - L.a / I_t, applied in body axes (right):
     // q rot_body = q (c, s e_K).
     const double halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * hd;
-    const double cs = std::cos(halfSpin), ss = std::sin(halfSpin);
+    double cs, ss;
+    halfAngleSinCos(halfSpin, ss, cs);
     double rw, rx, ry, rz;
     if constexpr (K == 0) {
         rw = qw * cs - qx * ss, rx = qx * cs + qw * ss, ry = qy * cs + qz * ss, rz = qz * cs - qy * ss;
@@ -105,7 +130,8 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
         const double lengthL = std::sqrt(lengthL2);
         const double invL = 1 / lengthL;
         const double halfAngle = 0.5 * lengthL / inertiaSide * hd;
-        const double c = std::cos(halfAngle), s = std::sin(halfAngle);
+        double c, s;
+        halfAngleSinCos(halfAngle, s, c);
         const D3 n{l.x * invL, l.y * invL, l.z * invL};
         const double nx = n.x * s, ny = n.y * s, nz = n.z * s;
         const double pw = c * rw - nx * rx - ny * ry - nz * rz;
@@ -224,13 +250,14 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                 // constant w (it cost ~45 % of sphere_pile's position stage and
                 // ~20 % of its step: three R I R^T and two inverses per body).
                 // Its world inverse inertia is the local one (no R I^-1 R^T below).
-                if (isIsotropic(p.localInertia)) {
+                const int symmetry = inertiaSymmetry(p.localInertia);
+                if (symmetry == kIsotropic) {
                     m.q = integrateRotation(m.q, m.w, h);
                     m.invInertiaWorld = p.invLocalInertia;
                     continue;
                 }
-                if (const int axis = axisymmetricAxis(p.localInertia); axis >= 0) {
-                    driftAxisymmetric(m, p, axis, h);
+                if (symmetry >= 0) {
+                    driftAxisymmetric(m, p, symmetry, h);
                     continue;
                 }
                 // Torque-free drift at constant world angular momentum L = I_w(q) w.
