@@ -199,9 +199,11 @@ private:
     std::int32_t findBestSiblingGreedy(const AABB& leafBox) const;
     void rotate(std::int32_t node);
     void refit(std::int32_t node);
-    // A leaf whose new box still lies inside its parent's box keeps its place:
-    // only its ancestors' boxes are refitted, up to the first one that does
-    // not change. Returns false (nothing done) when the box left the parent's.
+    // A leaf whose new box still lies inside the box of its parent or of an
+    // ancestor up to kInPlaceLevels above keeps its place: only its ancestors'
+    // boxes are refitted, up to the first one that does not change. Returns
+    // false (nothing done) when the box left that ancestor's.
+    static constexpr int kInPlaceLevels = 3;
     bool updateInPlace(std::int32_t leaf);
     std::size_t partitionRange(std::size_t begin, std::size_t end);
 

@@ -1,4 +1,5 @@
-// DynamicTree: a leaf whose new fat box still fits in its parent's box is
+// DynamicTree: a leaf whose new fat box still fits in the box of its parent
+// or of a close ancestor (DynamicTree::kInPlaceLevels) is
 // refitted in place instead of removed and re-inserted (updateInPlace). These
 // tests drive a swinging chain, the motion that made the chain benchmark
 // re-insert a third of its links every step, through both ways the world moves
