@@ -433,7 +433,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             if (!n.joint) {
                 forward<6, 3>(i);
             } else if (parentJoint) {
-                forward<3, 3>(i);
+                forwardChainJoint(i);
             } else {
                 forward<3, 6>(i);
             }
@@ -443,7 +443,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
         if (!n.joint) {
             ok = eliminate<6, 3>(i);
         } else if (parentJoint) {
-            ok = eliminate<3, 3>(i);
+            ok = eliminateChainJoint(i);
         } else {
             ok = eliminate<3, 6>(i);
         }
@@ -455,7 +455,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
         if (!n.joint) {
             backSubstitute<6, 3>(i);
         } else if (n.parent != kNone && nodes_[n.parent].joint) {
-            backSubstitute<3, 3>(i);
+            backSubstituteChainJoint(i);
         } else {
             backSubstitute<3, 6>(i);
         }
@@ -515,6 +515,73 @@ bool JointTreeSolver::eliminate(std::uint32_t i) {
         }
     }
     return true;
+}
+
+// The joint-below-joint case (every link of a chain) written out with its
+// 3x3 blocks in locals: the same operations in the same order as
+// eliminate<3, 3> (so the same bits), without the generic loops over the
+// 6x6 storage. Chain benchmark (callgrind, 600 steps): eliminate<3, 3>
+// 325 instructions per call before; the whole run 1,053 M -> 1,035 M.
+bool JointTreeSolver::eliminateChainJoint(std::uint32_t i) {
+    Factor& f = factors_[i];
+    Factor& pf = factors_[nodes_[i].parent];
+    // D^-1 (invertInPlace<3>: the adjugate of -D, Sylvester's minors).
+    const double m00 = -f.D[0][0], m10 = -f.D[1][0], m11 = -f.D[1][1], m20 = -f.D[2][0], m21 = -f.D[2][1],
+                 m22 = -f.D[2][2];
+    const double c00 = m11 * m22 - m21 * m21;
+    const double c10 = m21 * m20 - m10 * m22;
+    const double c20 = m10 * m21 - m11 * m20;
+    const double det = m00 * c00 + m10 * c10 + m20 * c20;
+    const double minor2 = m00 * m11 - m10 * m10;
+    if (!(m00 > 1e-300) || !(minor2 > 1e-300) || !(det > 1e-300)) return false;
+    const double sc = -1 / det;
+    const double c11 = m00 * m22 - m20 * m20;
+    const double c21 = m20 * m10 - m00 * m21;
+    const double i00 = c00 * sc, i11 = c11 * sc, i22 = minor2 * sc, i10 = c10 * sc, i20 = c20 * sc, i21 = c21 * sc;
+    f.D[0][0] = i00, f.D[1][1] = i11, f.D[2][2] = i22;
+    f.D[0][1] = f.D[1][0] = i10;
+    f.D[0][2] = f.D[2][0] = i20;
+    f.D[1][2] = f.D[2][1] = i21;
+    // z <- D^-1 z.
+    const double z0 = f.z[0], z1 = f.z[1], z2 = f.z[2];
+    const double y0 = i00 * z0 + i10 * z1 + i20 * z2;
+    const double y1 = i10 * z0 + i11 * z1 + i21 * z2;
+    const double y2 = i20 * z0 + i21 * z1 + i22 * z2;
+    f.z[0] = y0, f.z[1] = y1, f.z[2] = y2;
+    // X = D^-1 Hp^T (row c: D^-1 times row c of Hp); z_parent -= Hp (D^-1 z);
+    // D_parent -= Hp X (lower triangle).
+    double x[3][3];
+    for (int c = 0; c < 3; ++c) {
+        const double h0 = f.Hp[c][0], h1 = f.Hp[c][1], h2 = f.Hp[c][2];
+        x[c][0] = i00 * h0 + i10 * h1 + i20 * h2;
+        x[c][1] = i10 * h0 + i11 * h1 + i21 * h2;
+        x[c][2] = i20 * h0 + i21 * h1 + i22 * h2;
+        f.X[c][0] = x[c][0], f.X[c][1] = x[c][1], f.X[c][2] = x[c][2];
+    }
+    for (int r = 0; r < 3; ++r) {
+        const double h0 = f.Hp[r][0], h1 = f.Hp[r][1], h2 = f.Hp[r][2];
+        pf.z[r] -= h0 * y0 + h1 * y1 + h2 * y2;
+        for (int c = 0; c <= r; ++c) pf.D[r][c] -= h0 * x[c][0] + h1 * x[c][1] + h2 * x[c][2];
+    }
+    return true;
+}
+
+void JointTreeSolver::forwardChainJoint(std::uint32_t i) {
+    Factor& f = factors_[i];
+    Factor& pf = factors_[nodes_[i].parent];
+    const double z0 = f.z[0], z1 = f.z[1], z2 = f.z[2];
+    const double y0 = f.D[0][0] * z0 + f.D[0][1] * z1 + f.D[0][2] * z2;
+    const double y1 = f.D[1][0] * z0 + f.D[1][1] * z1 + f.D[1][2] * z2;
+    const double y2 = f.D[2][0] * z0 + f.D[2][1] * z1 + f.D[2][2] * z2;
+    f.z[0] = y0, f.z[1] = y1, f.z[2] = y2;
+    for (int r = 0; r < 3; ++r) pf.z[r] -= f.Hp[r][0] * y0 + f.Hp[r][1] * y1 + f.Hp[r][2] * y2;
+}
+
+void JointTreeSolver::backSubstituteChainJoint(std::uint32_t i) {
+    Factor& f = factors_[i];
+    const Factor& pf = factors_[nodes_[i].parent];
+    const double p0 = pf.y[0], p1 = pf.y[1], p2 = pf.y[2];
+    for (int k = 0; k < 3; ++k) f.y[k] = ((f.z[k] - f.X[0][k] * p0) - f.X[1][k] * p1) - f.X[2][k] * p2;
 }
 
 // Forward substitution alone, on the stored factor.

@@ -103,6 +103,10 @@ private:
     void backSubstitute(std::uint32_t node);
     template <int dim, int pdim>
     void forward(std::uint32_t node);
+    // eliminate / forward / backSubstitute<3, 3> written out (same bits).
+    bool eliminateChainJoint(std::uint32_t node);
+    void forwardChainJoint(std::uint32_t node);
+    void backSubstituteChainJoint(std::uint32_t node);
     void findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
     bool solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints, SolverBody* bodies,
                    const JointContext& ctx, bool refactor);
