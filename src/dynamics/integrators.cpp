@@ -90,12 +90,120 @@ struct D3 {
     double x, y, z;
 };
 
+// Two bodies' drifts at once, one per lane of a 2 x double SSE2 register
+// (GCC/Clang vector extension; elsewhere bodies go one at a time). The lanes
+// run exactly the scalar operations, in the same order (no FMA in the
+// default x86-64 build, and none is formed across lanes), so a body's bits
+// do not depend on whether, or with which body, it was paired: the world's
+// results stay the same for any body order or thread ranges.
+#if defined(__GNUC__) && defined(__SSE2__)
+using Double2 = double __attribute__((vector_size(16)));
+constexpr bool kPairedDrift = true;
+Double2 sqrtOf(Double2 x) { return Double2{std::sqrt(x[0]), std::sqrt(x[1])}; }
+bool allLanes(Double2 lengthL2, Double2 halfSpin, Double2 halfAngle) {
+    for (int k = 0; k < 2; ++k) {
+        if (!(lengthL2[k] > 0) || !(std::fabs(halfSpin[k]) <= 0.5) || !(std::fabs(halfAngle[k]) <= 0.5)) return false;
+    }
+    return true;
+}
+#else
+constexpr bool kPairedDrift = false;
+#endif
+double sqrtOf(double x) { return std::sqrt(x); }
+bool allLanes(double lengthL2, double halfSpin, double halfAngle) {
+    return lengthL2 > 0 && std::fabs(halfSpin) <= 0.5 && std::fabs(halfAngle) <= 0.5;
+}
+
+// One drift's numbers, per lane: orientation and angular velocity in, the
+// new ones and the new symmetry axis out; the two principal moments.
+template <class T>
+struct DriftLanes {
+    T qw, qx, qy, qz;
+    T wx, wy, wz;
+    T ax, ay, az;
+    T inertiaAxis, inertiaSide;
+};
+
+// The Taylor series of halfAngleSinCos, for any lane type (|x| <= 0.5).
+template <class T>
+void seriesSinCos(const T& x, T& s, T& c) {
+    const T z = x * x;
+    s = x + x * z *
+                (-1.0 / 6 +
+                 z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800))))));
+    c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
+                               z * (-1.0 / 720 +
+                                    z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
+}
+
+// The drift (see above) for bodies whose L is not zero and whose two
+// half-angles are within the series' range (every lane): false, with
+// nothing written, otherwise (driftAxisymmetric then takes the general path).
+template <int K, class T>
+bool driftLanes(DriftLanes<T>& d, double hd) {
+    const T qw = d.qw, qx = d.qx, qy = d.qy, qz = d.qz;
+    T ax, ay, az;
+    if constexpr (K == 0) {
+        ax = 1.0 - 2.0 * (qy * qy + qz * qz), ay = 2.0 * (qx * qy + qw * qz), az = 2.0 * (qx * qz - qw * qy);
+    } else if constexpr (K == 1) {
+        ax = 2.0 * (qx * qy - qw * qz), ay = 1.0 - 2.0 * (qx * qx + qz * qz), az = 2.0 * (qy * qz + qw * qx);
+    } else {
+        ax = 2.0 * (qx * qz + qw * qy), ay = 2.0 * (qy * qz - qw * qx), az = 1.0 - 2.0 * (qx * qx + qy * qy);
+    }
+    const T invLengthA = 1.0 / sqrtOf(ax * ax + ay * ay + az * az);
+    ax = ax * invLengthA, ay = ay * invLengthA, az = az * invLengthA;
+    const T wx = d.wx, wy = d.wy, wz = d.wz;
+    const T inertiaAxis = d.inertiaAxis, inertiaSide = d.inertiaSide;
+    const T wAxis = wx * ax + wy * ay + wz * az;
+    const T lAxis = inertiaAxis * wAxis;
+    const T excess = (inertiaAxis - inertiaSide) * wAxis;
+    const T lx = inertiaSide * wx + excess * ax, ly = inertiaSide * wy + excess * ay, lz = inertiaSide * wz + excess * az;
+    const T lengthL2 = lx * lx + ly * ly + lz * lz;
+    const T halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * hd;
+    const T lengthL = sqrtOf(lengthL2);
+    const T halfAngle = 0.5 * lengthL / inertiaSide * hd;
+    if (!allLanes(lengthL2, halfSpin, halfAngle)) return false;
+    // Spin about the body axis (right): q (cs, ss e_K).
+    T cs, ss;
+    seriesSinCos(halfSpin, ss, cs);
+    T rw, rx, ry, rz;
+    if constexpr (K == 0) {
+        rw = qw * cs - qx * ss, rx = qx * cs + qw * ss, ry = qy * cs + qz * ss, rz = qz * cs - qy * ss;
+    } else if constexpr (K == 1) {
+        rw = qw * cs - qy * ss, rx = qx * cs - qz * ss, ry = qy * cs + qw * ss, rz = qz * cs + qx * ss;
+    } else {
+        rw = qw * cs - qz * ss, rx = qx * cs + qy * ss, ry = qy * cs - qx * ss, rz = qz * cs + qw * ss;
+    }
+    // Precession about L (left).
+    const T invL = 1.0 / lengthL;
+    T c, s;
+    seriesSinCos(halfAngle, s, c);
+    const T nx = lx * invL, ny = ly * invL, nz = lz * invL;
+    const T sx = nx * s, sy = ny * s, sz = nz * s;
+    const T pw = c * rw - sx * rx - sy * ry - sz * rz;
+    const T px = c * rx + sx * rw + sy * rz - sz * ry;
+    const T py = c * ry - sx * rz + sy * rw + sz * rx;
+    const T pz = c * rz + sx * ry - sy * rx + sz * rw;
+    // a' = a cos + (n x a) sin + n (n.a)(1 - cos), full angle from the half angle.
+    const T oneMinusCos = 2.0 * s * s, sinFull = 2.0 * s * c, cosFull = 1.0 - oneMinusCos;
+    const T na = (nx * ax + ny * ay + nz * az) * oneMinusCos;
+    d.ax = ax * cosFull + (ny * az - nz * ay) * sinFull + nx * na;
+    d.ay = ay * cosFull + (nz * ax - nx * az) * sinFull + ny * na;
+    d.az = az * cosFull + (nx * ay - ny * ax) * sinFull + nz * na;
+    const T invNorm = 1.0 / sqrtOf(pw * pw + px * px + py * py + pz * pz);
+    d.qw = pw * invNorm, d.qx = px * invNorm, d.qy = py * invNorm, d.qz = pz * invNorm;
+    // w' = L / I_t + (1/I_a - 1/I_t)(L.a) a'.
+    const T invSide = 1.0 / inertiaSide;
+    const T axial = lAxis * (1.0 / inertiaAxis - invSide);
+    d.wx = lx * invSide + d.ax * axial, d.wy = ly * invSide + d.ay * axial, d.wz = lz * invSide + d.az * axial;
+    return true;
+}
+
+// The general path, one body: L = 0 (no precession) or a half-angle beyond
+// the series' range (the spin limit off), with the library's sin/cos there.
 template <int K>
-void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
-    constexpr int side = (K + 1) % 3;
-    const double inertiaAxis = p.localInertia(K, K), inertiaSide = p.localInertia(side, side);
-    const double hd = static_cast<double>(h);
-    const double qw = m.q.w, qx = m.q.x, qy = m.q.y, qz = m.q.z;
+void driftGeneral(DriftLanes<double>& d, double hd) {
+    const double qw = d.qw, qx = d.qx, qy = d.qy, qz = d.qz;
     D3 a;
     if constexpr (K == 0) {
         a = {1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy + qw * qz), 2 * (qx * qz - qw * qy)};
@@ -106,14 +214,12 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
     }
     const double invLengthA = 1 / std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
     a = {a.x * invLengthA, a.y * invLengthA, a.z * invLengthA};
-    const double wx = m.w.x, wy = m.w.y, wz = m.w.z;
-    const double wAxis = wx * a.x + wy * a.y + wz * a.z;
+    const double inertiaAxis = d.inertiaAxis, inertiaSide = d.inertiaSide;
+    const double wAxis = d.wx * a.x + d.wy * a.y + d.wz * a.z;
     const double lAxis = inertiaAxis * wAxis;
     const double excess = (inertiaAxis - inertiaSide) * wAxis;
-    const D3 l{inertiaSide * wx + excess * a.x, inertiaSide * wy + excess * a.y, inertiaSide * wz + excess * a.z};
+    const D3 l{inertiaSide * d.wx + excess * a.x, inertiaSide * d.wy + excess * a.y, inertiaSide * d.wz + excess * a.z};
     const double lengthL2 = l.x * l.x + l.y * l.y + l.z * l.z;
-    // Spin about the body axis, w.a - L.a / I_t, applied in body axes (right):
-    // q rot_body = q (c, s e_K).
     const double halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * hd;
     double cs, ss;
     halfAngleSinCos(halfSpin, ss, cs);
@@ -126,7 +232,7 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
         rw = qw * cs - qz * ss, rx = qx * cs + qy * ss, ry = qy * cs - qx * ss, rz = qz * cs + qw * ss;
     }
     D3 an = a;
-    if (lengthL2 > 0) {  // precession about L, in world axes (left)
+    if (lengthL2 > 0) {
         const double lengthL = std::sqrt(lengthL2);
         const double invL = 1 / lengthL;
         const double halfAngle = 0.5 * lengthL / inertiaSide * hd;
@@ -139,7 +245,6 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
         const double py = c * ry - nx * rz + ny * rw + nz * rx;
         const double pz = c * rz + nx * ry - ny * rx + nz * rw;
         rw = pw, rx = px, ry = py, rz = pz;
-        // a' = a cos + (n x a) sin + n (n.a)(1 - cos), full angle from the half angle.
         const double oneMinusCos = 2 * s * s, sinFull = 2 * s * c, cosFull = 1 - oneMinusCos;
         const double na = (n.x * a.x + n.y * a.y + n.z * a.z) * oneMinusCos;
         an = {a.x * cosFull + (n.y * a.z - n.z * a.y) * sinFull + n.x * na,
@@ -147,28 +252,79 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, Real h) {
               a.z * cosFull + (n.x * a.y - n.y * a.x) * sinFull + n.z * na};
     }
     const double invNorm = 1 / std::sqrt(rw * rw + rx * rx + ry * ry + rz * rz);
-    m.q = Quat{static_cast<Real>(rw * invNorm), static_cast<Real>(rx * invNorm), static_cast<Real>(ry * invNorm),
-               static_cast<Real>(rz * invNorm)};
-    // w' = L / I_t + (1/I_a - 1/I_t)(L.a) a'.
-    const double invSideD = 1 / inertiaSide;
-    const double axial = lAxis * (1 / inertiaAxis - invSideD);
-    m.w = Vec3{static_cast<Real>(l.x * invSideD + an.x * axial), static_cast<Real>(l.y * invSideD + an.y * axial),
-               static_cast<Real>(l.z * invSideD + an.z * axial)};
+    d.qw = rw * invNorm, d.qx = rx * invNorm, d.qy = ry * invNorm, d.qz = rz * invNorm;
+    const double invSide = 1 / inertiaSide;
+    const double axial = lAxis * (1 / inertiaAxis - invSide);
+    d.wx = l.x * invSide + an.x * axial, d.wy = l.y * invSide + an.y * axial, d.wz = l.z * invSide + an.z * axial;
+    d.ax = an.x, d.ay = an.y, d.az = an.z;
+}
+
+DriftLanes<double> loadDrift(const BodyMotion& m, const BodyParams& p, int k) {
+    const int side = (k + 1) % 3;
+    return {m.q.w, m.q.x, m.q.y, m.q.z, m.w.x, m.w.y, m.w.z, 0, 0, 0, p.localInertia(k, k), p.localInertia(side, side)};
+}
+
+void storeDrift(BodyMotion& m, const BodyParams& p, int k, const DriftLanes<double>& d) {
+    m.q = Quat{static_cast<Real>(d.qw), static_cast<Real>(d.qx), static_cast<Real>(d.qy), static_cast<Real>(d.qz)};
+    m.w = Vec3{static_cast<Real>(d.wx), static_cast<Real>(d.wy), static_cast<Real>(d.wz)};
     // I_w^-1 = E / I_t + (1/I_a - 1/I_t) a a^T
-    const Real invSide = p.invLocalInertia(side, side);
-    const Vec3 axis{static_cast<Real>(an.x), static_cast<Real>(an.y), static_cast<Real>(an.z)};
-    const Vec3 cc = axis * (p.invLocalInertia(K, K) - invSide);
+    const Real invSide = p.invLocalInertia((k + 1) % 3, (k + 1) % 3);
+    const Vec3 axis{static_cast<Real>(d.ax), static_cast<Real>(d.ay), static_cast<Real>(d.az)};
+    const Vec3 cc = axis * (p.invLocalInertia(k, k) - invSide);
     m.invInertiaWorld =
         Mat3{Vec3{invSide, 0, 0} + cc * axis.x, Vec3{0, invSide, 0} + cc * axis.y, Vec3{0, 0, invSide} + cc * axis.z};
 }
 
+template <int K>
+void driftOne(BodyMotion& m, const BodyParams& p, double hd) {
+    DriftLanes<double> d = loadDrift(m, p, K);
+    if (!driftLanes<K>(d, hd)) driftGeneral<K>(d, hd);
+    storeDrift(m, p, K, d);
+}
+
 void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
+    const double hd = static_cast<double>(h);
     switch (k) {
-        case 0: driftAxisymmetric<0>(m, p, h); break;
-        case 1: driftAxisymmetric<1>(m, p, h); break;
-        default: driftAxisymmetric<2>(m, p, h); break;
+        case 0: driftOne<0>(m, p, hd); break;
+        case 1: driftOne<1>(m, p, hd); break;
+        default: driftOne<2>(m, p, hd); break;
     }
 }
+
+#if defined(__GNUC__) && defined(__SSE2__)
+template <int K>
+void driftPairK(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, double hd) {
+    const DriftLanes<double> a = loadDrift(m0, p0, K), b = loadDrift(m1, p1, K);
+    DriftLanes<Double2> d{Double2{a.qw, b.qw}, Double2{a.qx, b.qx}, Double2{a.qy, b.qy}, Double2{a.qz, b.qz},
+                          Double2{a.wx, b.wx}, Double2{a.wy, b.wy}, Double2{a.wz, b.wz}, Double2{},
+                          Double2{},           Double2{},           Double2{a.inertiaAxis, b.inertiaAxis},
+                          Double2{a.inertiaSide, b.inertiaSide}};
+    if (!driftLanes<K>(d, hd)) {  // a lane outside the fast path: both alone (the same bits)
+        driftOne<K>(m0, p0, hd);
+        driftOne<K>(m1, p1, hd);
+        return;
+    }
+    for (int lane = 0; lane < 2; ++lane) {
+        const DriftLanes<double> out{d.qw[lane], d.qx[lane], d.qy[lane], d.qz[lane], d.wx[lane], d.wy[lane],
+                                     d.wz[lane], d.ax[lane], d.ay[lane], d.az[lane], 0, 0};
+        storeDrift(lane == 0 ? m0 : m1, lane == 0 ? p0 : p1, K, out);
+    }
+}
+
+void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, int k, Real h) {
+    const double hd = static_cast<double>(h);
+    switch (k) {
+        case 0: driftPairK<0>(m0, p0, m1, p1, hd); break;
+        case 1: driftPairK<1>(m0, p0, m1, p1, hd); break;
+        default: driftPairK<2>(m0, p0, m1, p1, hd); break;
+    }
+}
+#else
+void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, int k, Real h) {
+    driftAxisymmetric(m0, p0, k, h);
+    driftAxisymmetric(m1, p1, k, h);
+}
+#endif
 
 void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
     // Implicit (unconditionally stable) exponential decay: v *= 1 / (1 + h c).
@@ -224,6 +380,9 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
 
 void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
     const Real maxTurn = w.settings.maxRotationPerSubstep;
+    // Axisymmetric bodies waiting for a partner, per symmetry axis (driftPair).
+    constexpr std::uint32_t kNoBody = UINT32_MAX;
+    std::uint32_t waitingDrift[3] = {kNoBody, kNoBody, kNoBody};
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
@@ -257,7 +416,17 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                     continue;
                 }
                 if (symmetry >= 0) {
-                    driftAxisymmetric(m, p, symmetry, h);
+                    // Two at a time where the SIMD pairs exist (driftPair):
+                    // the first of a symmetry axis waits for the second.
+                    std::uint32_t& waiting = waitingDrift[symmetry];
+                    if (!kPairedDrift) {
+                        driftAxisymmetric(m, p, symmetry, h);
+                    } else if (waiting == kNoBody) {
+                        waiting = i;
+                    } else {
+                        driftPair(w.motion[waiting], w.params[waiting], m, p, symmetry, h);
+                        waiting = kNoBody;
+                    }
                     continue;
                 }
                 // Torque-free drift at constant world angular momentum L = I_w(q) w.
@@ -277,6 +446,9 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
             }
         }
         w.updateWorldInertia(i);
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (waitingDrift[k] != kNoBody) driftAxisymmetric(w.motion[waitingDrift[k]], w.params[waitingDrift[k]], k, h);
     }
 }
 
