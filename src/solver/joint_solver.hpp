@@ -82,6 +82,10 @@ private:
     bool sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve);
     void refreshRotations();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
+    // Whether a projection pass could move anything: every point joint's
+    // anchor separation, four joints at a time in SIMD lanes (false: all
+    // within the slop, the pass would move nothing).
+    bool anyBeyondSlop(const WorldImpl& w, Real slop) const;
     // What the colouring and the joint trees depend on, per constraint in
     // creation order (prepare() compares it with the last step's and, if
     // equal, keeps both): the joint, its solver bodies and type, and whether
