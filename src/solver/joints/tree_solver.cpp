@@ -361,6 +361,25 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     factored_ = false;
 }
 
+// Inlined into solveTree (called once or twice per joint and pass).
+inline void JointTreeSolver::forwardChainJoint(std::uint32_t i) {
+    Factor& f = factors_[i];
+    Factor& pf = factors_[nodes_[i].parent];
+    const double z0 = f.z[0], z1 = f.z[1], z2 = f.z[2];
+    const double y0 = f.D[0][0] * z0 + f.D[0][1] * z1 + f.D[0][2] * z2;
+    const double y1 = f.D[1][0] * z0 + f.D[1][1] * z1 + f.D[1][2] * z2;
+    const double y2 = f.D[2][0] * z0 + f.D[2][1] * z1 + f.D[2][2] * z2;
+    f.z[0] = y0, f.z[1] = y1, f.z[2] = y2;
+    for (int r = 0; r < 3; ++r) pf.z[r] -= f.Hp[r][0] * y0 + f.Hp[r][1] * y1 + f.Hp[r][2] * y2;
+}
+
+inline void JointTreeSolver::backSubstituteChainJoint(std::uint32_t i) {
+    Factor& f = factors_[i];
+    const Factor& pf = factors_[nodes_[i].parent];
+    const double p0 = pf.y[0], p1 = pf.y[1], p2 = pf.y[2];
+    for (int k = 0; k < 3; ++k) f.y[k] = ((f.z[k] - f.X[0][k] * p0) - f.X[1][k] * p1) - f.X[2][k] * p2;
+}
+
 bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints,
                                 SolverBody* bodies, const JointContext& ctx, bool refactor) {
     // Initial diagonal blocks and right-hand sides, parents first (a joint
@@ -564,24 +583,6 @@ bool JointTreeSolver::eliminateChainJoint(std::uint32_t i) {
         for (int c = 0; c <= r; ++c) pf.D[r][c] -= h0 * x[c][0] + h1 * x[c][1] + h2 * x[c][2];
     }
     return true;
-}
-
-void JointTreeSolver::forwardChainJoint(std::uint32_t i) {
-    Factor& f = factors_[i];
-    Factor& pf = factors_[nodes_[i].parent];
-    const double z0 = f.z[0], z1 = f.z[1], z2 = f.z[2];
-    const double y0 = f.D[0][0] * z0 + f.D[0][1] * z1 + f.D[0][2] * z2;
-    const double y1 = f.D[1][0] * z0 + f.D[1][1] * z1 + f.D[1][2] * z2;
-    const double y2 = f.D[2][0] * z0 + f.D[2][1] * z1 + f.D[2][2] * z2;
-    f.z[0] = y0, f.z[1] = y1, f.z[2] = y2;
-    for (int r = 0; r < 3; ++r) pf.z[r] -= f.Hp[r][0] * y0 + f.Hp[r][1] * y1 + f.Hp[r][2] * y2;
-}
-
-void JointTreeSolver::backSubstituteChainJoint(std::uint32_t i) {
-    Factor& f = factors_[i];
-    const Factor& pf = factors_[nodes_[i].parent];
-    const double p0 = pf.y[0], p1 = pf.y[1], p2 = pf.y[2];
-    for (int k = 0; k < 3; ++k) f.y[k] = ((f.z[k] - f.X[0][k] * p0) - f.X[1][k] * p1) - f.X[2][k] * p2;
 }
 
 // Forward substitution alone, on the stored factor.
