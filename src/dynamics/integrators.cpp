@@ -28,6 +28,19 @@ int inertiaSymmetry(const Mat3& i) {
     return kGeneral;
 }
 
+// The Taylor series of sin and cos to double rounding for |x| <= 0.5, for
+// any lane type (halfAngleSinCos and the paired drift).
+template <class T>
+void seriesSinCos(const T& x, T& s, T& c) {
+    const T z = x * x;
+    s = x + x * z *
+                (-1.0 / 6 +
+                 z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800))))));
+    c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
+                               z * (-1.0 / 720 +
+                                    z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
+}
+
 // sin and cos of a half-angle of the drift. The spin limit
 // (WorldDef::maxRotationPerSubstep, default pi/4) keeps both of the drift's
 // half-angles within pi/8 (the precession rate |L| / I_t and the spin rate
@@ -42,13 +55,7 @@ void halfAngleSinCos(double x, double& s, double& c) {
         c = std::cos(x);
         return;
     }
-    const double z = x * x;
-    s = x + x * z *
-                (-1.0 / 6 +
-                 z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800))))));
-    c = 1 + z * (-0.5 + z * (1.0 / 24 +
-                             z * (-1.0 / 720 +
-                                  z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
+    seriesSinCos(x, s, c);
 }
 
 // The axisymmetric drift below works in double: in float, the axial angular
@@ -125,16 +132,32 @@ struct DriftLanes {
     T inertiaAxis, inertiaSide;
 };
 
-// The Taylor series of halfAngleSinCos, for any lane type (|x| <= 0.5).
-template <class T>
-void seriesSinCos(const T& x, T& s, T& c) {
-    const T z = x * x;
-    s = x + x * z *
-                (-1.0 / 6 +
-                 z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800))))));
-    c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
-                               z * (-1.0 / 720 +
-                                    z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
+
+// Body axis K of q (the K-th column of its rotation matrix, not yet
+// renormalised), for any lane type: the lanes and the general path share it.
+template <int K, class T>
+void bodyAxisOf(const T& qw, const T& qx, const T& qy, const T& qz, T& ax, T& ay, T& az) {
+    if constexpr (K == 0) {
+        ax = 1.0 - 2.0 * (qy * qy + qz * qz), ay = 2.0 * (qx * qy + qw * qz), az = 2.0 * (qx * qz - qw * qy);
+    } else if constexpr (K == 1) {
+        ax = 2.0 * (qx * qy - qw * qz), ay = 1.0 - 2.0 * (qx * qx + qz * qz), az = 2.0 * (qy * qz + qw * qx);
+    } else {
+        ax = 2.0 * (qx * qz + qw * qy), ay = 2.0 * (qy * qz - qw * qx), az = 1.0 - 2.0 * (qx * qx + qy * qy);
+    }
+}
+
+// q (cs, ss e_K): a spin about the body's own axis K, the one-component
+// quaternion product written out per axis.
+template <int K, class T>
+void spinAboutBodyAxis(const T& qw, const T& qx, const T& qy, const T& qz, const T& cs, const T& ss, T& rw, T& rx,
+                       T& ry, T& rz) {
+    if constexpr (K == 0) {
+        rw = qw * cs - qx * ss, rx = qx * cs + qw * ss, ry = qy * cs + qz * ss, rz = qz * cs - qy * ss;
+    } else if constexpr (K == 1) {
+        rw = qw * cs - qy * ss, rx = qx * cs - qz * ss, ry = qy * cs + qw * ss, rz = qz * cs + qx * ss;
+    } else {
+        rw = qw * cs - qz * ss, rx = qx * cs + qy * ss, ry = qy * cs - qx * ss, rz = qz * cs + qw * ss;
+    }
 }
 
 // The drift (see above) for bodies whose L is not zero and whose two
@@ -144,13 +167,7 @@ template <int K, class T>
 bool driftLanes(DriftLanes<T>& d, double hd) {
     const T qw = d.qw, qx = d.qx, qy = d.qy, qz = d.qz;
     T ax, ay, az;
-    if constexpr (K == 0) {
-        ax = 1.0 - 2.0 * (qy * qy + qz * qz), ay = 2.0 * (qx * qy + qw * qz), az = 2.0 * (qx * qz - qw * qy);
-    } else if constexpr (K == 1) {
-        ax = 2.0 * (qx * qy - qw * qz), ay = 1.0 - 2.0 * (qx * qx + qz * qz), az = 2.0 * (qy * qz + qw * qx);
-    } else {
-        ax = 2.0 * (qx * qz + qw * qy), ay = 2.0 * (qy * qz - qw * qx), az = 1.0 - 2.0 * (qx * qx + qy * qy);
-    }
+    bodyAxisOf<K>(qw, qx, qy, qz, ax, ay, az);
     const T invLengthA = 1.0 / sqrtOf(ax * ax + ay * ay + az * az);
     ax = ax * invLengthA, ay = ay * invLengthA, az = az * invLengthA;
     const T wx = d.wx, wy = d.wy, wz = d.wz;
@@ -168,13 +185,7 @@ bool driftLanes(DriftLanes<T>& d, double hd) {
     T cs, ss;
     seriesSinCos(halfSpin, ss, cs);
     T rw, rx, ry, rz;
-    if constexpr (K == 0) {
-        rw = qw * cs - qx * ss, rx = qx * cs + qw * ss, ry = qy * cs + qz * ss, rz = qz * cs - qy * ss;
-    } else if constexpr (K == 1) {
-        rw = qw * cs - qy * ss, rx = qx * cs - qz * ss, ry = qy * cs + qw * ss, rz = qz * cs + qx * ss;
-    } else {
-        rw = qw * cs - qz * ss, rx = qx * cs + qy * ss, ry = qy * cs - qx * ss, rz = qz * cs + qw * ss;
-    }
+    spinAboutBodyAxis<K>(qw, qx, qy, qz, cs, ss, rw, rx, ry, rz);
     // Precession about L (left).
     const T invL = 1.0 / lengthL;
     T c, s;
@@ -206,13 +217,7 @@ template <int K>
 void driftGeneral(DriftLanes<double>& d, double hd) {
     const double qw = d.qw, qx = d.qx, qy = d.qy, qz = d.qz;
     D3 a;
-    if constexpr (K == 0) {
-        a = {1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy + qw * qz), 2 * (qx * qz - qw * qy)};
-    } else if constexpr (K == 1) {
-        a = {2 * (qx * qy - qw * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz + qw * qx)};
-    } else {
-        a = {2 * (qx * qz + qw * qy), 2 * (qy * qz - qw * qx), 1 - 2 * (qx * qx + qy * qy)};
-    }
+    bodyAxisOf<K>(qw, qx, qy, qz, a.x, a.y, a.z);
     const double invLengthA = 1 / std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
     a = {a.x * invLengthA, a.y * invLengthA, a.z * invLengthA};
     const double inertiaAxis = d.inertiaAxis, inertiaSide = d.inertiaSide;
@@ -225,13 +230,7 @@ void driftGeneral(DriftLanes<double>& d, double hd) {
     double cs, ss;
     halfAngleSinCos(halfSpin, ss, cs);
     double rw, rx, ry, rz;
-    if constexpr (K == 0) {
-        rw = qw * cs - qx * ss, rx = qx * cs + qw * ss, ry = qy * cs + qz * ss, rz = qz * cs - qy * ss;
-    } else if constexpr (K == 1) {
-        rw = qw * cs - qy * ss, rx = qx * cs - qz * ss, ry = qy * cs + qw * ss, rz = qz * cs + qx * ss;
-    } else {
-        rw = qw * cs - qz * ss, rx = qx * cs + qy * ss, ry = qy * cs - qx * ss, rz = qz * cs + qw * ss;
-    }
+    spinAboutBodyAxis<K>(qw, qx, qy, qz, cs, ss, rw, rx, ry, rz);
     D3 an = a;
     if (lengthL2 > 0) {
         const double lengthL = std::sqrt(lengthL2);

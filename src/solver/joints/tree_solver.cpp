@@ -46,6 +46,34 @@ void applyCholeskyInverse(const double L[6][6], double* x) {
     }
 }
 
+// The inverse of a negative definite 3x3 block D (lower triangle read): the
+// adjugate of -D, whose Sylvester minors say whether it is definite; false
+// if not. Shared by invertInPlace<3> and eliminateChainJoint (same bits).
+struct SymmetricInverse3 {
+    double i00, i11, i22, i10, i20, i21;
+    void store(double a[6][6]) const {
+        a[0][0] = i00, a[1][1] = i11, a[2][2] = i22;
+        a[0][1] = a[1][0] = i10;
+        a[0][2] = a[2][0] = i20;
+        a[1][2] = a[2][1] = i21;
+    }
+};
+
+inline bool invertNegativeDefinite3(const double a[6][6], SymmetricInverse3& out) {
+    const double m00 = -a[0][0], m10 = -a[1][0], m11 = -a[1][1], m20 = -a[2][0], m21 = -a[2][1], m22 = -a[2][2];
+    const double c00 = m11 * m22 - m21 * m21;
+    const double c10 = m21 * m20 - m10 * m22;
+    const double c20 = m10 * m21 - m11 * m20;
+    const double det = m00 * c00 + m10 * c10 + m20 * c20;
+    const double minor2 = m00 * m11 - m10 * m10;
+    if (!(m00 > 1e-300) || !(minor2 > 1e-300) || !(det > 1e-300)) return false;
+    const double s = -1 / det;  // D^-1 = -(-D)^-1
+    const double c11 = m00 * m22 - m20 * m20;
+    const double c21 = m20 * m10 - m00 * m21;
+    out = {c00 * s, c11 * s, minor2 * s, c10 * s, c20 * s, c21 * s};
+    return true;
+}
+
 // a <- a^-1 in place (a symmetric; the lower triangle is read, the whole
 // inverse written). Joints' blocks are negative definite, bodies' positive
 // definite; false if singular. Every later use of the block is then a dense
@@ -54,22 +82,9 @@ void applyCholeskyInverse(const double L[6][6], double* x) {
 template <int N>
 bool invertInPlace(double a[6][6]) {
     if constexpr (N == 3) {
-        // Adjugate of -D (positive definite): Sylvester's minors say whether it is.
-        const double m00 = -a[0][0], m10 = -a[1][0], m11 = -a[1][1], m20 = -a[2][0], m21 = -a[2][1], m22 = -a[2][2];
-        const double c00 = m11 * m22 - m21 * m21;
-        const double c10 = m21 * m20 - m10 * m22;
-        const double c20 = m10 * m21 - m11 * m20;
-        const double det = m00 * c00 + m10 * c10 + m20 * c20;
-        const double minor2 = m00 * m11 - m10 * m10;
-        if (!(m00 > 1e-300) || !(minor2 > 1e-300) || !(det > 1e-300)) return false;
-        const double s = -1 / det;  // D^-1 = -(-D)^-1
-        const double c11 = m00 * m22 - m20 * m20;
-        const double c21 = m20 * m10 - m00 * m21;
-        const double c22 = minor2;
-        a[0][0] = c00 * s, a[1][1] = c11 * s, a[2][2] = c22 * s;
-        a[0][1] = a[1][0] = c10 * s;
-        a[0][2] = a[2][0] = c20 * s;
-        a[1][2] = a[2][1] = c21 * s;
+        SymmetricInverse3 inv;
+        if (!invertNegativeDefinite3(a, inv)) return false;
+        inv.store(a);
         return true;
     } else {
         double L[6][6];
@@ -544,23 +559,11 @@ bool JointTreeSolver::eliminate(std::uint32_t i) {
 bool JointTreeSolver::eliminateChainJoint(std::uint32_t i) {
     Factor& f = factors_[i];
     Factor& pf = factors_[nodes_[i].parent];
-    // D^-1 (invertInPlace<3>: the adjugate of -D, Sylvester's minors).
-    const double m00 = -f.D[0][0], m10 = -f.D[1][0], m11 = -f.D[1][1], m20 = -f.D[2][0], m21 = -f.D[2][1],
-                 m22 = -f.D[2][2];
-    const double c00 = m11 * m22 - m21 * m21;
-    const double c10 = m21 * m20 - m10 * m22;
-    const double c20 = m10 * m21 - m11 * m20;
-    const double det = m00 * c00 + m10 * c10 + m20 * c20;
-    const double minor2 = m00 * m11 - m10 * m10;
-    if (!(m00 > 1e-300) || !(minor2 > 1e-300) || !(det > 1e-300)) return false;
-    const double sc = -1 / det;
-    const double c11 = m00 * m22 - m20 * m20;
-    const double c21 = m20 * m10 - m00 * m21;
-    const double i00 = c00 * sc, i11 = c11 * sc, i22 = minor2 * sc, i10 = c10 * sc, i20 = c20 * sc, i21 = c21 * sc;
-    f.D[0][0] = i00, f.D[1][1] = i11, f.D[2][2] = i22;
-    f.D[0][1] = f.D[1][0] = i10;
-    f.D[0][2] = f.D[2][0] = i20;
-    f.D[1][2] = f.D[2][1] = i21;
+    // D^-1, in locals and stored.
+    SymmetricInverse3 inv;
+    if (!invertNegativeDefinite3(f.D, inv)) return false;
+    inv.store(f.D);
+    const double i00 = inv.i00, i11 = inv.i11, i22 = inv.i22, i10 = inv.i10, i20 = inv.i20, i21 = inv.i21;
     // z <- D^-1 z.
     const double z0 = f.z[0], z1 = f.z[1], z2 = f.z[2];
     const double y0 = i00 * z0 + i10 * z1 + i20 * z2;
