@@ -500,34 +500,43 @@ void ContactSolver::forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn
 }
 
 void ContactSolver::gatherVelocities(const WorldImpl& w) {
-    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin + 1; i <= end; ++i) {
-            const BodyMotion& m = w.motion[denseOf_[i]];
-            bodies_[i].v = m.v;
-            bodies_[i].w = m.w;
-        }
-    });
+    forRanges(bodies_.size() - 1, kBodiesPerTask,
+              [&](std::size_t begin, std::size_t end) { gatherVelocities(w, begin, end); });
+}
+
+void ContactSolver::gatherVelocities(const WorldImpl& w, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        const BodyMotion& m = w.motion[denseOf_[i]];
+        bodies_[i].v = m.v;
+        bodies_[i].w = m.w;
+    }
 }
 
 void ContactSolver::scatterVelocities(WorldImpl& w) const {
-    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin + 1; i <= end; ++i) {
-            if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
-            BodyMotion& m = w.motion[denseOf_[i]];
-            m.v = bodies_[i].v;
-            m.w = bodies_[i].w;
-        }
-    });
+    forRanges(bodies_.size() - 1, kBodiesPerTask,
+              [&](std::size_t begin, std::size_t end) { scatterVelocities(w, begin, end); });
+}
+
+void ContactSolver::scatterVelocities(WorldImpl& w, std::size_t begin, std::size_t end) const {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
+        BodyMotion& m = w.motion[denseOf_[i]];
+        m.v = bodies_[i].v;
+        m.w = bodies_[i].w;
+    }
 }
 
 void ContactSolver::updateDeltas(const WorldImpl& w) {
-    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin + 1; i <= end; ++i) {
-            const BodyMotion& m = w.motion[denseOf_[i]];
-            bodies_[i].dp = m.com - startCom_[i];
-            bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
-        }
-    });
+    forRanges(bodies_.size() - 1, kBodiesPerTask,
+              [&](std::size_t begin, std::size_t end) { updateDeltas(w, begin, end); });
+}
+
+void ContactSolver::updateDeltas(const WorldImpl& w, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        const BodyMotion& m = w.motion[denseOf_[i]];
+        bodies_[i].dp = m.com - startCom_[i];
+        bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
+    }
 }
 
 // kernel(firstBlock, blockCount) over the blocks of every colour, colour by

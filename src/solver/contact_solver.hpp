@@ -101,6 +101,12 @@ public:
     void scatterVelocities(WorldImpl& w) const;
     // dp and dR of every solver body from its pose now vs the step's start.
     void updateDeltas(const WorldImpl& w);
+    // The same three for the solver bodies of awake-list entries [begin, end)
+    // only (solver body k + 1 is w.awakeBodies[k]): the step fuses them with
+    // its own per-body passes (step.cpp). Each writes only those bodies.
+    void gatherVelocities(const WorldImpl& w, std::size_t begin, std::size_t end);
+    void scatterVelocities(WorldImpl& w, std::size_t begin, std::size_t end) const;
+    void updateDeltas(const WorldImpl& w, std::size_t begin, std::size_t end);
     void warmStart();
     void solve(bool useBias);
     void applyRestitution();
