@@ -542,7 +542,7 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     const auto awakeCount = static_cast<std::uint32_t>(awake.size());
     if (tightBoxes_.size() < w.motion.size()) tightBoxes_.resize(w.motion.size());
     if (proxyMoves_.size() < awakeCount) proxyMoves_.resize(awakeCount);
-    tasks.parallelFor(awakeCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(awakeCount, 64, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t k = begin; k < end; ++k) {
             const std::uint32_t d = awake[k];
             tightBoxes_[d] = w.cold[d].shape.bounds(w.originTransform(d));

@@ -21,16 +21,17 @@ constexpr std::uint32_t kColourCount = 32;
 
 // Fewest blocks per task when a colour is spread over threads: a block is
 // ~0.2-0.5 us of work, a hand-off to a spinning worker about as much.
-constexpr std::uint32_t kBlocksPerTask = 8;
+// Was 8 (colours of 16 blocks and more split): 4 splits box_pile's colours of
+// ~60 blocks (its ~950 still-awake bodies) into 15 ranges instead of 7.
+constexpr std::uint32_t kBlocksPerTask = 4;
 
 // Ranges for the loops spread over threads: building a block (four
 // constraints) is ~0.3-0.6 us, storing one ~0.1 us, and gathering or
 // scattering a body ~5 ns, so these sizes keep a range above the pool's
-// hand-off cost (~0.1-0.2 us). 256 bodies as in step.cpp's per-body loops
-// (which also makes the 600-body piles of tests/threads take the parallel path).
+// hand-off cost (~0.1-0.2 us). 64 bodies as in step.cpp's per-body loops.
 constexpr std::uint32_t kBlocksPerBuildTask = 16;
 constexpr std::uint32_t kConstraintsPerTask = 64;
-constexpr std::uint32_t kBodiesPerTask = 256;
+constexpr std::uint32_t kBodiesPerTask = 64;
 // The pending-constraint list is built over fixed blocks of contact slots (a
 // constant, so the block sums do not depend on the thread count); a block is
 // ~1-2 us of work.

@@ -130,7 +130,7 @@ public:
     // are the same bit for bit for any thread count.
     void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
     // The most blocks any colour has this step (a colour is split across
-    // threads from 16 blocks on: kBlocksPerTask in contact_solver.cpp).
+    // threads from 8 blocks on: kBlocksPerTask in contact_solver.cpp).
     std::size_t largestColourBlocks() const;
 
     std::size_t constraintCount() const { return pending_.size(); }

@@ -13,6 +13,9 @@ namespace fulcrum::detail {
 
 namespace {
 
+// Bodies (and constraints) per range of the parallel passes: as step.cpp's.
+constexpr std::uint32_t kBodiesPerRange = 64;
+
 std::atomic_ref<std::uint32_t> atomicSlot(std::uint32_t& slot) { return std::atomic_ref<std::uint32_t>(slot); }
 
 }  // namespace
@@ -110,7 +113,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     const Real invDt = dt > 0 ? Real(1) / dt : 0;
     speed2_.resize(n);
     spin2_.resize(n);
-    tasks.parallelFor(bodyCount - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(bodyCount - 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t i = begin + 1; i <= end; ++i) {
             const std::uint32_t d = denseOf[i];
             const BodyMotion& m = w.motion[d];
@@ -139,7 +142,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     // Islands over touching contacts between awake bodies (parallel) and
     // joints (this thread, after: they may wake bodies).
     const std::vector<Contact>& contacts = manager.contacts();
-    tasks.parallelFor(pairCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(pairCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t k = begin; k < end; ++k) {
             const ContactSolver::ConstraintPair& c = pairs[k];
             if (c.bodyA != 0 && c.bodyB != 0 && contacts[c.contact].touching) uniteConcurrently(parent_.data(), c.bodyA, c.bodyB);
@@ -164,7 +167,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     }
 
     // Each body's root in parallel; the islands' sums in solver order here.
-    tasks.parallelFor(bodyCount - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(bodyCount - 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t i = begin + 1; i <= end; ++i) root_[i] = findRootConcurrently(parent_.data(), i);
     });
     for (std::uint32_t i = 1; i < n; ++i) {
@@ -177,7 +180,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     // minimum on the bits: the timers are >= +0, where float order is the
     // order of the bits as unsigned integers).
     const Real bodyCap2 = kBodySpeedCap * kBodySpeedCap * lin2;
-    tasks.parallelFor(bodyCount - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(bodyCount - 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         // Runs of bodies of one island (neighbours in solver order often
         // are) take their minimum locally: one atomic per run.
         std::uint32_t runRoot = root_[begin + 1];

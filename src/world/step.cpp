@@ -93,8 +93,10 @@ const char* firstNonFinite(const detail::BodyMotion& m) {
 constexpr std::uint32_t kNoIndexBody = UINT32_MAX;
 
 // Bodies per range of the per-body loops: integrating one costs ~20-60 ns, so
-// 256 of them amortise a range's scheduling (~0.1-0.2 us on the pool).
-constexpr std::uint32_t kBodiesPerRange = 256;
+// 64 of them (1-4 us) amortise a range's scheduling (~0.1-0.2 us on the
+// pool). Was 256: box_pile's ~950 still-awake bodies (steps 160-250) then
+// made 3 ranges, and 2 threads were no faster than one there.
+constexpr std::uint32_t kBodiesPerRange = 64;
 
 }  // namespace
 

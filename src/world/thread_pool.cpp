@@ -171,11 +171,15 @@ void ThreadPool::runChunks(std::uint32_t workerIndex, std::uint64_t generation) 
             if (!span.compare_exchange_weak(word, word + 1, std::memory_order_acquire, std::memory_order_acquire))
                 continue;  // word now holds the current value
             // We own chunk nextOf(word) of this job: its fields are stable.
-            // The last chunk takes the remainder, so every range holds at
-            // least chunkSize >= minRange indices.
+            // Chunk k is [k count / C, (k + 1) count / C): sizes differ by at
+            // most one and none is below count / C >= chunkSize >= minRange.
+            // (The last chunk used to take the whole remainder: up to 2x the
+            // others, e.g. 438 of 950 bodies in 3 chunks of "256", so one
+            // worker got 694 of them.)
             const std::uint64_t chunk = nextOf(word);
-            const std::uint64_t begin = chunk * chunkSize_;
-            const std::uint64_t end = chunk + 1 == std::uint64_t(chunkCount_) ? count_ : begin + chunkSize_;
+            const auto chunks = static_cast<std::uint64_t>(chunkCount_);
+            const std::uint64_t begin = chunk * count_ / chunks;
+            const std::uint64_t end = (chunk + 1) * count_ / chunks;
             if (!cancelled_.load(std::memory_order_relaxed))
                 runRange(static_cast<std::uint32_t>(begin), static_cast<std::uint32_t>(end), workerIndex);
             doneChunks_.fetch_add(1, std::memory_order_release);
