@@ -127,6 +127,12 @@ SimdPath ContactSolver::setSimdPath(SimdPath path) {
 }
 
 void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
+    prepareConstraintList(w, manager, dt, h);
+    colourGreedy();
+    finishPrepare(w, manager);
+}
+
+void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
     const WorldDef& s = w.settings;
     invH_ = 1 / h;
     pushMax_ = s.contactPushMaxVelocity;
@@ -239,7 +245,11 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
             }
         }
     });
-    colour();
+}
+
+void ContactSolver::finishPrepare(const WorldImpl& w, ContactManager& manager) {
+    const std::vector<Contact>& contacts = manager.contacts();
+    placeInColourSlots();
     if (wide_) {
         packWide(w, contacts);
         return;
@@ -441,11 +451,14 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
     }
 }
 
-void ContactSolver::colour() {
-    const std::size_t n = pending_.size();
+void ContactSolver::colourGreedy() {
     colourGreedily<kColourCount>(
-        n, bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); }, colourBits_,
-        colourOf_, colourStart_);
+        pending_.size(), bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); },
+        colourBits_, colourOf_, colourStart_);
+}
+
+void ContactSolver::placeInColourSlots() {
+    const std::size_t n = pending_.size();
     // Constraint i goes to slot colourStart[c] + (how many constraints before i
     // have colour c), and pendingOfSlot_ is the inverse. In parallel over fixed
     // blocks of constraints: each block counts its colours, the counts are

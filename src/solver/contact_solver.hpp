@@ -97,6 +97,14 @@ public:
     void reserve(std::size_t bodyCount);
     // Builds solver bodies and constraints for the contacts with an awake body.
     void prepare(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
+    // prepare in three parts, the same bits: the solver bodies and the list
+    // of constraints; the greedy colouring (serial: the step runs it beside
+    // the first force evaluation, step.cpp); the colour slots and the
+    // constraint build. colourGreedy reads only the constraint list and the
+    // solver bodies' inverse masses, and writes only the colouring's arrays.
+    void prepareConstraintList(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
+    void colourGreedy();
+    void finishPrepare(const WorldImpl& w, ContactManager& contacts);
     void gatherVelocities(const WorldImpl& w);
     void scatterVelocities(WorldImpl& w) const;
     // dp and dR of every solver body from its pose now vs the step's start.
@@ -149,7 +157,7 @@ public:
 
 private:
     using PendingConstraint = ConstraintPair;
-    void colour();
+    void placeInColourSlots();  // after colourGreedy: each constraint's slot in colour order
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);
