@@ -124,6 +124,7 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     if (marks_.capacity() < wantMarks) marks_.reserve(wantMarks);
     marks_.resize(contacts_.size() / 64 + 1, 0);
     if (aliveBits_.capacity() < wantMarks) aliveBits_.reserve(wantMarks);
+    if (flaggedWords_.capacity() < wantMarks) flaggedWords_.reserve(wantMarks);
     aliveBits_.resize(contacts_.size() / 64 + 1, 0);
     if (proxyMoves_.capacity() < bodyCount) proxyMoves_.reserve(std::max(bodyCount, 2 * proxyMoves_.capacity()));
     const std::size_t wantReports = 2 * bodyCount;
