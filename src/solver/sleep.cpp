@@ -180,7 +180,11 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     // minimum on the bits: the timers are >= +0, where float order is the
     // order of the bits as unsigned integers).
     const Real bodyCap2 = kBodySpeedCap * kBodySpeedCap * lin2;
+    // Whether any timer reached timeToSleep: if none did, no island can
+    // sleep and the serial pass over the roots is skipped (most steps).
+    std::atomic<bool> anyTimerDue{false};
     tasks.parallelFor(bodyCount - 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        bool due = false;
         // Runs of bodies of one island (neighbours in solver order often
         // are) take their minimum locally: one atomic per run.
         std::uint32_t runRoot = root_[begin + 1];
@@ -212,10 +216,13 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
                 }
                 bodyTime_[i] = p.sleepTime;
             }
+            due = due || bodyTime_[i] >= s.timeToSleep;  // an island's minimum is one of its bodies' timers
             runMin = std::min(runMin, bodyTime_[i]);
         }
         lowerConcurrently(islandMinTime_[runRoot], runMin);
+        if (due) anyTimerDue.store(true, std::memory_order_relaxed);
     });
+    if (!anyTimerDue.load(std::memory_order_relaxed)) return;
 
     // Roots are the smallest index of their island, so tags follow solver order: deterministic.
     bool anyAsleep = false;
