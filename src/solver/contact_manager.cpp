@@ -1,6 +1,7 @@
 #include "solver/contact_manager.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 
@@ -123,6 +124,7 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     if (marks_.capacity() < wantMarks) marks_.reserve(wantMarks);
     marks_.resize(contacts_.size() / 64 + 1, 0);
     if (aliveBits_.capacity() < wantMarks) aliveBits_.reserve(wantMarks);
+    if (flaggedWords_.capacity() < wantMarks) flaggedWords_.reserve(wantMarks);
     aliveBits_.resize(contacts_.size() / 64 + 1, 0);
     if (proxyMoves_.capacity() < bodyCount) proxyMoves_.reserve(std::max(bodyCount, 2 * proxyMoves_.capacity()));
     const std::size_t wantReports = 2 * bodyCount;
@@ -542,7 +544,7 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     const auto awakeCount = static_cast<std::uint32_t>(awake.size());
     if (tightBoxes_.size() < w.motion.size()) tightBoxes_.resize(w.motion.size());
     if (proxyMoves_.size() < awakeCount) proxyMoves_.resize(awakeCount);
-    tasks.parallelFor(awakeCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(awakeCount, 64, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t k = begin; k < end; ++k) {
             const std::uint32_t d = awake[k];
             tightBoxes_[d] = w.cold[d].shape.bounds(w.originTransform(d));
@@ -568,8 +570,20 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     gatherActiveContacts(w);
     const auto activeCount = static_cast<std::uint32_t>(activeContacts_.size());
     if (contactFlags_.size() < activeCount) contactFlags_.resize(activeCount);
-    const auto collideRange = [&](const std::uint32_t* indices, std::uint8_t* flagsOut, std::uint32_t begin,
-                                  std::uint32_t end, NarrowScratch& ns) {
+    // Which active contacts got a flag, one bit each: the serial pass (step 4)
+    // then visits those only, not every contact (an OR is order-independent).
+    const std::size_t flaggedWordCount = (std::size_t{activeCount} + 63) / 64;
+    if (flaggedWords_.size() < flaggedWordCount) flaggedWords_.resize(flaggedWordCount);
+    std::fill(flaggedWords_.begin(), flaggedWords_.begin() + static_cast<std::ptrdiff_t>(flaggedWordCount), 0);
+    const auto collideRange = [&](const std::uint32_t* indices, std::uint8_t* flagsOut, std::uint64_t* flaggedOut,
+                                  std::uint32_t begin, std::uint32_t end, NarrowScratch& ns) {
+        std::uint64_t flagged = 0;  // bits of the current word, ORed in once per word
+        const auto flushFlagged = [&](std::uint32_t k) {
+            if (flagged != 0) {
+                std::atomic_ref<std::uint64_t>(flaggedOut[k >> 6]).fetch_or(flagged, std::memory_order_relaxed);
+                flagged = 0;
+            }
+        };
         for (std::uint32_t k = begin; k < end; ++k) {
             Contact& c = contacts_[indices[k]];
             std::uint8_t flags = 0;
@@ -588,7 +602,12 @@ void ContactManager::update(WorldImpl& w, Real dt) {
                 if (touching != c.touching) flags |= kTouchChanged;
             }
             flagsOut[k] = flags;
+            if (flaggedOut != nullptr) {
+                if (flags != 0) flagged |= std::uint64_t{1} << (k & 63);
+                if ((k & 63) == 63) flushFlagged(k);
+            }
         }
+        if (flaggedOut != nullptr && end > begin) flushFlagged(end - 1);
     };
     tasks.parallelFor(activeCount + 1, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
         if (begin == 0) {
@@ -599,7 +618,10 @@ void ContactManager::update(WorldImpl& w, Real dt) {
             }
             ++begin;
         }
-        if (begin < end) collideRange(activeContacts_.data(), contactFlags_.data(), begin - 1, end - 1, narrow_[worker]);
+        if (begin < end) {
+            collideRange(activeContacts_.data(), contactFlags_.data(), flaggedWords_.data(), begin - 1, end - 1,
+                         narrow_[worker]);
+        }
     });
 
     // 3. New pairs, sorted by proxy ids: a deterministic order. Then their
@@ -615,7 +637,7 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     if (contactFlags_.size() < activeCount + newCount) contactFlags_.resize(activeCount + newCount);
     std::uint8_t* newFlags = contactFlags_.data() + activeCount;
     tasks.parallelFor(newCount, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
-        collideRange(newContacts_.data(), newFlags, begin, end, narrow_[worker]);
+        collideRange(newContacts_.data(), newFlags, nullptr, begin, end, narrow_[worker]);
     });
 
     // 4. In contact order over both lists (new contacts took free slots, so
@@ -623,21 +645,31 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     // result is the same for any thread count. (A body woken here gets its
     // contacts with other sleeping bodies collided next step: they have not
     // moved, so their manifolds still hold.)
-    std::uint32_t ka = 0, kn = 0;
-    while (ka < activeCount || kn < newCount) {
-        const bool takeNew = ka == activeCount || (kn < newCount && newContacts_[kn] < activeContacts_[ka]);
-        const std::uint32_t i = takeNew ? newContacts_[kn] : activeContacts_[ka];
-        const std::uint8_t flags = takeNew ? newFlags[kn++] : contactFlags_[ka++];
-        if (flags == 0) continue;
+    // The active contacts with a flag come from the bitmap (ascending), the
+    // new ones are few: merged by contact index, the order of one list.
+    std::uint32_t kn = 0;
+    const auto apply = [&](std::uint32_t i, std::uint8_t flags) {
+        if (flags == 0) return;
         Contact& c = contacts_[i];
         if ((flags & kSeparated) != 0) {
             destroyContact(w, i);
-            continue;
+            return;
         }
         if ((flags & kWakeA) != 0 && !w.params[w.bodySlots[c.slotA].dense].awake) w.wakeBody(w.bodySlots[c.slotA].dense);
         if ((flags & kWakeB) != 0 && !w.params[w.bodySlots[c.slotB].dense].awake) w.wakeBody(w.bodySlots[c.slotB].dense);
         if ((flags & kTouchChanged) != 0) updateTouching(w, c, !c.touching);
+    };
+    for (std::size_t word = 0; word < flaggedWordCount; ++word) {
+        std::uint64_t bits = flaggedWords_[word];
+        while (bits != 0) {
+            const auto ka = static_cast<std::uint32_t>(word * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
+            bits &= bits - 1;
+            const std::uint32_t i = activeContacts_[ka];
+            for (; kn < newCount && newContacts_[kn] < i; ++kn) apply(newContacts_[kn], newFlags[kn]);
+            apply(i, contactFlags_[ka]);
+        }
     }
+    for (; kn < newCount; ++kn) apply(newContacts_[kn], newFlags[kn]);
 }
 
 namespace {

@@ -129,6 +129,7 @@ private:
     std::vector<NarrowScratch> narrow_;       // one per worker
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
+    std::vector<std::uint64_t> flaggedWords_;  // per 64 active contacts: which have a flag (set atomically)
     mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())
     std::vector<ContactLinks> links_;         // per contact
     std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)

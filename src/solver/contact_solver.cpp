@@ -21,16 +21,17 @@ constexpr std::uint32_t kColourCount = 32;
 
 // Fewest blocks per task when a colour is spread over threads: a block is
 // ~0.2-0.5 us of work, a hand-off to a spinning worker about as much.
-constexpr std::uint32_t kBlocksPerTask = 8;
+// Was 8 (colours of 16 blocks and more split): 4 splits box_pile's colours of
+// ~60 blocks (its ~950 still-awake bodies) into 15 ranges instead of 7.
+constexpr std::uint32_t kBlocksPerTask = 4;
 
 // Ranges for the loops spread over threads: building a block (four
 // constraints) is ~0.3-0.6 us, storing one ~0.1 us, and gathering or
 // scattering a body ~5 ns, so these sizes keep a range above the pool's
-// hand-off cost (~0.1-0.2 us). 256 bodies as in step.cpp's per-body loops
-// (which also makes the 600-body piles of tests/threads take the parallel path).
+// hand-off cost (~0.1-0.2 us). 64 bodies as in step.cpp's per-body loops.
 constexpr std::uint32_t kBlocksPerBuildTask = 16;
 constexpr std::uint32_t kConstraintsPerTask = 64;
-constexpr std::uint32_t kBodiesPerTask = 256;
+constexpr std::uint32_t kBodiesPerTask = 64;
 // The pending-constraint list is built over fixed blocks of contact slots (a
 // constant, so the block sums do not depend on the thread count); a block is
 // ~1-2 us of work.
@@ -126,6 +127,12 @@ SimdPath ContactSolver::setSimdPath(SimdPath path) {
 }
 
 void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
+    prepareConstraintList(w, manager, dt, h);
+    colourGreedy();
+    finishPrepare(w, manager);
+}
+
+void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
     const WorldDef& s = w.settings;
     invH_ = 1 / h;
     pushMax_ = s.contactPushMaxVelocity;
@@ -238,7 +245,11 @@ void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real
             }
         }
     });
-    colour();
+}
+
+void ContactSolver::finishPrepare(const WorldImpl& w, ContactManager& manager) {
+    const std::vector<Contact>& contacts = manager.contacts();
+    placeInColourSlots();
     if (wide_) {
         packWide(w, contacts);
         return;
@@ -440,11 +451,14 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
     }
 }
 
-void ContactSolver::colour() {
-    const std::size_t n = pending_.size();
+void ContactSolver::colourGreedy() {
     colourGreedily<kColourCount>(
-        n, bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); }, colourBits_,
-        colourOf_, colourStart_);
+        pending_.size(), bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); },
+        colourBits_, colourOf_, colourStart_);
+}
+
+void ContactSolver::placeInColourSlots() {
+    const std::size_t n = pending_.size();
     // Constraint i goes to slot colourStart[c] + (how many constraints before i
     // have colour c), and pendingOfSlot_ is the inverse. In parallel over fixed
     // blocks of constraints: each block counts its colours, the counts are
@@ -500,34 +514,43 @@ void ContactSolver::forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn
 }
 
 void ContactSolver::gatherVelocities(const WorldImpl& w) {
-    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin + 1; i <= end; ++i) {
-            const BodyMotion& m = w.motion[denseOf_[i]];
-            bodies_[i].v = m.v;
-            bodies_[i].w = m.w;
-        }
-    });
+    forRanges(bodies_.size() - 1, kBodiesPerTask,
+              [&](std::size_t begin, std::size_t end) { gatherVelocities(w, begin, end); });
+}
+
+void ContactSolver::gatherVelocities(const WorldImpl& w, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        const BodyMotion& m = w.motion[denseOf_[i]];
+        bodies_[i].v = m.v;
+        bodies_[i].w = m.w;
+    }
 }
 
 void ContactSolver::scatterVelocities(WorldImpl& w) const {
-    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin + 1; i <= end; ++i) {
-            if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
-            BodyMotion& m = w.motion[denseOf_[i]];
-            m.v = bodies_[i].v;
-            m.w = bodies_[i].w;
-        }
-    });
+    forRanges(bodies_.size() - 1, kBodiesPerTask,
+              [&](std::size_t begin, std::size_t end) { scatterVelocities(w, begin, end); });
+}
+
+void ContactSolver::scatterVelocities(WorldImpl& w, std::size_t begin, std::size_t end) const {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
+        BodyMotion& m = w.motion[denseOf_[i]];
+        m.v = bodies_[i].v;
+        m.w = bodies_[i].w;
+    }
 }
 
 void ContactSolver::updateDeltas(const WorldImpl& w) {
-    forRanges(bodies_.size() - 1, kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin + 1; i <= end; ++i) {
-            const BodyMotion& m = w.motion[denseOf_[i]];
-            bodies_[i].dp = m.com - startCom_[i];
-            bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
-        }
-    });
+    forRanges(bodies_.size() - 1, kBodiesPerTask,
+              [&](std::size_t begin, std::size_t end) { updateDeltas(w, begin, end); });
+}
+
+void ContactSolver::updateDeltas(const WorldImpl& w, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        const BodyMotion& m = w.motion[denseOf_[i]];
+        bodies_[i].dp = m.com - startCom_[i];
+        bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
+    }
 }
 
 // kernel(firstBlock, blockCount) over the blocks of every colour, colour by

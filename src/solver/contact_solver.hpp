@@ -97,10 +97,24 @@ public:
     void reserve(std::size_t bodyCount);
     // Builds solver bodies and constraints for the contacts with an awake body.
     void prepare(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
+    // prepare in three parts, the same bits: the solver bodies and the list
+    // of constraints; the greedy colouring (serial: the step runs it beside
+    // the first force evaluation, step.cpp); the colour slots and the
+    // constraint build. colourGreedy reads only the constraint list and the
+    // solver bodies' inverse masses, and writes only the colouring's arrays.
+    void prepareConstraintList(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
+    void colourGreedy();
+    void finishPrepare(const WorldImpl& w, ContactManager& contacts);
     void gatherVelocities(const WorldImpl& w);
     void scatterVelocities(WorldImpl& w) const;
     // dp and dR of every solver body from its pose now vs the step's start.
     void updateDeltas(const WorldImpl& w);
+    // The same three for the solver bodies of awake-list entries [begin, end)
+    // only (solver body k + 1 is w.awakeBodies[k]): the step fuses them with
+    // its own per-body passes (step.cpp). Each writes only those bodies.
+    void gatherVelocities(const WorldImpl& w, std::size_t begin, std::size_t end);
+    void scatterVelocities(WorldImpl& w, std::size_t begin, std::size_t end) const;
+    void updateDeltas(const WorldImpl& w, std::size_t begin, std::size_t end);
     void warmStart();
     void solve(bool useBias);
     void applyRestitution();
@@ -124,7 +138,7 @@ public:
     // are the same bit for bit for any thread count.
     void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
     // The most blocks any colour has this step (a colour is split across
-    // threads from 16 blocks on: kBlocksPerTask in contact_solver.cpp).
+    // threads from 8 blocks on: kBlocksPerTask in contact_solver.cpp).
     std::size_t largestColourBlocks() const;
 
     std::size_t constraintCount() const { return pending_.size(); }
@@ -143,7 +157,7 @@ public:
 
 private:
     using PendingConstraint = ConstraintPair;
-    void colour();
+    void placeInColourSlots();  // after colourGreedy: each constraint's slot in colour order
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);

@@ -62,6 +62,20 @@ namespace fulcrum::detail {
 class ContactSolver;
 class ContactManager;
 
+// Union-find on parent[] (parent[i] == i: a root) that several threads may
+// run at once, each call on any elements: `uniteConcurrently` links the
+// larger of the two roots under the smaller with a CAS that succeeds only
+// while it is still a root (else it finds again), and finds shorten paths
+// with relaxed stores. Links always point to a smaller index, so every root
+// is the smallest element of its set, whatever order the links happen in:
+// after the threads are done (a barrier), the roots are exactly those of the
+// serial union-find with the same rule, for any thread count and scheduler
+// (tests/threads/island_union_find_test.cpp). Lock-free; the idea of CAS
+// linking is Anderson and Woll, "Wait-free parallel algorithms for the
+// union-find problem" (STOC 1991).
+std::uint32_t findRootConcurrently(std::uint32_t* parent, std::uint32_t i);
+void uniteConcurrently(std::uint32_t* parent, std::uint32_t a, std::uint32_t b);
+
 class SleepManager {
 public:
     // Updates timers and puts resting islands to sleep. Reads the solver's
@@ -73,15 +87,16 @@ public:
             const auto perBody = [&](auto&... v) { (v.reserve(2 * bodyCount + 1), ...); };
             perBody(parent_, islandMinTime_, islandTag_, islandEnergy_, islandMass_, root_, bodyEnergy_, bodyMass_,
                     bodyTime_, speed2_, spin2_);
-            joins_.reserve(8 * bodyCount + 1);
         }
     }
 
 private:
     friend struct fulcrum::SnapshotAccess;
     std::uint32_t find(std::uint32_t i);
+    // slotBits = min(slot, value) for timers (>= +0), as the floats' bits.
+    static void lowerConcurrently(std::uint32_t& slotBits, Real value);
     std::vector<std::uint32_t> parent_;
-    std::vector<Real> islandMinTime_;
+    std::vector<std::uint32_t> islandMinTime_;  // per island root: its bodies' smallest timer, as the float's bits
     std::vector<std::uint32_t> islandTag_;
     std::vector<Real> islandEnergy_;  // per island root: sum of m v^2
     std::vector<Real> islandMass_;    // per island root: sum of m
@@ -90,7 +105,6 @@ private:
     std::vector<Real> bodyMass_;       // per solver body: m
     std::vector<Real> speed2_, spin2_;  // per solver body: the squared speed and spin the test uses
     std::vector<Real> bodyTime_;       // per solver body: its timer (0 when not awake), for the island minimum
-    std::vector<std::uint8_t> joins_;  // per solver constraint: a touching contact between two awake bodies
     static constexpr Real kBodySpeedCap = 2;  // times linearSleepVelocity, for a body in a still island
     std::uint32_t nextIsland_ = 1;
 };

@@ -67,6 +67,7 @@
 // No heap allocation happens here in steady state: every scratch array is
 // sized at body creation, per-worker buffers on the first step with a given
 // worker count.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -92,8 +93,10 @@ const char* firstNonFinite(const detail::BodyMotion& m) {
 constexpr std::uint32_t kNoIndexBody = UINT32_MAX;
 
 // Bodies per range of the per-body loops: integrating one costs ~20-60 ns, so
-// 256 of them amortise a range's scheduling (~0.1-0.2 us on the pool).
-constexpr std::uint32_t kBodiesPerRange = 256;
+// 64 of them (1-4 us) amortise a range's scheduling (~0.1-0.2 us on the
+// pool). Was 256: box_pile's ~950 still-awake bodies (steps 160-250) then
+// made 3 ranges, and 2 threads were no faster than one there.
+constexpr std::uint32_t kBodiesPerRange = 64;
 
 }  // namespace
 
@@ -157,7 +160,30 @@ void WorldImpl::step(Real dt) {
     // The solver splits each large graph colour across the same task system
     // (bit-identical for any thread count: tests/solver/simd_solver_test.cpp).
     solver.setTaskSystem(&tasks);
-    solver.prepare(*this, contactManager, dt, h);
+    solver.prepareConstraintList(*this, contactManager, dt, h);
+    // The greedy colouring is serial (each constraint's colour depends on the
+    // ones before it); it runs at index 0 of the first sub-step's force
+    // evaluation, which needs nothing from the solver, while the other ranges
+    // evaluate forces: the same bits, and ~40 us less serial time per step of
+    // box_pile's collapse (the colouring was 16.6 M of the 59 M serial
+    // instructions left over its first 120 steps).
+    bool anyCallback = false;
+    {
+        std::atomic<bool> callbacks{false};
+        tasks.parallelFor(bodyCount + 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+            if (begin == 0) {
+                solver.colourGreedy();
+                ++begin;
+            }
+            if (begin < end && detail::evaluateBodyForces(*this, begin - 1, end - 1)) {
+                callbacks.store(true, std::memory_order_relaxed);
+            }
+        });
+        anyCallback = callbacks.load(std::memory_order_relaxed);
+        if (anyCallback) detail::addCallbackForces(*this, time);
+        detail::addSpringForces(*this);
+    }
+    solver.finishPrepare(*this, contactManager);
     // Joints work on the contact solver's bodies, in the same passes, before
     // the contacts (Box2D v3's order; docs/joints.md has the measurements).
     jointSolver.prepare(*this, solver, h);
@@ -170,49 +196,114 @@ void WorldImpl::step(Real dt) {
     // in parallel, then on this thread the ForceCallbacks (not required to be
     // thread-safe) in body order, if any body has one, and the springs. Force
     // evaluation was 4.5 % of box_pile's one-thread step, all serial.
+    // Returns whether a body has a ForceCallback.
     const auto evaluateForcesInParallel = [&](double tEval) {
         std::atomic<bool> callbacks{false};
         tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
             if (detail::evaluateBodyForces(*this, begin, end)) callbacks.store(true, std::memory_order_relaxed);
         });
-        if (callbacks.load(std::memory_order_relaxed)) detail::addCallbackForces(*this, tEval);
+        const bool any = callbacks.load(std::memory_order_relaxed);
+        if (any) detail::addCallbackForces(*this, tEval);
         detail::addSpringForces(*this);
+        return any;
     };
+
+    // Fused per-body passes. Without joints (their position projection sits
+    // between the position integration and the rotation deltas) and with an
+    // integrator that has no stage 5 (Verlet's second kick is serial), every
+    // per-body stage between two solver passes touches only its own body, so
+    // one parallelFor can run them back to back, body by body:
+    //   [velocity integration + gather]   before the warm start and solve,
+    //   [scatter + position integration + rotation deltas + gather]   before relax,
+    //   [scatter + next sub-step's forces + velocity integration + gather]
+    //                                      after relax (when the forces need no
+    //                                      ForceCallback or spring: serial parts).
+    // Each body gets the same operations in the same order, so the bits do not
+    // change; a sub-step then has 2 per-body barriers instead of 8 (box_pile:
+    // 5 sub-steps, 40 of its ~65 parallelFor calls per step were these) and
+    // reads each body's motion once per pass instead of once per stage.
+    // Solver body k + 1 is awakeBodies[k] (ContactSolver::prepare).
+    const bool fuse = !hasJoints && method != Integrator::Verlet &&
+                      (!hasContacts || solver.denseOfSolverBody().size() == std::size_t{bodyCount} + 1);
+    const bool gatherScatter = fuse && hasContacts;
+    // Sub-ranges of a range, so a body's data stays in L1 across the fused stages.
+    constexpr std::uint32_t kFusedBlock = 32;
+    const auto fusedPass = [&](auto&& perBlock) {
+        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+            for (std::uint32_t b = begin; b < end; b += kFusedBlock) perBlock(b, std::min(end, b + kFusedBlock));
+        });
+    };
+    bool forcesAndVelocitiesDone = false;  // by the previous sub-step's last fused pass
 
     const double t0 = time;
     for (int s = 0; s < substeps; ++s) {
         const double tStart = t0 + hd * s;
-        // Stage 1 (skipped for Verlet after the first sub-step: stage 5 left the
-        // forces at exactly this state and time).
-        if (method != Integrator::Verlet || s == 0) evaluateForcesInParallel(tStart);
-        // Stage 2
-        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            detail::integrateVelocities(*this, method, h, begin, end);
-        });
+        if (!forcesAndVelocitiesDone) {
+            // Stage 1 (skipped for Verlet after the first sub-step: stage 5 left the
+            // forces at exactly this state and time; the first sub-step's beside the colouring).
+            if (method != Integrator::Verlet && s > 0) anyCallback = evaluateForcesInParallel(tStart);
+            // Stage 2
+            if (fuse) {
+                fusedPass([&](std::uint32_t b, std::uint32_t e) {
+                    detail::integrateVelocities(*this, method, h, b, e);
+                    if (gatherScatter) solver.gatherVelocities(*this, b, e);
+                });
+            } else {
+                tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+                    detail::integrateVelocities(*this, method, h, begin, end);
+                });
+            }
+        }
+        forcesAndVelocitiesDone = false;
         // Stage 3: warm start and solve with soft position bias.
         if (hasConstraints) {
-            solver.gatherVelocities(*this);
+            if (!gatherScatter) solver.gatherVelocities(*this);
             jointSolver.warmStart();
             solver.warmStart();
             for (int it = 0; it < iterations; ++it) {
                 jointSolver.solve(true);
                 solver.solve(true);
             }
-            solver.scatterVelocities(*this);
+            if (!gatherScatter) solver.scatterVelocities(*this);
         }
         // Stage 4
-        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            detail::integratePositions(*this, method, h, begin, end);
-        });
+        if (fuse) {
+            fusedPass([&](std::uint32_t b, std::uint32_t e) {
+                if (gatherScatter) solver.scatterVelocities(*this, b, e);
+                detail::integratePositions(*this, method, h, b, e);
+                if (gatherScatter) {
+                    solver.updateDeltas(*this, b, e);
+                    solver.gatherVelocities(*this, b, e);
+                }
+            });
+        } else {
+            tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+                detail::integratePositions(*this, method, h, begin, end);
+            });
+        }
         // Joints: put the anchors back together at the position level.
         if (hasJoints) jointSolver.projectPositions(*this);
         // Relax: the bias-free pass removes the velocity the soft push added.
         if (hasConstraints) {
-            solver.updateDeltas(*this);
-            solver.gatherVelocities(*this);
+            if (!gatherScatter) {
+                solver.updateDeltas(*this);
+                solver.gatherVelocities(*this);
+            }
             jointSolver.solve(false);
             solver.solve(false);
-            solver.scatterVelocities(*this);
+            if (gatherScatter && s + 1 < substeps && !anyCallback && springs.empty()) {
+                // This scatter, and the next sub-step's stages 1 and 2 (no
+                // callback or spring: the forces are per body alone).
+                fusedPass([&](std::uint32_t b, std::uint32_t e) {
+                    solver.scatterVelocities(*this, b, e);
+                    detail::evaluateBodyForces(*this, b, e);
+                    detail::integrateVelocities(*this, method, h, b, e);
+                    solver.gatherVelocities(*this, b, e);
+                });
+                forcesAndVelocitiesDone = true;
+            } else {
+                solver.scatterVelocities(*this);
+            }
         }
         // Stage 5
         detail::finalizeSubstep(*this, method, h, tStart + hd);
