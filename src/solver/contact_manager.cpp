@@ -36,6 +36,12 @@ bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.
 
 bool isRound(ShapeType t) { return t == ShapeType::Sphere || t == ShapeType::Capsule; }
 
+// A sphere whose centre of mass is its centre (the default): collideSpheres.
+bool isCentredSphere(const WorldImpl& w, std::uint32_t d) {
+    const Vec3& c = w.params[d].localCom;
+    return w.cold[d].shape.type() == ShapeType::Sphere && c.x == 0 && c.y == 0 && c.z == 0;
+}
+
 // Friction as the geometric mean, restitution as the maximum, rolling
 // resistance as the larger coefficient times the larger round radius.
 void mixMaterial(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB) {
@@ -333,6 +339,53 @@ void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
     freeContact_ = index;
 }
 
+// Sphere against sphere (both centred), nearly every pair of a sphere pile: the exact contact
+// (collideSphereCentres' operations, so the same point and depth as collide())
+// costs less than recycling it, which moves two surface points and the
+// normal with the bodies (six quaternion rotations with the relative pose).
+// So these pairs are never recycled (hasPose stays false) and keep no body-frame
+// points. The one point (feature 0) keeps its warm-start impulse, as the
+// matching of the general path does. Measured on sphere_pile: see
+// docs/solver.md ("Sphere pairs").
+std::uint8_t ContactManager::collideSpheres(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB,
+                                            Real margin) const {
+    c.hasPose = false;
+    const Vec3 ca = w.motion[dA].com, cb = w.motion[dB].com;  // centred spheres: the origin
+    const Real ra = w.cold[dA].shape.radius(), rb = w.cold[dB].shape.radius();
+    const Vec3 d = cb - ca;
+    const Real d2 = lengthSquared(d);
+    const Real reach = ra + rb + margin;
+    const Real dist = std::sqrt(d2);
+    const Real depth = ra + rb - dist;
+    if (d2 > reach * reach || depth < -margin) {
+        c.manifolds.clear();
+        return kCollided;
+    }
+    const Vec3 n = dist > Real(1e-9) ? d / dist : Vec3{0, 1, 0};
+    Real impulse = 0;
+    if (!c.manifolds.empty() && c.manifolds[0].childA == 0 && c.manifolds[0].childB == 0) {
+        impulse = c.manifolds[0].points[0].normalImpulse;  // pointCount is 1: empty manifolds are not kept
+    } else {
+        c.manifolds.clear();
+        c.manifolds.emplace_back();  // capacity 1 is reserved with the contact
+    }
+    CachedManifold& out = c.manifolds[0];
+    out.normal = n;
+    out.pointCount = 1;
+    CachedPoint& p = out.points[0];
+    p.position = ((ca + n * ra) + (cb - n * rb)) * Real(0.5);
+    p.depth = depth;
+    p.depthAfter = depth;
+    p.featureId = 0;
+    p.normalImpulse = impulse;
+    p.maxNormalImpulse = 0;
+    auto flags = static_cast<std::uint8_t>(kCollided | (depth > -kTouchSlop ? kTouching : 0));
+    // A sleeping body near an awake one wakes (update() wakes it).
+    if (w.params[dA].type != BodyType::Static && !w.params[dA].awake) flags |= kWakeA;
+    if (w.params[dB].type != BodyType::Static && !w.params[dB].awake) flags |= kWakeB;
+    return flags;
+}
+
 std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& ns) const {
     ManifoldBuffer& buffer = ns.buffer;
     std::vector<CachedManifold>& scratch = ns.manifolds;
@@ -343,6 +396,12 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
     const BodyMotion& ma = w.motion[dA];
     const BodyMotion& mb = w.motion[dB];
 
+    if (!c.sensor && isCentredSphere(w, dA) && isCentredSphere(w, dB)) {
+        mixMaterial(w, c, dA, dB);
+        // Spinning does not move a centred sphere's surface: only the linear
+        // approach counts (the angular term below would add |w| r dt).
+        return collideSpheres(w, c, dA, dB, w.settings.speculativeMargin + length(mb.v - ma.v) * dt);
+    }
     Real margin = 0;
     if (!c.sensor) {
         // Speculative distance: the base margin plus how far the surfaces can approach in one step.

@@ -101,6 +101,7 @@ private:
     // Runs on any worker: reads the world, writes only c and scratch; returns
     // kTouching / kWakeA / kWakeB flags that update() applies in index order.
     std::uint8_t collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& scratch) const;
+    std::uint8_t collideSpheres(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB, Real margin) const;
     void ensureWorkers(std::size_t workers);
     void updateTouching(WorldImpl& w, Contact& c, bool touching);
     // Per-body contact lists (slot-indexed heads, links parallel to contacts_).
