@@ -6,6 +6,7 @@
 //
 //   bench_benchmark_scenes [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco]
 //                          [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS per engine and scene: 60, --quick 20]
+//                          [--rounds N: interleaved rounds per scene, a step's fastest time kept: 3]
 //
 // Per scene, a table: engine, threads, median and mean ms per step, mean over
 // the first 120 steps, total seconds, the quality metric and Fulcrum's
@@ -137,7 +138,9 @@ struct Result {
     int threads = 1;
     bool ran = false;
     std::string why;              // when not ran
-    std::vector<double> stepMs;
+    std::vector<double> stepMs;   // per step: the fastest of the rounds (mergeRound)
+    int rounds = 1;
+    bool stopped = false;         // the budget ran out
     std::string quality;
     double probe = 0;             // the probe's measured value
     double probe2 = 0;            // spin: |L| drift
@@ -324,6 +327,7 @@ Result run(Engine& engine, const SceneSpec& scene) {
     const std::string note = engine.note();
     if (!note.empty()) r.quality += "; " + note;
     if (stoppedAt >= 0) {
+        r.stopped = true;
         r.quality = format("**stopped after %d of %d steps** (%.0f s budget), at that point: ", stoppedAt, scene.steps,
                            gBudgetSeconds) + r.quality;
     }
@@ -337,7 +341,28 @@ struct Options {
     std::string only;
     std::vector<int> threads{1, 2};
     std::string engines = "fulcrum,bullet,ode,mujoco";
+    int rounds = 3;
 };
+
+// Rounds. Every engine steps every scene in `rounds` interleaved rounds
+// (Fulcrum 1 thread, Fulcrum 2 threads, Bullet, ODE, MuJoCo, then again), and a
+// step's time is the fastest it took over the rounds: each engine is
+// deterministic, so a step does the same work every round, and on this shared
+// VM noise only ever adds time (one build's box_pile 2-thread speed-up
+// measured 0.93x and 1.94x in two single-round runs). Every engine gets the
+// same rounds, so the ratios stay like for like; only a run stopped at the
+// budget is not repeated.
+bool worthRepeating(const Result& r) {
+    return r.ran && !r.stopped;
+}
+
+// The fastest time of each step over the rounds; the quality is the first
+// round's (the same, every engine being deterministic).
+void mergeRound(Result& best, const Result& again) {
+    const std::size_t n = std::min(best.stepMs.size(), again.stepMs.size());
+    for (std::size_t i = 0; i < n; ++i) best.stepMs[i] = std::min(best.stepMs[i], again.stepMs[i]);
+    ++best.rounds;
+}
 
 std::vector<Factory> engines(const Options& o) {
     std::vector<Factory> out;
@@ -359,6 +384,12 @@ std::vector<Factory> engines(const Options& o) {
 
 void printScene(const SceneSpec& scene, const std::vector<Result>& results) {
     std::printf("\n### %s (%d steps)\n\n", scene.name.c_str(), scene.steps);
+    std::string rounds;
+    for (const Result& r : results) {
+        if (!r.ran) continue;
+        rounds += format("%s%s %dt %d", rounds.empty() ? "" : ", ", r.engine.c_str(), r.threads, r.rounds);
+    }
+    if (!rounds.empty()) std::printf("Rounds (a step's time: its fastest): %s.\n\n", rounds.c_str());
     std::printf("| engine | threads | median ms | mean ms | first 120 ms | total s | quality | Fulcrum 1t / this: medians (means) |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
     double reference = 0, referenceMedian = 0;
@@ -452,6 +483,7 @@ int main(int argc, char** argv) {
         else if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) o.only = argv[++i];
         else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) o.threads = parseThreads(argv[++i]);
         else if (std::strcmp(argv[i], "--engines") == 0 && i + 1 < argc) o.engines = argv[++i];
+        else if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) o.rounds = std::max(1, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--budget") == 0 && i + 1 < argc) {
             gBudgetSeconds = std::atof(argv[++i]);
             budgetGiven = true;
@@ -459,7 +491,7 @@ int main(int argc, char** argv) {
         else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco] "
-                         "[--fulcrum-only] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS]\n",
+                         "[--fulcrum-only] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
                          argv[0]);
             return 2;
         }
@@ -480,6 +512,13 @@ int main(int argc, char** argv) {
             for (const Factory& f : factories) {
                 const auto e = f();
                 results.push_back(run(*e, scene));
+            }
+            for (int round = 1; round < o.rounds; ++round) {
+                for (std::size_t k = 0; k < factories.size(); ++k) {
+                    if (!worthRepeating(results[k])) continue;
+                    const auto e = factories[k]();
+                    mergeRound(results[k], run(*e, scene));
+                }
             }
             printScene(scene, results);
         }
