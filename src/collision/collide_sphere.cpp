@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "collision/collide_pairs.hpp"
+#include "collision/narrow_phase.hpp"
 
 namespace fulcrum::detail {
 
@@ -15,15 +16,11 @@ namespace {
 // is used when the centres coincide.
 bool spherePoints(const Vec3& ca, Real ra, const Vec3& cb, Real rb, const Vec3& fallbackN, std::uint32_t id, Real margin,
                   Manifold& m) {
-    const Vec3 d = cb - ca;
-    const Real d2 = lengthSquared(d);
-    const Real reach = ra + rb + margin;
-    if (d2 > reach * reach) return false;
-    const Real dist = std::sqrt(d2);
-    const Vec3 n = dist > Real(1e-9) ? d / dist : fallbackN;
-    m.normal = n;
+    SphereContact c;
+    if (!sphereContact(ca, ra, cb, rb, fallbackN, margin, c)) return false;
+    m.normal = c.normal;
     m.pointCount = 0;
-    addContact(m, ca + n * ra, cb - n * rb, ra + rb - dist, id, margin);
+    addContact(m, c.pointA, c.pointB, c.depth, id, margin);
     return m.pointCount > 0;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 // The narrow phase dispatcher: exact contact manifolds for any pair of shapes.
+#include <cmath>
+
 #include "collision/manifold.hpp"
 #include "fulcrum/shape.hpp"
 
@@ -14,5 +16,28 @@ namespace fulcrum {
 // No heap allocation once `out` has grown to its working size.
 void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real speculativeMargin,
              ManifoldBuffer& out);
+
+// The contact geometry of two spheres (centres ca, cb; radii ra, rb): the
+// normal from a to b along the centres (`fallbackNormal` when they coincide),
+// the surface points and the depth. False, with nothing computed, when the
+// surfaces are more than `margin` apart. The one formula of the narrow
+// phase's sphere pairs and of the contact manager's sphere fast path.
+struct SphereContact {
+    Vec3 normal, pointA, pointB;
+    Real depth = 0;
+};
+inline bool sphereContact(const Vec3& ca, Real ra, const Vec3& cb, Real rb, const Vec3& fallbackNormal, Real margin,
+                          SphereContact& out) {
+    const Vec3 d = cb - ca;
+    const Real d2 = lengthSquared(d);
+    const Real reach = ra + rb + margin;
+    if (d2 > reach * reach) return false;
+    const Real dist = std::sqrt(d2);
+    out.normal = dist > Real(1e-9) ? d / dist : fallbackNormal;
+    out.pointA = ca + out.normal * ra;
+    out.pointB = cb - out.normal * rb;
+    out.depth = ra + rb - dist;
+    return true;
+}
 
 }  // namespace fulcrum

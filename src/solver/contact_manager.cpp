@@ -67,6 +67,15 @@ constexpr std::uint8_t kCollided = 8;    // collided (touching state valid)
 constexpr std::uint8_t kSeparated = 16;  // fat boxes apart: destroy
 constexpr std::uint8_t kTouchChanged = 32;  // collided, and the touching state flips
 
+// A sleeping body near an awake one wakes (with its island) as soon as they
+// have contact points, so the solver sees both: update() wakes the flagged ends.
+std::uint8_t wakeFlags(const BodyParams& pa, const BodyParams& pb) {
+    std::uint8_t flags = 0;
+    if (pa.type != BodyType::Static && !pa.awake) flags |= kWakeA;
+    if (pb.type != BodyType::Static && !pb.awake) flags |= kWakeB;
+    return flags;
+}
+
 // A fresh narrow-phase point into a cached one: the geometry only; the
 // impulses are the caller's (kept for a matched point, zero for a new one).
 inline void copyGeometry(CachedPoint& dst, const ContactPoint& src) {
@@ -340,7 +349,7 @@ void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
 }
 
 // Sphere against sphere (both centred), nearly every pair of a sphere pile: the exact contact
-// (collideSphereCentres' operations, so the same point and depth as collide())
+// (sphereContact, as collide() computes it: the same point and depth)
 // costs less than recycling it, which moves two surface points and the
 // normal with the bodies (six quaternion rotations with the relative pose).
 // So these pairs are never recycled (hasPose stays false) and keep no body-frame
@@ -352,16 +361,13 @@ std::uint8_t ContactManager::collideSpheres(const WorldImpl& w, Contact& c, std:
     c.hasPose = false;
     const Vec3 ca = w.motion[dA].com, cb = w.motion[dB].com;  // centred spheres: the origin
     const Real ra = w.cold[dA].shape.radius(), rb = w.cold[dB].shape.radius();
-    const Vec3 d = cb - ca;
-    const Real d2 = lengthSquared(d);
-    const Real reach = ra + rb + margin;
-    const Real dist = std::sqrt(d2);
-    const Real depth = ra + rb - dist;
-    if (d2 > reach * reach || depth < -margin) {
+    SphereContact sc;
+    // And addContact's test: no point farther apart than the margin.
+    if (!sphereContact(ca, ra, cb, rb, Vec3{0, 1, 0}, margin, sc) || sc.depth < -margin) {
         c.manifolds.clear();
         return kCollided;
     }
-    const Vec3 n = dist > Real(1e-9) ? d / dist : Vec3{0, 1, 0};
+    const Real depth = sc.depth;
     Real impulse = 0;
     if (!c.manifolds.empty() && c.manifolds[0].childA == 0 && c.manifolds[0].childB == 0) {
         impulse = c.manifolds[0].points[0].normalImpulse;  // pointCount is 1: empty manifolds are not kept
@@ -370,20 +376,17 @@ std::uint8_t ContactManager::collideSpheres(const WorldImpl& w, Contact& c, std:
         c.manifolds.emplace_back();  // capacity 1 is reserved with the contact
     }
     CachedManifold& out = c.manifolds[0];
-    out.normal = n;
+    out.normal = sc.normal;
     out.pointCount = 1;
     CachedPoint& p = out.points[0];
-    p.position = ((ca + n * ra) + (cb - n * rb)) * Real(0.5);
+    p.position = (sc.pointA + sc.pointB) * Real(0.5);
     p.depth = depth;
     p.depthAfter = depth;
     p.featureId = 0;
     p.normalImpulse = impulse;
     p.maxNormalImpulse = 0;
-    auto flags = static_cast<std::uint8_t>(kCollided | (depth > -kTouchSlop ? kTouching : 0));
-    // A sleeping body near an awake one wakes (update() wakes it).
-    if (w.params[dA].type != BodyType::Static && !w.params[dA].awake) flags |= kWakeA;
-    if (w.params[dB].type != BodyType::Static && !w.params[dB].awake) flags |= kWakeB;
-    return flags;
+    return static_cast<std::uint8_t>(kCollided | (depth > -kTouchSlop ? kTouching : 0) |
+                                     wakeFlags(w.params[dA], w.params[dB]));
 }
 
 std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& ns) const {
@@ -503,9 +506,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
                 }
                 if (match != UINT32_MAX) dst.normalImpulse = oldImpulse[match];
             }
-            // A sleeping body near an awake one wakes (update() wakes it).
-            if (pa.type != BodyType::Static && !pa.awake) flags |= kWakeA;
-            if (pb.type != BodyType::Static && !pb.awake) flags |= kWakeB;
+            flags |= wakeFlags(pa, pb);
         }
     } else {
         scratch.clear();
@@ -559,12 +560,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
         }
         c.manifolds.resize(scratch.size());
         std::copy(scratch.begin(), scratch.end(), c.manifolds.begin());
-        // A sleeping body near an awake one wakes (with its island) as soon as
-        // they have contact points, so the solver sees both (update() wakes it).
-        if (!c.manifolds.empty()) {
-            if (pa.type != BodyType::Static && !pa.awake) flags |= kWakeA;
-            if (pb.type != BodyType::Static && !pb.awake) flags |= kWakeB;
-        }
+        if (!c.manifolds.empty()) flags |= wakeFlags(pa, pb);
     }
     return flags | kCollided | (touching ? kTouching : 0);
 }
