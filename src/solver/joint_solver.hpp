@@ -73,6 +73,9 @@ public:
     // Per-body joint lists (joint_graph.hpp): World keeps them on joint
     // creation and destruction; the contact manager asks them which pairs
     // joints keep from colliding.
+    // The joint-tree solver (tests and benchmarks read its counters and set its reuse).
+    JointTreeSolver& trees() { return trees_; }
+    const JointTreeSolver& trees() const { return trees_; }
     JointGraph& graph() { return graph_; }
     const JointGraph& graph() const { return graph_; }
 

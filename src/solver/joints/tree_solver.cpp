@@ -395,70 +395,104 @@ inline void JointTreeSolver::backSubstituteChainJoint(std::uint32_t i) {
     for (int k = 0; k < 3; ++k) f.y[k] = ((f.z[k] - f.X[0][k] * p0) - f.X[1][k] * p1) - f.X[2][k] * p2;
 }
 
+namespace {
+
+// Whether anchor r has moved from its factorization's value rf by more than
+// kGuardTurn of its length (a turn of that angle, to first order).
+inline bool turnedTooFar(const Vec3& r, const Vec3& rf) {
+    constexpr Real kTurn2 = static_cast<Real>(JointTreeSolver::kGuardTurn * JointTreeSolver::kGuardTurn);
+    return lengthSquared(r - rf) > kTurn2 * lengthSquared(rf);
+}
+
+}  // namespace
+
 bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints,
                                 SolverBody* bodies, const JointContext& ctx, bool refactor) {
-    // Initial diagonal blocks and right-hand sides, parents first (a joint
-    // below a contracted body adds that body's share to its parent joint).
-    for (std::uint32_t i = end; i-- > begin;) {
-        const Node& n = nodes_[i];
-        Factor& f = factors_[i];
-        if (n.joint) {
-            JointConstraint& j = joints[n.ref];
-            const SolverBody& a = bodies[j.bodyA];
-            const SolverBody& b = bodies[j.bodyB];
-            const JointFrame& fr = currentFrame(j, a, b, ctx);
-            f.rA = fr.rA;
-            f.rB = fr.rB;
-            Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
-            if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
-            f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
-            if (!refactor) continue;
-            // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
-            // eliminated before everything else (build()). A contracted leaf's
-            // share is added here by its joint; the share of a contracted body
-            // with a child joint by that child, below, with the coupling.
-            f.D[0][0] = f.D[1][0] = f.D[1][1] = f.D[2][0] = f.D[2][1] = f.D[2][2] = 0;  // lower triangle: all that is read
-            double T[3][3];
-            if (n.ownA) {
-                const BodyCoupling ca(a);
-                ca.rightSkew(T, fr.rA);
-                ca.subtractShare(f.D, fr.rA, T);
-            }
-            if (n.ownB) {
-                const BodyCoupling cb(b);
-                cb.rightSkew(T, fr.rB);
-                cb.subtractShare(f.D, fr.rB, T);
-            }
-            if (n.via != kNone) {
-                // The contracted body between this joint (anchor c) and the
-                // parent joint (anchor p): its share of both joints' K and the
-                // coupling H(parent, this) = -J_p M^-1 J_c^T.
-                Factor& pf = factors_[n.parent];
-                const BodyCoupling cv(bodies[n.via]);
-                const Vec3& c = n.viaIsA ? fr.rA : fr.rB;
-                const Vec3& p = n.viaIsParentA ? pf.rA : pf.rB;
-                const double sc = n.viaIsA ? -1 : 1, sp = n.viaIsParentA ? -1 : 1;
-                cv.rightSkew(T, c);
-                cv.subtractShare(f.D, c, T);
-                cv.couple(f.Hp, p, T, -sp * sc);
-                cv.rightSkew(T, p);
-                cv.subtractShare(pf.D, p, T);
-            }
-        } else {
-            for (double& z : f.z) z = 0;
-            if (!refactor) continue;
-            const SolverBody& b = bodies[n.ref];
-            for (auto& row : f.D) {
-                for (double& x : row) x = 0;
-            }
-            const double m = 1.0 / static_cast<double>(b.invMass);
-            const Mat3 I = inverse(b.invI);
-            for (int k = 0; k < 3; ++k) {
-                f.D[k][k] = m;
-                for (int l = 0; l < 3; ++l) f.D[3 + k][3 + l] = static_cast<double>(I(k, l));
+    // A reused factorization first checks that no anchor of the tree has
+    // turned by more than kGuardTurn since it was made (the guard): a
+    // stale K^-1 far from the current K may amplify instead of solve (a
+    // factorization kept for a whole step, 5 sub-steps, sent the chain
+    // benchmark to NaN at step 156). Tripped: this tree factors again now.
+    // Only a relax pass needs the check: the anchors move with the positions,
+    // and a biased pass sees the anchors of the relax pass before it (or
+    // of its own factorization).
+    bool guard = !refactor && !ctx.useBias;
+    bool again;
+    do {
+        again = false;
+        // Initial diagonal blocks and right-hand sides, parents first (a joint
+        // below a contracted body adds that body's share to its parent joint).
+        for (std::uint32_t i = end; i-- > begin;) {
+            const Node& n = nodes_[i];
+            Factor& f = factors_[i];
+            if (n.joint) {
+                JointConstraint& j = joints[n.ref];
+                const SolverBody& a = bodies[j.bodyA];
+                const SolverBody& b = bodies[j.bodyB];
+                const JointFrame& fr = currentFrame(j, a, b, ctx);
+                f.rA = fr.rA;
+                f.rB = fr.rB;
+                Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
+                if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
+                f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
+                if (guard && (turnedTooFar(fr.rA, f.factorA) || turnedTooFar(fr.rB, f.factorB))) {
+                    guard = false;
+                    refactor = true;
+                    ++guardTrips_;
+                    again = true;  // the blocks are built parents first: start again
+                    break;
+                }
+                if (!refactor) continue;
+                f.factorA = fr.rA;
+                f.factorB = fr.rB;
+                // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
+                // eliminated before everything else (build()). A contracted leaf's
+                // share is added here by its joint; the share of a contracted body
+                // with a child joint by that child, below, with the coupling.
+                f.D[0][0] = f.D[1][0] = f.D[1][1] = f.D[2][0] = f.D[2][1] = f.D[2][2] = 0;  // lower triangle: all that is read
+                double T[3][3];
+                if (n.ownA) {
+                    const BodyCoupling ca(a);
+                    ca.rightSkew(T, fr.rA);
+                    ca.subtractShare(f.D, fr.rA, T);
+                }
+                if (n.ownB) {
+                    const BodyCoupling cb(b);
+                    cb.rightSkew(T, fr.rB);
+                    cb.subtractShare(f.D, fr.rB, T);
+                }
+                if (n.via != kNone) {
+                    // The contracted body between this joint (anchor c) and the
+                    // parent joint (anchor p): its share of both joints' K and the
+                    // coupling H(parent, this) = -J_p M^-1 J_c^T.
+                    Factor& pf = factors_[n.parent];
+                    const BodyCoupling cv(bodies[n.via]);
+                    const Vec3& c = n.viaIsA ? fr.rA : fr.rB;
+                    const Vec3& p = n.viaIsParentA ? pf.rA : pf.rB;
+                    const double sc = n.viaIsA ? -1 : 1, sp = n.viaIsParentA ? -1 : 1;
+                    cv.rightSkew(T, c);
+                    cv.subtractShare(f.D, c, T);
+                    cv.couple(f.Hp, p, T, -sp * sc);
+                    cv.rightSkew(T, p);
+                    cv.subtractShare(pf.D, p, T);
+                }
+            } else {
+                for (double& z : f.z) z = 0;
+                if (!refactor) continue;
+                const SolverBody& b = bodies[n.ref];
+                for (auto& row : f.D) {
+                    for (double& x : row) x = 0;
+                }
+                const double m = 1.0 / static_cast<double>(b.invMass);
+                const Mat3 I = inverse(b.invI);
+                for (int k = 0; k < 3; ++k) {
+                    f.D[k][k] = m;
+                    for (int l = 0; l < 3; ++l) f.D[3 + k][3 + l] = static_cast<double>(I(k, l));
+                }
             }
         }
-    }
+    } while (again);
+    if (refactor) ++factorizations_;
     // Factor (or reuse this sub-step's factor) and forward-substitute, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
@@ -625,8 +659,24 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
     // with the current anchors in the residual and the impulses: the anchors
     // turn by at most a sub-step's rotation in between, and the factorization
     // is 60 % of the solve (ragdoll pile: measured in docs/joints.md).
-    const bool refactor = !factored_;
-    factored_ = true;
+    //
+    // Since issue 8's fifth round the factorization is also reused across
+    // one position update in either direction: a relax pass follows the
+    // sub-step's position update, and its anchors are exactly those of the
+    // next sub-step's warm start and biased passes (the deltas don't change
+    // in between). So a pass factors only when the factorization's anchors
+    // are maxFactorAge_ (2) position updates old: with 5 sub-steps, the
+    // biased pass of sub-step 0 and the relax passes of sub-steps 1 and 3
+    // (3 factorizations per step instead of 5), and no pass sees anchors more
+    // than one position update old, the staleness the relax pass always had.
+    // Plus the guard in solveTree. Figures in docs/joints.md, fifth round.
+    if (!ctx.useBias) ++factorAge_;  // a relax pass: the positions moved since the last pass
+    const bool refactor = !factored_ || factorAge_ >= maxFactorAge_;
+    if (refactor) {
+        factored_ = true;
+        factorAge_ = 0;
+        std::fill(valid_.begin(), valid_.end(), std::uint8_t{1});  // singular trees try again
+    }
     for (std::size_t t = 0; t + 1 < treeStart_.size(); ++t) {
         const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
         if (valid_[t] && solveTree(begin, end, joints, bodies, ctx, refactor)) continue;

@@ -65,12 +65,21 @@ public:
     // One exact pass over every tree's point rows (biased or relax, ctx.useBias).
     void solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx);
     bool empty() const { return nodes_.empty(); }
-    // A new sub-step: the next pass factors again (the anchors have turned).
-    void newSubstep() {
-        factored_ = false;
-        std::fill(valid_.begin(), valid_.end(), std::uint8_t{1});
-    }
+    // A new sub-step's warm start (kept for the caller; the factorization's
+    // age is counted in position updates, by the relax passes: solve()).
+    void newSubstep() {}
     std::size_t treeCount() const { return trees_; }
+    // Factorization reuse (solve()): a pass factors again once the anchors
+    // it would reuse are `age` position updates old (1: every pass after a
+    // position update factors, so every pass is exact; the default 2: at most
+    // one position update old, as the relax pass always was) or any anchor
+    // of the tree turned by more than kGuardTurn since (guard).
+    void setMaxFactorAge(int age) { maxFactorAge_ = age < 1 ? 1 : age; }
+    static constexpr int kDefaultMaxFactorAge = 2;
+    static constexpr double kGuardTurn = 0.1;  // rad (relative anchor change)
+    // Counters (tests, benchmarks): trees factored, and guard trips among them.
+    std::uint64_t factorizations() const { return factorizations_; }
+    std::uint64_t guardTrips() const { return guardTrips_; }
 
 private:
     static constexpr std::uint32_t kNone = UINT32_MAX;
@@ -92,6 +101,7 @@ private:
         double z[6];           // right-hand side, then D^-1 z after forward substitution
         double y[6];           // solution
         Vec3 rA, rB;           // joint nodes: anchors of this pass
+        Vec3 factorA, factorB; // joint nodes: anchors of the factorization (the reuse guard)
     };
     struct Pending {
         std::uint32_t ref, parentPos;
@@ -118,6 +128,12 @@ private:
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
+    // Position updates since the factorization (each relax pass follows one):
+    // solve() factors again when the next pass would see anchors two
+    // position updates old (kMaxFactorAge).
+    int factorAge_ = 0;
+    int maxFactorAge_ = kDefaultMaxFactorAge;
+    std::uint64_t factorizations_ = 0, guardTrips_ = 0;
     // build() scratch
     std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, componentOf_;
     std::vector<std::uint32_t> bodies_, joints_, worldJoints_;
