@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <numbers>
@@ -34,6 +35,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     constraints_.clear();
     events_.clear();
     framesStale_ = true;
+    refreshedSincePositions_ = false;
     // After a snapshot load the per-body joint lists start out of sync (O(1) check).
     if (!graph_.inSync(w)) graph_.rebuild(w);
     bodies_ = solver.mutableBodies().data();
@@ -251,7 +253,14 @@ void JointSolver::refreshRotations() {
 }
 
 void JointSolver::warmStart() {
-    refreshRotations();
+    // The deltas change only with the positions, and every position update
+    // is followed by a relax pass, which refreshes: after one, nothing has
+    // changed until the next (velocity integration and gathering leave the
+    // deltas alone), so the warm start's and store()'s refreshes would find
+    // every body unchanged. Skipped then (the same bits: a refresh that finds
+    // nothing changed changes no rotation and no frame). Chain benchmark: 11
+    // refreshes per step -> 6.
+    if (framesStale_ || !refreshedSincePositions_) refreshRotations();
     trees_.newSubstep();
     for (JointConstraint& j : constraints_) {
         SolverBody& a = bodies_[j.bodyA];
@@ -271,7 +280,10 @@ void JointSolver::solve(bool useBias) {
     ctx_.useBias = useBias;
     // The biased pass follows this sub-step's warm start (same deltas); the
     // relax pass follows the position update.
-    if (!useBias) refreshRotations();
+    if (!useBias) {
+        refreshRotations();
+        refreshedSincePositions_ = true;
+    }
     for (const std::uint32_t index : rowJoints_) {
         JointConstraint& j = constraints_[index];
         SolverBody& a = bodies_[j.bodyA];
@@ -339,34 +351,50 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     // 980 M -> 960 M); grid --quick: the check ~100 instructions per joint
     // against the pass's ~166, and no pass followed it there.
     using Float4 = float __attribute__((vector_size(16)));
-    enum { kQw, kQx, kQy, kQz, kCx, kCy, kCz, kLx, kLy, kLz, kPerEnd };
-    alignas(16) float lanes[2 * kPerEnd][4] = {};  // lanes past the last joint: zeros, never read back
-    const auto gather = [&](float* slot, std::uint32_t dense, const Vec3& anchor) {
-        if (dense == kNoIndex) {
-            slot[4 * kQw] = 1, slot[4 * kQx] = 0, slot[4 * kQy] = 0, slot[4 * kQz] = 0;
-            slot[4 * kCx] = 0, slot[4 * kCy] = 0, slot[4 * kCz] = 0;
-        } else {
-            const BodyMotion& m = w.motion[dense];
-            slot[4 * kQw] = m.q.w, slot[4 * kQx] = m.q.x, slot[4 * kQy] = m.q.y, slot[4 * kQz] = m.q.z;
-            slot[4 * kCx] = m.com.x, slot[4 * kCy] = m.com.y, slot[4 * kCz] = m.com.z;
-        }
-        slot[4 * kLx] = anchor.x, slot[4 * kLy] = anchor.y, slot[4 * kLz] = anchor.z;
+    // The gather: each end's centre and rotation are 7 consecutive floats of
+    // BodyMotion (com x y z, q w x y z), its anchor 3 of the constraint; four
+    // joints' ends are loaded 4 floats at a time and transposed into lanes
+    // (chain benchmark, callgrind 120 steps: 7.5 M -> see docs/joints.md,
+    // fifth round; it was one scalar store per float into a staging array).
+    // The lanes hold the same values as before, so the same decisions.
+    static_assert(offsetof(BodyMotion, q) == offsetof(BodyMotion, com) + 3 * sizeof(float));
+    static_assert(offsetof(JointConstraint, localAnchorB) == offsetof(JointConstraint, localAnchorA) + 3 * sizeof(float));
+    static_assert(sizeof(Quat) == 4 * sizeof(float) && sizeof(Vec3) == 3 * sizeof(float));
+    // A world end: centre 0 and the identity rotation (com x y z, q w x y z).
+    alignas(16) static constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
+    const auto load = [](const float* p) {
+        Float4 v;
+        std::memcpy(&v, p, sizeof v);
+        return v;
     };
-    const auto anchor = [&](int end, Float4& x, Float4& y, Float4& z) {
-        Float4 v[kPerEnd];
-        for (int k = 0; k < kPerEnd; ++k) std::memcpy(&v[k], lanes[end * kPerEnd + k], sizeof(Float4));
-        const Float4 ux = v[kQx], uy = v[kQy], uz = v[kQz], qw = v[kQw];
-        const Float4 lx = v[kLx], ly = v[kLy], lz = v[kLz];
+    // Rows r0..r3 (one per joint) -> columns c0..c3 (one per component).
+    const auto transpose = [](Float4 r0, Float4 r1, Float4 r2, Float4 r3, Float4& c0, Float4& c1, Float4& c2, Float4& c3) {
+        const Float4 t0 = __builtin_shufflevector(r0, r1, 0, 4, 1, 5), t1 = __builtin_shufflevector(r2, r3, 0, 4, 1, 5);
+        const Float4 t2 = __builtin_shufflevector(r0, r1, 2, 6, 3, 7), t3 = __builtin_shufflevector(r2, r3, 2, 6, 3, 7);
+        c0 = __builtin_shufflevector(t0, t1, 0, 1, 4, 5);
+        c1 = __builtin_shufflevector(t0, t1, 2, 3, 6, 7);
+        c2 = __builtin_shufflevector(t2, t3, 0, 1, 4, 5);
+        c3 = __builtin_shufflevector(t2, t3, 2, 3, 6, 7);
+    };
+    const float* endA[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
+    const float* endB[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
+    const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, then B (6 floats)
+    const auto end = [&](const float* const* ends, int anchorOffset, Float4& x, Float4& y, Float4& z) {
+        Float4 cx, cy, cz, qw, ux, uy, uz, lx, ly, lz, unused;
+        transpose(load(ends[0]), load(ends[1]), load(ends[2]), load(ends[3]), cx, cy, cz, unused);
+        transpose(load(ends[0] + 3), load(ends[1] + 3), load(ends[2] + 3), load(ends[3] + 3), qw, ux, uy, uz);
+        transpose(load(anchors[0] + anchorOffset), load(anchors[1] + anchorOffset), load(anchors[2] + anchorOffset),
+                  load(anchors[3] + anchorOffset), lx, ly, lz, unused);
         const Float4 tx = (uy * lz - uz * ly) * 2.0f, ty = (uz * lx - ux * lz) * 2.0f, tz = (ux * ly - uy * lx) * 2.0f;
         const Float4 rx = (lx + tx * qw) + (uy * tz - uz * ty);
         const Float4 ry = (ly + ty * qw) + (uz * tx - ux * tz);
         const Float4 rz = (lz + tz * qw) + (ux * ty - uy * tx);
-        x = v[kCx] + rx, y = v[kCy] + ry, z = v[kCz] + rz;
+        x = cx + rx, y = cy + ry, z = cz + rz;
     };
     const auto beyond = [&](int count) {
         Float4 ax, ay, az, bx, by, bz;
-        anchor(0, ax, ay, az);
-        anchor(1, bx, by, bz);
+        end(endA, 0, ax, ay, az);
+        end(endB, 3, bx, by, bz);
         const Float4 dx = bx - ax, dy = by - ay, dz = bz - az;
         const Float4 e2 = dx * dx + dy * dy + dz * dz;
         for (int lane = 0; lane < count; ++lane) {
@@ -374,19 +402,23 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
         }
         return false;
     };
+    const auto motion = [&](std::uint32_t dense) { return dense == kNoIndex ? kWorldEnd : &w.motion[dense].com.x; };
     int lane = 0;
     for (const std::uint32_t index : creationOrder_) {
         const JointConstraint& j = constraints_[index];
         if (j.type == JointType::Slider) continue;
         if (j.type == JointType::Distance) return true;  // its own rule: the pass decides
-        gather(&lanes[0][lane], j.denseA, j.localAnchorA);
-        gather(&lanes[kPerEnd][lane], j.denseB, j.localAnchorB);
+        endA[lane] = motion(j.denseA);
+        endB[lane] = motion(j.denseB);
+        anchors[lane] = &j.localAnchorA.x;
         if (++lane == 4) {
             if (beyond(4)) return true;
             lane = 0;
         }
     }
-    return lane > 0 && beyond(lane);
+    if (lane == 0) return false;
+    for (int k = lane; k < 4; ++k) endA[k] = endB[k] = anchors[k] = kWorldEnd;  // lanes past the last joint: never read back
+    return beyond(lane);
 #else
     (void)w;
     (void)slop;
@@ -450,7 +482,7 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
 void JointSolver::store(WorldImpl& w) {
     // The reactions read each joint's frame: current after the last relax
     // pass (nothing is recomputed unless the deltas changed since).
-    refreshRotations();
+    if (framesStale_ || !refreshedSincePositions_) refreshRotations();
     for (JointConstraint& j : constraints_) {
         JointData& data = w.joints[j.slot];
         data.impulses = j.impulse;

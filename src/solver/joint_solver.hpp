@@ -117,6 +117,9 @@ private:
     std::vector<std::uint64_t> changedAt_;
     std::uint64_t generation_ = 0;
     bool framesStale_ = true;
+    // A relax pass refreshed the rotations since prepare(): the deltas are
+    // those of the last position update until the next relax pass.
+    bool refreshedSincePositions_ = false;
     const std::vector<SolverBody>* allBodies_ = nullptr;
     JointTreeSolver trees_;
     JointGraph graph_;

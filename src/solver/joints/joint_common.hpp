@@ -314,14 +314,31 @@ inline void solveFrictionBlock(JointConstraint& j, SolverBody& a, SolverBody& b,
 // Rotation since the step's start. The solver keeps it as a rotation vector
 // (the contact rows only need it to first order); joints need the exact
 // rotation, which is its exponential map.
+//
+// The half-angle's sin and cos by their Taylor series up to 0.5 rad (a body
+// turned under ~57 degrees since the step's start, nearly always): the first
+// omitted terms, x^11 / 11! and x^12 / 12!, are below 1.3e-11, far under float
+// rounding, and the series in double rounded once to float is as close as
+// the library's sinf/cosf (within an ulp). The two library calls were most
+// of refreshRotations (chain benchmark, callgrind 600 steps: 29.0 M -> see
+// docs/joints.md, fifth round). sin(x) / angle is taken as one factor, so
+// the axis needs no division.
 inline Quat deltaRotation(const SolverBody& b) {
     const Real angle = length(b.dtheta);
     if (!(angle > Real(0))) return Quat::identity();
-    // Quat::fromAxisAngle(dtheta, angle) without measuring the axis's length a
-    // second time (the same bits: normalize divides by the same length).
-    const Vec3 n = b.dtheta / angle;
-    const Real s = std::sin(Real(0.5) * angle);
-    return {std::cos(Real(0.5) * angle), n.x * s, n.y * s, n.z * s};
+    const Real half = Real(0.5) * angle;
+    if (!(half <= Real(0.5))) {
+        const Vec3 n = b.dtheta / angle;
+        const Real s = std::sin(half);
+        return {std::cos(half), n.x * s, n.y * s, n.z * s};
+    }
+    const double x = static_cast<double>(half), z = x * x;
+    // sin(x) / (2 x) = sin(half) / angle, and cos(x).
+    const double sinOverAngle =
+        0.5 * (1 + z * (-1.0 / 6 + z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880)))));
+    const double c = 1 + z * (-0.5 + z * (1.0 / 24 + z * (-1.0 / 720 + z * (1.0 / 40320 + z * (-1.0 / 3628800)))));
+    const Real k = static_cast<Real>(sinOverAngle);
+    return {static_cast<Real>(c), b.dtheta.x * k, b.dtheta.y * k, b.dtheta.z * k};
 }
 
 // Ball and distance joints read only the anchors and their separation.
