@@ -105,6 +105,7 @@ private:
     std::vector<JointConstraint> empty_, scratch_;
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
+    std::vector<std::uint8_t> bodyHasRows_;  // per solver body: a dynamic end of one of rowJoints_
     std::vector<std::uint64_t> colourBits_;
     // refreshRotations' cache, per solver body: the deltas its rotation was
     // computed from, the rotation, and the refresh (generation_) at which its

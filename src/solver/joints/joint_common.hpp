@@ -80,6 +80,7 @@ struct JointConstraint {
     Real restLength = 0;              // distance joints
     bool rigidDistance = false;       // rod: min == max and no spring
     bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here
+    bool warmStartInTree = false;     // its tree may fold the warm start into its solve (JointTreeSolver::markWarmStartFree)
     bool pointMassValid = false;      // pointMass holds the inverse of the 3x3 point block's K
     Mat3 pointMass = Mat3::zero();    // K^-1 at the sub-step's start (warm start), reused by its passes
     bool frictionValid = false;       // friction (ball, cone-twist): see cacheFriction

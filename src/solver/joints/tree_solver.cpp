@@ -187,6 +187,22 @@ void JointTreeSolver::reuse(std::vector<JointConstraint>& joints) {
     factored_ = false;
 }
 
+void JointTreeSolver::markWarmStartFree(std::vector<JointConstraint>& joints, const std::vector<std::uint8_t>& bodyHasRows) {
+    warmFree_.assign(trees_, 0);
+    for (std::size_t t = 0; t < trees_; ++t) {
+        bool free = true;
+        for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1] && free; ++i) {
+            if (!nodes_[i].joint) continue;
+            const JointConstraint& j = joints[nodes_[i].ref];
+            free = j.type == JointType::Ball && !(j.maxFrictionImpulse > 0) && !bodyHasRows[j.bodyA] && !bodyHasRows[j.bodyB];
+        }
+        warmFree_[t] = free ? 1 : 0;
+        for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
+            if (nodes_[i].joint) joints[nodes_[i].ref].warmStartInTree = free;
+        }
+    }
+}
+
 void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies) {
     nodes_.clear();
     trees_ = 0;
@@ -407,7 +423,7 @@ inline bool turnedTooFar(const Vec3& r, const Vec3& rf) {
 }  // namespace
 
 bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints,
-                                SolverBody* bodies, const JointContext& ctx, bool refactor) {
+                                SolverBody* bodies, const JointContext& ctx, bool refactor, bool foldedWarmStart) {
     // A reused factorization first checks that no anchor of the tree has
     // turned by more than kGuardTurn since it was made (the guard): a
     // stale K^-1 far from the current K may amplify instead of solve (a
@@ -535,6 +551,17 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
         const Factor& f = factors_[i];
         JointConstraint& j = joints[n.ref];
         Vec3 d{static_cast<Real>(f.y[0]), static_cast<Real>(f.y[1]), static_cast<Real>(f.y[2])};
+        if (foldedWarmStart) {
+            // The warm start wasn't applied (markWarmStartFree): with it, the
+            // exact y would have been y - lambda0 and the pass would have
+            // applied lambda0 + s (y - lambda0) - i lambda0 in all, s y + (1 - s - i)
+            // lambda0 (s + i = 1 for the soft coefficients, to rounding): the
+            // same total, applied at once, and the new accumulated impulse.
+            d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
+            j.impulse.linear = d;
+            applyPoint(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
+            continue;
+        }
         if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
         j.impulse.linear += d;
         applyPoint(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
@@ -677,15 +704,21 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
         factorAge_ = 0;
         std::fill(valid_.begin(), valid_.end(), std::uint8_t{1});  // singular trees try again
     }
+    // The warm start folded into this pass (the sub-step's first biased one).
+    const bool fold = ctx.useBias && firstBiasedPass_ && foldWarmStart_;
+    if (ctx.useBias) firstBiasedPass_ = false;
     for (std::size_t t = 0; t + 1 < treeStart_.size(); ++t) {
         const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
-        if (valid_[t] && solveTree(begin, end, joints, bodies, ctx, refactor)) continue;
+        const bool folded = fold && warmFree_[t];
+        if (valid_[t] && solveTree(begin, end, joints, bodies, ctx, refactor, folded)) continue;
         valid_[t] = 0;  // singular: Gauss-Seidel until the next factorization
         // Singular (degenerate geometry): this pass falls back to Gauss-Seidel blocks.
         for (std::uint32_t i = begin; i < end; ++i) {
             if (!nodes_[i].joint) continue;
             JointConstraint& j = joints[nodes_[i].ref];
             const JointFrame& fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
+            // The warm start it skipped (solveTree fails before applying anything).
+            if (folded) applyPoint(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, j.impulse.linear);
             const Mat3 K = pointInverseMass(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB);
             if (!(determinant(K) > 0)) continue;
             solvePointBlock(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));

@@ -65,9 +65,24 @@ public:
     // One exact pass over every tree's point rows (biased or relax, ctx.useBias).
     void solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx);
     bool empty() const { return nodes_.empty(); }
-    // A new sub-step's warm start (kept for the caller; the factorization's
-    // age is counted in position updates, by the relax passes: solve()).
-    void newSubstep() {}
+    // The trees whose warm start may be folded into their first biased pass
+    // of a sub-step: only frictionless ball joints, and no body of theirs in a
+    // joint with Gauss-Seidel rows (`bodyHasRows`, per solver body), which
+    // would be solved before the tree and see the velocities without the
+    // tree's warm start. Marks those joints' `warmStartInTree`.
+    void markWarmStartFree(std::vector<JointConstraint>& joints, const std::vector<std::uint8_t>& bodyHasRows);
+    // Whether the next biased pass solves with an exact factorization (its
+    // anchors': solve()).
+    bool nextBiasedPassExact() const { return !factored_ || factorAge_ == 0 || factorAge_ >= maxFactorAge_; }
+    // A new sub-step's warm start. `foldWarmStart`: the caller skipped the
+    // warm start of the joints marked warmStartInTree (it may when
+    // nextBiasedPassExact()); the sub-step's first biased pass then applies
+    // it with its impulses (solveTree). The factorization's age is counted in
+    // position updates, by the relax passes (solve()).
+    void newSubstep(bool foldWarmStart) {
+        foldWarmStart_ = foldWarmStart;
+        firstBiasedPass_ = true;
+    }
     std::size_t treeCount() const { return trees_; }
     // Factorization reuse (solve()): a pass factors again once the anchors
     // it would reuse are `age` position updates old (1: every pass after a
@@ -119,13 +134,15 @@ private:
     void backSubstituteChainJoint(std::uint32_t node);
     void findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
     bool solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints, SolverBody* bodies,
-                   const JointContext& ctx, bool refactor);
+                   const JointContext& ctx, bool refactor, bool foldedWarmStart);
 
     std::vector<Node> nodes_;       // elimination order: every tree's children before its parents
     std::vector<Factor> factors_;
     std::vector<std::uint32_t> treeStart_;  // nodes_ of tree t: [treeStart_[t], treeStart_[t + 1])
     std::size_t trees_ = 0;
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
+    std::vector<std::uint8_t> warmFree_;  // per tree: markWarmStartFree
+    bool foldWarmStart_ = false, firstBiasedPass_ = false;
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
     // Position updates since the factorization (each relax pass follows one):
