@@ -360,7 +360,10 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
                 // |L| at high spin: the demo's tumbling box lost 13 % of |L| in
                 // 10 s at 240 Hz; with the constant-L drift it keeps it to ~1e-5.
                 m.v += ft.force * (m.invMass * h);
-                m.w += m.invInertiaWorld * ft.torque * h;
+                // Most bodies have no torque (gravity acts at the centre of
+                // mass): w then keeps its value without the 3x3 product (the
+                // same value as w + 0, but for the sign of a zero component).
+                if (ft.torque.x != 0 || ft.torque.y != 0 || ft.torque.z != 0) m.w += m.invInertiaWorld * ft.torque * h;
                 applyDamping(m, p, h);
                 break;
             }

@@ -142,6 +142,9 @@ private:
     std::size_t trees_ = 0;
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
     std::vector<std::uint8_t> warmFree_;  // per tree: markWarmStartFree
+    std::vector<std::uint8_t> chain_;     // per tree: a chain of joints (solveTree's loops without dispatch)
+    std::vector<std::uint32_t> treeOfNode_;
+    std::uint32_t treeOf(std::uint32_t node) const { return treeOfNode_[node]; }
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
