@@ -32,8 +32,10 @@
 // is a tree when it has no loop: joints = bodies - 1 + (joints to static or
 // kinematic ends), with at most one such end (two anchors to the static world
 // close a loop through it). Loops (the grid benchmark) stay Gauss-Seidel.
-// The factorization is redone once per sub-step (the anchors turn with the
-// bodies); the sub-step's other passes reuse it. Double precision: the
+// The factorization is redone as the anchors turn with the bodies: a pass
+// reuses it while its anchors are at most one position update old (3
+// factorizations per 5-sub-step step) and no anchor turned more than
+// kGuardTurn since (solve(), solveTree()). Double precision: the
 // elimination works with products of masses and lever arms over whole trees.
 //
 // Speed (docs/joints.md has the figures). A body with at most one child joint
