@@ -2,7 +2,7 @@
 // (11 bodies each) on the ground, and a 30 x 30 x 30 grid of spheres joined by
 // ball joints to their neighbours below and beside, hanging from the top layer.
 //
-//   bench_joints [--quick] [--scene chain|ragdolls|grid] [--gauss-seidel] [--steps N] [--markdown]
+//   bench_joints [--quick] [--scene chain|ragdolls|grid] [--gauss-seidel] [--steps N] [--threads N] [--markdown]
 //
 // --markdown prints the results as the Markdown table that scripts/bench.sh
 // --write-docs puts into docs/benchmarks.md (so its figures are never typed in).
@@ -239,6 +239,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--markdown") == 0) markdown = true;
         if (std::strcmp(argv[i], "--gauss-seidel") == 0) def.jointDirectSolve = false;
         if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
+        if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) def.threads = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
     }
     const int gridSide = quick ? 10 : 30;

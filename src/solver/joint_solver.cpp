@@ -37,6 +37,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     // After a snapshot load the per-body joint lists start out of sync (O(1) check).
     if (!graph_.inSync(w)) graph_.rebuild(w);
     bodies_ = solver.mutableBodies().data();
+    tasks_ = &w.taskSystem();
     allBodies_ = &solver.mutableBodies();
     ctx_.h = h;
     ctx_.invH = 1 / h;
@@ -153,6 +154,20 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         if (j.type == JointType::Ball && j.direct && !(j.maxFrictionImpulse > 0)) continue;
         rowJoints_.push_back(k);
     }
+    // Where each colour's joints start in rowJoints_ (both are in colour order).
+    const std::size_t colours = colourCount();
+    rowColourStart_.resize(colours + 1);
+    std::size_t row = 0;
+    for (std::size_t c = 0; c <= colours; ++c) {
+        const std::uint32_t start = c < colours ? colourStart_[c] : static_cast<std::uint32_t>(constraints_.size());
+        while (row < rowJoints_.size() && rowJoints_[row] < start) ++row;
+        rowColourStart_[c] = static_cast<std::uint32_t>(row);
+    }
+    if (identity_.size() < constraints_.size()) {
+        const std::size_t from = identity_.size();
+        identity_.resize(std::max(constraints_.size(), 2 * from));
+        for (std::size_t i = from; i < identity_.size(); ++i) identity_[i] = static_cast<std::uint32_t>(i);
+    }
 }
 
 bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
@@ -250,12 +265,50 @@ void JointSolver::refreshRotations() {
     ctx_.generation = generation_;
 }
 
+namespace {
+
+// A range of a colour amortises the task system's call only from a few dozen
+// joints on (a joint's warm start is ~100 instructions, its rows ~300).
+constexpr std::uint32_t kJointsPerTask = 32;
+constexpr std::uint32_t kTreesPerTask = 2;
+
+}  // namespace
+
+template <class Kernel>
+void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel) {
+    const std::uint32_t colours = static_cast<std::uint32_t>(colourCount());
+    const bool parallel = tasks_ != nullptr && tasks_->workerCount() > 1;
+    for (std::uint32_t c = 0; c < colours; ++c) {
+        const std::uint32_t begin = first[c], count = first[c + 1] - begin;
+        // The overflow colour (the last) runs in order; so does a small colour.
+        if (!parallel || c + 1 == colours || count < 2 * kJointsPerTask) {
+            for (std::uint32_t k = begin; k < begin + count; ++k) {
+                JointConstraint& j = constraints_[indices[k]];
+                kernel(j, bodies_[j.bodyA], bodies_[j.bodyB]);
+            }
+            continue;
+        }
+        tasks_->parallelFor(count, kJointsPerTask, [&](std::uint32_t rangeBegin, std::uint32_t rangeEnd, std::uint32_t) {
+            // A colour's joints share no dynamic body, but may share a static
+            // or kinematic one (they take no colour slot), which the kernels
+            // write back unchanged (inverse mass 0): on a copy here, so no
+            // two threads write one body. Dynamic ends: the bodies themselves,
+            // the same operations as in order, so the same bits.
+            SolverBody copyA, copyB;
+            for (std::uint32_t k = begin + rangeBegin; k < begin + rangeEnd; ++k) {
+                JointConstraint& j = constraints_[indices[k]];
+                SolverBody& a = bodies_[j.bodyA].invMass > 0 ? bodies_[j.bodyA] : (copyA = bodies_[j.bodyA]);
+                SolverBody& b = bodies_[j.bodyB].invMass > 0 ? bodies_[j.bodyB] : (copyB = bodies_[j.bodyB]);
+                kernel(j, a, b);
+            }
+        });
+    }
+}
+
 void JointSolver::warmStart() {
     refreshRotations();
     trees_.newSubstep();
-    for (JointConstraint& j : constraints_) {
-        SolverBody& a = bodies_[j.bodyA];
-        SolverBody& b = bodies_[j.bodyB];
+    forEachJointByColour(identity_.data(), colourStart_.data(), [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
         switch (j.type) {
             case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
             case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
@@ -264,7 +317,7 @@ void JointSolver::warmStart() {
             case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
             case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
         }
-    }
+    });
 }
 
 void JointSolver::solve(bool useBias) {
@@ -272,10 +325,7 @@ void JointSolver::solve(bool useBias) {
     // The biased pass follows this sub-step's warm start (same deltas); the
     // relax pass follows the position update.
     if (!useBias) refreshRotations();
-    for (const std::uint32_t index : rowJoints_) {
-        JointConstraint& j = constraints_[index];
-        SolverBody& a = bodies_[j.bodyA];
-        SolverBody& b = bodies_[j.bodyB];
+    forEachJointByColour(rowJoints_.data(), rowColourStart_.data(), [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
         switch (j.type) {
             case JointType::Ball: solveBall(j, a, b, ctx_); break;
             case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
@@ -284,10 +334,24 @@ void JointSolver::solve(bool useBias) {
             case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
             case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
         }
-    }
+    });
     // The point rows of joint trees last, solved exactly, so they have the
     // final word on the anchors (the error users see).
-    if (!trees_.empty()) trees_.solve(constraints_, bodies_, ctx_);
+    if (!trees_.empty()) solveTrees();
+}
+
+void JointSolver::solveTrees() {
+    // Trees share no moving body, so they run side by side (the tree solver
+    // never writes a static or kinematic end they may share).
+    const bool refactor = trees_.beginPass();
+    const auto count = static_cast<std::uint32_t>(trees_.treeCount());
+    if (tasks_ == nullptr || tasks_->workerCount() == 1 || count < 2 * kTreesPerTask) {
+        trees_.solveTrees(0, count, constraints_, bodies_, ctx_, refactor);
+        return;
+    }
+    tasks_->parallelFor(count, kTreesPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        trees_.solveTrees(begin, end, constraints_, bodies_, ctx_, refactor);
+    });
 }
 
 namespace {

@@ -395,6 +395,26 @@ inline void JointTreeSolver::backSubstituteChainJoint(std::uint32_t i) {
     for (int k = 0; k < 3; ++k) f.y[k] = ((f.z[k] - f.X[0][k] * p0) - f.X[1][k] * p1) - f.X[2][k] * p2;
 }
 
+namespace {
+
+// applyPoint on the ends that move. A static or kinematic end (inverse mass 0)
+// is unchanged by the impulse but may be shared by trees that other threads
+// solve at the same time (JointTreeSolver::solveTrees): even writing its
+// unchanged value would be a data race, so it is not written at all. The
+// dynamic ends get exactly applyPoint's operations.
+inline void applyPointToMovingEnds(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& P) {
+    if (a.invMass > 0) {
+        a.v -= P * a.invMass;
+        a.w -= a.invI * cross(rA, P);
+    }
+    if (b.invMass > 0) {
+        b.v += P * b.invMass;
+        b.w += b.invI * cross(rB, P);
+    }
+}
+
+}  // namespace
+
 bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints,
                                 SolverBody* bodies, const JointContext& ctx, bool refactor) {
     // Initial diagonal blocks and right-hand sides, parents first (a joint
@@ -503,7 +523,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
         Vec3 d{static_cast<Real>(f.y[0]), static_cast<Real>(f.y[1]), static_cast<Real>(f.y[2])};
         if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
         j.impulse.linear += d;
-        applyPoint(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
+        applyPointToMovingEnds(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
     }
     return true;
 }
@@ -625,9 +645,13 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
     // with the current anchors in the residual and the impulses: the anchors
     // turn by at most a sub-step's rotation in between, and the factorization
     // is 60 % of the solve (ragdoll pile: measured in docs/joints.md).
-    const bool refactor = !factored_;
-    factored_ = true;
-    for (std::size_t t = 0; t + 1 < treeStart_.size(); ++t) {
+    const bool refactor = beginPass();
+    solveTrees(0, static_cast<std::uint32_t>(treeCount()), joints, bodies, ctx, refactor);
+}
+
+void JointTreeSolver::solveTrees(std::uint32_t firstTree, std::uint32_t endTree, std::vector<JointConstraint>& joints,
+                                 SolverBody* bodies, const JointContext& ctx, bool refactor) {
+    for (std::uint32_t t = firstTree; t < endTree; ++t) {
         const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
         if (valid_[t] && solveTree(begin, end, joints, bodies, ctx, refactor)) continue;
         valid_[t] = 0;  // singular: Gauss-Seidel until the next factorization
@@ -638,7 +662,12 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
             const JointFrame& fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
             const Mat3 K = pointInverseMass(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB);
             if (!(determinant(K) > 0)) continue;
-            solvePointBlock(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));
+            // On copies of a static or kinematic end (unchanged by the impulse, and
+            // maybe shared with a tree another thread solves: never written).
+            SolverBody copyA, copyB;
+            SolverBody& a = bodies[j.bodyA].invMass > 0 ? bodies[j.bodyA] : (copyA = bodies[j.bodyA]);
+            SolverBody& b = bodies[j.bodyB].invMass > 0 ? bodies[j.bodyB] : (copyB = bodies[j.bodyB]);
+            solvePointBlock(a, b, fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));
         }
     }
 }

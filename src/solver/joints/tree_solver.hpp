@@ -64,6 +64,17 @@ public:
     void reuse(std::vector<JointConstraint>& joints);
     // One exact pass over every tree's point rows (biased or relax, ctx.useBias).
     void solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx);
+    // The same pass in pieces, for the task system: beginPass() once, then
+    // solveTrees() over disjoint ranges of [0, treeCount()) in any order or
+    // concurrently (trees share no moving body; a static or kinematic end they
+    // share is never written). Same results as solve().
+    bool beginPass() {
+        const bool refactor = !factored_;
+        factored_ = true;
+        return refactor;
+    }
+    void solveTrees(std::uint32_t firstTree, std::uint32_t endTree, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                    const JointContext& ctx, bool refactor);
     bool empty() const { return nodes_.empty(); }
     // A new sub-step: the next pass factors again (the anchors have turned).
     void newSubstep() {
