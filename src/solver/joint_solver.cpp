@@ -267,10 +267,15 @@ void JointSolver::refreshRotations() {
 
 namespace {
 
-// A range of a colour amortises the task system's call only from a few dozen
-// joints on (a joint's warm start is ~100 instructions, its rows ~300).
-constexpr std::uint32_t kJointsPerTask = 32;
-constexpr std::uint32_t kTreesPerTask = 2;
+// Grain of the joints' parallel loops. A joint's warm start is ~100-300
+// instructions (a cone-twist's frame) and its rows ~300, so a range of 64 is
+// 10-20 us of work, and a colour runs in order below 2 ranges' worth (the
+// ragdoll pile's colours hold ~150 joints: joints are 63 % of its step). A
+// tree is a few thousand instructions per pass (a ragdoll's 10 joints), so
+// ranges of 4.
+constexpr std::uint32_t kJointsPerTask = 64;
+constexpr std::uint32_t kMinJointsForTasks = 2 * kJointsPerTask;
+constexpr std::uint32_t kTreesPerTask = 4;
 
 }  // namespace
 
@@ -281,7 +286,7 @@ void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::
     for (std::uint32_t c = 0; c < colours; ++c) {
         const std::uint32_t begin = first[c], count = first[c + 1] - begin;
         // The overflow colour (the last) runs in order; so does a small colour.
-        if (!parallel || c + 1 == colours || count < 2 * kJointsPerTask) {
+        if (!parallel || c + 1 == colours || count < kMinJointsForTasks) {
             for (std::uint32_t k = begin; k < begin + count; ++k) {
                 JointConstraint& j = constraints_[indices[k]];
                 kernel(j, bodies_[j.bodyA], bodies_[j.bodyB]);
