@@ -13,8 +13,9 @@
 //
 // Order: joints before contacts in every pass (Box2D v3's order). Joints are
 // graph-coloured on their own (greedy, creation order; contacts have their
-// colouring in the contact solver) and solved colour by colour, so a colour
-// can later run on several threads or SIMD lanes with the same result.
+// colouring in the contact solver) and solved colour by colour: a large
+// colour runs across the task system with the same result, and so do the
+// joint trees, side by side (docs/threading.md, "Joints across the task system").
 // Point rows of joint trees (chains, ragdolls) are solved exactly by the tree
 // solver (joints/tree_solver.hpp) after the Gauss-Seidel rows of each pass.
 #include <cstdint>
