@@ -177,7 +177,7 @@ Chains buildChains(int chains, int links) {
 // 2 cm of closed (the solver holds it to ~5 mm), and every paddle stays inside
 // its hinge limits plus 0.05 rad while its motor drives it up against them.
 TEST(JointColours, GaussSeidelColoursGiveTheSameBitsOnAnyScheduler) {
-    expectSameBitsForAnyScheduler([] { return buildGridAndPaddles(10); }, 30, [](const World& world) {
+    expectSameBitsForAnyScheduler([] { return buildGridAndPaddles(10); }, 20, [](const World& world) {
         for (const JointId j : world.joints()) {
             ASSERT_LT(world.jointError(j), Real(0.02)) << "a joint opened";
             if (world.jointDef(j).type != JointType::Hinge) continue;
