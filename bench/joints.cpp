@@ -2,7 +2,10 @@
 // (11 bodies each) on the ground, and a 30 x 30 x 30 grid of spheres joined by
 // ball joints to their neighbours below and beside, hanging from the top layer.
 //
-//   bench_joints [--quick] [--scene chain|ragdolls|grid] [--gauss-seidel] [--steps N]
+//   bench_joints [--quick] [--scene chain|ragdolls|grid] [--gauss-seidel] [--steps N] [--threads N] [--markdown]
+//
+// --markdown prints the results as the Markdown table that scripts/bench.sh
+// --write-docs puts into docs/benchmarks.md (so its figures are never typed in).
 //
 // Per scene: median and mean ms per step, and the quality metric: the worst
 // joint error (m) over the run and at the end, and the bodies asleep at the
@@ -155,7 +158,15 @@ void buildGrid(Scene& s, int n) {
     }
 }
 
-void run(Scene& s) {
+struct Result {
+    std::string name, description;
+    std::size_t bodies = 0, joints = 0, asleep = 0;
+    int steps = 0, worstStep = -1;
+    double median = 0, mean = 0, worst = 0, end = 0;
+    JointType worstType = JointType::Ball;
+};
+
+Result run(Scene& s) {
     std::vector<double> ms;
     ms.reserve(static_cast<std::size_t>(s.steps));
     double worst = 0, end = 0;
@@ -181,9 +192,38 @@ void run(Scene& s) {
     const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
     std::size_t asleep = 0;
     for (BodyId b : s.world.bodies()) asleep += s.world.bodyType(b) == BodyType::Dynamic && !s.world.isAwake(b);
+    Result r;
+    r.name = s.name;
+    r.bodies = s.world.bodyCount();
+    r.joints = s.joints.size();
+    r.asleep = asleep;
+    r.steps = s.steps;
+    r.worstStep = worstStep;
+    r.median = sorted[sorted.size() / 2];
+    r.mean = mean;
+    r.worst = worst;
+    r.end = end;
+    r.worstType = worstType;
     std::printf("%-10s bodies %6zu joints %6zu steps %4d  median %8.3f ms  mean %8.3f ms  worst joint error %.4f m (%s, step %d; end %.4f m)  asleep %zu\n",
-                s.name.c_str(), s.world.bodyCount(), s.joints.size(), s.steps, sorted[sorted.size() / 2], mean, worst,
-                toString(worstType), worstStep, end, asleep);
+                r.name.c_str(), r.bodies, r.joints, r.steps, r.median, r.mean, r.worst, toString(r.worstType), r.worstStep,
+                r.end, r.asleep);
+    return r;
+}
+
+// Three significant figures, as the docs' tables print times.
+std::string threeFigures(double ms) {
+    char text[32];
+    const int decimals = ms >= 100 ? 0 : ms >= 10 ? 1 : ms >= 1 ? 2 : 3;
+    std::snprintf(text, sizeof text, "%.*f", decimals, ms);
+    return text;
+}
+
+void printMarkdown(const std::vector<Result>& results) {
+    std::printf("\n| scene | bodies / joints | steps | median ms/step | mean ms/step | worst joint error (end) | asleep at the end |\n");
+    std::printf("|---|---|---|---|---|---|---|\n");
+    for (const Result& r : results)
+        std::printf("| %s | %zu / %zu | %d | %s | %s | %.4f m (%.4f m) | %zu |\n", r.description.c_str(), r.bodies, r.joints,
+                    r.steps, threeFigures(r.median).c_str(), threeFigures(r.mean).c_str(), r.worst, r.end, r.asleep);
 }
 
 }  // namespace
@@ -193,22 +233,36 @@ int main(int argc, char** argv) {
     int steps = 0;
     WorldDef def;
     std::string only;
+    bool markdown = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        if (std::strcmp(argv[i], "--markdown") == 0) markdown = true;
         if (std::strcmp(argv[i], "--gauss-seidel") == 0) def.jointDirectSolve = false;
         if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
+        if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) def.threads = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
     }
-    const std::vector<std::pair<std::string, std::function<void(Scene&)>>> scenes = {
-        {"chain", buildChain},
-        {"ragdolls", buildRagdolls},
-        {"grid", [&](Scene& s) { buildGrid(s, quick ? 10 : 30); }},
+    const int gridSide = quick ? 10 : 30;
+    struct Entry {
+        std::string name, description;
+        std::function<void(Scene&)> build;
     };
-    for (const auto& [name, build] : scenes) {
-        if (!only.empty() && only != name) continue;
-        Scene s(name, def);
-        build(s);
-        s.steps = steps > 0 ? steps : (quick ? 60 : (name == "grid" ? 120 : 600));
-        run(s);
+    const std::vector<Entry> scenes = {
+        {"chain", "`chain` (benchmark-scenes.md)", buildChain},
+        {"ragdolls", "`ragdolls`: 100 ragdolls of 11 bodies (cone-twist + hinges) dropped in a 5 x 5 x 4 pile", buildRagdolls},
+        {"grid",
+         "`grid`: " + std::to_string(gridSide) + " x " + std::to_string(gridSide) + " x " + std::to_string(gridSide) +
+             " spheres, ball joints to the neighbours below and beside, top layer static",
+         [&](Scene& s) { buildGrid(s, gridSide); }},
+    };
+    std::vector<Result> results;
+    for (const Entry& entry : scenes) {
+        if (!only.empty() && only != entry.name) continue;
+        Scene s(entry.name, def);
+        entry.build(s);
+        s.steps = steps > 0 ? steps : (quick ? 60 : (entry.name == "grid" ? 120 : 600));
+        results.push_back(run(s));
+        results.back().description = entry.description;
     }
+    if (markdown) printMarkdown(results);
 }

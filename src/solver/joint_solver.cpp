@@ -39,6 +39,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     // After a snapshot load the per-body joint lists start out of sync (O(1) check).
     if (!graph_.inSync(w)) graph_.rebuild(w);
     bodies_ = solver.mutableBodies().data();
+    tasks_ = &w.taskSystem();
     allBodies_ = &solver.mutableBodies();
     ctx_.h = h;
     ctx_.invH = 1 / h;
@@ -160,6 +161,20 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         if (bodies_[j.bodyB].invMass > 0) bodyHasRows_[j.bodyB] = 1;
     }
     if (!trees_.empty()) trees_.markWarmStartFree(constraints_, bodyHasRows_);
+    // Where each colour's joints start in rowJoints_ (both are in colour order).
+    const std::size_t colours = colourCount();
+    rowColourStart_.resize(colours + 1);
+    std::size_t row = 0;
+    for (std::size_t c = 0; c <= colours; ++c) {
+        const std::uint32_t start = c < colours ? colourStart_[c] : static_cast<std::uint32_t>(constraints_.size());
+        while (row < rowJoints_.size() && rowJoints_[row] < start) ++row;
+        rowColourStart_[c] = static_cast<std::uint32_t>(row);
+    }
+    if (identity_.size() < constraints_.size()) {
+        const std::size_t from = identity_.size();
+        identity_.resize(std::max(constraints_.size(), 2 * from));
+        for (std::size_t i = from; i < identity_.size(); ++i) identity_[i] = static_cast<std::uint32_t>(i);
+    }
 }
 
 bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
@@ -257,6 +272,51 @@ void JointSolver::refreshRotations() {
     ctx_.generation = generation_;
 }
 
+namespace {
+
+// Grain of the joints' parallel loops. A joint's warm start is ~100-300
+// instructions (a cone-twist's frame) and its rows ~300, so a range of 64 is
+// 10-20 us of work, and a colour runs in order below 2 ranges' worth (the
+// ragdoll pile's colours hold ~150 joints: joints are 63 % of its step). A
+// tree is a few thousand instructions per pass (a ragdoll's 10 joints), so
+// ranges of 4.
+constexpr std::uint32_t kJointsPerTask = 64;
+constexpr std::uint32_t kMinJointsForTasks = 2 * kJointsPerTask;
+constexpr std::uint32_t kTreesPerTask = 4;
+
+}  // namespace
+
+template <class Kernel>
+void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel) {
+    const std::uint32_t colours = static_cast<std::uint32_t>(colourCount());
+    const bool parallel = tasks_ != nullptr && tasks_->workerCount() > 1;
+    for (std::uint32_t c = 0; c < colours; ++c) {
+        const std::uint32_t begin = first[c], count = first[c + 1] - begin;
+        // The overflow colour (the last) runs in order; so does a small colour.
+        if (!parallel || c + 1 == colours || count < kMinJointsForTasks) {
+            for (std::uint32_t k = begin; k < begin + count; ++k) {
+                JointConstraint& j = constraints_[indices[k]];
+                kernel(j, bodies_[j.bodyA], bodies_[j.bodyB]);
+            }
+            continue;
+        }
+        tasks_->parallelFor(count, kJointsPerTask, [&](std::uint32_t rangeBegin, std::uint32_t rangeEnd, std::uint32_t) {
+            // A colour's joints share no dynamic body, but may share a static
+            // or kinematic one (they take no colour slot), which the kernels
+            // write back unchanged (inverse mass 0): on a copy here, so no
+            // two threads write one body. Dynamic ends: the bodies themselves,
+            // the same operations as in order, so the same bits.
+            SolverBody copyA, copyB;
+            for (std::uint32_t k = begin + rangeBegin; k < begin + rangeEnd; ++k) {
+                JointConstraint& j = constraints_[indices[k]];
+                SolverBody& a = bodies_[j.bodyA].invMass > 0 ? bodies_[j.bodyA] : (copyA = bodies_[j.bodyA]);
+                SolverBody& b = bodies_[j.bodyB].invMass > 0 ? bodies_[j.bodyB] : (copyB = bodies_[j.bodyB]);
+                kernel(j, a, b);
+            }
+        });
+    }
+}
+
 void JointSolver::warmStart() {
     // The deltas change only with the positions, and every position update
     // is followed by a relax pass, which refreshes: after one, nothing has
@@ -273,10 +333,8 @@ void JointSolver::warmStart() {
     // per joint. Chain benchmark: 3 of 5 sub-steps (docs/joints.md, fifth round).
     const bool fold = trees_.nextBiasedPassExact();
     trees_.newSubstep(fold);
-    for (JointConstraint& j : constraints_) {
-        if (fold && j.warmStartInTree) continue;
-        SolverBody& a = bodies_[j.bodyA];
-        SolverBody& b = bodies_[j.bodyB];
+    forEachJointByColour(identity_.data(), colourStart_.data(), [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
+        if (fold && j.warmStartInTree) return;
         switch (j.type) {
             case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
             case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
@@ -285,7 +343,7 @@ void JointSolver::warmStart() {
             case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
             case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
         }
-    }
+    });
 }
 
 void JointSolver::solve(bool useBias) {
@@ -296,10 +354,7 @@ void JointSolver::solve(bool useBias) {
         refreshRotations();
         refreshedSincePositions_ = true;
     }
-    for (const std::uint32_t index : rowJoints_) {
-        JointConstraint& j = constraints_[index];
-        SolverBody& a = bodies_[j.bodyA];
-        SolverBody& b = bodies_[j.bodyB];
+    forEachJointByColour(rowJoints_.data(), rowColourStart_.data(), [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
         switch (j.type) {
             case JointType::Ball: solveBall(j, a, b, ctx_); break;
             case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
@@ -308,10 +363,24 @@ void JointSolver::solve(bool useBias) {
             case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
             case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
         }
-    }
+    });
     // The point rows of joint trees last, solved exactly, so they have the
     // final word on the anchors (the error users see).
-    if (!trees_.empty()) trees_.solve(constraints_, bodies_, ctx_);
+    if (!trees_.empty()) solveTrees();
+}
+
+void JointSolver::solveTrees() {
+    // Trees share no moving body, so they run side by side (the tree solver
+    // never writes a static or kinematic end they may share).
+    const bool refactor = trees_.beginPass(ctx_.useBias);
+    const auto count = static_cast<std::uint32_t>(trees_.treeCount());
+    if (tasks_ == nullptr || tasks_->workerCount() == 1 || count < 2 * kTreesPerTask) {
+        trees_.solveTrees(0, count, constraints_, bodies_, ctx_, refactor);
+        return;
+    }
+    tasks_->parallelFor(count, kTreesPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        trees_.solveTrees(begin, end, constraints_, bodies_, ctx_, refactor);
+    });
 }
 
 namespace {

@@ -13,8 +13,9 @@
 //
 // Order: joints before contacts in every pass (Box2D v3's order). Joints are
 // graph-coloured on their own (greedy, creation order; contacts have their
-// colouring in the contact solver) and solved colour by colour, so a colour
-// can later run on several threads or SIMD lanes with the same result.
+// colouring in the contact solver) and solved colour by colour: a large
+// colour runs across the task system with the same result, and so do the
+// joint trees, side by side (docs/threading.md, "Joints across the task system").
 // Point rows of joint trees (chains, ragdolls) are solved exactly by the tree
 // solver (joints/tree_solver.hpp) after the Gauss-Seidel rows of each pass.
 #include <cstdint>
@@ -89,6 +90,14 @@ private:
     // anchor separation, four joints at a time in SIMD lanes (false: all
     // within the slop, the pass would move nothing).
     bool anyBeyondSlop(const WorldImpl& w, Real slop) const;
+    // The joints of each colour across the task system (docs/threading.md,
+    // "Joints"): kernel(constraintIndex, a, b) for the constraints
+    // indices[first[c] .. first[c + 1]) of every colour c in order, where a
+    // range of one colour may run beside another range of it. A static or
+    // kinematic end is passed as a copy (see forEachJointByColour).
+    template <class Kernel>
+    void forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel);
+    void solveTrees();
     // What the colouring and the joint trees depend on, per constraint in
     // creation order (prepare() compares it with the last step's and, if
     // equal, keeps both): the joint, its solver bodies and type, and whether
@@ -106,6 +115,9 @@ private:
     std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
     std::vector<std::uint8_t> bodyHasRows_;  // per solver body: a dynamic end of one of rowJoints_
+    std::vector<std::uint32_t> rowColourStart_;  // rowJoints_ of colour c: [rowColourStart_[c], rowColourStart_[c + 1])
+    std::vector<std::uint32_t> identity_;  // 0, 1, 2, ...: the constraints themselves, for forEachJointByColour
+    TaskSystem* tasks_ = nullptr;  // this step's; one worker: everything runs in order on the caller
     std::vector<std::uint64_t> colourBits_;
     // refreshRotations' cache, per solver body: the deltas its rotation was
     // computed from, the rotation, and the refresh (generation_) at which its

@@ -389,12 +389,12 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     treeStart_.push_back(static_cast<std::uint32_t>(nodes_.size()));
     if (factors_.size() < nodes_.size()) factors_.resize(nodes_.size());
     valid_.assign(trees_, 1);
+    for (const std::uint64_t k : guardTripsOf_) guardTripsPast_ += k;
+    guardTripsOf_.assign(trees_, 0);
     chain_.assign(trees_, 0);
-    treeOfNode_.resize(nodes_.size());
     for (std::size_t t = 0; t < trees_; ++t) {
         bool chain = true;
         for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
-            treeOfNode_[i] = static_cast<std::uint32_t>(t);
             const Node& n = nodes_[i];
             const bool root = i + 1 == treeStart_[t + 1];
             chain = chain && n.joint && (root ? n.parent == kNone : n.parent != kNone && nodes_[n.parent].joint);
@@ -432,10 +432,27 @@ inline bool turnedTooFar(const Vec3& r, const Vec3& rf) {
     return lengthSquared(r - rf) > kTurn2 * lengthSquared(rf);
 }
 
+// applyPoint on the ends that move. A static or kinematic end (inverse mass 0)
+// is unchanged by the impulse but may be shared by trees that other threads
+// solve at the same time (JointTreeSolver::solveTrees): even writing its
+// unchanged value would be a data race, so it is not written at all. The
+// dynamic ends get exactly applyPoint's operations.
+inline void applyPointToMovingEnds(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& P) {
+    if (a.invMass > 0) {
+        a.v -= P * a.invMass;
+        a.w -= a.invI * cross(rA, P);
+    }
+    if (b.invMass > 0) {
+        b.v += P * b.invMass;
+        b.w += b.invI * cross(rB, P);
+    }
+}
+
 }  // namespace
 
-bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints,
-                                SolverBody* bodies, const JointContext& ctx, bool refactor, bool foldedWarmStart) {
+bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                const JointContext& ctx, bool refactor, bool foldedWarmStart) {
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
     // A reused factorization first checks that no anchor of the tree has
     // turned by more than kGuardTurn since it was made (the guard): a
     // stale K^-1 far from the current K may amplify instead of solve (a
@@ -466,7 +483,7 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
                 if (guard && (turnedTooFar(fr.rA, f.factorA) || turnedTooFar(fr.rB, f.factorB))) {
                     guard = false;
                     refactor = true;
-                    ++guardTrips_;
+                    ++guardTripsOf_[tree];
                     again = true;  // the blocks are built parents first: start again
                     break;
                 }
@@ -520,12 +537,11 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             }
         }
     } while (again);
-    if (refactor) ++factorizations_;
     // A chain (every node a joint, each below the next through a contracted
     // body; the root, last, has no parent): the same operations as the
     // general loops below without asking each node's kind (chain benchmark,
     // callgrind 600 steps: see docs/joints.md, fifth round; same bits).
-    if (chain_[treeOf(begin)]) {
+    if (chain_[tree]) {
         const std::uint32_t root = end - 1;
         if (refactor) {
             for (std::uint32_t i = begin; i < root; ++i) {
@@ -590,12 +606,12 @@ bool JointTreeSolver::solveTree(std::uint32_t begin, std::uint32_t end, std::vec
             // same total, applied at once, and the new accumulated impulse.
             d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
             j.impulse.linear = d;
-            applyPoint(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
+            applyPointToMovingEnds(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
             continue;
         }
         if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
         j.impulse.linear += d;
-        applyPoint(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
+        applyPointToMovingEnds(bodies[j.bodyA], bodies[j.bodyB], f.rA, f.rB, d);
     }
     return true;
 }
@@ -717,7 +733,11 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
     // with the current anchors in the residual and the impulses: the anchors
     // turn by at most a sub-step's rotation in between, and the factorization
     // is 60 % of the solve (ragdoll pile: measured in docs/joints.md).
-    //
+    const bool refactor = beginPass(ctx.useBias);
+    solveTrees(0, static_cast<std::uint32_t>(treeCount()), joints, bodies, ctx, refactor);
+}
+
+bool JointTreeSolver::beginPass(bool useBias) {
     // Since issue 8's fifth round the factorization is also reused across
     // one position update in either direction: a relax pass follows the
     // sub-step's position update, and its anchors are exactly those of the
@@ -728,20 +748,26 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
     // (3 factorizations per step instead of 5), and no pass sees anchors more
     // than one position update old, the staleness the relax pass always had.
     // Plus the guard in solveTree. Figures in docs/joints.md, fifth round.
-    if (!ctx.useBias) ++factorAge_;  // a relax pass: the positions moved since the last pass
+    if (!useBias) ++factorAge_;  // a relax pass: the positions moved since the last pass
     const bool refactor = !factored_ || factorAge_ >= maxFactorAge_;
     if (refactor) {
         factored_ = true;
         factorAge_ = 0;
+        factorizations_ += trees_;
         std::fill(valid_.begin(), valid_.end(), std::uint8_t{1});  // singular trees try again
     }
     // The warm start folded into this pass (the sub-step's first biased one).
-    const bool fold = ctx.useBias && firstBiasedPass_ && foldWarmStart_;
-    if (ctx.useBias) firstBiasedPass_ = false;
-    for (std::size_t t = 0; t + 1 < treeStart_.size(); ++t) {
+    foldThisPass_ = useBias && firstBiasedPass_ && foldWarmStart_;
+    if (useBias) firstBiasedPass_ = false;
+    return refactor;
+}
+
+void JointTreeSolver::solveTrees(std::uint32_t firstTree, std::uint32_t endTree, std::vector<JointConstraint>& joints,
+                                 SolverBody* bodies, const JointContext& ctx, bool refactor) {
+    for (std::uint32_t t = firstTree; t < endTree; ++t) {
         const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
-        const bool folded = fold && warmFree_[t];
-        if (valid_[t] && solveTree(begin, end, joints, bodies, ctx, refactor, folded)) continue;
+        const bool folded = foldThisPass_ && warmFree_[t];
+        if (valid_[t] && solveTree(t, joints, bodies, ctx, refactor, folded)) continue;
         valid_[t] = 0;  // singular: Gauss-Seidel until the next factorization
         // Singular (degenerate geometry): this pass falls back to Gauss-Seidel blocks.
         for (std::uint32_t i = begin; i < end; ++i) {
@@ -749,10 +775,15 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
             JointConstraint& j = joints[nodes_[i].ref];
             const JointFrame& fr = currentFrame(j, bodies[j.bodyA], bodies[j.bodyB], ctx);
             // The warm start it skipped (solveTree fails before applying anything).
-            if (folded) applyPoint(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, j.impulse.linear);
+            if (folded) applyPointToMovingEnds(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, j.impulse.linear);
             const Mat3 K = pointInverseMass(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB);
             if (!(determinant(K) > 0)) continue;
-            solvePointBlock(bodies[j.bodyA], bodies[j.bodyB], fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));
+            // On copies of a static or kinematic end (unchanged by the impulse, and
+            // maybe shared with a tree another thread solves: never written).
+            SolverBody copyA, copyB;
+            SolverBody& a = bodies[j.bodyA].invMass > 0 ? bodies[j.bodyA] : (copyA = bodies[j.bodyA]);
+            SolverBody& b = bodies[j.bodyB].invMass > 0 ? bodies[j.bodyB] : (copyB = bodies[j.bodyB]);
+            solvePointBlock(a, b, fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));
         }
     }
 }

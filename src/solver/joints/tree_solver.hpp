@@ -66,6 +66,15 @@ public:
     void reuse(std::vector<JointConstraint>& joints);
     // One exact pass over every tree's point rows (biased or relax, ctx.useBias).
     void solve(std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx);
+    // The same pass in pieces, for the task system: beginPass() once, then
+    // solveTrees() over disjoint ranges of [0, treeCount()) in any order or
+    // concurrently (trees share no moving body; a static or kinematic end they
+    // share is never written). Same results as solve().
+    // beginPass() decides whether the pass factors (the reuse schedule below)
+    // and whether it takes the folded warm start; returns the former.
+    bool beginPass(bool useBias);
+    void solveTrees(std::uint32_t firstTree, std::uint32_t endTree, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                    const JointContext& ctx, bool refactor);
     bool empty() const { return nodes_.empty(); }
     // The trees whose warm start may be folded into their first biased pass
     // of a sub-step: only frictionless ball joints, and no body of theirs in a
@@ -95,8 +104,12 @@ public:
     static constexpr int kDefaultMaxFactorAge = 2;
     static constexpr double kGuardTurn = 0.1;  // rad (relative anchor change)
     // Counters (tests, benchmarks): trees factored, and guard trips among them.
-    std::uint64_t factorizations() const { return factorizations_; }
-    std::uint64_t guardTrips() const { return guardTrips_; }
+    std::uint64_t factorizations() const { return factorizations_ + guardTrips(); }
+    std::uint64_t guardTrips() const {
+        std::uint64_t n = guardTripsPast_;
+        for (const std::uint64_t k : guardTripsOf_) n += k;
+        return n;
+    }
 
 private:
     static constexpr std::uint32_t kNone = UINT32_MAX;
@@ -135,8 +148,8 @@ private:
     void forwardChainJoint(std::uint32_t node);
     void backSubstituteChainJoint(std::uint32_t node);
     void findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
-    bool solveTree(std::uint32_t begin, std::uint32_t end, std::vector<JointConstraint>& joints, SolverBody* bodies,
-                   const JointContext& ctx, bool refactor, bool foldedWarmStart);
+    bool solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
+                   bool refactor, bool foldedWarmStart);
 
     std::vector<Node> nodes_;       // elimination order: every tree's children before its parents
     std::vector<Factor> factors_;
@@ -145,9 +158,8 @@ private:
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
     std::vector<std::uint8_t> warmFree_;  // per tree: markWarmStartFree
     std::vector<std::uint8_t> chain_;     // per tree: a chain of joints (solveTree's loops without dispatch)
-    std::vector<std::uint32_t> treeOfNode_;
-    std::uint32_t treeOf(std::uint32_t node) const { return treeOfNode_[node]; }
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
+    bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
     // Position updates since the factorization (each relax pass follows one):
@@ -155,7 +167,11 @@ private:
     // position updates old (kMaxFactorAge).
     int factorAge_ = 0;
     int maxFactorAge_ = kDefaultMaxFactorAge;
-    std::uint64_t factorizations_ = 0, guardTrips_ = 0;
+    // Factorizations by the schedule; guard trips per tree (trees may be
+    // solved on several threads: each writes only its own), and those of
+    // earlier builds.
+    std::uint64_t factorizations_ = 0, guardTripsPast_ = 0;
+    std::vector<std::uint64_t> guardTripsOf_;
     // build() scratch
     std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, componentOf_;
     std::vector<std::uint32_t> bodies_, joints_, worldJoints_;
