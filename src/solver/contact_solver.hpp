@@ -26,7 +26,6 @@
 
 #include "fulcrum/math.hpp"
 #include "solver/contact_wide.hpp"
-#include "world/staged_parallel.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
@@ -37,6 +36,7 @@ namespace fulcrum::detail {
 
 class ContactManager;
 struct Contact;
+class StagedParallel;
 
 struct SolverBody {
     Vec3 v;                     // linear velocity of the centre of mass
@@ -93,7 +93,10 @@ struct SolverSettings {
 
 class ContactSolver {
 public:
-    ContactSolver() { setSimdPath(initialSimdPath()); }
+    ContactSolver();
+    ~ContactSolver();
+    ContactSolver(ContactSolver&&) noexcept;
+    ContactSolver& operator=(ContactSolver&&) noexcept;
     // Grows the per-step buffers for `bodyCount` bodies (at body creation).
     void reserve(std::size_t bodyCount);
     // Builds solver bodies and constraints for the contacts with an awake body.
@@ -156,7 +159,7 @@ public:
     void runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last);
     // The step's stage list, kept here between steps so that its storage is
     // reused (no allocation per step).
-    StagedParallel& subStepStages() { return subStepStages_; }
+    StagedParallel& subStepStages() { return *subStepStages_; }
 
     std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
@@ -214,7 +217,7 @@ private:
     SimdPath simd_ = SimdPath::Scalar;           // set by the constructor
     bool wide_ = false;                          // simd_ != Scalar
     TaskSystem* tasks_ = nullptr;
-    StagedParallel subStepStages_;
+    std::unique_ptr<StagedParallel> subStepStages_;  // behind a pointer: only step.cpp needs its header
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };
