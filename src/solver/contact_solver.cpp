@@ -300,80 +300,49 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
         for (std::uint32_t b = blockStart_[c]; b < blockStart_[c + 1]; ++b) blockColour_[b] = c;
     }
 
-    // The lanes' inputs are staged (laneSources_, by slot) before the blocks
-    // are built from them.
+    // The lanes' inputs staged in colour order first, in pending (contact)
+    // order: the contacts are read one after another and the manifold reads
+    // are independent, so many are in flight at once. Built straight from the
+    // manifolds in colour order, the block build waited on the first read of
+    // each lane's manifold for ~40 % of its time (perf, 10,000-sphere pile).
     const std::uint32_t colouredCount = colourStart_[kColourCount];
     laneSources_.resize(colouredCount);
-    const auto stageLane = [&](std::size_t pi, std::uint32_t slot) {
-        const PendingConstraint& pc = pending_[pi];
-        const Contact& contact = contacts[pc.contact];
-        const CachedManifold& m = contact.manifolds[pc.manifold];
-        LaneSource& lane = laneSources_[slot];
-        lane.normal = m.normal;
-        lane.pointCount = m.pointCount;
-        lane.frictionImpulse = m.frictionImpulse;
-        lane.twistImpulse = m.twistImpulse;
-        lane.rollingImpulse = m.rollingImpulse;
-        lane.bodyA = pc.bodyA;
-        lane.bodyB = pc.bodyB;
-        lane.contact = pc.contact;
-        lane.manifoldIndex = pc.manifold;
-        lane.friction = contact.friction;
-        lane.restitution = contact.restitution;
-        lane.rollingResistance = contact.rollingResistance;
-        for (std::uint32_t i = 0; i < m.pointCount; ++i) {
-            lane.points[i].position = m.points[i].position;
-            lane.points[i].depth = m.points[i].depth;
-            lane.points[i].normalImpulse = m.points[i].normalImpulse;
+    forRanges(pending_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t pi = begin; pi < end; ++pi) {
+            const std::uint32_t slot = slotOf_[pi];
+            if (slot >= colouredCount) continue;
+            const PendingConstraint& pc = pending_[pi];
+            const Contact& contact = contacts[pc.contact];
+            const CachedManifold& m = contact.manifolds[pc.manifold];
+            LaneSource& lane = laneSources_[slot];
+            lane.normal = m.normal;
+            lane.pointCount = m.pointCount;
+            lane.frictionImpulse = m.frictionImpulse;
+            lane.twistImpulse = m.twistImpulse;
+            lane.rollingImpulse = m.rollingImpulse;
+            lane.bodyA = pc.bodyA;
+            lane.bodyB = pc.bodyB;
+            lane.contact = pc.contact;
+            lane.manifoldIndex = pc.manifold;
+            lane.friction = contact.friction;
+            lane.restitution = contact.restitution;
+            lane.rollingResistance = contact.rollingResistance;
+            for (std::uint32_t i = 0; i < m.pointCount; ++i) {
+                lane.points[i].position = m.points[i].position;
+                lane.points[i].depth = m.points[i].depth;
+                lane.points[i].normalImpulse = m.points[i].normalImpulse;
+            }
         }
-    };
-    const auto firstSlotOf = [&](std::size_t bi) {
-        const std::uint32_t c = blockColour_[bi];
-        return colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
-    };
-    const auto buildBlocks = [&](std::size_t begin, std::size_t end) {
+    });
+    forRanges(blocks, kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t bi = begin; bi < end; ++bi) {
-            const std::uint32_t first = firstSlotOf(bi);
-            const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[blockColour_[bi] + 1]);
+            const std::uint32_t c = blockColour_[bi];
+            const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
+            const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
             wideBlocks.build(bi, laneSources_.data() + first, static_cast<int>(last - first), bodies_.data(),
                              startCom_.data(), contactSoftness_, staticSoftness_);
         }
-    };
-    if (tasks_ == nullptr || tasks_->workerCount() == 1 || blocks < 2 * std::size_t{kBlocksPerBuildTask}) {
-        // One thread: staged in pending (contact) order, so the contacts are
-        // read one after another and the manifold reads are independent, many
-        // in flight at once. Built straight from the manifolds in colour order,
-        // the block build waited on the first read of each lane's manifold for
-        // ~40 % of its time (perf, 10,000-sphere pile).
-        for (std::size_t pi = 0; pi < pending_.size(); ++pi) {
-            const std::uint32_t slot = slotOf_[pi];
-            if (slot < colouredCount) stageLane(pi, slot);
-        }
-        buildBlocks(0, blocks);
-    } else {
-        // Several threads: each range of blocks stages its own lanes (slots in
-        // colour order, the contacts prefetched ahead) and then builds them, so
-        // the lane sources never leave the core that built them. Staged in a
-        // separate call in pending order, half of each block's lanes had been
-        // written by the other core and the build of box_pile at 2 threads took
-        // longer than at one (wall time inside that call, same run: 38-47 ms
-        // against 72-77 ms over 270 steps).
-        forRanges(blocks, kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
-            const std::uint32_t firstSlot = firstSlotOf(begin);
-            const std::uint32_t lastSlot =
-                std::min<std::uint32_t>(firstSlotOf(end - 1) + kWideLanes, colourStart_[blockColour_[end - 1] + 1]);
-            constexpr std::uint32_t kAhead = 16;
-            for (std::uint32_t slot = firstSlot; slot < lastSlot; ++slot) {
-                if (slot + kAhead < lastSlot) prefetchContact(contacts[pending_[pendingOfSlot_[slot + kAhead]].contact]);
-                if (slot + kAhead / 2 < lastSlot) {
-                    const PendingConstraint& ahead = pending_[pendingOfSlot_[slot + kAhead / 2]];
-                    prefetchManifold(contacts[ahead.contact].manifolds.data() + ahead.manifold);
-                }
-                stageLane(pendingOfSlot_[slot], slot);
-            }
-            buildBlocks(begin, end);
-        });
-    }
+    });
 
     const std::uint32_t overflow = colourStart_[kColourCount];
     constraints_.resize(pending_.size() - overflow);
