@@ -8,6 +8,7 @@
 #include "fulcrum/task_system.hpp"
 #include "solver/contact.hpp"
 #include "solver/contact_manager.hpp"
+#include "world/staged_parallel.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
@@ -88,6 +89,11 @@ Vec3 stepRotationVector(const Quat& q) {
 }
 
 }  // namespace
+
+ContactSolver::ContactSolver() : subStepStages_(std::make_unique<StagedParallel>()) { setSimdPath(initialSimdPath()); }
+ContactSolver::~ContactSolver() = default;
+ContactSolver::ContactSolver(ContactSolver&&) noexcept = default;
+ContactSolver& ContactSolver::operator=(ContactSolver&&) noexcept = default;
 
 void ContactSolver::reserve(std::size_t bodyCount) {
     const auto grow = [](auto& v, std::size_t n) {
@@ -571,6 +577,41 @@ void ContactSolver::forEachColour(Kernel&& kernel) {
         tasks_->parallelFor(count, kBlocksPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
             kernel(std::size_t{first} + begin, std::size_t{end - begin});
         });
+    }
+}
+
+// A stage's arg: the pass (bits 0-1) and whether it is the overflow/scalar part (bit 2).
+constexpr std::uint32_t kOverflowStage = 4;
+
+std::uint32_t ContactSolver::maxPassStages() { return kColourCount + 1; }
+
+void ContactSolver::addPassStages(StagedParallel& stages, std::uint32_t kind, Pass pass) const {
+    const auto p = static_cast<std::uint32_t>(pass);
+    if (wide_) {
+        for (std::uint32_t c = 0; c < kColourCount; ++c) {
+            const std::uint32_t first = blockStart_[c], count = blockStart_[c + 1] - first;
+            stages.add(kind, p, first, count, kBlocksPerTask);
+        }
+    }
+    if (!constraints_.empty()) stages.add(kind, p | kOverflowStage, 0, 1, 1);
+}
+
+void ContactSolver::runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last) {
+    const auto pass = static_cast<Pass>(arg & 3);
+    if ((arg & kOverflowStage) != 0) {
+        if (pass == Pass::WarmStart) {
+            warmStartRange(0, constraints_.size());
+        } else if (pass == Pass::Solve) {
+            solvePass<true>(0, constraints_.size());
+        } else {
+            solvePass<false>(0, constraints_.size());
+        }
+        return;
+    }
+    if (pass == Pass::WarmStart) {
+        blocks_->warmStart(first, last - first, bodies_.data());
+    } else {
+        blocks_->solve(first, last - first, bodies_.data(), pass == Pass::Solve, invH_, pushMax_);
     }
 }
 

@@ -36,6 +36,7 @@ namespace fulcrum::detail {
 
 class ContactManager;
 struct Contact;
+class StagedParallel;
 
 struct SolverBody {
     Vec3 v;                     // linear velocity of the centre of mass
@@ -92,7 +93,10 @@ struct SolverSettings {
 
 class ContactSolver {
 public:
-    ContactSolver() { setSimdPath(initialSimdPath()); }
+    ContactSolver();
+    ~ContactSolver();
+    ContactSolver(ContactSolver&&) noexcept;
+    ContactSolver& operator=(ContactSolver&&) noexcept;
     // Grows the per-step buffers for `bodyCount` bodies (at body creation).
     void reserve(std::size_t bodyCount);
     // Builds solver bodies and constraints for the contacts with an awake body.
@@ -140,6 +144,22 @@ public:
     // The most blocks any colour has this step (a colour is split across
     // threads from 8 blocks on: kBlocksPerTask in contact_solver.cpp).
     std::size_t largestColourBlocks() const;
+
+    // ---- The staged sub-steps (step.cpp runs a step's solver passes and
+    // per-body passes as the stages of one parallelFor: world/staged_parallel.hpp).
+    // Appends one pass (warm start, solve with bias, or relax) as stages:
+    // one per non-empty colour of wide blocks (units of kBlocksPerTask blocks,
+    // independent: a colour's blocks share no dynamic body), then the
+    // overflow colour (or, in scalar mode, every constraint) as one unit. The
+    // same operations in the same order as warmStart() / solve(), so the same bits.
+    enum class Pass : std::uint32_t { WarmStart = 0, Solve = 1, Relax = 2 };
+    void addPassStages(StagedParallel& stages, std::uint32_t kind, Pass pass) const;
+    static std::uint32_t maxPassStages();  // the most stages addPassStages appends
+    // Runs items [first, last) of a stage added above (its arg).
+    void runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last);
+    // The step's stage list, kept here between steps so that its storage is
+    // reused (no allocation per step).
+    StagedParallel& subStepStages() { return *subStepStages_; }
 
     std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
@@ -197,6 +217,7 @@ private:
     SimdPath simd_ = SimdPath::Scalar;           // set by the constructor
     bool wide_ = false;                          // simd_ != Scalar
     TaskSystem* tasks_ = nullptr;
+    std::unique_ptr<StagedParallel> subStepStages_;  // behind a pointer: only step.cpp needs its header
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };
