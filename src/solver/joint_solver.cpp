@@ -170,11 +170,6 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         while (row < rowJoints_.size() && rowJoints_[row] < start) ++row;
         rowColourStart_[c] = static_cast<std::uint32_t>(row);
     }
-    if (identity_.size() < constraints_.size()) {
-        const std::size_t from = identity_.size();
-        identity_.resize(std::max(constraints_.size(), 2 * from));
-        for (std::size_t i = from; i < identity_.size(); ++i) identity_[i] = static_cast<std::uint32_t>(i);
-    }
 }
 
 bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
@@ -295,7 +290,7 @@ void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::
         // The overflow colour (the last) runs in order; so does a small colour.
         if (!parallel || c + 1 == colours || count < kMinJointsForTasks) {
             for (std::uint32_t k = begin; k < begin + count; ++k) {
-                JointConstraint& j = constraints_[indices[k]];
+                JointConstraint& j = constraints_[indices != nullptr ? indices[k] : k];
                 kernel(j, bodies_[j.bodyA], bodies_[j.bodyB]);
             }
             continue;
@@ -308,7 +303,7 @@ void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::
             // the same operations as in order, so the same bits.
             SolverBody copyA, copyB;
             for (std::uint32_t k = begin + rangeBegin; k < begin + rangeEnd; ++k) {
-                JointConstraint& j = constraints_[indices[k]];
+                JointConstraint& j = constraints_[indices != nullptr ? indices[k] : k];
                 SolverBody& a = bodies_[j.bodyA].invMass > 0 ? bodies_[j.bodyA] : (copyA = bodies_[j.bodyA]);
                 SolverBody& b = bodies_[j.bodyB].invMass > 0 ? bodies_[j.bodyB] : (copyB = bodies_[j.bodyB]);
                 kernel(j, a, b);
@@ -333,7 +328,7 @@ void JointSolver::warmStart() {
     // per joint. Chain benchmark: 3 of 5 sub-steps (docs/joints.md, fifth round).
     const bool fold = trees_.nextBiasedPassExact();
     trees_.newSubstep(fold);
-    forEachJointByColour(identity_.data(), colourStart_.data(), [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
+    forEachJointByColour(nullptr, colourStart_.data(), [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
         if (fold && j.warmStartInTree) return;
         switch (j.type) {
             case JointType::Ball: warmStartBall(j, a, b, ctx_); break;

@@ -91,8 +91,9 @@ private:
     // within the slop, the pass would move nothing).
     bool anyBeyondSlop(const WorldImpl& w, Real slop) const;
     // The joints of each colour across the task system (docs/threading.md,
-    // "Joints"): kernel(constraintIndex, a, b) for the constraints
-    // indices[first[c] .. first[c + 1]) of every colour c in order, where a
+    // "Joints"): kernel(constraint, a, b) for the constraints
+    // indices[first[c] .. first[c + 1]) of every colour c in order (indices
+    // nullptr: the constraints themselves, first[c] .. first[c + 1]), where a
     // range of one colour may run beside another range of it. A static or
     // kinematic end is passed as a copy (see forEachJointByColour).
     template <class Kernel>
@@ -116,7 +117,6 @@ private:
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
     std::vector<std::uint8_t> bodyHasRows_;  // per solver body: a dynamic end of one of rowJoints_
     std::vector<std::uint32_t> rowColourStart_;  // rowJoints_ of colour c: [rowColourStart_[c], rowColourStart_[c + 1])
-    std::vector<std::uint32_t> identity_;  // 0, 1, 2, ...: the constraints themselves, for forEachJointByColour
     TaskSystem* tasks_ = nullptr;  // this step's; one worker: everything runs in order on the caller
     std::vector<std::uint64_t> colourBits_;
     // refreshRotations' cache, per solver body: the deltas its rotation was

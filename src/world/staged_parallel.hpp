@@ -161,24 +161,16 @@ private:
         // synchronisation: a range runs after the call that hands it out).
     }
 
-    // Claims the unit at the front of the span (the owner's end); UINT32_MAX if empty.
-    static std::uint32_t claimFront(SpanWord& target) {
+    // Claims a unit of the span: its front (the owner's end) or its back (a
+    // thief's end); UINT32_MAX if the span is empty.
+    static std::uint32_t claim(SpanWord& target, bool front) {
         std::uint64_t word = target.load(std::memory_order_relaxed);
         for (;;) {
             const auto next = static_cast<std::uint32_t>(word);
             const auto end = static_cast<std::uint32_t>(word >> 32);
             if (next >= end) return UINT32_MAX;
-            if (target.compare_exchange_weak(word, pack(next + 1, end), std::memory_order_relaxed)) return next;
-        }
-    }
-    // Claims the unit at the back of the span (a thief's end).
-    static std::uint32_t claimBack(SpanWord& target) {
-        std::uint64_t word = target.load(std::memory_order_relaxed);
-        for (;;) {
-            const auto next = static_cast<std::uint32_t>(word);
-            const auto end = static_cast<std::uint32_t>(word >> 32);
-            if (next >= end) return UINT32_MAX;
-            if (target.compare_exchange_weak(word, pack(next, end - 1), std::memory_order_relaxed)) return end - 1;
+            const std::uint64_t rest = front ? pack(next + 1, end) : pack(next, end - 1);
+            if (target.compare_exchange_weak(word, rest, std::memory_order_relaxed)) return front ? next : end - 1;
         }
     }
 
@@ -197,10 +189,10 @@ private:
                 exec(st, first, last);
             };
             std::uint32_t ran = 0;
-            for (std::uint32_t u; (u = claimFront(span(self, s))) != UINT32_MAX; ++ran) runUnit(u);
+            for (std::uint32_t u; (u = claim(span(self, s), true)) != UINT32_MAX; ++ran) runUnit(u);
             for (std::uint32_t k = 1; k < workers; ++k) {
                 SpanWord& victim = span((self + k) % workers, s);
-                for (std::uint32_t u; (u = claimBack(victim)) != UINT32_MAX; ++ran) runUnit(u);
+                for (std::uint32_t u; (u = claim(victim, false)) != UINT32_MAX; ++ran) runUnit(u);
             }
             // Release what this participant wrote; then wait for the units others
             // are still running (all are claimed, so their runners are running).
