@@ -138,6 +138,8 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     const std::size_t wantMarks = contacts_.capacity() / 64 + 1;
     if (marks_.capacity() < wantMarks) marks_.reserve(wantMarks);
     marks_.resize(contacts_.size() / 64 + 1, 0);
+    if (awakeMarks_.capacity() < wantMarks) awakeMarks_.reserve(wantMarks);
+    awakeMarks_.resize(contacts_.size() / 64 + 1, 0);
     if (aliveBits_.capacity() < wantMarks) aliveBits_.reserve(wantMarks);
     if (flaggedWords_.capacity() < wantMarks) flaggedWords_.reserve(wantMarks);
     aliveBits_.resize(contacts_.size() / 64 + 1, 0);
@@ -216,6 +218,7 @@ std::uint32_t ContactManager::createContact(WorldImpl& w, std::uint32_t slotA, s
         contacts_.back().manifolds.reserve(1);
         links_.resize(contacts_.size());
         marks_.resize(contacts_.size() / 64 + 1, 0);
+        awakeMarks_.resize(contacts_.size() / 64 + 1, 0);
         aliveBits_.resize(contacts_.size() / 64 + 1, 0);
     }
     Contact& c = contacts_[index];
@@ -277,6 +280,7 @@ void ContactManager::rebuildLinks() {
     headOfSlot_.assign(proxyOfSlot_.size(), UINT32_MAX);
     links_.assign(contacts_.size(), ContactLinks{});
     marks_.resize(contacts_.size() / 64 + 1, 0);
+    awakeMarks_.resize(contacts_.size() / 64 + 1, 0);
     aliveBits_.assign(contacts_.size() / 64 + 1, 0);
     for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
         if (contacts_[i].alive) {
@@ -323,6 +327,31 @@ void ContactManager::gatherActiveContacts(const WorldImpl& w) {
             activeContacts_.push_back(static_cast<std::uint32_t>(word * 64 + bit));
         }
     }
+}
+
+bool ContactManager::contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out) {
+    if (linksRebuild_ || 2 * w.awakeBodies.size() >= w.motion.size()) return false;
+    out.clear();
+    for (const std::uint32_t d : w.awakeBodies) {
+        for (std::uint32_t key = headOfSlot_[w.denseToSlot[d]]; key != kNoKey;) {
+            const std::uint32_t i = contactOfKey(key);
+            awakeMarks_[i >> 6] |= std::uint64_t(1) << (i & 63);
+            key = links_[i].next[endOfKey(key)];
+        }
+    }
+    // Ascending from the bitmap, clearing it as it goes.
+    for (std::size_t word = 0; word < awakeMarks_.size(); ++word) {
+        std::uint64_t bits = awakeMarks_[word];
+        if (bits == 0) continue;
+        awakeMarks_[word] = 0;
+        bits &= aliveBits_[word];
+        while (bits != 0) {
+            const auto bit = static_cast<std::uint32_t>(std::countr_zero(bits));
+            bits &= bits - 1;
+            out.push_back(static_cast<std::uint32_t>(word * 64 + bit));
+        }
+    }
+    return true;
 }
 
 void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
