@@ -145,6 +145,7 @@ private:
     std::vector<std::uint64_t> awakeMarks_;   // one bit per contact: contactsOfAwakeBodies' scratch (all zero between calls)
     std::vector<std::uint64_t> aliveBits_;    // one bit per contact: alive (valid when !linksRebuild_)
     std::vector<std::uint8_t> proxyMoves_;    // per awake body: its tight box left its fat box (update())
+    std::vector<AABB> movedFrom_;             // per awake body that moved: its fat box before (update())
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending (made before it)
     std::vector<std::uint32_t> newContacts_;     // the contacts this update made, ascending
     std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending
