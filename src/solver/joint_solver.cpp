@@ -29,6 +29,29 @@ void JointSolver::reserve(std::size_t jointCount) {
     if (rowJoints_.capacity() < jointCount) rowJoints_.reserve(2 * jointCount);
     if (structure_.capacity() < jointCount) structure_.reserve(2 * jointCount);
     if (nextStructure_.capacity() < jointCount) nextStructure_.reserve(2 * jointCount);
+    const auto grow = [](auto& v, std::size_t n) {
+        if (v.capacity() < n) v.reserve(2 * n);
+    };
+    grow(isWide_, jointCount);
+    grow(wideJoints_, jointCount);
+    grow(scalarJoints_, jointCount);
+    grow(scalarRows_, jointCount);
+    grow(wideJointStart_, kColourCount + 2);
+    grow(wideBlockStart_, kColourCount + 2);
+    grow(scalarJointStart_, kColourCount + 2);
+    grow(scalarRowStart_, kColourCount + 2);
+    reservedJoints_ = std::max(reservedJoints_, jointCount);
+    if (wide_) wide_->reserve(jointCount / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
+}
+
+SimdPath JointSolver::setSimdPath(SimdPath path) {
+    if (path == SimdPath::Avx2 && !(avx2Available() && avx2JointKernelsCompiled())) path = SimdPath::Sse2;
+    simd_ = path;
+    if (path != SimdPath::Scalar && (!wide_ || wide_->path() != path)) {
+        wide_ = makeWideBallJoints(path);
+        wide_->reserve(reservedJoints_ / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
+    }
+    return simd_;
 }
 
 void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
@@ -170,6 +193,66 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         while (row < rowJoints_.size() && rowJoints_[row] < start) ++row;
         rowColourStart_[c] = static_cast<std::uint32_t>(row);
     }
+    buildWide();
+}
+
+void JointSolver::buildWide() {
+    wideJoints_.clear();
+    wideJointStart_.clear();
+    wideBlockStart_.clear();
+    scalarJoints_.clear();
+    scalarJointStart_.clear();
+    scalarRows_.clear();
+    scalarRowStart_.clear();
+    if (simd_ == SimdPath::Scalar || !wide_ || constraints_.empty()) return;
+    // Per colour but the overflow colour (the last, whose joints may share a
+    // body): its Gauss-Seidel frictionless ball joints in lanes, the rest on
+    // the scalar kernels. A colour's joints share no dynamic body, so solving
+    // its wide joints first and its others after gives the same bits as the
+    // colour in order.
+    const std::size_t colours = colourCount();
+    const auto lanes = static_cast<std::uint32_t>(wide_->lanes());
+    isWide_.assign(constraints_.size(), 0);
+    wideJointStart_.resize(colours + 1);
+    wideBlockStart_.resize(colours + 1);
+    scalarJointStart_.resize(colours + 1);
+    scalarRowStart_.resize(colours + 1);
+    std::uint32_t blocks = 0;
+    for (std::size_t c = 0; c < colours; ++c) {
+        wideJointStart_[c] = static_cast<std::uint32_t>(wideJoints_.size());
+        wideBlockStart_[c] = blocks;
+        scalarJointStart_[c] = static_cast<std::uint32_t>(scalarJoints_.size());
+        const bool overflow = c + 1 == colours;
+        for (std::uint32_t k = colourStart_[c]; k < colourStart_[c + 1]; ++k) {
+            const JointConstraint& j = constraints_[k];
+            if (!overflow && j.type == JointType::Ball && !j.direct && !(j.maxFrictionImpulse > 0)) {
+                isWide_[k] = 1;
+                wideJoints_.push_back(k);
+            } else {
+                scalarJoints_.push_back(k);
+            }
+        }
+        blocks += (static_cast<std::uint32_t>(wideJoints_.size()) - wideJointStart_[c] + lanes - 1) / lanes;
+    }
+    wideJointStart_[colours] = static_cast<std::uint32_t>(wideJoints_.size());
+    wideBlockStart_[colours] = blocks;
+    scalarJointStart_[colours] = static_cast<std::uint32_t>(scalarJoints_.size());
+    for (std::size_t c = 0; c < colours; ++c) {
+        scalarRowStart_[c] = static_cast<std::uint32_t>(scalarRows_.size());
+        for (std::uint32_t r = rowColourStart_[c]; r < rowColourStart_[c + 1]; ++r) {
+            if (!isWide_[rowJoints_[r]]) scalarRows_.push_back(rowJoints_[r]);
+        }
+    }
+    scalarRowStart_[colours] = static_cast<std::uint32_t>(scalarRows_.size());
+    wide_->resize(blocks);
+    for (std::size_t c = 0; c < colours; ++c) {
+        std::uint32_t next = wideJointStart_[c];
+        for (std::uint32_t block = wideBlockStart_[c]; block < wideBlockStart_[c + 1]; ++block) {
+            const std::uint32_t count = std::min(lanes, wideJointStart_[c + 1] - next);
+            wide_->build(block, constraints_.data(), wideJoints_.data() + next, static_cast<int>(count), bodies_);
+            next += count;
+        }
+    }
 }
 
 bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
@@ -281,11 +364,25 @@ constexpr std::uint32_t kTreesPerTask = 4;
 
 }  // namespace
 
-template <class Kernel>
-void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel) {
+template <class Kernel, class WideKernel>
+void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel,
+                                       WideKernel&& wide) {
     const std::uint32_t colours = static_cast<std::uint32_t>(colourCount());
     const bool parallel = tasks_ != nullptr && tasks_->workerCount() > 1;
+    // Wide blocks in ranges of the same number of joints as the scalar ones.
+    const std::uint32_t blocksPerTask =
+        wideActive() ? std::max<std::uint32_t>(1, kJointsPerTask / static_cast<std::uint32_t>(wide_->lanes())) : 1;
     for (std::uint32_t c = 0; c < colours; ++c) {
+        if (wideActive()) {
+            const std::uint32_t firstBlock = wideBlockStart_[c], blocks = wideBlockStart_[c + 1] - firstBlock;
+            if (!parallel || blocks < 2 * blocksPerTask) {
+                if (blocks > 0) wide(firstBlock, blocks);
+            } else {
+                tasks_->parallelFor(blocks, blocksPerTask, [&](std::uint32_t rangeBegin, std::uint32_t rangeEnd, std::uint32_t) {
+                    wide(firstBlock + rangeBegin, rangeEnd - rangeBegin);
+                });
+            }
+        }
         const std::uint32_t begin = first[c], count = first[c + 1] - begin;
         // The overflow colour (the last) runs in order; so does a small colour.
         if (!parallel || c + 1 == colours || count < kMinJointsForTasks) {
@@ -328,17 +425,23 @@ void JointSolver::warmStart() {
     // per joint. Chain benchmark: 3 of 5 sub-steps (docs/joints.md, fifth round).
     const bool fold = trees_.nextBiasedPassExact();
     trees_.newSubstep(fold);
-    forEachJointByColour(nullptr, colourStart_.data(), [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
-        if (fold && j.warmStartInTree) return;
-        switch (j.type) {
-            case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
-            case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
-            case JointType::Slider: warmStartSlider(j, a, b, ctx_); break;
-            case JointType::Distance: warmStartDistance(j, a, b, ctx_); break;
-            case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
-            case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
-        }
-    });
+    const bool wide = wideActive();
+    forEachJointByColour(
+        wide ? scalarJoints_.data() : nullptr, wide ? scalarJointStart_.data() : colourStart_.data(),
+        [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
+            if (fold && j.warmStartInTree) return;
+            switch (j.type) {
+                case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
+                case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
+                case JointType::Slider: warmStartSlider(j, a, b, ctx_); break;
+                case JointType::Distance: warmStartDistance(j, a, b, ctx_); break;
+                case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
+                case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
+            }
+        },
+        [this](std::uint32_t firstBlock, std::uint32_t blocks) {
+            wide_->warmStart(firstBlock, blocks, bodies_, ctx_.rotations, ctx_.generation);
+        });
 }
 
 void JointSolver::solve(bool useBias) {
@@ -349,16 +452,22 @@ void JointSolver::solve(bool useBias) {
         refreshRotations();
         refreshedSincePositions_ = true;
     }
-    forEachJointByColour(rowJoints_.data(), rowColourStart_.data(), [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
-        switch (j.type) {
-            case JointType::Ball: solveBall(j, a, b, ctx_); break;
-            case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
-            case JointType::Slider: solveSlider(j, a, b, ctx_); break;
-            case JointType::Distance: solveDistance(j, a, b, ctx_); break;
-            case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
-            case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
-        }
-    });
+    const bool wide = wideActive();
+    forEachJointByColour(
+        wide ? scalarRows_.data() : rowJoints_.data(), wide ? scalarRowStart_.data() : rowColourStart_.data(),
+        [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
+            switch (j.type) {
+                case JointType::Ball: solveBall(j, a, b, ctx_); break;
+                case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
+                case JointType::Slider: solveSlider(j, a, b, ctx_); break;
+                case JointType::Distance: solveDistance(j, a, b, ctx_); break;
+                case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
+                case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
+            }
+        },
+        [this, useBias](std::uint32_t firstBlock, std::uint32_t blocks) {
+            wide_->solve(firstBlock, blocks, bodies_, ctx_.rotations, ctx_.generation, ctx_.soft, useBias);
+        });
     // The point rows of joint trees last, solved exactly, so they have the
     // final word on the anchors (the error users see).
     if (!trees_.empty()) solveTrees();
@@ -559,10 +668,13 @@ void JointSolver::store(WorldImpl& w) {
     // The reactions read each joint's frame: current after the last relax
     // pass (nothing is recomputed unless the deltas changed since).
     if (framesStale_ || !refreshedSincePositions_) refreshRotations();
+    if (wideActive()) wide_->store(constraints_.data());  // the lanes' impulses back into their joints
     for (JointConstraint& j : constraints_) {
         JointData& data = w.joints[j.slot];
         data.impulses = j.impulse;
-        currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
+        // A ball joint's reaction reads no frame (jointReaction): not
+        // recomputed for the joints the wide path kept no AoS frame for.
+        if (j.type != JointType::Ball) currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
         jointReaction(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_.invH, data.reactionForce, data.reactionTorque);
         const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
         if (force <= data.def.breakForce && torque <= data.def.breakTorque) continue;
