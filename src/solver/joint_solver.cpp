@@ -28,6 +28,7 @@ void JointSolver::reserve(std::size_t jointCount) {
     if (events_.capacity() < jointCount) events_.reserve(2 * jointCount);
     if (rowJoints_.capacity() < jointCount) rowJoints_.reserve(2 * jointCount);
     if (structure_.capacity() < jointCount) structure_.reserve(2 * jointCount);
+    if (projection_.capacity() < jointCount) projection_.reserve(2 * jointCount);
     if (nextStructure_.capacity() < jointCount) nextStructure_.reserve(2 * jointCount);
     const auto grow = [](auto& v, std::size_t n) {
         if (v.capacity() < n) v.reserve(2 * n);
@@ -285,7 +286,7 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructu
     const std::size_t n = constraints_.size();
     if (n == 0) {
         colourStart_.clear();
-        creationOrder_.clear();
+        projection_.clear();
         return;
     }
     // The same structure as the last step's gives the same colours (kept in colourOf_).
@@ -297,10 +298,14 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructu
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
     scratch_.resize(n);
-    creationOrder_.resize(n);
+    projection_.clear();
     for (std::size_t i = 0; i < n; ++i) {
-        creationOrder_[i] = cursor[colourOf_[i]];
-        scratch_[cursor[colourOf_[i]]++] = constraints_[i];
+        const std::uint32_t at = cursor[colourOf_[i]]++;  // its place in colour order
+        const JointConstraint& j = constraints_[i];
+        if (j.type != JointType::Slider) {
+            projection_.push_back({j.localAnchorA, j.denseA, j.localAnchorB, j.denseB, j.bodyA, j.bodyB, at, j.type});
+        }
+        scratch_[at] = j;
     }
     constraints_.swap(scratch_);
 }
@@ -543,7 +548,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     // fifth round; it was one scalar store per float into a staging array).
     // The lanes hold the same values as before, so the same decisions.
     static_assert(offsetof(BodyMotion, q) == offsetof(BodyMotion, com) + 3 * sizeof(float));
-    static_assert(offsetof(JointConstraint, localAnchorB) == offsetof(JointConstraint, localAnchorA) + 3 * sizeof(float));
+    static_assert(offsetof(ProjectionJoint, localAnchorB) == offsetof(ProjectionJoint, localAnchorA) + 4 * sizeof(float));
     static_assert(sizeof(Quat) == 4 * sizeof(float) && sizeof(Vec3) == 3 * sizeof(float));
     // A world end: centre 0 and the identity rotation (com x y z, q w x y z).
     alignas(16) static constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
@@ -563,7 +568,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     };
     const float* endA[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
     const float* endB[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
-    const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, then B (6 floats)
+    const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, denseA, B (7 floats)
     const auto end = [&](const float* const* ends, int anchorOffset, Float4& x, Float4& y, Float4& z) {
         Float4 cx, cy, cz, qw, ux, uy, uz, lx, ly, lz, unused;
         transpose(load(ends[0]), load(ends[1]), load(ends[2]), load(ends[3]), cx, cy, cz, unused);
@@ -579,7 +584,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     const auto beyond = [&](int count) {
         Float4 ax, ay, az, bx, by, bz;
         end(endA, 0, ax, ay, az);
-        end(endB, 3, bx, by, bz);
+        end(endB, 4, bx, by, bz);
         const Float4 dx = bx - ax, dy = by - ay, dz = bz - az;
         const Float4 e2 = dx * dx + dy * dy + dz * dz;
         for (int lane = 0; lane < count; ++lane) {
@@ -589,9 +594,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     };
     const auto motion = [&](std::uint32_t dense) { return dense == kNoIndex ? kWorldEnd : &w.motion[dense].com.x; };
     int lane = 0;
-    for (const std::uint32_t index : creationOrder_) {
-        const JointConstraint& j = constraints_[index];
-        if (j.type == JointType::Slider) continue;
+    for (const ProjectionJoint& j : projection_) {  // sliders left out
         if (j.type == JointType::Distance) return true;  // its own rule: the pass decides
         endA[lane] = motion(j.denseA);
         endB[lane] = motion(j.denseB);
@@ -613,9 +616,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
 
 bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
     bool moved = false;
-    for (const std::uint32_t index : creationOrder_) {
-        const JointConstraint& j = constraints_[index];
-        if (j.type == JointType::Slider) continue;
+    for (const ProjectionJoint& j : projection_) {  // sliders left out
         const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(w.motion[j.denseA].q, j.localAnchorA);
         const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : w.motion[j.denseA].com + rA;
         const Vec3 rB = rotate(w.motion[j.denseB].q, j.localAnchorB);
@@ -634,15 +635,16 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
         BodyMotion* mb = sb.invMass == 0 ? nullptr : &w.motion[j.denseB];
         Vec3 P;
         if (j.type == JointType::Distance) {
+            const JointConstraint& limits = constraints_[j.constraint];
             const Real len = length(d);
             if (len < Real(1e-6)) continue;
             Real C = 0;
-            if (j.rigidDistance) {
-                C = len - j.restLength;
-            } else if (len > j.upper) {
-                C = len - j.upper;
-            } else if (len < j.lower) {
-                C = len - j.lower;
+            if (limits.rigidDistance) {
+                C = len - limits.restLength;
+            } else if (len > limits.upper) {
+                C = len - limits.upper;
+            } else if (len < limits.lower) {
+                C = len - limits.lower;
             } else {
                 continue;
             }
