@@ -93,8 +93,10 @@ struct BallBlock {
     Vec3W impulse;                                 // JointImpulses::linear
 };
 
-// A body's solver state, gathered by whole rows (24 floats, simd.hpp's
-// gatherTransposed: 6 loads and transposes per lane).
+// A body's solver state, gathered by whole rows (simd.hpp's transposed
+// gathers: a 16-byte load per lane and 4 floats, then a transpose in
+// registers). Floats 8-11 (dp.y, dp.z, dtheta.x, dtheta.y) only where the
+// frame is recomputed (`deltas`): the other passes skip that load.
 struct BodyW {
     std::array<FloatW, 24> row;
     Vec3W v() const { return {row[0], row[1], row[2]}; }
@@ -104,8 +106,26 @@ struct BodyW {
     Mat3W invI() const { return {{row[13], row[14], row[15]}, {row[16], row[17], row[18]}, {row[19], row[20], row[21]}}; }
 };
 
+// `index` holds a solver body in every lane (empty lanes: body 0, never kEmptyLane).
+template <bool deltas>
 FULCRUM_JOINT_WIDE_INLINE BodyW gatherBody(const SolverBody* bodies, const std::uint32_t* index) {
-    return {FloatW::gatherTransposed<24>(bodies, index)};
+    const float* rows[kLanes];
+    for (int i = 0; i < kLanes; ++i) rows[i] = reinterpret_cast<const float*>(bodies + index[i]);
+    BodyW b;
+    const auto group = [&](std::size_t first) {
+        typename Policy::Reg regs[4];
+        const float* shifted[kLanes];
+        for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + first;
+        Policy::loadTransposed4(shifted, regs);
+        for (std::size_t c = 0; c < 4; ++c) b.row[first + c] = FloatW(regs[c]);
+    };
+    group(0);
+    group(4);
+    if constexpr (deltas) group(8);
+    group(12);
+    group(16);
+    group(20);
+    return b;
 }
 
 // Writes v and w back (floats 0-7 of each row; invMass and dp.x unchanged).
@@ -193,9 +213,10 @@ void warmStartBlocks(BallBlock* blocks, std::size_t count, SolverBody* bodies, c
                      std::uint64_t generation) {
     for (std::size_t bi = 0; bi < count; ++bi) {
         BallBlock& k = blocks[bi];
-        const BodyW a = gatherBody(bodies, k.bodyA);
-        const BodyW b = gatherBody(bodies, k.bodyB);
-        if (k.frameAt != generation) updateFrame(k, a, b, rotations, generation);
+        const bool stale = k.frameAt != generation;  // the first warm start of a step (later: the relax pass's frame)
+        const BodyW a = stale ? gatherBody<true>(bodies, k.bodyA) : gatherBody<false>(bodies, k.bodyA);
+        const BodyW b = stale ? gatherBody<true>(bodies, k.bodyB) : gatherBody<false>(bodies, k.bodyB);
+        if (stale) updateFrame(k, a, b, rotations, generation);
         cachePointMass(k, a, b);
         const Vec3W& P = k.impulse;
         const Vec3W vA = a.v() - P * a.invMass();
@@ -222,9 +243,12 @@ void solveBlocks(BallBlock* blocks, std::size_t count, SolverBody* bodies, const
     const FloatW zero = 0.0f;
     for (std::size_t bi = 0; bi < count; ++bi) {
         BallBlock& k = blocks[bi];
-        const BodyW a = gatherBody(bodies, k.bodyA);
-        const BodyW b = gatherBody(bodies, k.bodyB);
-        if (k.frameAt != generation) updateFrame(k, a, b, rotations, generation);
+        // The relax pass follows a position update (a new frame); the biased
+        // pass follows the warm start (the same frame).
+        const bool stale = k.frameAt != generation;
+        const BodyW a = stale ? gatherBody<true>(bodies, k.bodyA) : gatherBody<false>(bodies, k.bodyA);
+        const BodyW b = stale ? gatherBody<true>(bodies, k.bodyB) : gatherBody<false>(bodies, k.bodyB);
+        if (stale) updateFrame(k, a, b, rotations, generation);
         const Vec3W vA0 = a.v(), wA0 = a.w(), vB0 = b.v(), wB0 = b.w();
         const Vec3W cdot = vB0 + cross(wB0, k.rB) - vA0 - cross(wA0, k.rA);
         const Vec3W bias = useBias ? k.d * biasRate : Vec3W{};  // the relax pass: Vec3{}, +0
