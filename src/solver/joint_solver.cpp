@@ -29,6 +29,8 @@ void JointSolver::reserve(std::size_t jointCount) {
     if (rowJoints_.capacity() < jointCount) rowJoints_.reserve(2 * jointCount);
     if (structure_.capacity() < jointCount) structure_.reserve(2 * jointCount);
     if (projection_.capacity() < jointCount) projection_.reserve(2 * jointCount);
+    if (active_.capacity() < jointCount) active_.reserve(2 * jointCount);
+    if (placeOf_.capacity() < jointCount) placeOf_.reserve(2 * jointCount);
     if (nextStructure_.capacity() < jointCount) nextStructure_.reserve(2 * jointCount);
     const auto grow = [](auto& v, std::size_t n) {
         if (v.capacity() < n) v.reserve(2 * n);
@@ -56,7 +58,6 @@ SimdPath JointSolver::setSimdPath(SimdPath path) {
 }
 
 void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
-    constraints_.clear();
     events_.clear();
     framesStale_ = true;
     refreshedSincePositions_ = false;
@@ -73,6 +74,12 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     projectionSlop_ = settings.jointProjectionSlop;
     ctx_.limitSoft = ctx_.soft;
 
+    // Which joints take part, and their bodies, first (~20 bytes each): the
+    // colouring needs only that, so each constraint record (~0.6 kB) is then
+    // built once, in its place in colour order. Built in creation order and
+    // copied into colour order, the records were written twice and read once
+    // more per step (perf, grid: colour() 6 % of the step, with the joint rows in lanes).
+    active_.clear();
     for (std::uint32_t slot = 0; slot < w.joints.size(); ++slot) {
         JointData& data = w.joints[slot];
         if (!data.alive || !data.enabled) continue;
@@ -90,11 +97,27 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
             continue;
         }
         if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;  // nothing can move
-
-        JointConstraint& j = constraints_.emplace_back();  // built in place (it is ~0.6 kB)
+        active_.push_back({slot, ia, ib, dA, dB});
+    }
+    // The colouring and the joint trees depend only on which joints join which
+    // solver bodies (sameStructureAsLastStep): in a scene whose joints and
+    // sleeping don't change, the same as the last step's, so kept (chain
+    // benchmark, callgrind, 120 steps: tree build 8.1 M -> 0.2 M, colouring
+    // 1.6 M -> 1.1 M; docs/joints.md).
+    const bool same = sameStructureAsLastStep(w, solver.mutableBodies(), settings.jointDirectSolve);
+    colour(solver.mutableBodies(), same);  // colourOf_, colourStart_, placeOf_
+    constraints_.resize(active_.size());
+    projection_.clear();
+    for (std::size_t i = 0; i < active_.size(); ++i) {
+        const ActiveJoint& e = active_[i];
+        const std::uint32_t slot = e.slot, dA = e.denseA, dB = e.denseB;
+        const JointData& data = w.joints[slot];
+        const JointDef& def = data.def;
+        JointConstraint& j = constraints_[placeOf_[i]];
+        j = JointConstraint{};
         j.slot = slot;
-        j.bodyA = ia;
-        j.bodyB = ib;
+        j.bodyA = e.bodyA;
+        j.bodyB = e.bodyB;
         j.denseA = dA;
         j.denseB = dB;
         j.localAnchorA = data.localAnchorA;
@@ -155,14 +178,11 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
             j.maxFrictionImpulse = 0;
             j.impulse.friction = {};
         }
+        // The projection's packed copy, in creation order (sliders have none).
+        if (j.type != JointType::Slider) {
+            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type});
+        }
     }
-    // The colouring and the joint trees depend only on which joints join which
-    // solver bodies (sameStructureAsLastStep): in a scene whose joints and
-    // sleeping don't change, the same as the last step's, so kept (chain
-    // benchmark, callgrind, 120 steps: tree build 8.1 M -> 0.2 M, colouring
-    // 1.6 M -> 1.1 M; docs/joints.md).
-    const bool same = sameStructureAsLastStep(solver.mutableBodies(), settings.jointDirectSolve);
-    colour(solver.mutableBodies(), same);
     if (!settings.jointDirectSolve) {
         for (JointConstraint& j : constraints_) j.direct = false;
         if (!same) trees_.build(empty_, solver.mutableBodies());
@@ -256,10 +276,10 @@ void JointSolver::buildWide() {
     }
 }
 
-bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
+bool JointSolver::sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve) {
     nextStructure_.clear();
-    for (const JointConstraint& j : constraints_) {
-        std::uint32_t flags = static_cast<std::uint32_t>(j.type) << 4;
+    for (const ActiveJoint& j : active_) {
+        std::uint32_t flags = static_cast<std::uint32_t>(w.joints[j.slot].def.type) << 4;
         const auto endFlags = [&](std::uint32_t i, std::uint32_t shift) {
             const SolverBody& b = bodies[i];
             if (!(b.invMass > 0)) return;
@@ -283,31 +303,23 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructu
     // Greedy, in creation order: the first colour where neither dynamic end is
     // taken. Static and kinematic ends (never written) take no slot. Joints
     // beyond kColourCount colours go to the last, solved one after another.
-    const std::size_t n = constraints_.size();
+    const std::size_t n = active_.size();
     if (n == 0) {
         colourStart_.clear();
-        projection_.clear();
+        placeOf_.clear();
         return;
     }
     // The same structure as the last step's gives the same colours (kept in colourOf_).
     if (!sameStructure) {
         colourGreedily<kColourCount>(
-            n, bodies.size(), [&](std::size_t i) { return constraintEnds(constraints_[i], bodies.data()); }, colourBits_,
+            n, bodies.size(), [&](std::size_t i) { return constraintEnds(active_[i], bodies.data()); }, colourBits_,
             colourOf_, colourStart_);
     }
+    // Each joint's place in colour order (creation order within a colour).
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
-    scratch_.resize(n);
-    projection_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t at = cursor[colourOf_[i]]++;  // its place in colour order
-        const JointConstraint& j = constraints_[i];
-        if (j.type != JointType::Slider) {
-            projection_.push_back({j.localAnchorA, j.denseA, j.localAnchorB, j.denseB, j.bodyA, j.bodyB, at, j.type});
-        }
-        scratch_[at] = j;
-    }
-    constraints_.swap(scratch_);
+    placeOf_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) placeOf_[i] = cursor[colourOf_[i]]++;
 }
 
 namespace {

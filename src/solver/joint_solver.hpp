@@ -102,7 +102,7 @@ public:
 private:
     static constexpr std::uint32_t kColourCount = 24;
     void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
-    bool sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve);
+    bool sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve);
     void refreshRotations();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
     // Whether a projection pass could move anything: every point joint's
@@ -140,7 +140,14 @@ private:
     std::size_t structureBodies_ = 0;
     bool structureDirect_ = false, structureValid_ = false;
     std::vector<JointConstraint> constraints_;
-    std::vector<JointConstraint> empty_, scratch_;
+    std::vector<JointConstraint> empty_;
+    // prepare(): the joints taking part this step, in creation order, and
+    // each one's place in colour order (colour()).
+    struct ActiveJoint {
+        std::uint32_t slot, bodyA, bodyB, denseA, denseB;  // solver bodies (0: static), dense (kNoIndex: the world)
+    };
+    std::vector<ActiveJoint> active_;
+    std::vector<std::uint32_t> placeOf_;
     std::vector<std::uint32_t> colourOf_, colourStart_;
     // What the position projection reads of each joint but a slider, in
     // creation order (its order), packed: the check and the pass walk it
