@@ -28,11 +28,36 @@ void JointSolver::reserve(std::size_t jointCount) {
     if (events_.capacity() < jointCount) events_.reserve(2 * jointCount);
     if (rowJoints_.capacity() < jointCount) rowJoints_.reserve(2 * jointCount);
     if (structure_.capacity() < jointCount) structure_.reserve(2 * jointCount);
+    if (projection_.capacity() < jointCount) projection_.reserve(2 * jointCount);
+    if (active_.capacity() < jointCount) active_.reserve(2 * jointCount);
+    if (placeOf_.capacity() < jointCount) placeOf_.reserve(2 * jointCount);
     if (nextStructure_.capacity() < jointCount) nextStructure_.reserve(2 * jointCount);
+    const auto grow = [](auto& v, std::size_t n) {
+        if (v.capacity() < n) v.reserve(2 * n);
+    };
+    grow(isWide_, jointCount);
+    grow(wideJoints_, jointCount);
+    grow(scalarJoints_, jointCount);
+    grow(scalarRows_, jointCount);
+    grow(wideJointStart_, kColourCount + 2);
+    grow(wideBlockStart_, kColourCount + 2);
+    grow(scalarJointStart_, kColourCount + 2);
+    grow(scalarRowStart_, kColourCount + 2);
+    reservedJoints_ = std::max(reservedJoints_, jointCount);
+    if (wide_) wide_->reserve(jointCount / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
+}
+
+SimdPath JointSolver::setSimdPath(SimdPath path) {
+    if (path == SimdPath::Avx2 && !(avx2Available() && avx2JointKernelsCompiled())) path = SimdPath::Sse2;
+    simd_ = path;
+    if (path != SimdPath::Scalar && (!wide_ || wide_->path() != path)) {
+        wide_ = makeWideBallJoints(path);
+        wide_->reserve(reservedJoints_ / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
+    }
+    return simd_;
 }
 
 void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
-    constraints_.clear();
     events_.clear();
     framesStale_ = true;
     refreshedSincePositions_ = false;
@@ -49,6 +74,12 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     projectionSlop_ = settings.jointProjectionSlop;
     ctx_.limitSoft = ctx_.soft;
 
+    // Which joints take part, and their bodies, first (~20 bytes each): the
+    // colouring needs only that, so each constraint record (~0.6 kB) is then
+    // built once, in its place in colour order. Built in creation order and
+    // copied into colour order, the records were written twice and read once
+    // more per step (perf, grid: colour() 6 % of the step, with the joint rows in lanes).
+    active_.clear();
     for (std::uint32_t slot = 0; slot < w.joints.size(); ++slot) {
         JointData& data = w.joints[slot];
         if (!data.alive || !data.enabled) continue;
@@ -66,11 +97,27 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
             continue;
         }
         if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;  // nothing can move
-
-        JointConstraint& j = constraints_.emplace_back();  // built in place (it is ~0.6 kB)
+        active_.push_back({slot, ia, ib, dA, dB});
+    }
+    // The colouring and the joint trees depend only on which joints join which
+    // solver bodies (sameStructureAsLastStep): in a scene whose joints and
+    // sleeping don't change, the same as the last step's, so kept (chain
+    // benchmark, callgrind, 120 steps: tree build 8.1 M -> 0.2 M, colouring
+    // 1.6 M -> 1.1 M; docs/joints.md).
+    const bool same = sameStructureAsLastStep(w, solver.mutableBodies(), settings.jointDirectSolve);
+    colour(solver.mutableBodies(), same);  // colourOf_, colourStart_, placeOf_
+    constraints_.resize(active_.size());
+    projection_.clear();
+    for (std::size_t i = 0; i < active_.size(); ++i) {
+        const ActiveJoint& e = active_[i];
+        const std::uint32_t slot = e.slot, dA = e.denseA, dB = e.denseB;
+        const JointData& data = w.joints[slot];
+        const JointDef& def = data.def;
+        JointConstraint& j = constraints_[placeOf_[i]];
+        j = JointConstraint{};
         j.slot = slot;
-        j.bodyA = ia;
-        j.bodyB = ib;
+        j.bodyA = e.bodyA;
+        j.bodyB = e.bodyB;
         j.denseA = dA;
         j.denseB = dB;
         j.localAnchorA = data.localAnchorA;
@@ -131,14 +178,11 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
             j.maxFrictionImpulse = 0;
             j.impulse.friction = {};
         }
+        // The projection's packed copy, in creation order (sliders have none).
+        if (j.type != JointType::Slider) {
+            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type});
+        }
     }
-    // The colouring and the joint trees depend only on which joints join which
-    // solver bodies (sameStructureAsLastStep): in a scene whose joints and
-    // sleeping don't change, the same as the last step's, so kept (chain
-    // benchmark, callgrind, 120 steps: tree build 8.1 M -> 0.2 M, colouring
-    // 1.6 M -> 1.1 M; docs/joints.md).
-    const bool same = sameStructureAsLastStep(solver.mutableBodies(), settings.jointDirectSolve);
-    colour(solver.mutableBodies(), same);
     if (!settings.jointDirectSolve) {
         for (JointConstraint& j : constraints_) j.direct = false;
         if (!same) trees_.build(empty_, solver.mutableBodies());
@@ -170,12 +214,72 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         while (row < rowJoints_.size() && rowJoints_[row] < start) ++row;
         rowColourStart_[c] = static_cast<std::uint32_t>(row);
     }
+    buildWide();
 }
 
-bool JointSolver::sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve) {
+void JointSolver::buildWide() {
+    wideJoints_.clear();
+    wideJointStart_.clear();
+    wideBlockStart_.clear();
+    scalarJoints_.clear();
+    scalarJointStart_.clear();
+    scalarRows_.clear();
+    scalarRowStart_.clear();
+    if (simd_ == SimdPath::Scalar || !wide_ || constraints_.empty()) return;
+    // Per colour but the overflow colour (the last, whose joints may share a
+    // body): its Gauss-Seidel frictionless ball joints in lanes, the rest on
+    // the scalar kernels. A colour's joints share no dynamic body, so solving
+    // its wide joints first and its others after gives the same bits as the
+    // colour in order.
+    const std::size_t colours = colourCount();
+    const auto lanes = static_cast<std::uint32_t>(wide_->lanes());
+    isWide_.assign(constraints_.size(), 0);
+    wideJointStart_.resize(colours + 1);
+    wideBlockStart_.resize(colours + 1);
+    scalarJointStart_.resize(colours + 1);
+    scalarRowStart_.resize(colours + 1);
+    std::uint32_t blocks = 0;
+    for (std::size_t c = 0; c < colours; ++c) {
+        wideJointStart_[c] = static_cast<std::uint32_t>(wideJoints_.size());
+        wideBlockStart_[c] = blocks;
+        scalarJointStart_[c] = static_cast<std::uint32_t>(scalarJoints_.size());
+        const bool overflow = c + 1 == colours;
+        for (std::uint32_t k = colourStart_[c]; k < colourStart_[c + 1]; ++k) {
+            const JointConstraint& j = constraints_[k];
+            if (!overflow && j.type == JointType::Ball && !j.direct && !(j.maxFrictionImpulse > 0)) {
+                isWide_[k] = 1;
+                wideJoints_.push_back(k);
+            } else {
+                scalarJoints_.push_back(k);
+            }
+        }
+        blocks += (static_cast<std::uint32_t>(wideJoints_.size()) - wideJointStart_[c] + lanes - 1) / lanes;
+    }
+    wideJointStart_[colours] = static_cast<std::uint32_t>(wideJoints_.size());
+    wideBlockStart_[colours] = blocks;
+    scalarJointStart_[colours] = static_cast<std::uint32_t>(scalarJoints_.size());
+    for (std::size_t c = 0; c < colours; ++c) {
+        scalarRowStart_[c] = static_cast<std::uint32_t>(scalarRows_.size());
+        for (std::uint32_t r = rowColourStart_[c]; r < rowColourStart_[c + 1]; ++r) {
+            if (!isWide_[rowJoints_[r]]) scalarRows_.push_back(rowJoints_[r]);
+        }
+    }
+    scalarRowStart_[colours] = static_cast<std::uint32_t>(scalarRows_.size());
+    wide_->resize(blocks);
+    for (std::size_t c = 0; c < colours; ++c) {
+        std::uint32_t next = wideJointStart_[c];
+        for (std::uint32_t block = wideBlockStart_[c]; block < wideBlockStart_[c + 1]; ++block) {
+            const std::uint32_t count = std::min(lanes, wideJointStart_[c + 1] - next);
+            wide_->build(block, constraints_.data(), wideJoints_.data() + next, static_cast<int>(count), bodies_);
+            next += count;
+        }
+    }
+}
+
+bool JointSolver::sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve) {
     nextStructure_.clear();
-    for (const JointConstraint& j : constraints_) {
-        std::uint32_t flags = static_cast<std::uint32_t>(j.type) << 4;
+    for (const ActiveJoint& j : active_) {
+        std::uint32_t flags = static_cast<std::uint32_t>(w.joints[j.slot].def.type) << 4;
         const auto endFlags = [&](std::uint32_t i, std::uint32_t shift) {
             const SolverBody& b = bodies[i];
             if (!(b.invMass > 0)) return;
@@ -199,27 +303,23 @@ void JointSolver::colour(const std::vector<SolverBody>& bodies, bool sameStructu
     // Greedy, in creation order: the first colour where neither dynamic end is
     // taken. Static and kinematic ends (never written) take no slot. Joints
     // beyond kColourCount colours go to the last, solved one after another.
-    const std::size_t n = constraints_.size();
+    const std::size_t n = active_.size();
     if (n == 0) {
         colourStart_.clear();
-        creationOrder_.clear();
+        placeOf_.clear();
         return;
     }
     // The same structure as the last step's gives the same colours (kept in colourOf_).
     if (!sameStructure) {
         colourGreedily<kColourCount>(
-            n, bodies.size(), [&](std::size_t i) { return constraintEnds(constraints_[i], bodies.data()); }, colourBits_,
+            n, bodies.size(), [&](std::size_t i) { return constraintEnds(active_[i], bodies.data()); }, colourBits_,
             colourOf_, colourStart_);
     }
+    // Each joint's place in colour order (creation order within a colour).
     std::uint32_t cursor[kColourCount + 1];
     for (std::uint32_t c = 0; c <= kColourCount; ++c) cursor[c] = colourStart_[c];
-    scratch_.resize(n);
-    creationOrder_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        creationOrder_[i] = cursor[colourOf_[i]];
-        scratch_[cursor[colourOf_[i]]++] = constraints_[i];
-    }
-    constraints_.swap(scratch_);
+    placeOf_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) placeOf_[i] = cursor[colourOf_[i]]++;
 }
 
 namespace {
@@ -281,11 +381,25 @@ constexpr std::uint32_t kTreesPerTask = 4;
 
 }  // namespace
 
-template <class Kernel>
-void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel) {
+template <class Kernel, class WideKernel>
+void JointSolver::forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel,
+                                       WideKernel&& wide) {
     const std::uint32_t colours = static_cast<std::uint32_t>(colourCount());
     const bool parallel = tasks_ != nullptr && tasks_->workerCount() > 1;
+    // Wide blocks in ranges of the same number of joints as the scalar ones.
+    const std::uint32_t blocksPerTask =
+        wideActive() ? std::max<std::uint32_t>(1, kJointsPerTask / static_cast<std::uint32_t>(wide_->lanes())) : 1;
     for (std::uint32_t c = 0; c < colours; ++c) {
+        if (wideActive()) {
+            const std::uint32_t firstBlock = wideBlockStart_[c], blocks = wideBlockStart_[c + 1] - firstBlock;
+            if (!parallel || blocks < 2 * blocksPerTask) {
+                if (blocks > 0) wide(firstBlock, blocks);
+            } else {
+                tasks_->parallelFor(blocks, blocksPerTask, [&](std::uint32_t rangeBegin, std::uint32_t rangeEnd, std::uint32_t) {
+                    wide(firstBlock + rangeBegin, rangeEnd - rangeBegin);
+                });
+            }
+        }
         const std::uint32_t begin = first[c], count = first[c + 1] - begin;
         // The overflow colour (the last) runs in order; so does a small colour.
         if (!parallel || c + 1 == colours || count < kMinJointsForTasks) {
@@ -328,17 +442,23 @@ void JointSolver::warmStart() {
     // per joint. Chain benchmark: 3 of 5 sub-steps (docs/joints.md, fifth round).
     const bool fold = trees_.nextBiasedPassExact();
     trees_.newSubstep(fold);
-    forEachJointByColour(nullptr, colourStart_.data(), [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
-        if (fold && j.warmStartInTree) return;
-        switch (j.type) {
-            case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
-            case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
-            case JointType::Slider: warmStartSlider(j, a, b, ctx_); break;
-            case JointType::Distance: warmStartDistance(j, a, b, ctx_); break;
-            case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
-            case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
-        }
-    });
+    const bool wide = wideActive();
+    forEachJointByColour(
+        wide ? scalarJoints_.data() : nullptr, wide ? scalarJointStart_.data() : colourStart_.data(),
+        [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
+            if (fold && j.warmStartInTree) return;
+            switch (j.type) {
+                case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
+                case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
+                case JointType::Slider: warmStartSlider(j, a, b, ctx_); break;
+                case JointType::Distance: warmStartDistance(j, a, b, ctx_); break;
+                case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
+                case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
+            }
+        },
+        [this](std::uint32_t firstBlock, std::uint32_t blocks) {
+            wide_->warmStart(firstBlock, blocks, bodies_, ctx_.rotations, ctx_.generation);
+        });
 }
 
 void JointSolver::solve(bool useBias) {
@@ -349,16 +469,22 @@ void JointSolver::solve(bool useBias) {
         refreshRotations();
         refreshedSincePositions_ = true;
     }
-    forEachJointByColour(rowJoints_.data(), rowColourStart_.data(), [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
-        switch (j.type) {
-            case JointType::Ball: solveBall(j, a, b, ctx_); break;
-            case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
-            case JointType::Slider: solveSlider(j, a, b, ctx_); break;
-            case JointType::Distance: solveDistance(j, a, b, ctx_); break;
-            case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
-            case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
-        }
-    });
+    const bool wide = wideActive();
+    forEachJointByColour(
+        wide ? scalarRows_.data() : rowJoints_.data(), wide ? scalarRowStart_.data() : rowColourStart_.data(),
+        [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
+            switch (j.type) {
+                case JointType::Ball: solveBall(j, a, b, ctx_); break;
+                case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
+                case JointType::Slider: solveSlider(j, a, b, ctx_); break;
+                case JointType::Distance: solveDistance(j, a, b, ctx_); break;
+                case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
+                case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
+            }
+        },
+        [this, useBias](std::uint32_t firstBlock, std::uint32_t blocks) {
+            wide_->solve(firstBlock, blocks, bodies_, ctx_.rotations, ctx_.generation, ctx_.soft, useBias);
+        });
     // The point rows of joint trees last, solved exactly, so they have the
     // final word on the anchors (the error users see).
     if (!trees_.empty()) solveTrees();
@@ -434,7 +560,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     // fifth round; it was one scalar store per float into a staging array).
     // The lanes hold the same values as before, so the same decisions.
     static_assert(offsetof(BodyMotion, q) == offsetof(BodyMotion, com) + 3 * sizeof(float));
-    static_assert(offsetof(JointConstraint, localAnchorB) == offsetof(JointConstraint, localAnchorA) + 3 * sizeof(float));
+    static_assert(offsetof(ProjectionJoint, localAnchorB) == offsetof(ProjectionJoint, localAnchorA) + 4 * sizeof(float));
     static_assert(sizeof(Quat) == 4 * sizeof(float) && sizeof(Vec3) == 3 * sizeof(float));
     // A world end: centre 0 and the identity rotation (com x y z, q w x y z).
     alignas(16) static constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
@@ -454,7 +580,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     };
     const float* endA[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
     const float* endB[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
-    const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, then B (6 floats)
+    const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, denseA, B (7 floats)
     const auto end = [&](const float* const* ends, int anchorOffset, Float4& x, Float4& y, Float4& z) {
         Float4 cx, cy, cz, qw, ux, uy, uz, lx, ly, lz, unused;
         transpose(load(ends[0]), load(ends[1]), load(ends[2]), load(ends[3]), cx, cy, cz, unused);
@@ -470,7 +596,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     const auto beyond = [&](int count) {
         Float4 ax, ay, az, bx, by, bz;
         end(endA, 0, ax, ay, az);
-        end(endB, 3, bx, by, bz);
+        end(endB, 4, bx, by, bz);
         const Float4 dx = bx - ax, dy = by - ay, dz = bz - az;
         const Float4 e2 = dx * dx + dy * dy + dz * dz;
         for (int lane = 0; lane < count; ++lane) {
@@ -480,9 +606,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
     };
     const auto motion = [&](std::uint32_t dense) { return dense == kNoIndex ? kWorldEnd : &w.motion[dense].com.x; };
     int lane = 0;
-    for (const std::uint32_t index : creationOrder_) {
-        const JointConstraint& j = constraints_[index];
-        if (j.type == JointType::Slider) continue;
+    for (const ProjectionJoint& j : projection_) {  // sliders left out
         if (j.type == JointType::Distance) return true;  // its own rule: the pass decides
         endA[lane] = motion(j.denseA);
         endB[lane] = motion(j.denseB);
@@ -504,9 +628,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
 
 bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
     bool moved = false;
-    for (const std::uint32_t index : creationOrder_) {
-        const JointConstraint& j = constraints_[index];
-        if (j.type == JointType::Slider) continue;
+    for (const ProjectionJoint& j : projection_) {  // sliders left out
         const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(w.motion[j.denseA].q, j.localAnchorA);
         const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : w.motion[j.denseA].com + rA;
         const Vec3 rB = rotate(w.motion[j.denseB].q, j.localAnchorB);
@@ -525,15 +647,16 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
         BodyMotion* mb = sb.invMass == 0 ? nullptr : &w.motion[j.denseB];
         Vec3 P;
         if (j.type == JointType::Distance) {
+            const JointConstraint& limits = constraints_[j.constraint];
             const Real len = length(d);
             if (len < Real(1e-6)) continue;
             Real C = 0;
-            if (j.rigidDistance) {
-                C = len - j.restLength;
-            } else if (len > j.upper) {
-                C = len - j.upper;
-            } else if (len < j.lower) {
-                C = len - j.lower;
+            if (limits.rigidDistance) {
+                C = len - limits.restLength;
+            } else if (len > limits.upper) {
+                C = len - limits.upper;
+            } else if (len < limits.lower) {
+                C = len - limits.lower;
             } else {
                 continue;
             }
@@ -559,10 +682,13 @@ void JointSolver::store(WorldImpl& w) {
     // The reactions read each joint's frame: current after the last relax
     // pass (nothing is recomputed unless the deltas changed since).
     if (framesStale_ || !refreshedSincePositions_) refreshRotations();
+    if (wideActive()) wide_->store(constraints_.data());  // the lanes' impulses back into their joints
     for (JointConstraint& j : constraints_) {
         JointData& data = w.joints[j.slot];
         data.impulses = j.impulse;
-        currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
+        // A ball joint's reaction reads no frame (jointReaction): not
+        // recomputed for the joints the wide path kept no AoS frame for.
+        if (j.type != JointType::Ball) currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
         jointReaction(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_.invH, data.reactionForce, data.reactionTorque);
         const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
         if (force <= data.def.breakForce && torque <= data.def.breakTorque) continue;

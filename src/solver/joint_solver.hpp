@@ -18,13 +18,17 @@
 // joint trees, side by side (docs/threading.md, "Joints across the task system").
 // Point rows of joint trees (chains, ragdolls) are solved exactly by the tree
 // solver (joints/tree_solver.hpp) after the Gauss-Seidel rows of each pass.
+// The Gauss-Seidel ball joints of a colour run 4 or 8 at a time in SIMD lanes
+// (joints/joint_wide.hpp) with the scalar kernels' bits; setSimdPath.
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "fulcrum/world.hpp"
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_graph.hpp"
+#include "solver/joints/joint_wide.hpp"
 #include "solver/joints/tree_solver.hpp"
 
 namespace fulcrum {
@@ -51,6 +55,21 @@ struct JointTuning {
 
 class JointSolver {
 public:
+    JointSolver() { setSimdPath(initialSimdPath()); }
+    // Which code solves the Gauss-Seidel ball joints (joints/joint_wide.hpp):
+    // the scalar kernels (the reference) or 4 / 8 SIMD lanes, with the same
+    // bits either way. The default is the contact solver's: initialSimdPath()
+    // (FULCRUM_SIMD=scalar|sse2|avx2, else the widest this CPU runs). Returns
+    // the path taken (Avx2 falls back to Sse2 where the CPU lacks it); takes
+    // effect at the next step.
+    SimdPath setSimdPath(SimdPath path);
+    SimdPath simdPath() const { return simd_; }
+    // The joints this step solves in SIMD lanes, and their blocks (tests).
+    std::size_t wideJointCount() const { return wideJoints_.size(); }
+    std::size_t wideBlockCount() const { return wideBlockStart_.empty() ? 0 : wideBlockStart_.back(); }
+    std::size_t wideJointsInColour(std::size_t c) const {
+        return wideJointStart_.empty() ? 0 : wideJointStart_[c + 1] - wideJointStart_[c];
+    }
     // Grows the per-step buffers for `jointCount` joints (at joint creation).
     void reserve(std::size_t jointCount);
     // Builds the constraints of the enabled joints whose bodies are awake (or static).
@@ -83,7 +102,7 @@ public:
 private:
     static constexpr std::uint32_t kColourCount = 24;
     void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
-    bool sameStructureAsLastStep(const std::vector<SolverBody>& bodies, bool directSolve);
+    bool sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve);
     void refreshRotations();
     bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
     // Whether a projection pass could move anything: every point joint's
@@ -96,8 +115,17 @@ private:
     // nullptr: the constraints themselves, first[c] .. first[c + 1]), where a
     // range of one colour may run beside another range of it. A static or
     // kinematic end is passed as a copy (see forEachJointByColour).
-    template <class Kernel>
-    void forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel);
+    // wide(firstBlock, blockCount) runs first in each colour over that
+    // colour's wide blocks (in ranges of blocks on the task system); kernel
+    // then over its scalar joints.
+    template <class Kernel, class WideKernel>
+    void forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel, WideKernel&& wide);
+    // Sorts this step's joints into the wide ball joints (blocks of lanes,
+    // per colour but the overflow colour) and the rest (scalarJoints_,
+    // scalarRows_), after the colouring and the trees; the scalar path keeps
+    // none wide.
+    void buildWide();
+    bool wideActive() const { return !wideBlockStart_.empty(); }
     void solveTrees();
     // What the colouring and the joint trees depend on, per constraint in
     // creation order (prepare() compares it with the last step's and, if
@@ -112,8 +140,29 @@ private:
     std::size_t structureBodies_ = 0;
     bool structureDirect_ = false, structureValid_ = false;
     std::vector<JointConstraint> constraints_;
-    std::vector<JointConstraint> empty_, scratch_;
-    std::vector<std::uint32_t> colourOf_, colourStart_, creationOrder_;
+    std::vector<JointConstraint> empty_;
+    // prepare(): the joints taking part this step, in creation order, and
+    // each one's place in colour order (colour()).
+    struct ActiveJoint {
+        std::uint32_t slot, bodyA, bodyB, denseA, denseB;  // solver bodies (0: static), dense (kNoIndex: the world)
+    };
+    std::vector<ActiveJoint> active_;
+    std::vector<std::uint32_t> placeOf_;
+    std::vector<std::uint32_t> colourOf_, colourStart_;
+    // What the position projection reads of each joint but a slider, in
+    // creation order (its order), packed: the check and the pass walk it
+    // front to back instead of jumping through the colour-ordered constraints
+    // (~0.6 kB each). Built in colour().
+    struct ProjectionJoint {
+        Vec3 localAnchorA;
+        std::uint32_t denseA = 0;  // kNoIndex: the world
+        Vec3 localAnchorB;
+        std::uint32_t denseB = 0;
+        std::uint32_t bodyA = 0, bodyB = 0;  // solver bodies
+        std::uint32_t constraint = 0;        // in constraints_ (a distance joint's limits)
+        JointType type = JointType::Ball;
+    };
+    std::vector<ProjectionJoint> projection_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order
     std::vector<std::uint8_t> bodyHasRows_;  // per solver body: a dynamic end of one of rowJoints_
     std::vector<std::uint32_t> rowColourStart_;  // rowJoints_ of colour c: [rowColourStart_[c], rowColourStart_[c + 1])
@@ -140,6 +189,16 @@ private:
     std::vector<JointBreakEvent> events_;
     SolverBody* bodies_ = nullptr;
     JointContext ctx_;
+    // SIMD lanes (buildWide). Empty wideBlockStart_: everything scalar.
+    SimdPath simd_ = SimdPath::Scalar;
+    std::unique_ptr<WideBallJoints> wide_;
+    std::size_t reservedJoints_ = 0;
+    std::vector<std::uint8_t> isWide_;             // per constraint
+    std::vector<std::uint32_t> wideJoints_;        // the wide ones, in colour order
+    std::vector<std::uint32_t> wideJointStart_;    // wideJoints_ of colour c: [wideJointStart_[c], wideJointStart_[c + 1])
+    std::vector<std::uint32_t> wideBlockStart_;    // their blocks: [wideBlockStart_[c], wideBlockStart_[c + 1])
+    std::vector<std::uint32_t> scalarJoints_, scalarJointStart_;  // the others, per colour (warm start)
+    std::vector<std::uint32_t> scalarRows_, scalarRowStart_;      // the others of rowJoints_, per colour (passes)
 };
 
 // Softness of a spring-damper at `hertz` and damping ratio `zeta` on sub-step h (0 Hz: rigid).

@@ -1,0 +1,24 @@
+// The 4-lane ball-joint kernels (SSE2 on x86-64, portable C++ elsewhere) and
+// the choice of width (joint_wide.hpp). The path itself is chosen as the
+// contact solver's is (contact_wide.hpp: FULCRUM_SIMD, else the widest the CPU runs).
+#include "solver/joints/joint_wide.hpp"
+
+#include "math/simd.hpp"
+
+#if defined(FULCRUM_SIMD_PORTABLE) || !FULCRUM_SIMD_HAS_SSE2
+#define FULCRUM_JOINT_WIDE_POLICY simd::PortablePolicy<4>
+#else
+#define FULCRUM_JOINT_WIDE_POLICY simd::Sse2Policy
+#endif
+#define FULCRUM_JOINT_WIDE_NS joint_sse2
+#include "solver/joints/joint_wide_kernels.hpp"
+
+namespace fulcrum::detail {
+
+std::unique_ptr<WideBallJoints> makeWideBallJoints(SimdPath path) {
+    if (path == SimdPath::Sse2) return std::make_unique<joint_sse2::Blocks>(SimdPath::Sse2);
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return makeAvx2BallJoints();
+    return nullptr;
+}
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,82 @@
+#pragma once
+// Ball joints in SIMD lanes: the Gauss-Seidel ball joints of one graph colour
+// solved a block of 4 or 8 at a time (docs/joints.md, "Joint rows in SIMD
+// lanes"), on the contact solver's pattern (solver/contact_wide.hpp).
+//
+// Which joints: ball joints whose point block the Gauss-Seidel passes solve
+// (not a joint tree's: tree_solver.hpp has those rows) and that have no
+// friction, in every colour but the overflow colour (whose joints may share a
+// body and must run one after another). Everything else stays on the scalar
+// kernels (joints/<type>.cpp), which remain the reference: FULCRUM_SIMD=scalar
+// or JointSolver::setSimdPath(SimdPath::Scalar) runs every joint through them.
+//
+// Layout: per block, the lanes' solver-body indices (gathered by whole rows
+// of the solver-body array, 24 floats, and transposed in registers), the
+// step's anchors (rA0, rB0, centre delta) and the accumulated impulse in
+// structure-of-arrays form, plus what the passes derive from them: the frame
+// (anchors and separation now) and the inverse of the 3x3 point block. Built
+// once per step in JointSolver::prepare from the JointConstraint records; the
+// impulses go back to the records in JointSolver::store.
+//
+// Why it is the scalar solver, bit for bit: each kernel is the twin of the
+// scalar code it replaces (updateFrame, cachePointMass with pointInverseMass,
+// applyPoint, solvePointBlock in joint_common.hpp) and does the same float
+// operations in the same order, zero terms of the skew matrices included;
+// simd.hpp's operations are lane-wise the scalar ones (no -mfma: see simd.hpp
+// on contraction). A scalar branch (an invertible block or not, the biased
+// pass or not) becomes a select between the two results, or, for the pass,
+// a template argument. The frame is recomputed once per rotation refresh
+// (JointSolver::refreshRotations) instead of where one of its bodies changed:
+// an unchanged body has bit-identical deltas and rotation, so the recomputed
+// frame has the bits of the kept one. Lanes of a block share no dynamic body
+// (the colouring), so neither the order of the lanes nor the cut of a colour
+// into blocks or task ranges changes a result; static and kinematic ends are
+// gathered but never scattered (kEmptyLane), as the parallel scalar path
+// works on copies of them. tests/joints/joint_simd_test.cpp checks positions
+// and velocities for equality over whole runs on the scalar, 4- and 8-lane paths.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "fulcrum/math.hpp"
+#include "solver/contact_wide.hpp"  // SimdPath, avx2Available, initialSimdPath: one switch for both solvers
+
+namespace fulcrum::detail {
+
+struct JointConstraint;
+struct SolverBody;
+struct Softness;
+
+// The blocks of one step's wide ball joints and the kernels over them, for
+// one width (4 lanes: SSE2; 8: AVX2), behind one virtual call per colour.
+class WideBallJoints {
+public:
+    virtual ~WideBallJoints() = default;
+    virtual SimdPath path() const = 0;
+    virtual int lanes() const = 0;
+    virtual std::size_t size() const = 0;
+    virtual void reserve(std::size_t blocks) = 0;
+    // Blocks [0, blocks); their contents are undefined until built.
+    virtual void resize(std::size_t blocks) = 0;
+    // Block `block` from the constraints constraints[indices[0 .. laneCount)),
+    // the rest of its lanes empty (no body, zero impulse).
+    virtual void build(std::size_t block, const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
+                       const SolverBody* bodies) = 0;
+    // Twins of warmStartBall and solveBall over blocks [first, first + count).
+    // rotations: per solver body, exp(dtheta) of the latest refresh, whose
+    // number is `generation` (a block computes its frame once per refresh).
+    virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations,
+                           std::uint64_t generation) = 0;
+    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations,
+                       std::uint64_t generation, const Softness& soft, bool useBias) = 0;
+    // The accumulated impulses back into their constraints (impulse.linear).
+    virtual void store(JointConstraint* constraints) const = 0;
+};
+
+// The blocks for `path` (Sse2, or Avx2 when avx2Available(); nullptr for Scalar).
+std::unique_ptr<WideBallJoints> makeWideBallJoints(SimdPath path);
+// From joint_wide_avx2.cpp: whether it was compiled with AVX2, and its 8-lane blocks.
+bool avx2JointKernelsCompiled();
+std::unique_ptr<WideBallJoints> makeAvx2BallJoints();
+
+}  // namespace fulcrum::detail

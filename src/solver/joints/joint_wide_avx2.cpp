@@ -1,0 +1,25 @@
+// The 8-lane AVX2 ball-joint kernels: joint_wide_kernels.hpp compiled with
+// -mavx2 (CMakeLists.txt sets it for this file only, and never -mfma: the
+// kernels must round as the scalar reference does; simd.hpp). Used only when
+// the CPU has AVX2 (joint_wide.cpp checks before calling makeAvx2BallJoints).
+#include "solver/joints/joint_wide.hpp"
+
+#include "math/simd.hpp"
+
+#if FULCRUM_SIMD_HAS_AVX2 && !defined(FULCRUM_SIMD_PORTABLE)
+#define FULCRUM_JOINT_WIDE_POLICY simd::Avx2Policy
+#define FULCRUM_JOINT_WIDE_NS joint_avx2
+#define FULCRUM_JOINT_WIDE_LEAVE() _mm256_zeroupper()  // see contact_wide_kernels.hpp
+#include <immintrin.h>
+#include "solver/joints/joint_wide_kernels.hpp"
+
+namespace fulcrum::detail {
+bool avx2JointKernelsCompiled() { return true; }
+std::unique_ptr<WideBallJoints> makeAvx2BallJoints() { return std::make_unique<joint_avx2::Blocks>(SimdPath::Avx2); }
+}  // namespace fulcrum::detail
+#else
+namespace fulcrum::detail {
+bool avx2JointKernelsCompiled() { return false; }
+std::unique_ptr<WideBallJoints> makeAvx2BallJoints() { return nullptr; }
+}  // namespace fulcrum::detail
+#endif

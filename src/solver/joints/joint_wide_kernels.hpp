@@ -1,0 +1,318 @@
+// The wide ball-joint kernels (joint_wide.hpp), written once over a simd.hpp
+// policy and compiled once per width, as the contact kernels are
+// (contact_wide_kernels.hpp): a translation unit defines
+//   FULCRUM_JOINT_WIDE_NS      the namespace of this copy (joint_sse2, joint_avx2)
+//   FULCRUM_JOINT_WIDE_POLICY  the simd.hpp policy
+// and includes this file once. Everything here is in an unnamed namespace, so
+// the AVX2 copy is its translation unit's own; it calls no shared inline
+// function of the scalar math (Mat3's inverse, rotate...) that the linker
+// could pick an AVX2-compiled copy of for code running on a CPU without AVX2:
+// the kernels spell the operations out on the wide types.
+#ifndef FULCRUM_JOINT_WIDE_NS
+#error "define FULCRUM_JOINT_WIDE_NS and FULCRUM_JOINT_WIDE_POLICY before including joint_wide_kernels.hpp"
+#endif
+// Run as each entry point returns (the AVX2 copy: _mm256_zeroupper(), for
+// the reason contact_wide_kernels.hpp gives).
+#ifndef FULCRUM_JOINT_WIDE_LEAVE
+#define FULCRUM_JOINT_WIDE_LEAVE() ((void)0)
+#endif
+
+#include <array>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+#include "math/simd.hpp"
+#include "solver/contact_solver.hpp"
+#include "solver/joints/joint_common.hpp"
+#include "solver/joints/joint_wide.hpp"
+
+namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS {
+namespace {
+
+using Policy = FULCRUM_JOINT_WIDE_POLICY;
+using FloatW = simd::FloatWide<Policy>;
+using MaskW = simd::MaskWide<Policy>;
+using Vec3W = simd::Vec3Wide<Policy>;
+using simd::kEmptyLane;
+constexpr int kLanes = Policy::kLanes;
+
+#define FULCRUM_JOINT_WIDE_INLINE inline __attribute__((always_inline))
+
+static_assert(sizeof(SolverBody) == 24 * sizeof(float) && std::is_trivially_copyable_v<SolverBody>,
+              "the kernels read a solver body as 24 floats: v, invMass, w, dp, dtheta, invI, padding");
+static_assert(sizeof(Quat) == 4 * sizeof(float) && std::is_trivially_copyable_v<Quat>,
+              "the kernels read a rotation as 4 floats: w, x, y, z");
+static_assert(sizeof(FloatW) == kLanes * sizeof(float) && std::is_trivially_copyable_v<FloatW>);
+
+// Column-major like Mat3 (c0, c1, c2), so its products are Mat3's, term for term.
+struct Mat3W {
+    Vec3W c0, c1, c2;
+};
+
+// m v = c0 v.x + c1 v.y + c2 v.z (fulcrum's Mat3 * Vec3, term for term).
+FULCRUM_JOINT_WIDE_INLINE Vec3W operator*(const Mat3W& m, const Vec3W& v) { return m.c0 * v.x + m.c1 * v.y + m.c2 * v.z; }
+// a b, column by column (fulcrum's Mat3 * Mat3).
+FULCRUM_JOINT_WIDE_INLINE Mat3W operator*(const Mat3W& a, const Mat3W& b) { return {a * b.c0, a * b.c1, a * b.c2}; }
+
+// Mat3::skew(r): the matrix of v -> r x v, with its exact zeros.
+FULCRUM_JOINT_WIDE_INLINE Mat3W skew(const Vec3W& r) {
+    const FloatW zero = 0.0f;
+    return {{zero, r.z, -r.y}, {-r.z, zero, r.x}, {r.y, -r.x, zero}};
+}
+
+// One lane of a wide value, written in place.
+void setLane(FloatW& w, int lane, float value) {
+    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float), &value,
+                sizeof(float));
+}
+void setLane(Vec3W& w, int lane, const Vec3& value) {
+    setLane(w.x, lane, value.x);
+    setLane(w.y, lane, value.y);
+    setLane(w.z, lane, value.z);
+}
+float getLane(const FloatW& w, int lane) {
+    float value;
+    std::memcpy(&value, reinterpret_cast<const unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float),
+                sizeof(float));
+    return value;
+}
+
+// kLanes ball joints of one colour. Lanes past laneCount are empty: solver
+// body 0 (the all-zero static stand-in) on both ends, never written back.
+struct BallBlock {
+    std::uint32_t bodyA[kLanes], bodyB[kLanes];    // gather: solver body (0: static)
+    std::uint32_t writeA[kLanes], writeB[kLanes];  // scatter: the body if dynamic, else kEmptyLane
+    std::uint32_t constraint[kLanes];              // where store() puts each lane's impulse
+    std::uint32_t laneCount = 0;
+    std::uint64_t frameAt = 0;                     // the rotation refresh the frame was computed at (0: none)
+    Vec3W rA0, rB0, centreDelta;                   // JointConstraint's, the step's start
+    Vec3W rA, rB, d;                               // JointFrame: anchors and pB - pA now
+    Mat3W pointMass;                               // K^-1 of the sub-step (cachePointMass); zero if invalid
+    FloatW pointMassValid;                         // 1 where determinant(K) > 0, else 0
+    Vec3W impulse;                                 // JointImpulses::linear
+};
+
+// A body's solver state, gathered by whole rows (simd.hpp's transposed
+// gathers: a 16-byte load per lane and 4 floats, then a transpose in
+// registers). Floats 8-11 (dp.y, dp.z, dtheta.x, dtheta.y) only where the
+// frame is recomputed (`deltas`): the other passes skip that load.
+struct BodyW {
+    std::array<FloatW, 24> row;
+    Vec3W v() const { return {row[0], row[1], row[2]}; }
+    FloatW invMass() const { return row[3]; }
+    Vec3W w() const { return {row[4], row[5], row[6]}; }
+    Vec3W dp() const { return {row[7], row[8], row[9]}; }
+    Mat3W invI() const { return {{row[13], row[14], row[15]}, {row[16], row[17], row[18]}, {row[19], row[20], row[21]}}; }
+};
+
+// `index` holds a solver body in every lane (empty lanes: body 0, never kEmptyLane).
+template <bool deltas>
+FULCRUM_JOINT_WIDE_INLINE BodyW gatherBody(const SolverBody* bodies, const std::uint32_t* index) {
+    const float* rows[kLanes];
+    for (int i = 0; i < kLanes; ++i) rows[i] = reinterpret_cast<const float*>(bodies + index[i]);
+    BodyW b;
+    const auto group = [&](std::size_t first) {
+        typename Policy::Reg regs[4];
+        const float* shifted[kLanes];
+        for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + first;
+        Policy::loadTransposed4(shifted, regs);
+        for (std::size_t c = 0; c < 4; ++c) b.row[first + c] = FloatW(regs[c]);
+    };
+    group(0);
+    group(4);
+    if constexpr (deltas) group(8);
+    group(12);
+    group(16);
+    group(20);
+    return b;
+}
+
+// Writes v and w back (floats 0-7 of each row; invMass and dp.x unchanged).
+FULCRUM_JOINT_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::uint32_t* index, const BodyW& body,
+                                               const Vec3W& v, const Vec3W& w) {
+    const std::array<FloatW, 8> row = {v.x, v.y, v.z, body.row[3], w.x, w.y, w.z, body.row[7]};
+    FloatW::scatterTransposed<8>(bodies, index, row);
+}
+
+// rotate(q, v) = (v + t q.w) + u x t with t = (u x v) 2 (quat.hpp).
+FULCRUM_JOINT_WIDE_INLINE Vec3W rotate(const std::array<FloatW, 4>& q, const Vec3W& v) {
+    const Vec3W u{q[1], q[2], q[3]};
+    const Vec3W t = cross(u, v) * FloatW(2.0f);
+    return (v + t * q[0]) + cross(u, t);
+}
+
+// updateFrame for a ball joint: the anchors rotated by the bodies' rotations
+// since the step's start, and d = ((centreDelta + (dpB - dpA)) + rB) - rA.
+FULCRUM_JOINT_WIDE_INLINE void updateFrame(BallBlock& k, const BodyW& a, const BodyW& b, const Quat* rotations,
+                                           std::uint64_t generation) {
+    const std::array<FloatW, 4> qA = FloatW::gatherTransposed<4>(rotations, k.bodyA);
+    const std::array<FloatW, 4> qB = FloatW::gatherTransposed<4>(rotations, k.bodyB);
+    k.rA = rotate(qA, k.rA0);
+    k.rB = rotate(qB, k.rB0);
+    k.d = k.centreDelta + (b.dp() - a.dp()) + k.rB - k.rA;
+    k.frameAt = generation;
+}
+
+// cachePointMass: K = diag(mA + mB) - [rA] IA^-1 [rA] - [rB] IB^-1 [rB]
+// (pointInverseMass, products in Mat3's order), its inverse by the adjugate
+// where determinant(K) > 0, else zero.
+FULCRUM_JOINT_WIDE_INLINE void cachePointMass(BallBlock& k, const BodyW& a, const BodyW& b) {
+    const FloatW zero = 0.0f;
+    const Mat3W sa = skew(k.rA), sb = skew(k.rB);
+    const Mat3W ta = sa * a.invI() * sa;
+    const Mat3W tb = sb * b.invI() * sb;
+    const FloatW m = a.invMass() + b.invMass();
+    const Mat3W diagonal{{m, zero, zero}, {zero, m, zero}, {zero, zero, m}};
+    const Mat3W K{diagonal.c0 - ta.c0 - tb.c0, diagonal.c1 - ta.c1 - tb.c1, diagonal.c2 - ta.c2 - tb.c2};
+    // inverse(): rows r0 = c1 x c2, r1 = c2 x c0, r2 = c0 x c1; det = c0 . r0.
+    const Vec3W r0 = cross(K.c1, K.c2), r1 = cross(K.c2, K.c0), r2 = cross(K.c0, K.c1);
+    const FloatW det = dot(K.c0, r0);
+    const MaskW valid = det > zero;
+    const FloatW inv = FloatW(1.0f) / det;
+    const auto keep = [&](const FloatW& x) { return select(valid, x, zero); };
+    // Mat3::fromRows(r0, r1, r2) * inv: column j holds component j of each row.
+    k.pointMass = {{keep(r0.x * inv), keep(r1.x * inv), keep(r2.x * inv)},
+                   {keep(r0.y * inv), keep(r1.y * inv), keep(r2.y * inv)},
+                   {keep(r0.z * inv), keep(r1.z * inv), keep(r2.z * inv)}};
+    k.pointMassValid = select(valid, FloatW(1.0f), zero);
+}
+
+// Block `k` from its lanes' constraints (JointSolver::prepare, once per step).
+void buildBlock(BallBlock& k, const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
+                const SolverBody* bodies) {
+    k.laneCount = static_cast<std::uint32_t>(laneCount);
+    k.frameAt = 0;
+    k.rA0 = k.rB0 = k.centreDelta = k.impulse = Vec3W{};
+    for (int l = 0; l < kLanes; ++l) {
+        if (l >= laneCount) {
+            k.bodyA[l] = k.bodyB[l] = 0;
+            k.writeA[l] = k.writeB[l] = kEmptyLane;
+            k.constraint[l] = 0;
+            continue;
+        }
+        const JointConstraint& j = constraints[indices[l]];
+        k.bodyA[l] = j.bodyA;
+        k.bodyB[l] = j.bodyB;
+        k.writeA[l] = bodies[j.bodyA].invMass > 0 ? j.bodyA : kEmptyLane;
+        k.writeB[l] = bodies[j.bodyB].invMass > 0 ? j.bodyB : kEmptyLane;
+        k.constraint[l] = indices[l];
+        setLane(k.rA0, l, j.rA0);
+        setLane(k.rB0, l, j.rB0);
+        setLane(k.centreDelta, l, j.centreDelta);
+        setLane(k.impulse, l, j.impulse.linear);
+    }
+    k.pointMass = Mat3W{};
+    k.pointMassValid = 0.0f;
+}
+
+// The twin of warmStartBall for a frictionless Gauss-Seidel ball joint: the
+// frame, the point block's mass for this sub-step, and the stored impulse
+// applied (applyPoint: v -= P mA, w -= IA^-1 (rA x P), and + on B).
+void warmStartBlocks(BallBlock* blocks, std::size_t count, SolverBody* bodies, const Quat* rotations,
+                     std::uint64_t generation) {
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        BallBlock& k = blocks[bi];
+        const bool stale = k.frameAt != generation;  // the first warm start of a step (later: the relax pass's frame)
+        const BodyW a = stale ? gatherBody<true>(bodies, k.bodyA) : gatherBody<false>(bodies, k.bodyA);
+        const BodyW b = stale ? gatherBody<true>(bodies, k.bodyB) : gatherBody<false>(bodies, k.bodyB);
+        if (stale) updateFrame(k, a, b, rotations, generation);
+        cachePointMass(k, a, b);
+        const Vec3W& P = k.impulse;
+        const Vec3W vA = a.v() - P * a.invMass();
+        const Vec3W wA = a.w() - a.invI() * cross(k.rA, P);
+        const Vec3W vB = b.v() + P * b.invMass();
+        const Vec3W wB = b.w() + b.invI() * cross(k.rB, P);
+        scatterVelocity(bodies, k.writeA, a, vA, wA);
+        scatterVelocity(bodies, k.writeB, b, vB, wB);
+    }
+}
+
+// The twin of solveBall (solvePointBlock) for a frictionless Gauss-Seidel
+// ball joint: d = -(K^-1 (cdot + bias)) massScale - lambda impulseScale with
+// cdot = ((vB + wB x rB) - vA) - wA x rA; lanes without an invertible block
+// keep their velocities and impulse (the scalar code skips them).
+template <bool useBias>
+void solveBlocks(BallBlock* blocks, std::size_t count, SolverBody* bodies, const Quat* rotations, std::uint64_t generation,
+                 const Softness& soft) {
+    // The relax pass's constants are the scalar ones (bias 0, massScale 1,
+    // impulseScale 0), operated with as the scalar code does.
+    const FloatW biasRate = useBias ? soft.biasRate : 0.0f;
+    const FloatW massScale = useBias ? soft.massScale : 1.0f;
+    const FloatW impulseScale = useBias ? soft.impulseScale : 0.0f;
+    const FloatW zero = 0.0f;
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        BallBlock& k = blocks[bi];
+        // The relax pass follows a position update (a new frame); the biased
+        // pass follows the warm start (the same frame).
+        const bool stale = k.frameAt != generation;
+        const BodyW a = stale ? gatherBody<true>(bodies, k.bodyA) : gatherBody<false>(bodies, k.bodyA);
+        const BodyW b = stale ? gatherBody<true>(bodies, k.bodyB) : gatherBody<false>(bodies, k.bodyB);
+        if (stale) updateFrame(k, a, b, rotations, generation);
+        const Vec3W vA0 = a.v(), wA0 = a.w(), vB0 = b.v(), wB0 = b.w();
+        const Vec3W cdot = vB0 + cross(wB0, k.rB) - vA0 - cross(wA0, k.rA);
+        const Vec3W bias = useBias ? k.d * biasRate : Vec3W{};  // the relax pass: Vec3{}, +0
+        const Vec3W d = -(k.pointMass * (cdot + bias)) * massScale - k.impulse * impulseScale;
+        const MaskW valid = k.pointMassValid > zero;
+        k.impulse = select(valid, k.impulse + d, k.impulse);
+        const Vec3W vA = select(valid, vA0 - d * a.invMass(), vA0);
+        const Vec3W wA = select(valid, wA0 - a.invI() * cross(k.rA, d), wA0);
+        const Vec3W vB = select(valid, vB0 + d * b.invMass(), vB0);
+        const Vec3W wB = select(valid, wB0 + b.invI() * cross(k.rB, d), wB0);
+        scatterVelocity(bodies, k.writeA, a, vA, wA);
+        scatterVelocity(bodies, k.writeB, b, vB, wB);
+    }
+}
+
+class Blocks final : public WideBallJoints {
+public:
+    explicit Blocks(SimdPath path) : path_(path) {}
+    SimdPath path() const override { return path_; }
+    int lanes() const override { return kLanes; }
+    std::size_t size() const override { return blocks_.size(); }
+    void reserve(std::size_t blocks) override {
+        if (blocks_.capacity() < blocks) blocks_.reserve(2 * blocks);
+    }
+    void resize(std::size_t blocks) override {
+        blocks_.resize(blocks);
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
+    void build(std::size_t block, const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
+               const SolverBody* bodies) override {
+        buildBlock(blocks_[block], constraints, indices, laneCount, bodies);
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
+    void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations,
+                   std::uint64_t generation) override {
+        warmStartBlocks(blocks_.data() + first, count, bodies, rotations, generation);
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
+    void solve(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations, std::uint64_t generation,
+               const Softness& soft, bool useBias) override {
+        if (useBias) {
+            solveBlocks<true>(blocks_.data() + first, count, bodies, rotations, generation, soft);
+        } else {
+            solveBlocks<false>(blocks_.data() + first, count, bodies, rotations, generation, soft);
+        }
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
+    void store(JointConstraint* constraints) const override {
+        for (const BallBlock& k : blocks_) {
+            for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+                const int l = static_cast<int>(lane);
+                Vec3& impulse = constraints[k.constraint[lane]].impulse.linear;
+                impulse.x = getLane(k.impulse.x, l);
+                impulse.y = getLane(k.impulse.y, l);
+                impulse.z = getLane(k.impulse.z, l);
+            }
+        }
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
+
+private:
+    SimdPath path_;
+    std::vector<BallBlock> blocks_;
+};
+
+}  // namespace
+}  // namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS
