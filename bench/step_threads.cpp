@@ -111,6 +111,19 @@ std::uint64_t hashState(const fulcrum::World& world) {
     return h;
 }
 
+// StepProfile's times, in pipeline order, then the total.
+struct Phase {
+    const char* name;
+    double fulcrum::StepProfile::*field;
+};
+constexpr Phase kPhases[] = {
+    {"collide", &fulcrum::StepProfile::collide},       {"prepare", &fulcrum::StepProfile::prepare},
+    {"solve", &fulcrum::StepProfile::solve},           {"store", &fulcrum::StepProfile::store},
+    {"continuous", &fulcrum::StepProfile::continuous}, {"particles", &fulcrum::StepProfile::particles},
+    {"sleep", &fulcrum::StepProfile::sleep},           {"finish", &fulcrum::StepProfile::finish},
+    {"total", &fulcrum::StepProfile::total},
+};
+
 struct Timing {
     std::vector<double> stepMs;
     fulcrum::StepProfile phases;  // summed over the steps
@@ -131,15 +144,7 @@ Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskS
         t.cpuSeconds += threadCpuSeconds() - c0;
         t.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
         const fulcrum::StepProfile p = world.lastStepProfile();
-        t.phases.total += p.total;
-        t.phases.collide += p.collide;
-        t.phases.prepare += p.prepare;
-        t.phases.solve += p.solve;
-        t.phases.store += p.store;
-        t.phases.continuous += p.continuous;
-        t.phases.particles += p.particles;
-        t.phases.sleep += p.sleep;
-        t.phases.finish += p.finish;
+        for (const Phase& phase : kPhases) t.phases.*(phase.field) += p.*(phase.field);
     }
     t.hash = hashState(world);
     return t;
@@ -148,13 +153,7 @@ Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskS
 // Keeps the faster of each step time and each phase sum (the same scene and steps).
 void keepFastest(Timing& best, const Timing& t) {
     for (std::size_t k = 0; k < best.stepMs.size(); ++k) best.stepMs[k] = std::min(best.stepMs[k], t.stepMs[k]);
-    fulcrum::StepProfile& b = best.phases;
-    const fulcrum::StepProfile& p = t.phases;
-    for (auto field : {&fulcrum::StepProfile::total, &fulcrum::StepProfile::collide, &fulcrum::StepProfile::prepare,
-                       &fulcrum::StepProfile::solve, &fulcrum::StepProfile::store, &fulcrum::StepProfile::continuous,
-                       &fulcrum::StepProfile::particles, &fulcrum::StepProfile::sleep, &fulcrum::StepProfile::finish}) {
-        b.*field = std::min(b.*field, p.*field);
-    }
+    for (const Phase& phase : kPhases) best.phases.*(phase.field) = std::min(best.phases.*(phase.field), t.phases.*(phase.field));
 }
 
 double median(std::vector<double> v) {
@@ -193,18 +192,10 @@ void printPhases(const Timing& one, const Timing& many, int threads, int steps) 
     const auto& b = many.phases;
     const double n = steps;
     std::printf("\n| phase | 1 thread ms/step | %d threads ms/step | speed-up |\n|---|---|---|---|\n", threads);
-    const auto row = [&](const char* name, double x, double y) {
-        std::printf("| %s | %.4f | %.4f | %.2f |\n", name, x / n, y / n, y > 0 ? x / y : 0.0);
-    };
-    row("collide", a.collide, b.collide);
-    row("prepare", a.prepare, b.prepare);
-    row("solve", a.solve, b.solve);
-    row("store", a.store, b.store);
-    row("continuous", a.continuous, b.continuous);
-    row("particles", a.particles, b.particles);
-    row("sleep", a.sleep, b.sleep);
-    row("finish", a.finish, b.finish);
-    row("total", a.total, b.total);
+    for (const Phase& phase : kPhases) {
+        const double x = a.*(phase.field), y = b.*(phase.field);
+        std::printf("| %s | %.4f | %.4f | %.2f |\n", phase.name, x / n, y / n, y > 0 ? x / y : 0.0);
+    }
     std::printf("\n");
 }
 
