@@ -1,7 +1,8 @@
 // How much of a step runs in parallel, and what 2 threads gain: the scenes of
 // bench/scenes.hpp (box_pile, sphere_pile, ...) stepped three ways.
 //
-//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only]
+//   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only] [--phases] [--rounds R]
+//                      [--windows W]
 //
 // --p-only: the timing run alone (to profile the step as p sees it);
 // --one-thread-only: one run with threads = 1 (the inline task system), for
@@ -16,6 +17,14 @@
 //    ms per step (median, mean) and the speed-up; those need idle cores, so
 //    the load average is printed with them.
 // 3. The final state of every run is hashed: the runs must agree to the bit.
+// --phases: after each scene, where the time went on 1 and on N threads
+//    (World::lastStepProfile summed over the run): ms per step of each phase
+//    and its speed-up, to see which phase keeps the step from scaling.
+// --rounds R: the 1- and N-thread runs R times each, alternating; each step's
+//    time and each phase's sum is the fastest of its R (the machine's noise
+//    only ever adds time).
+// --windows W: the mean step time on 1 and N threads over each W steps (a
+//    pile's fall, collapse and rest scale differently).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -104,6 +113,7 @@ std::uint64_t hashState(const fulcrum::World& world) {
 
 struct Timing {
     std::vector<double> stepMs;
+    fulcrum::StepProfile phases;  // summed over the steps
     double cpuSeconds = 0;  // calling thread
     std::uint64_t hash = 0;
 };
@@ -120,9 +130,31 @@ Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskS
         const auto t1 = std::chrono::steady_clock::now();
         t.cpuSeconds += threadCpuSeconds() - c0;
         t.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        const fulcrum::StepProfile p = world.lastStepProfile();
+        t.phases.total += p.total;
+        t.phases.collide += p.collide;
+        t.phases.prepare += p.prepare;
+        t.phases.solve += p.solve;
+        t.phases.store += p.store;
+        t.phases.continuous += p.continuous;
+        t.phases.particles += p.particles;
+        t.phases.sleep += p.sleep;
+        t.phases.finish += p.finish;
     }
     t.hash = hashState(world);
     return t;
+}
+
+// Keeps the faster of each step time and each phase sum (the same scene and steps).
+void keepFastest(Timing& best, const Timing& t) {
+    for (std::size_t k = 0; k < best.stepMs.size(); ++k) best.stepMs[k] = std::min(best.stepMs[k], t.stepMs[k]);
+    fulcrum::StepProfile& b = best.phases;
+    const fulcrum::StepProfile& p = t.phases;
+    for (auto field : {&fulcrum::StepProfile::total, &fulcrum::StepProfile::collide, &fulcrum::StepProfile::prepare,
+                       &fulcrum::StepProfile::solve, &fulcrum::StepProfile::store, &fulcrum::StepProfile::continuous,
+                       &fulcrum::StepProfile::particles, &fulcrum::StepProfile::sleep, &fulcrum::StepProfile::finish}) {
+        b.*field = std::min(b.*field, p.*field);
+    }
 }
 
 double median(std::vector<double> v) {
@@ -140,12 +172,48 @@ double loadAverage() {
     return load;
 }
 
+void printWindows(const Timing& one, const Timing& many, int threads, int window) {
+    std::printf("\n| steps | 1 thread ms/step | %d threads ms/step | speed-up |\n|---|---|---|---|\n", threads);
+    const std::size_t n = one.stepMs.size(), w = static_cast<std::size_t>(window);
+    for (std::size_t first = 0; first < n; first += w) {
+        const std::size_t last = std::min(n, first + w);
+        double a = 0, b = 0;
+        for (std::size_t k = first; k < last; ++k) {
+            a += one.stepMs[k];
+            b += many.stepMs[k];
+        }
+        const auto count = static_cast<double>(last - first);
+        std::printf("| %zu-%zu | %.3f | %.3f | %.2f |\n", first, last - 1, a / count, b / count, a / b);
+    }
+    std::printf("\n");
+}
+
+void printPhases(const Timing& one, const Timing& many, int threads, int steps) {
+    const auto& a = one.phases;
+    const auto& b = many.phases;
+    const double n = steps;
+    std::printf("\n| phase | 1 thread ms/step | %d threads ms/step | speed-up |\n|---|---|---|---|\n", threads);
+    const auto row = [&](const char* name, double x, double y) {
+        std::printf("| %s | %.4f | %.4f | %.2f |\n", name, x / n, y / n, y > 0 ? x / y : 0.0);
+    };
+    row("collide", a.collide, b.collide);
+    row("prepare", a.prepare, b.prepare);
+    row("solve", a.solve, b.solve);
+    row("store", a.store, b.store);
+    row("continuous", a.continuous, b.continuous);
+    row("particles", a.particles, b.particles);
+    row("sleep", a.sleep, b.sleep);
+    row("finish", a.finish, b.finish);
+    row("total", a.total, b.total);
+    std::printf("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string only;
-    int steps = 0, threads = 2;
-    bool quick = false, pOnly = false, oneThreadOnly = false;
+    int steps = 0, threads = 2, rounds = 1, window = 0;
+    bool quick = false, pOnly = false, oneThreadOnly = false, phases = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) only = argv[++i];
         else if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
@@ -153,8 +221,11 @@ int main(int argc, char** argv) {
         else if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         else if (std::strcmp(argv[i], "--p-only") == 0) pOnly = true;
         else if (std::strcmp(argv[i], "--one-thread-only") == 0) oneThreadOnly = true;
+        else if (std::strcmp(argv[i], "--phases") == 0) phases = true;
+        else if (std::strcmp(argv[i], "--windows") == 0 && i + 1 < argc) window = std::max(1, std::atoi(argv[++i]));
+        else if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) rounds = std::max(1, std::atoi(argv[++i]));
         else {
-            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only] [--phases] [--rounds R] [--windows W]\n", argv[0]);
             return 2;
         }
     }
@@ -181,14 +252,24 @@ int main(int argc, char** argv) {
             continue;
         }
         const double load0 = loadAverage();
-        const Timing one = run(scene, n, 1, nullptr);
-        const Timing many = run(scene, n, threads, nullptr);
+        Timing one = run(scene, n, 1, nullptr);
+        Timing many = run(scene, n, threads, nullptr);
+        bool sameBits = one.hash == many.hash;
+        for (int r = 1; r < rounds; ++r) {
+            const Timing again1 = run(scene, n, 1, nullptr);
+            const Timing againN = run(scene, n, threads, nullptr);
+            sameBits = sameBits && again1.hash == one.hash && againN.hash == one.hash;
+            keepFastest(one, again1);
+            keepFastest(many, againN);
+        }
         const double load1 = loadAverage();
         std::printf("| %s | %d | %.3f (%llu calls) | %.2f | %.3f / %.3f | %.3f / %.3f | %.2f | %.1f-%.1f | %s | %016llx |\n",
                     scene.name.c_str(), n, p, static_cast<unsigned long long>(timing.calls), bound, median(one.stepMs),
                     mean(one.stepMs), median(many.stepMs), mean(many.stepMs), mean(one.stepMs) / mean(many.stepMs),
                     std::min(load0, load1), std::max(load0, load1),
-                    serial.hash == one.hash && one.hash == many.hash ? "yes" : "NO", static_cast<unsigned long long>(serial.hash));
+                    serial.hash == one.hash && sameBits ? "yes" : "NO", static_cast<unsigned long long>(serial.hash));
+        if (phases) printPhases(one, many, threads, n);
+        if (window > 0) printWindows(one, many, threads, window);
         std::fflush(stdout);
     }
     return 0;

@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
     CLI::Option* snapshotAtOpt =
         run->add_option("--snapshot-at", snapshotAt, "Save the state after step N (0: before the first) to --snapshot FILE, and keep running");
     run->add_option("--snapshot", outputs.snapshotPath, "Snapshot file written by --snapshot-at (docs/snapshots.md)");
+    run->add_flag("--profile", outputs.profile, "Report where the step time went: ms per step of each phase (summary table, or \"profile\" in --json)");
     CLI::Option* resumeOpt = run->add_option("--resume", resume, "Continue the run saved in a snapshot FILE (instead of a scene); --steps counts the further steps");
 
     try {

@@ -97,6 +97,29 @@ struct EnergyReport {
     double total = 0;
 };
 
+// Where the last step's time went (World::lastStepProfile; docs/api.md,
+// "Profiling"): wall-clock milliseconds per phase of the step pipeline
+// (docs/architecture.md), and what the step worked on. The phases follow one
+// another, so they add up to `total` but for the few microseconds between them.
+// Measured with std::chrono::steady_clock at the phase boundaries only (nine
+// clock reads per step), so it is always on; it is a diagnostic, not part of
+// the simulation: two runs of one scene give the same state, not the same times.
+struct StepProfile {
+    double total = 0;       // World::step from entry to return
+    double collide = 0;     // start transforms, broad phase, narrow phase, contact begin/end
+    double prepare = 0;     // contact and joint constraints, graph colouring, first forces
+    double solve = 0;       // the sub-steps: forces, integration, warm start, solve, relax, joint projection
+    double store = 0;       // restitution, impulses kept for warm starting, joint reactions and breaking
+    double continuous = 0;  // time of impact for fast bodies
+    double particles = 0;   // ropes and cloths
+    double sleep = 0;       // islands and sleeping
+    double finish = 0;      // user forces cleared, NaN/inf check
+    std::uint32_t awakeBodies = 0;         // bodies that moved in the step
+    std::uint32_t contactConstraints = 0;  // touching manifolds the solver worked on
+    std::uint32_t jointConstraints = 0;    // enabled joints with an awake body
+    std::uint32_t workers = 0;             // the task system's worker count (1: the calling thread alone)
+};
+
 // One contact manifold of the last step, as reported to users and --json.
 struct ContactReport {
     BodyId bodyA, bodyB;
@@ -252,6 +275,8 @@ public:
     // Energy and momenta include the particle systems (kinetic from their last
     // sub-step's velocity, gravity, elastic energy of compliant constraints).
     EnergyReport energy() const;
+    // The last step's phase times and sizes (zeros before the first step).
+    StepProfile lastStepProfile() const;
     Vec3 linearMomentum() const;
     Vec3 angularMomentum() const;                      // about the world origin
     // The touching manifolds of the last step, built when first read after it

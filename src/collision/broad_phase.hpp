@@ -127,6 +127,18 @@ public:
         treeOf(r.type).setFatBox(r.leaf, tightBox, displacement);
         markMoved(id, before, false);
     }
+    // setFatBox split again, for many proxies at once: writeFatBox may run on
+    // any thread for distinct proxies (it writes that leaf's box only and
+    // returns the box it replaced); noteMoved then gives each, in a
+    // deterministic order, its move-buffer entry. Together: setFatBox.
+    AABB writeFatBox(ProxyId id, const AABB& tightBox, const Vec3& displacement) {
+        const ProxyRecord& r = record(id);
+        DynamicTree& tree = treeOf(r.type);
+        const AABB before = tree.fatAABB(r.leaf);
+        tree.setFatBox(r.leaf, tightBox, displacement);
+        return before;
+    }
+    void noteMoved(ProxyId id, const AABB& before) { markMoved(id, before, false); }
     void reinsertProxy(ProxyId id) {
         const ProxyRecord& r = record(id);
         treeOf(r.type).reinsert(r.leaf);

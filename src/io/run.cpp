@@ -313,6 +313,7 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
             if (what.find("step") != std::string::npos) throw;
             throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
         }
+        addProfile(result, world.lastStepProfile());
         saveIfAsked();
         if (csv) writeCsvRows(csv.get(), world, scene, result.handles, step);
         if (csv && outputs.csvParticles) writeCsvParticleRows(csv.get(), world, scene, result.handles, step);
@@ -335,7 +336,22 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
     return result;
 }
 
-std::string runReportJson(const Scene& scene, const RunResult& result) {
+namespace {
+
+// The phases of StepProfile, in pipeline order, with their report names.
+struct ProfilePhase {
+    const char* name;
+    double StepProfile::*field;
+};
+constexpr ProfilePhase kProfilePhases[] = {
+    {"collide", &StepProfile::collide},       {"prepare", &StepProfile::prepare}, {"solve", &StepProfile::solve},
+    {"store", &StepProfile::store},           {"continuous", &StepProfile::continuous},
+    {"particles", &StepProfile::particles},   {"sleep", &StepProfile::sleep},     {"finish", &StepProfile::finish},
+};
+
+}  // namespace
+
+std::string runReportJson(const Scene& scene, const RunResult& result, bool withProfile) {
     const World& world = result.world;
     ojson j;
     j["steps"] = world.stepCount();
@@ -397,7 +413,50 @@ std::string runReportJson(const Scene& scene, const RunResult& result) {
         }
     }
     j["particle_systems"] = std::move(systems);
+    if (withProfile) {
+        const StepProfile& p = result.profile;
+        const double steps = result.profiledSteps > 0 ? static_cast<double>(result.profiledSteps) : 1.0;
+        ojson prof{{"steps", result.profiledSteps}, {"ms_per_step", p.total / steps}};
+        for (const ProfilePhase& phase : kProfilePhases) prof[phase.name] = p.*(phase.field) / steps;
+        prof["max_awake_bodies"] = p.awakeBodies;
+        prof["max_contact_constraints"] = p.contactConstraints;
+        prof["max_joint_constraints"] = p.jointConstraints;
+        prof["workers"] = p.workers;
+        j["profile"] = std::move(prof);
+    }
     return j.dump(2) + "\n";
+}
+
+
+void addProfile(RunResult& result, const StepProfile& step) {
+    StepProfile& sum = result.profile;
+    sum.total += step.total;
+    for (const ProfilePhase& phase : kProfilePhases) sum.*(phase.field) += step.*(phase.field);
+    sum.awakeBodies = std::max(sum.awakeBodies, step.awakeBodies);
+    sum.contactConstraints = std::max(sum.contactConstraints, step.contactConstraints);
+    sum.jointConstraints = std::max(sum.jointConstraints, step.jointConstraints);
+    sum.workers = std::max(sum.workers, step.workers);
+    ++result.profiledSteps;
+}
+
+std::string profileSummary(const RunResult& result) {
+    const StepProfile& p = result.profile;
+    std::ostringstream s;
+    char line[256];
+    const double steps = result.profiledSteps > 0 ? static_cast<double>(result.profiledSteps) : 1.0;
+    std::snprintf(line, sizeof line,
+                  "profile: %llu steps, %.4f ms per step (mean); at most %u bodies awake, %u contact and %u joint "
+                  "constraints, %u worker%s\n",
+                  static_cast<unsigned long long>(result.profiledSteps), p.total / steps, p.awakeBodies,
+                  p.contactConstraints, p.jointConstraints, p.workers, p.workers == 1 ? "" : "s");
+    s << line;
+    for (const ProfilePhase& phase : kProfilePhases) {
+        const double ms = p.*(phase.field);
+        std::snprintf(line, sizeof line, "  %-10s %10.4f ms/step %6.1f %%\n", phase.name, ms / steps,
+                      p.total > 0 ? 100 * ms / p.total : 0.0);
+        s << line;
+    }
+    return s.str();
 }
 
 std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label) {
@@ -494,10 +553,11 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
             result = runScene(scene, outputs, observer);
         }
         if (outputs.json) {
-            out << runReportJson(scene, result);
+            out << runReportJson(scene, result, outputs.profile);
         } else {
             out << runSummary(scene, result, "fulcrum: " + label);
             if (demoRun) out << demo.report(scene, result);
+            if (outputs.profile) out << profileSummary(result);
         }
         out.flush();
         return 0;

@@ -45,6 +45,7 @@ struct RunOutputs {
     bool progress = false;    // progress bar on stderr (the caller checks it is a terminal)
     std::string snapshotPath;            // --snapshot FILE: where --snapshot-at writes
     std::optional<long long> snapshotAt; // --snapshot-at N: the world's state after step N (0: before the first)
+    bool profile = false;     // --profile: where the step time went (World::lastStepProfile, summed)
 };
 
 struct RunSample {
@@ -60,6 +61,8 @@ struct RunResult {
     double wallSeconds = 0;
     EnergyReport initialEnergy;
     std::vector<RunSample> samples;  // step 0..N, only when a plot was asked for
+    StepProfile profile;             // the run's steps' World::lastStepProfile, summed (counts: their maxima)
+    std::uint64_t profiledSteps = 0;
 };
 
 // Called after every step (and once before the first, with step 0).
@@ -79,7 +82,12 @@ RunResult runWorld(World world, const SceneHandles& handles, const Scene& scene,
 Scene resumeScene(const World& world, const std::string& userData, const std::string& source, SceneHandles& handles);
 
 // The --json report (design.md, "Contract: the command line").
-std::string runReportJson(const Scene& scene, const RunResult& result);
+// withProfile (--profile): plus a "profile" object (ms per step of each phase).
+std::string runReportJson(const Scene& scene, const RunResult& result, bool withProfile = false);
+// Adds one step's World::lastStepProfile to result.profile (runScene does, each step).
+void addProfile(RunResult& result, const StepProfile& step);
+// --profile's table: mean ms per step of each phase and its share of the step.
+std::string profileSummary(const RunResult& result);
 // A short human summary of a run.
 std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label);
 

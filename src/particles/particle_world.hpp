@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "fulcrum/particles.hpp"
+#include "fulcrum/task_system.hpp"
 #include "particles/particle_integration.hpp"
 #include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
@@ -69,8 +70,14 @@ public:
     std::vector<ParticleSystemId> systems() const;  // live systems in creation order
     std::size_t systemCount() const;
 
-    // Advances every system by dt (> 0). `collider` may be null (no rigid bodies).
-    void step(Real dt, RigidCollider* collider = nullptr);
+    // Advances every system by dt (> 0). `collider` may be null (no rigid
+    // bodies). `tasks` (may be null: this thread) runs the large loops of a
+    // system (the self-collision search, the large constraint colours) in
+    // parallel, with the same bits for any worker count (docs/particles.md,
+    // "Threads").
+    void step(Real dt, RigidCollider* collider = nullptr, TaskSystem* tasks = nullptr);
+    // Sweeps run as StagedParallel stages so far (tests: the threaded path ran).
+    std::uint64_t stagedSweeps() const { return stagedSweeps_; }
 
 private:
     friend struct fulcrum::SnapshotAccess;
@@ -83,6 +90,10 @@ private:
         detail::ParticleSoA particles;           // the step's working copy of the positions
         // The system's constraint groups, coloured for SIMD (xpbd_distance.hpp).
         detail::DistanceBatches stretch, shear, bend, tethers;
+        // The four groups' sweeps as the stages of one parallel run, when a
+        // group has a colour large enough to split (useStages).
+        detail::StagedParallel stages;
+        bool useStages = false;
     };
     Slot& slotOf(ParticleSystemId id);
     const Slot& slotOf(ParticleSystemId id) const;
@@ -92,6 +103,7 @@ private:
     std::vector<std::uint32_t> freeSlots_;
     std::uint64_t nextOrder_ = 0;
     detail::RigidCoupling coupling_;
+    std::uint64_t stagedSweeps_ = 0;
     // Step scratch, capacity kept.
     std::vector<Slot*> active_;
     std::vector<ParticleSystem*> activeSystems_;

@@ -27,17 +27,17 @@ bool SelfCollision::listStillComplete(const ParticleSoA& p, const DriftRange& dr
     return half2 < limit * limit;
 }
 
-void SelfCollision::update(const ParticleSystem& s, const ParticleSoA& p, const DriftRange& drift) {
+void SelfCollision::update(const ParticleSystem& s, const ParticleSoA& p, const DriftRange& drift, TaskSystem* tasks) {
     if (!s.selfCollision || p.size() < 2) {
         pairs_.clear();
         valid_ = false;
         return;
     }
     if (valid_ && listStillComplete(p, drift)) return;
-    findPairs(s, p);
+    findPairs(s, p, tasks);
 }
 
-void SelfCollision::findPairs(const ParticleSystem& s, const ParticleSoA& p) {
+void SelfCollision::findPairs(const ParticleSystem& s, const ParticleSoA& p, TaskSystem* tasks) {
     ++searches_;
     valid_ = true;
     pairs_.clear();
@@ -115,23 +115,45 @@ void SelfCollision::findPairs(const ParticleSystem& s, const ParticleSoA& p) {
     const Real exclusion2 = s.selfCollisionExclusion * s.selfCollisionExclusion;
     const Real reach2 = reach * reach;
     const Real* w = p.w.data();
-    const auto consider = [&](std::uint32_t a, std::size_t k, Real ax, Real ay, Real az) {
-        const Real ex = sortedX_[k] - ax, ey = sortedY_[k] - ay, ez = sortedZ_[k] - az;
-        if (ex * ex + ey * ey + ez * ez > reach2) return;
-        const std::uint32_t b = sortedIndex_[k];
-        if (w[a] == 0 && w[b] == 0) return;
-        if (lengthSquared(s.restPosition[b] - s.restPosition[a]) < exclusion2) return;
-        pairs_.push_back({std::min(a, b), std::max(a, b), s.radius[a] + s.radius[b]});
-    };
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t a = sortedIndex_[k];
-        const Real ax = sortedX_[k], ay = sortedY_[k], az = sortedZ_[k];
-        const std::size_t c = cellOf_[a];
-        for (std::size_t e = k + 1; e < cellStart_[c + 2]; ++e) consider(a, e, ax, ay, az);
-        for (const std::size_t offset : forwardRows) {
-            const std::size_t r = c + offset;
-            for (std::size_t e = cellStart_[r - 1]; e < cellStart_[r + 2]; ++e) consider(a, e, ax, ay, az);
+    // Sorted particles [first, last) into `out`, in sorted order.
+    const auto search = [&](std::size_t first, std::size_t last, std::vector<Pair>& out) {
+        const auto consider = [&](std::uint32_t a, std::size_t k, Real ax, Real ay, Real az) {
+            const Real ex = sortedX_[k] - ax, ey = sortedY_[k] - ay, ez = sortedZ_[k] - az;
+            if (ex * ex + ey * ey + ez * ez > reach2) return;
+            const std::uint32_t b = sortedIndex_[k];
+            if (w[a] == 0 && w[b] == 0) return;
+            if (lengthSquared(s.restPosition[b] - s.restPosition[a]) < exclusion2) return;
+            out.push_back({std::min(a, b), std::max(a, b), s.radius[a] + s.radius[b]});
+        };
+        for (std::size_t k = first; k < last; ++k) {
+            const std::uint32_t a = sortedIndex_[k];
+            const Real ax = sortedX_[k], ay = sortedY_[k], az = sortedZ_[k];
+            const std::size_t c = cellOf_[a];
+            for (std::size_t e = k + 1; e < cellStart_[c + 2]; ++e) consider(a, e, ax, ay, az);
+            for (const std::size_t offset : forwardRows) {
+                const std::size_t r = c + offset;
+                for (std::size_t e = cellStart_[r - 1]; e < cellStart_[r + 2]; ++e) consider(a, e, ax, ay, az);
+            }
         }
+    };
+    const auto blocks = static_cast<std::uint32_t>((n + kSearchBlock - 1) / kSearchBlock);
+    if (tasks == nullptr || tasks->workerCount() <= 1 || blocks < 2) {
+        search(0, n, pairs_);
+        return;
+    }
+    // Fixed blocks, each its own list (kept between searches: no allocation
+    // once they have grown), joined in block order: the serial list.
+    if (blockPairs_.size() < blocks) blockPairs_.resize(blocks);
+    tasks->parallelFor(blocks, 1, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        for (std::uint32_t block = begin; block < end; ++block) {
+            std::vector<Pair>& out = blockPairs_[block];
+            out.clear();
+            const std::size_t first = std::size_t{block} * kSearchBlock;
+            search(first, std::min(n, first + kSearchBlock), out);
+        }
+    });
+    for (std::uint32_t block = 0; block < blocks; ++block) {
+        pairs_.insert(pairs_.end(), blockPairs_[block].begin(), blockPairs_[block].end());
     }
 }
 

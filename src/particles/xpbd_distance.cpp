@@ -439,22 +439,76 @@ void DistanceBatches::solve(ParticleSoA& p, bool firstIteration, bool lastIterat
     }
 }
 
+// Slots [begin, end) of one colour: whole chunks of lanes_ in SIMD lanes from
+// `begin`, then the rest one by one.
 template <bool First, bool Keep>
-void DistanceBatches::sweep(ParticleSoA& p) {
+void DistanceBatches::solveColourRange(ParticleSoA& p, std::size_t begin, std::size_t end) {
     [[maybe_unused]] const SlotArrays slots{a_.data(), b_.data(), rest_.data(), inverseDenominator_.data(),
                                             lambda_.data(), layout_.data(), alphaTilde_, unilateral_};
-    for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
-        const std::size_t begin = colourStart_[c], end = colourStart_[c + 1];
-        std::size_t k = begin;
+    std::size_t k = begin;
 #if FULCRUM_PARTICLES_AVX2
-        if (lanes_ == 8) k = solveChunksOfEight<First, Keep>(p, slots, begin, end);
+    if (lanes_ == 8) k = solveChunksOfEight<First, Keep>(p, slots, begin, end);
 #endif
 #if FULCRUM_PARTICLES_SSE2
-        if (lanes_ == 4) k = solveChunksOfFour<First, Keep>(p, slots, begin, end);
+    if (lanes_ == 4) k = solveChunksOfFour<First, Keep>(p, slots, begin, end);
 #endif
-        solveRange<First, Keep>(p, k, end);
-    }
+    solveRange<First, Keep>(p, k, end);
+}
+
+template <bool First, bool Keep>
+void DistanceBatches::sweep(ParticleSoA& p) {
+    for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) solveColourRange<First, Keep>(p, colourStart_[c], colourStart_[c + 1]);
     solveRange<First, Keep>(p, sequentialBegin_, a_.size());
+}
+
+namespace {
+constexpr std::uint32_t kSequentialStage = UINT32_MAX;
+}
+
+void DistanceBatches::addSweepStages(StagedParallel& stages, std::uint32_t kind) const {
+    const std::size_t lanes = lanes_ > 1 ? lanes_ : 1;
+    for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
+        const std::size_t n = colourStart_[c + 1] - colourStart_[c];
+        const auto colour = static_cast<std::uint32_t>(c);
+        if (n >= kParallelSlots) {
+            stages.add(kind, colour, 0, static_cast<std::uint32_t>(n / lanes), kChunksPerUnit);
+        } else {
+            stages.add(kind, colour, 0, n > 0 ? 1 : 0, 1);
+        }
+    }
+    if (sequentialBegin_ < a_.size()) stages.add(kind, kSequentialStage, 0, 1, 1);
+}
+
+// Units of a split colour are chunk ranges [first, last) counted from the
+// colour's start, so every chunk starts where the serial sweep starts it (its
+// layout_ entry is for that start); the unit with the last chunk also takes
+// the colour's tail, as the serial sweep does.
+template <bool First, bool Keep>
+void DistanceBatches::runStage(ParticleSoA& p, std::uint32_t arg, std::uint32_t first, std::uint32_t last) {
+    if (arg == kSequentialStage) {
+        solveRange<First, Keep>(p, sequentialBegin_, a_.size());
+        return;
+    }
+    const std::size_t begin = colourStart_[arg], end = colourStart_[arg + 1];
+    if (end - begin < kParallelSlots) {
+        solveColourRange<First, Keep>(p, begin, end);
+        return;
+    }
+    const std::size_t lanes = lanes_ > 1 ? lanes_ : 1;
+    const std::size_t chunks = (end - begin) / lanes;
+    const std::size_t from = begin + first * lanes;
+    const std::size_t to = last == chunks ? end : begin + last * lanes;
+    solveColourRange<First, Keep>(p, from, to);
+}
+
+void DistanceBatches::runSweepStage(ParticleSoA& p, bool firstIteration, bool lastIteration, std::uint32_t arg,
+                                    std::uint32_t first, std::uint32_t last) {
+    if (firstIteration) {
+        if (lastIteration) runStage<true, false>(p, arg, first, last);
+        else runStage<true, true>(p, arg, first, last);
+    } else {
+        runStage<false, true>(p, arg, first, last);
+    }
 }
 
 }  // namespace fulcrum::detail

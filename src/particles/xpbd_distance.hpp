@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "particles/particle_soa.hpp"
+#include "world/staged_parallel.hpp"
 #include "particles/particle_system.hpp"
 
 namespace fulcrum::detail {
@@ -79,12 +80,33 @@ public:
     // sub-step starts the multipliers from 0 (no separate reset); the last
     // does not store them (nothing reads them after it).
     void solve(ParticleSoA& particles, bool firstIteration, bool lastIteration);
+    // The same sweep as stages of a StagedParallel run (docs/particles.md,
+    // "Threads"): addSweepStages appends one stage per colour (a colour of
+    // kParallelSlots or more in units of whole SIMD chunks, counted from the
+    // colour's start; a smaller one as a single unit) and one for the
+    // sequential list; runSweepStage runs units [first, last) of the stage
+    // whose arg it is given. A chunk reads and writes only its own
+    // constraints' particles and no two constraints of a colour share one,
+    // so the units of a stage may run in any order on any thread: the bits
+    // of solve().
+    void addSweepStages(StagedParallel& stages, std::uint32_t kind) const;
+    void runSweepStage(ParticleSoA& particles, bool firstIteration, bool lastIteration, std::uint32_t arg,
+                       std::uint32_t first, std::uint32_t last);
+    // A colour at least this large is split: ~4 us of work with 8 lanes (a
+    // 64 x 64 cloth's colours hold ~2,000 constraints).
+    static constexpr std::size_t kParallelSlots = 1024;
+    // SIMD chunks per unit of a split colour (256 constraints with 8 lanes, ~0.5 us).
+    static constexpr std::uint32_t kChunksPerUnit = 32;
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
 
 private:
     void rebuild(const DistanceConstraintGroup& group, DistanceOrder order);
     template <bool First, bool Keep>
     void sweep(ParticleSoA& p);
+    template <bool First, bool Keep>
+    void solveColourRange(ParticleSoA& p, std::size_t begin, std::size_t end);
+    template <bool First, bool Keep>
+    void runStage(ParticleSoA& p, std::uint32_t arg, std::uint32_t first, std::uint32_t last);
     template <bool First, bool Keep>
     void solveRange(ParticleSoA& p, std::size_t begin, std::size_t end);
 

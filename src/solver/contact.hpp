@@ -41,7 +41,9 @@ struct Contact {
     bool alive = false;
     bool sensor = false;         // one body is a sensor: overlap tracking only
     bool touching = false;       // as of the last update (sensor: overlapping)
-    bool solved = false;         // took part in the last solve (both bodies known to the solver)
+    // Unused (always false since the solver stopped visiting sleeping
+    // contacts); kept so the snapshot format stays the same.
+    bool solved = false;
     std::uint32_t slotA = 0, slotB = 0;  // slotA's proxy id < slotB's proxy id
     ProxyId proxyA = kNullProxy, proxyB = kNullProxy;
     std::uint32_t nextFree = UINT32_MAX;

@@ -83,6 +83,13 @@ public:
     const std::vector<Contact>& contacts() const { return contacts_; }
     const BroadPhase& broadPhase() const { return broad_; }
     ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
+    // The live contacts of the bodies w.awakeBodies lists, ascending, into
+    // `out`, when that is cheaper than every contact: fewer than half the
+    // bodies awake, and the per-body contact lists built (else false, `out`
+    // untouched). Every contact the solver works on has an awake body, so
+    // this is the contact solver's candidate list (prepareConstraintList):
+    // a world that sleeps then costs nothing per contact.
+    bool contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out);
     // Contacts the last update() visited (tests: a sleeping world visits none).
     std::size_t visitedContactCount() const { return activeContacts_.size() + newContacts_.size(); }
 
@@ -135,8 +142,10 @@ private:
     std::vector<ContactLinks> links_;         // per contact
     std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
+    std::vector<std::uint64_t> awakeMarks_;   // one bit per contact: contactsOfAwakeBodies' scratch (all zero between calls)
     std::vector<std::uint64_t> aliveBits_;    // one bit per contact: alive (valid when !linksRebuild_)
     std::vector<std::uint8_t> proxyMoves_;    // per awake body: its tight box left its fat box (update())
+    std::vector<AABB> movedFrom_;             // per awake body that moved: its fat box before (update())
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending (made before it)
     std::vector<std::uint32_t> newContacts_;     // the contacts this update made, ascending
     std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending

@@ -107,6 +107,7 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(constraints_, 4 * bodyCount);
     grow(pending_, 4 * bodyCount);
     grow(contactEnds_, 4 * bodyCount);
+    grow(candidates_, 4 * bodyCount);
     grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
     grow(slotOf_, 4 * bodyCount);
     grow(slotCursor_, (kColourCount + 1) * (4 * bodyCount / kSlotsPerBlock + 2));
@@ -199,20 +200,28 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
     // finds its contacts' solver bodies and manifold counts (contactEnds_,
     // per contact), the block totals are summed in block order, and each block
     // writes its entries from its own offset: the list one thread builds.
+    // The candidates are every contact, or, with fewer than half the bodies
+    // awake, only the awake bodies' contacts (ascending, so the same list):
+    // scanning every contact cost a sleeping box_pile 11 us per step, all of
+    // its step (World::lastStepProfile; 4,000 boxes, 12,000 contacts).
     std::vector<Contact>& contacts = manager.contacts();
-    const std::size_t contactCount = contacts.size();
-    const std::size_t contactBlocks = (contactCount + kContactsPerBlock - 1) / kContactsPerBlock;
-    contactEnds_.resize(contactCount);
+    const bool sparse = manager.contactsOfAwakeBodies(w, candidates_);
+    const std::size_t candidateCount = sparse ? candidates_.size() : contacts.size();
+    const std::uint32_t* candidate = sparse ? candidates_.data() : nullptr;
+    const auto contactAt = [candidate](std::size_t k) {
+        return candidate != nullptr ? std::size_t{candidate[k]} : k;
+    };
+    const std::size_t contactBlocks = (candidateCount + kContactsPerBlock - 1) / kContactsPerBlock;
+    contactEnds_.resize(candidateCount);
     pendingBlockStart_.resize(contactBlocks + 1);
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
-            const std::size_t last = std::min(first + kContactsPerBlock, contactCount);
+            const std::size_t last = std::min(first + kContactsPerBlock, candidateCount);
             std::uint32_t total = 0;
-            for (std::size_t ci = first; ci < last; ++ci) {
-                Contact& c = contacts[ci];
-                c.solved = false;
-                ContactEnds& ends = contactEnds_[ci];
+            for (std::size_t k = first; k < last; ++k) {
+                const Contact& c = contacts[contactAt(k)];
+                ContactEnds& ends = contactEnds_[k];
                 ends.manifolds = 0;
                 if (!c.alive || c.sensor || c.manifolds.empty()) continue;
                 const std::uint32_t dA = w.bodySlots[c.slotA].dense;
@@ -225,7 +234,6 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
                     (ib == 0 && w.params[dB].type != BodyType::Static))
                     continue;
                 if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;
-                c.solved = true;
                 ends.bodyA = ia;
                 ends.bodyB = ib;
                 ends.manifolds = static_cast<std::uint32_t>(c.manifolds.size());
@@ -240,13 +248,13 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
-            const std::size_t last = std::min(first + kContactsPerBlock, contactCount);
+            const std::size_t last = std::min(first + kContactsPerBlock, candidateCount);
             std::uint32_t out = pendingBlockStart_[block];
             if (out == pendingBlockStart_[block + 1]) continue;  // nothing solved here (a sleeping part of the world)
-            for (std::size_t ci = first; ci < last; ++ci) {
-                const ContactEnds& ends = contactEnds_[ci];
+            for (std::size_t k = first; k < last; ++k) {
+                const ContactEnds& ends = contactEnds_[k];
                 for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
-                    pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
+                    pending_[out++] = {static_cast<std::uint32_t>(contactAt(k)), mi, ends.bodyA, ends.bodyB};
                 }
             }
         }

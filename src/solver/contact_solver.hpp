@@ -202,7 +202,8 @@ private:
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
     };
-    std::vector<ContactEnds> contactEnds_;       // per contact slot: prepare()'s pending-list pass
+    std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
+    std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those
     std::vector<std::uint32_t> pendingBlockStart_;  // per block of contacts: its first pending entry
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
     std::vector<std::uint32_t> pendingOfSlot_;   // the inverse: colour-ordered slot -> pending index

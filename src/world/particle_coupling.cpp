@@ -109,7 +109,15 @@ void stepParticles(WorldImpl& w, Real dt) {
         pw.setSettings(s);
     }
     WorldRigidCollider collider(w);
-    pw.step(dt, &collider);
+    // The task system: the step's, unless the rigid bodies were too few for
+    // the pool (WorldDef::parallelMinBodies) but the particles are not.
+    std::size_t particles = 0;
+    for (const ParticleSystemId id : w.particles.live) particles += pw.system(id).particleCount();
+    const bool onCaller = w.stepOnCaller;
+    if (particles >= w.settings.parallelMinBodies) w.stepOnCaller = false;
+    TaskSystem& tasks = w.taskSystem();
+    w.stepOnCaller = onCaller;
+    pw.step(dt, &collider, &tasks);
     checkFinite(w);
 }
 

@@ -69,6 +69,7 @@
 // worker count.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 
@@ -93,6 +94,24 @@ const char* firstNonFinite(const detail::BodyMotion& m) {
 }
 
 constexpr std::uint32_t kNoIndexBody = UINT32_MAX;
+
+// World::lastStepProfile's clock: lap() is the milliseconds since the last lap.
+class PhaseClock {
+public:
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+        last_ = now;
+        return ms;
+    }
+    double since(std::chrono::steady_clock::time_point start) const {
+        return std::chrono::duration<double, std::milli>(last_ - start).count();
+    }
+    std::chrono::steady_clock::time_point last() const { return last_; }
+
+private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 // Bodies per range of the per-body loops: integrating one costs ~20-60 ns, so
 // 64 of them (1-4 us) amortise a range's scheduling (~0.1-0.2 us on the
@@ -127,6 +146,9 @@ TaskSystem& WorldImpl::taskSystem() {
 }
 
 void WorldImpl::step(Real dt) {
+    PhaseClock clock;
+    const auto stepStart = clock.last();
+    StepProfile prof;
     const Integrator method = settings.integrator;
     const int substeps = settings.substeps;
     const Real h = dt / static_cast<Real>(substeps);
@@ -165,6 +187,7 @@ void WorldImpl::step(Real dt) {
 
     // Collision: broad phase, contacts, narrow phase (wakes what awake bodies touch).
     contactManager.update(*this, dt);
+    prof.collide = clock.lap();
     // The bodies it woke move in this step.
     refreshAwakeList();
     const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
@@ -204,6 +227,11 @@ void WorldImpl::step(Real dt) {
     const bool hasJoints = jointSolver.constraintCount() > 0;
     const bool hasConstraints = hasContacts || hasJoints;
     const int iterations = settings.solverIterations;
+    prof.prepare = clock.lap();
+    prof.awakeBodies = bodyCount;
+    prof.contactConstraints = static_cast<std::uint32_t>(solver.constraintCount());
+    prof.jointConstraints = static_cast<std::uint32_t>(jointSolver.constraintCount());
+    prof.workers = tasks.workerCount();
 
     // Stage 1 as evaluateForces computes it (the same bits): the per-body part
     // in parallel, then on this thread the ForceCallbacks (not required to be
@@ -383,6 +411,7 @@ void WorldImpl::step(Real dt) {
         detail::finalizeSubstep(*this, method, h, tStart + hd);
     }
 
+    prof.solve = clock.lap();
     if (hasContacts) {
         // Restitution once per step on the final velocities (threshold and
         // "received impulse" rule in the solver), then keep the impulses.
@@ -393,14 +422,18 @@ void WorldImpl::step(Real dt) {
     }
     // Joint impulses for warm starting, reaction forces, breaking.
     if (hasJoints) jointSolver.store(*this);
+    prof.store = clock.lap();
     if (settings.continuousCollision) {
         detail::solveContinuous(*this, solver, contactManager, dt);
         // Time of impact moves fast bodies back alone: close the joints it opened.
         if (hasJoints) jointSolver.projectPositions(*this);
     }
     // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
+    prof.continuous = clock.lap();
     detail::stepParticles(*this, dt);
+    prof.particles = clock.lap();
     sleepManager.update(*this, solver, contactManager, dt);
+    prof.sleep = clock.lap();
     // Built when read (World::contacts(), snapshots): world_impl.hpp.
     contactReportStale = true;
 
@@ -429,6 +462,9 @@ void WorldImpl::step(Real dt) {
         }
         firstBad.store(bad, std::memory_order_relaxed);
     }
+    prof.finish = clock.lap();
+    prof.total = clock.since(stepStart);
+    profile = prof;
     stepOnCaller = false;  // the contact report, built when read, may use the pool again
     ++stepCount;
     time = t0 + static_cast<double>(dt);

@@ -589,5 +589,6 @@ void World::step(Real dt) {
 }
 Real World::time() const { return static_cast<Real>(impl_->time); }
 std::uint64_t World::stepCount() const { return impl_->stepCount; }
+StepProfile World::lastStepProfile() const { return impl_->profile; }
 
 }  // namespace fulcrum

@@ -179,6 +179,7 @@ struct WorldImpl {
     WorldDef settings;
     double time = 0;                 // double: a float clock loses sub-steps after hours
     std::uint64_t stepCount = 0;
+    StepProfile profile;  // the last step's (World::lastStepProfile)
     std::uint64_t nonFiniteSinceStep = 0;  // != 0: that step threw NumericalError (World::step)
     std::uint64_t nextBodySerial = 0;
 

@@ -121,6 +121,40 @@ TEST(Cli, JsonReportHasEveryContractKeyAndTheProjectileFollowsTheAnalyticPath) {
     EXPECT_NEAR(ball["linear_velocity"][1].get<double>(), 10 - 9.81 * t, 1e-3);
 }
 
+// --profile: the phases of the step (World::lastStepProfile) averaged over the
+// run. They are laps of one clock, so they add up to the mean step time (to
+// double rounding); a stack of 8 boxes on the ground has 8 contact interfaces
+// (7 box-box and 1 on the ground), each one manifold. Without --profile the
+// report has no "profile" key (the JSON contract is unchanged).
+TEST(Cli, ProfileReportsThePhasesOfTheStep) {
+    const Result r = fulcrum("run scenes/box_stack.json --steps 30 --json --profile");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("profile"));
+    const auto& p = j["profile"];
+    EXPECT_EQ(p["steps"], 30);
+    double sum = 0;
+    for (const char* phase : {"collide", "prepare", "solve", "store", "continuous", "particles", "sleep", "finish"}) {
+        ASSERT_TRUE(p.contains(phase)) << phase;
+        EXPECT_GE(p[phase].get<double>(), 0.0) << phase;
+        sum += p[phase].get<double>();
+    }
+    EXPECT_GT(p["ms_per_step"].get<double>(), 0.0);
+    EXPECT_NEAR(sum, p["ms_per_step"].get<double>(), 1e-9 * p["ms_per_step"].get<double>());
+    EXPECT_EQ(p["max_awake_bodies"], 8);
+    EXPECT_EQ(p["max_contact_constraints"], 8);
+    EXPECT_EQ(p["max_joint_constraints"], 0);
+
+    const Result table = fulcrum("run scenes/box_stack.json --steps 30 --profile");
+    ASSERT_EQ(table.status, 0) << table.err;
+    EXPECT_NE(table.out.find("profile: 30 steps"), std::string::npos) << table.out;
+    EXPECT_NE(table.out.find("  solve "), std::string::npos) << table.out;
+
+    const Result plain = fulcrum("run scenes/box_stack.json --steps 3 --json");
+    ASSERT_EQ(plain.status, 0) << plain.err;
+    EXPECT_FALSE(nlohmann::json::parse(plain.out).contains("profile"));
+}
+
 TEST(Cli, OptionsOverrideTheScene) {
     const Result r = fulcrum("run scenes/projectile.json --json --steps 7 --dt 0.01 --substeps 2 --integrator verlet --threads 1");
     ASSERT_EQ(r.status, 0) << r.err;
