@@ -109,6 +109,10 @@ private:
     // anchor separation, four joints at a time in SIMD lanes (false: all
     // within the slop, the pass would move nothing).
     bool anyBeyondSlop(const WorldImpl& w, Real slop) const;
+    // |pB - pA|^2 of the point joints projection_[first, first + count)
+    // (count <= 4) into e2[0 .. count), four lanes at once with the pass's
+    // float steps (x86-64 builds; elsewhere the check is not made).
+    void squaredSeparations4(const WorldImpl& w, std::size_t first, std::size_t count, float* e2) const;
     // The joints of each colour across the task system (docs/threading.md,
     // "Joints"): kernel(constraint, a, b) for the constraints
     // indices[first[c] .. first[c + 1]) of every colour c in order (indices

@@ -246,6 +246,17 @@ TEST(JointSimd, MixedSceneIsTheSameOnEveryPath) {
     }
 }
 
+// One switch for both solvers: the joint solver starts on the contact
+// solver's path (FULCRUM_SIMD, else the widest this CPU runs), and asking for
+// AVX2 where it cannot run gives SSE2.
+TEST(JointSimd, PathFollowsTheContactSolversAndFallsBack) {
+    World world;
+    EXPECT_EQ(world.impl().jointSolver.simdPath(), world.impl().contactSolver.simdPath());
+    const SimdPath expected = detail::avx2Available() ? SimdPath::Avx2 : SimdPath::Sse2;
+    EXPECT_EQ(world.impl().jointSolver.setSimdPath(SimdPath::Avx2), expected);
+    EXPECT_EQ(world.impl().jointSolver.setSimdPath(SimdPath::Scalar), SimdPath::Scalar);
+}
+
 // A hanging lattice at rest carries its weight at its static anchors: the
 // joints to the top layer apply, together, exactly the lattice's weight
 // upward (every other joint force is internal and cancels). Checked on the

@@ -11,7 +11,7 @@
 // or JointSolver::setSimdPath(SimdPath::Scalar) runs every joint through them.
 //
 // Layout: per block, the lanes' solver-body indices (gathered by whole rows
-// of the solver-body array, 24 floats, and transposed in registers), the
+// of the solver-body array, 4 floats per load, transposed in registers), the
 // step's anchors (rA0, rB0, centre delta) and the accumulated impulse in
 // structure-of-arrays form, plus what the passes derive from them: the frame
 // (anchors and separation now) and the inverse of the 3x3 point block. Built
