@@ -312,39 +312,23 @@ void ContactManager::gatherActiveContacts(const WorldImpl& w) {
         visitAll_ = false;
         return;
     }
-    for (const std::uint32_t d : w.awakeBodies) {
-        for (std::uint32_t key = headOfSlot_[w.denseToSlot[d]]; key != kNoKey;) {
-            markContact(contactOfKey(key));
-            key = links_[contactOfKey(key)].next[endOfKey(key)];
-        }
-    }
-    // Ascending contact order from the bitmap: the order of the full pass.
-    for (std::size_t word = 0; word < marks_.size(); ++word) {
-        std::uint64_t bits = marks_[word] & aliveBits_[word];
-        marks_[word] = 0;
-        while (bits != 0) {
-            const auto bit = static_cast<std::uint32_t>(std::countr_zero(bits));
-            bits &= bits - 1;
-            activeContacts_.push_back(static_cast<std::uint32_t>(word * 64 + bit));
-        }
-    }
+    collectAwakeContacts(w, marks_, activeContacts_);
 }
 
-bool ContactManager::contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out) {
-    if (linksRebuild_ || 2 * w.awakeBodies.size() >= w.motion.size()) return false;
-    out.clear();
+void ContactManager::collectAwakeContacts(const WorldImpl& w, std::vector<std::uint64_t>& marks,
+                                          std::vector<std::uint32_t>& out) const {
     for (const std::uint32_t d : w.awakeBodies) {
         for (std::uint32_t key = headOfSlot_[w.denseToSlot[d]]; key != kNoKey;) {
             const std::uint32_t i = contactOfKey(key);
-            awakeMarks_[i >> 6] |= std::uint64_t(1) << (i & 63);
+            marks[i >> 6] |= std::uint64_t(1) << (i & 63);
             key = links_[i].next[endOfKey(key)];
         }
     }
-    // Ascending from the bitmap, clearing it as it goes.
-    for (std::size_t word = 0; word < awakeMarks_.size(); ++word) {
-        std::uint64_t bits = awakeMarks_[word];
+    // Ascending contact order from the bitmap (the order of a full pass), clearing it.
+    for (std::size_t word = 0; word < marks.size(); ++word) {
+        std::uint64_t bits = marks[word];
         if (bits == 0) continue;
-        awakeMarks_[word] = 0;
+        marks[word] = 0;
         bits &= aliveBits_[word];
         while (bits != 0) {
             const auto bit = static_cast<std::uint32_t>(std::countr_zero(bits));
@@ -352,6 +336,12 @@ bool ContactManager::contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::
             out.push_back(static_cast<std::uint32_t>(word * 64 + bit));
         }
     }
+}
+
+bool ContactManager::contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out) {
+    if (linksRebuild_ || 2 * w.awakeBodies.size() >= w.motion.size()) return false;
+    out.clear();
+    collectAwakeContacts(w, awakeMarks_, out);
     return true;
 }
 

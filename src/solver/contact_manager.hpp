@@ -123,6 +123,10 @@ private:
     }
     // The existing contacts update() must visit, ascending, into activeContacts_.
     void gatherActiveContacts(const WorldImpl& w);
+    // Marks the contacts of the awake bodies (their per-body lists) in `marks`,
+    // then appends every live marked contact to `out`, ascending, and clears
+    // `marks` (gatherActiveContacts with marks_, contactsOfAwakeBodies with awakeMarks_).
+    void collectAwakeContacts(const WorldImpl& w, std::vector<std::uint64_t>& marks, std::vector<std::uint32_t>& out) const;
     // [0]: the contact's place in slotA's list, [1]: in slotB's. Entries are
     // keys (contact * 2 + end), UINT32_MAX at the list's ends.
     struct ContactLinks {
