@@ -98,19 +98,8 @@ static_assert(sizeof(SolverBody) == 24 * sizeof(float) && std::is_trivially_copy
 // Float offsets in SolverBody (checked by the static_assert above and the field order).
 constexpr int kInvIOffset = 13;
 
-// One lane of a wide value, written in place (FloatW is kWideLanes floats in
-// lane order; a store/modify/load round trip cost 8 % of pyramid20's
-// instructions in packing alone).
-static_assert(sizeof(FloatW) == kWideLanes * sizeof(float) && std::is_trivially_copyable_v<FloatW>);
-void setLane(FloatW& w, int lane, Real value) {
-    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float), &value,
-                sizeof(float));
-}
-void setLane(Vec3W& w, int lane, const Vec3& value) {
-    setLane(w.x, lane, value.x);
-    setLane(w.y, lane, value.y);
-    setLane(w.z, lane, value.z);
-}
+// One lane of a wide value, written in place (simd.hpp).
+using simd::setLane;
 
 // The body state one kernel needs, gathered by whole rows (simd.hpp: 2-2.7x
 // faster than field-by-field gathers).

@@ -61,22 +61,9 @@ FULCRUM_JOINT_WIDE_INLINE Mat3W skew(const Vec3W& r) {
     return {{zero, r.z, -r.y}, {-r.z, zero, r.x}, {r.y, -r.x, zero}};
 }
 
-// One lane of a wide value, written in place.
-void setLane(FloatW& w, int lane, float value) {
-    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float), &value,
-                sizeof(float));
-}
-void setLane(Vec3W& w, int lane, const Vec3& value) {
-    setLane(w.x, lane, value.x);
-    setLane(w.y, lane, value.y);
-    setLane(w.z, lane, value.z);
-}
-float getLane(const FloatW& w, int lane) {
-    float value;
-    std::memcpy(&value, reinterpret_cast<const unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float),
-                sizeof(float));
-    return value;
-}
+// One lane of a wide value, in place (simd.hpp).
+using simd::getLane;
+using simd::setLane;
 
 // kLanes ball joints of one colour. Lanes past laneCount are empty: solver
 // body 0 (the all-zero static stand-in) on both ends, never written back.
