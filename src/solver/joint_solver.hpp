@@ -195,7 +195,7 @@ private:
     JointContext ctx_;
     // SIMD lanes (buildWide). Empty wideBlockStart_: everything scalar.
     SimdPath simd_ = SimdPath::Scalar;
-    std::unique_ptr<WideBallJoints> wide_;
+    std::unique_ptr<WideJoints> wide_;
     std::size_t reservedJoints_ = 0;
     std::vector<std::uint8_t> isWide_;             // per constraint
     std::vector<std::uint32_t> wideJoints_;        // the wide ones, in colour order

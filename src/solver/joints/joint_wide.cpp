@@ -15,9 +15,18 @@
 
 namespace fulcrum::detail {
 
-std::unique_ptr<WideBallJoints> makeWideBallJoints(SimdPath path) {
+WideKind wideKind(const JointConstraint& j) {
+    switch (j.type) {
+        // A tree's ball joint has no rows here but its friction (scalar).
+        case JointType::Ball: return !j.direct && !(j.maxFrictionImpulse > 0) ? WideKind::Ball : WideKind::NotWide;
+        case JointType::ConeTwist: return WideKind::ConeTwist;
+        default: return WideKind::NotWide;
+    }
+}
+
+std::unique_ptr<WideJoints> makeWideJoints(SimdPath path) {
     if (path == SimdPath::Sse2) return std::make_unique<joint_sse2::Blocks>(SimdPath::Sse2);
-    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return makeAvx2BallJoints();
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return makeAvx2Joints();
     return nullptr;
 }
 
