@@ -20,6 +20,7 @@ WideKind wideKind(const JointConstraint& j) {
         // A tree's ball joint has no rows here but its friction (scalar).
         case JointType::Ball: return !j.direct && !(j.maxFrictionImpulse > 0) ? WideKind::Ball : WideKind::NotWide;
         case JointType::ConeTwist: return WideKind::ConeTwist;
+        case JointType::Hinge: return WideKind::Hinge;
         default: return WideKind::NotWide;
     }
 }

@@ -443,6 +443,7 @@ void solveBlocks(BallBlock* blocks, std::size_t count, SolverBody* bodies, const
 }  // namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS
 
 #include "solver/joints/joint_wide_cone_twist.hpp"
+#include "solver/joints/joint_wide_hinge.hpp"
 
 namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS {
 namespace {
@@ -463,6 +464,7 @@ public:
         order_.clear();
         ball_.clear();
         coneTwist_.clear();
+        hinge_.clear();
         FULCRUM_JOINT_WIDE_LEAVE();
     }
     void build(const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
@@ -477,6 +479,9 @@ public:
                 buildConeTwistBlock(coneTwist_.emplace_back(), constraints, indices, laneCount, bodies);
                 break;
             case WideKind::Hinge:
+                order_.push_back({WideKind::Hinge, static_cast<std::uint32_t>(hinge_.size())});
+                buildHingeBlock(hinge_.emplace_back(), constraints, indices, laneCount, bodies);
+                break;
             case WideKind::NotWide: break;
         }
         FULCRUM_JOINT_WIDE_LEAVE();
@@ -489,7 +494,7 @@ public:
                 case WideKind::ConeTwist:
                     warmStartConeTwistBlocks(coneTwist_.data() + begin, n, bodies, constraints, ctx);
                     break;
-                case WideKind::Hinge:
+                case WideKind::Hinge: warmStartHingeBlocks(hinge_.data() + begin, n, bodies, constraints, ctx); break;
                 case WideKind::NotWide: break;
             }
         });
@@ -507,7 +512,7 @@ public:
                     }
                     break;
                 case WideKind::ConeTwist: solveConeTwistBlocks(coneTwist_.data() + begin, n, bodies, ctx); break;
-                case WideKind::Hinge:
+                case WideKind::Hinge: solveHingeBlocks(hinge_.data() + begin, n, bodies, ctx); break;
                 case WideKind::NotWide: break;
             }
         });
@@ -524,6 +529,7 @@ public:
             }
         }
         for (const ConeTwistBlock& k : coneTwist_) storeConeTwistBlock(k, constraints);
+        for (const HingeBlock& k : hinge_) storeHingeBlock(k, constraints);
         FULCRUM_JOINT_WIDE_LEAVE();
     }
 
@@ -550,6 +556,7 @@ private:
     std::vector<Entry> order_;
     std::vector<BallBlock> ball_;
     std::vector<ConeTwistBlock> coneTwist_;
+    std::vector<HingeBlock> hinge_;
 };
 
 }  // namespace
