@@ -103,33 +103,36 @@ std::vector<BodyId> buildRowScene(World& world) {
     const auto link = [&](BodyId a, BodyId b) {
         const Vec3 axes[3] = {{1, 0, 0}, {0, 0, 1}, normalize(Vec3{1, 1, 0})};
         JointDef j = jointDef(JointType::Ball, a, b, (world.position(a) + world.position(b)) * Real(0.5), axes[index % 3]);
+        // The rows in every mix (h: the hinge's or cone's ordinal): a
+        // spring, a motor and limits on one hinge, friction with limits...
+        const int h = index / 3;
         switch (index % 3) {
             case 0:
                 j.type = JointType::Hinge;
-                if (index % 4 == 0) {
+                if (h % 2 == 0) {
                     j.hasLimits = true;
                     j.lowerLimit = Real(-0.2);
                     j.upperLimit = Real(0.25);
                 }
-                if (index % 5 == 1) {
+                if (h % 3 == 1) {
                     j.motor.enabled = true;
                     j.motor.speed = Real(1.5);
                     j.motor.maxForce = 3;
                 }
-                if (index % 7 == 3) {
+                if (h % 5 >= 2) {
                     j.spring.enabled = true;
                     j.spring.stiffness = 40;
                     j.spring.damping = Real(0.5);
                     j.spring.target = Real(0.2);
                 }
-                if (index % 6 == 2) j.frictionTorque = Real(0.4);  // a motor at speed 0 (when no motor)
+                if (h % 3 == 2) j.frictionTorque = Real(0.4);  // a motor at speed 0
                 break;
             case 1:
                 j.type = JointType::ConeTwist;
-                j.swingLimit = index % 8 == 5 ? Real(kPi) : Real(0.25);  // pi: no cone
+                j.swingLimit = h % 4 == 3 ? Real(kPi) : Real(0.25);  // pi: no cone
                 j.twistLower = Real(-0.1);
                 j.twistUpper = Real(0.15);
-                if (index % 4 == 1) j.frictionTorque = Real(0.3);
+                if (h % 2 == 1) j.frictionTorque = Real(0.3);
                 break;
             default: break;
         }
