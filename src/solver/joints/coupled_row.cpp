@@ -15,17 +15,9 @@ double coupling(const SolverBody& a, const SolverBody& b, const JointRow& r, con
 
 }  // namespace
 
-bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, int count, const JointRow& measure,
-               JointRow& apply, Real& invMass) {
-    apply = measure;
-    invMass = rowInverseMass(measure, a, b);
+bool coupledInverseMass(double (&L)[kMaxHeldRows][kMaxHeldRows], const double* rhs, int count, double kaa, double* c,
+                        double& schur) {
     // Cholesky of K_oo (count x count, double: the lever's I_cm and m r^2 differ by orders of magnitude).
-    double L[kMaxHeldRows][kMaxHeldRows] = {};
-    double rhs[kMaxHeldRows] = {};
-    for (int i = 0; i < count; ++i) {
-        for (int k = 0; k <= i; ++k) L[i][k] = coupling(a, b, held[i], held[k]);
-        rhs[i] = -coupling(a, b, held[i], measure);
-    }
     double scale = 0;
     for (int i = 0; i < count; ++i) scale = std::fmax(scale, L[i][i]);
     for (int j = 0; j < count; ++j) {
@@ -40,7 +32,6 @@ bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, i
             L[i][j] = t / d;
         }
     }
-    double c[kMaxHeldRows];
     for (int i = 0; i < count; ++i) {
         double t = rhs[i];
         for (int k = 0; k < i; ++k) t -= L[i][k] * c[k];
@@ -52,9 +43,24 @@ bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, i
         c[i] = t / L[i][i];
     }
     // Schur complement K_aa - K_ao K_oo^-1 K_oa = K_aa + K_ao c.
-    double k = coupling(a, b, measure, measure);
-    for (int i = 0; i < count; ++i) k -= rhs[i] * c[i];
-    if (!(k > 1e-12 * coupling(a, b, measure, measure))) return false;
+    schur = kaa;
+    for (int i = 0; i < count; ++i) schur -= rhs[i] * c[i];
+    return schur > 1e-12 * kaa;
+}
+
+bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, int count, const JointRow& measure,
+               JointRow& apply, Real& invMass) {
+    apply = measure;
+    invMass = rowInverseMass(measure, a, b);
+    double L[kMaxHeldRows][kMaxHeldRows] = {};
+    double rhs[kMaxHeldRows] = {};
+    for (int i = 0; i < count; ++i) {
+        for (int k = 0; k <= i; ++k) L[i][k] = coupling(a, b, held[i], held[k]);
+        rhs[i] = -coupling(a, b, held[i], measure);
+    }
+    double c[kMaxHeldRows];
+    double k = 0;
+    if (!coupledInverseMass(L, rhs, count, coupling(a, b, measure, measure), c, k)) return false;
     for (int i = 0; i < count; ++i) {
         const Real ci = static_cast<Real>(c[i]);
         apply.linear += held[i].linear * ci;

@@ -34,6 +34,15 @@ inline constexpr int kMaxHeldRows = 5;
 bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, int count, const JointRow& measure,
                JointRow& apply, Real& invMass);
 
+// The block solve behind coupleRow, on its couplings K_ij = J_i M^-1 J_j^T
+// (double): L holds K_oo's lower triangle (overwritten by its Cholesky
+// factor), rhs = -K_oa, kaa = K_aa. Gives c = K_oo^-1 rhs and the Schur
+// complement schur = K_aa + K_ao c; false where K_oo or k is (nearly) singular.
+// Shared by coupleRow and the wide hinge kernels (joint_wide_hinge.hpp),
+// which compute the couplings in lanes: one code, so the same bits.
+bool coupledInverseMass(double (&L)[kMaxHeldRows][kMaxHeldRows], const double* rhs, int count, double kaa, double* c,
+                        double& schur);
+
 // The hinge's point rows (anchors rA, rB) and its two alignment rows (perpendicular to axisA).
 void coupleHingeRow(const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& axisA,
                     CoupledRow& out);

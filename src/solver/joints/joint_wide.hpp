@@ -69,10 +69,11 @@ public:
     // gives the rotations of the latest refresh (ctx.rotations, number
     // ctx.generation: a block computes its frame once per refresh), the
     // softness and the pass; `constraints` the records (a tree joint's point
-    // impulse lives there: the tree solver owns it).
-    virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, const JointConstraint* constraints,
+    // impulse lives there, the tree solver's; and the tree solver reads the
+    // frame a block computes for a tree joint from there).
+    virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
                            const JointContext& ctx) = 0;
-    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, const JointConstraint* constraints,
+    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
                        const JointContext& ctx) = 0;
     // The accumulated impulses back into their constraints, and what the
     // reactions read of the step (friction coupling, the free axis's rows).

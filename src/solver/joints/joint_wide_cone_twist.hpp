@@ -111,8 +111,8 @@ void buildConeTwistBlock(ConeTwistBlock& k, const JointConstraint* constraints, 
 }
 
 // updateFrame (orientations included) and coneGeometry, and twistAngle.
-FULCRUM_JOINT_WIDE_INLINE void updateConeTwistFrame(ConeTwistBlock& k, const Ends& e, const Quat* rotations,
-                                                    std::uint64_t generation) {
+FULCRUM_JOINT_WIDE_INLINE void updateConeTwistFrame(ConeTwistBlock& k, const Ends& e, JointConstraint* constraints,
+                                                    const Quat* rotations, std::uint64_t generation) {
     const FloatW zero = 0.0f, one = 1.0f, tiny = Real(1e-6);
     const QuatW dqA = gatherRotation(rotations, k.bodyA), dqB = gatherRotation(rotations, k.bodyB);
     k.rA = rotate(dqA, k.rA0);
@@ -133,6 +133,7 @@ FULCRUM_JOINT_WIDE_INLINE void updateConeTwistFrame(ConeTwistBlock& k, const End
     k.twistAxis = select(m > tiny, mid * (one / m), axisA);
     k.twist = twistAngle(k.relative0Conjugate, qA, qB, k.localAxisA, k.laneCount);
     k.frameAt = generation;
+    if (k.anyDirect) writeTreeFrames(constraints, k.constraint, k.laneCount, k.direct, k.rA, k.rB, k.d, qA, qB, generation);
 }
 
 // The tree lanes' point impulse from their records (the tree solver's), the
@@ -159,14 +160,14 @@ FULCRUM_JOINT_WIDE_INLINE void applyFriction(const ConeTwistBlock& k, Ends& e, c
 // warmStartConeTwist: cachePointMass (the lanes not in a tree), the twist and
 // swing impulses and the point impulse applied, cacheFriction and its impulse.
 void warmStartConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody* bodies,
-                              const JointConstraint* constraints, const JointContext& ctx) {
+                              JointConstraint* constraints, const JointContext& ctx) {
     const FloatW zero = 0.0f;
     const MaskW all = zero == zero;
     for (std::size_t bi = 0; bi < count; ++bi) {
         ConeTwistBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
         Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
-        if (stale) updateConeTwistFrame(k, e, ctx.rotations, ctx.generation);
+        if (stale) updateConeTwistFrame(k, e, constraints, ctx.rotations, ctx.generation);
         // cachePointMass; the same K and inverse serve cacheFriction's K_pp.
         const Mat3W Kpp = pointInverseMass(e, k.rA, k.rB);
         MaskW pointValid;
@@ -202,14 +203,15 @@ void warmStartConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverB
 
 // solveConeTwist: the friction block, the swing limit, the twist limits, the
 // point block (the lanes not in a tree), in that order.
-void solveConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody* bodies, const JointContext& ctx) {
+void solveConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
+                   const JointContext& ctx) {
     const FloatW zero = 0.0f;
     const PassW pass(ctx);
     for (std::size_t bi = 0; bi < count; ++bi) {
         ConeTwistBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
         Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
-        if (stale) updateConeTwistFrame(k, e, ctx.rotations, ctx.generation);
+        if (stale) updateConeTwistFrame(k, e, constraints, ctx.rotations, ctx.generation);
         // solveFrictionBlock: lambda -= M (wB - wA), scaled back to the
         // largest impulse when longer (lambda *= max / len).
         if (k.anyFriction) {

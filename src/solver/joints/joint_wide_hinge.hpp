@@ -134,7 +134,8 @@ FULCRUM_JOINT_WIDE_INLINE void orthonormalBasis(const Vec3W& n, Vec3W& t1, Vec3W
 }
 
 // updateFrame (orientations included), and what the passes derive from it alone.
-FULCRUM_JOINT_WIDE_INLINE void updateHingeFrame(HingeBlock& k, const Ends& e, const Quat* rotations, std::uint64_t generation) {
+FULCRUM_JOINT_WIDE_INLINE void updateHingeFrame(HingeBlock& k, const Ends& e, JointConstraint* constraints,
+                                                const Quat* rotations, std::uint64_t generation) {
     const FloatW zero = 0.0f;
     const QuatW dqA = gatherRotation(rotations, k.bodyA), dqB = gatherRotation(rotations, k.bodyB);
     k.rA = rotate(dqA, k.rA0);
@@ -157,6 +158,7 @@ FULCRUM_JOINT_WIDE_INLINE void updateHingeFrame(HingeBlock& k, const Ends& e, co
     k.c2 = dot(k.p2, C);
     if (k.anySpring || k.anyLimit) k.angle = twistAngle(k.relative0Conjugate, qA, qB, k.localAxisA, k.laneCount);
     k.frameAt = generation;
+    if (k.anyDirect) writeTreeFrames(constraints, k.constraint, k.laneCount, k.direct, k.rA, k.rB, k.d, qA, qB, generation);
 }
 
 FULCRUM_JOINT_WIDE_INLINE Vec3W hingePointImpulse(const HingeBlock& k, const JointConstraint* constraints) {
@@ -169,10 +171,75 @@ FULCRUM_JOINT_WIDE_INLINE Vec3W hingePointImpulse(const HingeBlock& k, const Joi
     return P;
 }
 
+// coupleHingeRow (coupled_row.cpp): the free axis's row with the point rows
+// (unit x, y, z through rA, rB) and the alignment rows (p1, p2) held. The
+// couplings K_ij (float, as `coupling` computes them, each body's M^-1 J_j
+// once per row) in lanes; the 5x5 solve in double per lane with the scalar
+// code itself (coupledInverseMass); `apply` = measure + sum held_i c_i in
+// lanes. Lanes whose solve fails get the plain row, as coupleRow returns it.
+FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, const MaskW& axial) {
+    const FloatW zero = 0.0f, one = 1.0f;
+    const Vec3W units[3] = {{one, zero, zero}, {zero, one, zero}, {zero, zero, one}};
+    constexpr int kRows = 6;  // 5 held, then the measured row
+    RowW rows[kRows];
+    for (int i = 0; i < 3; ++i) rows[i] = {units[i], cross(k.rA, units[i]), cross(k.rB, units[i])};  // linearRow
+    rows[3] = angularRow(k.p1);
+    rows[4] = angularRow(k.p2);
+    rows[5] = angularRow(k.axisA);
+    Vec3W massA[kRows], massB[kRows];  // IA^-1 s.angularA, IB^-1 s.angularB
+    for (int i = 0; i < kRows; ++i) {
+        massA[i] = e.invIA * rows[i].angularA;
+        massB[i] = e.invIB * rows[i].angularB;
+    }
+    const FloatW m = e.mA + e.mB;
+    const auto coupling = [&](int r, int s) {
+        return m * dot(rows[r].linear, rows[s].linear) + dot(rows[r].angularA, massA[s]) + dot(rows[r].angularB, massB[s]);
+    };
+    alignas(32) float K[5][5][kLanes];  // K_oo's lower triangle
+    for (int i = 0; i < 5; ++i) {
+        for (int j = 0; j <= i; ++j) coupling(i, j).store(K[i][j]);
+    }
+    alignas(32) float rowMass[kLanes];
+    coupling(5, 5).store(rowMass);  // rowInverseMass(measure) = K_aa in float
+    // rhs_i = -K_ia, with K_ia = coupling(held_i, measure): its own products.
+    alignas(32) float Kia[5][kLanes];
+    for (int i = 0; i < 5; ++i) coupling(i, 5).store(Kia[i]);
+    alignas(32) float c[5][kLanes] = {}, invMass[kLanes], coupled[kLanes] = {};
+    for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+        const int l = static_cast<int>(lane);
+        invMass[lane] = rowMass[lane];
+        if (!axial.lane(l)) continue;
+        double L[kMaxHeldRows][kMaxHeldRows] = {};
+        double rhs[kMaxHeldRows] = {};
+        for (int i = 0; i < 5; ++i) {
+            for (int j = 0; j <= i; ++j) L[i][j] = static_cast<double>(K[i][j][lane]);
+            rhs[i] = -static_cast<double>(Kia[i][lane]);
+        }
+        double solved[kMaxHeldRows];
+        double kk = 0;
+        if (!coupledInverseMass(L, rhs, 5, static_cast<double>(rowMass[lane]), solved, kk)) continue;
+        for (int i = 0; i < 5; ++i) c[i][lane] = static_cast<Real>(solved[i]);
+        invMass[lane] = static_cast<Real>(kk);
+        coupled[lane] = 1.0f;
+    }
+    for (std::uint32_t lane = k.laneCount; lane < static_cast<std::uint32_t>(kLanes); ++lane) invMass[lane] = 0.0f;
+    RowW apply = rows[5];
+    for (int i = 0; i < 5; ++i) {
+        const FloatW ci = FloatW::load(c[i]);
+        apply.linear = apply.linear + rows[i].linear * ci;
+        apply.angularA = apply.angularA + rows[i].angularA * ci;
+        apply.angularB = apply.angularB + rows[i].angularB * ci;
+    }
+    const MaskW ok = FloatW::load(coupled) > zero;
+    k.apply = {select(ok, apply.linear, rows[5].linear), select(ok, apply.angularA, rows[5].angularA),
+               select(ok, apply.angularB, rows[5].angularB)};
+    k.axialInvMass = FloatW::load(invMass);
+}
+
 // warmStartHinge: cachePointMass (the lanes not in a tree), the alignment
 // impulse's perpendicular part, the point and alignment impulses applied,
 // then the free axis coupled (lane by lane) and its impulse applied.
-void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies, const JointConstraint* constraints,
+void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
                           const JointContext& ctx) {
     const FloatW zero = 0.0f;
     const MaskW all = zero == zero;
@@ -180,7 +247,7 @@ void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bod
         HingeBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
         Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
-        if (stale) updateHingeFrame(k, e, ctx.rotations, ctx.generation);
+        if (stale) updateHingeFrame(k, e, constraints, ctx.rotations, ctx.generation);
         MaskW pointValid;
         k.pointMass = inverseWherePositive(pointInverseMass(e, k.rA, k.rB), pointValid, Mat3W{});
         k.pointMassValid = select(pointValid, FloatW(1.0f), zero);
@@ -191,18 +258,7 @@ void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bod
         e.wB = e.wB + e.invIB * k.angular;
         if (k.anySpring || k.anyMotor || k.anyLimit) {
             const MaskW axial = (k.spring > zero) | (k.motor > zero) | (k.limit > zero);
-            // coupleHingeRow per lane, on the lane's bodies (their masses:
-            // velocities play no part) and frame.
-            for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
-                const int l = static_cast<int>(lane);
-                if (!axial.lane(l)) continue;
-                CoupledRow row;
-                coupleHingeRow(bodies[k.bodyA[lane]], bodies[k.bodyB[lane]], k.rA.lane(l), k.rB.lane(l), axis.lane(l), row);
-                setLane(k.apply.linear, l, row.apply.linear);
-                setLane(k.apply.angularA, l, row.apply.angularA);
-                setLane(k.apply.angularB, l, row.apply.angularB);
-                setLane(k.axialInvMass, l, row.invMass);
-            }
+            coupleHingeRow(k, e, axial);
             // axialImpulse: spring + motor + lower - upper.
             const FloatW impulse = k.springImpulse + k.motorImpulse + k.lowerImpulse - k.upperImpulse;
             applyRow(k.apply, e, impulse, axial);
@@ -213,14 +269,15 @@ void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bod
 
 // solveHinge: spring, motor, lower and upper limits on the free axis (the
 // coupled rows), the alignment rows, the point block (the lanes not in a tree).
-void solveHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies, const JointContext& ctx) {
+void solveHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
+                   const JointContext& ctx) {
     const FloatW zero = 0.0f;
     const PassW pass(ctx);
     for (std::size_t bi = 0; bi < count; ++bi) {
         HingeBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
         Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
-        if (stale) updateHingeFrame(k, e, ctx.rotations, ctx.generation);
+        if (stale) updateHingeFrame(k, e, constraints, ctx.rotations, ctx.generation);
         const RowW measure = angularRow(k.axisA);
         const FloatW kAxial = k.axialInvMass;
         if (k.anySpring) {
