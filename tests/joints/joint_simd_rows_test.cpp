@@ -4,7 +4,8 @@
 // threads, give the same positions, orientations and velocities after every
 // step on a scene that runs every row and branch: hinges with limits (hit),
 // motors, springs and friction (a motor at speed 0), cone-twists with swing
-// and twist limits (hit), unlimited cones and friction, in loops (Gauss-
+// and twist limits (hit), unlimited cones and friction, ball joints with
+// friction (in the cone-twist blocks), in loops (Gauss-
 // Seidel point blocks) and in joint trees (ragdolls, chains: the tree solver
 // has the point rows), to static and kinematic ends, with contacts. Then the
 // physics on the wide path: a hinge pendulum's period, a limit holding a
@@ -134,7 +135,9 @@ std::vector<BodyId> buildRowScene(World& world) {
                 j.twistUpper = Real(0.15);
                 if (h % 2 == 1) j.frictionTorque = Real(0.3);
                 break;
-            default: break;
+            default:
+                if (h % 2 == 0) j.frictionTorque = Real(0.25);  // a ball joint with friction: the cone blocks
+                break;
         }
         ++index;
         world.createJoint(j);

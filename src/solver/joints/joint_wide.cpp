@@ -17,8 +17,11 @@ namespace fulcrum::detail {
 
 WideKind wideKind(const JointConstraint& j) {
     switch (j.type) {
-        // A tree's ball joint has no rows here but its friction (scalar).
-        case JointType::Ball: return !j.direct && !(j.maxFrictionImpulse > 0) ? WideKind::Ball : WideKind::NotWide;
+        // A ball joint with friction: a cone-twist without limits (in a tree
+        // or not); a tree's frictionless one has no rows here.
+        case JointType::Ball:
+            if (j.maxFrictionImpulse > 0) return WideKind::ConeTwist;
+            return !j.direct ? WideKind::Ball : WideKind::NotWide;
         case JointType::ConeTwist: return WideKind::ConeTwist;
         case JointType::Hinge: return WideKind::Hinge;
         default: return WideKind::NotWide;

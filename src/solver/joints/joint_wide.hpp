@@ -80,8 +80,11 @@ public:
     virtual void store(JointConstraint* constraints) const = 0;
 };
 
-// Which blocks a joint goes into in a regular colour (kNotWide: it stays on
-// the scalar kernels): Gauss-Seidel frictionless ball joints; cone-twists.
+// Which blocks a joint goes into in a regular colour (NotWide: it stays on
+// the scalar kernels): Ball, Gauss-Seidel frictionless ball joints;
+// ConeTwist, cone-twists and ball joints with friction (in trees or not);
+// Hinge, hinges (in trees or not). Sliders, fixed and distance joints, and a
+// tree's frictionless ball joints (the tree solver has their only rows) are NotWide.
 enum class WideKind : std::uint8_t { Ball, ConeTwist, Hinge, NotWide };
 WideKind wideKind(const JointConstraint& j);
 

@@ -4,7 +4,9 @@
 // namespace, after the shared pieces). Every cone-twist of a regular colour
 // is wide: with or without friction, in a joint tree or not (a tree's joint
 // leaves its point block to the tree solver, whose impulse lives in the
-// constraint record, read from there at each warm start).
+// constraint record, read from there at each warm start). Ball joints with
+// friction (warmStartBall, solveBall: a cone-twist without its limits) share
+// these blocks, their lanes masked out of the limit rows (`cone` = 0).
 //
 // Same bits as the scalar kernels, and why:
 // - the frame (anchors, separation, orientations) and everything the scalar
@@ -33,7 +35,7 @@ struct ConeTwistBlock {
     std::uint32_t constraint[kLanes];
     std::uint32_t laneCount = 0;
     std::uint64_t frameAt = 0;
-    bool anyFriction = false, anyDirect = false, anySwingLimit = false;
+    bool anyFriction = false, anyDirect = false, anySwingLimit = false, anyCone = false;
     // The step's start and the joint's constants.
     Vec3W rA0, rB0, centreDelta;
     QuatW qA0, qB0, relative0Conjugate;
@@ -41,6 +43,7 @@ struct ConeTwistBlock {
     FloatW lower, upper, swingLimit, maxFriction;
     FloatW swingLimited;  // 1 where swingLimit < pi
     FloatW direct;        // 1 where the tree solver has the point rows
+    FloatW cone;          // 1 for a cone-twist, 0 for a ball joint with friction (no limit rows)
     // Per rotation refresh: JointFrame and ConeGeometry, and the twist angle.
     Vec3W rA, rB, d;
     Vec3W swingAxis, twistAxis;
@@ -96,7 +99,10 @@ void buildConeTwistBlock(ConeTwistBlock& k, const JointConstraint* constraints, 
         setLane(k.upper, l, j.upper);
         setLane(k.swingLimit, l, j.swingLimit);
         setLane(k.maxFriction, l, j.maxFrictionImpulse);
-        const bool limited = j.swingLimit < std::numbers::pi_v<Real>;  // swingLimited (cone_twist.cpp)
+        const bool isCone = j.type == JointType::ConeTwist;
+        const bool limited = isCone && j.swingLimit < std::numbers::pi_v<Real>;  // swingLimited (cone_twist.cpp)
+        setLane(k.cone, l, isCone ? 1.0f : 0.0f);
+        k.anyCone = k.anyCone || isCone;
         setLane(k.swingLimited, l, limited ? 1.0f : 0.0f);
         setLane(k.direct, l, j.direct ? 1.0f : 0.0f);
         k.anyFriction = k.anyFriction || j.maxFrictionImpulse > 0;
@@ -174,11 +180,15 @@ void warmStartConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverB
         const Mat3W KppInv = inverseWherePositive(Kpp, pointValid, Mat3W{});
         k.pointMass = KppInv;
         k.pointMassValid = select(pointValid, FloatW(1.0f), zero);
-        Vec3W T = k.twistAxis * (k.lowerImpulse - k.upperImpulse);
-        T = select(k.hasSwing > zero, T - k.swingAxis * k.swingImpulse, T);
         applyPoint(e, k.rA, k.rB, pointImpulse(k, constraints), all);
-        e.wA = e.wA - e.invIA * T;
-        e.wB = e.wB + e.invIB * T;
+        if (k.anyCone) {
+            // The limits' impulse (a ball joint's lanes: none).
+            const MaskW cone = k.cone > zero;
+            Vec3W T = k.twistAxis * (k.lowerImpulse - k.upperImpulse);
+            T = select(k.hasSwing > zero, T - k.swingAxis * k.swingImpulse, T);
+            e.wA = select(cone, e.wA - e.invIA * T, e.wA);
+            e.wB = select(cone, e.wB + e.invIB * T, e.wB);
+        }
         // cacheFriction: the Schur complement of the point block (joint_common.hpp).
         k.frictionValid = zero;
         if (k.anyFriction) {
@@ -228,10 +238,12 @@ void solveConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody*
             const Vec3W inward = -k.swingAxis;
             solveLimitRow(RowW{Vec3W{}, inward, inward}, e, k.swingLimit - k.swing, k.swingImpulse, on, pass);
         }
-        const MaskW all = zero == zero;
-        solveLimitRow(angularRow(k.twistAxis), e, k.twist - k.lower, k.lowerImpulse, all, pass);
-        const Vec3W back = -k.twistAxis;
-        solveLimitRow(RowW{Vec3W{}, back, back}, e, k.upper - k.twist, k.upperImpulse, all, pass);
+        if (k.anyCone) {
+            const MaskW cone = k.cone > zero;
+            solveLimitRow(angularRow(k.twistAxis), e, k.twist - k.lower, k.lowerImpulse, cone, pass);
+            const Vec3W back = -k.twistAxis;
+            solveLimitRow(RowW{Vec3W{}, back, back}, e, k.upper - k.twist, k.upperImpulse, cone, pass);
+        }
         const MaskW point = (k.direct <= zero) & (k.pointMassValid > zero);
         if (point.any()) solvePointBlock(e, k.rA, k.rB, k.d, k.linear, k.pointMass, point, pass);
         scatterEnds(bodies, k.writeA, k.writeB, e);
