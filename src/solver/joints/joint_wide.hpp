@@ -1,11 +1,15 @@
 #pragma once
-// Ball joints in SIMD lanes: the Gauss-Seidel ball joints of one graph colour
-// solved a block of 4 or 8 at a time (docs/joints.md, "Joint rows in SIMD
-// lanes"), on the contact solver's pattern (solver/contact_wide.hpp).
+// Joints in SIMD lanes: the Gauss-Seidel ball joints, hinges and cone-twists
+// of one graph colour solved a block of 4 or 8 at a time (docs/joints.md,
+// "Joint rows in SIMD lanes"), on the contact solver's pattern
+// (solver/contact_wide.hpp). This essay describes the ball joints' blocks
+// (joint_wide_kernels.hpp); hinges and cone-twists follow the same rules
+// with what their rows add (joint_wide_hinge.hpp, joint_wide_cone_twist.hpp).
 //
-// Which joints: ball joints whose point block the Gauss-Seidel passes solve
-// (not a joint tree's: tree_solver.hpp has those rows) and that have no
-// friction, in every colour but the overflow colour (whose joints may share a
+// Which joints (wideKind): ball joints whose point block the Gauss-Seidel
+// passes solve (not a joint tree's: tree_solver.hpp has those rows) and that
+// have no friction; ball joints with friction, cone-twists and hinges, in
+// trees or not; in every colour but the overflow colour (whose joints may share a
 // body and must run one after another). Everything else stays on the scalar
 // kernels (joints/<type>.cpp), which remain the reference: FULCRUM_SIMD=scalar
 // or JointSolver::setSimdPath(SimdPath::Scalar) runs every joint through them.
