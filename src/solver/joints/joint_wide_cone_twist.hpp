@@ -92,7 +92,8 @@ void buildConeTwistBlock(ConeTwistBlock& k, const JointConstraint* constraints, 
         setLane(k.centreDelta, l, j.centreDelta);
         setQuat(k.qA0, l, j.qA0);
         setQuat(k.qB0, l, j.qB0);
-        setQuat(k.relative0Conjugate, l, conjugate(j.relative0));
+        const Quat& rest = j.relative0;  // conjugated here (spelled out: no shared inline copy in the AVX2 file)
+        setQuat(k.relative0Conjugate, l, Quat{rest.w, -rest.x, -rest.y, -rest.z});
         setLane(k.localAxisA, l, j.localAxisA);
         setLane(k.localAxisB, l, j.localAxisB);
         setLane(k.lower, l, j.lower);
