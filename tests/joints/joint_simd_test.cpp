@@ -5,8 +5,10 @@
 // joint in lanes) and on a mixed scene that makes every branch run: static
 // and kinematic ends, joints with friction and other types beside the wide
 // ones in a colour, colours smaller than a block, the overflow colour, joint
-// trees, and the task system. Then the physics: a hanging lattice carries
-// exactly its weight at its static anchors.
+// trees, and the task system (its friction joints, cone-twists and hinges
+// are in lanes too since the second round; joint_simd_rows_test.cpp has those
+// in depth). Then the physics: a hanging lattice carries exactly its weight
+// at its static anchors.
 #include <gtest/gtest.h>
 
 #include <cmath>
