@@ -480,6 +480,10 @@ public:
     SimdPath path() const override { return path_; }
     int lanes() const override { return kLanes; }
     std::size_t size() const override { return order_.size(); }
+    // The cone-twist and hinge arrays are not reserved for every joint (a
+    // few kB per block, for kinds a scene may not have): they grow to the
+    // largest step's size and keep it (clear() keeps capacity), so steady
+    // state allocates nothing (tests/allocation).
     void reserve(std::size_t blocks) override {
         if (order_.capacity() < blocks) order_.reserve(2 * blocks);
         if (ball_.capacity() < blocks) ball_.reserve(2 * blocks);
