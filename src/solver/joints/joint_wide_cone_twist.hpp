@@ -62,40 +62,15 @@ void buildConeTwistBlock(ConeTwistBlock& k, const JointConstraint* constraints, 
                          const SolverBody* bodies) {
     k = ConeTwistBlock{};
     k.laneCount = static_cast<std::uint32_t>(laneCount);
-    const auto setQuat = [](QuatW& q, int l, const Quat& v) {
-        setLane(q.w, l, v.w);
-        setLane(q.x, l, v.x);
-        setLane(q.y, l, v.y);
-        setLane(q.z, l, v.z);
-    };
     for (int l = 0; l < kLanes; ++l) {
         if (l >= laneCount) {
-            // Body 0 on both ends and the rest pose: finite values, never written back.
-            k.bodyA[l] = k.bodyB[l] = 0;
-            k.writeA[l] = k.writeB[l] = kEmptyLane;
-            k.constraint[l] = 0;
-            setQuat(k.qA0, l, Quat{});
-            setQuat(k.qB0, l, Quat{});
-            setQuat(k.relative0Conjugate, l, Quat{});
-            setLane(k.localAxisA, l, Vec3{0, 0, 1});
-            setLane(k.localAxisB, l, Vec3{0, 0, 1});
+            setEmptyBodyLane(k, l);
+            setEmptyRestPoseLane(k, l);
             continue;
         }
         const JointConstraint& j = constraints[indices[l]];
-        k.bodyA[l] = j.bodyA;
-        k.bodyB[l] = j.bodyB;
-        k.writeA[l] = bodies[j.bodyA].invMass > 0 ? j.bodyA : kEmptyLane;
-        k.writeB[l] = bodies[j.bodyB].invMass > 0 ? j.bodyB : kEmptyLane;
-        k.constraint[l] = indices[l];
-        setLane(k.rA0, l, j.rA0);
-        setLane(k.rB0, l, j.rB0);
-        setLane(k.centreDelta, l, j.centreDelta);
-        setQuat(k.qA0, l, j.qA0);
-        setQuat(k.qB0, l, j.qB0);
-        const Quat& rest = j.relative0;  // conjugated here (spelled out: no shared inline copy in the AVX2 file)
-        setQuat(k.relative0Conjugate, l, Quat{rest.w, -rest.x, -rest.y, -rest.z});
-        setLane(k.localAxisA, l, j.localAxisA);
-        setLane(k.localAxisB, l, j.localAxisB);
+        setBodyLane(k, l, j, indices[l], bodies);
+        setRestPoseLane(k, l, j);
         setLane(k.lower, l, j.lower);
         setLane(k.upper, l, j.upper);
         setLane(k.swingLimit, l, j.swingLimit);

@@ -377,6 +377,58 @@ FULCRUM_JOINT_WIDE_INLINE void cachePointMass(BallBlock& k, const BodyW& a, cons
     k.pointMassValid = select(valid, FloatW(1.0f), zero);
 }
 
+// The lanes every block kind fills alike (the block builds below and in
+// joint_wide_cone_twist.hpp, joint_wide_hinge.hpp): the two solver bodies,
+// which of them are written back (static and kinematic ends never are), the
+// constraint record, and the step's anchors and centre delta.
+template <class Block>
+void setBodyLane(Block& k, int l, const JointConstraint& j, std::uint32_t index, const SolverBody* bodies) {
+    k.bodyA[l] = j.bodyA;
+    k.bodyB[l] = j.bodyB;
+    k.writeA[l] = bodies[j.bodyA].invMass > 0 ? j.bodyA : kEmptyLane;
+    k.writeB[l] = bodies[j.bodyB].invMass > 0 ? j.bodyB : kEmptyLane;
+    k.constraint[l] = index;
+    setLane(k.rA0, l, j.rA0);
+    setLane(k.rB0, l, j.rB0);
+    setLane(k.centreDelta, l, j.centreDelta);
+}
+// An unused lane: body 0 (the static body) on both ends, never written back.
+template <class Block>
+void setEmptyBodyLane(Block& k, int l) {
+    k.bodyA[l] = k.bodyB[l] = 0;
+    k.writeA[l] = k.writeB[l] = kEmptyLane;
+    k.constraint[l] = 0;
+}
+
+// The rest pose and the axes hinge and cone-twist blocks both carry (their
+// frames: joint_wide_cone_twist.hpp, joint_wide_hinge.hpp). The rest
+// rotation is stored conjugated, spelled out here rather than through the
+// math headers' inline conjugate (no shared inline copy in the AVX2 file).
+FULCRUM_JOINT_WIDE_INLINE void setQuatLane(QuatW& q, int l, const Quat& v) {
+    setLane(q.w, l, v.w);
+    setLane(q.x, l, v.x);
+    setLane(q.y, l, v.y);
+    setLane(q.z, l, v.z);
+}
+template <class Block>
+void setRestPoseLane(Block& k, int l, const JointConstraint& j) {
+    setQuatLane(k.qA0, l, j.qA0);
+    setQuatLane(k.qB0, l, j.qB0);
+    const Quat& rest = j.relative0;
+    setQuatLane(k.relative0Conjugate, l, Quat{rest.w, -rest.x, -rest.y, -rest.z});
+    setLane(k.localAxisA, l, j.localAxisA);
+    setLane(k.localAxisB, l, j.localAxisB);
+}
+// An unused lane's rest pose: identities and a unit axis (finite values).
+template <class Block>
+void setEmptyRestPoseLane(Block& k, int l) {
+    setQuatLane(k.qA0, l, Quat{});
+    setQuatLane(k.qB0, l, Quat{});
+    setQuatLane(k.relative0Conjugate, l, Quat{});
+    setLane(k.localAxisA, l, Vec3{0, 0, 1});
+    setLane(k.localAxisB, l, Vec3{0, 0, 1});
+}
+
 // Block `k` from its lanes' constraints (JointSolver::prepare, once per step).
 void buildBlock(BallBlock& k, const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
                 const SolverBody* bodies) {
@@ -385,20 +437,11 @@ void buildBlock(BallBlock& k, const JointConstraint* constraints, const std::uin
     k.rA0 = k.rB0 = k.centreDelta = k.impulse = Vec3W{};
     for (int l = 0; l < kLanes; ++l) {
         if (l >= laneCount) {
-            k.bodyA[l] = k.bodyB[l] = 0;
-            k.writeA[l] = k.writeB[l] = kEmptyLane;
-            k.constraint[l] = 0;
+            setEmptyBodyLane(k, l);
             continue;
         }
         const JointConstraint& j = constraints[indices[l]];
-        k.bodyA[l] = j.bodyA;
-        k.bodyB[l] = j.bodyB;
-        k.writeA[l] = bodies[j.bodyA].invMass > 0 ? j.bodyA : kEmptyLane;
-        k.writeB[l] = bodies[j.bodyB].invMass > 0 ? j.bodyB : kEmptyLane;
-        k.constraint[l] = indices[l];
-        setLane(k.rA0, l, j.rA0);
-        setLane(k.rB0, l, j.rB0);
-        setLane(k.centreDelta, l, j.centreDelta);
+        setBodyLane(k, l, j, indices[l], bodies);
         setLane(k.impulse, l, j.impulse.linear);
     }
     k.pointMass = Mat3W{};
