@@ -95,6 +95,12 @@ public:
         firstBiasedPass_ = true;
     }
     std::size_t treeCount() const { return trees_; }
+    // Trees solved as chains (solveChain), for tests.
+    std::size_t chainCount() const {
+        std::size_t n = 0;
+        for (const std::uint8_t c : chain_) n += c;
+        return n;
+    }
     // Factorization reuse (solve()): a pass factors again once the anchors
     // it would reuse are `age` position updates old (1: every pass after a
     // position update factors, so every pass is exact; the default 2: at most
