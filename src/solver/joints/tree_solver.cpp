@@ -479,6 +479,15 @@ inline void applyPointToMovingEnds(SolverBody& a, SolverBody& b, const Vec3& rA,
 // was 123 instructions per joint, these 104 (callgrind, chain). An SSE
 // version (a 3-vector per register, shuffles for the cross products) took
 // more instructions than this, not fewer (173.1 M against 171.6 M, 120 steps).
+// A hint to load the line holding p (no effect on results).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(p);
+#else
+    (void)p;
+#endif
+}
+
 // applyPointToMovingEnds for one end: v -= P m, w -= I^-1 (r x P) on A; += on B.
 template <bool onB>
 inline void pushEnd(SolverBody& s, const Vec3& r, Real px, Real py, Real pz) {
@@ -702,6 +711,17 @@ bool JointTreeSolver::solveChain(std::uint32_t tree, std::vector<JointConstraint
             if (i < root) {
                 jc = &joints[nodes_[i + 1].ref];
                 pfr = &currentFrame(*jc, bodies[jc->bodyA], bodies[jc->bodyB], ctx);
+                if (i + 2 <= root) {
+                    // The constraints sit in colour order (a chain's alternate
+                    // between two colours, ~600 bytes each): the lines the link
+                    // after next reads, ahead of time (chain benchmark: 0.112 ->
+                    // 0.109 ms/step median with the impulse loop's below).
+                    const JointConstraint& ahead = joints[nodes_[i + 2].ref];
+                    prefetch(&ahead.bodyA);
+                    prefetch(&ahead.centreDelta);
+                    prefetch(&ahead.frame);
+                    prefetch(&ahead.frameAt);
+                }
             }
             double z0 = rx, z1 = ry, z2 = rz;
             if (i > begin) z0 -= zsub[0], z1 -= zsub[1], z2 -= zsub[2];
@@ -811,6 +831,11 @@ bool JointTreeSolver::solveChain(std::uint32_t tree, std::vector<JointConstraint
     for (std::uint32_t i = begin; i <= root; ++i) {
         const ChainLink& L = links_[i];
         JointConstraint& j = joints[nodes_[i].ref];
+        if (i + 2 <= root) {
+            const JointConstraint& ahead = joints[nodes_[i + 2].ref];
+            prefetch(&ahead.bodyA);
+            prefetch(&ahead.impulse.linear);
+        }
         Vec3 d{static_cast<Real>(L.y[0]), static_cast<Real>(L.y[1]), static_cast<Real>(L.y[2])};
         if (foldedWarmStart) {
             d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
