@@ -2,7 +2,7 @@
 // bench/scenes.hpp (box_pile, sphere_pile, ...) stepped three ways.
 //
 //   bench_step_threads [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only] [--phases] [--rounds R]
-//                      [--windows W]
+//                      [--windows W] [--phase-steps A-B]
 //
 // --p-only: the timing run alone (to profile the step as p sees it);
 // --one-thread-only: one run with threads = 1 (the inline task system), for
@@ -25,6 +25,8 @@
 //    only ever adds time).
 // --windows W: the mean step time on 1 and N threads over each W steps (a
 //    pile's fall, collapse and rest scale differently).
+// --phase-steps A-B: --phases summed over steps A to B only (box_pile's
+//    ~950-body tail, steps 150-249, scales worst of its phases).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -131,6 +133,9 @@ struct Timing {
     std::uint64_t hash = 0;
 };
 
+int gPhaseFirst = 0, gPhaseLast = -1;  // --phase-steps; last < 0: every step
+bool inPhaseSteps(int step) { return step >= gPhaseFirst && (gPhaseLast < 0 || step <= gPhaseLast); }
+
 Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskSystem* tasks) {
     fulcrum::World world = build(scene, threads);
     if (tasks != nullptr) world.setTaskSystem(tasks);
@@ -143,6 +148,7 @@ Timing run(const bench::SceneSpec& scene, int steps, int threads, fulcrum::TaskS
         const auto t1 = std::chrono::steady_clock::now();
         t.cpuSeconds += threadCpuSeconds() - c0;
         t.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        if (!inPhaseSteps(i)) continue;
         const fulcrum::StepProfile p = world.lastStepProfile();
         for (const Phase& phase : kPhases) t.phases.*(phase.field) += p.*(phase.field);
     }
@@ -190,7 +196,10 @@ void printWindows(const Timing& one, const Timing& many, int threads, int window
 void printPhases(const Timing& one, const Timing& many, int threads, int steps) {
     const auto& a = one.phases;
     const auto& b = many.phases;
-    const double n = steps;
+    int counted = 0;
+    for (int i = 0; i < steps; ++i) counted += inPhaseSteps(i) ? 1 : 0;
+    const double n = std::max(1, counted);
+    if (counted != steps) std::printf("\nPhases over steps %d-%d:\n", gPhaseFirst, gPhaseFirst + counted - 1);
     std::printf("\n| phase | 1 thread ms/step | %d threads ms/step | speed-up |\n|---|---|---|---|\n", threads);
     for (const Phase& phase : kPhases) {
         const double x = a.*(phase.field), y = b.*(phase.field);
@@ -215,8 +224,14 @@ int main(int argc, char** argv) {
         else if (std::strcmp(argv[i], "--phases") == 0) phases = true;
         else if (std::strcmp(argv[i], "--windows") == 0 && i + 1 < argc) window = std::max(1, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) rounds = std::max(1, std::atoi(argv[++i]));
-        else {
-            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only] [--phases] [--rounds R] [--windows W]\n", argv[0]);
+        else if (std::strcmp(argv[i], "--phase-steps") == 0 && i + 1 < argc) {
+            phases = true;
+            if (std::sscanf(argv[++i], "%d-%d", &gPhaseFirst, &gPhaseLast) != 2 || gPhaseFirst < 0 || gPhaseLast < gPhaseFirst) {
+                std::fprintf(stderr, "--phase-steps wants A-B with 0 <= A <= B, got '%s'\n", argv[i]);
+                return 2;
+            }
+        } else {
+            std::fprintf(stderr, "usage: %s [--scene NAME] [--steps N] [--threads N] [--quick] [--p-only] [--one-thread-only] [--phases] [--rounds R] [--windows W] [--phase-steps A-B]\n", argv[0]);
             return 2;
         }
     }

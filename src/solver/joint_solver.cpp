@@ -51,7 +51,7 @@ SimdPath JointSolver::setSimdPath(SimdPath path) {
     if (path == SimdPath::Avx2 && !(avx2Available() && avx2JointKernelsCompiled())) path = SimdPath::Sse2;
     simd_ = path;
     if (path != SimdPath::Scalar && (!wide_ || wide_->path() != path)) {
-        wide_ = makeWideBallJoints(path);
+        wide_ = makeWideJoints(path);
         wide_->reserve(reservedJoints_ / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
     }
     return simd_;
@@ -227,7 +227,8 @@ void JointSolver::buildWide() {
     scalarRowStart_.clear();
     if (simd_ == SimdPath::Scalar || !wide_ || constraints_.empty()) return;
     // Per colour but the overflow colour (the last, whose joints may share a
-    // body): its Gauss-Seidel frictionless ball joints in lanes, the rest on
+    // body): its joints of a wide kind (wideKind: Gauss-Seidel frictionless
+    // ball joints, cone-twists) in lanes, in blocks of one kind, the rest on
     // the scalar kernels. A colour's joints share no dynamic body, so solving
     // its wide joints first and its others after gives the same bits as the
     // colour in order.
@@ -238,23 +239,37 @@ void JointSolver::buildWide() {
     wideBlockStart_.resize(colours + 1);
     scalarJointStart_.resize(colours + 1);
     scalarRowStart_.resize(colours + 1);
+    wide_->clear();
     std::uint32_t blocks = 0;
+    constexpr int kKinds = static_cast<int>(WideKind::NotWide);
     for (std::size_t c = 0; c < colours; ++c) {
         wideJointStart_[c] = static_cast<std::uint32_t>(wideJoints_.size());
         wideBlockStart_[c] = blocks;
         scalarJointStart_[c] = static_cast<std::uint32_t>(scalarJoints_.size());
         const bool overflow = c + 1 == colours;
+        // The colour's wide joints kind by kind (a block holds one kind),
+        // then its scalar ones; isWide_ holds the kind meanwhile.
         for (std::uint32_t k = colourStart_[c]; k < colourStart_[c + 1]; ++k) {
-            const JointConstraint& j = constraints_[k];
-            if (!overflow && j.type == JointType::Ball && !j.direct && !(j.maxFrictionImpulse > 0)) {
-                isWide_[k] = 1;
-                wideJoints_.push_back(k);
-            } else {
-                scalarJoints_.push_back(k);
+            isWide_[k] = static_cast<std::uint8_t>(overflow ? WideKind::NotWide : wideKind(constraints_[k]));
+        }
+        for (int kind = 0; kind <= kKinds; ++kind) {
+            const std::size_t start = wideJoints_.size();
+            for (std::uint32_t k = colourStart_[c]; k < colourStart_[c + 1]; ++k) {
+                if (isWide_[k] != kind) continue;
+                if (kind == kKinds) {
+                    scalarJoints_.push_back(k);
+                } else {
+                    wideJoints_.push_back(k);
+                }
+            }
+            for (std::size_t next = start; next < wideJoints_.size(); next += lanes) {
+                const auto count = static_cast<int>(std::min<std::size_t>(lanes, wideJoints_.size() - next));
+                wide_->build(constraints_.data(), wideJoints_.data() + next, count, bodies_);
+                ++blocks;
             }
         }
-        blocks += (static_cast<std::uint32_t>(wideJoints_.size()) - wideJointStart_[c] + lanes - 1) / lanes;
     }
+    for (std::uint8_t& kind : isWide_) kind = kind != kKinds ? 1 : 0;
     wideJointStart_[colours] = static_cast<std::uint32_t>(wideJoints_.size());
     wideBlockStart_[colours] = blocks;
     scalarJointStart_[colours] = static_cast<std::uint32_t>(scalarJoints_.size());
@@ -265,15 +280,6 @@ void JointSolver::buildWide() {
         }
     }
     scalarRowStart_[colours] = static_cast<std::uint32_t>(scalarRows_.size());
-    wide_->resize(blocks);
-    for (std::size_t c = 0; c < colours; ++c) {
-        std::uint32_t next = wideJointStart_[c];
-        for (std::uint32_t block = wideBlockStart_[c]; block < wideBlockStart_[c + 1]; ++block) {
-            const std::uint32_t count = std::min(lanes, wideJointStart_[c + 1] - next);
-            wide_->build(block, constraints_.data(), wideJoints_.data() + next, static_cast<int>(count), bodies_);
-            next += count;
-        }
-    }
 }
 
 bool JointSolver::sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve) {
@@ -457,7 +463,7 @@ void JointSolver::warmStart() {
             }
         },
         [this](std::uint32_t firstBlock, std::uint32_t blocks) {
-            wide_->warmStart(firstBlock, blocks, bodies_, ctx_.rotations, ctx_.generation);
+            wide_->warmStart(firstBlock, blocks, bodies_, constraints_.data(), ctx_);
         });
 }
 
@@ -482,8 +488,8 @@ void JointSolver::solve(bool useBias) {
                 case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
             }
         },
-        [this, useBias](std::uint32_t firstBlock, std::uint32_t blocks) {
-            wide_->solve(firstBlock, blocks, bodies_, ctx_.rotations, ctx_.generation, ctx_.soft, useBias);
+        [this](std::uint32_t firstBlock, std::uint32_t blocks) {
+            wide_->solve(firstBlock, blocks, bodies_, constraints_.data(), ctx_);
         });
     // The point rows of joint trees last, solved exactly, so they have the
     // final word on the anchors (the error users see).

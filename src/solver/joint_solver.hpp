@@ -18,8 +18,9 @@
 // joint trees, side by side (docs/threading.md, "Joints across the task system").
 // Point rows of joint trees (chains, ragdolls) are solved exactly by the tree
 // solver (joints/tree_solver.hpp) after the Gauss-Seidel rows of each pass.
-// The Gauss-Seidel ball joints of a colour run 4 or 8 at a time in SIMD lanes
-// (joints/joint_wide.hpp) with the scalar kernels' bits; setSimdPath.
+// The Gauss-Seidel ball joints, hinges and cone-twists of a colour run 4 or 8
+// at a time in SIMD lanes (joints/joint_wide.hpp) with the scalar kernels'
+// bits; setSimdPath.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -56,7 +57,7 @@ struct JointTuning {
 class JointSolver {
 public:
     JointSolver() { setSimdPath(initialSimdPath()); }
-    // Which code solves the Gauss-Seidel ball joints (joints/joint_wide.hpp):
+    // Which code solves the wide joints (joints/joint_wide.hpp, wideKind):
     // the scalar kernels (the reference) or 4 / 8 SIMD lanes, with the same
     // bits either way. The default is the contact solver's: initialSimdPath()
     // (FULCRUM_SIMD=scalar|sse2|avx2, else the widest this CPU runs). Returns
@@ -124,8 +125,8 @@ private:
     // then over its scalar joints.
     template <class Kernel, class WideKernel>
     void forEachJointByColour(const std::uint32_t* indices, const std::uint32_t* first, Kernel&& kernel, WideKernel&& wide);
-    // Sorts this step's joints into the wide ball joints (blocks of lanes,
-    // per colour but the overflow colour) and the rest (scalarJoints_,
+    // Sorts this step's joints into the wide ones (blocks of lanes of one
+    // kind, per colour but the overflow colour) and the rest (scalarJoints_,
     // scalarRows_), after the colouring and the trees; the scalar path keeps
     // none wide.
     void buildWide();
@@ -195,7 +196,7 @@ private:
     JointContext ctx_;
     // SIMD lanes (buildWide). Empty wideBlockStart_: everything scalar.
     SimdPath simd_ = SimdPath::Scalar;
-    std::unique_ptr<WideBallJoints> wide_;
+    std::unique_ptr<WideJoints> wide_;
     std::size_t reservedJoints_ = 0;
     std::vector<std::uint8_t> isWide_;             // per constraint
     std::vector<std::uint32_t> wideJoints_;        // the wide ones, in colour order

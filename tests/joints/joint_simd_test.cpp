@@ -5,8 +5,10 @@
 // joint in lanes) and on a mixed scene that makes every branch run: static
 // and kinematic ends, joints with friction and other types beside the wide
 // ones in a colour, colours smaller than a block, the overflow colour, joint
-// trees, and the task system. Then the physics: a hanging lattice carries
-// exactly its weight at its static anchors.
+// trees, and the task system (its friction joints, cone-twists and hinges
+// are in lanes too since the second round; joint_simd_rows_test.cpp has those
+// in depth). Then the physics: a hanging lattice carries exactly its weight
+// at its static anchors.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -87,8 +89,8 @@ Scene buildSwingingLattice(World& world) {
 // Everything the joint solver distinguishes, in one world.
 Scene buildMixedScene(World& world) {
     Scene s;
-    // A lattice with some joints that stay scalar in their colours: ball
-    // joints with friction, cone-twist and hinge joints.
+    // A lattice with joints of every wide kind in its colours: ball joints
+    // with and without friction, cone-twist and hinge joints.
     addLattice(world, s, {0, 10, 0}, 4, 3, [](JointDef& j, int index) {
         if (index % 5 == 2) j.frictionTorque = Real(0.3);
         if (index % 11 == 4) {
@@ -136,7 +138,7 @@ Scene buildMixedScene(World& world) {
         world.createJoint(jointDef(JointType::Ball, a, b, (world.position(a) + world.position(b)) * Real(0.5)));
     }
     // Chains from the world: joint trees (the tree solver's point rows), one
-    // of them with friction (its Gauss-Seidel friction rows stay scalar).
+    // of them with friction (its friction rows in lanes, the other's joints scalar).
     for (int chain = 0; chain < 2; ++chain) {
         BodyId previous = kWorldBody;
         for (int i = 0; i < 5; ++i) {

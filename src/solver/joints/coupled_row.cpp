@@ -19,42 +19,15 @@ bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, i
                JointRow& apply, Real& invMass) {
     apply = measure;
     invMass = rowInverseMass(measure, a, b);
-    // Cholesky of K_oo (count x count, double: the lever's I_cm and m r^2 differ by orders of magnitude).
     double L[kMaxHeldRows][kMaxHeldRows] = {};
     double rhs[kMaxHeldRows] = {};
     for (int i = 0; i < count; ++i) {
         for (int k = 0; k <= i; ++k) L[i][k] = coupling(a, b, held[i], held[k]);
         rhs[i] = -coupling(a, b, held[i], measure);
     }
-    double scale = 0;
-    for (int i = 0; i < count; ++i) scale = std::fmax(scale, L[i][i]);
-    for (int j = 0; j < count; ++j) {
-        double s = L[j][j];
-        for (int k = 0; k < j; ++k) s -= L[j][k] * L[j][k];
-        if (!(s > 1e-9 * scale)) return false;
-        const double d = std::sqrt(s);
-        L[j][j] = d;
-        for (int i = j + 1; i < count; ++i) {
-            double t = L[i][j];
-            for (int k = 0; k < j; ++k) t -= L[i][k] * L[j][k];
-            L[i][j] = t / d;
-        }
-    }
     double c[kMaxHeldRows];
-    for (int i = 0; i < count; ++i) {
-        double t = rhs[i];
-        for (int k = 0; k < i; ++k) t -= L[i][k] * c[k];
-        c[i] = t / L[i][i];
-    }
-    for (int i = count; i-- > 0;) {
-        double t = c[i];
-        for (int k = i + 1; k < count; ++k) t -= L[k][i] * c[k];
-        c[i] = t / L[i][i];
-    }
-    // Schur complement K_aa - K_ao K_oo^-1 K_oa = K_aa + K_ao c.
-    double k = coupling(a, b, measure, measure);
-    for (int i = 0; i < count; ++i) k -= rhs[i] * c[i];
-    if (!(k > 1e-12 * coupling(a, b, measure, measure))) return false;
+    double k = 0;
+    if (!coupledInverseMass(L, rhs, count, coupling(a, b, measure, measure), c, k)) return false;
     for (int i = 0; i < count; ++i) {
         const Real ci = static_cast<Real>(c[i]);
         apply.linear += held[i].linear * ci;

@@ -21,6 +21,8 @@
 // effective mass of the joint's own two bodies (the rest of a tree is not
 // included). The held rows' share is applied with the free row (`apply`) but
 // stays out of their accumulated impulses; reaction forces add it back.
+#include <cmath>
+
 #include "solver/joints/joint_common.hpp"
 
 namespace fulcrum::detail {
@@ -33,6 +35,48 @@ inline constexpr int kMaxHeldRows = 5;
 // block is singular (a body with locked rotation).
 bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, int count, const JointRow& measure,
                JointRow& apply, Real& invMass);
+
+// The block solve behind coupleRow, on its couplings K_ij = J_i M^-1 J_j^T
+// (double): L holds K_oo's lower triangle (overwritten by its Cholesky
+// factor), rhs = -K_oa, kaa = K_aa. Gives c = K_oo^-1 rhs and the Schur
+// complement schur = K_aa + K_ao c; false where K_oo or the complement is (nearly) singular.
+// Shared by coupleRow and the wide hinge kernels (joint_wide_hinge.hpp),
+// which compute the couplings in lanes: one code, so the same bits. Static:
+// each translation unit has its own copy (the AVX2 one may not lend its copy
+// to code that runs without AVX2), and a constant `count` unrolls it (the
+// wide hinge's solves, ragdolls, callgrind: 69 M out of line).
+static inline bool coupledInverseMass(double (&L)[kMaxHeldRows][kMaxHeldRows], const double* rhs, int count,
+                                      double kaa, double* c, double& schur) {
+    // Cholesky of K_oo (count x count, double: the lever's I_cm and m r^2 differ by orders of magnitude).
+    double scale = 0;
+    for (int i = 0; i < count; ++i) scale = std::fmax(scale, L[i][i]);
+    for (int j = 0; j < count; ++j) {
+        double s = L[j][j];
+        for (int k = 0; k < j; ++k) s -= L[j][k] * L[j][k];
+        if (!(s > 1e-9 * scale)) return false;
+        const double d = std::sqrt(s);
+        L[j][j] = d;
+        for (int i = j + 1; i < count; ++i) {
+            double t = L[i][j];
+            for (int k = 0; k < j; ++k) t -= L[i][k] * L[j][k];
+            L[i][j] = t / d;
+        }
+    }
+    for (int i = 0; i < count; ++i) {
+        double t = rhs[i];
+        for (int k = 0; k < i; ++k) t -= L[i][k] * c[k];
+        c[i] = t / L[i][i];
+    }
+    for (int i = count; i-- > 0;) {
+        double t = c[i];
+        for (int k = i + 1; k < count; ++k) t -= L[k][i] * c[k];
+        c[i] = t / L[i][i];
+    }
+    // Schur complement K_aa - K_ao K_oo^-1 K_oa = K_aa + K_ao c.
+    schur = kaa;
+    for (int i = 0; i < count; ++i) schur -= rhs[i] * c[i];
+    return schur > 1e-12 * kaa;
+}
 
 // The hinge's point rows (anchors rA, rB) and its two alignment rows (perpendicular to axisA).
 void coupleHingeRow(const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& axisA,

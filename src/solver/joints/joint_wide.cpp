@@ -15,9 +15,22 @@
 
 namespace fulcrum::detail {
 
-std::unique_ptr<WideBallJoints> makeWideBallJoints(SimdPath path) {
+WideKind wideKind(const JointConstraint& j) {
+    switch (j.type) {
+        // A ball joint with friction: a cone-twist without limits (in a tree
+        // or not); a tree's frictionless one has no rows here.
+        case JointType::Ball:
+            if (j.maxFrictionImpulse > 0) return WideKind::ConeTwist;
+            return !j.direct ? WideKind::Ball : WideKind::NotWide;
+        case JointType::ConeTwist: return WideKind::ConeTwist;
+        case JointType::Hinge: return WideKind::Hinge;
+        default: return WideKind::NotWide;
+    }
+}
+
+std::unique_ptr<WideJoints> makeWideJoints(SimdPath path) {
     if (path == SimdPath::Sse2) return std::make_unique<joint_sse2::Blocks>(SimdPath::Sse2);
-    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return makeAvx2BallJoints();
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return makeAvx2Joints();
     return nullptr;
 }
 

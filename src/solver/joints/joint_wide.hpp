@@ -1,11 +1,15 @@
 #pragma once
-// Ball joints in SIMD lanes: the Gauss-Seidel ball joints of one graph colour
-// solved a block of 4 or 8 at a time (docs/joints.md, "Joint rows in SIMD
-// lanes"), on the contact solver's pattern (solver/contact_wide.hpp).
+// Joints in SIMD lanes: the Gauss-Seidel ball joints, hinges and cone-twists
+// of one graph colour solved a block of 4 or 8 at a time (docs/joints.md,
+// "Joint rows in SIMD lanes"), on the contact solver's pattern
+// (solver/contact_wide.hpp). This essay describes the ball joints' blocks
+// (joint_wide_kernels.hpp); hinges and cone-twists follow the same rules
+// with what their rows add (joint_wide_hinge.hpp, joint_wide_cone_twist.hpp).
 //
-// Which joints: ball joints whose point block the Gauss-Seidel passes solve
-// (not a joint tree's: tree_solver.hpp has those rows) and that have no
-// friction, in every colour but the overflow colour (whose joints may share a
+// Which joints (wideKind): ball joints whose point block the Gauss-Seidel
+// passes solve (not a joint tree's: tree_solver.hpp has those rows) and that
+// have no friction; ball joints with friction, cone-twists and hinges, in
+// trees or not; in every colour but the overflow colour (whose joints may share a
 // body and must run one after another). Everything else stays on the scalar
 // kernels (joints/<type>.cpp), which remain the reference: FULCRUM_SIMD=scalar
 // or JointSolver::setSimdPath(SimdPath::Scalar) runs every joint through them.
@@ -44,39 +48,54 @@
 namespace fulcrum::detail {
 
 struct JointConstraint;
+struct JointContext;
 struct SolverBody;
-struct Softness;
 
-// The blocks of one step's wide ball joints and the kernels over them, for
-// one width (4 lanes: SSE2; 8: AVX2), behind one virtual call per colour.
-class WideBallJoints {
+// The blocks of one step's wide joints and the kernels over them, for one
+// width (4 lanes: SSE2; 8: AVX2), behind one virtual call per range of blocks.
+// A block holds joints of one kind (ball, cone-twist, hinge); a colour's
+// blocks are consecutive, of any kinds.
+class WideJoints {
 public:
-    virtual ~WideBallJoints() = default;
+    virtual ~WideJoints() = default;
     virtual SimdPath path() const = 0;
     virtual int lanes() const = 0;
     virtual std::size_t size() const = 0;
     virtual void reserve(std::size_t blocks) = 0;
-    // Blocks [0, blocks); their contents are undefined until built.
-    virtual void resize(std::size_t blocks) = 0;
-    // Block `block` from the constraints constraints[indices[0 .. laneCount)),
-    // the rest of its lanes empty (no body, zero impulse).
-    virtual void build(std::size_t block, const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
+    // Forgets every block; build() then appends blocks 0, 1, 2...
+    virtual void clear() = 0;
+    // The next block from the constraints constraints[indices[0 .. laneCount)),
+    // all of one type (wideKind), the rest of its lanes empty (no body, zero impulse).
+    virtual void build(const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
                        const SolverBody* bodies) = 0;
-    // Twins of warmStartBall and solveBall over blocks [first, first + count).
-    // rotations: per solver body, exp(dtheta) of the latest refresh, whose
-    // number is `generation` (a block computes its frame once per refresh).
-    virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations,
-                           std::uint64_t generation) = 0;
-    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations,
-                       std::uint64_t generation, const Softness& soft, bool useBias) = 0;
-    // The accumulated impulses back into their constraints (impulse.linear).
+    // Twins of the warm start and solve kernels (warmStartBall, solveBall,
+    // warmStartConeTwist...) over blocks [first, first + count). The context
+    // gives the rotations of the latest refresh (ctx.rotations, number
+    // ctx.generation: a block computes its frame once per refresh), the
+    // softness and the pass; `constraints` the records (a tree joint's point
+    // impulse lives there, the tree solver's; and the tree solver reads the
+    // frame a block computes for a tree joint from there).
+    virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
+                           const JointContext& ctx) = 0;
+    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
+                       const JointContext& ctx) = 0;
+    // The accumulated impulses back into their constraints, and what the
+    // reactions read of the step (friction coupling, the free axis's rows).
     virtual void store(JointConstraint* constraints) const = 0;
 };
 
+// Which blocks a joint goes into in a regular colour (NotWide: it stays on
+// the scalar kernels): Ball, Gauss-Seidel frictionless ball joints;
+// ConeTwist, cone-twists and ball joints with friction (in trees or not);
+// Hinge, hinges (in trees or not). Sliders, fixed and distance joints, and a
+// tree's frictionless ball joints (the tree solver has their only rows) are NotWide.
+enum class WideKind : std::uint8_t { Ball, ConeTwist, Hinge, NotWide };
+WideKind wideKind(const JointConstraint& j);
+
 // The blocks for `path` (Sse2, or Avx2 when avx2Available(); nullptr for Scalar).
-std::unique_ptr<WideBallJoints> makeWideBallJoints(SimdPath path);
+std::unique_ptr<WideJoints> makeWideJoints(SimdPath path);
 // From joint_wide_avx2.cpp: whether it was compiled with AVX2, and its 8-lane blocks.
 bool avx2JointKernelsCompiled();
-std::unique_ptr<WideBallJoints> makeAvx2BallJoints();
+std::unique_ptr<WideJoints> makeAvx2Joints();
 
 }  // namespace fulcrum::detail

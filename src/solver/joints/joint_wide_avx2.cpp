@@ -1,7 +1,7 @@
-// The 8-lane AVX2 ball-joint kernels: joint_wide_kernels.hpp compiled with
+// The 8-lane AVX2 joint kernels: joint_wide_kernels.hpp compiled with
 // -mavx2 (CMakeLists.txt sets it for this file only, and never -mfma: the
 // kernels must round as the scalar reference does; simd.hpp). Used only when
-// the CPU has AVX2 (joint_wide.cpp checks before calling makeAvx2BallJoints).
+// the CPU has AVX2 (joint_wide.cpp checks before calling makeAvx2Joints).
 #include "solver/joints/joint_wide.hpp"
 
 #include "math/simd.hpp"
@@ -15,11 +15,11 @@
 
 namespace fulcrum::detail {
 bool avx2JointKernelsCompiled() { return true; }
-std::unique_ptr<WideBallJoints> makeAvx2BallJoints() { return std::make_unique<joint_avx2::Blocks>(SimdPath::Avx2); }
+std::unique_ptr<WideJoints> makeAvx2Joints() { return std::make_unique<joint_avx2::Blocks>(SimdPath::Avx2); }
 }  // namespace fulcrum::detail
 #else
 namespace fulcrum::detail {
 bool avx2JointKernelsCompiled() { return false; }
-std::unique_ptr<WideBallJoints> makeAvx2BallJoints() { return nullptr; }
+std::unique_ptr<WideJoints> makeAvx2Joints() { return nullptr; }
 }  // namespace fulcrum::detail
 #endif

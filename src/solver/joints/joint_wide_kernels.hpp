@@ -18,7 +18,10 @@
 #endif
 
 #include <array>
+#include <cmath>
+#include <math.h>
 #include <cstring>
+#include <numbers>
 #include <type_traits>
 #include <vector>
 
@@ -59,6 +62,68 @@ FULCRUM_JOINT_WIDE_INLINE Mat3W operator*(const Mat3W& a, const Mat3W& b) { retu
 FULCRUM_JOINT_WIDE_INLINE Mat3W skew(const Vec3W& r) {
     const FloatW zero = 0.0f;
     return {{zero, r.z, -r.y}, {-r.z, zero, r.x}, {r.y, -r.x, zero}};
+}
+
+FULCRUM_JOINT_WIDE_INLINE Mat3W operator+(const Mat3W& a, const Mat3W& b) { return {a.c0 + b.c0, a.c1 + b.c1, a.c2 + b.c2}; }
+FULCRUM_JOINT_WIDE_INLINE Mat3W operator-(const Mat3W& a, const Mat3W& b) { return {a.c0 - b.c0, a.c1 - b.c1, a.c2 - b.c2}; }
+// Mat3::fromRows and transpose.
+FULCRUM_JOINT_WIDE_INLINE Mat3W fromRows(const Vec3W& r0, const Vec3W& r1, const Vec3W& r2) {
+    return {{r0.x, r1.x, r2.x}, {r0.y, r1.y, r2.y}, {r0.z, r1.z, r2.z}};
+}
+FULCRUM_JOINT_WIDE_INLINE Mat3W transpose(const Mat3W& m) { return fromRows(m.c0, m.c1, m.c2); }
+FULCRUM_JOINT_WIDE_INLINE Mat3W select(const MaskW& m, const Mat3W& a, const Mat3W& b) {
+    return {select(m, a.c0, b.c0), select(m, a.c1, b.c1), select(m, a.c2, b.c2)};
+}
+
+// inverse(m) where determinant(m) = c0 . (c1 x c2) > 0 (`valid`), as Mat3's
+// adjugate spells it (fromRows(r0, r1, r2) * (1 / det)); other lanes: `otherwise`.
+FULCRUM_JOINT_WIDE_INLINE Mat3W inverseWherePositive(const Mat3W& m, MaskW& valid, const Mat3W& otherwise) {
+    const Vec3W r0 = cross(m.c1, m.c2), r1 = cross(m.c2, m.c0), r2 = cross(m.c0, m.c1);
+    const FloatW det = dot(m.c0, r0);
+    valid = det > FloatW(0.0f);
+    const FloatW inv = FloatW(1.0f) / det;
+    const Mat3W adj = fromRows(r0, r1, r2);
+    return select(valid, Mat3W{adj.c0 * inv, adj.c1 * inv, adj.c2 * inv}, otherwise);
+}
+
+// A quaternion per lane (w, x, y, z), Quat's products term for term.
+struct QuatW {
+    FloatW w, x, y, z;
+};
+FULCRUM_JOINT_WIDE_INLINE QuatW operator*(const QuatW& a, const QuatW& b) {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+FULCRUM_JOINT_WIDE_INLINE QuatW conjugate(const QuatW& q) { return {q.w, -q.x, -q.y, -q.z}; }
+FULCRUM_JOINT_WIDE_INLINE Vec3W rotate(const QuatW& q, const Vec3W& v) {
+    const Vec3W u{q.x, q.y, q.z};
+    const Vec3W t = cross(u, v) * FloatW(2.0f);
+    return (v + t * q.w) + cross(u, t);
+}
+FULCRUM_JOINT_WIDE_INLINE QuatW gatherRotation(const Quat* rotations, const std::uint32_t* index) {
+    const std::array<FloatW, 4> q = FloatW::gatherTransposed<4>(rotations, index);
+    return {q[0], q[1], q[2], q[3]};
+}
+
+// atan2f per lane (lanes [0, laneCount); the rest 0): no SIMD arctangent
+// has libm's bits, so the lanes call the same function the scalar code does
+// (std::atan2 on floats is ::atan2f), outside any inline copy.
+FULCRUM_JOINT_WIDE_INLINE FloatW atan2Lanes(const FloatW& y, const FloatW& x, std::uint32_t laneCount) {
+    alignas(32) float ys[kLanes], xs[kLanes], out[kLanes] = {};
+    y.store(ys);
+    x.store(xs);
+    for (std::uint32_t l = 0; l < laneCount; ++l) out[l] = ::atan2f(ys[l], xs[l]);
+    return FloatW::load(out);
+}
+
+// twistAngle: r = (conj(qA) qB) conj(relative0), turned to r.w >= 0, and
+// 2 atan2(r.vec . localAxis, r.w).
+FULCRUM_JOINT_WIDE_INLINE FloatW twistAngle(const QuatW& relative0Conjugate, const QuatW& qA, const QuatW& qB,
+                                            const Vec3W& localAxis, std::uint32_t laneCount) {
+    QuatW r = (conjugate(qA) * qB) * relative0Conjugate;
+    const MaskW flip = r.w < FloatW(0.0f);
+    r = {select(flip, -r.w, r.w), select(flip, -r.x, r.x), select(flip, -r.y, r.y), select(flip, -r.z, r.z)};
+    return FloatW(2.0f) * atan2Lanes(dot(Vec3W{r.x, r.y, r.z}, localAxis), r.w, laneCount);
 }
 
 // One lane of a wide value, in place (simd.hpp).
@@ -120,6 +185,153 @@ FULCRUM_JOINT_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::ui
                                                const Vec3W& v, const Vec3W& w) {
     const std::array<FloatW, 8> row = {v.x, v.y, v.z, body.row[3], w.x, w.y, w.z, body.row[7]};
     FloatW::scatterTransposed<8>(bodies, index, row);
+}
+
+// A block's two ends while its rows run: the gathered rows and the
+// velocities as the rows change them (the scalar kernels' a.v, a.w, b.v, b.w).
+struct Ends {
+    BodyW a, b;
+    Vec3W vA, wA, vB, wB;
+    Mat3W invIA, invIB;
+    FloatW mA, mB;
+};
+
+template <bool deltas>
+FULCRUM_JOINT_WIDE_INLINE Ends gatherEnds(const SolverBody* bodies, const std::uint32_t* indexA, const std::uint32_t* indexB) {
+    Ends e;
+    e.a = gatherBody<deltas>(bodies, indexA);
+    e.b = gatherBody<deltas>(bodies, indexB);
+    e.vA = e.a.v();
+    e.wA = e.a.w();
+    e.vB = e.b.v();
+    e.wB = e.b.w();
+    e.invIA = e.a.invI();
+    e.invIB = e.b.invI();
+    e.mA = e.a.invMass();
+    e.mB = e.b.invMass();
+    return e;
+}
+
+// A JointRow per lane (+linear and +angularB on B, -linear and -angularA on A).
+struct RowW {
+    Vec3W linear, angularA, angularB;
+};
+// angularRow(axis): a zero linear part, kept so the products are the scalar ones.
+FULCRUM_JOINT_WIDE_INLINE RowW angularRow(const Vec3W& axis) { return {Vec3W{}, axis, axis}; }
+
+// rowVelocity, rowInverseMass, applyRow (joint_common.hpp), term for term.
+FULCRUM_JOINT_WIDE_INLINE FloatW rowVelocity(const RowW& r, const Ends& e) {
+    return dot(r.linear, e.vB - e.vA) + dot(r.angularB, e.wB) - dot(r.angularA, e.wA);
+}
+FULCRUM_JOINT_WIDE_INLINE FloatW rowInverseMass(const RowW& r, const Ends& e) {
+    return (e.mA + e.mB) * lengthSquared(r.linear) + dot(r.angularA, e.invIA * r.angularA) +
+           dot(r.angularB, e.invIB * r.angularB);
+}
+// applyRow where `on`; other lanes keep their velocities.
+FULCRUM_JOINT_WIDE_INLINE void applyRow(const RowW& r, Ends& e, const FloatW& impulse, const MaskW& on) {
+    e.vA = select(on, e.vA - r.linear * (e.mA * impulse), e.vA);
+    e.wA = select(on, e.wA - e.invIA * (r.angularA * impulse), e.wA);
+    e.vB = select(on, e.vB + r.linear * (e.mB * impulse), e.vB);
+    e.wB = select(on, e.wB + e.invIB * (r.angularB * impulse), e.wB);
+}
+
+// applyPoint where `on`.
+FULCRUM_JOINT_WIDE_INLINE void applyPoint(Ends& e, const Vec3W& rA, const Vec3W& rB, const Vec3W& P, const MaskW& on) {
+    e.vA = select(on, e.vA - P * e.mA, e.vA);
+    e.wA = select(on, e.wA - e.invIA * cross(rA, P), e.wA);
+    e.vB = select(on, e.vB + P * e.mB, e.vB);
+    e.wB = select(on, e.wB + e.invIB * cross(rB, P), e.wB);
+}
+
+// pointInverseMass: diag(mA + mB) - [rA] IA^-1 [rA] - [rB] IB^-1 [rB].
+FULCRUM_JOINT_WIDE_INLINE Mat3W pointInverseMass(const Ends& e, const Vec3W& rA, const Vec3W& rB) {
+    const FloatW zero = 0.0f;
+    const Mat3W sa = skew(rA), sb = skew(rB);
+    const Mat3W ta = sa * e.invIA * sa;
+    const Mat3W tb = sb * e.invIB * sb;
+    const FloatW m = e.mA + e.mB;
+    const Mat3W diagonal{{m, zero, zero}, {zero, m, zero}, {zero, zero, m}};
+    return diagonal - ta - tb;
+}
+
+// A tree joint's frame into its record (JointFrame, and the refresh it is
+// of), for the lanes with `direct` > 0: the tree solver's pass after the
+// blocks then finds it current (currentFrame) instead of computing it again
+// (ragdolls, callgrind: the tree solver 261 M -> 341 M without it). Same bits:
+// the lanes computed what updateFrame computes.
+FULCRUM_JOINT_WIDE_INLINE void writeTreeFrames(JointConstraint* constraints, const std::uint32_t* constraint,
+                                               std::uint32_t laneCount, const FloatW& direct, const Vec3W& rA,
+                                               const Vec3W& rB, const Vec3W& d, const QuatW& qA, const QuatW& qB,
+                                               std::uint64_t generation) {
+    const auto quat = [](const QuatW& q, int l) { return Quat{getLane(q.w, l), getLane(q.x, l), getLane(q.y, l), getLane(q.z, l)}; };
+    const auto vec = [](const Vec3W& v, int l) { return Vec3{getLane(v.x, l), getLane(v.y, l), getLane(v.z, l)}; };
+    for (std::uint32_t lane = 0; lane < laneCount; ++lane) {
+        const int l = static_cast<int>(lane);
+        if (!(getLane(direct, l) > 0)) continue;
+        JointConstraint& j = constraints[constraint[lane]];
+        j.frame.rA = vec(rA, l);
+        j.frame.rB = vec(rB, l);
+        j.frame.d = vec(d, l);
+        j.frame.qA = quat(qA, l);
+        j.frame.qB = quat(qB, l);
+        j.frameAt = generation;
+    }
+}
+
+// The constants of a pass (JointContext's): limits' softness and 1 / h.
+struct PassW {
+    FloatW invH;
+    FloatW soft[3];       // ctx.soft: biasRate, massScale, impulseScale
+    FloatW limitSoft[3];  // ctx.limitSoft
+    bool useBias = true;
+    explicit PassW(const JointContext& ctx)
+        : invH(ctx.invH),
+          soft{ctx.soft.biasRate, ctx.soft.massScale, ctx.soft.impulseScale},
+          limitSoft{ctx.limitSoft.biasRate, ctx.limitSoft.massScale, ctx.limitSoft.impulseScale},
+          useBias(ctx.useBias) {}
+};
+
+// nextLimitImpulse: speculative (bias C / h, rigid) where C > 0, soft in the
+// biased pass elsewhere, rigid and bias-free in the relax pass; the sum
+// clamped to >= 0 (`lambda + d > 0 ? lambda + d : 0`).
+FULCRUM_JOINT_WIDE_INLINE FloatW nextLimitImpulse(const FloatW& velocity, const FloatW& C, const FloatW& k,
+                                                  const FloatW& lambda, const PassW& pass) {
+    const FloatW zero = 0.0f, one = 1.0f;
+    const MaskW open = C > zero;
+    const FloatW bias = select(open, C * pass.invH, pass.useBias ? pass.limitSoft[0] * C : zero);
+    const FloatW massScale = select(open, one, pass.useBias ? pass.limitSoft[1] : one);
+    const FloatW impulseScale = select(open, zero, pass.useBias ? pass.limitSoft[2] : zero);
+    const FloatW d = -massScale * (velocity + bias) / k - impulseScale * lambda;
+    const FloatW next = lambda + d;
+    return select(next > zero, next, zero);
+}
+
+// solveLimitRow where `on` (and k > 0).
+FULCRUM_JOINT_WIDE_INLINE void solveLimitRow(const RowW& r, Ends& e, const FloatW& C, FloatW& lambda, const MaskW& on,
+                                             const PassW& pass) {
+    const FloatW k = rowInverseMass(r, e);
+    const MaskW run = on & !(k <= FloatW(0.0f));
+    const FloatW next = nextLimitImpulse(rowVelocity(r, e), C, k, lambda, pass);
+    applyRow(r, e, next - lambda, run);
+    lambda = select(run, next, lambda);
+}
+
+// solvePointBlock where `on`, with the sub-step's K^-1.
+FULCRUM_JOINT_WIDE_INLINE void solvePointBlock(Ends& e, const Vec3W& rA, const Vec3W& rB, const Vec3W& C, Vec3W& lambda,
+                                               const Mat3W& invK, const MaskW& on, const PassW& pass) {
+    const Vec3W cdot = e.vB + cross(e.wB, rB) - e.vA - cross(e.wA, rA);
+    const Vec3W bias = pass.useBias ? C * pass.soft[0] : Vec3W{};
+    const FloatW massScale = pass.useBias ? pass.soft[1] : FloatW(1.0f);
+    const FloatW impulseScale = pass.useBias ? pass.soft[2] : FloatW(0.0f);
+    const Vec3W d = -(invK * (cdot + bias)) * massScale - lambda * impulseScale;
+    lambda = select(on, lambda + d, lambda);
+    applyPoint(e, rA, rB, d, on);
+}
+
+FULCRUM_JOINT_WIDE_INLINE void scatterEnds(SolverBody* bodies, const std::uint32_t* writeA, const std::uint32_t* writeB,
+                                           const Ends& e) {
+    scatterVelocity(bodies, writeA, e.a, e.vA, e.wA);
+    scatterVelocity(bodies, writeB, e.b, e.vB, e.wB);
 }
 
 // rotate(q, v) = (v + t q.w) + u x t with t = (u x v) 2 (quat.hpp).
@@ -251,40 +463,91 @@ void solveBlocks(BallBlock* blocks, std::size_t count, SolverBody* bodies, const
     }
 }
 
-class Blocks final : public WideBallJoints {
+}  // namespace
+}  // namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS
+
+#include "solver/joints/joint_wide_cone_twist.hpp"
+#include "solver/joints/joint_wide_hinge.hpp"
+
+namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS {
+namespace {
+
+// The blocks of every kind, and the order they run in: entry b of order_ is
+// block b (its kind and its place in its kind's array).
+class Blocks final : public WideJoints {
 public:
     explicit Blocks(SimdPath path) : path_(path) {}
     SimdPath path() const override { return path_; }
     int lanes() const override { return kLanes; }
-    std::size_t size() const override { return blocks_.size(); }
+    std::size_t size() const override { return order_.size(); }
+    // The cone-twist and hinge arrays are not reserved for every joint (a
+    // few kB per block, for kinds a scene may not have): they grow to the
+    // largest step's size and keep it (clear() keeps capacity), so steady
+    // state allocates nothing (tests/allocation).
     void reserve(std::size_t blocks) override {
-        if (blocks_.capacity() < blocks) blocks_.reserve(2 * blocks);
+        if (order_.capacity() < blocks) order_.reserve(2 * blocks);
+        if (ball_.capacity() < blocks) ball_.reserve(2 * blocks);
     }
-    void resize(std::size_t blocks) override {
-        blocks_.resize(blocks);
+    void clear() override {
+        order_.clear();
+        ball_.clear();
+        coneTwist_.clear();
+        hinge_.clear();
         FULCRUM_JOINT_WIDE_LEAVE();
     }
-    void build(std::size_t block, const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
+    void build(const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
                const SolverBody* bodies) override {
-        buildBlock(blocks_[block], constraints, indices, laneCount, bodies);
-        FULCRUM_JOINT_WIDE_LEAVE();
-    }
-    void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations,
-                   std::uint64_t generation) override {
-        warmStartBlocks(blocks_.data() + first, count, bodies, rotations, generation);
-        FULCRUM_JOINT_WIDE_LEAVE();
-    }
-    void solve(std::size_t first, std::size_t count, SolverBody* bodies, const Quat* rotations, std::uint64_t generation,
-               const Softness& soft, bool useBias) override {
-        if (useBias) {
-            solveBlocks<true>(blocks_.data() + first, count, bodies, rotations, generation, soft);
-        } else {
-            solveBlocks<false>(blocks_.data() + first, count, bodies, rotations, generation, soft);
+        switch (wideKind(constraints[indices[0]])) {
+            case WideKind::Ball:
+                order_.push_back({WideKind::Ball, static_cast<std::uint32_t>(ball_.size())});
+                buildBlock(ball_.emplace_back(), constraints, indices, laneCount, bodies);
+                break;
+            case WideKind::ConeTwist:
+                order_.push_back({WideKind::ConeTwist, static_cast<std::uint32_t>(coneTwist_.size())});
+                buildConeTwistBlock(coneTwist_.emplace_back(), constraints, indices, laneCount, bodies);
+                break;
+            case WideKind::Hinge:
+                order_.push_back({WideKind::Hinge, static_cast<std::uint32_t>(hinge_.size())});
+                buildHingeBlock(hinge_.emplace_back(), constraints, indices, laneCount, bodies);
+                break;
+            case WideKind::NotWide: break;
         }
         FULCRUM_JOINT_WIDE_LEAVE();
     }
+    void warmStart(std::size_t first, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
+                   const JointContext& ctx) override {
+        forRuns(first, count, [&](WideKind kind, std::uint32_t begin, std::uint32_t n) {
+            switch (kind) {
+                case WideKind::Ball: warmStartBlocks(ball_.data() + begin, n, bodies, ctx.rotations, ctx.generation); break;
+                case WideKind::ConeTwist:
+                    warmStartConeTwistBlocks(coneTwist_.data() + begin, n, bodies, constraints, ctx);
+                    break;
+                case WideKind::Hinge: warmStartHingeBlocks(hinge_.data() + begin, n, bodies, constraints, ctx); break;
+                case WideKind::NotWide: break;
+            }
+        });
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
+    void solve(std::size_t first, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
+               const JointContext& ctx) override {
+        forRuns(first, count, [&](WideKind kind, std::uint32_t begin, std::uint32_t n) {
+            switch (kind) {
+                case WideKind::Ball:
+                    if (ctx.useBias) {
+                        solveBlocks<true>(ball_.data() + begin, n, bodies, ctx.rotations, ctx.generation, ctx.soft);
+                    } else {
+                        solveBlocks<false>(ball_.data() + begin, n, bodies, ctx.rotations, ctx.generation, ctx.soft);
+                    }
+                    break;
+                case WideKind::ConeTwist: solveConeTwistBlocks(coneTwist_.data() + begin, n, bodies, constraints, ctx); break;
+                case WideKind::Hinge: solveHingeBlocks(hinge_.data() + begin, n, bodies, constraints, ctx); break;
+                case WideKind::NotWide: break;
+            }
+        });
+        FULCRUM_JOINT_WIDE_LEAVE();
+    }
     void store(JointConstraint* constraints) const override {
-        for (const BallBlock& k : blocks_) {
+        for (const BallBlock& k : ball_) {
             for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
                 const int l = static_cast<int>(lane);
                 Vec3& impulse = constraints[k.constraint[lane]].impulse.linear;
@@ -293,12 +556,35 @@ public:
                 impulse.z = getLane(k.impulse.z, l);
             }
         }
+        for (const ConeTwistBlock& k : coneTwist_) storeConeTwistBlock(k, constraints);
+        for (const HingeBlock& k : hinge_) storeHingeBlock(k, constraints);
         FULCRUM_JOINT_WIDE_LEAVE();
     }
 
 private:
+    struct Entry {
+        WideKind kind;
+        std::uint32_t index;  // in its kind's array
+    };
+    // f(kind, first index, count) over the runs of one kind (consecutive
+    // in their array) among blocks [first, first + count).
+    template <class F>
+    void forRuns(std::size_t first, std::size_t count, F&& f) const {
+        std::size_t b = first;
+        const std::size_t end = first + count;
+        while (b < end) {
+            const Entry start = order_[b];
+            std::uint32_t n = 1;
+            while (b + n < end && order_[b + n].kind == start.kind && order_[b + n].index == start.index + n) ++n;
+            f(start.kind, start.index, n);
+            b += n;
+        }
+    }
     SimdPath path_;
-    std::vector<BallBlock> blocks_;
+    std::vector<Entry> order_;
+    std::vector<BallBlock> ball_;
+    std::vector<ConeTwistBlock> coneTwist_;
+    std::vector<HingeBlock> hinge_;
 };
 
 }  // namespace
