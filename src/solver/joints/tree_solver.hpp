@@ -45,7 +45,11 @@
 // block-tridiagonal joint-space system K = J M^-1 J^T, and 6x6 body blocks
 // remain only where a body branches (a ragdoll's torso and pelvis) or roots a
 // free tree. Each factored block is stored inverted, so the later passes are
-// dense mat-vecs rather than dependent triangular solves.
+// dense mat-vecs rather than dependent triangular solves. A tree that is a
+// chain of joints (solveChain) is swept once per pass over packed links
+// instead of four times over the generic storage, prefetching the scattered
+// constraints: the same bits, ~8 % of the chain benchmark's step by wall
+// clock (docs/joints.md, sixth round).
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -95,6 +99,12 @@ public:
         firstBiasedPass_ = true;
     }
     std::size_t treeCount() const { return trees_; }
+    // Trees solved as chains (solveChain), for tests.
+    std::size_t chainCount() const {
+        std::size_t n = 0;
+        for (const std::uint8_t c : chain_) n += c;
+        return n;
+    }
     // Factorization reuse (solve()): a pass factors again once the anchors
     // it would reuse are `age` position updates old (1: every pass after a
     // position update factors, so every pass is exact; the default 2: at most
@@ -133,6 +143,22 @@ private:
         Vec3 rA, rB;           // joint nodes: anchors of this pass
         Vec3 factorA, factorB; // joint nodes: anchors of the factorization (the reuse guard)
     };
+    // A chain tree's node (every node a joint below the next through a
+    // contracted body; chain_): what its one fused children-first sweep
+    // and its back-substitution read, packed (~300 bytes instead of the
+    // generic Factor's ~1 kB, so the benchmark's 100 links stay in L1).
+    // Indexed like nodes_ (unused for other trees). solveChain().
+    struct ChainLink {
+        double D[6];           // D^-1 after elimination: i00, i11, i22, i10, i20, i21 (symmetric)
+        double Hp[3][3];       // H(parent, this) = -J_p M^-1 J^T through the body between them
+        double z[3];           // right-hand side, then D^-1 z after forward substitution
+        double X[3][3];        // D^-1 Hp^T, X[c][k] as in Factor
+        double y[3];           // solution
+        Vec3 rA, rB;           // anchors of this pass
+        Vec3 factorA, factorB; // anchors of the factorization (the reuse guard)
+        std::uint32_t via = kNone;  // the contracted body between this joint and its parent (kNone: the root)
+        bool viaIsA = false, viaIsParentA = false, ownA = false, ownB = false;
+    };
     struct Pending {
         std::uint32_t ref, parentPos;
         bool joint, bodyIsA;
@@ -148,6 +174,11 @@ private:
     void forwardChainJoint(std::uint32_t node);
     void backSubstituteChainJoint(std::uint32_t node);
     void findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
+    // solveTree for a chain: the block build, the guard, the elimination or
+    // forward substitution and the residual in one children-first sweep, the
+    // same operations in the same order per value (same bits).
+    bool solveChain(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
+                    bool refactor, bool foldedWarmStart);
     bool solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
                    bool refactor, bool foldedWarmStart);
 
@@ -157,7 +188,8 @@ private:
     std::size_t trees_ = 0;
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
     std::vector<std::uint8_t> warmFree_;  // per tree: markWarmStartFree
-    std::vector<std::uint8_t> chain_;     // per tree: a chain of joints (solveTree's loops without dispatch)
+    std::vector<std::uint8_t> chain_;     // per tree: a chain of joints (solveChain)
+    std::vector<ChainLink> links_;        // per node of a chain tree
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
