@@ -51,6 +51,18 @@ void applyCholeskyInverse(const double L[6][6], double* x) {
 // if not. Shared by invertInPlace<3> and eliminateChainJoint (same bits).
 struct SymmetricInverse3 {
     double i00, i11, i22, i10, i20, i21;
+    // D^-1 z as the chain sweeps sum it (eliminateChainJoint, forwardChainJoint).
+    void times(double z0, double z1, double z2, double y[3]) const {
+        y[0] = i00 * z0 + i10 * z1 + i20 * z2;
+        y[1] = i10 * z0 + i11 * z1 + i21 * z2;
+        y[2] = i20 * z0 + i21 * z1 + i22 * z2;
+    }
+    // The root's D^-1 z as multiplyInPlace<3> sums it (from 0.0, so a -0 term gives +0).
+    void timesFromZero(double z0, double z1, double z2, double y[3]) const {
+        y[0] = ((0.0 + i00 * z0) + i10 * z1) + i20 * z2;
+        y[1] = ((0.0 + i10 * z0) + i11 * z1) + i21 * z2;
+        y[2] = ((0.0 + i20 * z0) + i21 * z1) + i22 * z2;
+    }
     void store(double a[6][6]) const {
         a[0][0] = i00, a[1][1] = i11, a[2][2] = i22;
         a[0][1] = a[1][0] = i10;
@@ -764,17 +776,12 @@ bool JointTreeSolver::solveChain(std::uint32_t tree, std::vector<JointConstraint
                 const double i00 = inv.i00, i11 = inv.i11, i22 = inv.i22, i10 = inv.i10, i20 = inv.i20, i21 = inv.i21;
                 L.D[0] = i00, L.D[1] = i11, L.D[2] = i22, L.D[3] = i10, L.D[4] = i20, L.D[5] = i21;
                 if (i == root) {
-                    // invertInPlace<3> and multiplyInPlace<3> (eliminate<3, 6>: no parent).
-                    L.z[0] = ((0.0 + i00 * z0) + i10 * z1) + i20 * z2;
-                    L.z[1] = ((0.0 + i10 * z0) + i11 * z1) + i21 * z2;
-                    L.z[2] = ((0.0 + i20 * z0) + i21 * z1) + i22 * z2;
+                    inv.timesFromZero(z0, z1, z2, L.z);  // invertInPlace<3>, multiplyInPlace<3> (eliminate<3, 6>: no parent)
                     break;
                 }
                 // eliminateChainJoint.
-                const double y0 = i00 * z0 + i10 * z1 + i20 * z2;
-                const double y1 = i10 * z0 + i11 * z1 + i21 * z2;
-                const double y2 = i20 * z0 + i21 * z1 + i22 * z2;
-                L.z[0] = y0, L.z[1] = y1, L.z[2] = y2;
+                inv.times(z0, z1, z2, L.z);
+                const double y0 = L.z[0], y1 = L.z[1], y2 = L.z[2];
                 double x[3][3];
                 for (int c = 0; c < 3; ++c) {
                     const double h0 = Hp[c][0], h1 = Hp[c][1], h2 = Hp[c][2];
@@ -796,18 +803,14 @@ bool JointTreeSolver::solveChain(std::uint32_t tree, std::vector<JointConstraint
                 dsub[3] = hx(2, 0), dsub[4] = hx(2, 1), dsub[5] = hx(2, 2);
                 for (int k = 0; k < 6; ++k) share[k] = shareUp[k];
             } else {
-                const double i00 = L.D[0], i11 = L.D[1], i22 = L.D[2], i10 = L.D[3], i20 = L.D[4], i21 = L.D[5];
+                const SymmetricInverse3 inv{L.D[0], L.D[1], L.D[2], L.D[3], L.D[4], L.D[5]};
                 if (i == root) {
-                    L.z[0] = ((0.0 + i00 * z0) + i10 * z1) + i20 * z2;
-                    L.z[1] = ((0.0 + i10 * z0) + i11 * z1) + i21 * z2;
-                    L.z[2] = ((0.0 + i20 * z0) + i21 * z1) + i22 * z2;
+                    inv.timesFromZero(z0, z1, z2, L.z);
                     break;
                 }
                 // forwardChainJoint.
-                const double y0 = i00 * z0 + i10 * z1 + i20 * z2;
-                const double y1 = i10 * z0 + i11 * z1 + i21 * z2;
-                const double y2 = i20 * z0 + i21 * z1 + i22 * z2;
-                L.z[0] = y0, L.z[1] = y1, L.z[2] = y2;
+                inv.times(z0, z1, z2, L.z);
+                const double y0 = L.z[0], y1 = L.z[1], y2 = L.z[2];
                 for (int k = 0; k < 3; ++k) zsub[k] = L.Hp[k][0] * y0 + L.Hp[k][1] * y1 + L.Hp[k][2] * y2;
             }
             fr = pfr;
