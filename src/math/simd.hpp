@@ -73,6 +73,17 @@
 #define FULCRUM_SIMD_HAS_AVX2 1
 #endif
 
+// The transposed gathers and scatters are a handful of shuffles each; as calls
+// they cost more than they do. When the joint kernels grew (hinges and
+// cone-twists, ninth session) GCC stopped inlining the AVX2 loadTransposed4
+// into the ball joints' gathers: the grid took 11.6 % more instructions
+// (callgrind, 10 steps: 4,097 M before, 4,573 M, 350 M of them the call).
+#if defined(__GNUC__)
+#define FULCRUM_SIMD_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define FULCRUM_SIMD_ALWAYS_INLINE inline
+#endif
+
 namespace fulcrum::simd {
 
 static_assert(sizeof(Real) == sizeof(float), "the wide types are float-only; a double build needs double policies");
@@ -132,11 +143,11 @@ struct PortablePolicy {
         return r;
     }
     // out[j] lane i = rows[i][j] for j < 4 (a 4 x N transpose), and back.
-    static void loadTransposed4(const float* const* rows, Reg* out) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void loadTransposed4(const float* const* rows, Reg* out) {
         for (int j = 0; j < 4; ++j)
             for (int i = 0; i < N; ++i) std::memcpy(&out[j].lane[i], rows[i] + j, sizeof(float));
     }
-    static void storeTransposed4(float* const* rows, const Reg* in) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void storeTransposed4(float* const* rows, const Reg* in) {
         for (int j = 0; j < 4; ++j)
             for (int i = 0; i < N; ++i) std::memcpy(rows[i] + j, &in[j].lane[i], sizeof(float));
     }
@@ -184,12 +195,12 @@ struct Sse2Policy {
     static MaskReg maskNot(MaskReg a) { return _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1))); }
     static Reg select(MaskReg m, Reg a, Reg b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
     static std::uint32_t bits(MaskReg m) { return static_cast<std::uint32_t>(_mm_movemask_ps(m)); }
-    static void loadTransposed4(const float* const* rows, Reg* out) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void loadTransposed4(const float* const* rows, Reg* out) {
         Reg r0 = _mm_loadu_ps(rows[0]), r1 = _mm_loadu_ps(rows[1]), r2 = _mm_loadu_ps(rows[2]), r3 = _mm_loadu_ps(rows[3]);
         _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
         out[0] = r0, out[1] = r1, out[2] = r2, out[3] = r3;
     }
-    static void storeTransposed4(float* const* rows, const Reg* in) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void storeTransposed4(float* const* rows, const Reg* in) {
         Reg r0 = in[0], r1 = in[1], r2 = in[2], r3 = in[3];
         _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
         _mm_storeu_ps(rows[0], r0), _mm_storeu_ps(rows[1], r1), _mm_storeu_ps(rows[2], r2), _mm_storeu_ps(rows[3], r3);
@@ -241,7 +252,7 @@ struct Avx2Policy {
     static std::uint32_t bits(MaskReg m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
     // A 4 x 4 transpose inside each 128-bit half (rows 0-3 low, rows 4-7 high);
     // it is its own inverse, so loads and stores share it.
-    static void transposeHalves(Reg& r0, Reg& r1, Reg& r2, Reg& r3) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void transposeHalves(Reg& r0, Reg& r1, Reg& r2, Reg& r3) {
         const Reg t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpacklo_ps(r2, r3);
         const Reg t2 = _mm256_unpackhi_ps(r0, r1), t3 = _mm256_unpackhi_ps(r2, r3);
         r0 = _mm256_shuffle_ps(t0, t1, _MM_SHUFFLE(1, 0, 1, 0));
@@ -249,13 +260,13 @@ struct Avx2Policy {
         r2 = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(1, 0, 1, 0));
         r3 = _mm256_shuffle_ps(t2, t3, _MM_SHUFFLE(3, 2, 3, 2));
     }
-    static void loadTransposed4(const float* const* rows, Reg* out) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void loadTransposed4(const float* const* rows, Reg* out) {
         Reg r[4];
         for (int i = 0; i < 4; ++i) r[i] = _mm256_set_m128(_mm_loadu_ps(rows[i + 4]), _mm_loadu_ps(rows[i]));
         transposeHalves(r[0], r[1], r[2], r[3]);
         for (int j = 0; j < 4; ++j) out[j] = r[j];
     }
-    static void storeTransposed4(float* const* rows, const Reg* in) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void storeTransposed4(float* const* rows, const Reg* in) {
         Reg r[4] = {in[0], in[1], in[2], in[3]};
         transposeHalves(r[0], r[1], r[2], r[3]);
         for (int i = 0; i < 4; ++i) {

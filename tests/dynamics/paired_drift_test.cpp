@@ -1,5 +1,7 @@
-// The axisymmetric drift runs two bodies at once (one per SIMD lane) where it
-// can (src/dynamics/integrators.cpp, driftPair). Each lane must do exactly the
+// The axisymmetric drift runs four bodies at once where it can, then a pair,
+// then one alone (one per SIMD lane: src/dynamics/integrators.cpp); the tops
+// below (six about y, two about z, one about x) fill a group of four and leave
+// the rest to pairs and single bodies. Each lane must do exactly the
 // scalar operations: a body's bits may not depend on whether, or with which
 // body, it was paired, and every paired body must still follow the closed-form
 // torque-free motion of a symmetric top.

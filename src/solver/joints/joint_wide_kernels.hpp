@@ -158,25 +158,30 @@ struct BodyW {
     Mat3W invI() const { return {{row[13], row[14], row[15]}, {row[16], row[17], row[18]}, {row[19], row[20], row[21]}}; }
 };
 
+// Floats [first, first + 4) of every lane's row into b.row (a named function,
+// not a lambda: a lambda would not be always-inline, and when the kernels
+// grew GCC made it a call per group: the grid's ball joints +11 % of the
+// instructions, callgrind, ninth session).
+FULCRUM_JOINT_WIDE_INLINE void gatherGroup(const float* const* rows, std::size_t first, BodyW& b) {
+    typename Policy::Reg regs[4];
+    const float* shifted[kLanes];
+    for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + first;
+    Policy::loadTransposed4(shifted, regs);
+    for (std::size_t c = 0; c < 4; ++c) b.row[first + c] = FloatW(regs[c]);
+}
+
 // `index` holds a solver body in every lane (empty lanes: body 0, never kEmptyLane).
 template <bool deltas>
 FULCRUM_JOINT_WIDE_INLINE BodyW gatherBody(const SolverBody* bodies, const std::uint32_t* index) {
     const float* rows[kLanes];
     for (int i = 0; i < kLanes; ++i) rows[i] = reinterpret_cast<const float*>(bodies + index[i]);
     BodyW b;
-    const auto group = [&](std::size_t first) {
-        typename Policy::Reg regs[4];
-        const float* shifted[kLanes];
-        for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + first;
-        Policy::loadTransposed4(shifted, regs);
-        for (std::size_t c = 0; c < 4; ++c) b.row[first + c] = FloatW(regs[c]);
-    };
-    group(0);
-    group(4);
-    if constexpr (deltas) group(8);
-    group(12);
-    group(16);
-    group(20);
+    gatherGroup(rows, 0, b);
+    gatherGroup(rows, 4, b);
+    if constexpr (deltas) gatherGroup(rows, 8, b);
+    gatherGroup(rows, 12, b);
+    gatherGroup(rows, 16, b);
+    gatherGroup(rows, 20, b);
     return b;
 }
 
