@@ -29,17 +29,9 @@
 namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS {
 namespace {
 
-struct ConeTwistBlock {
-    std::uint32_t bodyA[kLanes], bodyB[kLanes];
-    std::uint32_t writeA[kLanes], writeB[kLanes];
-    std::uint32_t constraint[kLanes];
-    std::uint32_t laneCount = 0;
-    std::uint64_t frameAt = 0;
+struct ConeTwistBlock : FramedLanes {
     bool anyFriction = false, anyDirect = false, anySwingLimit = false, anyCone = false;
-    // The step's start and the joint's constants.
-    Vec3W rA0, rB0, centreDelta;
-    QuatW qA0, qB0, relative0Conjugate;
-    Vec3W localAxisA, localAxisB;
+    // The joint's constants.
     FloatW lower, upper, swingLimit, maxFriction;
     FloatW swingLimited;  // 1 where swingLimit < pi
     FloatW direct;        // 1 where the tree solver has the point rows

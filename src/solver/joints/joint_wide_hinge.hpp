@@ -30,17 +30,9 @@
 namespace fulcrum::detail::FULCRUM_JOINT_WIDE_NS {
 namespace {
 
-struct HingeBlock {
-    std::uint32_t bodyA[kLanes], bodyB[kLanes];
-    std::uint32_t writeA[kLanes], writeB[kLanes];
-    std::uint32_t constraint[kLanes];
-    std::uint32_t laneCount = 0;
-    std::uint64_t frameAt = 0;
+struct HingeBlock : FramedLanes {
     bool anyDirect = false, anySpring = false, anyMotor = false, anyLimit = false;
-    // The step's start and the joint's constants.
-    Vec3W rA0, rB0, centreDelta;
-    QuatW qA0, qB0, relative0Conjugate;
-    Vec3W localAxisA, localAxisB;
+    // The joint's constants.
     FloatW direct;                      // 1 where the tree solver has the point rows
     FloatW spring, motor, limit;        // 1 where the row is on
     FloatW springTarget, springBias, springGamma, motorSpeed, maxMotorImpulse, lower, upper;

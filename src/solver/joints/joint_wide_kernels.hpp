@@ -405,6 +405,21 @@ void setEmptyBodyLane(Block& k, int l) {
     k.constraint[l] = 0;
 }
 
+// What hinge and cone-twist blocks both hold per lane: the two ends (gather:
+// solver body, 0 for static; scatter: the body if dynamic, else kEmptyLane),
+// where store() puts the lane's impulses, the refresh the frame was computed
+// at, and the step's start (anchors, centre delta, rest pose, local axes).
+struct FramedLanes {
+    std::uint32_t bodyA[kLanes], bodyB[kLanes];
+    std::uint32_t writeA[kLanes], writeB[kLanes];
+    std::uint32_t constraint[kLanes];
+    std::uint32_t laneCount = 0;
+    std::uint64_t frameAt = 0;
+    Vec3W rA0, rB0, centreDelta;
+    QuatW qA0, qB0, relative0Conjugate;
+    Vec3W localAxisA, localAxisB;
+};
+
 // The rest pose and the axes hinge and cone-twist blocks both carry (their
 // frames: joint_wide_cone_twist.hpp, joint_wide_hinge.hpp). The rest
 // rotation is stored conjugated, spelled out here rather than through the
