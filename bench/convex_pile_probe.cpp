@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
 #include <vector>
 
 #if __has_include(<valgrind/callgrind.h>)
@@ -24,6 +23,7 @@
 
 #include "box3d_scenes.hpp"
 #include "collision/narrow_phase.hpp"
+#include "collision/support.hpp"
 #include "fulcrum/fulcrum.hpp"
 
 int main(int argc, char** argv) {
@@ -84,43 +84,51 @@ int main(int argc, char** argv) {
         if (world.isAwake(id)) ++awake;
     }
     // Every reported manifold against a fresh narrow phase at the final poses.
-    Real deepestReported = 0, deepestFresh = 0, worstDepthError = 0, worstNormalError = 0;
+    // A report's depth is the solver's first-order estimate at the step's end
+    // and its normal the one of the step's start (a tumbling 2 m hull turns a
+    // few degrees in a step: its separation along that normal moves by
+    // centimetres), so only gross errors count as mismatches (the defect of
+    // issue 27 was 300 m): a depth off by 5 cm, or a normal separating the
+    // shapes (support functions) 50 cm less than the fresh one. The worst
+    // values are printed; tests/contacts/persistent_manifold_test.cpp checks
+    // the manifolds themselves at their own poses, tightly.
+    Real deepestReported = 0, deepestFresh = 0, worstDepthError = 0, worstSeparationLoss = 0;
     int mismatches = 0;
     fulcrum::ManifoldBuffer buffer;
     const std::vector<fulcrum::ContactReport> reports = world.contacts();
     for (const fulcrum::ContactReport& r : reports) {
         deepestReported = std::max(deepestReported, r.depth);
-        fulcrum::collide(world.shape(r.bodyA), world.transform(r.bodyA), world.shape(r.bodyB), world.transform(r.bodyB),
-                         def.speculativeMargin, buffer);
-        Real fresh = -1, cosine = -1;
-        for (const fulcrum::Manifold& m : buffer) {
-            if (m.pointCount == 0) continue;
-            fresh = std::max(fresh, m.maxDepth());
-            cosine = std::max(cosine, fulcrum::dot(m.normal, r.normal));
+        const fulcrum::Transform xa = world.transform(r.bodyA), xb = world.transform(r.bodyB);
+        fulcrum::collide(world.shape(r.bodyA), xa, world.shape(r.bodyB), xb, 1, buffer);
+        Real fresh = -1, loss = 0;
+        if (buffer.size() == 1) {
+            const fulcrum::Manifold& m = buffer[0];
+            fresh = m.maxDepth();
+            const fulcrum::detail::ConvexShape ca = fulcrum::detail::makeConvex(world.shape(r.bodyA), xa);
+            const fulcrum::detail::ConvexShape cb = fulcrum::detail::makeConvex(world.shape(r.bodyB), xb);
+            const auto separation = [&](const Vec3& n) { return fulcrum::dot(cb.support(-n) - ca.support(n), n); };
+            loss = separation(m.normal) - separation(r.normal);
         }
         deepestFresh = std::max(deepestFresh, fresh);
-        const Real depthError = std::fabs(fresh - r.depth), normalError = 1 - cosine;
+        const Real depthError = std::fabs(fresh - r.depth);
         worstDepthError = std::max(worstDepthError, depthError);
-        worstNormalError = std::max(worstNormalError, normalError);
-        if (depthError > Real(0.01) || normalError > Real(0.01)) {
+        worstSeparationLoss = std::max(worstSeparationLoss, loss);
+        if (depthError > Real(0.05) || loss > Real(0.5)) {
             if (++mismatches <= 10) {
                 const Vec3 pa = world.position(r.bodyA), pb = world.position(r.bodyB);
                 std::printf("mismatch: bodies %u-%u at (%.3f %.3f %.3f) (%.3f %.3f %.3f): reported depth %.4f normal (%.3f %.3f %.3f) "
-                            "%zu points; fresh depth %.4f, normal cosine %.4f\n",
+                            "%zu points; fresh depth %.4f, separation lost along the reported normal %.4f m\n",
                             r.bodyA.index, r.bodyB.index, double(pa.x), double(pa.y), double(pa.z), double(pb.x), double(pb.y),
                             double(pb.z), double(r.depth), double(r.normal.x), double(r.normal.y), double(r.normal.z),
-                            r.points.size(), double(fresh), double(cosine));
-                const fulcrum::Transform xb = world.transform(r.bodyB);
-                std::printf("  pose B: p %a %a %a q %a %a %a %a\n", double(xb.p.x), double(xb.p.y), double(xb.p.z),
-                            double(xb.q.w), double(xb.q.x), double(xb.q.y), double(xb.q.z));
+                            r.points.size(), double(fresh), double(loss));
             }
         }
     }
     std::printf("%s: %zu bodies, %d steps, %d threads\n", scene.name.c_str(), ids.size(), warm + measured, threads);
     std::printf("ms/step %.3f  awake %d  checksum %.9g\n", ms / measured, awake, heights);
     std::printf("contacts %zu  deepest reported %.4f m  deepest fresh %.4f m  mismatches %d  worst depth error %.4g m  "
-                "worst 1-cos %.4g\n",
+                "worst separation lost %.4g m\n",
                 reports.size(), double(deepestReported), double(deepestFresh), mismatches, double(worstDepthError),
-                double(worstNormalError));
+                double(worstSeparationLoss));
     return 0;
 }
