@@ -30,7 +30,15 @@ constexpr Real kMinFaceAlignment = Real(0.7);
 constexpr Real kReferenceBias = Real(0.02);
 // Below this core distance the closest-point direction is numerical noise; EPA decides.
 constexpr Real kCoreTouch = Real(1e-4);
+// A box face normal replaces GJK/EPA's normal when it separates the pair at
+// least as well, less this: a face contact is preferred to an edge contact
+// that is deeper by less than 0.1 mm (GJK's own resolution near a large box),
+// so a resting contact keeps its face.
+constexpr Real kFaceAxisTolerance = Real(1e-4);
 constexpr std::uint32_t kMaxClip = 2 * kMaxFacePoints + 8;
+// A clipped manifold shallower than GJK/EPA's deepest point by more than this
+// missed the touching features (buildFaceManifold).
+constexpr Real kClipDepthTolerance = Real(1e-3);
 
 struct ClipVertex {
     Vec3 p;
@@ -131,7 +139,7 @@ void closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const
 }
 
 void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n, const Vec3& fallbackA,
-                       const Vec3& fallbackB, Real margin, Manifold& m, int forceReference) {
+                       const Vec3& fallbackB, Real margin, Manifold& m, int forceReference, bool fallbackIsDeepest) {
     m.normal = n;
     m.pointCount = 0;
     SupportFace fa, fb;
@@ -143,7 +151,7 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
     if (ref == 0 && std::max(alignA, alignB) >= kMinFaceAlignment) ref = alignA >= alignB - kReferenceBias ? 1 : 2;
     if ((ref == 1 && fa.count < 3) || (ref == 2 && fb.count < 3)) ref = 0;
 
-    ContactCandidate cand[kMaxClip];
+    ContactCandidate cand[kMaxClip + 1];  // + the deepest point
     std::uint32_t candCount = 0;
     if (ref != 0) {
         const SupportFace& rf = ref == 1 ? fa : fb;
@@ -191,13 +199,110 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
             }
         }
     }
-    if (candCount > 0) reduceContacts({cand, candCount}, margin, m);
-    if (m.pointCount == 0) {
-        addContact(m, fallbackA, fallbackB, dot(fallbackA - fallbackB, n), 0x00800000u | fa.id << 8 | fb.id, margin);
+    const std::uint32_t fallbackId = 0x00800000u | fa.id << 8 | fb.id;
+    if (fallbackIsDeepest) {
+        // Clipping measures depth to the reference face's plane over the
+        // prism of its polygon; at an edge-like contact (normal up to 45
+        // degrees off the face) the touching edges can lie outside that
+        // prism, so every clipped point came out centimetres apart while
+        // the shapes overlapped: the manifold then depended on the margin
+        // (the points within it, or else the fallback) and a fast pair's
+        // larger margin hid its penetration. The deepest point joins them.
+        const Real deepest = dot(fallbackA - fallbackB, n);
+        Real clipped = -1e30f;
+        for (std::uint32_t i = 0; i < candCount; ++i) clipped = std::max(clipped, cand[i].depth);
+        if (clipped < deepest - kClipDepthTolerance) cand[candCount++] = {(fallbackA + fallbackB) * Real(0.5), deepest, fallbackId};
     }
+    if (candCount > 0) reduceContacts({cand, candCount}, margin, m);
+    if (m.pointCount == 0) addContact(m, fallbackA, fallbackB, dot(fallbackA - fallbackB, n), fallbackId, margin);
 }
 
-bool collideConvexConvex(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m) {
+namespace {
+
+// How far B lies beyond A along the unit axis n (A to B): B's lowest point
+// along n minus A's highest; negative when they overlap along n. Every axis
+// gives a lower bound of the true separation and the best axis gives it
+// exactly (Minkowski), so of two candidate normals the one separating more
+// is the better.
+Real separationAlong(const ConvexShape& a, const ConvexShape& b, const Vec3& n) {
+    return dot(b.support(-n) - a.support(n), n);
+}
+
+// A box against another convex shape, seen from the box's frame: the other
+// shape's extent along each box axis, the box's best face normal and the
+// region of the box that can touch the other shape.
+struct BoxView {
+    Vec3 faceNormal;        // from A to B, of the box face along which the pair separates most
+    Real faceSeparation;    // along it (negative: overlap)
+    ConvexShape nearPart;   // the box cut down to the other shape's extent plus a pad (or the box itself)
+};
+
+// Large boxes (a 500 m ground under 2 m bodies) break GJK and EPA in float:
+// their simplex vertices are the box's corners, hundreds of metres out, whose
+// rounding (~1e-5 m) and the cancellation in the closest-point weights are
+// larger than the contact's millimetres. GJK then reported a resting hull 5 cm
+// apart (no contact) and normals tens of degrees off (clipped against a side
+// face 250 m away: a 300 m deep contact). So GJK and EPA run on the part of the
+// box within `pad` of the other shape's extent along each box axis (a smaller
+// box, exact: every point of the box within pad of the other shape is in it),
+// and a box face normal, exact whatever the box's size, is preferred when it
+// separates at least as well (docs/narrow-phase.md, "Large boxes").
+BoxView viewBox(const ConvexShape& box, const ConvexShape& other, bool boxIsA, Real margin) {
+    BoxView view;
+    view.faceSeparation = -1e30f;
+    const Vec3 h = box.halfExtents;
+    Real lo[3], hi[3], width = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+        Vec3 axis;
+        axis[k] = 1;
+        axis = rotate(box.xf.q, axis);
+        const Real centre = dot(axis, box.xf.p);
+        other.extent(axis, lo[k], hi[k]);
+        lo[k] -= centre;
+        hi[k] -= centre;
+        width = std::max(width, hi[k] - lo[k]);
+        const Real gaps[2] = {lo[k] - h[k], -h[k] - hi[k]};  // beyond the box's +k and -k faces
+        for (int side = 0; side < 2; ++side) {
+            if (gaps[side] <= view.faceSeparation) continue;
+            view.faceSeparation = gaps[side];
+            const Vec3 outward = side == 0 ? axis : -axis;
+            view.faceNormal = boxIsA ? outward : -outward;
+        }
+    }
+    view.nearPart = box;
+    // Twice the other shape's size beyond it: a way out through a cut face
+    // costs at least that, more than any contact the shapes can have through
+    // a real face short of one swallowing the other.
+    const Real pad = margin + 2 * width;
+    Vec3 centre, half = h;
+    bool cut = false;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const Real from = std::max(-h[k], lo[k] - pad), to = std::min(h[k], hi[k] + pad);
+        if (from == -h[k] && to == h[k]) continue;
+        if (!(to > from)) return view;  // apart along this axis by more than pad: the caller stops
+        centre[k] = Real(0.5) * (from + to);
+        half[k] = Real(0.5) * (to - from);
+        cut = true;
+    }
+    if (cut) {
+        view.nearPart.xf.p = transformPoint(box.xf, centre);
+        view.nearPart.halfExtents = half;
+    }
+    return view;
+}
+
+}  // namespace
+
+bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, Real margin, Manifold& m) {
+    const bool boxA = shapeA.kind == ConvexKind::Box, boxB = shapeB.kind == ConvexKind::Box;
+    BoxView box;
+    if (boxA || boxB) {
+        box = boxA ? viewBox(shapeA, shapeB, true, margin) : viewBox(shapeB, shapeA, false, margin);
+        if (box.faceSeparation > margin) return false;
+    }
+    // From here on a box is its part near the other shape.
+    const ConvexShape& a = boxA ? box.nearPart : shapeA;
+    const ConvexShape& b = boxB && !boxA ? box.nearPart : shapeB;
     const GjkResult g = gjkDistance(a, b, false);
     Vec3 n, pa, pb;
     if (!g.overlap && g.distance > kCoreTouch) {
@@ -221,7 +326,26 @@ bool collideConvexConvex(const ConvexShape& a, const ConvexShape& b, Real margin
         }
         if (dot(pa - pb, n) < -margin) return false;
     }
-    buildFaceManifold(a, b, n, pa, pb, margin, m);
+    int reference = 0;
+    bool deepestKnown = true;  // pa, pb: GJK/EPA's closest or deepest points along n
+    if ((boxA || boxB) && box.faceSeparation >= separationAlong(a, b, n) - kFaceAxisTolerance) {
+        n = box.faceNormal;
+        reference = boxA ? 1 : 2;
+        // The other shape's deepest point along the face normal, and its
+        // projection on the face plane: a contact when it is over the face
+        // (a cylinder's tilted rim reaches deeper than its four cap points).
+        const ConvexShape& other = boxA ? b : a;
+        const Vec3 down = boxA ? -n : n;
+        const Vec3 deep = other.support(down);
+        const Vec3 onFace = deep + down * box.faceSeparation;
+        pa = boxA ? onFace : deep;
+        pb = boxA ? deep : onFace;
+        const ConvexShape& boxShape = boxA ? shapeA : shapeB;
+        const Vec3 local = abs(inverseTransformPoint(boxShape.xf, onFace));
+        const Vec3 h = boxShape.halfExtents * Real(1.0001);
+        deepestKnown = local.x <= h.x && local.y <= h.y && local.z <= h.z;
+    }
+    buildFaceManifold(a, b, n, pa, pb, margin, m, reference, deepestKnown);
     return m.pointCount > 0;
 }
 

@@ -67,6 +67,25 @@ Vec3 ConvexShape::support(const Vec3& d) const {
     return c + normalize(d) * radius;
 }
 
+void ConvexShape::extent(const Vec3& d, Real& lo, Real& hi) const {
+    if (kind != ConvexKind::Hull) {
+        lo = dot(d, support(-d));
+        hi = dot(d, support(d));
+        return;
+    }
+    const Vec3 l = inverseRotate(xf.q, d);
+    const std::vector<Vec3>& v = hull->vertices;
+    Real low = dot(v[0], l), high = low;
+    for (std::size_t i = 1; i < v.size(); ++i) {
+        const Real dd = dot(v[i], l);
+        low = std::min(low, dd);
+        high = std::max(high, dd);
+    }
+    const Real offset = dot(d, xf.p);
+    lo = low + offset;
+    hi = high + offset;
+}
+
 Vec3 ConvexShape::center() const {
     if (kind == ConvexKind::Triangle) return (triangle[0] + triangle[1] + triangle[2]) * (Real(1) / 3);
     if (kind == ConvexKind::Hull) return transformPoint(xf, hull->centroid);
@@ -179,11 +198,28 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
         case ConvexKind::Hull: {
             const ConvexHull& h = *s.hull;
             const Vec3 l = inverseRotate(s.xf.q, n);
+            // The face most aligned with n among the faces at the support
+            // vertex, not among all faces: the face whose normal is nearest to
+            // n need not touch the vertex farthest along n (a hull resting on a
+            // vertex of a long, narrow Gauss-map cell), and clipping that face
+            // would lose the deepest point (docs/narrow-phase.md, "Hull
+            // supporting face").
+            std::uint32_t top = 0;
+            Real topDot = dot(h.vertices[0], l);
+            for (std::uint32_t i = 1; i < h.vertices.size(); ++i) {
+                const Real d = dot(h.vertices[i], l);
+                if (d > topDot) { topDot = d; top = i; }
+            }
             std::size_t best = 0;
             Real bestDot = -2;
             for (std::size_t f = 0; f < h.faces.size(); ++f) {
-                const Real d = dot(h.faces[f].normal, l);
-                if (d > bestDot) { bestDot = d; best = f; }
+                const HullFace& face = h.faces[f];
+                const Real d = dot(face.normal, l);
+                if (d <= bestDot) continue;
+                const auto first = h.faceVertices.begin() + face.firstIndex;
+                if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
+                bestDot = d;
+                best = f;
             }
             const HullFace& face = h.faces[best];
             const std::uint32_t count = face.indexCount < kMaxFacePoints ? face.indexCount : kMaxFacePoints;

@@ -30,6 +30,10 @@ struct ConvexShape {
     Vec3 coreSupport(const Vec3& d) const;
     // Support point of the full (rounded) shape in world direction `d`.
     Vec3 support(const Vec3& d) const;
+    // The full shape's extent along world direction `d` (need not be unit):
+    // lo = min and hi = max of dot(d, p) over its points; for a hull one pass
+    // over the vertices instead of two supports.
+    void extent(const Vec3& d, Real& lo, Real& hi) const;
     // A point inside the core (for EPA/GJK seeds and triangle orientation).
     Vec3 center() const;
     // Largest distance from the shape's origin to any point of the full shape (for TOI bounds).

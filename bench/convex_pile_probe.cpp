@@ -1,0 +1,134 @@
+// Box3D's convex_pile (bench/box3d_scenes.hpp) in Fulcrum, stepped for
+// instruction counts, its deepest overlap and a check of the reported contacts:
+// `warm` steps first, then `measured` steps timed (and, under callgrind with
+// --instr-atstart=no, the only steps counted). After the run every reported
+// manifold is compared with a fresh narrow phase at the bodies' final poses.
+//   build/release/bench/bench_convex_pile_probe 8 8 80 0 500 [threads]
+//   valgrind --tool=callgrind --instr-atstart=no build/release/bench/bench_convex_pile_probe 8 8 10 200 10
+// The checksum (sum of the final heights) lets two builds be checked for the
+// same results; it is not a test.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#else
+#define CALLGRIND_START_INSTRUMENTATION
+#define CALLGRIND_STOP_INSTRUMENTATION
+#endif
+
+#include "box3d_scenes.hpp"
+#include "collision/narrow_phase.hpp"
+#include "collision/support.hpp"
+#include "fulcrum/fulcrum.hpp"
+
+int main(int argc, char** argv) {
+    if (argc < 6) {
+        std::fprintf(stderr, "usage: %s NX NZ LAYERS WARM_STEPS MEASURED_STEPS [THREADS]\n", argv[0]);
+        return 2;
+    }
+    const int nx = std::atoi(argv[1]), nz = std::atoi(argv[2]), layers = std::atoi(argv[3]);
+    const int warm = std::atoi(argv[4]), measured = std::atoi(argv[5]);
+    const int threads = argc > 6 ? std::atoi(argv[6]) : 1;
+    if (nx <= 0 || nz <= 0 || layers <= 0 || warm < 0 || measured <= 0 || threads <= 0) {
+        std::fprintf(stderr, "convex_pile_probe: sizes, measured steps and threads must be positive\n");
+        return 2;
+    }
+    const bench::HullPileSpec scene = bench::convexPile(nx, nz, layers);
+    using fulcrum::Real;
+    using fulcrum::Vec3;
+    const auto real = [](double v) { return static_cast<Real>(v); };
+    const auto vec = [&](bench::V3 v) { return Vec3{real(v.x), real(v.y), real(v.z)}; };
+
+    fulcrum::WorldDef def;
+    def.threads = threads;
+    def.substeps = scene.substeps;
+    def.sleeping = scene.sleeping;
+    def.gravity = vec(scene.gravity);
+    fulcrum::World world(def);
+    fulcrum::BodyDef ground;
+    ground.type = fulcrum::BodyType::Static;
+    ground.shape = fulcrum::Shape::box(vec(scene.groundHalf));
+    ground.position = vec(scene.groundPosition);
+    ground.friction = real(scene.friction);
+    world.createBody(ground);
+    std::vector<Vec3> points;
+    for (const bench::V3& p : scene.hullPoints) points.push_back(vec(p));
+    const fulcrum::Shape hull = fulcrum::Shape::convexHull(points);
+    std::vector<fulcrum::BodyId> ids;
+    for (const bench::V3& p : scene.positions) {
+        fulcrum::BodyDef d;
+        d.shape = hull;
+        d.density = real(scene.density);
+        d.friction = real(scene.friction);
+        d.restitution = real(scene.restitution);
+        d.position = vec(p);
+        ids.push_back(world.createBody(d));
+    }
+    const Real dt = real(scene.dt);
+    for (int i = 0; i < warm; ++i) world.step(dt);
+    CALLGRIND_START_INSTRUMENTATION;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < measured; ++i) world.step(dt);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    CALLGRIND_STOP_INSTRUMENTATION;
+
+    double heights = 0;
+    int awake = 0;
+    for (const fulcrum::BodyId id : ids) {
+        heights += static_cast<double>(world.position(id).y);
+        if (world.isAwake(id)) ++awake;
+    }
+    // Every reported manifold against a fresh narrow phase at the final poses.
+    // A report's depth is the solver's first-order estimate at the step's end
+    // and its normal the one of the step's start (a tumbling 2 m hull turns a
+    // few degrees in a step: its separation along that normal moves by
+    // centimetres), so only gross errors count as mismatches (the defect of
+    // issue 27 was 300 m): a depth off by 5 cm, or a normal separating the
+    // shapes (support functions) 50 cm less than the fresh one. The worst
+    // values are printed; tests/contacts/persistent_manifold_test.cpp checks
+    // the manifolds themselves at their own poses, tightly.
+    Real deepestReported = 0, deepestFresh = 0, worstDepthError = 0, worstSeparationLoss = 0;
+    int mismatches = 0;
+    fulcrum::ManifoldBuffer buffer;
+    const std::vector<fulcrum::ContactReport> reports = world.contacts();
+    for (const fulcrum::ContactReport& r : reports) {
+        deepestReported = std::max(deepestReported, r.depth);
+        const fulcrum::Transform xa = world.transform(r.bodyA), xb = world.transform(r.bodyB);
+        fulcrum::collide(world.shape(r.bodyA), xa, world.shape(r.bodyB), xb, 1, buffer);
+        Real fresh = -1, loss = 0;
+        if (buffer.size() == 1) {
+            const fulcrum::Manifold& m = buffer[0];
+            fresh = m.maxDepth();
+            const fulcrum::detail::ConvexShape ca = fulcrum::detail::makeConvex(world.shape(r.bodyA), xa);
+            const fulcrum::detail::ConvexShape cb = fulcrum::detail::makeConvex(world.shape(r.bodyB), xb);
+            const auto separation = [&](const Vec3& n) { return fulcrum::dot(cb.support(-n) - ca.support(n), n); };
+            loss = separation(m.normal) - separation(r.normal);
+        }
+        deepestFresh = std::max(deepestFresh, fresh);
+        const Real depthError = std::fabs(fresh - r.depth);
+        worstDepthError = std::max(worstDepthError, depthError);
+        worstSeparationLoss = std::max(worstSeparationLoss, loss);
+        if (depthError > Real(0.05) || loss > Real(0.5)) {
+            if (++mismatches <= 10) {
+                const Vec3 pa = world.position(r.bodyA), pb = world.position(r.bodyB);
+                std::printf("mismatch: bodies %u-%u at (%.3f %.3f %.3f) (%.3f %.3f %.3f): reported depth %.4f normal (%.3f %.3f %.3f) "
+                            "%zu points; fresh depth %.4f, separation lost along the reported normal %.4f m\n",
+                            r.bodyA.index, r.bodyB.index, double(pa.x), double(pa.y), double(pa.z), double(pb.x), double(pb.y),
+                            double(pb.z), double(r.depth), double(r.normal.x), double(r.normal.y), double(r.normal.z),
+                            r.points.size(), double(fresh), double(loss));
+            }
+        }
+    }
+    std::printf("%s: %zu bodies, %d steps, %d threads\n", scene.name.c_str(), ids.size(), warm + measured, threads);
+    std::printf("ms/step %.3f  awake %d  checksum %.9g\n", ms / measured, awake, heights);
+    std::printf("contacts %zu  deepest reported %.4f m  deepest fresh %.4f m  mismatches %d  worst depth error %.4g m  "
+                "worst separation lost %.4g m\n",
+                reports.size(), double(deepestReported), double(deepestFresh), mismatches, double(worstDepthError),
+                double(worstSeparationLoss));
+    return 0;
+}
