@@ -258,6 +258,7 @@ void bindBodies(py::module_& m) {
                  World& world = w.world();
                  if (b.owner.lock() != w.state) fail("destroy_body: the body belongs to another world");
                  world.destroyBody(b.id);
+                 compactScene(*w.state);
              },
              py::arg("body"), "Destroys a body (and its springs and joints); its handles then raise.")
         .def("find_body",

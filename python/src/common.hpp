@@ -134,6 +134,9 @@ py::object shapeToPython(const Shape& shape);
 // snapshot's user data, so a pickled or snapshotted world can still save_scene.
 std::string packScene(const WorldState& state);
 void unpackScene(WorldState& state, const std::string& userData);
+// Drops the description of destroyed objects once they outnumber the live
+// ones, so create/destroy cycles don't grow memory (amortised O(1) per destroy).
+void compactScene(WorldState& state);
 
 // Handle objects of a world (bodies.cpp, joints.cpp, particles.cpp); None for a null id.
 py::object bodyObject(const WorldPtr& state, BodyId id);

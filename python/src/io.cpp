@@ -2,6 +2,8 @@
 // .html) and the scene description a world carries through pickle/snapshots.
 #include <sstream>
 
+#include <pybind11/stl/filesystem.h>
+
 #include "common.hpp"
 #include "io/recording.hpp"
 
@@ -22,8 +24,8 @@ PyWorld worldFromScene(Scene scene) {
 
 // The scene and handles of what still exists in the world: objects destroyed
 // since drop out (destroying a body also destroys its joints and springs).
-std::pair<Scene, SceneHandles> liveScene(const WorldState& s) {
-    if (!s.sceneKnown) fail("save_scene: this world was loaded from a snapshot that holds no scene description");
+std::pair<Scene, SceneHandles> liveScene(const WorldState& s, bool forSaving = true) {
+    if (forSaving && !s.sceneKnown) fail("save_scene: this world was loaded from a snapshot that holds no scene description");
     const World& w = s.world;
     std::pair<Scene, SceneHandles> out;
     Scene& scene = out.first;
@@ -35,8 +37,8 @@ std::pair<Scene, SceneHandles> liveScene(const WorldState& s) {
     scene.steps = s.scene.steps;
     for (std::size_t i = 0; i < s.scene.bodies.size(); ++i)
         if (w.isValid(s.handles.bodies[i])) scene.bodies.push_back(s.scene.bodies[i]), h.bodies.push_back(s.handles.bodies[i]);
-    const auto named = [](const std::string& body, const char* what, std::size_t i) {
-        if (isUnnamedMarker(body))
+    const auto named = [&](const std::string& body, const char* what, std::size_t i) {
+        if (forSaving && isUnnamedMarker(body))
             fail(std::string("save_scene: ") + what + " #" + std::to_string(i) +
                  " is attached to an unnamed body; scene files join them by name: give the body a name");
     };
@@ -80,6 +82,17 @@ struct PyRecorder {
 
 }  // namespace
 
+void compactScene(WorldState& s) {
+    const World& w = s.world;
+    const std::size_t recorded = s.handles.bodies.size() + s.handles.joints.size() + s.handles.springs.size() +
+                                 s.handles.ropes.size() + s.handles.cloths.size();
+    const std::size_t live = w.bodyCount() + w.joints().size() + w.springCount() + w.particleSystems().size();
+    if (recorded < 2 * live + 64) return;
+    auto [scene, handles] = liveScene(s, false);
+    s.scene = std::move(scene);
+    s.handles = std::move(handles);
+}
+
 std::string packScene(const WorldState& s) {
     std::pair<Scene, SceneHandles> live;
     try {
@@ -108,7 +121,7 @@ void unpackScene(WorldState& s, const std::string& user) {
 }
 
 void bindIo(py::module_& m) {
-    m.def("_load_scene_file", [](const std::string& path) { return worldFromScene(loadScene(path)); }, py::arg("path"));
+    m.def("_load_scene_file", [](const std::filesystem::path& path) { return worldFromScene(loadScene(path)); }, py::arg("path"));
     m.def("_load_scene_text",
           [](const std::string& text, const std::string& sourceName) { return worldFromScene(parseScene(text, sourceName)); },
           py::arg("text"), py::arg("source_name") = "<scene>");
@@ -122,7 +135,7 @@ void bindIo(py::module_& m) {
              },
              "The world's current state as scene-file JSON text (docs/scene-format.md).")
         .def("save_scene",
-             [](const PyWorld& w, const std::string& path) {
+             [](const PyWorld& w, const std::filesystem::path& path) {
                  const auto live = liveScene(*w.state);
                  saveScene(captureScene(w.world(), live.first, live.second), path);
              },
@@ -155,7 +168,7 @@ void bindIo(py::module_& m) {
              },
              "Appends a frame (the world's current state), if capture_interval has passed.")
         .def_property_readonly("frame_count", [](const PyRecorder& r) { return r.recorder.frameCount(); })
-        .def("write", [](const PyRecorder& r, const std::string& path) { r.recorder.write(path); }, py::arg("path"),
+        .def("write", [](const PyRecorder& r, const std::filesystem::path& path) { r.recorder.write(path); }, py::arg("path"),
              "Writes .glb or .html (by extension).");
 }
 

@@ -258,6 +258,7 @@ void bindJoints(py::module_& m) {
                  World& world = w.world();
                  if (j.owner.lock() != w.state) fail("destroy_joint: the joint belongs to another world");
                  world.destroyJoint(j.id);
+                 compactScene(*w.state);
              },
              py::arg("joint"))
         .def("joints",
@@ -306,6 +307,7 @@ void bindJoints(py::module_& m) {
                  World& world = w.world();
                  if (s.owner.lock() != w.state) fail("destroy_spring: the spring belongs to another world");
                  world.destroySpring(s.id);
+                 compactScene(*w.state);
              },
              py::arg("spring"))
         .def_property_readonly("spring_count", [](const PyWorld& w) { return w.world().springCount(); });

@@ -149,6 +149,7 @@ void bindParticles(py::module_& m) {
                  World& world = w.world();
                  if (p.owner.lock() != w.state) fail("destroy_particle_system: it belongs to another world");
                  world.destroyParticleSystem(p.id);
+                 compactScene(*w.state);
              },
              py::arg("system"))
         .def("particle_systems",
