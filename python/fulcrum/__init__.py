@@ -53,6 +53,12 @@ __all__ = [
 
 __version__ = "0.1.0"
 
+# Tracebacks and reprs say fulcrum.Error, not fulcrum._fulcrum.Error.
+for _name in __all__:
+    _obj = globals().get(_name)
+    if isinstance(_obj, type) and _obj.__module__ == _fulcrum.__name__:
+        _obj.__module__ = __name__
+
 #: The engine's floating-point type (``Real`` in C++): the arrays the binding
 #: returns are float64, holding values of this type exactly.
 real_dtype = "float32" if _fulcrum.real_bytes == 4 else "float64"
