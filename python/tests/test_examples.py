@@ -6,6 +6,7 @@ import sys
 
 import pytest
 
+import fulcrum
 from conftest import REPO
 
 EXAMPLES = sorted((REPO / "examples" / "python").glob("*.py"))
@@ -17,7 +18,10 @@ def test_there_are_examples():
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.name)
 def test_example_runs(example, tmp_path):
-    env = dict(os.environ, MPLBACKEND="Agg", MPLCONFIGDIR=str(tmp_path / "mpl"))
+    # The examples import the same fulcrum as the tests (PYTHONPATH may be relative).
+    package_parent = os.path.dirname(os.path.dirname(os.path.abspath(fulcrum.__file__)))
+    path = os.pathsep.join([package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])
+    env = dict(os.environ, MPLBACKEND="Agg", MPLCONFIGDIR=str(tmp_path / "mpl"), PYTHONPATH=path)
     result = subprocess.run([sys.executable, str(example), "--out", str(tmp_path)], capture_output=True, text=True,
                             env=env, cwd=tmp_path, timeout=300)
     assert result.returncode == 0, result.stderr
