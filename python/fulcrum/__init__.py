@@ -64,6 +64,83 @@ for _name in __all__:
 real_dtype = "float32" if _fulcrum.real_bytes == 4 else "float64"
 
 
+def _parameters(doc: str, name: str):
+    """[(parameter, type)] of the first overload in a pybind11 docstring."""
+    line = next((l for l in (doc or "").splitlines() if l.lstrip().startswith(name + "(")), "")
+    inner, depth, params, current = line[line.find("(") + 1:], 0, [], ""
+    for ch in inner:
+        if ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            if depth == 0:
+                break
+            depth -= 1
+        if ch == "," and depth == 0:
+            params.append(current)
+            current = ""
+        else:
+            current += ch
+    params.append(current)
+    out = []
+    for p in params:
+        p = p.split("=")[0].strip()
+        if ":" in p:
+            pname, ptype = (x.strip() for x in p.split(":", 1))
+            out.append((pname, ptype))
+        elif p == "*":
+            out.append(("*", ""))
+    return out
+
+
+_CHECKS = {"float": lambda v: isinstance(v, (int, float)) or hasattr(v, "__float__"),
+           "int": lambda v: isinstance(v, int) or hasattr(v, "__index__"),
+           "bool": lambda v: isinstance(v, bool) or hasattr(v, "__bool__"),
+           "str": lambda v: isinstance(v, str)}
+
+
+def _explain(name: str, doc: str, args, kwargs):
+    """pybind11 says which overloads exist; this names the argument that fits none."""
+    params = [p for p in _parameters(doc, name) if p[0] != "*"]
+    given = dict(zip((p[0] for p in params), args))
+    given.update(kwargs)
+    for pname, ptype in params:
+        check = _CHECKS.get(ptype)
+        if pname in given and check and not check(given[pname]):
+            return f"{name}(): argument '{pname}': expected {ptype}, got {type(given[pname]).__name__}"
+    return None
+
+
+def _name_bad_arguments(cls, method: str):
+    import functools
+
+    original = getattr(cls, method)
+    label = cls.__name__ if method == "__init__" else method
+
+    @functools.wraps(original)
+    def checked(*args, **kwargs):
+        try:
+            return original(*args, **kwargs)
+        except TypeError as e:
+            if "incompatible function arguments" not in str(e) and "incompatible constructor arguments" not in str(e):
+                raise
+            better = _explain("__init__" if method == "__init__" else method, original.__doc__, args, kwargs)
+            raise TypeError(better.replace("__init__()", label + "()") if better else str(e)) from None
+
+    setattr(cls, method, checked)
+
+
+# Wrong Python types get a TypeError naming the argument (pybind11's own message
+# lists the signatures). Not on the per-step calls (step, the arrays), whose
+# overhead is measured (docs/benchmarks.md).
+for _cls in (World, Body, Joint, Spring, ParticleSystem, Recorder, Sphere, Box, Capsule, Cylinder, ConvexHull, Plane,
+             Mesh, Compound):
+    for _method in list(vars(_cls)):
+        if _method == "__init__" or _method.startswith(("create_", "overlap_", "ray_cast", "shape_cast", "set_",
+                                                         "apply_", "destroy_", "find_", "mass_properties")):
+            if callable(getattr(_cls, _method)):
+                _name_bad_arguments(_cls, _method)
+
+
 def load_scene(source, *, source_name: str | None = None) -> World:
     """A World built from a scene (docs/scene-format.md).
 

@@ -189,8 +189,14 @@ def test_wrong_types_raise_type_error_naming_the_argument():
         w.create_body(position=(1, 2))
     with pytest.raises(TypeError, match="'shape'"):
         w.create_body(shape="sphere")
-    with pytest.raises(TypeError, match="mass"):
+    with pytest.raises(TypeError, match="'mass'"):
         w.create_body(mass="heavy")
+    with pytest.raises(TypeError, match="'substeps'"):
+        fulcrum.World(substeps="many")
+    with pytest.raises(TypeError, match="'radius'"):
+        fulcrum.Sphere(None)
+    with pytest.raises(TypeError, match="'max_motor_force'"):
+        w.create_hinge_joint(None, w.create_body(), anchor=(0, 0, 0), motor_speed=1, max_motor_force="strong")
     with pytest.raises(TypeError, match="gravity"):
         fulcrum.World(gravity=None)
     with pytest.raises(TypeError, match="'body_b'"):
