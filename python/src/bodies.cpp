@@ -232,6 +232,7 @@ void bindBodies(py::module_& m) {
             def.allowSleep = allowSleep;
             def.awake = awake;
             const BodyId id = world.createBody(def);
+            w.state->bodyCreated(id);
             SceneBody entry{def, describeShape(def.shape), {}};
             entry.def.shape = Shape();
             w.state->scene.bodies.push_back(std::move(entry));
@@ -258,6 +259,7 @@ void bindBodies(py::module_& m) {
                  World& world = w.world();
                  if (b.owner.lock() != w.state) fail("destroy_body: the body belongs to another world");
                  world.destroyBody(b.id);
+                 w.state->bodyDestroyed();
                  compactScene(*w.state);
              },
              py::arg("body"), "Destroys a body (and its springs and joints); its handles then raise.")
@@ -274,7 +276,8 @@ void bindBodies(py::module_& m) {
         .def("bodies",
              [](const PyWorld& w) {
                  py::list out;
-                 for (const BodyId id : w.world().bodies()) out.append(BodyHandle{w.state, id});
+                 w.world();
+                 for (const BodyId id : w.state->creationOrder()) out.append(BodyHandle{w.state, id});
                  return out;
              },
              "Every live body, in creation order (the rows of positions() and the other arrays).")

@@ -44,6 +44,26 @@ struct WorldState {
     std::atomic<bool> callbackFailed{false};
 
     explicit WorldState(World w) : world(std::move(w)) {}
+
+    // The live bodies in creation order (World::bodies() sorts them at every
+    // call: 1.2 ms for 10,000 bodies). Kept here; creating a body appends to
+    // it, destroying one marks it stale. All changes go through the binding.
+    const std::vector<BodyId>& creationOrder() {
+        if (orderStale || order.size() != world.bodyCount()) {
+            order = world.bodies();
+            orderStale = false;
+        }
+        return order;
+    }
+    void bodyCreated(BodyId id) {
+        if (!orderStale && order.size() + 1 == world.bodyCount()) order.push_back(id);
+        else orderStale = true;
+    }
+    void bodyDestroyed() { orderStale = true; }
+
+private:
+    std::vector<BodyId> order;
+    bool orderStale = true;
 };
 using WorldPtr = std::shared_ptr<WorldState>;
 

@@ -1,8 +1,11 @@
 // fulcrum.World: settings, stepping (the GIL released), state of all bodies as
 // NumPy arrays, bulk setters, diagnostics, events, snapshots and pickle.
+#include <cmath>
 #include <cstring>
 
 #include <fulcrum/snapshot.hpp>
+
+#include "world/world_impl.hpp"
 
 #include "common.hpp"
 
@@ -17,8 +20,8 @@ Integrator integratorNamed(const std::string& name) {
 }
 
 // Rows of the body list selected by `indices` (None: every body, in creation order).
-std::vector<BodyId> selectBodies(const World& world, const py::object& indices) {
-    std::vector<BodyId> all = world.bodies();
+std::vector<BodyId> selectBodies(WorldState& state, const py::object& indices) {
+    const std::vector<BodyId>& all = state.creationOrder();
     if (indices.is_none()) return all;
     auto a = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(indices);
     if (!a || a.ndim() != 1) {
@@ -50,21 +53,41 @@ py::array_t<double, py::array::c_style | py::array::forcecast> rows3(const py::o
     return a;
 }
 
-template <class Get>
-py::array_t<double> gather3(const World& world, Get get) {
-    const std::vector<BodyId> ids = world.bodies();
-    py::array_t<double> out({static_cast<py::ssize_t>(ids.size()), py::ssize_t(3)});
+// One row per body in creation order, read straight from the dense arrays
+// (the same expressions as World::position & co., without re-validating each
+// handle of a list that is valid by construction).
+template <int Columns, class Get>
+py::array_t<double> gather(const PyWorld& w, Get get) {
+    w.world();
+    const std::vector<BodyId>& ids = w.state->creationOrder();
+    const WorldImpl& impl = w.state->world.impl();
+    py::array_t<double> out({static_cast<py::ssize_t>(ids.size()), py::ssize_t(Columns)});
     double* d = out.mutable_data();
     for (const BodyId id : ids) {
-        const Vec3 v = get(id);
-        *d++ = v.x, *d++ = v.y, *d++ = v.z;
+        get(impl, impl.bodySlots[id.index].dense, d);
+        d += Columns;
     }
     return out;
 }
+inline void put(double* d, const Vec3& v) { d[0] = v.x, d[1] = v.y, d[2] = v.z; }
+
+// WorldImpl::origin, the same bits, a third of the time for the usual body
+// whose centre of mass is its origin: rotate(q, (+0, +0, +0)) is (+0, +0, +0)
+// for every finite q (v + t w + u x t with v = +0 adds to +0 first), and
+// com - (+0) is com, so only a local centre of mass with a non-zero bit needs
+// the rotation.
+inline Vec3 origin(const WorldImpl& impl, std::uint32_t dense) {
+    const Vec3& c = impl.params[dense].localCom;
+    const auto positiveZero = [](Real r) { return r == 0 && !std::signbit(r); };
+    if (positiveZero(c.x) && positiveZero(c.y) && positiveZero(c.z))
+        return impl.motion[dense].com;
+    return impl.origin(dense);
+}
 
 template <class Set>
-void scatter3(World& world, const py::object& values, const py::object& indices, const char* argument, Set set) {
-    const std::vector<BodyId> ids = selectBodies(world, indices);
+void scatter3(PyWorld& w, const py::object& values, const py::object& indices, const char* argument, Set set) {
+    w.world();
+    const std::vector<BodyId> ids = selectBodies(*w.state, indices);
     const auto a = rows3(values, ids.size(), argument);
     const double* d = a.data();
     // Check every row first, so a bad row changes nothing.
@@ -217,31 +240,26 @@ void bindWorld(py::module_& m) {
 
     // ---- all bodies as arrays (creation order)
     world
-        .def("positions", [](const PyWorld& w) { const World& x = w.world(); return gather3(x, [&](BodyId id) { return x.position(id); }); },
+        .def("positions", [](const PyWorld& w) { return gather<3>(w, [](const WorldImpl& i, std::uint32_t k, double* o) { put(o, origin(i, k)); }); },
              "Body origins, (N, 3) float64, creation order.")
-        .def("centers_of_mass", [](const PyWorld& w) { const World& x = w.world(); return gather3(x, [&](BodyId id) { return x.centerOfMass(id); }); },
+        .def("centers_of_mass", [](const PyWorld& w) { return gather<3>(w, [](const WorldImpl& i, std::uint32_t k, double* o) { put(o, i.motion[k].com); }); },
              "(N, 3) float64, creation order.")
-        .def("linear_velocities", [](const PyWorld& w) { const World& x = w.world(); return gather3(x, [&](BodyId id) { return x.linearVelocity(id); }); },
+        .def("linear_velocities", [](const PyWorld& w) { return gather<3>(w, [](const WorldImpl& i, std::uint32_t k, double* o) { put(o, i.motion[k].v); }); },
              "Velocities of the centres of mass, (N, 3) float64, creation order.")
-        .def("angular_velocities", [](const PyWorld& w) { const World& x = w.world(); return gather3(x, [&](BodyId id) { return x.angularVelocity(id); }); },
+        .def("angular_velocities", [](const PyWorld& w) { return gather<3>(w, [](const WorldImpl& i, std::uint32_t k, double* o) { put(o, i.motion[k].w); }); },
              "rad/s in world axes, (N, 3) float64, creation order.")
         .def("orientations",
              [](const PyWorld& w) {
-                 const World& x = w.world();
-                 const std::vector<BodyId> ids = x.bodies();
-                 py::array_t<double> out({static_cast<py::ssize_t>(ids.size()), py::ssize_t(4)});
-                 double* p = out.mutable_data();
-                 for (const BodyId id : ids) {
-                     const Quat q = x.orientation(id);
-                     *p++ = q.w, *p++ = q.x, *p++ = q.y, *p++ = q.z;
-                 }
-                 return out;
+                 return gather<4>(w, [](const WorldImpl& i, std::uint32_t k, double* o) {
+                     const Quat& q = i.motion[k].q;
+                     o[0] = q.w, o[1] = q.x, o[2] = q.y, o[3] = q.z;
+                 });
              },
              "Unit quaternions (w, x, y, z), (N, 4) float64, creation order.")
         .def("awake",
              [](const PyWorld& w) {
                  const World& x = w.world();
-                 const std::vector<BodyId> ids = x.bodies();
+                 const std::vector<BodyId>& ids = w.state->creationOrder();
                  py::array_t<bool> out(static_cast<py::ssize_t>(ids.size()));
                  bool* p = out.mutable_data();
                  for (const BodyId id : ids) *p++ = x.isAwake(id);
@@ -250,41 +268,41 @@ void bindWorld(py::module_& m) {
              "Awake flags, (N,) bool, creation order.")
         .def("set_positions",
              [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.world();
-                 scatter3(x, values, indices, "positions", [&](BodyId id, const Vec3& p) { x.setTransform(id, p, x.orientation(id)); });
+                 World& x = w.state->world;
+                 scatter3(w, values, indices, "positions", [&](BodyId id, const Vec3& p) { x.setTransform(id, p, x.orientation(id)); });
              },
              py::arg("positions"), py::arg("indices") = py::none(),
              "Teleports bodies (all, or those at `indices` in creation order) to (n, 3) positions, keeping orientations.")
         .def("set_linear_velocities",
              [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.world();
-                 scatter3(x, values, indices, "velocities", [&](BodyId id, const Vec3& v) { x.setLinearVelocity(id, v); });
+                 World& x = w.state->world;
+                 scatter3(w, values, indices, "velocities", [&](BodyId id, const Vec3& v) { x.setLinearVelocity(id, v); });
              },
              py::arg("velocities"), py::arg("indices") = py::none(),
              "Sets the linear velocities of all bodies (or those at `indices`) from an (n, 3) array.")
         .def("set_angular_velocities",
              [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.world();
-                 scatter3(x, values, indices, "velocities", [&](BodyId id, const Vec3& v) { x.setAngularVelocity(id, v); });
+                 World& x = w.state->world;
+                 scatter3(w, values, indices, "velocities", [&](BodyId id, const Vec3& v) { x.setAngularVelocity(id, v); });
              },
              py::arg("velocities"), py::arg("indices") = py::none())
         .def("apply_forces",
              [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.world();
-                 scatter3(x, values, indices, "forces", [&](BodyId id, const Vec3& f) { x.applyForceAtCenter(id, f); });
+                 World& x = w.state->world;
+                 scatter3(w, values, indices, "forces", [&](BodyId id, const Vec3& f) { x.applyForceAtCenter(id, f); });
              },
              py::arg("forces"), py::arg("indices") = py::none(),
              "Adds (n, 3) forces (N) at the centres of mass for the next step, to all bodies or those at `indices`.")
         .def("apply_torques",
              [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.world();
-                 scatter3(x, values, indices, "torques", [&](BodyId id, const Vec3& t) { x.applyTorque(id, t); });
+                 World& x = w.state->world;
+                 scatter3(w, values, indices, "torques", [&](BodyId id, const Vec3& t) { x.applyTorque(id, t); });
              },
              py::arg("torques"), py::arg("indices") = py::none())
         .def("apply_impulses",
              [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.world();
-                 scatter3(x, values, indices, "impulses", [&](BodyId id, const Vec3& j) { x.applyLinearImpulseAtCenter(id, j); });
+                 World& x = w.state->world;
+                 scatter3(w, values, indices, "impulses", [&](BodyId id, const Vec3& j) { x.applyLinearImpulseAtCenter(id, j); });
              },
              py::arg("impulses"), py::arg("indices") = py::none(), "Linear impulses (N s) at the centres of mass, applied at once.");
 

@@ -72,6 +72,20 @@ def test_arrays_shapes_dtypes_and_creation_order():
     assert w.positions().shape == (10, 3)
 
 
+def test_arrays_equal_the_per_body_getters_for_off_centre_shapes():
+    # Bodies whose centre of mass is not their origin (hulls, compounds): the
+    # arrays' fast path must give World::position's bits.
+    w = pile(3)
+    w.create_body(shape=fulcrum.ConvexHull([(0, 0, 0), (2, 0, 0), (0, 1, 0), (0, 0, 3)]), mass=1, position=(1, 3, 0),
+                  angular_velocity=(1, 2, 3))
+    w.create_body(shape=fulcrum.Compound([(fulcrum.Sphere(0.3), (1, 0, 0)), (fulcrum.Box((0.2, 0.2, 0.2)), (0, 0.5, 0))]),
+                  mass=2, position=(-1, 4, 0), angular_velocity=(-2, 1, 0.5))
+    w.step(DT, steps=7)
+    assert np.any(w.centers_of_mass() != w.positions())
+    np.testing.assert_array_equal(w.positions(), np.array([b.position for b in w.bodies()]))
+    np.testing.assert_array_equal(w.centers_of_mass(), np.array([b.center_of_mass for b in w.bodies()]))
+
+
 def test_bulk_setters_round_trip_and_match_per_body_calls():
     a, b = pile(10), pile(10)
     v = np.arange(33, dtype=np.float64).reshape(11, 3) * 0.1
