@@ -382,3 +382,16 @@ def test_same_bits_for_every_thread_count():
         results.append(w.positions())
     np.testing.assert_array_equal(results[0], results[1])
     np.testing.assert_array_equal(results[0], results[2])
+
+
+def test_force_callbacks_on_worker_threads_give_the_same_bits():
+    # With threads > 1 the callbacks run on the pool's workers, each taking the GIL.
+    results = []
+    for threads in (1, 3):
+        w = pile(60, threads=threads)
+        w.parallel_min_bodies = 0
+        for b in w.bodies()[1:]:
+            b.set_force_callback(lambda k: ((0, 5.0 * k.mass * math.sin(3 * k.time), 0), (0, 0.1, 0)))
+        w.step(DT, steps=30)
+        results.append(w.positions())
+    np.testing.assert_array_equal(results[0], results[1])
