@@ -256,11 +256,10 @@ void bindBodies(py::module_& m) {
     cls
         .def("destroy_body",
              [](PyWorld& w, const BodyHandle& b) {
-                 World& world = w.world();
-                 if (b.owner.lock() != w.state) fail("destroy_body: the body belongs to another world");
-                 world.destroyBody(b.id);
-                 w.state->bodyDestroyed();
-                 compactScene(*w.state);
+                 destroyOwned(w, b, "destroy_body", [&](World& world, BodyId id) {
+                     world.destroyBody(id);
+                     w.state->bodyDestroyed();
+                 });
              },
              py::arg("body"), "Destroys a body (and its springs and joints); its handles then raise.")
         .def("find_body",
@@ -275,10 +274,8 @@ void bindBodies(py::module_& m) {
              py::arg("name"), "The first body with this name; fulcrum.Error if there is none.")
         .def("bodies",
              [](const PyWorld& w) {
-                 py::list out;
                  w.world();
-                 for (const BodyId id : w.state->creationOrder()) out.append(BodyHandle{w.state, id});
-                 return out;
+                 return handleList(w.state, w.state->creationOrder());
              },
              "Every live body, in creation order (the rows of positions() and the other arrays).")
         .def_property_readonly("body_count", [](const PyWorld& w) { return w.world().bodyCount(); });

@@ -122,6 +122,26 @@ using JointHandle = Handle<JointId>;
 using SpringHandle = Handle<SpringId>;
 using ParticleHandle = Handle<ParticleSystemId>;
 
+void compactScene(WorldState& state);
+
+// World.destroy_*: refuses another world's handle, destroys, and drops the
+// description of what is gone.
+template <class Id, class Destroy>
+void destroyOwned(PyWorld& w, const Handle<Id>& h, const char* what, Destroy destroy) {
+    World& world = w.world();
+    if (h.owner.lock() != w.state) fail(std::string(what) + ": it belongs to another world");
+    destroy(world, h.id);
+    compactScene(*w.state);
+}
+
+// Handles of a world's objects as a Python list.
+template <class Id>
+py::list handleList(const WorldPtr& state, const std::vector<Id>& ids) {
+    py::list out;
+    for (const Id id : ids) out.append(Handle<Id>{state, id});
+    return out;
+}
+
 // ---- conversions. Arrays the binding returns are float64 (the engine's
 // float32 values widened exactly); inputs are any sequence or array of numbers.
 Vec3 toVec3(py::handle value, const char* argument);
@@ -154,9 +174,9 @@ py::object shapeToPython(const Shape& shape);
 // snapshot's user data, so a pickled or snapshotted world can still save_scene.
 std::string packScene(const WorldState& state);
 void unpackScene(WorldState& state, const std::string& userData);
-// Drops the description of destroyed objects once they outnumber the live
-// ones, so create/destroy cycles don't grow memory (amortised O(1) per destroy).
-void compactScene(WorldState& state);
+// compactScene (above) drops the description of destroyed objects once they
+// outnumber the live ones, so create/destroy cycles don't grow memory
+// (amortised O(1) per destroy).
 
 // Handle objects of a world (bodies.cpp, joints.cpp, particles.cpp); None for a null id.
 py::object bodyObject(const WorldPtr& state, BodyId id);

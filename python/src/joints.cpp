@@ -255,18 +255,11 @@ void bindJoints(py::module_& m) {
     cls
         .def("destroy_joint",
              [](PyWorld& w, const JointHandle& j) {
-                 World& world = w.world();
-                 if (j.owner.lock() != w.state) fail("destroy_joint: the joint belongs to another world");
-                 world.destroyJoint(j.id);
-                 compactScene(*w.state);
+                 destroyOwned(w, j, "destroy_joint", [](World& world, JointId id) { world.destroyJoint(id); });
              },
              py::arg("joint"))
         .def("joints",
-             [](const PyWorld& w) {
-                 py::list out;
-                 for (const JointId id : w.world().joints()) out.append(JointHandle{w.state, id});
-                 return out;
-             },
+             [](const PyWorld& w) { return handleList(w.state, w.world().joints()); },
              "Every live joint, in creation order.")
         .def("joint_break_events",
              [](const PyWorld& w) {
@@ -304,10 +297,7 @@ void bindJoints(py::module_& m) {
              "world. A force element, integrated by the world's integrator.")
         .def("destroy_spring",
              [](PyWorld& w, const SpringHandle& s) {
-                 World& world = w.world();
-                 if (s.owner.lock() != w.state) fail("destroy_spring: the spring belongs to another world");
-                 world.destroySpring(s.id);
-                 compactScene(*w.state);
+                 destroyOwned(w, s, "destroy_spring", [](World& world, SpringId id) { world.destroySpring(id); });
              },
              py::arg("spring"))
         .def_property_readonly("spring_count", [](const PyWorld& w) { return w.world().springCount(); });

@@ -146,18 +146,12 @@ void bindParticles(py::module_& m) {
     cls
         .def("destroy_particle_system",
              [](PyWorld& w, const ParticleHandle& p) {
-                 World& world = w.world();
-                 if (p.owner.lock() != w.state) fail("destroy_particle_system: it belongs to another world");
-                 world.destroyParticleSystem(p.id);
-                 compactScene(*w.state);
+                 destroyOwned(w, p, "destroy_particle_system",
+                              [](World& world, ParticleSystemId id) { world.destroyParticleSystem(id); });
              },
              py::arg("system"))
         .def("particle_systems",
-             [](const PyWorld& w) {
-                 py::list out;
-                 for (const ParticleSystemId id : w.world().particleSystems()) out.append(ParticleHandle{w.state, id});
-                 return out;
-             },
+             [](const PyWorld& w) { return handleList(w.state, w.world().particleSystems()); },
              "Every live rope and cloth, in creation order.")
         .def("find_particle_system",
              [](const PyWorld& w, const std::string& name) -> py::object {

@@ -273,38 +273,28 @@ void bindWorld(py::module_& m) {
              },
              py::arg("positions"), py::arg("indices") = py::none(),
              "Teleports bodies (all, or those at `indices` in creation order) to (n, 3) positions, keeping orientations.")
-        .def("set_linear_velocities",
-             [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.state->world;
-                 scatter3(w, values, indices, "velocities", [&](BodyId id, const Vec3& v) { x.setLinearVelocity(id, v); });
-             },
-             py::arg("velocities"), py::arg("indices") = py::none(),
-             "Sets the linear velocities of all bodies (or those at `indices`) from an (n, 3) array.")
-        .def("set_angular_velocities",
-             [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.state->world;
-                 scatter3(w, values, indices, "velocities", [&](BodyId id, const Vec3& v) { x.setAngularVelocity(id, v); });
-             },
-             py::arg("velocities"), py::arg("indices") = py::none())
-        .def("apply_forces",
-             [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.state->world;
-                 scatter3(w, values, indices, "forces", [&](BodyId id, const Vec3& f) { x.applyForceAtCenter(id, f); });
-             },
-             py::arg("forces"), py::arg("indices") = py::none(),
-             "Adds (n, 3) forces (N) at the centres of mass for the next step, to all bodies or those at `indices`.")
-        .def("apply_torques",
-             [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.state->world;
-                 scatter3(w, values, indices, "torques", [&](BodyId id, const Vec3& t) { x.applyTorque(id, t); });
-             },
-             py::arg("torques"), py::arg("indices") = py::none())
-        .def("apply_impulses",
-             [](PyWorld& w, py::object values, py::object indices) {
-                 World& x = w.state->world;
-                 scatter3(w, values, indices, "impulses", [&](BodyId id, const Vec3& j) { x.applyLinearImpulseAtCenter(id, j); });
-             },
-             py::arg("impulses"), py::arg("indices") = py::none(), "Linear impulses (N s) at the centres of mass, applied at once.");
+        ;
+    // The bulk forms of the per-body setters: one call for all bodies (or
+    // those at `indices`), every row checked before any is applied.
+    using Setter = void (World::*)(BodyId, const Vec3&);
+    const auto bulk = [&](const char* name, const char* argument, Setter set, const char* doc) {
+        world.def(
+            name,
+            [argument, set](PyWorld& w, py::object values, py::object indices) {
+                World& x = w.state->world;
+                scatter3(w, values, indices, argument, [&](BodyId id, const Vec3& v) { (x.*set)(id, v); });
+            },
+            py::arg(argument), py::arg("indices") = py::none(), doc);
+    };
+    bulk("set_linear_velocities", "velocities", &World::setLinearVelocity,
+         "Sets the linear velocities of all bodies (or those at `indices`, creation order) from an (n, 3) array.");
+    bulk("set_angular_velocities", "velocities", &World::setAngularVelocity,
+         "Sets the angular velocities (rad/s, world axes) of all bodies (or those at `indices`) from an (n, 3) array.");
+    bulk("apply_forces", "forces", &World::applyForceAtCenter,
+         "Adds (n, 3) forces (N) at the centres of mass for the next step, to all bodies or those at `indices`.");
+    bulk("apply_torques", "torques", &World::applyTorque, "Adds (n, 3) torques (N m) for the next step.");
+    bulk("apply_impulses", "impulses", &World::applyLinearImpulseAtCenter,
+         "Linear impulses (N s) at the centres of mass, applied at once.");
 
     // ---- diagnostics
     world
