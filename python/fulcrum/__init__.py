@@ -141,6 +141,32 @@ for _cls in (World, Body, Joint, Spring, ParticleSystem, Recorder, Sphere, Box, 
                 _name_bad_arguments(_cls, _method)
 
 
+def _name_bad_property_values(cls):
+    """Property setters: a TypeError naming the property (pybind11 says 'arg1')."""
+    import re
+
+    for pname, attr in list(vars(cls).items()):
+        if not isinstance(attr, property) or attr.fset is None:
+            continue
+        # "(arg0: fulcrum._fulcrum.Body, arg1: float) -> None": the value is the last.
+        types = re.findall(r"arg\d+: ([\w.]+)", attr.fset.__doc__ or "")
+        expected = types[-1] if len(types) > 1 else "another type"
+
+        def checked(self, value, _fset=attr.fset, _label=f"{cls.__name__}.{pname}", _expected=expected):
+            try:
+                _fset(self, value)
+            except TypeError as e:
+                if "incompatible function arguments" not in str(e):
+                    raise
+                raise TypeError(f"{_label}: expected {_expected}, got {type(value).__name__}") from None
+
+        setattr(cls, pname, property(attr.fget, checked, None, attr.__doc__))
+
+
+for _cls in (World, Body, Joint):
+    _name_bad_property_values(_cls)
+
+
 def load_scene(source, *, source_name: str | None = None) -> World:
     """A World built from a scene (docs/scene-format.md).
 

@@ -216,7 +216,27 @@ void bindWorld(py::module_& m) {
     // ---- stepping
     world.def(
         "step",
-        [](PyWorld& w, Real dt, long long steps) {
+        [](PyWorld& w, py::handle dtValue, py::handle stepsValue) {
+            // Converted here rather than by pybind11, to name the argument in
+            // a TypeError at no cost (the same conversion: double, then Real).
+            const double seconds = PyFloat_AsDouble(dtValue.ptr());
+            if (seconds == -1.0 && PyErr_Occurred()) {
+                PyErr_Clear();
+                throw py::type_error("step(): argument 'dt': expected float, got " +
+                                     std::string(py::str(py::type::of(dtValue).attr("__name__"))));
+            }
+            const Real dt = static_cast<Real>(seconds);
+            const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(stepsValue.ptr()));
+            if (!index) {
+                PyErr_Clear();
+                throw py::type_error("step(): argument 'steps': expected int, got " +
+                                     std::string(py::str(py::type::of(stepsValue).attr("__name__"))));
+            }
+            const long long steps = PyLong_AsLongLong(index.ptr());
+            if (steps == -1 && PyErr_Occurred()) {
+                PyErr_Clear();
+                fail("step: steps is too large");
+            }
             if (steps < 0) fail("step: steps must be >= 0, got " + std::to_string(steps));
             WorldState& state = *w.state;
             {

@@ -215,6 +215,14 @@ def test_wrong_types_raise_type_error_naming_the_argument():
         fulcrum.World(gravity=None)
     with pytest.raises(TypeError, match="'body_b'"):
         w.create_ball_joint(None, "b", anchor=(0, 0, 0))
+    with pytest.raises(TypeError, match="'dt'"):
+        w.step("fast")
+    with pytest.raises(TypeError, match="'steps'"):
+        w.step(DT, steps=2.5)
+    with pytest.raises(TypeError, match="Body.friction: expected float, got str"):
+        w.create_body().friction = "rough"
+    with pytest.raises(TypeError, match="World.substeps: expected int"):
+        w.substeps = None
     with pytest.raises(TypeError, match="'callback'"):
         w.create_body().set_force_callback(42)
 
