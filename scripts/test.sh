@@ -21,7 +21,11 @@ run_suite() {  # name, build dir, ctest args (one word), extra cmake args...
   ctest --test-dir "$dir" -j "$jobs" --output-on-failure --timeout 300 $ctest_args
 }
 
-run_suite "Release" build/release "" -DCMAKE_BUILD_TYPE=Release
+run_suite "Release" build/release "" -DCMAKE_BUILD_TYPE=Release -DFULCRUM_BUILD_PYTHON=ON
+# The Python package (docs/python.md), with Debian's interpreter (the python3 on
+# PATH may lack NumPy); the Release pass only (an ASan extension needs LD_PRELOAD).
+echo "== Python tests"
+FULCRUM_CLI=build/release/apps/fulcrum/fulcrum PYTHONPATH=build/release/python /usr/bin/python3 -m pytest -p no:cacheprovider python/tests -q
 if [ $quick -eq 0 ]; then
   # The sanitizer pass: -O1 with line tables only (half the build time of -O2 -g,
   # same reports with file:line), and assertions left on (no NDEBUG). The
