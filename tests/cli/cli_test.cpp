@@ -2,8 +2,11 @@
 // stderr, the --json report, --csv rows, --plot SVG, and no progress bar in
 // pipes. Step counts are small so the whole file runs in well under a second.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +15,8 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "support/svg_points.hpp"
 
 namespace {
 
@@ -176,14 +181,46 @@ TEST(Cli, CsvHasOneRowPerStepAndDynamicBody) {
     EXPECT_EQ(text.find(",ground,"), std::string::npos) << "static bodies have no rows";
 }
 
-TEST(Cli, PlotWritesAnSvg) {
-    const fs::path svg = tempDir() / "energy.svg";
-    const Result r = fulcrum("run scenes/spring_mass.json --steps 50 --plot '" + svg.string() + "'");
+// Issue 27: the projectile's plot (121 samples) had five empty polylines.
+// Every sample is drawn, and the |p| curve is the ball's momentum m |v| from
+// the CSV of the same run, at its mapped place (y axis: the series' range
+// widened by 5 % each side, svg_plot.hpp).
+TEST(Cli, PlotDrawsEverySampleOfTheRun) {
+    const fs::path svg = tempDir() / "energy.svg", csv = tempDir() / "plot.csv";
+    const Result r = fulcrum("run scenes/projectile.json --plot '" + svg.string() + "' --csv '" + csv.string() + "'");
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string text = readFile(svg);
     EXPECT_EQ(text.rfind("<svg", 0), 0u);
-    EXPECT_NE(text.find("<polyline"), std::string::npos);
     EXPECT_NE(text.find("total"), std::string::npos);
+    const auto panels = fulcrum::testing::svgPanels(text);
+    ASSERT_EQ(panels.size(), 3u);
+    ASSERT_EQ(panels[0].polylines.size(), 3u);  // kinetic, potential, total
+    for (const auto& panel : panels) {
+        for (const auto& line : panel.polylines) EXPECT_EQ(line.size(), 121u) << "one point per step 0..120";
+    }
+    std::vector<double> t, p;
+    std::istringstream rows(readFile(csv));
+    std::string row;
+    std::getline(rows, row);  // header
+    while (std::getline(rows, row)) {
+        std::vector<double> f;
+        std::istringstream cells(row);
+        for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell == "ball" ? 0.0 : std::atof(cell.c_str()));
+        ASSERT_EQ(f.size(), 16u) << row;
+        t.push_back(f[1]);
+        p.push_back(0.5 * std::sqrt(f[10] * f[10] + f[11] * f[11] + f[12] * f[12]));  // mass 0.5 kg
+    }
+    ASSERT_EQ(t.size(), 121u);
+    const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+    const fulcrum::testing::SvgMapping map(panels[1], t.front(), t.back(), *lo, *hi);
+    const auto& drawn = panels[1].polylines.at(0);
+    ASSERT_EQ(drawn.size(), 121u);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+        const fulcrum::testing::SvgPoint want = map(t[i], p[i]);
+        // The CSV has 9 significant digits, the SVG two decimals of a pixel.
+        EXPECT_NEAR(drawn[i].x, want.x, 0.02) << "step " << i;
+        EXPECT_NEAR(drawn[i].y, want.y, 0.02) << "step " << i;
+    }
 }
 
 TEST(Cli, RecordWritesGlbAndHtml) {
