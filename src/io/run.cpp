@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fulcrum/snapshot.hpp"
-#include "io/recording.hpp"
+#include "fulcrum/recording.hpp"
 #include "io/scene_detail.hpp"
 #include "io/svg_plot.hpp"
 
