@@ -573,6 +573,11 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
     } catch (const Error& e) {
         err << "fulcrum: " << label << ": " << oneLine(e.what()) << "\n";
         return 2;
+    } catch (const std::exception& e) {
+        // A backstop, not a way to report input errors (those are Errors
+        // above): whatever escaped is a bug, still told in one line.
+        err << "fulcrum: " << label << ": internal error: " << oneLine(e.what()) << "\n";
+        return 1;
     }
 }
 

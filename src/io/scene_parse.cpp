@@ -21,6 +21,7 @@
 #include "fulcrum/scene.hpp"
 #include "io/json_locator.hpp"
 #include "io/scene_detail.hpp"
+#include "world/input_file.hpp"
 
 namespace fulcrum {
 
@@ -740,8 +741,8 @@ Scene parseScene(std::string_view json, std::string_view sourceName) {
 
 Scene loadScene(const std::filesystem::path& file) {
     const std::string name = file.string();
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) throw SceneError(name, "", 0, 0, "is a directory, not a scene file");
+    // A directory, device or FIFO is refused before reading: /dev/zero would never end.
+    if (const auto reason = detail::notARegularFile(file)) throw SceneError(name, "", 0, 0, *reason + " (expected a scene file)");
     std::ifstream in(file, std::ios::binary);
     if (!in) throw SceneError(name, "", 0, 0, "cannot open file for reading");
     std::ostringstream text;

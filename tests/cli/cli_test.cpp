@@ -46,10 +46,12 @@ fs::path writeTemp(const std::string& name, const std::string& text) {
     return p;
 }
 
-// Runs `fulcrum ARGS` with stdout and stderr redirected to files (pipes, not a terminal).
+// Runs `fulcrum ARGS` with stdout and stderr redirected to files (pipes, not a
+// terminal). A run that hangs is killed after two minutes (status 124), so a
+// hang fails its test instead of stalling the suite.
 Result fulcrum(const std::string& args) {
     const fs::path out = tempDir() / "stdout.txt", err = tempDir() / "stderr.txt";
-    const std::string cmd = std::string("cd '") + FULCRUM_SOURCE_DIR + "' && '" + FULCRUM_CLI_PATH + "' " + args + " >'" +
+    const std::string cmd = std::string("cd '") + FULCRUM_SOURCE_DIR + "' && timeout 120 '" + FULCRUM_CLI_PATH + "' " + args + " >'" +
                             out.string() + "' 2>'" + err.string() + "' </dev/null";
     const int raw = std::system(cmd.c_str());
     Result r;
@@ -256,6 +258,28 @@ TEST(Cli, BadInputExitsWith2AndOneLine) {
     expectBadInput("run scenes/projectile.json --steps many", {"--steps"});
     expectBadInput("run scenes/projectile.json --bogus", {"--bogus"});
     expectBadInput("run scenes/projectile.json --record out.txt", {"--record", "out.txt", ".glb or .html"});
+}
+
+// Issue 27: `--resume DIRECTORY` aborted on an uncaught std::ios_base::failure;
+// `--resume /dev/zero` and `run /dev/zero` read forever, and a FIFO blocks on
+// open. Each is refused by its kind, before reading, with status 2 and one
+// line naming the file; a regular file that is no snapshot by its magic.
+TEST(Cli, NonRegularInputFilesAreRefusedWithStatus2) {
+    const fs::path dir = tempDir() / "a_directory";
+    fs::create_directories(dir);
+    expectBadInput("run --resume '" + dir.string() + "'", {dir.string(), "is a directory"});
+    expectBadInput("run '" + dir.string() + "'", {dir.string(), "is a directory"});
+    expectBadInput("run --resume /dev/zero", {"/dev/zero", "character device"});
+    expectBadInput("run /dev/zero", {"/dev/zero", "character device"});
+    const fs::path fifo = tempDir() / "a_fifo";
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expectBadInput("run --resume '" + fifo.string() + "'", {fifo.string(), "FIFO"});
+    expectBadInput("run '" + fifo.string() + "'", {fifo.string(), "FIFO"});
+    fs::remove(fifo);
+    const fs::path text = writeTemp("not_a_snapshot.snap", std::string(1 << 20, 'x'));
+    expectBadInput("run --resume '" + text.string() + "'", {text.string(), "not a Fulcrum snapshot"});
+    expectBadInput("run --resume '" + (tempDir() / "missing.snap").string() + "'", {"missing.snap", "cannot open"});
 }
 
 TEST(Cli, NanStopsWith3AndNamesTheBody) {
