@@ -338,6 +338,37 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
 
 namespace {
 
+// j.dump(2), except that an array of plain values (a vector, a quaternion) is
+// written on one line: `"position": [1.5, 0.25, 0]`. Each value is written by
+// nlohmann's own dump, so the numbers are the same text, bit for bit.
+void writeReadableJson(std::string& out, const ojson& j, std::size_t indent) {
+    if (!j.is_structured() || j.empty()) {
+        out += j.dump();
+        return;
+    }
+    if (j.is_array() && std::all_of(j.begin(), j.end(), [](const ojson& e) { return e.is_primitive(); })) {
+        out += '[';
+        for (std::size_t i = 0; i < j.size(); ++i) {
+            if (i > 0) out += ", ";
+            out += j[i].dump();
+        }
+        out += ']';
+        return;
+    }
+    out += j.is_object() ? "{\n" : "[\n";
+    bool first = true;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        if (!first) out += ",\n";
+        first = false;
+        out.append(indent + 2, ' ');
+        if (j.is_object()) out += ojson(it.key()).dump() + ": ";
+        writeReadableJson(out, it.value(), indent + 2);
+    }
+    out += '\n';
+    out.append(indent, ' ');
+    out += j.is_object() ? '}' : ']';
+}
+
 // The phases of StepProfile, in pipeline order, with their report names.
 struct ProfilePhase {
     const char* name;
@@ -424,7 +455,9 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         prof["workers"] = p.workers;
         j["profile"] = std::move(prof);
     }
-    return j.dump(2) + "\n";
+    std::string text;
+    writeReadableJson(text, j, 0);
+    return text + "\n";
 }
 
 

@@ -128,6 +128,42 @@ TEST(Cli, JsonReportHasEveryContractKeyAndTheProjectileFollowsTheAnalyticPath) {
     EXPECT_NEAR(ball["linear_velocity"][1].get<double>(), 10 - 9.81 * t, 1e-3);
 }
 
+// Issue 27: --json put every vector component on its own line (509 lines for
+// 9 bodies). Vectors and quaternions are one line each, with the very numbers
+// the parsed report holds (nlohmann prints a double's shortest exact text).
+TEST(Cli, JsonPrintsEachVectorOnOneLine) {
+    const Result r = fulcrum("run scenes/box_stack.json --steps 20 --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["bodies"].size(), 9u);
+    const auto oneLine = [](const nlohmann::json& v) {
+        std::string s = "[";
+        for (std::size_t i = 0; i < v.size(); ++i) s += (i > 0 ? ", " : "") + v[i].dump();
+        return s + "]";
+    };
+    for (const auto& body : j["bodies"]) {
+        for (const char* key : {"position", "orientation", "linear_velocity", "angular_velocity"}) {
+            std::string line = "\"";
+            line.append(key).append("\": ").append(oneLine(body[key]));
+            EXPECT_NE(r.out.find(line), std::string::npos) << "missing line: " << line;
+        }
+    }
+    EXPECT_NE(r.out.find("\"linear\": " + oneLine(j["momentum"]["linear"])), std::string::npos) << r.out;
+    for (const auto& c : j["contacts"]) {
+        EXPECT_NE(r.out.find("\"normal\": " + oneLine(c["normal"])), std::string::npos);
+        for (const auto& p : c["points"]) EXPECT_NE(r.out.find(oneLine(p)), std::string::npos);
+    }
+    // No line is a bare number any more; the body block is about 8 lines a body.
+    std::istringstream lines(r.out);
+    std::size_t count = 0;
+    for (std::string line; std::getline(lines, line); ++count) {
+        const std::size_t at = line.find_first_not_of(' ');
+        ASSERT_NE(at, std::string::npos);
+        EXPECT_FALSE(line[at] == '-' || std::isdigit(static_cast<unsigned char>(line[at]))) << "a lone number: " << line;
+    }
+    EXPECT_LT(count, 9u * 10u + 40u + 8u * j["contacts"].size());
+}
+
 // --profile: the phases of the step (World::lastStepProfile) averaged over the
 // run. They are laps of one clock, so they add up to the mean step time (to
 // double rounding); a stack of 8 boxes on the ground has 8 contact interfaces
