@@ -6,7 +6,9 @@
 #include <limits>
 #include <cmath>
 #include <cstdio>
+#include <cctype>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -114,6 +116,42 @@ RunSample sample(const World& world) {
             static_cast<double>(length(world.angularMomentum()))};
 }
 
+// The reported energy and momenta are sums over the bodies, and a finite
+// state can still overflow them: a body at x = 3e38 m that moves at all has an
+// angular momentum about the origin beyond float range. The run stops as for a
+// NaN state (exit 3), naming the body with the largest term of the sum that
+// overflowed, instead of reporting null.
+void checkReportFinite(const World& world, const Scene& scene, const SceneHandles& handles, std::uint64_t step) {
+    const bool linear = isFinite(world.linearMomentum()), angular = isFinite(world.angularMomentum());
+    const bool energy = std::isfinite(world.energy().total);
+    if (linear && angular && energy) return;
+    const char* quantity = !linear ? "linear momentum" : !angular ? "angular momentum about the origin" : "energy";
+    std::size_t culprit = 0;
+    double largest = -1;
+    for (std::size_t i = 0; i < handles.bodies.size(); ++i) {
+        if (scene.bodies[i].def.type != BodyType::Dynamic) continue;
+        const BodyId id = handles.bodies[i];
+        const Vec3 c = world.centerOfMass(id), lv = world.linearVelocity(id), av = world.angularVelocity(id);
+        const double m = world.mass(id), r = std::hypot(double(c.x), double(c.y), double(c.z));
+        const double v = std::hypot(double(lv.x), double(lv.y), double(lv.z)), w = std::hypot(double(av.x), double(av.y), double(av.z));
+        const double term = !linear ? m * v : !angular ? m * (v * r + w) : m * (v * v + w * w + r);
+        if (!(term <= largest)) {  // NaN and infinity win
+            largest = term;
+            culprit = i;
+        }
+    }
+    std::string who = "the ropes and cloths";
+    if (largest >= 0) {
+        const Vec3 c = world.centerOfMass(handles.bodies[culprit]);
+        const double distance = std::hypot(double(c.x), double(c.y), double(c.z));  // in double: its float square may overflow
+        char far[32];
+        std::snprintf(far, sizeof far, "%.3g", distance);
+        who = "body '" + sceneBodyName(scene, culprit) + "' (index " + std::to_string(culprit) + ", " + far + " m from the origin)";
+    }
+    throw NumericalError(who + ": the " + quantity + " became NaN/inf (beyond float range) at step " + std::to_string(step) +
+                         " (t = " + formatNumber(world.time()) + " s)");
+}
+
 std::string plotSvg(const Scene& scene, const std::vector<RunSample>& samples) {
     std::vector<double> t, ke, pe, te, p, l;
     for (const RunSample& s : samples) {
@@ -142,18 +180,28 @@ std::string jointName(const Scene& scene, std::size_t i) {
 void applyOverrides(Scene& scene, const RunOverrides& o) {
     if (o.steps) {
         if (*o.steps < 0 || *o.steps > std::numeric_limits<int>::max()) {
-            throw OptionError("--steps: must be a whole number of steps, at least 0, got " + std::to_string(*o.steps));
+            throw OptionError("--steps: must be between 0 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " +
+                              std::to_string(*o.steps));
         }
         scene.steps = static_cast<int>(*o.steps);
     }
     if (o.dt) {
         if (!std::isfinite(*o.dt) || !(*o.dt > 0) || *o.dt > 1e6) {
-            throw OptionError("--dt: must be a positive time step in seconds, got " + formatNumber(*o.dt));
+            throw OptionError("--dt: must be a positive time step in seconds, at most 1e6, got " + formatNumber(*o.dt));
+        }
+        if (static_cast<Real>(*o.dt) < std::numeric_limits<Real>::min()) {
+            // It would round to 0 or a denormal in the engine's floats; say so here
+            // rather than let the world blame the scene file for it.
+            throw OptionError("--dt: too small for the engine's single-precision numbers (at least " +
+                              formatNumber(std::numeric_limits<Real>::min()) + " s), got " + formatNumber(*o.dt));
         }
         scene.dt = static_cast<Real>(*o.dt);
     }
     if (o.substeps) {
-        if (*o.substeps < 1 || *o.substeps > 1000000) throw OptionError("--substeps: must be at least 1, got " + std::to_string(*o.substeps));
+        if (*o.substeps < 1 || *o.substeps > kSceneMaxSubsteps) {
+            throw OptionError("--substeps: must be between 1 and " + std::to_string(kSceneMaxSubsteps) + ", got " +
+                              std::to_string(*o.substeps));
+        }
         scene.world.substeps = static_cast<int>(*o.substeps);
     }
     if (o.integrator) {
@@ -263,6 +311,12 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         std::fputs("step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv.get());
     }
     if (!outputs.plotPath.empty()) {
+        // The plot is SVG only: a .png full of SVG opens nowhere.
+        std::string extension = std::filesystem::path(outputs.plotPath).extension().string();
+        for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (extension != ".svg") {
+            throw OptionError("--plot " + outputs.plotPath + ": the plot is an SVG image, give a file name ending in .svg");
+        }
         // Fail before the run, not after it.
         std::ofstream probe(outputs.plotPath, std::ios::binary | std::ios::app);
         if (!probe) throw OptionError("--plot " + outputs.plotPath + ": cannot open the file for writing");
@@ -298,6 +352,7 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         recorder->capture(world);
     }
 
+    checkReportFinite(world, scene, result.handles, world.stepCount());
     ProgressBar progress(outputs.progress, scene.steps);
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t firstStep = world.stepCount();
@@ -313,6 +368,7 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
             if (what.find("step") != std::string::npos) throw;
             throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
         }
+        checkReportFinite(world, scene, result.handles, step);
         addProfile(result, world.lastStepProfile());
         saveIfAsked();
         if (csv) writeCsvRows(csv.get(), world, scene, result.handles, step);

@@ -318,6 +318,84 @@ TEST(Cli, NonRegularInputFilesAreRefusedWithStatus2) {
     expectBadInput("run --resume '" + (tempDir() / "missing.snap").string() + "'", {"missing.snap", "cannot open"});
 }
 
+// Issue 27's smaller items: each bad value gets one line that names what the
+// user wrote (the option, the key) and the real limit.
+TEST(Cli, OutOfRangeValuesNameTheirLimit) {
+    expectBadInput("run scenes/projectile.json --steps 99999999999", {"--steps", "2147483647", "99999999999"});
+    const fs::path steps = writeTemp("steps.json", R"({"world": {"steps": 1e20}, "bodies": []})");
+    expectBadInput("run '" + steps.string() + "'", {"world.steps", "between 0 and 2147483647", "1e+20"});
+    // A command-line value is the option's fault, not the scene file's.
+    const Result dt = fulcrum("run scenes/projectile.json --dt 1e-50");
+    EXPECT_EQ(dt.status, 2);
+    EXPECT_EQ(dt.err.rfind("fulcrum: --dt: too small", 0), 0u) << dt.err;
+    EXPECT_EQ(dt.err.find("projectile.json"), std::string::npos) << dt.err;
+    const fs::path sceneDt = writeTemp("dt.json", R"({"world": {"dt": 1e-50}, "bodies": []})");
+    expectBadInput("run '" + sceneDt.string() + "'", {"world.dt", "too small", "1e-50"});
+    // A denormal mass is the mass's fault, not the inertia's.
+    const fs::path mass = writeTemp("tiny_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 1e-45}]})");
+    expectBadInput("run '" + mass.string() + "'", {"bodies[0].mass", "too small", "1e-45"});
+    const Result massErr = fulcrum("run '" + mass.string() + "'");
+    EXPECT_EQ(massErr.err.find("inertia"), std::string::npos) << massErr.err;
+    const fs::path smallMass = writeTemp("small_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 0.1}, "mass": 1e-37}]})");
+    expectBadInput("run '" + smallMass.string() + "'", {"bodies[0]", "mass", "too small"});
+    // Work without end: sub-steps and cloth sizes have documented limits.
+    const fs::path substeps = writeTemp("substeps.json", R"({"world": {"substeps": 1000000000}, "bodies": []})");
+    expectBadInput("run '" + substeps.string() + "'", {"world.substeps", "between 1 and 1000"});
+    expectBadInput("run scenes/projectile.json --substeps 5000", {"--substeps", "between 1 and 1000", "5000"});
+    const fs::path iterations = writeTemp("iterations.json", R"({"world": {"solver_iterations": 100000}, "bodies": []})");
+    expectBadInput("run '" + iterations.string() + "'", {"world.solver_iterations", "between 1 and 1000"});
+    const fs::path cloth = writeTemp("cloth.json", R"({"cloths": [{"origin": [0, 0, 0], "size": [4096, 4096]}]})");
+    expectBadInput("run '" + cloth.string() + "'", {"cloths[0].size", "1000000", "16777216"});
+    // --plot writes SVG, so only a .svg name is accepted (and nothing is run or written).
+    const fs::path png = tempDir() / "plot.png";
+    fs::remove(png);
+    expectBadInput("run scenes/projectile.json --plot '" + png.string() + "'", {"--plot", png.string(), ".svg"});
+    EXPECT_FALSE(fs::exists(png));
+    EXPECT_EQ(fulcrum("run scenes/projectile.json --steps 2 --plot '" + (tempDir() / "upper.SVG").string() + "'").status, 0);
+}
+
+// Issue 27: bytes after a NUL were silently ignored ("{}" then anything).
+TEST(Cli, NulByteInASceneIsAnErrorWithItsOffset) {
+    std::string text = "{\"bodies\": []}\n";  // 15 bytes
+    text.push_back('\0');
+    text += "{\"bodies\": 7}";
+    const fs::path nul = writeTemp("nul.json", text);
+    expectBadInput("run '" + nul.string() + "'", {nul.string() + ":2:1", "NUL byte at byte offset 15"});
+}
+
+// Issue 27: an 839-character path for deep nesting. The message keeps the
+// path's first and last components and stays one readable line.
+TEST(Cli, DeeplyNestedErrorPathIsShortened) {
+    std::string shape = R"({"type": "sphere", "radius": -1})";
+    for (int i = 0; i < 12; ++i) shape = R"({"type": "compound", "children": [{"shape": )" + shape + "}]}";
+    const fs::path deep = writeTemp("deep.json", R"({"bodies": [{"shape": )" + shape + "}]}");
+    const Result r = fulcrum("run '" + deep.string() + "'");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find(": bodies[0].shape.children[0].shape.children[0]"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("...children[0].shape.children[0].shape.radius: "), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), deep.string().size() + 200) << r.err;
+}
+
+// Issue 27: a finite state whose reported momentum overflows float (a body
+// 3e38 m from the origin, falling) printed "angular": [0, 0, null] with exit 0.
+// The run stops with status 3, naming the body, the step and the time.
+TEST(Cli, OverflowingMomentumStopsWith3AndNamesTheBody) {
+    const fs::path far = writeTemp("far.json", R"({"world": {"steps": 10},
+      "bodies": [{"name": "far", "shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [3e38, 2, 0]}]})");
+    const Result r = fulcrum("run '" + far.string() + "' --json");
+    EXPECT_EQ(r.status, 3) << r.out;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    for (const char* part : {"body 'far'", "angular momentum", "at step ", "t = "}) EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("null"), std::string::npos) << r.out;
+    // Far but harmless: the same body 3e30 m out keeps every figure finite.
+    const fs::path farOk = writeTemp("far_ok.json", R"({"world": {"steps": 10},
+      "bodies": [{"name": "far", "shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [3e30, 2, 0]}]})");
+    const Result ok = fulcrum("run '" + farOk.string() + "' --json");
+    EXPECT_EQ(ok.status, 0) << ok.err;
+    EXPECT_EQ(ok.out.find("null"), std::string::npos) << ok.out;
+}
+
 TEST(Cli, NanStopsWith3AndNamesTheBody) {
     // Explicit Euler on a stiff spring (omega = 1e5 rad/s, h = 4 ms) grows the
     // amplitude by sqrt(1 + (omega h)^2) ~ 400 per step: past float range in a
