@@ -2,6 +2,7 @@
 #include "io/run.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <limits>
 #include <cmath>
@@ -177,14 +178,56 @@ std::string jointName(const Scene& scene, std::size_t i) {
 
 }  // namespace
 
-void applyOverrides(Scene& scene, const RunOverrides& o) {
-    if (o.steps) {
-        if (*o.steps < 0 || *o.steps > std::numeric_limits<int>::max()) {
-            throw OptionError("--steps: must be between 0 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " +
-                              std::to_string(*o.steps));
-        }
-        scene.steps = static_cast<int>(*o.steps);
+namespace {
+
+// The whole-number options and their ranges, in one place for the parsing of
+// their text (parseIntegerOption) and the check of their values (applyOverrides).
+struct IntegerOption {
+    std::string_view name;
+    long long lo, hi;
+};
+constexpr IntegerOption kIntegerOptions[] = {
+    {"--steps", 0, std::numeric_limits<int>::max()},
+    {"--substeps", 1, kSceneMaxSubsteps},
+    {"--threads", 1, 1024},
+};
+
+const IntegerOption& integerOption(std::string_view name) {
+    for (const IntegerOption& o : kIntegerOptions) {
+        if (o.name == name) return o;
     }
+    throw OptionError(std::string(name) + ": not a whole-number option");
+}
+
+[[noreturn]] void integerOutOfRange(const IntegerOption& o, const std::string& got) {
+    throw OptionError(std::string(o.name) + ": must be between " + std::to_string(o.lo) + " and " + std::to_string(o.hi) + ", got " + got);
+}
+
+int checkedInteger(std::string_view name, long long value) {
+    const IntegerOption& o = integerOption(name);
+    if (value < o.lo || value > o.hi) integerOutOfRange(o, std::to_string(value));
+    return static_cast<int>(value);
+}
+
+}  // namespace
+
+long long parseIntegerOption(std::string_view name, const std::string& text) {
+    const IntegerOption& o = integerOption(name);
+    long long value = 0;
+    const char* end = text.data() + text.size();
+    const auto [at, ec] = std::from_chars(text.data(), end, value);
+    // Too large even for a long long: still the range, with the text as written.
+    if (ec == std::errc::result_out_of_range && at == end) integerOutOfRange(o, text);
+    if (ec != std::errc() || at != end || text.empty()) {
+        throw OptionError(std::string(name) + ": must be a whole number between " + std::to_string(o.lo) + " and " + std::to_string(o.hi) +
+                          ", got '" + text + "'");
+    }
+    checkedInteger(name, value);
+    return value;
+}
+
+void applyOverrides(Scene& scene, const RunOverrides& o) {
+    if (o.steps) scene.steps = checkedInteger("--steps", *o.steps);
     if (o.dt) {
         if (!std::isfinite(*o.dt) || !(*o.dt > 0) || *o.dt > 1e6) {
             throw OptionError("--dt: must be a positive time step in seconds, at most 1e6, got " + formatNumber(*o.dt));
@@ -197,22 +240,13 @@ void applyOverrides(Scene& scene, const RunOverrides& o) {
         }
         scene.dt = static_cast<Real>(*o.dt);
     }
-    if (o.substeps) {
-        if (*o.substeps < 1 || *o.substeps > kSceneMaxSubsteps) {
-            throw OptionError("--substeps: must be between 1 and " + std::to_string(kSceneMaxSubsteps) + ", got " +
-                              std::to_string(*o.substeps));
-        }
-        scene.world.substeps = static_cast<int>(*o.substeps);
-    }
+    if (o.substeps) scene.world.substeps = checkedInteger("--substeps", *o.substeps);
     if (o.integrator) {
         const auto integrator = integratorFromString(*o.integrator);
         if (!integrator) throw OptionError("--integrator: unknown integrator '" + *o.integrator + "' (valid: " + integratorList() + ")");
         scene.world.integrator = *integrator;
     }
-    if (o.threads) {
-        if (*o.threads < 1 || *o.threads > 1024) throw OptionError("--threads: must be between 1 and 1024, got " + std::to_string(*o.threads));
-        scene.world.threads = static_cast<int>(*o.threads);
-    }
+    if (o.threads) scene.world.threads = checkedInteger("--threads", *o.threads);
 }
 
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer) {

@@ -321,7 +321,12 @@ TEST(Cli, NonRegularInputFilesAreRefusedWithStatus2) {
 // Issue 27's smaller items: each bad value gets one line that names what the
 // user wrote (the option, the key) and the real limit.
 TEST(Cli, OutOfRangeValuesNameTheirLimit) {
-    expectBadInput("run scenes/projectile.json --steps 99999999999", {"--steps", "2147483647", "99999999999"});
+    expectBadInput("run scenes/projectile.json --steps 99999999999", {"--steps", "between 0 and 2147483647, got 99999999999"});
+    // Beyond a long long: the text as written, not a clamped 9223372036854775807.
+    expectBadInput("run scenes/projectile.json --steps 99999999999999999999",
+                   {"--steps", "between 0 and 2147483647, got 99999999999999999999"});
+    expectBadInput("run scenes/projectile.json --steps 1e5", {"--steps", "whole number", "'1e5'"});
+    expectBadInput("run scenes/projectile.json --threads 99999999999999999999", {"--threads", "between 1 and 1024"});
     const fs::path steps = writeTemp("steps.json", R"({"world": {"steps": 1e20}, "bodies": []})");
     expectBadInput("run '" + steps.string() + "'", {"world.steps", "between 0 and 2147483647", "1e+20"});
     // A command-line value is the option's fault, not the scene file's.
