@@ -335,15 +335,6 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         std::ofstream probe(outputs.recordPath, std::ios::binary | std::ios::app);
         if (!probe) throw OptionError("--record " + outputs.recordPath + ": cannot open the file for writing");
     }
-    if (outputs.csvParticles && outputs.csvPath.empty()) throw OptionError("--csv-particles: needs --csv FILE to write the rows to");
-    File csv;
-    if (!outputs.csvPath.empty()) {
-        csv.reset(std::fopen(outputs.csvPath.c_str(), "wb"));
-        if (!csv) throw OptionError("--csv " + outputs.csvPath + ": cannot open the file for writing");
-        static thread_local char buffer[1 << 16];
-        std::setvbuf(csv.get(), buffer, _IOFBF, sizeof buffer);
-        std::fputs("step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv.get());
-    }
     if (!outputs.plotPath.empty()) {
         // The plot is SVG only: a .png full of SVG opens nowhere.
         std::string extension = std::filesystem::path(outputs.plotPath).extension().string();
@@ -354,6 +345,15 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         // Fail before the run, not after it.
         std::ofstream probe(outputs.plotPath, std::ios::binary | std::ios::app);
         if (!probe) throw OptionError("--plot " + outputs.plotPath + ": cannot open the file for writing");
+    }
+    if (outputs.csvParticles && outputs.csvPath.empty()) throw OptionError("--csv-particles: needs --csv FILE to write the rows to");
+    File csv;
+    if (!outputs.csvPath.empty()) {
+        csv.reset(std::fopen(outputs.csvPath.c_str(), "wb"));
+        if (!csv) throw OptionError("--csv " + outputs.csvPath + ": cannot open the file for writing");
+        static thread_local char buffer[1 << 16];
+        std::setvbuf(csv.get(), buffer, _IOFBF, sizeof buffer);
+        std::fputs("step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv.get());
     }
 
     RunResult result;
