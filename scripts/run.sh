@@ -7,7 +7,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DFULCRUM_BUILD_TESTS=OFF >/dev/null
+# The same folder and options as the Release pass of scripts/test.sh
+# (scripts/configure.sh), so the tests reuse everything built here.
+scripts/configure.sh build/release -DCMAKE_BUILD_TYPE=Release
 cmake --build build/release --target fulcrum_cli -j "$(nproc)"
 fulcrum=build/release/apps/fulcrum/fulcrum
 if [ "$#" -eq 0 ]; then

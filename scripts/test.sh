@@ -15,7 +15,7 @@ quick=0
 run_suite() {  # name, build dir, ctest args (one word), extra cmake args...
   local name=$1 dir=$2 ctest_args=$3; shift 3
   echo "== $name build"
-  cmake -S . -B "$dir" -DFULCRUM_WARNINGS_AS_ERRORS=ON -DFULCRUM_BUILD_TESTS=ON -DFULCRUM_BUILD_APPS=ON "$@" >/dev/null
+  scripts/configure.sh "$dir" "$@"
   cmake --build "$dir" -j "$jobs"
   echo "== $name tests"
   ctest --test-dir "$dir" -j "$jobs" --output-on-failure --timeout 300 $ctest_args

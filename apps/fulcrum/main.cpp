@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::string scene;
     fulcrum::detail::RunOverrides overrides;
     fulcrum::detail::RunOutputs outputs;
-    long long steps = 0, substeps = 0, threads = 0;
+    std::string steps, substeps, threads;  // whole numbers, converted by parseIntegerOption (it names the range)
     double dt = 0;
     std::string integrator;
     run->add_option("scene", scene, "Scene file (JSON); omit for the built-in demo");
@@ -66,11 +66,16 @@ int main(int argc, char** argv) {
         std::cout << app.help();
         return 0;
     }
-    if (*stepsOpt) overrides.steps = steps;
+    try {
+        if (*stepsOpt) overrides.steps = fulcrum::detail::parseIntegerOption("--steps", steps);
+        if (*substepsOpt) overrides.substeps = fulcrum::detail::parseIntegerOption("--substeps", substeps);
+        if (*threadsOpt) overrides.threads = fulcrum::detail::parseIntegerOption("--threads", threads);
+    } catch (const fulcrum::detail::OptionError& e) {
+        std::cerr << "fulcrum: " << e.what() << "\n";
+        return 2;
+    }
     if (*dtOpt) overrides.dt = dt;
-    if (*substepsOpt) overrides.substeps = substeps;
     if (*integratorOpt) overrides.integrator = integrator;
-    if (*threadsOpt) overrides.threads = threads;
     if (*snapshotAtOpt) outputs.snapshotAt = snapshotAt;
     if (*resumeOpt) overrides.resumePath = resume;
     // A progress bar only for a person watching a terminal: never into a pipe,

@@ -124,6 +124,15 @@ inline constexpr int kSceneDefaultSteps = 600;
 // absent: floppy. An explicit 0 keeps XPBD's meaning, a rigid bend constraint
 // (a stiff rod, a stiff plate); docs/scene-format.md explains the choice.
 inline constexpr Real kSceneDefaultBendCompliance = Real(0.1);
+// Upper limits of a scene file (and of the command line's --substeps),
+// documented in docs/scene-format.md: far beyond any real scene, they make a
+// typo ("substeps": 1e9, a cloth of 4096 x 4096) an error naming the limit
+// instead of a run that never ends.
+inline constexpr int kSceneMaxSubsteps = 1000;
+inline constexpr int kSceneMaxSolverIterations = 1000;
+inline constexpr int kSceneMaxRopeSegments = 100000;
+inline constexpr int kSceneMaxClothSide = 4096;              // particles along either side
+inline constexpr long long kSceneMaxClothParticles = 1000000;  // size[0] * size[1]
 
 struct Scene {
     std::string sourceName;   // file name used in error messages ("" for scenes built in code)

@@ -47,6 +47,15 @@ BodyMass computeBodyMass(const BodyDef& def, const Subject& who) {
     if (!std::isfinite(mp.mass) || !(mp.mass > 0)) {
         fail(who, "mass", "must come out positive and finite, got " + formatReal(mp.mass) + " (check mass, density and shape size)");
     }
+    if (!def.inertia && !isSymmetricPositiveDefinite(mp.inertia) && isSymmetricPositiveDefinite(def.shape.massProperties(Real(1)).inertia)) {
+        // The shape is fine, so the mass made its inertia underflow (mass 1e-45 kg):
+        // blame what the user wrote, not an inertia they never gave.
+        const char* field = def.mass > 0 ? "mass" : "density";
+        fail(who, field,
+             "is too small for single precision: the inertia it gives this shape underflows (diagonal " +
+                 formatVec({mp.inertia(0, 0), mp.inertia(1, 1), mp.inertia(2, 2)}) + "), got " +
+                 formatReal(def.mass > 0 ? def.mass : def.density));
+    }
     if (def.inertia) mp.inertia = *def.inertia;
     if (!isSymmetricPositiveDefinite(mp.inertia)) {
         fail(who, def.inertia ? "inertia" : "shape inertia",

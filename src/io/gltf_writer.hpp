@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "io/recording.hpp"
+#include "io/recording_display.hpp"
 
 namespace fulcrum::io {
 

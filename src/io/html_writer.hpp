@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "io/recording.hpp"
+#include "io/recording_display.hpp"
 
 namespace fulcrum::io {
 

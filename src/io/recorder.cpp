@@ -6,7 +6,7 @@
 
 #include "io/gltf_writer.hpp"
 #include "io/html_writer.hpp"
-#include "io/recording.hpp"
+#include "fulcrum/recording.hpp"
 
 namespace fulcrum::io {
 

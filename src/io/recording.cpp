@@ -1,7 +1,7 @@
 // Recording: consistency checks shared by the writers. The Recorder, which
 // reads a World, lives in recorder.cpp so that code using only the data and
 // the writers does not pull in the World.
-#include "io/recording.hpp"
+#include "io/recording_display.hpp"
 
 #include <algorithm>
 #include <cctype>

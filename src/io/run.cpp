@@ -2,11 +2,14 @@
 #include "io/run.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <limits>
 #include <cmath>
 #include <cstdio>
+#include <cctype>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -17,7 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fulcrum/snapshot.hpp"
-#include "io/recording.hpp"
+#include "fulcrum/recording.hpp"
 #include "io/scene_detail.hpp"
 #include "io/svg_plot.hpp"
 
@@ -114,6 +117,42 @@ RunSample sample(const World& world) {
             static_cast<double>(length(world.angularMomentum()))};
 }
 
+// The reported energy and momenta are sums over the bodies, and a finite
+// state can still overflow them: a body at x = 3e38 m that moves at all has an
+// angular momentum about the origin beyond float range. The run stops as for a
+// NaN state (exit 3), naming the body with the largest term of the sum that
+// overflowed, instead of reporting null.
+void checkReportFinite(const World& world, const Scene& scene, const SceneHandles& handles, std::uint64_t step) {
+    const bool linear = isFinite(world.linearMomentum()), angular = isFinite(world.angularMomentum());
+    const bool energy = std::isfinite(world.energy().total);
+    if (linear && angular && energy) return;
+    const char* quantity = !linear ? "linear momentum" : !angular ? "angular momentum about the origin" : "energy";
+    std::size_t culprit = 0;
+    double largest = -1;
+    for (std::size_t i = 0; i < handles.bodies.size(); ++i) {
+        if (scene.bodies[i].def.type != BodyType::Dynamic) continue;
+        const BodyId id = handles.bodies[i];
+        const Vec3 c = world.centerOfMass(id), lv = world.linearVelocity(id), av = world.angularVelocity(id);
+        const double m = world.mass(id), r = std::hypot(double(c.x), double(c.y), double(c.z));
+        const double v = std::hypot(double(lv.x), double(lv.y), double(lv.z)), w = std::hypot(double(av.x), double(av.y), double(av.z));
+        const double term = !linear ? m * v : !angular ? m * (v * r + w) : m * (v * v + w * w + r);
+        if (!(term <= largest)) {  // NaN and infinity win
+            largest = term;
+            culprit = i;
+        }
+    }
+    std::string who = "the ropes and cloths";
+    if (largest >= 0) {
+        const Vec3 c = world.centerOfMass(handles.bodies[culprit]);
+        const double distance = std::hypot(double(c.x), double(c.y), double(c.z));  // in double: its float square may overflow
+        char far[32];
+        std::snprintf(far, sizeof far, "%.3g", distance);
+        who = "body '" + sceneBodyName(scene, culprit) + "' (index " + std::to_string(culprit) + ", " + far + " m from the origin)";
+    }
+    throw NumericalError(who + ": the " + quantity + " became NaN/inf (beyond float range) at step " + std::to_string(step) +
+                         " (t = " + formatNumber(world.time()) + " s)");
+}
+
 std::string plotSvg(const Scene& scene, const std::vector<RunSample>& samples) {
     std::vector<double> t, ke, pe, te, p, l;
     for (const RunSample& s : samples) {
@@ -139,32 +178,75 @@ std::string jointName(const Scene& scene, std::size_t i) {
 
 }  // namespace
 
-void applyOverrides(Scene& scene, const RunOverrides& o) {
-    if (o.steps) {
-        if (*o.steps < 0 || *o.steps > std::numeric_limits<int>::max()) {
-            throw OptionError("--steps: must be a whole number of steps, at least 0, got " + std::to_string(*o.steps));
-        }
-        scene.steps = static_cast<int>(*o.steps);
+namespace {
+
+// The whole-number options and their ranges, in one place for the parsing of
+// their text (parseIntegerOption) and the check of their values (applyOverrides).
+struct IntegerOption {
+    std::string_view name;
+    long long lo, hi;
+};
+constexpr IntegerOption kIntegerOptions[] = {
+    {"--steps", 0, std::numeric_limits<int>::max()},
+    {"--substeps", 1, kSceneMaxSubsteps},
+    {"--threads", 1, 1024},
+};
+
+const IntegerOption& integerOption(std::string_view name) {
+    for (const IntegerOption& o : kIntegerOptions) {
+        if (o.name == name) return o;
     }
+    throw OptionError(std::string(name) + ": not a whole-number option");
+}
+
+[[noreturn]] void integerOutOfRange(const IntegerOption& o, const std::string& got) {
+    throw OptionError(std::string(o.name) + ": must be between " + std::to_string(o.lo) + " and " + std::to_string(o.hi) + ", got " + got);
+}
+
+int checkedInteger(std::string_view name, long long value) {
+    const IntegerOption& o = integerOption(name);
+    if (value < o.lo || value > o.hi) integerOutOfRange(o, std::to_string(value));
+    return static_cast<int>(value);
+}
+
+}  // namespace
+
+long long parseIntegerOption(std::string_view name, const std::string& text) {
+    const IntegerOption& o = integerOption(name);
+    long long value = 0;
+    const char* end = text.data() + text.size();
+    const auto [at, ec] = std::from_chars(text.data(), end, value);
+    // Too large even for a long long: still the range, with the text as written.
+    if (ec == std::errc::result_out_of_range && at == end) integerOutOfRange(o, text);
+    if (ec != std::errc() || at != end || text.empty()) {
+        throw OptionError(std::string(name) + ": must be a whole number between " + std::to_string(o.lo) + " and " + std::to_string(o.hi) +
+                          ", got '" + text + "'");
+    }
+    checkedInteger(name, value);
+    return value;
+}
+
+void applyOverrides(Scene& scene, const RunOverrides& o) {
+    if (o.steps) scene.steps = checkedInteger("--steps", *o.steps);
     if (o.dt) {
         if (!std::isfinite(*o.dt) || !(*o.dt > 0) || *o.dt > 1e6) {
-            throw OptionError("--dt: must be a positive time step in seconds, got " + formatNumber(*o.dt));
+            throw OptionError("--dt: must be a positive time step in seconds, at most 1e6, got " + formatNumber(*o.dt));
+        }
+        if (static_cast<Real>(*o.dt) < std::numeric_limits<Real>::min()) {
+            // It would round to 0 or a denormal in the engine's floats; say so here
+            // rather than let the world blame the scene file for it.
+            throw OptionError("--dt: too small for the engine's single-precision numbers (at least " +
+                              formatNumber(std::numeric_limits<Real>::min()) + " s), got " + formatNumber(*o.dt));
         }
         scene.dt = static_cast<Real>(*o.dt);
     }
-    if (o.substeps) {
-        if (*o.substeps < 1 || *o.substeps > 1000000) throw OptionError("--substeps: must be at least 1, got " + std::to_string(*o.substeps));
-        scene.world.substeps = static_cast<int>(*o.substeps);
-    }
+    if (o.substeps) scene.world.substeps = checkedInteger("--substeps", *o.substeps);
     if (o.integrator) {
         const auto integrator = integratorFromString(*o.integrator);
         if (!integrator) throw OptionError("--integrator: unknown integrator '" + *o.integrator + "' (valid: " + integratorList() + ")");
         scene.world.integrator = *integrator;
     }
-    if (o.threads) {
-        if (*o.threads < 1 || *o.threads > 1024) throw OptionError("--threads: must be between 1 and 1024, got " + std::to_string(*o.threads));
-        scene.world.threads = static_cast<int>(*o.threads);
-    }
+    if (o.threads) scene.world.threads = checkedInteger("--threads", *o.threads);
 }
 
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer) {
@@ -253,6 +335,17 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         std::ofstream probe(outputs.recordPath, std::ios::binary | std::ios::app);
         if (!probe) throw OptionError("--record " + outputs.recordPath + ": cannot open the file for writing");
     }
+    if (!outputs.plotPath.empty()) {
+        // The plot is SVG only: a .png full of SVG opens nowhere.
+        std::string extension = std::filesystem::path(outputs.plotPath).extension().string();
+        for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (extension != ".svg") {
+            throw OptionError("--plot " + outputs.plotPath + ": the plot is an SVG image, give a file name ending in .svg");
+        }
+        // Fail before the run, not after it.
+        std::ofstream probe(outputs.plotPath, std::ios::binary | std::ios::app);
+        if (!probe) throw OptionError("--plot " + outputs.plotPath + ": cannot open the file for writing");
+    }
     if (outputs.csvParticles && outputs.csvPath.empty()) throw OptionError("--csv-particles: needs --csv FILE to write the rows to");
     File csv;
     if (!outputs.csvPath.empty()) {
@@ -261,11 +354,6 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         static thread_local char buffer[1 << 16];
         std::setvbuf(csv.get(), buffer, _IOFBF, sizeof buffer);
         std::fputs("step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv.get());
-    }
-    if (!outputs.plotPath.empty()) {
-        // Fail before the run, not after it.
-        std::ofstream probe(outputs.plotPath, std::ios::binary | std::ios::app);
-        if (!probe) throw OptionError("--plot " + outputs.plotPath + ": cannot open the file for writing");
     }
 
     RunResult result;
@@ -298,6 +386,7 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
         recorder->capture(world);
     }
 
+    checkReportFinite(world, scene, result.handles, world.stepCount());
     ProgressBar progress(outputs.progress, scene.steps);
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t firstStep = world.stepCount();
@@ -313,6 +402,7 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
             if (what.find("step") != std::string::npos) throw;
             throw NumericalError("at step " + std::to_string(step) + " (t = " + formatNumber(world.time()) + " s): " + what);
         }
+        checkReportFinite(world, scene, result.handles, step);
         addProfile(result, world.lastStepProfile());
         saveIfAsked();
         if (csv) writeCsvRows(csv.get(), world, scene, result.handles, step);
@@ -337,6 +427,37 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
 }
 
 namespace {
+
+// j.dump(2), except that an array of plain values (a vector, a quaternion) is
+// written on one line: `"position": [1.5, 0.25, 0]`. Each value is written by
+// nlohmann's own dump, so the numbers are the same text, bit for bit.
+void writeReadableJson(std::string& out, const ojson& j, std::size_t indent) {
+    if (!j.is_structured() || j.empty()) {
+        out += j.dump();
+        return;
+    }
+    if (j.is_array() && std::all_of(j.begin(), j.end(), [](const ojson& e) { return e.is_primitive(); })) {
+        out += '[';
+        for (std::size_t i = 0; i < j.size(); ++i) {
+            if (i > 0) out += ", ";
+            out += j[i].dump();
+        }
+        out += ']';
+        return;
+    }
+    out += j.is_object() ? "{\n" : "[\n";
+    bool first = true;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        if (!first) out += ",\n";
+        first = false;
+        out.append(indent + 2, ' ');
+        if (j.is_object()) out += ojson(it.key()).dump() + ": ";
+        writeReadableJson(out, it.value(), indent + 2);
+    }
+    out += '\n';
+    out.append(indent, ' ');
+    out += j.is_object() ? '}' : ']';
+}
 
 // The phases of StepProfile, in pipeline order, with their report names.
 struct ProfilePhase {
@@ -424,7 +545,9 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         prof["workers"] = p.workers;
         j["profile"] = std::move(prof);
     }
-    return j.dump(2) + "\n";
+    std::string text;
+    writeReadableJson(text, j, 0);
+    return text + "\n";
 }
 
 
@@ -573,6 +696,11 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
     } catch (const Error& e) {
         err << "fulcrum: " << label << ": " << oneLine(e.what()) << "\n";
         return 2;
+    } catch (const std::exception& e) {
+        // A backstop, not a way to report input errors (those are Errors
+        // above): whatever escaped is a bug, still told in one line.
+        err << "fulcrum: " << label << ": internal error: " << oneLine(e.what()) << "\n";
+        return 1;
     }
 }
 

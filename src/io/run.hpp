@@ -8,6 +8,7 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fulcrum/scene.hpp"
@@ -35,6 +36,10 @@ struct RunOverrides {
 };
 // Validates the overrides and applies them; throws OptionError.
 void applyOverrides(Scene& scene, const RunOverrides& overrides);
+// The value of a whole-number option ("--steps", "--substeps", "--threads")
+// from its text; throws OptionError naming the option and its range, with the
+// text as written (also when it overflows a long long).
+long long parseIntegerOption(std::string_view name, const std::string& text);
 
 struct RunOutputs {
     bool json = false;        // report on stdout as one JSON object

@@ -5,6 +5,20 @@ namespace fulcrum {
 
 namespace {
 
+// A document path short enough for a one-line message: a path of a deeply
+// nested value (hundreds of characters) keeps its first and last components,
+// whole, around "...": "bodies[0].shape.children[0]...children[0].shape.radius".
+// SceneError::path() keeps the whole path.
+std::string shortenedPath(const std::string& path) {
+    constexpr std::size_t kLimit = 100, kEachEnd = 40;
+    if (path.size() <= kLimit) return path;
+    // Cut only at the dots between components, so each kept one is whole.
+    const std::size_t head = path.find('.', kEachEnd);
+    const std::size_t tail = path.rfind('.', path.size() - kEachEnd);
+    if (head == std::string::npos || tail == std::string::npos || tail <= head) return path;
+    return path.substr(0, head) + "..." + path.substr(tail + 1);
+}
+
 std::string sceneErrorText(const std::string& file, const std::string& path, int line, int column, const std::string& reason) {
     // file:line: path: reason  (line:column only for problems of the text itself)
     std::string s = file.empty() ? "<scene>" : file;
@@ -13,7 +27,7 @@ std::string sceneErrorText(const std::string& file, const std::string& path, int
         if (path.empty() && column > 0) s += ':' + std::to_string(column);
     }
     s += ": ";
-    if (!path.empty()) s += path + ": ";
+    if (!path.empty()) s += shortenedPath(path) + ": ";
     s += reason;
     return s;
 }

@@ -21,6 +21,7 @@
 #include "fulcrum/scene.hpp"
 #include "io/json_locator.hpp"
 #include "io/scene_detail.hpp"
+#include "world/input_file.hpp"
 
 namespace fulcrum {
 
@@ -121,8 +122,18 @@ private:
 
     Real positive(const json& v, const std::string& path, std::string_view field) const {
         const Real r = number(v, path);
-        if (!(r > 0)) fail(path, std::string(field) + " must be positive, got " + detail::formatNumber(r));
+        const double written = v.get<double>();
+        if (!(written > 0)) fail(path, std::string(field) + " must be positive, got " + detail::formatNumber(written));
+        requireNormal(r, written, path, field);
         return r;
+    }
+    // A positive value that single precision holds only as a denormal (or
+    // rounds to 0) loses its digits and breaks divisions by it: an error that
+    // names the limit, not a later complaint about something derived from it.
+    void requireNormal(Real r, double written, const std::string& path, std::string_view field) const {
+        if (r >= std::numeric_limits<Real>::min()) return;
+        fail(path, std::string(field) + " is too small for the engine's single-precision numbers (at least " +
+                       detail::formatNumber(std::numeric_limits<Real>::min()) + "), got " + detail::formatNumber(written));
     }
     Real nonNegative(const json& v, const std::string& path, std::string_view field) const {
         const Real r = number(v, path);
@@ -134,9 +145,9 @@ private:
         const double d = v.get<double>();
         if (!std::isfinite(d) || d != std::floor(d)) fail(path, std::string(field) + " must be an integer, got " + detail::formatNumber(d));
         if (d < static_cast<double>(lo) || d > static_cast<double>(hi)) {
-            std::string range = hi == std::numeric_limits<int>::max() ? "at least " + std::to_string(lo)
-                                                                      : "between " + std::to_string(lo) + " and " + std::to_string(hi);
-            fail(path, std::string(field) + " must be " + range + ", got " + detail::formatNumber(d));
+            // Always both ends: "at least 0" for 1e20 would not say what the limit is.
+            fail(path, std::string(field) + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " +
+                           detail::formatNumber(d));
         }
         if (v.is_number_unsigned()) return static_cast<long long>(v.get<std::uint64_t>());
         if (v.is_number_integer()) return v.get<std::int64_t>();
@@ -217,10 +228,10 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
         scene.steps = static_cast<int>(integer(v, p, 0, std::numeric_limits<int>::max(), "steps"));
     });
     opt(j, path, "substeps", [&](const json& v, const std::string& p) {
-        w.substeps = static_cast<int>(integer(v, p, 1, std::numeric_limits<int>::max(), "substeps"));
+        w.substeps = static_cast<int>(integer(v, p, 1, kSceneMaxSubsteps, "substeps"));
     });
     opt(j, path, "solver_iterations", [&](const json& v, const std::string& p) {
-        w.solverIterations = static_cast<int>(integer(v, p, 1, std::numeric_limits<int>::max(), "solver_iterations"));
+        w.solverIterations = static_cast<int>(integer(v, p, 1, kSceneMaxSolverIterations, "solver_iterations"));
     });
     opt(j, path, "threads", [&](const json& v, const std::string& p) {
         w.threads = static_cast<int>(integer(v, p, 1, 1024, "threads"));
@@ -385,16 +396,18 @@ void Parser::parseBody(const json& j, const std::string& path, SceneBody& body) 
     if (mass) {
         const std::string p = childPath(path, "mass");
         d.mass = number(*mass, p);
-        if (dynamic && !(d.mass > 0)) fail(p, "mass must be positive for a dynamic body, got " + detail::formatNumber(d.mass));
+        if (dynamic && !(mass->get<double>() > 0)) fail(p, "mass must be positive for a dynamic body, got " + detail::formatNumber(d.mass));
         if (d.mass < 0) fail(p, "mass must not be negative, got " + detail::formatNumber(d.mass));
+        if (d.mass != 0 || mass->get<double>() != 0) requireNormal(d.mass, mass->get<double>(), p, "mass");
     }
     if (density) {
         const std::string p = childPath(path, "density");
         d.density = number(*density, p);
-        if (dynamic && !(d.density > 0)) {
+        if (dynamic && !(density->get<double>() > 0)) {
             fail(p, "density must be positive for a dynamic body, got " + detail::formatNumber(d.density));
         }
         if (d.density < 0) fail(p, "density must not be negative, got " + detail::formatNumber(d.density));
+        if (d.density != 0 || density->get<double>() != 0) requireNormal(d.density, density->get<double>(), p, "density");
     }
     opt(j, path, "inertia", [&](const json& v, const std::string& p) {
         if (!dynamic) fail(p, "only dynamic bodies have an inertia tensor");
@@ -595,7 +608,7 @@ void Parser::parseRope(const json& j, const std::string& path, const Scene& scen
     d.end = vec3(required(j, path, "end"), childPath(path, "end"));
     if (!(distance(d.start, d.end) > Real(1e-6))) fail(childPath(path, "end"), "a rope's end must differ from its start");
     opt(j, path, "segments", [&](const json& v, const std::string& p) {
-        d.segments = static_cast<int>(integer(v, p, 1, 100000, "segments"));
+        d.segments = static_cast<int>(integer(v, p, 1, kSceneMaxRopeSegments, "segments"));
     });
     opt(j, path, "particle_mass", [&](const json& v, const std::string& p) { d.particleMass = positive(v, p, "particle_mass"); });
     opt(j, path, "radius", [&](const json& v, const std::string& p) { d.radius = positive(v, p, "radius"); });
@@ -627,8 +640,13 @@ void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& clot
     }
     opt(j, path, "size", [&](const json& v, const std::string& p) {
         if (!v.is_array() || v.size() != 2) fail(p, "expected [nu, nv], got " + describe(v));
-        d.size[0] = static_cast<int>(integer(v[0], childPath(p, 0), 2, 4096, "size"));
-        d.size[1] = static_cast<int>(integer(v[1], childPath(p, 1), 2, 4096, "size"));
+        d.size[0] = static_cast<int>(integer(v[0], childPath(p, 0), 2, kSceneMaxClothSide, "size"));
+        d.size[1] = static_cast<int>(integer(v[1], childPath(p, 1), 2, kSceneMaxClothSide, "size"));
+        const long long particles = static_cast<long long>(d.size[0]) * d.size[1];
+        if (particles > kSceneMaxClothParticles) {
+            fail(p, "a cloth has at most " + std::to_string(kSceneMaxClothParticles) + " particles (size[0] * size[1]), got " +
+                        std::to_string(d.size[0]) + " * " + std::to_string(d.size[1]) + " = " + std::to_string(particles));
+        }
     });
     opt(j, path, "spacing", [&](const json& v, const std::string& p) { d.spacing = positive(v, p, "spacing"); });
     opt(j, path, "particle_mass", [&](const json& v, const std::string& p) { d.particleMass = positive(v, p, "particle_mass"); });
@@ -651,6 +669,14 @@ void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& clot
 }
 
 Scene Parser::parse() {
+    // JSON text has no raw NUL (not even in strings); a file with one is binary
+    // or damaged, and what follows it must not be silently dropped.
+    if (const std::size_t nul = text_.find('\0'); nul != std::string_view::npos) {
+        const auto loc = detail::locationOfOffset(text_, nul);
+        throw SceneError(source_, "", loc.line, loc.column,
+                         "a NUL byte at byte offset " + std::to_string(nul) + " (of " + std::to_string(text_.size()) +
+                             "): a scene file is JSON text");
+    }
     json doc;
     try {
         doc = json::parse(text_);
@@ -740,8 +766,8 @@ Scene parseScene(std::string_view json, std::string_view sourceName) {
 
 Scene loadScene(const std::filesystem::path& file) {
     const std::string name = file.string();
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) throw SceneError(name, "", 0, 0, "is a directory, not a scene file");
+    // A directory, device or FIFO is refused before reading: /dev/zero would never end.
+    if (const auto reason = detail::notARegularFile(file)) throw SceneError(name, "", 0, 0, *reason + " (expected a scene file)");
     std::ifstream in(file, std::ios::binary);
     if (!in) throw SceneError(name, "", 0, 0, "cannot open file for reading");
     std::ostringstream text;

@@ -152,12 +152,14 @@ std::string svgPlot(const std::string& title, const std::string& xLabel, const s
                     if (s.values[i] < s.values[iMin]) iMin = i;
                     if (s.values[i] > s.values[iMax]) iMax = i;
                 }
+                // The column's extremes in time order; one point when they are the
+                // same sample (a column of one sample, or a constant stretch).
                 const std::size_t first = std::min(iMin, iMax), second = std::max(iMin, iMax);
-                for (std::size_t i : {first, second}) {
-                    if (i == second && second == first) break;
-                    if (!std::isfinite(s.values[i])) continue;
-                    points += fmt(xPix(x[i])) + "," + fmt(yPix(s.values[i])) + " ";
-                }
+                const auto draw = [&](std::size_t i) {
+                    if (std::isfinite(s.values[i])) points += fmt(xPix(x[i])) + "," + fmt(yPix(s.values[i])) + " ";
+                };
+                draw(first);
+                if (second != first) draw(second);
             }
             svg += "<polyline fill=\"none\" stroke=\"" + escape(s.color) + "\" stroke-width=\"1.5\" points=\"" + points + "\"/>\n";
             const double ly = top + 14 + static_cast<double>(si) * 18;

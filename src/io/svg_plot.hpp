@@ -20,8 +20,12 @@ struct PlotPanel {
     std::vector<PlotSeries> series;
 };
 
-// The SVG document. Long series are reduced to a min/max envelope per pixel
-// column, so spikes survive and the file stays small.
+// The SVG document. Every sample is drawn while there are at most 800 (about
+// one per pixel column); longer series are reduced to a min/max envelope per
+// column, so spikes survive and the file stays small. x spans the plot frame
+// over the data's range; each panel's y axis spans its series' range widened
+// by 5 % on each side (a constant panel: by 10 % of the value, or 1 at zero),
+// so no curve runs along the frame.
 std::string svgPlot(const std::string& title, const std::string& xLabel, const std::vector<double>& x,
                     const std::vector<PlotPanel>& panels);
 

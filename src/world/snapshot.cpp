@@ -36,6 +36,7 @@
 #include <map>
 #include <type_traits>
 
+#include "world/input_file.hpp"
 #include "world/snapshot_versions.hpp"
 #include "world/world_impl.hpp"
 
@@ -881,11 +882,12 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
 }
 
 World loadSnapshot(const std::filesystem::path& path, std::string* userData) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(detail::fileLabel(path) + ": cannot open the snapshot for reading");
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw Error(detail::fileLabel(path) + ": error while reading the snapshot");
-    return loadSnapshotFromMemory(bytes, userData, detail::fileLabel(path));
+    // The magic first: a large file that is no snapshot is refused without reading it all.
+    const std::vector<std::uint8_t> magic = detail::readInputFilePrefix(path, "snapshot", sizeof detail::kMagic);
+    if (magic.size() < sizeof detail::kMagic || std::memcmp(magic.data(), detail::kMagic, sizeof detail::kMagic) != 0) {
+        return loadSnapshotFromMemory(magic, userData, detail::fileLabel(path));  // throws: not a Fulcrum snapshot
+    }
+    return loadSnapshotFromMemory(detail::readInputFile(path, "snapshot"), userData, detail::fileLabel(path));
 }
 
 }  // namespace fulcrum

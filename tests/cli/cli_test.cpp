@@ -2,8 +2,11 @@
 // stderr, the --json report, --csv rows, --plot SVG, and no progress bar in
 // pipes. Step counts are small so the whole file runs in well under a second.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +15,8 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "support/svg_points.hpp"
 
 namespace {
 
@@ -41,10 +46,12 @@ fs::path writeTemp(const std::string& name, const std::string& text) {
     return p;
 }
 
-// Runs `fulcrum ARGS` with stdout and stderr redirected to files (pipes, not a terminal).
+// Runs `fulcrum ARGS` with stdout and stderr redirected to files (pipes, not a
+// terminal). A run that hangs is killed after two minutes (status 124), so a
+// hang fails its test instead of stalling the suite.
 Result fulcrum(const std::string& args) {
     const fs::path out = tempDir() / "stdout.txt", err = tempDir() / "stderr.txt";
-    const std::string cmd = std::string("cd '") + FULCRUM_SOURCE_DIR + "' && '" + FULCRUM_CLI_PATH + "' " + args + " >'" +
+    const std::string cmd = std::string("cd '") + FULCRUM_SOURCE_DIR + "' && timeout 120 '" + FULCRUM_CLI_PATH + "' " + args + " >'" +
                             out.string() + "' 2>'" + err.string() + "' </dev/null";
     const int raw = std::system(cmd.c_str());
     Result r;
@@ -121,6 +128,42 @@ TEST(Cli, JsonReportHasEveryContractKeyAndTheProjectileFollowsTheAnalyticPath) {
     EXPECT_NEAR(ball["linear_velocity"][1].get<double>(), 10 - 9.81 * t, 1e-3);
 }
 
+// Issue 27: --json put every vector component on its own line (509 lines for
+// 9 bodies). Vectors and quaternions are one line each, with the very numbers
+// the parsed report holds (nlohmann prints a double's shortest exact text).
+TEST(Cli, JsonPrintsEachVectorOnOneLine) {
+    const Result r = fulcrum("run scenes/box_stack.json --steps 20 --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["bodies"].size(), 9u);
+    const auto oneLine = [](const nlohmann::json& v) {
+        std::string s = "[";
+        for (std::size_t i = 0; i < v.size(); ++i) s += (i > 0 ? ", " : "") + v[i].dump();
+        return s + "]";
+    };
+    for (const auto& body : j["bodies"]) {
+        for (const char* key : {"position", "orientation", "linear_velocity", "angular_velocity"}) {
+            std::string line = "\"";
+            line.append(key).append("\": ").append(oneLine(body[key]));
+            EXPECT_NE(r.out.find(line), std::string::npos) << "missing line: " << line;
+        }
+    }
+    EXPECT_NE(r.out.find("\"linear\": " + oneLine(j["momentum"]["linear"])), std::string::npos) << r.out;
+    for (const auto& c : j["contacts"]) {
+        EXPECT_NE(r.out.find("\"normal\": " + oneLine(c["normal"])), std::string::npos);
+        for (const auto& p : c["points"]) EXPECT_NE(r.out.find(oneLine(p)), std::string::npos);
+    }
+    // No line is a bare number any more; the body block is about 8 lines a body.
+    std::istringstream lines(r.out);
+    std::size_t count = 0;
+    for (std::string line; std::getline(lines, line); ++count) {
+        const std::size_t at = line.find_first_not_of(' ');
+        ASSERT_NE(at, std::string::npos);
+        EXPECT_FALSE(line[at] == '-' || std::isdigit(static_cast<unsigned char>(line[at]))) << "a lone number: " << line;
+    }
+    EXPECT_LT(count, 9u * 10u + 40u + 8u * j["contacts"].size());
+}
+
 // --profile: the phases of the step (World::lastStepProfile) averaged over the
 // run. They are laps of one clock, so they add up to the mean step time (to
 // double rounding); a stack of 8 boxes on the ground has 8 contact interfaces
@@ -176,14 +219,46 @@ TEST(Cli, CsvHasOneRowPerStepAndDynamicBody) {
     EXPECT_EQ(text.find(",ground,"), std::string::npos) << "static bodies have no rows";
 }
 
-TEST(Cli, PlotWritesAnSvg) {
-    const fs::path svg = tempDir() / "energy.svg";
-    const Result r = fulcrum("run scenes/spring_mass.json --steps 50 --plot '" + svg.string() + "'");
+// Issue 27: the projectile's plot (121 samples) had five empty polylines.
+// Every sample is drawn, and the |p| curve is the ball's momentum m |v| from
+// the CSV of the same run, at its mapped place (y axis: the series' range
+// widened by 5 % each side, svg_plot.hpp).
+TEST(Cli, PlotDrawsEverySampleOfTheRun) {
+    const fs::path svg = tempDir() / "energy.svg", csv = tempDir() / "plot.csv";
+    const Result r = fulcrum("run scenes/projectile.json --plot '" + svg.string() + "' --csv '" + csv.string() + "'");
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string text = readFile(svg);
     EXPECT_EQ(text.rfind("<svg", 0), 0u);
-    EXPECT_NE(text.find("<polyline"), std::string::npos);
     EXPECT_NE(text.find("total"), std::string::npos);
+    const auto panels = fulcrum::testing::svgPanels(text);
+    ASSERT_EQ(panels.size(), 3u);
+    ASSERT_EQ(panels[0].polylines.size(), 3u);  // kinetic, potential, total
+    for (const auto& panel : panels) {
+        for (const auto& line : panel.polylines) EXPECT_EQ(line.size(), 121u) << "one point per step 0..120";
+    }
+    std::vector<double> t, p;
+    std::istringstream rows(readFile(csv));
+    std::string row;
+    std::getline(rows, row);  // header
+    while (std::getline(rows, row)) {
+        std::vector<double> f;
+        std::istringstream cells(row);
+        for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell == "ball" ? 0.0 : std::atof(cell.c_str()));
+        ASSERT_EQ(f.size(), 16u) << row;
+        t.push_back(f[1]);
+        p.push_back(0.5 * std::sqrt(f[10] * f[10] + f[11] * f[11] + f[12] * f[12]));  // mass 0.5 kg
+    }
+    ASSERT_EQ(t.size(), 121u);
+    const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+    const fulcrum::testing::SvgMapping map(panels[1], t.front(), t.back(), *lo, *hi);
+    const auto& drawn = panels[1].polylines.at(0);
+    ASSERT_EQ(drawn.size(), 121u);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+        const fulcrum::testing::SvgPoint want = map(t[i], p[i]);
+        // The CSV has 9 significant digits, the SVG two decimals of a pixel.
+        EXPECT_NEAR(drawn[i].x, want.x, 0.02) << "step " << i;
+        EXPECT_NEAR(drawn[i].y, want.y, 0.02) << "step " << i;
+    }
 }
 
 TEST(Cli, RecordWritesGlbAndHtml) {
@@ -219,6 +294,111 @@ TEST(Cli, BadInputExitsWith2AndOneLine) {
     expectBadInput("run scenes/projectile.json --steps many", {"--steps"});
     expectBadInput("run scenes/projectile.json --bogus", {"--bogus"});
     expectBadInput("run scenes/projectile.json --record out.txt", {"--record", "out.txt", ".glb or .html"});
+}
+
+// Issue 27: `--resume DIRECTORY` aborted on an uncaught std::ios_base::failure;
+// `--resume /dev/zero` and `run /dev/zero` read forever, and a FIFO blocks on
+// open. Each is refused by its kind, before reading, with status 2 and one
+// line naming the file; a regular file that is no snapshot by its magic.
+TEST(Cli, NonRegularInputFilesAreRefusedWithStatus2) {
+    const fs::path dir = tempDir() / "a_directory";
+    fs::create_directories(dir);
+    expectBadInput("run --resume '" + dir.string() + "'", {dir.string(), "is a directory"});
+    expectBadInput("run '" + dir.string() + "'", {dir.string(), "is a directory"});
+    expectBadInput("run --resume /dev/zero", {"/dev/zero", "character device"});
+    expectBadInput("run /dev/zero", {"/dev/zero", "character device"});
+    const fs::path fifo = tempDir() / "a_fifo";
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expectBadInput("run --resume '" + fifo.string() + "'", {fifo.string(), "FIFO"});
+    expectBadInput("run '" + fifo.string() + "'", {fifo.string(), "FIFO"});
+    fs::remove(fifo);
+    const fs::path text = writeTemp("not_a_snapshot.snap", std::string(1 << 20, 'x'));
+    expectBadInput("run --resume '" + text.string() + "'", {text.string(), "not a Fulcrum snapshot"});
+    expectBadInput("run --resume '" + (tempDir() / "missing.snap").string() + "'", {"missing.snap", "cannot open"});
+}
+
+// Issue 27's smaller items: each bad value gets one line that names what the
+// user wrote (the option, the key) and the real limit.
+TEST(Cli, OutOfRangeValuesNameTheirLimit) {
+    expectBadInput("run scenes/projectile.json --steps 99999999999", {"--steps", "between 0 and 2147483647, got 99999999999"});
+    // Beyond a long long: the text as written, not a clamped 9223372036854775807.
+    expectBadInput("run scenes/projectile.json --steps 99999999999999999999",
+                   {"--steps", "between 0 and 2147483647, got 99999999999999999999"});
+    expectBadInput("run scenes/projectile.json --steps 1e5", {"--steps", "whole number", "'1e5'"});
+    expectBadInput("run scenes/projectile.json --threads 99999999999999999999", {"--threads", "between 1 and 1024"});
+    const fs::path steps = writeTemp("steps.json", R"({"world": {"steps": 1e20}, "bodies": []})");
+    expectBadInput("run '" + steps.string() + "'", {"world.steps", "between 0 and 2147483647", "1e+20"});
+    // A command-line value is the option's fault, not the scene file's.
+    const Result dt = fulcrum("run scenes/projectile.json --dt 1e-50");
+    EXPECT_EQ(dt.status, 2);
+    EXPECT_EQ(dt.err.rfind("fulcrum: --dt: too small", 0), 0u) << dt.err;
+    EXPECT_EQ(dt.err.find("projectile.json"), std::string::npos) << dt.err;
+    const fs::path sceneDt = writeTemp("dt.json", R"({"world": {"dt": 1e-50}, "bodies": []})");
+    expectBadInput("run '" + sceneDt.string() + "'", {"world.dt", "too small", "1e-50"});
+    // A denormal mass is the mass's fault, not the inertia's.
+    const fs::path mass = writeTemp("tiny_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 1e-45}]})");
+    expectBadInput("run '" + mass.string() + "'", {"bodies[0].mass", "too small", "1e-45"});
+    const Result massErr = fulcrum("run '" + mass.string() + "'");
+    EXPECT_EQ(massErr.err.find("inertia"), std::string::npos) << massErr.err;
+    const fs::path smallMass = writeTemp("small_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 0.1}, "mass": 1e-37}]})");
+    expectBadInput("run '" + smallMass.string() + "'", {"bodies[0]", "mass", "too small"});
+    // Work without end: sub-steps and cloth sizes have documented limits.
+    const fs::path substeps = writeTemp("substeps.json", R"({"world": {"substeps": 1000000000}, "bodies": []})");
+    expectBadInput("run '" + substeps.string() + "'", {"world.substeps", "between 1 and 1000"});
+    expectBadInput("run scenes/projectile.json --substeps 5000", {"--substeps", "between 1 and 1000", "5000"});
+    const fs::path iterations = writeTemp("iterations.json", R"({"world": {"solver_iterations": 100000}, "bodies": []})");
+    expectBadInput("run '" + iterations.string() + "'", {"world.solver_iterations", "between 1 and 1000"});
+    const fs::path cloth = writeTemp("cloth.json", R"({"cloths": [{"origin": [0, 0, 0], "size": [4096, 4096]}]})");
+    expectBadInput("run '" + cloth.string() + "'", {"cloths[0].size", "1000000", "16777216"});
+    // --plot writes SVG, so only a .svg name is accepted (and nothing is run or written).
+    const fs::path png = tempDir() / "plot.png";
+    fs::remove(png);
+    expectBadInput("run scenes/projectile.json --plot '" + png.string() + "'", {"--plot", png.string(), ".svg"});
+    EXPECT_FALSE(fs::exists(png));
+    EXPECT_EQ(fulcrum("run scenes/projectile.json --steps 2 --plot '" + (tempDir() / "upper.SVG").string() + "'").status, 0);
+}
+
+// Issue 27: bytes after a NUL were silently ignored ("{}" then anything).
+TEST(Cli, NulByteInASceneIsAnErrorWithItsOffset) {
+    std::string text = "{\"bodies\": []}\n";  // 15 bytes
+    text.push_back('\0');
+    text += "{\"bodies\": 7}";
+    const fs::path nul = writeTemp("nul.json", text);
+    expectBadInput("run '" + nul.string() + "'", {nul.string() + ":2:1", "NUL byte at byte offset 15"});
+}
+
+// Issue 27: an 839-character path for deep nesting. The message keeps the
+// path's first and last components and stays one readable line.
+TEST(Cli, DeeplyNestedErrorPathIsShortened) {
+    std::string shape = R"({"type": "sphere", "radius": -1})";
+    for (int i = 0; i < 12; ++i) shape = R"({"type": "compound", "children": [{"shape": )" + shape + "}]}";
+    const fs::path deep = writeTemp("deep.json", R"({"bodies": [{"shape": )" + shape + "}]}");
+    const Result r = fulcrum("run '" + deep.string() + "'");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find(": bodies[0].shape.children[0].shape.children[0]"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("...children[0].shape.children[0].shape.radius: "), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), deep.string().size() + 200) << r.err;
+}
+
+// Issue 27: a finite state whose reported momentum overflows float (a body
+// 3e38 m from the origin, falling) printed "angular": [0, 0, null] with exit 0.
+// The run stops with status 3, naming the body, the step and the time.
+TEST(Cli, OverflowingMomentumStopsWith3AndNamesTheBody) {
+    const fs::path far = writeTemp("far.json", R"({"world": {"steps": 10},
+      "bodies": [{"name": "far", "shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [3e38, 2, 0]}]})");
+    const Result r = fulcrum("run '" + far.string() + "' --json");
+    EXPECT_EQ(r.status, 3) << r.out;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    for (const char* part : {"body 'far'", "angular momentum", "at step ", "t = "}) EXPECT_NE(r.err.find(part), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("null"), std::string::npos) << r.out;
+    // Far but harmless: the same body 3e30 m out keeps every figure finite.
+    const fs::path farOk = writeTemp("far_ok.json", R"({"world": {"steps": 10},
+      "bodies": [{"name": "far", "shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [3e30, 2, 0]}]})");
+    const Result ok = fulcrum("run '" + farOk.string() + "' --json");
+    EXPECT_EQ(ok.status, 0) << ok.err;
+    EXPECT_EQ(ok.out.find("null"), std::string::npos) << ok.out;
 }
 
 TEST(Cli, NanStopsWith3AndNamesTheBody) {

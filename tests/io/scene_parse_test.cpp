@@ -307,8 +307,8 @@ TEST(SceneErrors, InvalidValues) {
     expectError(body(R"(, "inertia": [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]])"), "bodies[0].inertia", "symmetric");
     expectError(R"({"world": {"dt": 0}})", "world.dt", "dt must be positive, got 0");
     expectError(R"({"world": {"dt": -0.01}})", "world.dt", "dt must be positive");
-    expectError(R"({"world": {"steps": -1}})", "world.steps", "at least 0");
-    expectError(R"({"world": {"substeps": 0}})", "world.substeps", "at least 1");
+    expectError(R"({"world": {"steps": -1}})", "world.steps", "between 0 and 2147483647");
+    expectError(R"({"world": {"substeps": 0}})", "world.substeps", "between 1 and 1000");
     expectError(R"({"world": {"integrator": "rk4"}})", "world.integrator",
                 "unknown integrator 'rk4' (valid: semi_implicit_euler, explicit_euler, verlet)");
     expectError(body(R"(, "type": "floating")"), "bodies[0].type", "unknown body type 'floating'");

@@ -10,6 +10,7 @@
 #include "io/run.hpp"
 #include "io/scene_detail.hpp"
 #include "io/svg_plot.hpp"
+#include "support/svg_points.hpp"
 
 namespace fulcrum {
 namespace {
@@ -207,8 +208,82 @@ TEST(SvgPlot, WritesOnePolylinePerSeriesWithLegendAndEscapes) {
     EXPECT_NE(svg.find("t&lt;1&gt;"), std::string::npos);
     EXPECT_NE(svg.find(">spike</text>"), std::string::npos);
     EXPECT_NE(svg.find("</svg>"), std::string::npos);
-    // The spike's peak (y = 10, the top of the padded range) is drawn: its pixel row appears.
     EXPECT_LT(svg.size(), 200000u);
+
+    // 5001 samples on 800 columns: every drawn point is a sample at its mapped
+    // place, x never goes back, each column keeps its extremes, so the spike's
+    // peak and both ends of the sine are drawn.
+    const auto panels = testing::svgPanels(svg);
+    ASSERT_EQ(panels.size(), 1u);
+    ASSERT_EQ(panels[0].polylines.size(), 2u);
+    const testing::SvgMapping map(panels[0], 0.0, 50.0, *std::min_element(a.begin(), a.end()), 10.0);
+    for (std::size_t k = 0; k < 2; ++k) {
+        const std::vector<double>& values = k == 0 ? a : b;
+        const auto& line = panels[0].polylines[k];
+        ASSERT_GE(line.size(), 800u);
+        ASSERT_LE(line.size(), 1600u);
+        double lastX = -1;
+        for (const testing::SvgPoint& pt : line) {
+            // The sample this x belongs to (x pixels are 0.14 px apart, printed to 0.01).
+            const std::size_t i = static_cast<std::size_t>(std::lround((pt.x - panels[0].left) / panels[0].width * 5000));
+            bool matches = false;
+            for (std::size_t j = i > 0 ? i - 1 : 0; j <= std::min<std::size_t>(i + 1, 5000); ++j) {
+                const testing::SvgPoint want = map(x[j], values[j]);
+                matches = matches || (std::fabs(want.x - pt.x) <= 0.006 && std::fabs(want.y - pt.y) <= 0.006);
+            }
+            EXPECT_TRUE(matches) << "series " << k << " point " << pt.x << "," << pt.y << " is no sample";
+            EXPECT_GE(pt.x, lastX);
+            lastX = pt.x;
+        }
+    }
+    const testing::SvgPoint peak = map(25.0, 10.0);
+    bool peakDrawn = false;
+    for (const testing::SvgPoint& pt : panels[0].polylines[1]) peakDrawn = peakDrawn || (std::fabs(pt.x - peak.x) < 0.006 && std::fabs(pt.y - peak.y) < 0.006);
+    EXPECT_TRUE(peakDrawn) << "the one-sample spike must survive the envelope";
+}
+
+// Issue 27: runs of 800 steps or fewer and exactly constant series were drawn
+// as empty polylines (a column's min and max being one sample drew nothing).
+// Every sample of a short run is drawn once, in order, at its mapped place.
+TEST(SvgPlot, ShortAndConstantSeriesDrawEverySampleWhereItBelongs) {
+    for (const std::size_t n : {std::size_t{1}, std::size_t{2}, std::size_t{121}, std::size_t{800}}) {
+        SCOPED_TRACE(n);
+        std::vector<double> x, wave, flat, zero;
+        for (std::size_t i = 0; i < n; ++i) {
+            x.push_back(0.5 + 0.01 * static_cast<double>(i));
+            wave.push_back(3 + std::sin(0.1 * static_cast<double>(i)));
+            flat.push_back(4.25);
+            zero.push_back(0.0);
+        }
+        const std::string svg = detail::svgPlot("t", "time (s)", x,
+                                                {{"mixed", "y", {{"wave", wave, "#000"}, {"flat", flat, "red"}}},
+                                                 {"constant", "y", {{"flat", flat, "red"}}},
+                                                 {"zero", "y", {{"zero", zero, "blue"}}}});
+        const auto panels = testing::svgPanels(svg);
+        ASSERT_EQ(panels.size(), 3u);
+        double lo = 4.25, hi = 4.25;
+        for (double v : wave) lo = std::min(lo, v), hi = std::max(hi, v);
+        const double x1 = n > 1 ? x.back() : x[0];
+        // One sample: the x range is padded like a constant one, so the point is mid-frame.
+        const double xLo = n > 1 ? x[0] : x[0] - 0.05, xHi = n > 1 ? x1 : x[0] + 0.05;
+        const testing::SvgMapping maps[] = {{panels[0], xLo, xHi, lo, hi}, {panels[1], xLo, xHi, 4.25, 4.25}, {panels[2], xLo, xHi, 0, 0}};
+        const std::vector<double>* series[3][2] = {{&wave, &flat}, {&flat, nullptr}, {&zero, nullptr}};
+        for (std::size_t p = 0; p < 3; ++p) {
+            for (std::size_t k = 0; k < panels[p].polylines.size(); ++k) {
+                ASSERT_NE(series[p][k], nullptr);
+                const auto& line = panels[p].polylines[k];
+                ASSERT_EQ(line.size(), n) << "panel " << p << " series " << k;
+                for (std::size_t i = 0; i < n; ++i) {
+                    const testing::SvgPoint want = maps[p](x[i], (*series[p][k])[i]);
+                    EXPECT_NEAR(line[i].x, want.x, 0.006) << "panel " << p << " series " << k << " sample " << i;
+                    EXPECT_NEAR(line[i].y, want.y, 0.006) << "panel " << p << " series " << k << " sample " << i;
+                    // Inside the frame: a constant series is drawn mid-panel, not on its edge.
+                    EXPECT_GT(line[i].y, panels[p].top);
+                    EXPECT_LT(line[i].y, panels[p].top + panels[p].height);
+                }
+            }
+        }
+    }
 }
 
 TEST(RunScene, OverridesAreValidated) {

@@ -1,5 +1,6 @@
 # Installs the built Fulcrum into a scratch prefix, then configures, builds and
-# runs tests/package/consumer against it with find_package(Fulcrum).
+# runs tests/package/consumer against it with find_package(Fulcrum): a target
+# or a public header the docs name that is not installed fails the test.
 # Variables: BUILD_DIR (the Fulcrum build tree), SOURCE_DIR (this folder), WORK_DIR.
 file(REMOVE_RECURSE "${WORK_DIR}")
 execute_process(COMMAND "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${WORK_DIR}/prefix"
@@ -17,7 +18,7 @@ execute_process(COMMAND "${CMAKE_COMMAND}" --build "${WORK_DIR}/build" RESULT_VA
 if(rc)
   message(FATAL_ERROR "building the consumer failed:\n${out}\n${err}")
 endif()
-execute_process(COMMAND "${WORK_DIR}/build/consumer" RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+execute_process(COMMAND "${WORK_DIR}/build/consumer" WORKING_DIRECTORY "${WORK_DIR}" RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 message(STATUS "${out}")
 if(rc)
   message(FATAL_ERROR "the consumer's physics check failed: ${out}")

@@ -16,7 +16,7 @@
 #include "fulcrum/scene.hpp"
 #include "io/gltf_writer.hpp"
 #include "io/html_writer.hpp"
-#include "io/recording.hpp"
+#include "fulcrum/recording.hpp"
 #include "recording/node_tools.hpp"
 
 using namespace fulcrum;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "io/recording.hpp"
+#include "fulcrum/recording.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::io;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/recording.hpp"
+#include "fulcrum/recording.hpp"
 
 namespace fulcrum::io::synthetic {
 

@@ -53,6 +53,14 @@ TEST(Validation, BodyDefFields) {
     EXPECT_THAT(createError([](BodyDef& d) { d.gravityScale = kInf; }), HasSubstr("gravityScale"));
     EXPECT_THAT(createError([](BodyDef& d) { d.inertia = Mat3::diagonal({1, -1, 1}); }), AllOf(HasSubstr("inertia"), HasSubstr("positive-definite")));
     EXPECT_THAT(createError([](BodyDef& d) { d.inertia = Mat3::diagonal({1, kNaN, 1}); }), HasSubstr("inertia"));
+    // Issue 27: a mass (or density) so small that the box's inertia, m/6 for a
+    // unit cube, underflows single precision was blamed on the shape's inertia.
+    for (const Real tiny : {Real(1e-37), Real(1e-45)}) {
+        const std::string massError = createError([&](BodyDef& d) { d.mass = tiny; });
+        EXPECT_THAT(massError, AllOf(HasSubstr("body 'crate'"), HasSubstr("mass"), HasSubstr("too small")));
+        EXPECT_THAT(massError, ::testing::Not(HasSubstr("shape inertia")));
+    }
+    EXPECT_THAT(createError([](BodyDef& d) { d.density = Real(1e-40); }), AllOf(HasSubstr("density"), HasSubstr("too small")));
     EXPECT_THAT(createError([](BodyDef& d) { d.shape = Shape::plane({0, 1, 0}, 0); }), AllOf(HasSubstr("shape"), HasSubstr("plane"), HasSubstr("static")));
     EXPECT_THAT(createError([](BodyDef& d) {
                     d.type = BodyType::Kinematic;

@@ -1,7 +1,7 @@
 #pragma once
 // Recordings of a run, for replay outside the engine: an animated glTF 2.0
-// binary (gltf_writer.hpp) or a self-contained HTML replay page
-// (html_writer.hpp). See docs/recording.md.
+// binary or a self-contained HTML replay page. See docs/recording.md. Part of
+// the library fulcrum::io (link fulcrum::io to use it).
 //
 // The Recording is plain data, independent of the World: what was simulated
 // (bodies with their shapes, joints with their body-local anchors) and, per
@@ -24,7 +24,6 @@
 #include <vector>
 
 #include "fulcrum/world.hpp"
-#include "io/tessellate.hpp"
 
 namespace fulcrum::io {
 
@@ -134,22 +133,6 @@ private:
     std::vector<ParticleSystemId> particleIds_;
     Recording recording_;
 };
-
-// Display colours, shared by both formats: static bodies grey, kinematic
-// blue, dynamic bodies a palette colour per body (golden-angle hues, so
-// neighbours differ), sleeping bodies darker.
-struct Rgb {
-    float r = 0, g = 0, b = 0;
-};
-Rgb bodyColor(BodyType type, std::size_t bodyIndex, bool asleep);
-
-// Bounds of everything recorded except planes, over frames [first, last)
-// (default: all), or a unit box around the origin when there is nothing else.
-AABB sceneBounds(const Recording& recording, std::size_t first = 0, std::size_t last = SIZE_MAX);
-
-// Render meshes of every body, with plane quads centred under the recorded
-// scene and large enough to hold it.
-std::vector<std::vector<RenderPart>> tessellateBodies(const Recording& recording);
 
 // True when `path` names a recording format the writers know (.glb, .html).
 bool isRecordingPath(const std::filesystem::path& path);
