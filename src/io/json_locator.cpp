@@ -1,6 +1,7 @@
 // The position pass over JSON text; see json_locator.hpp for why it exists.
 #include "io/json_locator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -12,11 +13,54 @@ namespace {
 // Deeper documents are not scenes; the limit keeps the recursion bounded.
 constexpr int kMaxDepth = 256;
 
+thread_local std::uint64_t bytesScanned = 0;
+
+// Paths as errors print them: `bodies[3].shape.radius`.
+void appendKey(std::string& path, std::string_view key) {
+    if (!path.empty()) path += '.';
+    path += key;
+}
+void appendIndex(std::string& path, std::size_t index) {
+    path += '[';
+    path += std::to_string(index);
+    path += ']';
+}
+
+// Lines and columns of increasing offsets into a text, counted in one sweep.
+class LineCounter {
+public:
+    explicit LineCounter(std::string_view text) : text_(text) {}
+
+    // The location of byte `offset` (clamped to the text's end); offsets must
+    // not decrease from one call to the next.
+    TextLocation advanceTo(std::size_t offset) {
+        const std::size_t end = std::min(offset, text_.size());
+        if (end > pos_) bytesScanned += end - pos_;
+        for (; pos_ < end; ++pos_) {
+            if (text_[pos_] == '\n') {
+                ++loc_.line;
+                loc_.column = 1;
+            } else {
+                ++loc_.column;
+            }
+        }
+        return loc_;
+    }
+
+private:
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    TextLocation loc_{1, 1};
+};
+
 struct StopScan {};  // unwinds the recursion once the answer is known
 
 class Scanner {
 public:
-    enum class Mode { Locate, FindProblem };
+    // Locate: the position of `target`. FindProblem: the first duplicate key
+    // or overflowing number. IndexElements: the offsets of the elements of the
+    // root object's arrays, in `rootArrays`.
+    enum class Mode { Locate, FindProblem, IndexElements };
 
     Scanner(std::string_view text, Mode mode, std::string_view target) : text_(text), mode_(mode), target_(target) {}
 
@@ -25,10 +69,16 @@ public:
             value(0);
         } catch (const StopScan&) {
         }
+        bytesScanned += pos_;
     }
 
     std::optional<TextLocation> found;
     std::optional<JsonScanProblem> problem;
+    struct RootArray {
+        std::string key;
+        std::vector<std::size_t> offsets;
+    };
+    std::vector<RootArray> rootArrays;
 
 private:
     void skipWhitespace() {
@@ -157,7 +207,8 @@ private:
             const std::size_t keyStart = pos_;
             std::string key = string();
             const std::size_t saved = path_.size();
-            path_ = childPath(path_, key);
+            appendKey(path_, key);
+            if (mode_ == Mode::IndexElements && depth == 0) rootKey_ = key;
             if (mode_ == Mode::FindProblem) {
                 for (const std::string& k : keys) {
                     if (k == key) report(keyStart, "duplicate key");
@@ -177,12 +228,15 @@ private:
 
     void array(int depth) {
         ++pos_;
+        std::vector<std::size_t>* offsets = nullptr;
+        if (mode_ == Mode::IndexElements && depth == 1 && rootKey_) offsets = &rootArrays.emplace_back(RootArray{*rootKey_, {}}).offsets;
         for (std::size_t index = 0;; ++index) {
             skipWhitespace();
             if (pos_ >= text_.size() || text_[pos_] == ']') break;
             const std::size_t saved = path_.size();
-            path_ = childPath(path_, index);
+            appendIndex(path_, index);
             checkTarget(pos_);
+            if (offsets) offsets->push_back(pos_);
             value(depth + 1);
             path_.resize(saved);
             skipWhitespace();
@@ -196,23 +250,12 @@ private:
     std::string_view target_;
     std::size_t pos_ = 0;
     std::string path_;
+    std::optional<std::string> rootKey_;  // IndexElements: the root member being scanned
 };
 
 }  // namespace
 
-TextLocation locationOfOffset(std::string_view text, std::size_t offset) {
-    TextLocation loc{1, 1};
-    const std::size_t end = offset < text.size() ? offset : text.size();
-    for (std::size_t i = 0; i < end; ++i) {
-        if (text[i] == '\n') {
-            ++loc.line;
-            loc.column = 1;
-        } else {
-            ++loc.column;
-        }
-    }
-    return loc;
-}
+TextLocation locationOfOffset(std::string_view text, std::size_t offset) { return LineCounter(text).advanceTo(offset); }
 
 std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_view path) {
     Scanner scanner(text, Scanner::Mode::Locate, path);
@@ -225,24 +268,43 @@ std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_vi
     return scanner.found;
 }
 
+JsonElementIndex::JsonElementIndex(std::string_view text) {
+    Scanner scanner(text, Scanner::Mode::IndexElements, {});
+    scanner.run();
+    // The scan met the elements in document order: one sweep counts their lines.
+    LineCounter lines(text);
+    arrays_.reserve(scanner.rootArrays.size());
+    for (const Scanner::RootArray& array : scanner.rootArrays) {
+        Array& out = arrays_.emplace_back(Array{array.key, {}});
+        out.elements.reserve(array.offsets.size());
+        for (std::size_t offset : array.offsets) out.elements.push_back(lines.advanceTo(offset));
+    }
+}
+
+std::optional<TextLocation> JsonElementIndex::element(std::string_view key, std::size_t index) const {
+    for (const Array& array : arrays_) {
+        if (array.key == key) return index < array.elements.size() ? std::optional(array.elements[index]) : std::nullopt;
+    }
+    return std::nullopt;
+}
+
 std::optional<JsonScanProblem> findJsonProblem(std::string_view text) {
     Scanner scanner(text, Scanner::Mode::FindProblem, {});
     scanner.run();
     return scanner.problem;
 }
 
+std::uint64_t jsonBytesScanned() { return bytesScanned; }
+
 std::string childPath(std::string_view parent, std::string_view key) {
     std::string p(parent);
-    if (!p.empty()) p += '.';
-    p += key;
+    appendKey(p, key);
     return p;
 }
 
 std::string childPath(std::string_view parent, std::size_t index) {
     std::string p(parent);
-    p += '[';
-    p += std::to_string(index);
-    p += ']';
+    appendIndex(p, index);
     return p;
 }
 
