@@ -8,6 +8,7 @@
 // The scanner assumes syntactically valid JSON (nlohmann checked it first).
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,23 +28,30 @@ TextLocation locationOfOffset(std::string_view text, std::size_t offset);
 std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_view path);
 
 // Where the elements of the root object's arrays sit (`bodies[3]`,
-// `joints[0]`: the elements a Scene keeps a SceneLocation for), all found in
-// one pass over the text. Locating each with locateJsonPath instead re-scans
-// the text up to it, quadratic in the element count (issue 27: 24 s for a
-// 10,000-body file). Deeper paths are only needed for an error, once per
-// document: locateJsonPath serves those.
+// `joints[0]`: the elements a Scene keeps a SceneLocation for) and their
+// text, all found in one pass. Locating each with locateJsonPath instead
+// re-scans the text up to it, quadratic in the element count (issue 27: 24 s
+// for a 10,000-body file); deeper paths are only needed for an error, once
+// per document, and locateJsonPath serves those. With each element's text the
+// scene parser reads one element at a time instead of the whole document at
+// once (a million bodies' document tree took a gigabyte).
+struct JsonElement {
+    TextLocation where;     // locateJsonPath(text, childPath(key, index))
+    std::string_view text;  // the element's value, from its first to its last character
+};
+
 class JsonElementIndex {
 public:
     explicit JsonElementIndex(std::string_view text);
 
-    // locateJsonPath(text, childPath(key, index)); nullopt when the root has
-    // no array `key` or it has no element `index`.
-    std::optional<TextLocation> element(std::string_view key, std::size_t index) const;
+    // The elements of the root's array `key`, in order; none when the root
+    // has no such array.
+    std::span<const JsonElement> elements(std::string_view key) const;
 
 private:
     struct Array {
         std::string key;
-        std::vector<TextLocation> elements;
+        std::vector<JsonElement> elements;
     };
     std::vector<Array> arrays_;
 };

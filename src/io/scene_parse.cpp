@@ -204,18 +204,19 @@ private:
 
     // ---- sections
     // Reads the root's optional array `key` into `out` with read(element,
-    // path, out[i], i), noting where each element sits (buildWorld's errors
+    // path, out[i], i), one element at a time from its own text (the root
+    // was parsed without them), noting where each sits (buildWorld's errors
     // name it).
     template <class T, class Read>
-    void section(const json& doc, std::string_view key, std::vector<T>& out, Read&& read) const {
-        opt(doc, "", key, [&](const json& v, const std::string& p) {
+    void section(const json& root, std::string_view key, std::vector<T>& out, Read&& read) const {
+        opt(root, "", key, [&](const json& v, const std::string& p) {
             requireArray(v, p);
-            out.resize(v.size());
-            for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::span<const detail::JsonElement> elements = elements_->elements(key);
+            out.resize(elements.size());
+            for (std::size_t i = 0; i < elements.size(); ++i) {
                 const std::string elementPath = childPath(p, i);
-                const auto loc = elements_->element(key, i);
-                out[i].where = {elementPath, loc ? loc->line : 0, loc ? loc->column : 0};
-                read(v[i], elementPath, out[i], i);
+                out[i].where = {elementPath, elements[i].where.line, elements[i].where.column};
+                read(json::parse(elements[i].text), elementPath, out[i], i);
             }
         });
     }
@@ -675,9 +676,20 @@ void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& clot
 }
 
 Scene Parser::parse() {
+    // The document without the elements of the root's arrays (bodies,
+    // joints...): those are parsed one at a time by section(), so a large
+    // scene never has its whole document tree in memory (a gigabyte for a
+    // million bodies, and the time to allocate and free it). The parse still
+    // reads, and checks, all of the text.
+    bool inRootArray = false;
+    const auto skipRootArrayElements = [&inRootArray](int depth, json::parse_event_t event, json&) {
+        using E = json::parse_event_t;
+        if (depth == 1 && (event == E::array_start || event == E::object_start)) inRootArray = event == E::array_start;
+        return !(depth == 2 && inRootArray && (event == E::object_start || event == E::array_start || event == E::value));
+    };
     json doc;
     try {
-        doc = json::parse(text_);
+        doc = json::parse(text_, skipRootArrayElements);
     } catch (const json::parse_error& e) {
         const auto loc = detail::locationOfOffset(text_, e.byte > 0 ? e.byte - 1 : 0);
         throw SceneError(source_, "", loc.line, loc.column, "malformed JSON: " + detail::nlohmannReason(e.what()));

@@ -6,6 +6,7 @@
 // every error still names the right path and line.
 #include <gtest/gtest.h>
 
+#include <span>
 #include <string>
 
 #include "fulcrum/scene.hpp"
@@ -117,7 +118,26 @@ TEST(SceneLoadScaling, ErrorsAtTheEndOfALargeFileNameTheirPathAndLine) {
     }
 }
 
-TEST(JsonElementIndex, AgreesWithTheFullScanOnEveryElement) {
+TEST(SceneLoadScaling, KeysOfAHugeObjectAreCheckedForDuplicates) {
+    // 40,000 keys in one object (past the linear search, into the hash set):
+    // the first repeated key is the error, at its path.
+    std::string text = "{\"world\": {";
+    for (int i = 0; i < 40000; ++i) text += "\"k" + std::to_string(i) + "\": " + std::to_string(i) + ", ";
+    test::expectError(text + "\"k5\": 0, \"k7\": 0}}", "world.k5", "duplicate key", 1);
+    test::expectError(text + "\"k40000\": 0}}", "world.k0", "unknown key");  // no duplicate: the keys are checked next
+    // The first duplicate while the search is still linear.
+    test::expectError(R"({"world": {"dt": 0.1, "steps": 3, "dt": 0.2}})", "world.dt", "duplicate key", 1);
+}
+
+TEST(SceneLoadScaling, NumbersTooLargeForADoubleAreFoundWithOrWithoutAnExponent) {
+    const std::string body = R"({"bodies": [{"shape": {"type": "sphere", "radius": )";
+    test::expectError(body + "1e999}}]}", "bodies[0].shape.radius", "out of range (not a finite number)", 1);
+    test::expectError(body + "1" + std::string(309, '0') + "}}]}", "bodies[0].shape.radius", "out of range (not a finite number)", 1);
+    // 308 digits is a finite double (then too large for the engine's floats).
+    test::expectError(body + "1" + std::string(307, '0') + "}}]}", "bodies[0].shape.radius", "out of range for the engine's single-precision");
+}
+
+TEST(JsonElementIndex, AgreesWithTheFullScanOnEveryElementAndHoldsItsText) {
     // Strings holding brackets, braces, quotes and escapes, CRLF line ends,
     // nested arrays, an empty array, a non-array member and arrays deeper
     // than the root's members (not indexed), a key written with an escape.
@@ -126,21 +146,32 @@ TEST(JsonElementIndex, AgreesWithTheFullScanOnEveryElement) {
                              "\"joints\": [],\"world\": {\"gravity\": [0, [1], 2]}, \"ropes\": [\n\n  {}], \"cl\\u006fths\": [7]}";
     const detail::JsonElementIndex index(text);
     for (const char* key : {"bodies", "joints", "ropes", "cloths"}) {
+        const std::span<const detail::JsonElement> elements = index.elements(key);
         for (std::size_t i = 0; i < 7; ++i) {
             const auto full = detail::locateJsonPath(text, detail::childPath(key, i));
-            const auto indexed = index.element(key, i);
-            ASSERT_EQ(full.has_value(), indexed.has_value()) << key << "[" << i << "]";
+            ASSERT_EQ(full.has_value(), i < elements.size()) << key << "[" << i << "]";
             if (!full) continue;
-            EXPECT_EQ(indexed->line, full->line) << key << "[" << i << "]";
-            EXPECT_EQ(indexed->column, full->column) << key << "[" << i << "]";
+            EXPECT_EQ(elements[i].where.line, full->line) << key << "[" << i << "]";
+            EXPECT_EQ(elements[i].where.column, full->column) << key << "[" << i << "]";
         }
     }
-    EXPECT_EQ(index.element("bodies", 5)->line, 4);  // the last element, `null`
-    EXPECT_EQ(index.element("ropes", 0)->line, 7);
-    EXPECT_EQ(index.element("cloths", 0)->column, 24);
-    EXPECT_FALSE(index.element("world", 0));        // an object, not an array
-    EXPECT_FALSE(index.element("gravity", 0));      // not a member of the root
-    EXPECT_FALSE(index.element("description", 0));
+    // Each element's text is its whole value, nothing around it.
+    const std::span<const detail::JsonElement> bodies = index.elements("bodies");
+    ASSERT_EQ(bodies.size(), 6u);
+    EXPECT_EQ(bodies[0].text, R"({"name": "x]"})");
+    EXPECT_EQ(bodies[1].text, R"({"a": [[1, 2], {"b": "["}]})");
+    EXPECT_EQ(bodies[2].text, "3");
+    EXPECT_EQ(bodies[3].text, R"("\u005b")");
+    EXPECT_EQ(bodies[4].text, "[]");
+    EXPECT_EQ(bodies[5].text, "null");
+    EXPECT_EQ(bodies[5].where.line, 4);
+    EXPECT_EQ(index.elements("ropes")[0].where.line, 7);
+    EXPECT_EQ(index.elements("ropes")[0].text, "{}");
+    EXPECT_EQ(index.elements("cloths")[0].where.column, 24);
+    EXPECT_TRUE(index.elements("joints").empty());
+    EXPECT_TRUE(index.elements("world").empty());        // an object, not an array
+    EXPECT_TRUE(index.elements("gravity").empty());      // not a member of the root
+    EXPECT_TRUE(index.elements("description").empty());  // a string
 }
 
 }  // namespace
