@@ -1,8 +1,11 @@
 // The position pass over JSON text; see json_locator.hpp for why it exists.
 #include "io/json_locator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
+#include <unordered_set>
 #include <vector>
 
 namespace fulcrum::detail {
@@ -12,11 +15,76 @@ namespace {
 // Deeper documents are not scenes; the limit keeps the recursion bounded.
 constexpr int kMaxDepth = 256;
 
-struct StopScan {};  // unwinds the recursion once the answer is known
+thread_local std::uint64_t bytesScanned = 0;
+
+// Paths as errors print them: `bodies[3].shape.radius`.
+void appendKey(std::string& path, std::string_view key) {
+    if (!path.empty()) path += '.';
+    path += key;
+}
+void appendIndex(std::string& path, std::size_t index) {
+    path += '[';
+    path += std::to_string(index);
+    path += ']';
+}
+
+// Lines and columns of increasing offsets into a text, counted in one sweep.
+class LineCounter {
+public:
+    explicit LineCounter(std::string_view text) : text_(text) {}
+
+    // The location of byte `offset` (clamped to the text's end); offsets must
+    // not decrease from one call to the next.
+    TextLocation advanceTo(std::size_t offset) {
+        const std::size_t end = std::min(offset, text_.size());
+        if (end > pos_) bytesScanned += end - pos_;
+        for (; pos_ < end; ++pos_) {
+            if (text_[pos_] == '\n') {
+                ++loc_.line;
+                loc_.column = 1;
+            } else {
+                ++loc_.column;
+            }
+        }
+        return loc_;
+    }
+
+private:
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    TextLocation loc_{1, 1};
+};
+
+struct StopScan {};
+
+// The keys of one object, to find a duplicate: a linear search is fastest for
+// the few keys of a scene's objects, a hash set keeps a huge object (a fuzzed
+// file's) linear in its size.
+class KeySet {
+public:
+    // False when `key` is already in the set.
+    bool insert(std::string key) {
+        if (hashed_.empty() && list_.size() < kLinearSearchLimit) {
+            if (std::find(list_.begin(), list_.end(), key) != list_.end()) return false;
+            list_.push_back(std::move(key));
+            return true;
+        }
+        if (hashed_.empty()) hashed_.insert(std::make_move_iterator(list_.begin()), std::make_move_iterator(list_.end()));
+        return hashed_.insert(std::move(key)).second;
+    }
+
+private:
+    static constexpr std::size_t kLinearSearchLimit = 32;
+    std::vector<std::string> list_;
+    std::unordered_set<std::string> hashed_;
+};  // unwinds the recursion once the answer is known
 
 class Scanner {
 public:
-    enum class Mode { Locate, FindProblem };
+    // Locate: the position of `target`. FindProblem: the first duplicate key
+    // or overflowing number. IndexElements: where the elements of the root
+    // object's arrays begin and end, in `rootArrays`.
+    enum class Mode { Locate, FindProblem, IndexElements };
 
     Scanner(std::string_view text, Mode mode, std::string_view target) : text_(text), mode_(mode), target_(target) {}
 
@@ -25,10 +93,19 @@ public:
             value(0);
         } catch (const StopScan&) {
         }
+        bytesScanned += pos_;
     }
 
     std::optional<TextLocation> found;
     std::optional<JsonScanProblem> problem;
+    struct Range {
+        std::size_t begin, end;
+    };
+    struct RootArray {
+        std::string key;
+        std::vector<Range> elements;
+    };
+    std::vector<RootArray> rootArrays;
 
 private:
     void skipWhitespace() {
@@ -120,8 +197,11 @@ private:
             if ((c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' || c == 'e' || c == 'E') ++pos_;
             else break;
         }
-        if (mode_ == Mode::FindProblem) {
-            const std::string token(text_.substr(start, pos_ - start));
+        // Only an exponent or more than 308 digits can overflow a double: the
+        // conversion is skipped for the other numbers (it cost 8 % of a load).
+        const std::string_view digits = text_.substr(start, pos_ - start);
+        if (mode_ == Mode::FindProblem && (digits.find_first_of("eE") != std::string_view::npos || digits.size() > 300)) {
+            const std::string token(digits);
             const double v = std::strtod(token.c_str(), nullptr);
             if (!std::isfinite(v)) report(start, "number " + token + " is out of range (not a finite number)");
         }
@@ -150,20 +230,16 @@ private:
 
     void object(int depth) {
         ++pos_;
-        std::vector<std::string> keys;
+        KeySet keys;
         for (;;) {
             skipWhitespace();
             if (pos_ >= text_.size() || text_[pos_] == '}') break;
             const std::size_t keyStart = pos_;
             std::string key = string();
             const std::size_t saved = path_.size();
-            path_ = childPath(path_, key);
-            if (mode_ == Mode::FindProblem) {
-                for (const std::string& k : keys) {
-                    if (k == key) report(keyStart, "duplicate key");
-                }
-                keys.push_back(std::move(key));
-            }
+            appendKey(path_, key);
+            if (mode_ == Mode::IndexElements && depth == 0) rootKey_ = key;
+            if (mode_ == Mode::FindProblem && !keys.insert(std::move(key))) report(keyStart, "duplicate key");
             checkTarget(keyStart);
             skipWhitespace();
             ++pos_;  // ':'
@@ -177,13 +253,17 @@ private:
 
     void array(int depth) {
         ++pos_;
+        std::vector<Range>* ranges = nullptr;
+        if (mode_ == Mode::IndexElements && depth == 1 && rootKey_) ranges = &rootArrays.emplace_back(RootArray{*rootKey_, {}}).elements;
         for (std::size_t index = 0;; ++index) {
             skipWhitespace();
             if (pos_ >= text_.size() || text_[pos_] == ']') break;
             const std::size_t saved = path_.size();
-            path_ = childPath(path_, index);
+            appendIndex(path_, index);
             checkTarget(pos_);
+            const std::size_t begin = pos_;
             value(depth + 1);
+            if (ranges) ranges->push_back({begin, pos_});
             path_.resize(saved);
             skipWhitespace();
             if (pos_ < text_.size() && text_[pos_] == ',') ++pos_;
@@ -196,23 +276,12 @@ private:
     std::string_view target_;
     std::size_t pos_ = 0;
     std::string path_;
+    std::optional<std::string> rootKey_;  // IndexElements: the root member being scanned
 };
 
 }  // namespace
 
-TextLocation locationOfOffset(std::string_view text, std::size_t offset) {
-    TextLocation loc{1, 1};
-    const std::size_t end = offset < text.size() ? offset : text.size();
-    for (std::size_t i = 0; i < end; ++i) {
-        if (text[i] == '\n') {
-            ++loc.line;
-            loc.column = 1;
-        } else {
-            ++loc.column;
-        }
-    }
-    return loc;
-}
+TextLocation locationOfOffset(std::string_view text, std::size_t offset) { return LineCounter(text).advanceTo(offset); }
 
 std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_view path) {
     Scanner scanner(text, Scanner::Mode::Locate, path);
@@ -225,24 +294,45 @@ std::optional<TextLocation> locateJsonPath(std::string_view text, std::string_vi
     return scanner.found;
 }
 
+JsonElementIndex::JsonElementIndex(std::string_view text) {
+    Scanner scanner(text, Scanner::Mode::IndexElements, {});
+    scanner.run();
+    // The scan met the elements in document order: one sweep counts their lines.
+    LineCounter lines(text);
+    arrays_.reserve(scanner.rootArrays.size());
+    for (const Scanner::RootArray& array : scanner.rootArrays) {
+        Array& out = arrays_.emplace_back(Array{array.key, {}});
+        out.elements.reserve(array.elements.size());
+        for (const Scanner::Range& r : array.elements) {
+            out.elements.push_back({lines.advanceTo(r.begin), text.substr(r.begin, r.end - r.begin)});
+        }
+    }
+}
+
+std::span<const JsonElement> JsonElementIndex::elements(std::string_view key) const {
+    for (const Array& array : arrays_) {
+        if (array.key == key) return array.elements;
+    }
+    return {};
+}
+
 std::optional<JsonScanProblem> findJsonProblem(std::string_view text) {
     Scanner scanner(text, Scanner::Mode::FindProblem, {});
     scanner.run();
     return scanner.problem;
 }
 
+std::uint64_t jsonBytesScanned() { return bytesScanned; }
+
 std::string childPath(std::string_view parent, std::string_view key) {
     std::string p(parent);
-    if (!p.empty()) p += '.';
-    p += key;
+    appendKey(p, key);
     return p;
 }
 
 std::string childPath(std::string_view parent, std::size_t index) {
     std::string p(parent);
-    p += '[';
-    p += std::to_string(index);
-    p += ']';
+    appendIndex(p, index);
     return p;
 }
 

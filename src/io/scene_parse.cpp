@@ -15,6 +15,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
@@ -45,9 +46,21 @@ private:
         throw SceneError(source_, path, loc ? loc->line : 0, loc ? loc->column : 0, reason);
     }
 
-    SceneLocation locate(const std::string& path) const {
-        const auto loc = detail::locateJsonPath(text_, path);
-        return {path, loc ? loc->line : 0, loc ? loc->column : 0};
+    // Names already taken in a section of the document (views of the names
+    // kept in the Scene, whose vectors are sized before they are filled), and
+    // the index of the element that took each.
+    using NameIndex = std::unordered_map<std::string_view, std::size_t>;
+
+    // Registers the name (if any) of element `index` of `section`; an earlier
+    // element with the same name is an error.
+    void registerName(NameIndex& names, const std::string& name, std::size_t index, const std::string& path,
+                      std::string_view what, std::string_view section) const {
+        if (name.empty()) return;
+        const auto [taken, isNew] = names.try_emplace(name, index);
+        if (!isNew) {
+            fail(childPath(path, "name"), "duplicate " + std::string(what) + " name '" + name + "' (also " +
+                                              childPath(section, taken->second) + ")");
+        }
     }
 
     static std::string typeName(const json& v) {
@@ -201,6 +214,23 @@ private:
     }
 
     // ---- sections
+    // Reads the root's optional array `key` into `out` with read(element,
+    // path, out[i], i), one element at a time from its own text (the root
+    // was parsed without them), noting where each sits (buildWorld's errors
+    // name it).
+    template <class T, class Read>
+    void section(const json& root, std::string_view key, std::vector<T>& out, Read&& read) const {
+        opt(root, "", key, [&](const json& v, const std::string& p) {
+            requireArray(v, p);
+            const std::span<const detail::JsonElement> elements = elements_->elements(key);
+            out.resize(elements.size());
+            for (std::size_t i = 0; i < elements.size(); ++i) {
+                const std::string elementPath = childPath(p, i);
+                out[i].where = {elementPath, elements[i].where.line, elements[i].where.column};
+                read(json::parse(elements[i].text), elementPath, out[i], i);
+            }
+        });
+    }
     void parseWorld(const json& j, const std::string& path, Scene& scene) const;
     ShapeDesc parseShape(const json& j, const std::string& path, int depth) const;
     void parseBody(const json& j, const std::string& path, SceneBody& body) const;
@@ -213,6 +243,8 @@ private:
 
     std::string_view text_;
     std::string source_;
+    std::optional<detail::JsonElementIndex> elements_;  // built once the text is known to be valid JSON
+    NameIndex bodyIndex_;                               // the bodies' names, which joints and springs refer to
 };
 
 void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) const {
@@ -373,7 +405,6 @@ void Parser::parseBody(const json& j, const std::string& path, SceneBody& body) 
                "awake"},
               "a body");
     BodyDef& d = body.def;
-    body.where = locate(path);
     opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
     opt(j, path, "type", [&](const json& v, const std::string& p) {
         const std::string name = string(v, p);
@@ -481,9 +512,7 @@ std::string Parser::bodyRef(const json& v, const std::string& path, const Scene&
     }
     const std::string name = string(v, path);
     if (name.empty()) fail(path, "body name must not be empty");
-    for (const SceneBody& b : scene.bodies) {
-        if (b.def.name == name) return name;
-    }
+    if (bodyIndex_.contains(name)) return name;
     std::vector<std::string_view> names;
     for (const SceneBody& b : scene.bodies) {
         if (!b.def.name.empty()) names.push_back(b.def.name);
@@ -497,7 +526,6 @@ std::string Parser::bodyRef(const json& v, const std::string& path, const Scene&
 void Parser::parseJoint(const json& j, const std::string& path, const Scene& scene, SceneJoint& joint) const {
     requireObject(j, path);
     JointDef& d = joint.def;
-    joint.where = locate(path);
     const std::string typePath = childPath(path, "type");
     const std::string typeName = string(required(j, path, "type"), typePath);
     const auto type = detail::jointTypeFromString(typeName);
@@ -583,7 +611,6 @@ void Parser::parseSpring(const json& j, const std::string& path, const Scene& sc
     requireObject(j, path);
     checkKeys(j, path, {"body_a", "body_b", "anchor_a", "anchor_b", "rest_length", "stiffness", "damping"}, "a spring");
     SpringDef& d = spring.def;
-    spring.where = locate(path);
     opt(j, path, "body_a", [&](const json& v, const std::string& p) { spring.bodyA = bodyRef(v, p, scene, true); });
     spring.bodyB = bodyRef(required(j, path, "body_b"), childPath(path, "body_b"), scene, false);
     if (spring.bodyA == spring.bodyB) fail(childPath(path, "body_b"), "a spring needs two different bodies, got '" + spring.bodyB + "' twice");
@@ -602,7 +629,6 @@ void Parser::parseRope(const json& j, const std::string& path, const Scene& scen
                "attach_end", "stretch_compliance", "bend_compliance"},
               "a rope");
     RopeDef& d = rope.def;
-    rope.where = locate(path);
     opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
     d.start = vec3(required(j, path, "start"), childPath(path, "start"));
     d.end = vec3(required(j, path, "end"), childPath(path, "end"));
@@ -630,7 +656,6 @@ void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& clot
                "stretch_compliance", "bend_compliance"},
               "a cloth");
     ClothDef& d = cloth.def;
-    cloth.where = locate(path);
     opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
     d.origin = vec3(required(j, path, "origin"), childPath(path, "origin"));
     opt(j, path, "u_axis", [&](const json& v, const std::string& p) { d.uAxis = nonZeroVec3(v, p, "u_axis"); });
@@ -677,9 +702,20 @@ Scene Parser::parse() {
                          "a NUL byte at byte offset " + std::to_string(nul) + " (of " + std::to_string(text_.size()) +
                              "): a scene file is JSON text");
     }
+    // The document without the elements of the root's arrays (bodies,
+    // joints...): those are parsed one at a time by section(), so a large
+    // scene never has its whole document tree in memory (a gigabyte for a
+    // million bodies, and the time to allocate and free it). The parse still
+    // reads, and checks, all of the text.
+    bool inRootArray = false;
+    const auto skipRootArrayElements = [&inRootArray](int depth, json::parse_event_t event, json&) {
+        using E = json::parse_event_t;
+        if (depth == 1 && (event == E::array_start || event == E::object_start)) inRootArray = event == E::array_start;
+        return !(depth == 2 && inRootArray && (event == E::object_start || event == E::array_start || event == E::value));
+    };
     json doc;
     try {
-        doc = json::parse(text_);
+        doc = json::parse(text_, skipRootArrayElements);
     } catch (const json::parse_error& e) {
         const auto loc = detail::locationOfOffset(text_, e.byte > 0 ? e.byte - 1 : 0);
         throw SceneError(source_, "", loc.line, loc.column, "malformed JSON: " + detail::nlohmannReason(e.what()));
@@ -711,49 +747,24 @@ Scene Parser::parse() {
     checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths"}, "a scene");
     opt(doc, root, "description", [&](const json& v, const std::string& p) { scene.description = string(v, p); });
     opt(doc, root, "world", [&](const json& v, const std::string& p) { parseWorld(v, p, scene); });
-    opt(doc, root, "bodies", [&](const json& v, const std::string& p) {
-        requireArray(v, p);
-        scene.bodies.resize(v.size());
-        for (std::size_t i = 0; i < v.size(); ++i) {
-            const std::string bp = childPath(p, i);
-            parseBody(v[i], bp, scene.bodies[i]);
-            const std::string& name = scene.bodies[i].def.name;
-            if (name.empty()) continue;
-            for (std::size_t k = 0; k < i; ++k) {
-                if (scene.bodies[k].def.name == name) {
-                    fail(childPath(bp, "name"), "duplicate body name '" + name + "' (also bodies[" + std::to_string(k) + "])");
-                }
-            }
-        }
+    elements_.emplace(text_);
+    section(doc, "bodies", scene.bodies, [&](const json& v, const std::string& p, SceneBody& body, std::size_t i) {
+        parseBody(v, p, body);
+        registerName(bodyIndex_, body.def.name, i, p, "body", "bodies");
     });
-    opt(doc, root, "springs", [&](const json& v, const std::string& p) {
-        requireArray(v, p);
-        scene.springs.resize(v.size());
-        for (std::size_t i = 0; i < v.size(); ++i) parseSpring(v[i], childPath(p, i), scene, scene.springs[i]);
+    section(doc, "springs", scene.springs, [&](const json& v, const std::string& p, SceneSpring& spring, std::size_t) {
+        parseSpring(v, p, scene, spring);
     });
-    opt(doc, root, "joints", [&](const json& v, const std::string& p) {
-        requireArray(v, p);
-        scene.joints.resize(v.size());
-        for (std::size_t i = 0; i < v.size(); ++i) {
-            const std::string jp = childPath(p, i);
-            parseJoint(v[i], jp, scene, scene.joints[i]);
-            const std::string& name = scene.joints[i].def.name;
-            for (std::size_t k = 0; k < i && !name.empty(); ++k) {
-                if (scene.joints[k].def.name == name) {
-                    fail(childPath(jp, "name"), "duplicate joint name '" + name + "' (also joints[" + std::to_string(k) + "])");
-                }
-            }
-        }
+    NameIndex jointNames;
+    section(doc, "joints", scene.joints, [&](const json& v, const std::string& p, SceneJoint& joint, std::size_t i) {
+        parseJoint(v, p, scene, joint);
+        registerName(jointNames, joint.def.name, i, p, "joint", "joints");
     });
-    opt(doc, root, "ropes", [&](const json& v, const std::string& p) {
-        requireArray(v, p);
-        scene.ropes.resize(v.size());
-        for (std::size_t i = 0; i < v.size(); ++i) parseRope(v[i], childPath(p, i), scene, scene.ropes[i]);
+    section(doc, "ropes", scene.ropes, [&](const json& v, const std::string& p, SceneRope& rope, std::size_t) {
+        parseRope(v, p, scene, rope);
     });
-    opt(doc, root, "cloths", [&](const json& v, const std::string& p) {
-        requireArray(v, p);
-        scene.cloths.resize(v.size());
-        for (std::size_t i = 0; i < v.size(); ++i) parseCloth(v[i], childPath(p, i), scene.cloths[i]);
+    section(doc, "cloths", scene.cloths, [&](const json& v, const std::string& p, SceneCloth& cloth, std::size_t) {
+        parseCloth(v, p, cloth);
     });
     return scene;
 }
