@@ -79,7 +79,6 @@ void BroadPhase::prepareQueries(std::uint32_t workers) {
         workerPairs_.resize(workers);
         for (std::size_t k = had; k < workers; ++k) workerPairs_[k].pairs.reserve(pairs_.capacity());
     }
-    if (workerPairs_.empty()) workerPairs_.resize(1);
     // Grown with the proxy records' capacity: only when proxies were created.
     for (QueryScratch& wp : workerPairs_) {
         if (wp.stamp.size() < records_.size()) wp.stamp.resize(records_.capacity(), 0u);

@@ -8,7 +8,10 @@
 // coming motion already exist. New pairs, in the broad phase's deterministic
 // order, become Contacts after the filters (CollisionFilter, sensor-sensor,
 // and the joint rule: bodies joined by a joint without collideConnected don't
-// collide). A contact ends when the fat boxes stop overlapping.
+// collide). A contact ends when the fat boxes stop overlapping. At most
+// WorldDef::maxContactPairs contacts live (contactPairLimit below): the broad
+// phase reports no more new pairs than there is room for and keeps the
+// bodies whose pairs wait (docs/solver.md, "Contact pair limit").
 //
 // Each contact with at least one awake body runs collide() with a speculative
 // margin of `WorldDef::speculativeMargin` plus the pair's possible approach
