@@ -36,11 +36,12 @@
 
 namespace fulcrum {
 
-// The format version this build writes. It also reads version 2 (the fields
-// version 3 added take their defaults); older or newer versions are refused.
-// 2: joint solver runtime state; 3: joint friction (JointDef::frictionTorque
-// and its impulse) and the WorldDef joint solver settings.
-inline constexpr std::uint32_t kSnapshotVersion = 3;
+// The format version this build writes. It also reads versions 2 and 3 (the
+// fields later versions added take their defaults); older or newer versions
+// are refused. 2: joint solver runtime state; 3: joint friction
+// (JointDef::frictionTorque and its impulse) and the WorldDef joint solver
+// settings; 4: WorldDef::maxContactPairs.
+inline constexpr std::uint32_t kSnapshotVersion = 4;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -28,6 +28,15 @@ public:
 };
 
 enum class Integrator : std::uint8_t { ExplicitEuler, SemiImplicitEuler, Verlet };
+
+// WorldDef::maxContactPairs = 0 (automatic) allows kAutoContactPairsPerBody
+// pairs per body plus kAutoContactPairsBase. A dense pile holds 3-8 pairs per
+// body (docs/solver.md, "Contact pair limit"), so only bodies crowded far
+// beyond touching reach it; the base leaves every world of a few hundred
+// bodies unlimited (N bodies at one spot make N(N-1)/2 pairs: 362 make 65,341).
+inline constexpr std::int64_t kAutoContactPairsPerBody = 16;
+inline constexpr std::int64_t kAutoContactPairsBase = 65536;
+inline constexpr std::int64_t kMaxContactPairs = 2147483647;  // the largest limit
 const char* toString(Integrator integrator);                        // "explicit_euler", ...
 std::optional<Integrator> integratorFromString(std::string_view name);
 
@@ -74,6 +83,15 @@ struct WorldDef {
     // ---- continuous collision: time of impact for fast bodies against static ones
     // (and `isBullet` bodies against dynamic ones as well).
     bool continuousCollision = true;
+    // ---- capacity (docs/solver.md, "Contact pair limit"): the most contact
+    // pairs (bodies whose fattened bounds overlap) the world holds, and so
+    // the memory and work of a step. Pairs the limit leaves out are searched
+    // again as pairs end and make room; meanwhile their bodies pass through
+    // each other. The same bits for every thread count either way, and
+    // World::warnings() says when it happened. 0: automatic
+    // (kAutoContactPairsPerBody per body plus kAutoContactPairsBase);
+    // otherwise 1 to kMaxContactPairs.
+    std::int64_t maxContactPairs = 0;
 };
 
 // A contact or sensor event of the last step. Contacts: the two bodies (bodyA
@@ -118,6 +136,18 @@ struct StepProfile {
     std::uint32_t contactConstraints = 0;  // touching manifolds the solver worked on
     std::uint32_t jointConstraints = 0;    // enabled joints with an awake body
     std::uint32_t workers = 0;             // the task system's worker count (1: the calling thread alone)
+    // The contact pair limit (WorldDef::maxContactPairs, docs/solver.md "Contact pair limit").
+    std::uint32_t contactPairs = 0;        // pairs held after the collide phase
+    std::uint32_t contactPairLimit = 0;    // the limit in effect
+    std::uint32_t pairsLeftOut = 0;        // new pairs the limit kept out in this step (a lower bound)
+    std::uint32_t bodiesOverPairLimit = 0; // bodies whose new pairs wait for room (0: none missing)
+};
+
+// Something the world noticed that the user should know (World::warnings):
+// each kind is raised once per world, at the step it first happened.
+struct WorldWarning {
+    std::uint64_t step = 0;  // World::stepCount() of the step that raised it
+    std::string message;
 };
 
 // One contact manifold of the last step, as reported to users and --json.
@@ -162,6 +192,9 @@ public:
     void setSleepingEnabled(bool enabled);
     void setThreadCount(int threads);
     void setParallelMinBodies(std::uint32_t minimum);  // WorldDef::parallelMinBodies
+    // WorldDef::maxContactPairs (validated the same way). A limit below the
+    // pairs held now keeps them; new ones wait until they end.
+    void setMaxContactPairs(std::int64_t limit);
     // Runs the step's parallel loops on a user's scheduler (docs/threading.md)
     // instead of the built-in pool sized by `threads`. Not owned: it must
     // outlive the world or be replaced first; nullptr goes back to the built-in
@@ -277,6 +310,9 @@ public:
     EnergyReport energy() const;
     // The last step's phase times and sizes (zeros before the first step).
     StepProfile lastStepProfile() const;
+    // What the world warned about so far, oldest first (e.g. the contact pair
+    // limit reached). Each kind once; not saved in snapshots.
+    std::span<const WorldWarning> warnings() const;
     Vec3 linearMomentum() const;
     Vec3 angularMomentum() const;                      // about the world origin
     // The touching manifolds of the last step, built when first read after it

@@ -2,6 +2,7 @@
 // is a template in broad_phase.hpp (the caller's predicate inlines into it).
 #include "collision/broad_phase.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 namespace fulcrum {
@@ -70,6 +71,63 @@ void BroadPhase::markMoved(ProxyId id, const AABB& oldFat, bool fresh) {
     } else if (fresh) {
         moveBuffer_[static_cast<std::size_t>(r.moveIndex)].fresh = true;
     }
+}
+
+void BroadPhase::prepareQueries(std::uint32_t workers) {
+    if (workerPairs_.size() < workers) {
+        const std::size_t had = workerPairs_.size();
+        workerPairs_.resize(workers);
+        for (std::size_t k = had; k < workers; ++k) workerPairs_[k].pairs.reserve(pairs_.capacity());
+    }
+    // Grown with the proxy records' capacity: only when proxies were created.
+    for (QueryScratch& wp : workerPairs_) {
+        if (wp.stamp.size() < records_.size()) wp.stamp.resize(records_.capacity(), 0u);
+    }
+    if (entryCut_.size() < moveBuffer_.size()) entryCut_.resize(moveBuffer_.capacity(), 0);
+}
+
+void BroadPhase::finishUpdate(std::size_t queried, std::uint32_t maxNewPairs, bool cutsRecorded) {
+    std::sort(pairs_.begin(), pairs_.end(),
+              [](const ProxyPair& l, const ProxyPair& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
+    lastUpdate_ = {};
+    if (pairs_.size() > maxNewPairs) {
+        // Past the room in (a, b) order. The query that found a pair waits:
+        // the smaller id's when both are in the move buffer, else the one there.
+        for (std::size_t k = maxNewPairs; k < pairs_.size(); ++k) {
+            const ProxyPair& p = pairs_[k];
+            const ProxyId reporter = record(p.a).moveIndex >= 0 ? p.a : p.b;
+            entryCut_[static_cast<std::size_t>(record(reporter).moveIndex)] |= 2;
+        }
+        lastUpdate_.leftOut = static_cast<std::uint32_t>(pairs_.size() - maxNewPairs);
+        pairs_.resize(maxNewPairs);
+    }
+    const std::size_t entries = moveBuffer_.size();
+    if (queried == entries && !cutsRecorded) {  // everything fit: the buffer empties
+        for (const MoveEntry& entry : moveBuffer_) {
+            if (entry.proxy != kNullProxy) record(entry.proxy).moveIndex = -1;
+        }
+        moveBuffer_.clear();
+        return;
+    }
+    // The entries that must wait, fresh: first those that did not query, then
+    // those that stopped early, so the next updates take turns through them.
+    waitingScratch_.clear();
+    for (std::size_t i = queried; i < entries; ++i) {
+        if (moveBuffer_[i].proxy != kNullProxy) waitingScratch_.push_back({moveBuffer_[i].proxy, true, AABB{}});
+    }
+    for (std::size_t i = 0; i < queried; ++i) {
+        const MoveEntry& entry = moveBuffer_[i];
+        if (entry.proxy == kNullProxy) continue;
+        if (cutsRecorded && entryCut_[i] != 0) {
+            waitingScratch_.push_back({entry.proxy, true, AABB{}});
+            if ((entryCut_[i] & 1) != 0) ++lastUpdate_.leftOut;  // it stopped at its share: one more at least
+        } else {
+            record(entry.proxy).moveIndex = -1;
+        }
+    }
+    moveBuffer_.swap(waitingScratch_);
+    for (std::size_t i = 0; i < moveBuffer_.size(); ++i) record(moveBuffer_[i].proxy).moveIndex = static_cast<std::int32_t>(i);
+    lastUpdate_.deferred = static_cast<std::uint32_t>(moveBuffer_.size());
 }
 
 std::string BroadPhase::validate() const {

@@ -29,6 +29,36 @@
 // over thousands of proxies and hundreds of steps). Since a fat box contains
 // its tight box, every allowed pair whose tight boxes overlap is in S.
 //
+// ---- A limit on new pairs (docs/broad-phase.md, "The pair limit") -------------
+// updatePairs(canPair, partners, tasks, maxNewPairs) returns at most
+// maxNewPairs pairs (the room the caller has left under its own limit on S).
+// N bodies created at one spot overlap in N^2/2 pairs: without a limit the
+// pair buffer alone grew to gigabytes. Under the limit the result is the same
+// as above (the first search stops as soon as it finds more than that).
+// Over it:
+//   - with no room, no entry queries; else the first
+//     max(kMinEntriesPerUpdate, maxNewPairs / kMinShare) entries of the move
+//     buffer query the trees again (the work of a step stays bounded too),
+//     each reporting at most its share, maxNewPairs / (entries queried), at
+//     least 1: its static partners first (the ground keeps a body in the
+//     world), then its moving ones in tree order. Every body then gets some
+//     of the room, not the lowest ids all of it. What is left over the limit
+//     after that (only when maxNewPairs < kMinEntriesPerUpdate) is cut from
+//     the end of the sorted list;
+//   - every entry that did not query, stopped at its share or had a reported
+//     pair cut stays in the move buffer as "fresh" (all its overlaps count as
+//     new), behind the others, so the next updates take turns through them;
+//   - the kept pairs are a function of the broad phase's state and the limit
+//     alone, never of the thread count (a function of each entry's own query,
+//     then the sorted list), so results stay bit-identical.
+// S then holds allowed overlapping pairs only, and every allowed overlapping
+// pair missing from S has a proxy in the move buffer. A fresh entry may have
+// pairs in S already; `partners(proxy, visit)` names them (visit(partnerId)
+// for each pair of S holding `proxy`), and they are not reported again. The
+// caller's contact lists give them (src/solver/contact_manager.cpp); an
+// update with no limit and no deferred entries never asks. lastUpdate() says
+// how many pairs were left out and how many entries wait.
+//
 // Why this works without a pair set: a fat box changes only when moveProxy()
 // reinserts it, and then the proxy enters the move buffer together with its
 // fat box as of the last update. Only moved proxies query the trees; a found
@@ -52,7 +82,7 @@
 // to its own buffer, the buffers are concatenated and the result is sorted by
 // (a, b), so it is identical for any thread count and scheduler (no pair can
 // be found twice: the rule "both moved: the smaller id reports" holds per
-// query). The canPair predicate must therefore be thread-safe. Moves (tree
+// query). The canPair predicate and `partners` must therefore be thread-safe. Moves (tree
 // updates) stay serial: they are cheap because most moves stay inside their
 // fat box.
 //
@@ -63,6 +93,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "collision/collision_filter.hpp"
@@ -80,6 +111,27 @@ struct ProxyPair {
     ProxyId a = kNullProxy, b = kNullProxy;
     std::uint32_t userA = 0, userB = 0;
     bool operator==(const ProxyPair&) const = default;
+};
+
+// updatePairs without a limit on the new pairs.
+inline constexpr std::uint32_t kNoPairLimit = UINT32_MAX;
+
+// The caller's pairs of a proxy, for a caller that keeps none apart from the
+// broad phase's reports (tests, benchmarks): a fresh proxy has no pair yet.
+struct NoKnownPairs {
+    template <typename Visit>
+    void operator()(ProxyId, Visit&&) const {}
+};
+
+// What the last updatePairs() left for later (all zero without a limit).
+struct PairUpdateStats {
+    // New pairs found but not reported: those cut from the sorted list, plus
+    // one for each entry stopped at its share (it had at least one more). A
+    // lower bound: entries that did not query are not counted.
+    std::uint32_t leftOut = 0;
+    // Entries left in the move buffer because their new pairs may be
+    // incomplete (each is a proxy whose overlaps are searched again).
+    std::uint32_t deferred = 0;
 };
 
 struct BroadPhaseConfig {
@@ -151,17 +203,38 @@ public:
     // Reports the new pairs (see the contract above). The span stays valid until
     // the next call that modifies the broad phase.
     template <PairPredicate Predicate>
-    std::span<const ProxyPair> updatePairs(const Predicate& canPair);
+    std::span<const ProxyPair> updatePairs(const Predicate& canPair) {
+        return updatePairs(canPair, NoKnownPairs{}, nullptr, kNoPairLimit);
+    }
     std::span<const ProxyPair> updatePairs() { return updatePairs(AcceptAllPairs{}); }
     // The same, with the queries run in parallel on `tasks` (same result).
     template <PairPredicate Predicate>
-    std::span<const ProxyPair> updatePairs(const Predicate& canPair, TaskSystem& tasks);
+    std::span<const ProxyPair> updatePairs(const Predicate& canPair, TaskSystem& tasks) {
+        return updatePairs(canPair, NoKnownPairs{}, &tasks, kNoPairLimit);
+    }
+    // At most maxNewPairs of them (kNoPairLimit: all), on `tasks` (nullptr:
+    // this thread); `partners` names the caller's pairs of a proxy (see "A
+    // limit on new pairs" above). The same result for any thread count.
+    template <PairPredicate Predicate, typename Partners>
+    std::span<const ProxyPair> updatePairs(const Predicate& canPair, const Partners& partners, TaskSystem* tasks,
+                                           std::uint32_t maxNewPairs);
+    // The last update's pairs left for later (zeros when everything fit).
+    const PairUpdateStats& lastUpdate() const { return lastUpdate_; }
+    // Over the limit, the entries that query get a share of at least
+    // kMinShare pairs each, but at least kMinEntriesPerUpdate entries query
+    // (a share of 1 or more), so a long queue of waiting entries drains even
+    // while little room frees up. A query of a body in a crowd visits the
+    // whole crowd, so these bound the work of an update over the limit:
+    // 10,000 spheres at one spot, at most 7,000 queries in the first step
+    // (225,552 pairs of room) and a few hundred in the next ones.
+    static constexpr std::size_t kMinEntriesPerUpdate = 256;
+    static constexpr std::size_t kMinShare = 32;
 
     // Grows the new-pair buffer so updatePairs() need not allocate (the world
     // calls it when bodies are created).
     void reservePairs(std::size_t count) {
         if (pairs_.capacity() < count) pairs_.reserve(count);
-        for (WorkerPairs& wp : workerPairs_)
+        for (QueryScratch& wp : workerPairs_)
             if (wp.pairs.capacity() < count) wp.pairs.reserve(count);
     }
 
@@ -227,9 +300,35 @@ private:
         if (a == BodyType::Static && b == BodyType::Static) return false;
         return !config_.requireDynamic || a == BodyType::Dynamic || b == BodyType::Dynamic;
     }
-    template <typename Predicate>
-    void findNewPairs(const MoveEntry& entry, const Predicate& canPair, std::vector<ProxyPair>& out) const;
-    void finishUpdate();  // sorts pairs_ and empties the move buffer
+    // Per-worker state of the pair queries (one cache line apart: their size
+    // fields change on every push). Reserved like pairs_ once a worker count
+    // is known, so steady-state steps allocate nothing.
+    struct alignas(64) QueryScratch {
+        std::vector<ProxyPair> pairs;
+        // The caller's partners of the querying proxy (see `partners`):
+        // stamp[id] == epoch marks a pair already in S. Indexed by proxy id.
+        std::vector<std::uint32_t> stamp;
+        std::uint32_t epoch = 0;
+        template <typename Partners>
+        void stampPartners(ProxyId self, const Partners& partners);
+    };
+    static constexpr std::uint32_t kNoEntryCap = UINT32_MAX;
+    // One query: appends the new pairs of `entry` to `out`, at most entryCap
+    // of them and while out holds fewer than outCap. Returns false when it
+    // stopped with a pair unreported.
+    template <typename Predicate, typename Partners>
+    bool findNewPairs(const MoveEntry& entry, const Predicate& canPair, const Partners& partners, std::uint32_t entryCap,
+                      std::size_t outCap, QueryScratch& scratch, std::vector<ProxyPair>& out) const;
+    // The queries of the first `count` entries into pairs_, on `tasks` (or this
+    // thread); with recordCuts, entryCut_[i] says whether entry i stopped early.
+    template <typename Predicate, typename Partners>
+    void runQueries(std::size_t count, std::uint32_t entryCap, std::size_t outCap, bool recordCuts,
+                    const Predicate& canPair, const Partners& partners, TaskSystem* tasks);
+    void prepareQueries(std::uint32_t workers);  // sizes the per-worker scratch and the cut flags
+    // Sorts pairs_, cuts it to maxNewPairs, and rebuilds the move buffer from
+    // the entries that must wait: those past `queried`, and with cutsRecorded
+    // those whose entryCut_ is set or whose pair was cut.
+    void finishUpdate(std::size_t queried, std::uint32_t maxNewPairs, bool cutsRecorded);
 
     BroadPhaseConfig config_;
     DynamicTree staticTree_;
@@ -237,23 +336,34 @@ private:
     std::vector<ProxyRecord> records_;
     ProxyId freeRecord_ = kNullProxy;
     std::vector<MoveEntry> moveBuffer_;
+    std::vector<MoveEntry> waitingScratch_;  // finishUpdate: the entries that wait
+    std::vector<std::uint8_t> entryCut_;     // per move entry: 1 its query stopped at its share, 2 a pair of it was cut
     std::vector<ProxyPair> pairs_;
-    // Per-worker outputs of the parallel queries (one cache line apart: their
-    // size fields change on every push). Reserved like pairs_ once a worker
-    // count is known, so steady-state steps allocate nothing.
-    struct alignas(64) WorkerPairs {
-        std::vector<ProxyPair> pairs;
-    };
-    std::vector<WorkerPairs> workerPairs_;
+    std::vector<QueryScratch> workerPairs_;  // [0] also serves the queries on one thread
+    PairUpdateStats lastUpdate_;
 };
 
 // ---- templates ------------------------------------------------------------------
 
-template <typename Predicate>
-void BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, std::vector<ProxyPair>& out) const {
+template <typename Partners>
+void BroadPhase::QueryScratch::stampPartners(ProxyId self, const Partners& partners) {
+    if (++epoch == 0) {  // wrapped: old stamps could match again
+        std::fill(stamp.begin(), stamp.end(), 0u);
+        epoch = 1;
+    }
+    partners(self, [&](ProxyId partner) { stamp[static_cast<std::size_t>(partner)] = epoch; });
+}
+
+template <typename Predicate, typename Partners>
+bool BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, const Partners& partners,
+                              std::uint32_t entryCap, std::size_t outCap, QueryScratch& scratch,
+                              std::vector<ProxyPair>& out) const {
     const ProxyId self = entry.proxy;
     const ProxyRecord& me = record(self);
     const AABB& box = fatAABB(self);
+    std::uint32_t found = 0;
+    bool stamped = false;  // scratch holds self's partners (stamped on first need)
+    bool complete = true;
     const auto visit = [&](std::int32_t, std::uint32_t otherValue) {
         const auto other = static_cast<ProxyId>(otherValue);
         if (other == self) return true;
@@ -265,72 +375,108 @@ void BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, 
         if (themMoved && other < self) return true;
         if (!typesPair(me.type, them.type)) return true;
         // New only if the boxes as of the last update did not overlap.
-        if (!entry.fresh) {
-            const MoveEntry* theirs = themMoved ? &moveBuffer_[static_cast<std::size_t>(them.moveIndex)] : nullptr;
-            if (theirs == nullptr || !theirs->fresh) {
-                const AABB& theirOld = theirs != nullptr ? theirs->oldFat : fatAABB(other);
-                if (overlaps(entry.oldFat, theirOld)) return true;
-            }
+        const MoveEntry* theirs = themMoved ? &moveBuffer_[static_cast<std::size_t>(them.moveIndex)] : nullptr;
+        const bool eitherFresh = entry.fresh || (theirs != nullptr && theirs->fresh);
+        if (!eitherFresh) {
+            const AABB& theirOld = theirs != nullptr ? theirs->oldFat : fatAABB(other);
+            if (overlaps(entry.oldFat, theirOld)) return true;
         }
         if (!shouldCollide(me.filter, them.filter)) return true;
         const bool selfFirst = self < other;
         const ProxyRecord& first = selfFirst ? me : them;
         const ProxyRecord& second = selfFirst ? them : me;
         if (!canPair(first.userValue, second.userValue)) return true;
+        // A fresh entry's pairs may be in S already (it waited over the limit).
+        if (!std::is_same_v<Partners, NoKnownPairs> && eitherFresh) {
+            if (!stamped) {
+                scratch.stampPartners(self, partners);
+                stamped = true;
+            }
+            if (scratch.stamp[static_cast<std::size_t>(other)] == scratch.epoch) return true;
+        }
+        if (found == entryCap || out.size() >= outCap) {
+            complete = false;
+            return false;
+        }
         out.push_back({selfFirst ? self : other, selfFirst ? other : self, first.userValue, second.userValue});
+        ++found;
         return true;
     };
-    movingTree_.query(box, visit);
-    // Static proxies only pair with moving ones; kinematic proxies pair with
-    // static ones only when non-dynamic pairs are wanted.
+    // Static partners first: over the limit they come first in an entry's
+    // share. Static proxies only pair with moving ones; kinematic proxies pair
+    // with static ones only when non-dynamic pairs are wanted.
     if (me.type == BodyType::Dynamic || (me.type == BodyType::Kinematic && !config_.requireDynamic)) {
-        staticTree_.query(box, visit);
+        if (!staticTree_.query(box, visit)) return complete;
     }
+    movingTree_.query(box, visit);
+    return complete;
 }
 
-template <PairPredicate Predicate>
-std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair) {
+template <typename Predicate, typename Partners>
+void BroadPhase::runQueries(std::size_t count, std::uint32_t entryCap, std::size_t outCap, bool recordCuts,
+                            const Predicate& canPair, const Partners& partners, TaskSystem* tasks) {
+    const std::uint32_t workers = tasks != nullptr ? tasks->workerCount() : 1;
     pairs_.clear();
-    for (const MoveEntry& entry : moveBuffer_) {
-        if (entry.proxy != kNullProxy) findNewPairs(entry, canPair, pairs_);
-    }
-    finishUpdate();
-    return pairs_;
-}
-
-template <PairPredicate Predicate>
-std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, TaskSystem& tasks) {
-    const std::uint32_t workers = tasks.workerCount();
-    if (workers <= 1) return updatePairs(canPair);
-    if (workerPairs_.size() < workers) {
-        workerPairs_.resize(workers);
-        for (WorkerPairs& wp : workerPairs_) wp.pairs.reserve(pairs_.capacity());
-    }
-    for (WorkerPairs& wp : workerPairs_) wp.pairs.clear();
-    // A query costs ~0.3-1 us; 32 of them amortise a range's scheduling.
-    const auto count = static_cast<std::uint32_t>(moveBuffer_.size());
-    tasks.parallelFor(count, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
-        std::vector<ProxyPair>& out = workerPairs_[worker].pairs;
-        for (std::uint32_t i = begin; i < end; ++i) {
+    if (workers <= 1) {
+        for (std::size_t i = 0; i < count && pairs_.size() < outCap; ++i) {
             const MoveEntry& entry = moveBuffer_[i];
-            if (entry.proxy != kNullProxy) findNewPairs(entry, canPair, out);
+            if (entry.proxy == kNullProxy) continue;
+            const bool complete = findNewPairs(entry, canPair, partners, entryCap, outCap, workerPairs_[0], pairs_);
+            if (recordCuts) entryCut_[i] = complete ? 0 : 1;
         }
-    });
+        return;
+    }
+    for (QueryScratch& wp : workerPairs_) wp.pairs.clear();
+    // A query costs ~0.3-1 us; 32 of them amortise a range's scheduling.
+    tasks->parallelFor(static_cast<std::uint32_t>(count), 32,
+                       [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+                           QueryScratch& scratch = workerPairs_[worker];
+                           for (std::uint32_t i = begin; i < end && scratch.pairs.size() < outCap; ++i) {
+                               const MoveEntry& entry = moveBuffer_[i];
+                               if (entry.proxy == kNullProxy) continue;
+                               const bool complete =
+                                   findNewPairs(entry, canPair, partners, entryCap, outCap, scratch, scratch.pairs);
+                               if (recordCuts) entryCut_[i] = complete ? 0 : 1;
+                           }
+                       });
     // Concatenated in worker order, which depends on timing; the sort in
     // finishUpdate() makes the result a function of the pairs alone.
-    pairs_.clear();
-    for (const WorkerPairs& wp : workerPairs_) pairs_.insert(pairs_.end(), wp.pairs.begin(), wp.pairs.end());
-    finishUpdate();
-    return pairs_;
+    for (const QueryScratch& wp : workerPairs_) pairs_.insert(pairs_.end(), wp.pairs.begin(), wp.pairs.end());
 }
 
-inline void BroadPhase::finishUpdate() {
-    std::sort(pairs_.begin(), pairs_.end(),
-              [](const ProxyPair& l, const ProxyPair& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
-    for (const MoveEntry& entry : moveBuffer_) {
-        if (entry.proxy != kNullProxy) record(entry.proxy).moveIndex = -1;
+template <PairPredicate Predicate, typename Partners>
+std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, const Partners& partners,
+                                                   TaskSystem* tasks, std::uint32_t maxNewPairs) {
+    prepareQueries(tasks != nullptr ? tasks->workerCount() : 1);
+    const std::size_t entries = moveBuffer_.size();
+    if (maxNewPairs == kNoPairLimit) {
+        runQueries(entries, kNoEntryCap, SIZE_MAX, false, canPair, partners, tasks);
+        finishUpdate(entries, maxNewPairs, false);
+        return pairs_;
     }
-    moveBuffer_.clear();
+    // First every new pair, stopping once any buffer holds more than the
+    // room: if they all fit, that is the answer (as without a limit). A worker
+    // stops only past maxNewPairs, so "they fit" does not depend on how the
+    // entries were spread over the workers.
+    runQueries(entries, kNoEntryCap, std::size_t{maxNewPairs} + 1, false, canPair, partners, tasks);
+    if (pairs_.size() <= maxNewPairs) {
+        finishUpdate(entries, maxNewPairs, false);
+        return pairs_;
+    }
+    // They don't. No room at all: every entry waits.
+    if (maxNewPairs == 0) {
+        pairs_.clear();
+        finishUpdate(0, maxNewPairs, false);
+        return pairs_;
+    }
+    // Again, fewer entries, each up to its share, noting who stopped.
+    const std::size_t queried =
+        std::min(entries, std::max(kMinEntriesPerUpdate, std::size_t{maxNewPairs} / kMinShare));
+    const auto share = static_cast<std::uint32_t>(std::max<std::size_t>(1, maxNewPairs / queried));
+    std::fill(entryCut_.begin(), entryCut_.begin() + static_cast<std::ptrdiff_t>(queried), std::uint8_t{0});
+    runQueries(queried, share, SIZE_MAX, true, canPair, partners, tasks);
+    finishUpdate(queried, maxNewPairs, true);
+    return pairs_;
 }
 
 template <typename Callback>

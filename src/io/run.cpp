@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <ostream>
 #include <span>
@@ -534,6 +535,12 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         }
     }
     j["particle_systems"] = std::move(systems);
+    // Only when the world warned (an extension: the object is unchanged otherwise).
+    if (!world.warnings().empty()) {
+        ojson warnings = ojson::array();
+        for (const WorldWarning& w : world.warnings()) warnings.push_back(ojson{{"step", w.step}, {"message", w.message}});
+        j["warnings"] = std::move(warnings);
+    }
     if (withProfile) {
         const StepProfile& p = result.profile;
         const double steps = result.profiledSteps > 0 ? static_cast<double>(result.profiledSteps) : 1.0;
@@ -543,6 +550,9 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         prof["max_contact_constraints"] = p.contactConstraints;
         prof["max_joint_constraints"] = p.jointConstraints;
         prof["workers"] = p.workers;
+        prof["max_contact_pairs"] = p.contactPairs;
+        prof["contact_pair_limit"] = p.contactPairLimit;
+        prof["steps_over_pair_limit"] = result.stepsOverPairLimit;
         j["profile"] = std::move(prof);
     }
     std::string text;
@@ -559,7 +569,14 @@ void addProfile(RunResult& result, const StepProfile& step) {
     sum.contactConstraints = std::max(sum.contactConstraints, step.contactConstraints);
     sum.jointConstraints = std::max(sum.jointConstraints, step.jointConstraints);
     sum.workers = std::max(sum.workers, step.workers);
+    sum.contactPairs = std::max(sum.contactPairs, step.contactPairs);
+    sum.contactPairLimit = step.contactPairLimit;  // the last step's
+    sum.pairsLeftOut = std::max(sum.pairsLeftOut, step.pairsLeftOut);
+    sum.bodiesOverPairLimit = std::max(sum.bodiesOverPairLimit, step.bodiesOverPairLimit);
     ++result.profiledSteps;
+    if (step.bodiesOverPairLimit > 0) {
+        if (result.stepsOverPairLimit++ == 0) result.firstStepOverPairLimit = result.world.stepCount();
+    }
 }
 
 std::string profileSummary(const RunResult& result) {
@@ -610,6 +627,17 @@ std::string runSummary(const Scene& scene, const RunResult& result, const std::s
                   double(length(world.linearMomentum())), double(length(world.angularMomentum())), world.contacts().size(),
                   result.handles.joints.size());
     s << line;
+    for (const WorldWarning& warning : world.warnings()) s << "  warning (step " << warning.step << "): " << warning.message << "\n";
+    if (result.stepsOverPairLimit > 0) {
+        const StepProfile& p = result.profile;
+        std::snprintf(line, sizeof line,
+                      "  contact pair limit %u (world.max_contact_pairs) held new pairs back in %llu of %llu steps, "
+                      "first in step %llu; at most %u pairs held, at most %u bodies waiting for pairs\n",
+                      p.contactPairLimit, static_cast<unsigned long long>(result.stepsOverPairLimit),
+                      static_cast<unsigned long long>(result.profiledSteps),
+                      static_cast<unsigned long long>(result.firstStepOverPairLimit), p.contactPairs, p.bodiesOverPairLimit);
+        s << line;
+    }
     for (int kind = 0; kind < 2; ++kind) {
         const std::vector<ParticleSystemId>& ids = kind == 0 ? result.handles.ropes : result.handles.cloths;
         for (std::size_t k = 0; k < ids.size(); ++k) {
@@ -695,6 +723,10 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
         return 3;
     } catch (const Error& e) {
         err << "fulcrum: " << label << ": " << oneLine(e.what()) << "\n";
+        return 2;
+    } catch (const std::bad_alloc&) {
+        // Outside World::step (which says more): loading, outputs, recording.
+        err << "fulcrum: " << label << ": out of memory\n";
         return 2;
     } catch (const std::exception& e) {
         // A backstop, not a way to report input errors (those are Errors

@@ -68,6 +68,8 @@ struct RunResult {
     std::vector<RunSample> samples;  // step 0..N, only when a plot was asked for
     StepProfile profile;             // the run's steps' World::lastStepProfile, summed (counts: their maxima)
     std::uint64_t profiledSteps = 0;
+    // Steps in which the contact pair limit held new pairs back (WorldDef::maxContactPairs), and the first.
+    std::uint64_t stepsOverPairLimit = 0, firstStepOverPairLimit = 0;
 };
 
 // Called after every step (and once before the first, with step 0).

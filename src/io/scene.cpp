@@ -113,7 +113,8 @@ bool Scene::operator==(const Scene& o) const {
     return description == o.description && a.gravity == b.gravity && a.integrator == b.integrator &&
            a.substeps == b.substeps && a.solverIterations == b.solverIterations && a.sleeping == b.sleeping &&
            a.threads == b.threads && a.jointHertz == b.jointHertz && a.jointDampingRatio == b.jointDampingRatio &&
-           a.jointProjectionSlop == b.jointProjectionSlop && a.maxRotationPerSubstep == b.maxRotationPerSubstep && a.jointDirectSolve == b.jointDirectSolve && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
+           a.jointProjectionSlop == b.jointProjectionSlop && a.maxRotationPerSubstep == b.maxRotationPerSubstep && a.jointDirectSolve == b.jointDirectSolve &&
+           a.maxContactPairs == b.maxContactPairs && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
            springs == o.springs && ropes == o.ropes && cloths == o.cloths;
 }
 

@@ -251,7 +251,7 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     requireObject(j, path);
     checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads",
                         "joint_hertz", "joint_damping_ratio", "joint_projection_slop", "joint_direct_solve",
-                        "max_rotation_per_substep"},
+                        "max_rotation_per_substep", "max_contact_pairs"},
               "");
     WorldDef& w = scene.world;
     opt(j, path, "gravity", [&](const json& v, const std::string& p) { w.gravity = vec3(v, p); });
@@ -287,6 +287,24 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     opt(j, path, "joint_direct_solve", [&](const json& v, const std::string& p) { w.jointDirectSolve = boolean(v, p); });
     opt(j, path, "max_rotation_per_substep", [&](const json& v, const std::string& p) {
         w.maxRotationPerSubstep = numberOrOff(v, p, "max_rotation_per_substep", true, "rad");
+    });
+    // WorldDef::maxContactPairs: "auto" (or 0) for the automatic limit.
+    opt(j, path, "max_contact_pairs", [&](const json& v, const std::string& p) {
+        if (v.is_string() && v.get<std::string>() == "auto") {
+            w.maxContactPairs = 0;
+            return;
+        }
+        if (!v.is_number()) {
+            fail(p, "expected a pair count (an integer) or \"auto\", got " +
+                        (v.is_string() ? "\"" + v.get<std::string>() + "\"" : describe(v)));
+        }
+        // (integer() would say "at least 0" for a limit of INT_MAX.)
+        const double d = v.get<double>();
+        if (d < 0 || d > static_cast<double>(kMaxContactPairs)) {
+            fail(p, "max_contact_pairs must be between 0 and " + std::to_string(kMaxContactPairs) +
+                        " (0 or \"auto\": automatic), got " + detail::formatNumber(d));
+        }
+        w.maxContactPairs = integer(v, p, 0, kMaxContactPairs, "max_contact_pairs");
     });
 }
 

@@ -233,6 +233,7 @@ std::string sceneToJson(const Scene& scene) {
         world["joint_projection_slop"] = std::isinf(scene.world.jointProjectionSlop) ? ojson("off") : ojson(num(scene.world.jointProjectionSlop));
     }
     if (scene.world.jointDirectSolve != defaults.jointDirectSolve) world["joint_direct_solve"] = scene.world.jointDirectSolve;
+    if (scene.world.maxContactPairs != defaults.maxContactPairs) world["max_contact_pairs"] = scene.world.maxContactPairs;
     if (scene.world.maxRotationPerSubstep != defaults.maxRotationPerSubstep) {
         world["max_rotation_per_substep"] =
             std::isinf(scene.world.maxRotationPerSubstep) ? ojson("off") : ojson(num(scene.world.maxRotationPerSubstep));

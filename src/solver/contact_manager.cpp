@@ -108,7 +108,9 @@ void ContactManager::addBody(WorldImpl& w, std::uint32_t dense) {
 }
 
 void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
-    const std::size_t wantContacts = 4 * bodyCount;
+    // No more than the pair limit lets live (a small explicit limit).
+    const std::size_t wantContacts =
+        std::min<std::size_t>(4 * bodyCount, contactPairLimit(w.settings.maxContactPairs, bodyCount));
     if (contacts_.size() < wantContacts) {
         // Geometric growth of the capacity (not of the size): reserving twice
         // the size on every body creation reallocated every time, quadratic in
@@ -228,6 +230,7 @@ std::uint32_t ContactManager::createContact(WorldImpl& w, std::uint32_t slotA, s
         std::swap(slotA, slotB);
         std::swap(proxyA, proxyB);
     }
+    ++liveContacts_;
     c.alive = true;
     c.slotA = slotA;
     c.slotB = slotB;
@@ -283,10 +286,12 @@ void ContactManager::rebuildLinks() {
     marks_.resize(contacts_.size() / 64 + 1, 0);
     awakeMarks_.resize(contacts_.size() / 64 + 1, 0);
     aliveBits_.assign(contacts_.size() / 64 + 1, 0);
+    liveContacts_ = 0;
     for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
         if (contacts_[i].alive) {
             linkContact(i);
             setAliveBit(i, true);
+            ++liveContacts_;
         }
     }
     linksRebuild_ = false;
@@ -366,6 +371,7 @@ void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
     c.manifolds.clear();
     c.nextFree = freeContact_;
     freeContact_ = index;
+    --liveContacts_;
 }
 
 // Sphere against sphere (both centred), nearly every pair of a sphere pile: the exact contact
@@ -707,10 +713,15 @@ void ContactManager::update(WorldImpl& w, Real dt) {
         }
     });
 
-    // 3. New pairs, sorted by proxy ids: a deterministic order. Then their
-    // narrow phase (the same test as step 2's, in parallel).
+    // 3. New pairs, sorted by proxy ids: a deterministic order, and no more
+    // than the pair limit leaves room for (WorldDef::maxContactPairs: the
+    // broad phase keeps the rest for later updates, docs/solver.md "Contact
+    // pair limit"; the pairs this update separates make room from the next
+    // one on). Then their narrow phase (the same test as step 2's, in parallel).
+    lastPairLimit_ = contactPairLimit(w.settings.maxContactPairs, w.motion.size());
+    const std::uint32_t room = liveContacts_ < lastPairLimit_ ? lastPairLimit_ - liveContacts_ : 0;
     newContacts_.clear();
-    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w}, tasks)) {
+    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w}, KnownPartners{this}, &tasks, room)) {
         newContacts_.push_back(createContact(w, pair.userA, pair.userB, pair.a, pair.b));
     }
     // Ascending, like the active list; made in this update, so not visited by the next one.

@@ -8,7 +8,10 @@
 // coming motion already exist. New pairs, in the broad phase's deterministic
 // order, become Contacts after the filters (CollisionFilter, sensor-sensor,
 // and the joint rule: bodies joined by a joint without collideConnected don't
-// collide). A contact ends when the fat boxes stop overlapping.
+// collide). A contact ends when the fat boxes stop overlapping. At most
+// WorldDef::maxContactPairs contacts live (contactPairLimit below): the broad
+// phase reports no more new pairs than there is room for and keeps the
+// bodies whose pairs wait (docs/solver.md, "Contact pair limit").
 //
 // Each contact with at least one awake body runs collide() with a speculative
 // margin of `WorldDef::speculativeMargin` plus the pair's possible approach
@@ -40,6 +43,7 @@
 // destructions, wakes and events are applied afterwards in contact order, so
 // the result is the same for any thread count. report() fills the reports in
 // parallel at offsets from a prefix sum.
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -57,6 +61,17 @@ struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private st
 namespace fulcrum::detail {
 
 inline constexpr Real kTouchSlop = Real(0.005);
+
+// The contact pair limit in effect for `bodyCount` bodies
+// (WorldDef::maxContactPairs, 0: automatic; docs/solver.md, "Contact pair
+// limit"). Its largest value, kMaxContactPairs, keeps the contact list keys
+// (index * 2 + end) below UINT32_MAX, which means "none".
+inline std::uint32_t contactPairLimit(std::int64_t maxContactPairs, std::size_t bodyCount) {
+    const std::int64_t limit =
+        maxContactPairs > 0 ? maxContactPairs
+                            : kAutoContactPairsBase + kAutoContactPairsPerBody * static_cast<std::int64_t>(bodyCount);
+    return static_cast<std::uint32_t>(std::min(limit, kMaxContactPairs));
+}
 
 // The joint rule and the sensor-sensor rule for two bodies (by slot).
 bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB);
@@ -92,6 +107,11 @@ public:
     bool contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out);
     // Contacts the last update() visited (tests: a sleeping world visits none).
     std::size_t visitedContactCount() const { return activeContacts_.size() + newContacts_.size(); }
+    // Live contacts (pairs), the limit the last update() worked under, and
+    // what it left for later because of that limit (BroadPhase::lastUpdate).
+    std::uint32_t liveContactCount() const { return liveContacts_; }
+    std::uint32_t lastPairLimit() const { return lastPairLimit_; }
+    const PairUpdateStats& lastPairStats() const { return broad_.lastUpdate(); }
 
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
@@ -127,6 +147,22 @@ private:
     // then appends every live marked contact to `out`, ascending, and clears
     // `marks` (gatherActiveContacts with marks_, contactsOfAwakeBodies with awakeMarks_).
     void collectAwakeContacts(const WorldImpl& w, std::vector<std::uint64_t>& marks, std::vector<std::uint32_t>& out) const;
+    // The broad phase's `partners`: the other proxy of each contact of a
+    // proxy's body (its list; read-only, so any thread may walk it).
+    struct KnownPartners {
+        const ContactManager* manager;
+        template <typename Visit>
+        void operator()(ProxyId proxy, Visit&& visit) const {
+            const ContactManager& m = *manager;
+            const std::uint32_t slot = m.broad_.userValue(proxy);
+            for (std::uint32_t key = m.headOfSlot_[slot]; key != UINT32_MAX;) {
+                const std::uint32_t i = key >> 1;
+                const Contact& c = m.contacts_[i];
+                visit((key & 1) == 0 ? c.proxyB : c.proxyA);
+                key = m.links_[i].next[key & 1];
+            }
+        }
+    };
     // [0]: the contact's place in slotA's list, [1]: in slotB's. Entries are
     // keys (contact * 2 + end), UINT32_MAX at the list's ends.
     struct ContactLinks {
@@ -138,6 +174,8 @@ private:
     std::vector<ProxyId> proxyOfSlot_;
     std::vector<Contact> contacts_;
     std::uint32_t freeContact_ = UINT32_MAX;
+    std::uint32_t liveContacts_ = 0;          // alive entries of contacts_ (kept by create/destroy, counted by rebuildLinks)
+    std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()
     std::vector<NarrowScratch> narrow_;       // one per worker
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found

@@ -262,6 +262,9 @@ void io(A& a, WorldDef& s) {
         // keeps on reading reproduce its run.
         io(a, s.jointHertz), io(a, s.jointDampingRatio), io(a, s.jointProjectionSlop), io(a, s.jointDirectSolve);
     }
+    // The contact pair limit (version 4); older files ran without one, and
+    // the automatic limit it gets leaves every scene that fit in memory alone.
+    if (a.version >= 4) io(a, s.maxContactPairs);
 }
 
 // ---- bodies

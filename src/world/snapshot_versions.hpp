@@ -9,8 +9,9 @@
 
 namespace fulcrum::detail {
 
-// Version 2 (before the joint friction and joint tuning settings) still loads:
-// the fields version 3 added keep their defaults.
+// Versions 2 (before the joint friction and joint tuning settings) and 3
+// (before the contact pair limit) still load: the fields later versions added
+// keep their defaults.
 inline constexpr std::uint32_t kOldestSnapshotVersion = 2;
 
 // saveSnapshotToMemory in format `version` (kOldestSnapshotVersion..kSnapshotVersion).

@@ -132,6 +132,29 @@ bool stagedSubStepsEnabled() { return gStagedSubSteps.load(std::memory_order_rel
 void setStagedSubStepsEnabled(bool enabled) { gStagedSubSteps.store(enabled, std::memory_order_relaxed); }
 }  // namespace detail
 
+// The contact pair limit's counts in the profile, and a warning the first
+// time the limit held pairs back (WorldDef::maxContactPairs).
+void WorldImpl::notePairLimit(StepProfile& prof) {
+    const PairUpdateStats& stats = contactManager.lastPairStats();
+    prof.contactPairs = contactManager.liveContactCount();
+    prof.contactPairLimit = contactManager.lastPairLimit();
+    prof.pairsLeftOut = stats.leftOut;
+    prof.bodiesOverPairLimit = stats.deferred;
+    if (stats.deferred == 0 || warnedPairLimit) return;
+    warnedPairLimit = true;
+    const std::string setting = settings.maxContactPairs > 0
+                                    ? "WorldDef::maxContactPairs"
+                                    : "WorldDef::maxContactPairs = 0, automatic: " + std::to_string(kAutoContactPairsPerBody) +
+                                          " per body + " + std::to_string(kAutoContactPairsBase);
+    warnings.push_back(
+        {stepCount + 1,
+         "contact pair limit reached: " + std::to_string(prof.contactPairs) + " pairs held, the limit is " +
+             std::to_string(prof.contactPairLimit) + " (" + setting +
+             "; scene files: world.max_contact_pairs); the new pairs of " + std::to_string(stats.deferred) +
+             " bodies wait for room, and until they get it those bodies pass through each other. Raise the limit if "
+             "memory allows (about 2 KB per pair), or start the bodies apart"});
+}
+
 TaskSystem& WorldImpl::taskSystem() {
     if (userTasks != nullptr) return *userTasks;
     if (settings.threads <= 1 || stepOnCaller) return inlineTasks;
@@ -188,6 +211,7 @@ void WorldImpl::step(Real dt) {
     // Collision: broad phase, contacts, narrow phase (wakes what awake bodies touch).
     contactManager.update(*this, dt);
     prof.collide = clock.lap();
+    notePairLimit(prof);
     // The bodies it woke move in this step.
     refreshAwakeList();
     const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());

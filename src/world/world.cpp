@@ -3,6 +3,7 @@
 // Springs and joints live in world_springs.cpp and world_joints.cpp, the step
 // in step.cpp, diagnostics in diagnostics.cpp.
 #include <algorithm>
+#include <new>
 
 #include "dynamics/body_mass.hpp"
 #include "dynamics/validation.hpp"
@@ -21,6 +22,15 @@ using detail::Subject;
 namespace {
 
 constexpr Subject kWorldSubject{"world", "", kNoIndex};
+
+void validateMaxContactPairs(std::int64_t limit) {
+    if (limit < 0 || limit > kMaxContactPairs) {
+        fail(kWorldSubject, "maxContactPairs",
+             "must be 0 (automatic: " + std::to_string(kAutoContactPairsPerBody) + " per body plus " +
+                 std::to_string(kAutoContactPairsBase) + ") or a pair count from 1 to " +
+                 std::to_string(kMaxContactPairs) + ", got " + std::to_string(limit));
+    }
+}
 
 void validateSettings(const WorldDef& def) {
     requireFinite(kWorldSubject, "gravity", def.gravity);
@@ -47,6 +57,7 @@ void validateSettings(const WorldDef& def) {
     requireNonNegative(kWorldSubject, "linearSleepVelocity", def.linearSleepVelocity);
     requireNonNegative(kWorldSubject, "angularSleepVelocity", def.angularSleepVelocity);
     requireNonNegative(kWorldSubject, "timeToSleep", def.timeToSleep);
+    validateMaxContactPairs(def.maxContactPairs);
 }
 
 Subject subjectOf(const WorldImpl& w, std::uint32_t dense) {
@@ -196,6 +207,10 @@ void World::setThreadCount(int threads) {
     impl_->settings.threads = threads;
 }
 void World::setParallelMinBodies(std::uint32_t minimum) { impl_->settings.parallelMinBodies = minimum; }
+void World::setMaxContactPairs(std::int64_t limit) {
+    validateMaxContactPairs(limit);
+    impl_->settings.maxContactPairs = limit;
+}
 void World::setTaskSystem(TaskSystem* tasks) { impl_->userTasks = tasks; }
 
 // ---------------------------------------------------------------- bodies
@@ -580,15 +595,29 @@ void World::step(Real dt) {
         }
         w.nonFiniteSinceStep = 0;
     }
+    if (w.outOfMemoryAtStep != 0) {
+        throw Error("World::step: this world ran out of memory in step " + std::to_string(w.outOfMemoryAtStep) +
+                    " and may be inconsistent since; restore a snapshot or build it again");
+    }
     try {
         w.step(dt);
     } catch (const NumericalError&) {
         w.nonFiniteSinceStep = w.stepCount;
         throw;
+    } catch (const std::bad_alloc&) {
+        // Half a step done: refuse further steps (above) rather than run on
+        // half-updated contacts. The pairs are what grows with crowding.
+        w.outOfMemoryAtStep = w.stepCount + 1;
+        const detail::ContactManager& cm = w.contactManager;
+        throw Error("World::step: out of memory in step " + std::to_string(w.outOfMemoryAtStep) + " with " +
+                    std::to_string(w.motion.size()) + " bodies and " + std::to_string(cm.liveContactCount()) +
+                    " contact pairs (WorldDef::maxContactPairs allows " + std::to_string(cm.lastPairLimit()) +
+                    "; a pair takes about 2 KB): lower maxContactPairs, or start the bodies apart");
     }
 }
 Real World::time() const { return static_cast<Real>(impl_->time); }
 std::uint64_t World::stepCount() const { return impl_->stepCount; }
 StepProfile World::lastStepProfile() const { return impl_->profile; }
+std::span<const WorldWarning> World::warnings() const { return impl_->warnings; }
 
 }  // namespace fulcrum

@@ -181,6 +181,9 @@ struct WorldImpl {
     std::uint64_t stepCount = 0;
     StepProfile profile;  // the last step's (World::lastStepProfile)
     std::uint64_t nonFiniteSinceStep = 0;  // != 0: that step threw NumericalError (World::step)
+    std::uint64_t outOfMemoryAtStep = 0;   // != 0: that step ran out of memory; no more steps (World::step)
+    std::vector<WorldWarning> warnings;    // World::warnings: each kind once
+    bool warnedPairLimit = false;          // the contact pair limit was reached (step.cpp)
     std::uint64_t nextBodySerial = 0;
 
     // ---- bodies (see the comment at the top)
@@ -308,6 +311,7 @@ struct WorldImpl {
 
     // The step (src/world/step.cpp).
     void step(Real dt);
+    void notePairLimit(StepProfile& prof);  // the step's pair-limit counts and warning
 };
 
 }  // namespace fulcrum

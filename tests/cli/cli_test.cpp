@@ -198,6 +198,35 @@ TEST(Cli, ProfileReportsThePhasesOfTheStep) {
     EXPECT_FALSE(nlohmann::json::parse(plain.out).contains("profile"));
 }
 
+TEST(Cli, SummaryAndJsonSayWhenThePairLimitHeldPairsBack) {
+    // 40 spheres at one spot (780 pairs) under a limit of 100.
+    std::string bodies;
+    for (int i = 0; i < 40; ++i) {
+        bodies += std::string(i ? ", " : "") + R"({"shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [0, 2, 0]})";
+    }
+    const fs::path scene = writeTemp("crowd.json", R"({"world": {"steps": 10, "max_contact_pairs": 100}, "bodies": [)" + bodies + "]}");
+    const Result r = fulcrum("run '" + scene.string() + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("  warning (step 1): contact pair limit reached"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("the limit is 100 (WorldDef::maxContactPairs; scene files: world.max_contact_pairs)"), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("contact pair limit 100 (world.max_contact_pairs) held new pairs back in "), std::string::npos) << r.out;
+    const Result json = fulcrum("run '" + scene.string() + "' --json --profile");
+    ASSERT_EQ(json.status, 0) << json.err;
+    const nlohmann::json j = nlohmann::json::parse(json.out);
+    ASSERT_TRUE(j.contains("warnings"));
+    ASSERT_EQ(j["warnings"].size(), 1u);
+    EXPECT_EQ(j["warnings"][0]["step"], 1);
+    EXPECT_NE(j["warnings"][0]["message"].get<std::string>().find("contact pair limit reached"), std::string::npos);
+    EXPECT_EQ(j["profile"]["contact_pair_limit"], 100);
+    EXPECT_LE(j["profile"]["max_contact_pairs"].get<int>(), 100);
+    EXPECT_GT(j["profile"]["steps_over_pair_limit"].get<int>(), 0);
+    // A scene under its limit: no warnings key, no warning line.
+    const Result calm = fulcrum("run scenes/box_stack.json --steps 3 --json");
+    ASSERT_EQ(calm.status, 0) << calm.err;
+    EXPECT_FALSE(nlohmann::json::parse(calm.out).contains("warnings"));
+}
+
 TEST(Cli, OptionsOverrideTheScene) {
     const Result r = fulcrum("run scenes/projectile.json --json --steps 7 --dt 0.01 --substeps 2 --integrator verlet --threads 1");
     ASSERT_EQ(r.status, 0) << r.err;

@@ -158,7 +158,7 @@ TEST(JointFrictionSnapshot, VersionTwoStillLoads) {
     }
     for (int i = 0; i < 30; ++i) straight.step(kDt);
     const std::vector<std::uint8_t> v2 = detail::saveSnapshotAsVersion(straight, 2);
-    const std::vector<std::uint8_t> v3 = saveSnapshotToMemory(straight);
+    const std::vector<std::uint8_t> v3 = detail::saveSnapshotAsVersion(straight, 3);
     EXPECT_EQ(v2[8], 2);
     EXPECT_EQ(v3[8], 3);
     // Version 3 adds 3 reals and a bool to the settings, and per joint one real and a Vec3.
@@ -181,9 +181,9 @@ TEST(JointFrictionSnapshot, OtherVersionsAreRefused) {
         (void)loadSnapshotFromMemory(bytes, nullptr, "old.snap");
         FAIL() << "version 1 must be refused";
     } catch (const Error& e) {
-        EXPECT_STREQ(e.what(), "old.snap: unsupported snapshot version 1 (this build reads versions 2 to 3)");
+        EXPECT_STREQ(e.what(), "old.snap: unsupported snapshot version 1 (this build reads versions 2 to 4)");
     }
-    EXPECT_THROW((void)detail::saveSnapshotAsVersion(w, 4), Error);
+    EXPECT_THROW((void)detail::saveSnapshotAsVersion(w, kSnapshotVersion + 1), Error);
 }
 
 }  // namespace

@@ -17,6 +17,21 @@ void setCountingAllocations(bool on);
 long allocationCount();
 void resetAllocationCount();
 
+// Heap growth while a HeapBudget is alive: the bytes allocated minus the
+// bytes freed since it started (malloc_usable_size of each block, so blocks
+// from before it count when freed: growth, not use), and its peak. With a
+// budget, an allocation that would take the growth past it throws
+// std::bad_alloc, as a machine out of memory does (but promptly).
+class HeapBudget {
+public:
+    explicit HeapBudget(long long budgetBytes = -1);  // -1: only measure
+    ~HeapBudget();
+    HeapBudget(const HeapBudget&) = delete;
+    HeapBudget& operator=(const HeapBudget&) = delete;
+    long long growth() const;      // bytes
+    long long peakGrowth() const;  // bytes
+};
+
 class CountAllocations {
 public:
     CountAllocations() {
