@@ -40,15 +40,6 @@ std::string base64(const void* data, std::size_t bytes) {
     return out;
 }
 
-// A binary array as the page embeds it (docs/recording.md, "The embedded
-// data"): {"type", "length", "xor", "deflate"}. Lossless: every byte comes back.
-// Frame-major arrays XOR each element with the one `xorStride` elements before
-// (the same body or particle a frame earlier), so whatever did not change (a
-// sleeping body, a static one, a settled cloth) becomes zero bytes and noise
-// sits only in the low mantissa bytes; the bytes are then split into planes
-// (every element's byte 0, then every byte 1, ...) so the sign/exponent planes
-// are long runs, and zlib deflates the result. The browser inflates with its
-// DecompressionStream("deflate").
 // The element type as the page names it (a typed array's).
 template <typename T>
 constexpr const char* typeName() {
@@ -61,6 +52,27 @@ constexpr const char* typeName() {
     }
 }
 
+// The zlib stream (RFC 1950) of `size` bytes: what the browser's
+// DecompressionStream("deflate") inflates.
+std::vector<unsigned char> deflated(const unsigned char* data, std::size_t size) {
+    uLongf deflatedSize = compressBound(static_cast<uLong>(size));
+    std::vector<unsigned char> out(deflatedSize);
+    if (compress2(out.data(), &deflatedSize, data, static_cast<uLong>(size), Z_BEST_COMPRESSION) != Z_OK) {
+        throw Error("recording: zlib could not compress " + std::to_string(size) + " bytes");
+    }
+    out.resize(deflatedSize);
+    return out;
+}
+
+// A binary array as the page embeds it (docs/recording.md, "The embedded
+// data"): {"type", "length", "xor", "deflate"}. Lossless: every byte comes back.
+// Frame-major arrays XOR each element with the one `xorStride` elements before
+// (the same body or particle a frame earlier), so whatever did not change (a
+// sleeping body, a static one, a settled cloth) becomes zero bytes and noise
+// sits only in the low mantissa bytes; the bytes are then split into planes
+// (every element's byte 0, then every byte 1, ...) so the sign/exponent planes
+// are long runs, and zlib deflates the result. The browser inflates with its
+// DecompressionStream("deflate").
 template <typename T>
 json packed(const std::vector<T>& values, std::size_t xorStride = 0) {
     constexpr std::size_t size = sizeof(T);
@@ -75,12 +87,8 @@ json packed(const std::vector<T>& values, std::size_t xorStride = 0) {
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t b = 0; b < size; ++b) planes[b * n + i] = bytes[i * size + b];
     }
-    uLongf deflatedSize = compressBound(static_cast<uLong>(planes.size()));
-    std::vector<unsigned char> deflated(deflatedSize);
-    if (compress2(deflated.data(), &deflatedSize, planes.data(), static_cast<uLong>(planes.size()), Z_BEST_COMPRESSION) != Z_OK) {
-        throw Error("recording: zlib could not compress an array of " + std::to_string(planes.size()) + " bytes");
-    }
-    return {{"type", typeName<T>()}, {"length", n}, {"xor", xorStride}, {"deflate", base64(deflated.data(), deflatedSize)}};
+    const std::vector<unsigned char> zipped = deflated(planes.data(), planes.size());
+    return {{"type", typeName<T>()}, {"length", n}, {"xor", xorStride}, {"deflate", base64(zipped.data(), zipped.size())}};
 }
 
 json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
@@ -217,10 +225,15 @@ std::string renderHtml(const Recording& recording) {
     if (recording.frameCount() == 0) throw Error("recording: no frames captured, nothing to write");
     // Inside <script> elements the HTML parser only looks for "</script" and
     // "<!--": no '<' may reach it from the data. JSON strings may spell it
-    // \u003c; in the bundled JavaScript it can only sit in a string or regex,
-    // where "<\/" means the same.
+    // \u003c; base64 has none.
     const std::string data = replaceAll(recordingJson(recording), "<", "\\u003c");
-    const std::string script = replaceAll(replaceAll(detail::viewerScript(), "</script", "<\\/script"), "<!--", "<\\!--");
+    // The viewer bundle deflated (a quarter of its size), inflated and run by
+    // the template's loader script; the same for every page, so made once.
+    static const std::string script = [] {
+        const std::string bundle = detail::viewerScript();
+        const auto zipped = deflated(reinterpret_cast<const unsigned char*>(bundle.data()), bundle.size());
+        return base64(zipped.data(), zipped.size());
+    }();
     std::string page = detail::viewerTemplate();
     page = replaceAll(page, "{{FULCRUM_TITLE}}", escapeHtmlText(recording.title));
     // Data and script last, so nothing inside them is mistaken for a placeholder.

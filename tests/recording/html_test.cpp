@@ -96,19 +96,35 @@ int tagsReferencingResources(const std::string& page) {
     return found;
 }
 
+// The text of the element `<script ... id="ID">`.
+std::string scriptText(const std::string& page, const std::string& id) {
+    const std::size_t at = page.find("id=\"" + id + "\">");
+    EXPECT_NE(at, std::string::npos) << "no element " << id;
+    const std::size_t from = page.find('>', at) + 1;
+    return page.substr(from, page.find("</script>", from) - from);
+}
+
 TEST(Html, PageIsSelfContained) {
     const std::string page = renderHtml(synthetic::makeScene().recording);
     EXPECT_EQ(page.rfind("<!doctype html>", 0), 0u);
-    // Exactly two script elements (data, viewer), neither with a src; no stylesheets or other fetched resources.
+    // Exactly three script elements (data, deflated viewer, its loader), none
+    // with a src; no stylesheets or other fetched resources.
     std::size_t scripts = 0;
     for (std::size_t at = page.find("<script"); at != std::string::npos; at = page.find("<script", at + 1)) ++scripts;
-    EXPECT_EQ(scripts, 2u);
+    EXPECT_EQ(scripts, 3u);
     EXPECT_EQ(std::count(page.begin(), page.end(), '\0'), 0);
     EXPECT_EQ(tagsReferencingResources(page), 0);
     EXPECT_EQ(page.find("@import"), std::string::npos);
-    // The viewer bundle is inside.
-    EXPECT_NE(page.find("fulcrumViewer"), std::string::npos);
-    EXPECT_NE(page.find("OrbitControls"), std::string::npos) << "three.js's OrbitControls should be bundled";
+    // The viewer bundle is inside, deflated: it inflates to the bundle exactly.
+    const std::string bundle = io::detail::viewerScript();
+    const auto deflated = unbase64(scriptText(page, "fulcrum-viewer"));
+    std::vector<std::uint8_t> inflated(bundle.size() + 1);
+    uLongf size = static_cast<uLongf>(inflated.size());
+    ASSERT_EQ(uncompress(inflated.data(), &size, deflated.data(), static_cast<uLong>(deflated.size())), Z_OK);
+    EXPECT_EQ(std::string(inflated.begin(), inflated.begin() + static_cast<std::ptrdiff_t>(size)), bundle);
+    EXPECT_NE(bundle.find("fulcrumViewer"), std::string::npos);
+    EXPECT_NE(bundle.find("OrbitControls"), std::string::npos) << "three.js's OrbitControls should be bundled";
+    EXPECT_LT(deflated.size(), bundle.size() / 3);
 }
 
 TEST(Html, EmbeddedDataDecodesToTheRecordedMotion) {
@@ -200,9 +216,10 @@ TEST(Html, BodiesAtRestCostAlmostNothing) {
     EXPECT_EQ(decode<float>(doc["transforms"]).size(), rec.transforms.size() * 7);
 }
 
-TEST(Html, DemoPageIsUnderThreeMegabytes) {
+TEST(Html, DemoPageIsUnderTwoMegabytes) {
     // The built-in demo's page (scripts/run.sh writes it to build/demo.html):
-    // 7.3 MB when the arrays were base64 of raw floats, ~2.1 MB packed.
+    // 7.3 MB when the arrays were base64 of raw floats, ~1.8 MB packed with the
+    // viewer deflated.
     const std::filesystem::path page = std::filesystem::temp_directory_path() / "fulcrum-html-test-demo.html";
     fulcrum::detail::RunOutputs outputs;
     outputs.recordPath = page.string();
@@ -210,7 +227,7 @@ TEST(Html, DemoPageIsUnderThreeMegabytes) {
     const auto size = std::filesystem::file_size(page);
     std::filesystem::remove(page);
     std::printf("demo page: %ju bytes\n", static_cast<std::uintmax_t>(size));
-    EXPECT_LT(size, 3u * 1000 * 1000);
+    EXPECT_LT(size, 2u * 1000 * 1000);
 }
 
 TEST(Html, NamesCannotCloseTheScriptElement) {
@@ -219,7 +236,7 @@ TEST(Html, NamesCannotCloseTheScriptElement) {
     const std::string page = renderHtml(scene.recording);
     std::size_t closes = 0;
     for (std::size_t at = page.find("</script"); at != std::string::npos; at = page.find("</script", at + 1)) ++closes;
-    EXPECT_EQ(closes, 2u);
+    EXPECT_EQ(closes, 3u);
     // The title (also "</script>") is escaped as HTML text.
     EXPECT_NE(page.find("<title>synthetic &lt;/script&gt; test</title>"), std::string::npos);
     // And the name survives the round trip through JSON.
