@@ -209,7 +209,10 @@ function start(rec) {
     const allowed = core.clone().expandByScalar(reach);
     for (const box of boxes) focus.union(box.clone().intersect(allowed));
   }
-  if (focus.isEmpty()) focus.setFromCenterAndSize(new Vector3(...(rec.start ?? rec.scene).center), new Vector3(2, 2, 2));
+  if (focus.isEmpty()) {  // nothing moves: frame what the run starts from
+    const start = rec.start ?? rec.scene;
+    focus.setFromCenterAndSize(new Vector3(...start.center), new Vector3(1, 1, 1).multiplyScalar(2 * Math.max(start.radius, 0.5)));
+  }
   const focusCenter = focus.getCenter(new Vector3());
   const focusSize = focus.getSize(new Vector3());
   const focusRadius = Math.max(focusSize.length() / 2, 0.5);
@@ -381,7 +384,7 @@ function start(rec) {
     g.moving ||= isMoving(body.rec);
   });
   particleTracks.forEach((track) => { const g = member(track.rec.name); g.tracks.push(track); g.moving = true; });
-  const labelled = [...groups.values()].filter((g) => g.moving);
+  const labelled = [...groups.values()].filter((g) => g.moving && g.key.trim() !== '');
   const labels = labelled.length <= 40 ? labelled : [];
   for (const g of labels) {
     g.element = document.createElement('div');
