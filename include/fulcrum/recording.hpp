@@ -40,6 +40,7 @@ struct RecordedBody {
     std::string name;
     BodyType type = BodyType::Dynamic;
     Shape shape;
+    Real mass = 0;           // kg; 0 for static and kinematic bodies (World::mass)
 };
 
 // A joint as drawn: a segment between its two anchors, stored body-local so

@@ -11,6 +11,9 @@
 //               oscillator (analytic envelope).
 // The pile's round shapes have rolling resistance so they come to rest
 // instead of rolling into their neighbours. It runs in well under a second.
+// Body names share a stem per set piece ("pyramid3", "pile_box1",
+// "spring_chain_mass2"): the replay page labels each group by its stem
+// (docs/recording.md, "HTML replay page").
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -50,40 +53,40 @@ constexpr const char* kDemoScene = R"json({
     { "name": "pile_capsule1", "shape": { "type": "capsule", "radius": 0.12, "half_height": 0.2 }, "mass": 1, "position": [4.917, 3.55, -0.16], "orientation": [0.9239, 0.2706, 0.2706, 0], "rolling_resistance": 0.2 },
     { "name": "pile_cylinder1", "shape": { "type": "cylinder", "radius": 0.18, "half_height": 0.15 }, "mass": 1, "position": [5.169, 4, 0.062], "rolling_resistance": 0.2 },
     { "name": "pile_hull1", "shape": { "type": "convex_hull", "points": [[-0.2, 0, -0.2], [0.2, 0, -0.2], [0.2, 0, 0.2], [-0.2, 0, 0.2], [0, 0.35, 0]] }, "mass": 1, "position": [4.834, 4.45, 0.069], "orientation": [0.9239, 0.2706, 0.2706, 0], "rolling_resistance": 0.2 },
-    { "name": "link0", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 3.8, 0] },
-    { "name": "link1", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 3.4, 0] },
-    { "name": "link2", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 3, 0] },
-    { "name": "link3", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 2.6, 0] },
-    { "name": "link4", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 2.2, 0], "linear_velocity": [1.5, 0, 0] },
+    { "name": "chain_link0", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 3.8, 0] },
+    { "name": "chain_link1", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 3.4, 0] },
+    { "name": "chain_link2", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 3, 0] },
+    { "name": "chain_link3", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 2.6, 0] },
+    { "name": "chain_link4", "shape": { "type": "capsule", "radius": 0.06, "half_height": 0.14 }, "mass": 0.5, "position": [-4, 2.2, 0], "linear_velocity": [1.5, 0, 0] },
     { "name": "door", "shape": { "type": "box", "half_extents": [0.5, 1, 0.05] }, "mass": 10, "position": [-7.5, 1.1, 0] },
-    { "name": "carriage", "shape": { "type": "box", "half_extents": [0.2, 0.2, 0.2] }, "mass": 2, "position": [-11, 1.5, 0], "linear_velocity": [1, 0, 0] },
-    { "name": "weight", "shape": { "type": "box", "half_extents": [0.15, 0.15, 0.15] }, "mass": 1, "position": [11, 1, 0], "rolling_resistance": 0.2 },
-    { "name": "dome", "type": "static", "shape": { "type": "sphere", "radius": 0.6 }, "position": [18, 0.6, 0] },
+    { "name": "slider_carriage", "shape": { "type": "box", "half_extents": [0.2, 0.2, 0.2] }, "mass": 2, "position": [-11, 1.5, 0], "linear_velocity": [1, 0, 0] },
+    { "name": "rope_weight", "shape": { "type": "box", "half_extents": [0.15, 0.15, 0.15] }, "mass": 1, "position": [11, 1, 0], "rolling_resistance": 0.2 },
+    { "name": "cloth_dome", "type": "static", "shape": { "type": "sphere", "radius": 0.6 }, "position": [18, 0.6, 0] },
     { "name": "projectile", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 0.5, "position": [-10, 0.1, -9], "linear_velocity": [5, 10, 0], "rolling_resistance": 0.2 },
-    { "name": "chain1", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 1, "position": [0, 4, -6], "allow_sleep": false },
-    { "name": "chain2", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 1, "position": [0, 3, -6], "allow_sleep": false },
-    { "name": "chain3", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 1, "position": [0, 2, -6], "allow_sleep": false },
+    { "name": "spring_chain_mass1", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 1, "position": [0, 4, -6], "allow_sleep": false },
+    { "name": "spring_chain_mass2", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 1, "position": [0, 3, -6], "allow_sleep": false },
+    { "name": "spring_chain_mass3", "shape": { "type": "sphere", "radius": 0.1 }, "mass": 1, "position": [0, 2, -6], "allow_sleep": false },
     { "name": "spinner", "shape": { "type": "box", "half_extents": [0.05, 0.2, 0.4] }, "mass": 3, "position": [4, 5, -6], "angular_velocity": [0.01, 10, 0], "gravity_scale": 0 },
     { "name": "oscillator", "shape": { "type": "box", "half_extents": [0.1, 0.1, 0.1] }, "mass": 1, "position": [8.5, 5, -6], "gravity_scale": 0, "allow_sleep": false }
   ],
   "joints": [
-    { "name": "chain_joint0", "type": "ball", "body_a": null, "body_b": "link0", "anchor": [-4, 4, 0] },
-    { "name": "chain_joint1", "type": "ball", "body_a": "link0", "body_b": "link1", "anchor": [-4, 3.6, 0] },
-    { "name": "chain_joint2", "type": "ball", "body_a": "link1", "body_b": "link2", "anchor": [-4, 3.2, 0] },
-    { "name": "chain_joint3", "type": "ball", "body_a": "link2", "body_b": "link3", "anchor": [-4, 2.8, 0] },
-    { "name": "chain_joint4", "type": "ball", "body_a": "link3", "body_b": "link4", "anchor": [-4, 2.4, 0] },
+    { "name": "chain_joint0", "type": "ball", "body_a": null, "body_b": "chain_link0", "anchor": [-4, 4, 0] },
+    { "name": "chain_joint1", "type": "ball", "body_a": "chain_link0", "body_b": "chain_link1", "anchor": [-4, 3.6, 0] },
+    { "name": "chain_joint2", "type": "ball", "body_a": "chain_link1", "body_b": "chain_link2", "anchor": [-4, 3.2, 0] },
+    { "name": "chain_joint3", "type": "ball", "body_a": "chain_link2", "body_b": "chain_link3", "anchor": [-4, 2.8, 0] },
+    { "name": "chain_joint4", "type": "ball", "body_a": "chain_link3", "body_b": "chain_link4", "anchor": [-4, 2.4, 0] },
     { "name": "door_hinge", "type": "hinge", "body_a": null, "body_b": "door", "anchor": [-8, 1.1, 0], "axis": [0, 1, 0], "limits": [-1.5708, 1.5708], "motor": { "speed": 1.0, "max_force": 50 } },
-    { "name": "slider", "type": "slider", "body_a": null, "body_b": "carriage", "anchor": [-11, 1.5, 0], "axis": [1, 0, 0], "limits": [-1, 1], "spring": { "target": 0, "stiffness": 100, "damping": 5 } }
+    { "name": "slider", "type": "slider", "body_a": null, "body_b": "slider_carriage", "anchor": [-11, 1.5, 0], "axis": [1, 0, 0], "limits": [-1, 1], "spring": { "target": 0, "stiffness": 100, "damping": 5 } }
   ],
   "springs": [
-    { "body_a": null, "body_b": "chain1", "anchor_a": [0, 5, -6], "anchor_b": [0, 4, -6], "rest_length": 1, "stiffness": 200, "damping": 10 },
-    { "body_a": "chain1", "body_b": "chain2", "anchor_a": [0, 4, -6], "anchor_b": [0, 3, -6], "rest_length": 1, "stiffness": 200, "damping": 10 },
-    { "body_a": "chain2", "body_b": "chain3", "anchor_a": [0, 3, -6], "anchor_b": [0, 2, -6], "rest_length": 1, "stiffness": 200, "damping": 10 },
+    { "body_a": null, "body_b": "spring_chain_mass1", "anchor_a": [0, 5, -6], "anchor_b": [0, 4, -6], "rest_length": 1, "stiffness": 200, "damping": 10 },
+    { "body_a": "spring_chain_mass1", "body_b": "spring_chain_mass2", "anchor_a": [0, 4, -6], "anchor_b": [0, 3, -6], "rest_length": 1, "stiffness": 200, "damping": 10 },
+    { "body_a": "spring_chain_mass2", "body_b": "spring_chain_mass3", "anchor_a": [0, 3, -6], "anchor_b": [0, 2, -6], "rest_length": 1, "stiffness": 200, "damping": 10 },
     { "body_a": null, "body_b": "oscillator", "anchor_a": [7, 5, -6], "anchor_b": [8.5, 5, -6], "rest_length": 1, "stiffness": 50, "damping": 1 }
   ],
   "ropes": [
     { "name": "rope", "start": [11, 3.5, 0], "end": [11, 1.15, 0], "segments": 16, "particle_mass": 0.05, "radius": 0.03,
-      "pin_start": true, "pin_end": false, "attach_end": "weight", "bend_compliance": 0.01 }
+      "pin_start": true, "pin_end": false, "attach_end": "rope_weight", "bend_compliance": 0.01 }
   ],
   "cloths": [
     { "name": "cloth", "origin": [17.25, 2, -0.75], "size": [16, 16], "spacing": 0.1, "particle_mass": 0.01,
@@ -214,7 +217,7 @@ std::string DemoChecks::report(const Scene& scene, const RunResult& result) cons
                       tp, double(projectileAt_.y), ay, err, kG * h * tp / 2);
         s << line;
     }
-    if (const BodyId c = world.findBody("chain3"); !c.isNull()) {
+    if (const BodyId c = world.findBody("spring_chain_mass3"); !c.isNull()) {
         // Static equilibrium: spring i carries the weight of the masses below it.
         const double yEq = kChainTop - (3 + 2 + 1) * kChainM * kG / kChainK;
         std::snprintf(line, sizeof line, "  spring chain: lowest mass settles at y = %.4f m; static equilibrium %.4f m\n",

@@ -4,7 +4,9 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <type_traits>
 #include <nlohmann/json.hpp>
+#include <zlib.h>
 
 namespace fulcrum::io {
 
@@ -38,9 +40,55 @@ std::string base64(const void* data, std::size_t bytes) {
     return out;
 }
 
+// The element type as the page names it (a typed array's).
 template <typename T>
-std::string base64(const std::vector<T>& values) {
-    return base64(values.data(), values.size() * sizeof(T));
+constexpr const char* typeName() {
+    if constexpr (std::is_same_v<T, float>) return "float32";
+    else if constexpr (std::is_same_v<T, double>) return "float64";
+    else if constexpr (std::is_same_v<T, std::uint32_t>) return "uint32";
+    else {
+        static_assert(std::is_same_v<T, std::uint8_t>, "no typed array for this element type");
+        return "uint8";
+    }
+}
+
+// The zlib stream (RFC 1950) of `size` bytes: what the browser's
+// DecompressionStream("deflate") inflates.
+std::vector<unsigned char> deflated(const unsigned char* data, std::size_t size) {
+    uLongf deflatedSize = compressBound(static_cast<uLong>(size));
+    std::vector<unsigned char> out(deflatedSize);
+    if (compress2(out.data(), &deflatedSize, data, static_cast<uLong>(size), Z_BEST_COMPRESSION) != Z_OK) {
+        throw Error("recording: zlib could not compress " + std::to_string(size) + " bytes");
+    }
+    out.resize(deflatedSize);
+    return out;
+}
+
+// A binary array as the page embeds it (docs/recording.md, "The embedded
+// data"): {"type", "length", "xor", "deflate"}. Lossless: every byte comes back.
+// Frame-major arrays XOR each element with the one `xorStride` elements before
+// (the same body or particle a frame earlier), so whatever did not change (a
+// sleeping body, a static one, a settled cloth) becomes zero bytes and noise
+// sits only in the low mantissa bytes; the bytes are then split into planes
+// (every element's byte 0, then every byte 1, ...) so the sign/exponent planes
+// are long runs, and zlib deflates the result. The browser inflates with its
+// DecompressionStream("deflate").
+template <typename T>
+json packed(const std::vector<T>& values, std::size_t xorStride = 0) {
+    constexpr std::size_t size = sizeof(T);
+    const std::size_t n = values.size();
+    std::vector<unsigned char> bytes(n * size);
+    if (n > 0) std::memcpy(bytes.data(), values.data(), bytes.size());
+    const std::size_t distance = xorStride * size;
+    if (distance > 0) {
+        for (std::size_t i = bytes.size(); i-- > distance;) bytes[i] ^= bytes[i - distance];
+    }
+    std::vector<unsigned char> planes(bytes.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t b = 0; b < size; ++b) planes[b * n + i] = bytes[i * size + b];
+    }
+    const std::vector<unsigned char> zipped = deflated(planes.data(), planes.size());
+    return {{"type", typeName<T>()}, {"length", n}, {"xor", xorStride}, {"deflate", base64(zipped.data(), zipped.size())}};
 }
 
 json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
@@ -54,9 +102,9 @@ json renderParts(const std::vector<RenderPart>& parts) {
         const Quat& q = part.local.q;
         out.push_back({{"position", vec(part.local.p)},
                        {"rotation", json::array({q.x, q.y, q.z, q.w})},
-                       {"positions", base64(positions)},
-                       {"normals", base64(normals)},
-                       {"indices", base64(part.mesh.indices)},
+                       {"positions", packed(positions)},
+                       {"normals", packed(normals)},
+                       {"indices", packed(part.mesh.indices)},
                        {"doubleSided", part.mesh.doubleSided}});
     }
     return out;
@@ -94,7 +142,7 @@ std::string recordingJson(const Recording& rec) {
 
     json doc;
     doc["format"] = "fulcrum-recording";
-    doc["version"] = 1;
+    doc["version"] = 2;
     doc["title"] = rec.title;
     doc["frames"] = frames;
     // The camera frames the first frame (what the run starts from); "scene" spans every frame.
@@ -109,6 +157,7 @@ std::string recordingJson(const Recording& rec) {
         bodies.push_back({{"name", body.name},
                           {"type", toString(body.type)},
                           {"shape", toString(body.shape.type())},
+                          {"mass", body.mass},
                           {"color", json::array({c.r, c.g, c.b})},
                           {"sleepColor", json::array({s.r, s.g, s.b})},
                           {"parts", renderParts(meshes[b])}});
@@ -136,8 +185,8 @@ std::string recordingJson(const Recording& rec) {
                              {"kind", track.triangles ? "cloth" : "rope"},
                              {"count", track.particleCount},
                              {"radius", track.radius},
-                             {"indices", base64(track.indices)},
-                             {"positions", base64(positions)}});
+                             {"indices", packed(track.indices)},
+                             {"positions", packed(positions, track.particleCount * 3)}});
     }
     doc["particles"] = std::move(particles);
 
@@ -160,15 +209,15 @@ std::string recordingJson(const Recording& rec) {
     std::vector<float> momentum;
     for (const Vec3& p : rec.linearMomentum) momentum.insert(momentum.end(), {p.x, p.y, p.z});
 
-    doc["times"] = base64(rec.times);
-    doc["transforms"] = base64(transforms);
-    doc["awake"] = base64(rec.awake);
-    doc["bounds"] = base64(bounds);
-    doc["contactOffsets"] = base64(offsets);
-    doc["contacts"] = base64(contacts);
-    doc["jointErrors"] = base64(rec.jointErrors);
-    doc["energy"] = base64(energy);
-    doc["momentum"] = base64(momentum);
+    doc["times"] = packed(rec.times, 1);
+    doc["transforms"] = packed(transforms, n * 7);
+    doc["awake"] = packed(rec.awake, n);
+    doc["bounds"] = packed(bounds, n * 6);
+    doc["contactOffsets"] = packed(offsets, 1);
+    doc["contacts"] = packed(contacts);
+    doc["jointErrors"] = packed(rec.jointErrors, rec.joints.size());
+    doc["energy"] = packed(energy, 3);
+    doc["momentum"] = packed(momentum, 3);
     return doc.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -176,10 +225,15 @@ std::string renderHtml(const Recording& recording) {
     if (recording.frameCount() == 0) throw Error("recording: no frames captured, nothing to write");
     // Inside <script> elements the HTML parser only looks for "</script" and
     // "<!--": no '<' may reach it from the data. JSON strings may spell it
-    // \u003c; in the bundled JavaScript it can only sit in a string or regex,
-    // where "<\/" means the same.
+    // \u003c; base64 has none.
     const std::string data = replaceAll(recordingJson(recording), "<", "\\u003c");
-    const std::string script = replaceAll(replaceAll(detail::viewerScript(), "</script", "<\\/script"), "<!--", "<\\!--");
+    // The viewer bundle deflated (a quarter of its size), inflated and run by
+    // the template's loader script; the same for every page, so made once.
+    static const std::string script = [] {
+        const std::string bundle = detail::viewerScript();
+        const auto zipped = deflated(reinterpret_cast<const unsigned char*>(bundle.data()), bundle.size());
+        return base64(zipped.data(), zipped.size());
+    }();
     std::string page = detail::viewerTemplate();
     page = replaceAll(page, "{{FULCRUM_TITLE}}", escapeHtmlText(recording.title));
     // Data and script last, so nothing inside them is mistaken for a placeholder.

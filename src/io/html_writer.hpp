@@ -2,7 +2,8 @@
 // Self-contained HTML replay page of a Recording: the page template and the
 // bundled viewer (three.js + viewer/src/viewer.js, built into
 // viewer/dist/viewer.js and embedded into this library at build time) with the
-// recording inlined as JSON whose bulk arrays are base64 little-endian binary.
+// recording inlined as JSON whose bulk arrays are deflated little-endian binary
+// (base64), losslessly.
 // The page loads nothing from the network. Format and controls:
 // docs/recording.md.
 #include <filesystem>

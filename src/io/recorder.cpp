@@ -28,7 +28,7 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
     recording_.title = options_.title;
     ids_ = world.bodies();
     recording_.bodies.reserve(ids_.size());
-    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id)});
+    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id), world.mass(id)});
 
     // Joint anchors are world space at creation; with the bodies' current
     // transforms they become body-local, which is exact when the recorder is

@@ -317,7 +317,7 @@ TEST(RunScene, DemoSceneIsValidAndItsChainSettlesAtTheStaticEquilibrium) {
     // 1 mm: after 10 s the slowest mode has decayed by more than e^-5.
     Scene scene = detail::demoScene();
     const detail::RunResult r = detail::runScene(scene, {});
-    const BodyId c = r.world.findBody("chain3");
+    const BodyId c = r.world.findBody("spring_chain_mass3");
     EXPECT_NEAR(r.world.position(c).y, 2 - 6 * 9.81 / 200, 1e-3);
 }
 

@@ -1,12 +1,15 @@
 // The replay page in a real browser: headless Chromium (Debian's `chromium`)
-// driven by playwright-core runs viewer/test/browser-test.mjs, which checks
-// that the page renders (non-blank canvas), shows one object per body, that
-// playing advances the timeline, and that nothing is fetched from the network.
-// Skipped, with the reason, when node, Chromium or the node packages are
-// missing (scripts/install-viewer-deps.sh installs them).
+// driven by playwright-core runs viewer/test/browser-test.mjs, which checks the
+// first impression of the page: it renders a shaded picture, plays on load,
+// frames the moving bodies, shows no debug overlay by default, labels the
+// demo's set pieces, selects a clicked body and describes it, logs no console
+// error and fetches nothing. Skipped, with the reason, when node, Chromium or
+// the node packages are missing (scripts/install-viewer-deps.sh installs them).
+// The screenshots are kept in the build tree: tests/artifacts/replay*.png.
 #include <gtest/gtest.h>
 
 #include "io/html_writer.hpp"
+#include "io/run.hpp"
 #include "node_tools.hpp"
 #include "support.hpp"
 
@@ -16,34 +19,55 @@ using namespace fulcrum::io::node_tools;
 
 namespace {
 
-TEST(Browser, ReplayPageRendersAndPlaysInHeadlessChromium) {
-    const fs::path node = findOnPath("node");
-    if (node.empty()) GTEST_SKIP() << "node not found on PATH (Debian: nodejs); browser check not run";
+// Why the browser check cannot run here, or empty.
+std::string missingTool() {
+    if (findOnPath("node").empty()) return "node not found on PATH (Debian: nodejs); browser check not run";
     const char* chromiumEnv = std::getenv("FULCRUM_CHROMIUM");
     const fs::path chromium = chromiumEnv ? fs::path(chromiumEnv) : fs::path("/usr/bin/chromium");
-    if (!fs::exists(chromium)) {
-        GTEST_SKIP() << chromium << " not found (scripts/install-viewer-deps.sh installs Debian's chromium)";
-    }
-    if (!hasNodePackage("playwright-core")) {
-        GTEST_SKIP() << "viewer/node_modules/playwright-core missing (run scripts/install-viewer-deps.sh)";
-    }
+    if (!fs::exists(chromium)) return chromium.string() + " not found (scripts/install-viewer-deps.sh installs Debian's chromium)";
+    if (!hasNodePackage("playwright-core")) return "viewer/node_modules/playwright-core missing (run scripts/install-viewer-deps.sh)";
+    return {};
+}
 
-    // Artefacts in the test's working directory (build/tests), kept for inspection.
-    const fs::path out = fs::current_path() / "recording-browser-test";
-    fs::create_directories(out);
-    const fs::path page = out / "replay.html";
-    const fs::path screenshot = out / "replay.png";
+// Artefacts next to the test binary (build/<config>/tests/artifacts), kept for inspection.
+fs::path artifacts() {
+    const fs::path dir = fs::current_path() / "artifacts";
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Runs browser-test.mjs on `page`; the screenshot goes to `screenshot`.
+void checkInBrowser(const fs::path& page, const fs::path& screenshot, std::size_t bodies, const std::string& extra) {
     fs::remove(screenshot);
-    const auto scene = synthetic::makeScene(61);
-    writeHtml(scene.recording, page);
-
-    const RunResult r = run(quote(node.string()) + " " + quote((viewerDir() / "test" / "browser-test.mjs").string()) +
-                            " " + quote(page.string()) + " " + quote(screenshot.string()) + " " +
-                            std::to_string(scene.recording.bodies.size()));
+    const RunResult r = run(quote(findOnPath("node").string()) + " " +
+                            quote((viewerDir() / "test" / "browser-test.mjs").string()) + " " + quote(page.string()) + " " +
+                            quote(screenshot.string()) + " " + std::to_string(bodies) + " " + extra);
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("\"failures\":[]"), std::string::npos) << r.output;
     EXPECT_TRUE(fs::exists(screenshot) && fs::file_size(screenshot) > 10000) << "no screenshot at " << screenshot;
-    std::printf("browser check: %s  screenshot: %s\n", r.output.c_str(), screenshot.string().c_str());
+    std::printf("browser check: %s\nscreenshot: %s\n", r.output.c_str(), screenshot.string().c_str());
+}
+
+// The built-in demo (`fulcrum run --record X.html`, scripts/run.sh): every set
+// piece labelled, the door picked by a click.
+TEST(Browser, DemoReplayOpensPlayingFramedLabelledAndPickable) {
+    if (const std::string missing = missingTool(); !missing.empty()) GTEST_SKIP() << missing;
+    const fs::path page = artifacts() / "replay.html";
+    fulcrum::detail::RunOutputs outputs;
+    outputs.recordPath = page.string();
+    const fulcrum::detail::RunResult result = fulcrum::detail::runScene(fulcrum::detail::demoScene(), outputs);
+    checkInBrowser(page, artifacts() / "replay.png", result.world.bodyCount(),
+                   "--labels " + quote("pyramid,pile,chain,door,slider,rope,cloth,projectile,spring chain,spinner,oscillator") +
+                       " --pick door");
+}
+
+// A synthetic recording with every shape type, a compound, a static mesh and joints.
+TEST(Browser, SyntheticReplayRendersAndPlays) {
+    if (const std::string missing = missingTool(); !missing.empty()) GTEST_SKIP() << missing;
+    const fs::path page = artifacts() / "replay-synthetic.html";
+    const auto scene = synthetic::makeScene(61);
+    writeHtml(scene.recording, page);
+    checkInBrowser(page, artifacts() / "replay-synthetic.png", scene.recording.bodies.size(), "--labels box,ball,gem --pick box");
 }
 
 }  // namespace

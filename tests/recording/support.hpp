@@ -74,6 +74,9 @@ inline SyntheticScene makeScene(int frames = 61, double dt = 1.0 / 60.0) {
     r.joints.push_back({"pin", JointType::Ball, -1, 3, {-2, 6, 1}, {0, Real(0.7), 0}});
 
     const std::size_t n = r.bodies.size();
+    for (std::size_t b = 0; b < n; ++b) {
+        if (r.bodies[b].type == BodyType::Dynamic) r.bodies[b].mass = s.motion[b].mass;
+    }
     r.contactOffsets.push_back(0);
     for (int f = 0; f < frames; ++f) {
         const double t = f * dt;

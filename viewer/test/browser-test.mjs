@@ -1,20 +1,30 @@
 // Headless-browser check of a recorded replay page (run by the C++ test
 // tests/recording/browser_test.cpp, or by hand):
-//   node viewer/test/browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS
+//   node viewer/test/browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]
 // Opens the page from file:// in Debian's Chromium driven by playwright-core,
-// refuses every non-file request (the page must fetch nothing), and checks that
-// the viewer starts without errors, shows the expected number of bodies, draws
-// a non-blank picture, and that the timeline advances when played. Saves a
-// screenshot. Prints one JSON line; exit 0 = pass, 1 = fail.
+// refuses every non-file request (the page must fetch nothing), and checks the
+// first impression: the viewer starts without errors or console errors, shows
+// the expected number of bodies, draws a shaded picture, plays on load (the
+// frame advances without a click), frames the moving bodies (their projected
+// box spans more than a quarter of the view's width or height, and most of
+// them are inside it), shows no debug overlay by default, labels the groups
+// named by --labels, and a click on the body --pick names selects it and the
+// readout shows its name. Saves SCREENSHOT.png (the first view, playing) and
+// SCREENSHOT-picked.png (after the click). Prints one JSON line; exit 0 =
+// pass, 1 = fail.
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { chromium } from 'playwright-core';
 
-const [pagePath, screenshotPath, expectedArg] = process.argv.slice(2);
+const args = process.argv.slice(2);
+const option = (name) => { const i = args.indexOf(name); return i >= 0 ? args.splice(i, 2)[1] : undefined; };
+const expectedLabels = option('--labels')?.split(',').filter(Boolean) ?? [];
+const pickName = option('--pick');
+const [pagePath, screenshotPath, expectedArg] = args;
 if (!pagePath || !screenshotPath || !expectedArg) {
-  console.error('usage: browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS');
+  console.error('usage: browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]');
   process.exit(2);
 }
 const expectedObjects = Number(expectedArg);
@@ -24,6 +34,22 @@ const failures = [];
 const report = { page: pagePath, screenshot: screenshotPath };
 const check = (ok, message) => { if (!ok) failures.push(message); };
 
+// Where the viewer's camera puts world points: client pixels, and whether in view.
+// Written here (not asked of the viewer) from the camera's matrices.
+function projectInPage(points) {
+  const camera = window.fulcrumViewer.camera;
+  camera.updateMatrixWorld();
+  const v = camera.matrixWorldInverse.elements, p = camera.projectionMatrix.elements;
+  const rect = document.querySelector('#view canvas').getBoundingClientRect();
+  const mul = (m, x) => [0, 1, 2, 3].map((r) => m[r] * x[0] + m[4 + r] * x[1] + m[8 + r] * x[2] + m[12 + r] * x[3]);
+  return points.map((point) => {
+    const clip = mul(p, mul(v, [...point, 1]));
+    const ndc = [clip[0] / clip[3], clip[1] / clip[3]];
+    return { ndc, inside: clip[3] > 0 && Math.abs(ndc[0]) <= 1 && Math.abs(ndc[1]) <= 1,
+             x: rect.left + ((ndc[0] + 1) / 2) * rect.width, y: rect.top + ((1 - ndc[1]) / 2) * rect.height };
+  });
+}
+
 let context;
 try {
   // Chromium's cold start can take tens of seconds on a loaded 2-core CI
@@ -32,7 +58,7 @@ try {
   const launchOptions = {
     executablePath,
     headless: true,
-    viewport: { width: 1000, height: 700 },
+    viewport: { width: 1280, height: 800 },
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
            // WebGL on the CPU: recent Chromium only falls back to SwiftShader when asked to.
@@ -70,8 +96,47 @@ try {
   Object.assign(report, info);
   check(info.objectCount === expectedObjects, `objectCount ${info.objectCount}, expected ${expectedObjects}`);
 
-  // Non-blank: copy the WebGL canvas (preserveDrawingBuffer) into a 2D canvas
-  // and count pixels that differ from the background colour.
+  // It plays on load: time and frame advance with no click.
+  const before = await page.evaluate(() => ({ frame: window.fulcrumViewer.frame, time: window.fulcrumViewer.time }));
+  await page.waitForFunction((f0) => window.fulcrumViewer.frame > f0 + 2 && window.fulcrumViewer.time > 0.5, before.frame,
+                             { timeout: 15000 }).catch(() => {});
+  const after = await page.evaluate(() => ({ frame: window.fulcrumViewer.frame, time: window.fulcrumViewer.time,
+                                             playing: window.fulcrumViewer.playing,
+                                             slider: Number(document.getElementById('timeline').value) }));
+  report.autoplay = { before, after };
+  check(after.playing, 'not playing on load');
+  check(after.time > before.time && after.frame > before.frame + 2,
+        `the timeline did not advance by itself: frame ${before.frame} -> ${after.frame}`);
+  check(after.slider === after.frame, 'slider does not follow the frame');
+  await page.screenshot({ path: screenshotPath });
+
+  // Overlays are off by default: unchecked, and nothing of them drawn.
+  const overlays = await page.evaluate(() => ({
+    drawn: window.fulcrumViewer.overlays,
+    checked: ['show-contacts', 'show-normals', 'show-joints', 'show-aabbs'].filter((id) => document.getElementById(id).checked),
+  }));
+  report.overlays = overlays;
+  check(overlays.checked.length === 0, `overlays on by default: ${overlays.checked.join(', ')}`);
+  check(Object.values(overlays.drawn).every((shown) => !shown), `overlays drawn by default: ${JSON.stringify(overlays.drawn)}`);
+
+  // Framing: the moving bodies' projected box is a good part of the view, and
+  // most of them are in it.
+  await page.evaluate(() => window.fulcrumViewer.pause());
+  const framing = await page.evaluate((project) => {
+    const moving = window.fulcrumViewer.bodies().filter((b) => b.type !== 'static');
+    const at = eval(project)(moving.map((b) => b.position));  // eslint-disable-line no-eval
+    const inside = at.filter((p) => p.inside);
+    const xs = inside.map((p) => p.ndc[0]), ys = inside.map((p) => p.ndc[1]);
+    return { moving: moving.length, inside: inside.length,
+             width: inside.length ? (Math.max(...xs) - Math.min(...xs)) / 2 : 0,
+             height: inside.length ? (Math.max(...ys) - Math.min(...ys)) / 2 : 0 };
+  }, `(${projectInPage})`);
+  report.framing = framing;
+  check(framing.inside >= 0.8 * framing.moving, `only ${framing.inside} of ${framing.moving} moving bodies in view`);
+  check(framing.width > 0.25 || framing.height > 0.25,
+        `moving bodies span only ${(100 * framing.width).toFixed(0)}% x ${(100 * framing.height).toFixed(0)}% of the view`);
+
+  // A shaded picture (lighting, shadows, the ground): many distinct colours.
   const pixels = await page.evaluate(() => {
     const gl = document.querySelector('#view canvas');
     const c = document.createElement('canvas');
@@ -79,42 +144,43 @@ try {
     const g = c.getContext('2d');
     g.drawImage(gl, 0, 0);
     const data = g.getImageData(0, 0, c.width, c.height).data;
-    const bg = [0x1c, 0x20, 0x28];
-    let differing = 0;
     const colours = new Set();
-    for (let i = 0; i < data.length; i += 4) {
-      if (Math.abs(data[i] - bg[0]) + Math.abs(data[i + 1] - bg[1]) + Math.abs(data[i + 2] - bg[2]) > 24) differing++;
-      colours.add((data[i] >> 3) << 10 | (data[i + 1] >> 3) << 5 | (data[i + 2] >> 3));
-    }
-    return { width: c.width, height: c.height, fraction: differing / (data.length / 4), colours: colours.size };
+    for (let i = 0; i < data.length; i += 4) colours.add((data[i] >> 3) << 10 | (data[i + 1] >> 3) << 5 | (data[i + 2] >> 3));
+    return { width: c.width, height: c.height, colours: colours.size };
   });
   report.pixels = pixels;
   check(pixels.width > 0 && pixels.height > 0, 'canvas has no size');
-  check(pixels.fraction > 0.02, `canvas nearly blank: ${(100 * pixels.fraction).toFixed(2)}% non-background pixels`);
-  check(pixels.colours > 16, `only ${pixels.colours} distinct colours drawn (no shading?)`);
+  check(pixels.colours > 64, `only ${pixels.colours} distinct colours drawn (no shading?)`);
 
-  // The timeline advances when played.
-  const before = await page.evaluate(() => ({ frame: window.fulcrumViewer.frame, time: window.fulcrumViewer.time }));
-  await page.click('#play');
-  await page.waitForFunction((f0) => window.fulcrumViewer.frame > f0 + 2, before.frame, { timeout: 5000 })
-    .catch(() => {});
-  const after = await page.evaluate(() => ({ frame: window.fulcrumViewer.frame, time: window.fulcrumViewer.time,
-                                             playing: window.fulcrumViewer.playing,
-                                             slider: Number(document.getElementById('timeline').value) }));
-  report.timeline = { before, after };
-  check(after.playing, 'not playing after clicking Play');
-  check(after.time > before.time && after.frame > before.frame,
-        `timeline did not advance: frame ${before.frame} -> ${after.frame}`);
-  check(after.slider === after.frame, 'slider does not follow the frame');
+  // Labels: one per named group, shown.
+  const labels = await page.evaluate(() => [...document.querySelectorAll('#labels .label')]
+    .map((e) => ({ text: e.textContent, shown: e.style.display !== 'none' })));
+  report.labels = labels.map((l) => l.text);
+  for (const name of expectedLabels) {
+    const label = labels.find((l) => l.text === name);
+    check(label?.shown, label ? `label '${name}' hidden` : `no label '${name}'`);
+  }
 
-  // Show every overlay for the screenshot, half-way through.
-  await page.click('#play');
-  await page.evaluate(() => {
-    document.getElementById('show-aabbs').click();
-    window.fulcrumViewer.seekFrame(Math.floor(window.fulcrumViewer.frameCount / 2));
-  });
-  await page.waitForTimeout(100);
-  await page.screenshot({ path: screenshotPath });
+  // Picking: a click on the body selects it, the readout names it.
+  if (pickName) {
+    const target = await page.evaluate(([name, project]) => {
+      const body = window.fulcrumViewer.bodies().find((b) => b.name === name);
+      return body ? eval(project)([body.position])[0] : null;  // eslint-disable-line no-eval
+    }, [pickName, `(${projectInPage})`]);
+    report.pickAt = target;
+    check(target?.inside, `body '${pickName}' not in view`);
+    if (target?.inside) {
+      await page.mouse.click(target.x, target.y);
+      await page.waitForTimeout(100);
+      const picked = await page.evaluate(() => ({ selected: window.fulcrumViewer.selected,
+                                                  readout: document.getElementById('readout').hidden ? '' : document.getElementById('readout').innerText }));
+      report.picked = picked;
+      check(picked.selected === pickName, `clicking '${pickName}' selected ${picked.selected}`);
+      check(picked.readout.includes(pickName) && /position/.test(picked.readout) && /velocity/.test(picked.readout),
+            `the readout does not describe '${pickName}': ${JSON.stringify(picked.readout)}`);
+      await page.screenshot({ path: screenshotPath.replace(/\.png$/, '-picked.png') });
+    }
+  }
 
   check(errors.length === 0, `page errors: ${errors.join(' | ')}`);
   check(external.length === 0, `the page tried to fetch: ${external.join(', ')}`);
