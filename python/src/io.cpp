@@ -5,7 +5,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "common.hpp"
-#include "io/recording.hpp"
+#include <fulcrum/recording.hpp>
 
 namespace fulcrum::python {
 
