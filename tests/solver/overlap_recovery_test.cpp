@@ -1,5 +1,6 @@
 // Issue 27: pushing overlaps apart must add a bounded amount of energy however
-// many contacts a body has (defect 5).
+// many contacts a body has (defect 5), and a stack the solver cannot hold
+// must not pass silently (defect 6: World::deepOverlaps).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -64,4 +65,32 @@ TEST(OverlapRecovery, BoxesCreatedAtOneSpotOnAFloorStayGentle) {
     // a heap a few metres high; the push must not add more than the speed bound.
     EXPECT_LT(m.maxSpeed, 4 * vpush);
     EXPECT_LT(m.maxKinetic, n * 0.5 * double(4 * vpush) * double(4 * vpush));
+}
+
+// deepOverlaps: a 1:10^6 heavy-on-light stack sinks (beyond the ratio the
+// solver holds, docs/solver.md) and the pair is listed, deepest first, with the
+// light box's size; a resting stack lists nothing; a bad fraction throws.
+TEST(DeepOverlaps, ListsThePairsTheSolverDidNotHoldApart) {
+    World world(WorldDef{});
+    addGround(world);
+    const BodyId light = addBox(world, {0, Real(0.5), 0});
+    const BodyId heavy = addBox(world, {0, Real(1.5), 0}, Vec3::splat(Real(0.5)), Real(1e6));
+    run(world, 120);
+    const std::vector<DeepOverlap> deep = world.deepOverlaps();
+    ASSERT_FALSE(deep.empty());
+    EXPECT_TRUE((deep[0].bodyA == light && deep[0].bodyB == heavy) || (deep[0].bodyA == heavy && deep[0].bodyB == light));
+    EXPECT_GT(deep[0].depth, Real(0.1));
+    EXPECT_FLOAT_EQ(deep[0].size, 1);
+    for (std::size_t i = 1; i < deep.size(); ++i) EXPECT_GE(deep[i - 1].depth, deep[i].depth);
+
+    World resting(WorldDef{});
+    addGround(resting);
+    for (int i = 0; i < 5; ++i) addBox(resting, {0, Real(0.5) + static_cast<Real>(i), 0});
+    run(resting, 120);
+    EXPECT_TRUE(resting.deepOverlaps().empty());
+    EXPECT_FALSE(resting.deepOverlaps(Real(1e-6)).empty());  // the resting overlap itself is not zero
+
+    EXPECT_THROW((void)resting.deepOverlaps(0), Error);
+    EXPECT_THROW((void)resting.deepOverlaps(-1), Error);
+    EXPECT_THROW((void)resting.deepOverlaps(std::numeric_limits<Real>::quiet_NaN()), Error);
 }
