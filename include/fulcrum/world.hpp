@@ -158,6 +158,14 @@ struct ContactReport {
     std::vector<Vec3> points;   // world space
 };
 
+// Two bodies left overlapping far deeper than contacts rest (World::deepOverlaps):
+// a pair the contact solver did not hold apart.
+struct DeepOverlap {
+    BodyId bodyA, bodyB;  // as in ContactReport
+    Real depth = 0;       // m: the deepest point of their contact at the end of the last step
+    Real size = 0;        // m: the smallest extent of the smaller dynamic body (what depth is compared with)
+};
+
 // ---- particle systems: the figures of one rope or cloth (design.md's
 // `particle_systems` entry of `--json`; World::particleReport).
 enum class ParticleSystemType : std::uint8_t { Rope, Cloth };
@@ -318,6 +326,13 @@ public:
     // The touching manifolds of the last step, built when first read after it
     // (const, but not safe to call from two threads at once).
     std::vector<ContactReport> contacts() const;
+    // The touching pairs of the last step whose depth is more than `fraction`
+    // of their `size` (DeepOverlap), deepest first. Resting contacts overlap
+    // by millimetres; a pair listed here is one the solver did not hold apart,
+    // e.g. a heavy body on a light one beyond the mass ratio the solver holds
+    // (docs/solver.md, "Mass ratios"). fraction must be finite and > 0
+    // (else fulcrum::Error). Reads the contact report (as contacts()).
+    std::vector<DeepOverlap> deepOverlaps(Real fraction = Real(0.1)) const;
 
     // ---- events of the last step (valid until the next step; no allocation)
     std::span<const ContactEvent> contactBeginEvents() const;  // pairs that started touching

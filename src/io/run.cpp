@@ -599,6 +599,35 @@ std::string profileSummary(const RunResult& result) {
     return s.str();
 }
 
+// The pairs the solver left overlapping deeper than a tenth of the smaller
+// body (World::deepOverlaps), named: a run whose bodies sank into each other
+// (a mass ratio beyond what the solver holds) must not read as a success.
+namespace {
+std::string deepOverlapWarning(const Scene& scene, const RunResult& result) {
+    const std::vector<DeepOverlap> deep = result.world.deepOverlaps();
+    if (deep.empty()) return {};
+    const auto nameOf = [&](BodyId id) {
+        for (std::size_t i = 0; i < result.handles.bodies.size(); ++i) {
+            if (result.handles.bodies[i] == id) return sceneBodyName(scene, i);
+        }
+        return std::string("(unnamed body)");
+    };
+    std::ostringstream s;
+    s << "  warning: " << deep.size() << (deep.size() == 1 ? " pair of bodies stays" : " pairs of bodies stay")
+      << " overlapped deeper than 10 % of the smaller body (the solver did not hold them apart; a mass ratio"
+         " beyond its limit? docs/solver.md, \"Mass ratios\"):\n";
+    constexpr std::size_t kShown = 10;
+    char line[512];
+    for (std::size_t k = 0; k < std::min(deep.size(), kShown); ++k) {
+        std::snprintf(line, sizeof line, "    %s and %s: %.4g m deep (size %.4g m)\n", nameOf(deep[k].bodyA).c_str(),
+                      nameOf(deep[k].bodyB).c_str(), double(deep[k].depth), double(deep[k].size));
+        s << line;
+    }
+    if (deep.size() > kShown) s << "    ... and " << deep.size() - kShown << " more pairs\n";
+    return s.str();
+}
+}  // namespace
+
 std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label) {
     const World& world = result.world;
     std::ostringstream s;
@@ -650,6 +679,7 @@ std::string runSummary(const Scene& scene, const RunResult& result, const std::s
             s << line;
         }
     }
+    s << deepOverlapWarning(scene, result);
     return s.str();
 }
 

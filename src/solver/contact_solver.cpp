@@ -46,6 +46,14 @@ constexpr std::size_t kSlotsPerBlock = 256;
 // (manifolds half as far): a block takes ~0.5 us, a miss to memory ~0.1 us.
 constexpr std::size_t kPrefetchBlocks = 8;
 
+// Overlaps deeper than this share contactPushMaxVelocity among a body's
+// contacts (pushLimit). Resting contacts (a few millimetres deep, up to ~3 cm
+// under a heavy load: docs/solver.md, "Mass ratios") keep the whole push
+// speed: a light box between two 100x heavier ones rests ~2 cm into each and
+// needs ~1.5 m/s of bias from both; at a 1 cm threshold the two shared 3 m/s
+// and the 1:100 stack collapsed.
+constexpr Real kPushShareDepth = Real(0.05);
+
 void prefetchContact(const Contact& c) {
     __builtin_prefetch(&c);
     __builtin_prefetch(reinterpret_cast<const char*>(&c) + sizeof(Contact) - 1);
@@ -106,6 +114,8 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(solverOfDense_, bodyCount);
     grow(constraints_, 4 * bodyCount);
     grow(pending_, 4 * bodyCount);
+    grow(overlapping_, 4 * bodyCount);
+    grow(overlapCount_, bodyCount + 1);
     grow(contactEnds_, 4 * bodyCount);
     grow(candidates_, 4 * bodyCount);
     grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
@@ -245,6 +255,7 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
     pendingBlockStart_[0] = 0;
     for (std::size_t block = 0; block < contactBlocks; ++block) pendingBlockStart_[block + 1] += pendingBlockStart_[block];
     pending_.resize(pendingBlockStart_[contactBlocks]);
+    overlapping_.resize(pending_.size());
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
@@ -253,8 +264,15 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
             if (out == pendingBlockStart_[block + 1]) continue;  // nothing solved here (a sleeping part of the world)
             for (std::size_t k = first; k < last; ++k) {
                 const ContactEnds& ends = contactEnds_[k];
+                if (ends.manifolds == 0) continue;
+                const std::size_t ci = contactAt(k);
+                const std::vector<CachedManifold>& manifolds = contacts[ci].manifolds;
                 for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
-                    pending_[out++] = {static_cast<std::uint32_t>(contactAt(k)), mi, ends.bodyA, ends.bodyB};
+                    const CachedManifold& m = manifolds[mi];
+                    bool overlaps = false;
+                    for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+                    overlapping_[out] = overlaps ? 1 : 0;
+                    pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
                 }
             }
         }
@@ -335,11 +353,16 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
             lane.friction = contact.friction;
             lane.restitution = contact.restitution;
             lane.rollingResistance = contact.rollingResistance;
+            lane.pushMax = pushLimit(pc);
             for (std::uint32_t i = 0; i < m.pointCount; ++i) {
                 lane.points[i].position = m.points[i].position;
                 lane.points[i].depth = m.points[i].depth;
                 lane.points[i].normalImpulse = m.points[i].normalImpulse;
             }
+            const Softness soft = softnessOf(pc);
+            lane.biasRate = soft.biasRate;
+            lane.massScale = soft.massScale;
+            lane.impulseScale = soft.impulseScale;
         }
     });
     forRanges(blocks, kBlocksPerBuildTask, [&](std::size_t begin, std::size_t end) {
@@ -348,7 +371,7 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
             const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
             const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
             wideBlocks.build(bi, laneSources_.data() + first, static_cast<int>(last - first), bodies_.data(),
-                             startCom_.data(), contactSoftness_, staticSoftness_);
+                             startCom_.data());
         }
     });
 
@@ -383,8 +406,6 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
     const Real friction = c.friction;
     const Real restitution = c.restitution;
     const Real rolling = c.rollingResistance;
-    // Against static (and kinematic: infinite mass) bodies the stiffer softness.
-    const bool stiff = ba.invMass == 0 || bb.invMass == 0;
     {
             const CachedManifold& m = c.manifolds[mi];
             k.bodyA = ia;
@@ -395,7 +416,8 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
             k.friction = friction;
             k.restitution = restitution;
             k.rollingResistance = rolling;
-            k.softness = stiff ? staticSoftness_ : contactSoftness_;
+            k.pushMax = pushLimit(pc);
+            k.softness = softnessOf(pc);
             const Vec3 n = m.normal;
             k.normal = n;
             orthonormalBasis(n, k.tangent1, k.tangent2);
@@ -469,6 +491,36 @@ void ContactSolver::colourGreedy() {
     colourGreedily<kColourCount>(
         pending_.size(), bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); },
         colourBits_, colourOf_, colourStart_);
+    // Each body's deep overlaps, for pushLimit (serial here, beside the
+    // first force evaluation, like the colouring).
+    overlapCount_.assign(bodies_.size(), 0);
+    for (std::size_t i = 0; i < pending_.size(); ++i) {
+        if (overlapping_[i] == 0) continue;
+        ++overlapCount_[pending_[i].bodyA];
+        ++overlapCount_[pending_[i].bodyB];
+    }
+}
+
+[[gnu::always_inline]] inline Softness ContactSolver::softnessOf(const PendingConstraint& pc) const {
+    // Against static (and kinematic: infinite mass) bodies the stiffer softness.
+    const bool stiff = bodies_[pc.bodyA].invMass == 0 || bodies_[pc.bodyB].invMass == 0;
+    return stiff ? staticSoftness_ : contactSoftness_;
+}
+
+// Why shared: each overlapping contact asks its pair to separate at up to
+// pushMax, and those demands add up through the bodies. N boxes created at one
+// spot form N(N-1)/2 contacts whose demands, chained through the bodies, threw
+// them apart (100 boxes: 50 m/s, 110x the energy of every box moving at
+// pushMax): the relax pass, one Gauss-Seidel sweep, cannot take that back out
+// of so coupled a system. With each contact's limit divided by the number of
+// deep overlaps (deeper than kPushShareDepth) of its busier dynamic end, the
+// demands on any body sum to at most pushMax. Resting contacts do not count.
+[[gnu::always_inline]] inline Real ContactSolver::pushLimit(const PendingConstraint& pc) const {
+    const auto countOf = [&](std::uint32_t body) {
+        return bodies_[body].invMass > 0 ? overlapCount_[body] : 0u;  // static and kinematic ends are never pushed
+    };
+    const std::uint32_t count = std::max(countOf(pc.bodyA), countOf(pc.bodyB));
+    return count > 1 ? pushMax_ / static_cast<Real>(count) : pushMax_;
 }
 
 void ContactSolver::placeInColourSlots() {
@@ -619,7 +671,7 @@ void ContactSolver::runPassStage(std::uint32_t arg, std::uint32_t first, std::ui
     if (pass == Pass::WarmStart) {
         blocks_->warmStart(first, last - first, bodies_.data());
     } else {
-        blocks_->solve(first, last - first, bodies_.data(), pass == Pass::Solve, invH_, pushMax_);
+        blocks_->solve(first, last - first, bodies_.data(), pass == Pass::Solve, invH_);
     }
 }
 
@@ -666,7 +718,7 @@ void ContactSolver::solve(bool useBias) {
     // Wide mode: the blocks, then the overflow colour (all constraints_ hold).
     if (wide_) {
         forEachColour([this, useBias](std::size_t first, std::size_t count) {
-            blocks_->solve(first, count, bodies_.data(), useBias, invH_, pushMax_);
+            blocks_->solve(first, count, bodies_.data(), useBias, invH_);
         });
     }
     if (useBias) {
@@ -701,7 +753,7 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
             if (s > 0) {
                 bias = s * invH_;  // speculative: allow exactly the approach that closes the gap
             } else if constexpr (useBias) {
-                bias = std::max(soft.biasRate * s, -pushMax_);
+                bias = std::max(soft.biasRate * s, -k.pushMax);
                 massScale = soft.massScale;
                 impulseScale = soft.impulseScale;
             }

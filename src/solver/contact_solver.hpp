@@ -73,6 +73,7 @@ struct ContactConstraint {
     std::uint32_t contact = 0, manifold = 0; // where the results go back
     std::uint32_t pointCount = 0;
     Real friction = 0, restitution = 0, rollingResistance = 0;  // rolling: max impulse per unit normal impulse
+    Real pushMax = 0;                        // fastest push-out of this contact: ContactSolver::pushLimit
     Vec3 normal, tangent1, tangent2;
     Softness softness;
     ConstraintPoint points[4];
@@ -105,7 +106,8 @@ public:
     // of constraints; the greedy colouring (serial: the step runs it beside
     // the first force evaluation, step.cpp); the colour slots and the
     // constraint build. colourGreedy reads only the constraint list and the
-    // solver bodies' inverse masses, and writes only the colouring's arrays.
+    // solver bodies' inverse masses, and writes only the colouring's arrays
+    // and the deep-overlap counts of pushLimit.
     void prepareConstraintList(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
     void colourGreedy();
     void finishPrepare(const WorldImpl& w, ContactManager& contacts);
@@ -191,6 +193,14 @@ private:
     void packWide(const WorldImpl& w, const std::vector<Contact>& contacts);
     void storeRange(std::vector<Contact>& contacts, std::size_t begin, std::size_t end) const;
     void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
+    // The push-out speed limit of one constraint: contactPushMaxVelocity
+    // shared among the deep overlaps of its busier dynamic body, so that the
+    // pushes asked of any one body add up to at most contactPushMaxVelocity
+    // however many bodies overlap it (issue 27; docs/solver.md, "Many overlaps").
+    Real pushLimit(const PendingConstraint& pc) const;
+    // The dynamic or the stiffer static softness (the scalar and the wide
+    // build both take it from here).
+    Softness softnessOf(const PendingConstraint& pc) const;
 
     std::vector<SolverBody> bodies_;
     std::vector<Vec3> startCom_;
@@ -199,6 +209,8 @@ private:
     std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
+    std::vector<std::uint8_t> overlapping_;      // per pending constraint: its manifold is a deep overlap (pushLimit)
+    std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
     };

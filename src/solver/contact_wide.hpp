@@ -45,7 +45,6 @@ namespace fulcrum::detail {
 
 struct SolverBody;
 struct Contact;
-struct Softness;
 
 // What ContactSolver::buildConstraint reads for one constraint, copied out of
 // its contact and manifold (prepare stages these in colour order, so the block
@@ -59,6 +58,8 @@ struct LaneSource {
     Vec3 rollingImpulse;
     std::uint32_t bodyA = 0, bodyB = 0, contact = 0, manifoldIndex = 0;
     Real friction = 0, restitution = 0, rollingResistance = 0;
+    Real pushMax = 0;  // ContactSolver::pushLimit
+    Real biasRate = 0, massScale = 1, impulseScale = 0;  // the lane's softness: ContactSolver::softnessOf
     struct Point {
         Vec3 position;
         Real depth = 0, normalImpulse = 0;
@@ -101,12 +102,11 @@ public:
     // scalar reference), so the same bits. startCom: each solver body's centre
     // of mass at the step's start.
     virtual void build(std::size_t block, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
-                       const Vec3* startCom, const Softness& dynamicSoftness, const Softness& stiffSoftness) = 0;
+                       const Vec3* startCom) = 0;
     // Twins of ContactSolver::warmStart, solve, applyRestitution and store, over
     // blocks [first, first + count).
     virtual void warmStart(std::size_t first, std::size_t count, SolverBody* bodies) = 0;
-    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
-                       Real pushMax) = 0;
+    virtual void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH) = 0;
     virtual void restitution(SolverBody* bodies, Real threshold) = 0;
     // Where block `block` stores its lanes' results (for the store's prefetch).
     virtual void laneTargets(std::size_t block, const std::uint32_t*& contact, const std::uint32_t*& manifold,

@@ -79,7 +79,7 @@ struct WideContactBlock {
     bool bouncy = false;                                   // a lane has restitution
     WideBlockExtra* extra = nullptr;                       // points 1-3 and rolling; set iff pointCount > 1 or rolling
     Vec3W normal, tangent1, tangent2;
-    FloatW friction, biasRate, massScale, impulseScale;
+    FloatW friction, biasRate, massScale, impulseScale, minusPushMax;
     WidePoint point0;
     Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
     FloatW k11, k12, k22, tangentImpulse1, tangentImpulse2, twistMass, twistImpulse, twistRadius;
@@ -153,8 +153,7 @@ WideMat3 gatherInverseInertia(const SolverBody* bodies, const std::uint32_t* ind
 // ~840 + ~220 instructions; built four at a time here: ~450 per constraint
 // (docs/solver.md).
 void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
-                const SolverBody* bodies, const Vec3* startCom, const Softness& dynamicSoftness,
-                const Softness& stiffSoftness) {
+                const SolverBody* bodies, const Vec3* startCom) {
     // Every field is written exactly once below (no clearBlock first: the
     // blocks are cold memory, and clearing them first doubled the stores; with
     // it, 40 % of buildBlock's samples stalled on the store buffer, perf on the
@@ -182,6 +181,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     alignas(32) float count[kWideLanes] = {}, friction[kWideLanes] = {}, restitution[kWideLanes] = {};
     alignas(32) float rolling[kWideLanes] = {}, biasRate[kWideLanes] = {}, massScale[kWideLanes] = {};
     alignas(32) float impulseScale[kWideLanes] = {}, twistImpulse[kWideLanes] = {}, active[kWideLanes] = {};
+    alignas(32) float minusPushMax[kWideLanes] = {};
     alignas(32) float fx[kWideLanes] = {}, fy[kWideLanes] = {}, fz[kWideLanes] = {};
     alignas(32) float cax[kWideLanes] = {}, cay[kWideLanes] = {}, caz[kWideLanes] = {};
     alignas(32) float cbx[kWideLanes] = {}, cby[kWideLanes] = {}, cbz[kWideLanes] = {};
@@ -209,10 +209,10 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
         friction[l] = src.friction;
         restitution[l] = src.restitution;
         rolling[l] = src.rollingResistance;
-        const Softness& soft = ba.invMass == 0 || bb.invMass == 0 ? stiffSoftness : dynamicSoftness;
-        biasRate[l] = soft.biasRate;
-        massScale[l] = soft.massScale;
-        impulseScale[l] = soft.impulseScale;
+        biasRate[l] = src.biasRate;
+        massScale[l] = src.massScale;
+        impulseScale[l] = src.impulseScale;
+        minusPushMax[l] = -src.pushMax;
         fx[l] = m.frictionImpulse.x;
         fy[l] = m.frictionImpulse.y;
         fz[l] = m.frictionImpulse.z;
@@ -269,6 +269,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     k.biasRate = FloatW::load(biasRate);
     k.massScale = FloatW::load(massScale);
     k.impulseScale = FloatW::load(impulseScale);
+    k.minusPushMax = FloatW::load(minusPushMax);
 
     const FloatW pointCount = FloatW::load(count);
     Vec3W position[4];
@@ -378,7 +379,7 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
 
 // The twin of ContactSolver::solvePass.
 template <bool useBias>
-void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, FloatW invH, FloatW minusPushMax) {
+void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, FloatW invH) {
     const FloatW zero = 0.0f, one = 1.0f;
     for (std::size_t bi = 0; bi < count; ++bi) {
         WideContactBlock& k = blocks[bi];
@@ -396,7 +397,7 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
             const MaskW speculative = s > zero;
             FloatW bias, massScale, impulseScale;
             if constexpr (useBias) {
-                bias = select(speculative, s * invH, max(minusPushMax, k.biasRate * s));
+                bias = select(speculative, s * invH, max(k.minusPushMax, k.biasRate * s));
                 massScale = select(speculative, one, k.massScale);
                 impulseScale = select(speculative, zero, k.impulseScale);
             } else {
@@ -488,11 +489,11 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
 }
 
 
-void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH, Real pushMax) {
+void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH) {
     if (useBias) {
-        solveBlocks<true>(blocks, count, bodies, invH, -pushMax);
+        solveBlocks<true>(blocks, count, bodies, invH);
     } else {
-        solveBlocks<false>(blocks, count, bodies, invH, -pushMax);
+        solveBlocks<false>(blocks, count, bodies, invH);
     }
 }
 
@@ -585,17 +586,16 @@ public:
         FULCRUM_WIDE_LEAVE();
     }
     void build(std::size_t block, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
-               const Vec3* startCom, const Softness& dynamicSoftness, const Softness& stiffSoftness) override {
-        buildBlock(blocks_[block], extras_[block], lanes, laneCount, bodies, startCom, dynamicSoftness, stiffSoftness);
+               const Vec3* startCom) override {
+        buildBlock(blocks_[block], extras_[block], lanes, laneCount, bodies, startCom);
         FULCRUM_WIDE_LEAVE();
     }
     void warmStart(std::size_t first, std::size_t count, SolverBody* bodies) override {
         warmStartWide(blocks_.data() + first, count, bodies);
         FULCRUM_WIDE_LEAVE();
     }
-    void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
-               Real pushMax) override {
-        solveWide(blocks_.data() + first, count, bodies, useBias, invH, pushMax);
+    void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH) override {
+        solveWide(blocks_.data() + first, count, bodies, useBias, invH);
         FULCRUM_WIDE_LEAVE();
     }
     void restitution(SolverBody* bodies, Real threshold) override {

@@ -1,6 +1,11 @@
 // Diagnostics: energy, momentum and contacts. Sums run in double so that a
 // thousand-body scene does not lose the small terms (the drift the tests measure
 // is often 1e-4 of the total).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "world/world_impl.hpp"
 
 namespace fulcrum {
@@ -103,6 +108,35 @@ std::vector<ContactReport> World::contacts() const {
     const auto first = impl_->contacts.begin();
     return {first, first + static_cast<std::ptrdiff_t>(impl_->contactReportCount)};
 }
+std::vector<DeepOverlap> World::deepOverlaps(Real fraction) const {
+    if (!std::isfinite(fraction) || !(fraction > 0)) {
+        throw Error("World::deepOverlaps: fraction must be finite and > 0, got " + std::to_string(fraction));
+    }
+    impl_->ensureContactReport();
+    std::vector<DeepOverlap> deep;
+    for (std::size_t i = 0; i < impl_->contactReportCount; ++i) {
+        const ContactReport& c = impl_->contacts[i];
+        // The smaller dynamic body's smallest extent: a static ground (or a
+        // flat mesh) says nothing about how deep a box may rest in it.
+        Real size = std::numeric_limits<Real>::infinity();
+        for (const BodyId id : {c.bodyA, c.bodyB}) {
+            if (!isValid(id) || bodyType(id) != BodyType::Dynamic) continue;
+            const AABB box = shape(id).localBounds();
+            const Vec3 extent = box.max - box.min;
+            size = std::min({size, extent.x, extent.y, extent.z});
+        }
+        if (std::isfinite(size) && c.depth > fraction * size) deep.push_back({c.bodyA, c.bodyB, c.depth, size});
+    }
+    // Deepest first, ties by the bodies' handles: a total order, so std::sort
+    // (std::stable_sort's temporary buffer trips ASan's new/free check with GCC 12).
+    std::sort(deep.begin(), deep.end(), [](const DeepOverlap& a, const DeepOverlap& b) {
+        if (a.depth != b.depth) return a.depth > b.depth;
+        if (a.bodyA.index != b.bodyA.index) return a.bodyA.index < b.bodyA.index;
+        return a.bodyB.index < b.bodyB.index;
+    });
+    return deep;
+}
+
 std::span<const ContactEvent> World::contactBeginEvents() const { return impl_->contactManager.beginEvents; }
 std::span<const ContactEvent> World::contactEndEvents() const { return impl_->contactManager.endEvents; }
 std::span<const ContactEvent> World::sensorBeginEvents() const { return impl_->contactManager.sensorBeginEvents; }

@@ -55,6 +55,12 @@ std::vector<BodyId> buildMixedPile(World& world) {
             }
         }
     }
+    // Six boxes created inside each other: deep overlaps, whose push-out
+    // speed each lane shares with its bodies' other deep overlaps (pushLimit).
+    for (int i = 0; i < 6; ++i) {
+        const Real offset = Real(0.05) * static_cast<Real>(i);
+        ids.push_back(addBox(world, {Real(4.5) + offset, Real(0.5) + offset, Real(4.5) - offset}, Vec3::splat(Real(0.45))));
+    }
     BodyDef paddle;
     paddle.type = BodyType::Kinematic;
     paddle.shape = Shape::box({Real(0.2), Real(0.5), Real(3)});

@@ -89,3 +89,52 @@ TEST(Stacking, MassRatioOneToTenStands) {
     EXPECT_LT(q.drift, Real(0.01));
     EXPECT_LT(q.sink, Real(0.05));
 }
+
+namespace {
+
+// Boxes of alternating mass on the ground, the bottom one light (1 kg) and
+// every other one `heavy` kg, run 10 s with sleeping on. Returns the deepest
+// overlap between neighbours (and of the bottom box into the ground) seen at
+// the end, the top box's sink and the worst drift.
+struct RatioStack {
+    Real overlap = 0, sink = 0, drift = 0;
+};
+RatioStack alternatingStack(int count, Real heavy) {
+    World world(WorldDef{});
+    addGround(world);
+    std::vector<BodyId> boxes;
+    for (int i = 0; i < count; ++i) {
+        boxes.push_back(addBox(world, {0, Real(0.5) + static_cast<Real>(i), 0}, Vec3::splat(Real(0.5)), i % 2 ? heavy : 1));
+    }
+    run(world, 600);
+    RatioStack r;
+    r.overlap = Real(0.5) - world.position(boxes[0]).y;
+    for (int i = 0; i + 1 < count; ++i) {
+        r.overlap = std::max(r.overlap, 1 - (world.position(boxes[i + 1]).y - world.position(boxes[i]).y));
+    }
+    for (BodyId b : boxes) r.drift = std::max(r.drift, std::hypot(world.position(b).x, world.position(b).z));
+    r.sink = Real(0.5) + static_cast<Real>(count - 1) - world.position(boxes.back()).y;
+    return r;
+}
+
+}  // namespace
+
+// The mass ratios docs/solver.md ("Mass ratios") says the soft contacts hold:
+// a box 300x heavier on a light one rests ~3 cm into it (a soft contact is a
+// spring of stiffness m omega^2 for the light body's mass m, so the overlap
+// grows with the ratio: 1 cm at 1:100), and an alternating 1:100 stack of five
+// rests ~2 cm per contact. Beyond (1:500 and 1:200), the heavy boxes sink
+// through: World::deepOverlaps and the CLI's summary say so.
+TEST(Stacking, HeavyOnLightHoldsToOneToThreeHundred) {
+    const RatioStack r = alternatingStack(2, 300);
+    EXPECT_LT(r.overlap, Real(0.04));
+    EXPECT_LT(r.sink, Real(0.06));
+    EXPECT_LT(r.drift, Real(0.01));
+}
+
+TEST(Stacking, AlternatingOneToHundredStackOfFiveStands) {
+    const RatioStack r = alternatingStack(5, 100);
+    EXPECT_LT(r.overlap, Real(0.03));
+    EXPECT_LT(r.sink, Real(0.07));
+    EXPECT_LT(r.drift, Real(0.03));
+}
