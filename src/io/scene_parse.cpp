@@ -738,7 +738,7 @@ Scene parseScene(std::string_view json, std::string_view sourceName) {
     return Parser(json, sourceName).parse();
 }
 
-Scene loadScene(const std::filesystem::path& file) {
+std::string readSceneText(const std::filesystem::path& file) {
     const std::string name = file.string();
     std::error_code ec;
     if (std::filesystem::is_directory(file, ec)) throw SceneError(name, "", 0, 0, "is a directory, not a scene file");
@@ -747,7 +747,9 @@ Scene loadScene(const std::filesystem::path& file) {
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad()) throw SceneError(name, "", 0, 0, "error while reading the file");
-    return parseScene(text.str(), name);
+    return text.str();
 }
+
+Scene loadScene(const std::filesystem::path& file) { return parseScene(readSceneText(file), file.string()); }
 
 }  // namespace fulcrum
