@@ -89,6 +89,17 @@ std::vector<SceneOverrides> toOverrides(const std::vector<std::vector<std::pair<
 }  // namespace
 
 void bindBatch(py::module_& m) {
+    m.def(
+        "_scene_run_settings",
+        [](const std::string& sceneJson, const std::string& sourceName,
+           const std::vector<std::pair<std::string, std::string>>& overrides) {
+            SceneOverrides o;
+            for (const auto& [path, value] : overrides) o.push_back({path, value});
+            const Scene scene = parseSceneWithOverrides(sceneJson, o, sourceName);
+            return py::make_tuple(static_cast<double>(scene.dt), scene.steps);
+        },
+        py::arg("scene_json"), py::arg("source_name"), py::arg("overrides"),
+        "Reads a scene with overrides (raising SceneError as Batch would) and returns its (dt, steps).");
     py::class_<PyBatch>(m, "_Batch", "The compiled part of fulcrum.Batch (use that).")
         .def(py::init([](const std::string& sceneJson, const std::string& sourceName, std::size_t count,
                          const std::vector<std::vector<std::pair<std::string, std::string>>>& overrides, int threads) {
