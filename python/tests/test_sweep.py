@@ -103,3 +103,31 @@ def test_bad_set_is_exit_2_naming_it_before_running(scene_file, tmp_path, settin
 def test_missing_scene_is_exit_2(tmp_path):
     r = run_sweep(tmp_path / "nope.json", "--set", "bodies[ball].mass=1", "--out", tmp_path / "r.csv")
     assert r.returncode == 2 and "nope.json" in r.stderr
+
+
+def test_progress_bar_only_on_a_terminal(scene_file, tmp_path):
+    import pty
+
+    main, secondary = pty.openpty()
+    try:
+        r = subprocess.run([sys.executable, "-m", "fulcrum", "sweep", str(scene_file), "--set",
+                            "bodies[ball].restitution=0:1:3", "--steps", str(STEPS), "--out", str(tmp_path / "r.csv")],
+                           stdout=subprocess.PIPE, stderr=secondary, timeout=120)
+        os.close(secondary)
+        secondary = None
+        shown = b""
+        while True:
+            try:
+                chunk = os.read(main, 4096)
+            except OSError:  # Linux: EIO once the terminal's other end is closed
+                break
+            if not chunk:
+                break
+            shown += chunk
+    finally:
+        if secondary is not None:
+            os.close(secondary)
+        os.close(main)
+    assert r.returncode == 0
+    assert b"sweep [" in shown and b"100%" in shown
+    assert r.stdout == b""
