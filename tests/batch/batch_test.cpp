@@ -11,6 +11,7 @@
 #include "fulcrum/batch.hpp"
 #include "fulcrum/scene_batch.hpp"
 #include "fulcrum/snapshot.hpp"
+#include "dynamics/test_scenes.hpp"
 
 namespace fulcrum {
 namespace {
@@ -190,15 +191,7 @@ TEST(Batch, ActionsFromArraysActLikeTheWorldCalls) {
     EXPECT_GT(got[bodies * 3 + 1 * 3 + 1], Real(1.5));
 }
 
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::errorOf;
 
 TEST(Batch, BadInputIsAnErrorNamingIt) {
     Batch batch = makeSceneBatch(kScene, 2, {}, BatchDef{1});
