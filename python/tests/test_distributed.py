@@ -17,7 +17,7 @@ import pytest
 
 distributed = pytest.importorskip("distributed", reason="python3-distributed (scripts/install-deps.sh)")
 
-import fulcrum  # noqa: E402,F401
+import fulcrum  # noqa: E402
 import fulcrum.distributed as fd  # noqa: E402
 
 # Debian's tornado warns about its own use of the event loop.
@@ -73,7 +73,9 @@ class CliCluster:
         self.port = free_port()
         self.address = f"tcp://127.0.0.1:{self.port}"
         self.procs = []
-        env = dict(os.environ)
+        # The workers import the same fulcrum as the tests (PYTHONPATH may be relative).
+        package_parent = os.path.dirname(os.path.dirname(os.path.abspath(fulcrum.__file__)))
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join([package_parent, os.environ.get("PYTHONPATH", "")]))
         quiet = dict(stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
         self.procs.append(subprocess.Popen([command("dask-scheduler"), "--host", "127.0.0.1", "--port", str(self.port),
                                             "--no-dashboard"], **quiet))

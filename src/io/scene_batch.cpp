@@ -140,7 +140,7 @@ Scene readWithOverrides(const json& base, std::string_view baseText, std::span<c
     for (const SceneOverride& o : overrides) applyOne(doc, o, source);
     try {
         return parseScene(doc.dump(), source);
-    } catch (const SceneError& first) {
+    } catch (const SceneError&) {
         if (overrides.empty()) throw;
         (void)parseScene(baseText, source);  // a fault of the scene itself is reported as such
         // The scene is fine alone: name the first override after which it is not.
