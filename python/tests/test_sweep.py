@@ -131,3 +131,19 @@ def test_progress_bar_only_on_a_terminal(scene_file, tmp_path):
     assert r.returncode == 0
     assert b"sweep [" in shown and b"100%" in shown
     assert r.stdout == b""
+
+
+def test_worlds_of_different_dt_run_with_their_own(scene_file, tmp_path):
+    out = tmp_path / "r.csv"
+    r = run_sweep(scene_file, "--set", "world.dt=0.01,0.02", "--steps", 30, "--out", out)
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.reader(out.open()))[1:]
+    for w, dt in enumerate((0.01, 0.02)):
+        scene = copy.deepcopy(SCENE)
+        scene["world"]["dt"] = dt
+        world = fulcrum.load_scene(scene)
+        world.step(world.scene_dt, steps=30)
+        ball = world.find_body("ball")
+        row = next(row for row in rows if row[0] == str(w) and row[2] == "ball")
+        assert row[3:6] == [repr(float(x)) for x in ball.position]
+    assert rows[0][3] != rows[2][3]  # the two dts moved the ball differently
