@@ -150,7 +150,9 @@ struct Scene {
 
 // Reads and validates a scene file. Throws SceneError (unreadable file, bad JSON, bad values).
 Scene loadScene(const std::filesystem::path& file);
-// Same, from text; `sourceName` is used in error messages.
+// The text of a scene file, unparsed; throws SceneError (unreadable file).
+std::string readSceneText(const std::filesystem::path& file);
+// Same as loadScene, from text; `sourceName` is used in error messages.
 Scene parseScene(std::string_view json, std::string_view sourceName = "<scene>");
 
 // The JSON text of a scene (pretty-printed, two-space indent).

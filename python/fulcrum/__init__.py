@@ -44,9 +44,10 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     World,
     load_snapshot,
 )
+from .batch import Batch  # noqa: F401  (re-exported)
 
 __all__ = [
-    "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error", "Joint",
+    "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error", "Joint",
     "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "SceneError", "Shape", "ShapeHit",
     "Sphere", "Spring", "World", "load_scene", "load_snapshot", "real_dtype",
 ]

@@ -164,6 +164,7 @@ void bindJoints(py::module_& m);
 void bindParticles(py::module_& m);
 void bindQueries(py::module_& m);
 void bindIo(py::module_& m);
+void bindBatch(py::module_& m);
 
 // Shapes to scene-file descriptions (save_scene of a Python-built world), and
 // to the Python class of their kind.

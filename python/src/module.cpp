@@ -158,4 +158,5 @@ PYBIND11_MODULE(_fulcrum, m) {
     fp::bindParticles(m);
     fp::bindQueries(m);
     fp::bindIo(m);
+    fp::bindBatch(m);
 }

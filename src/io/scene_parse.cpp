@@ -793,7 +793,7 @@ Scene parseScene(std::string_view json, std::string_view sourceName) {
     return Parser(json, sourceName).parse();
 }
 
-Scene loadScene(const std::filesystem::path& file) {
+std::string readSceneText(const std::filesystem::path& file) {
     const std::string name = file.string();
     // A directory, device or FIFO is refused before reading: /dev/zero would never end.
     if (const auto reason = detail::notARegularFile(file)) throw SceneError(name, "", 0, 0, *reason + " (expected a scene file)");
@@ -802,7 +802,9 @@ Scene loadScene(const std::filesystem::path& file) {
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad()) throw SceneError(name, "", 0, 0, "error while reading the file");
-    return parseScene(text.str(), name);
+    return text.str();
 }
+
+Scene loadScene(const std::filesystem::path& file) { return parseScene(readSceneText(file), file.string()); }
 
 }  // namespace fulcrum
