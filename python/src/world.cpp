@@ -117,7 +117,8 @@ void bindWorld(py::module_& m) {
                           Real contactDampingRatio, Real contactPushMaxVelocity, Real speculativeMargin,
                           Real restitutionThreshold, Real jointHertz, Real jointDampingRatio, Real maxRotationPerSubstep,
                           Real jointProjectionSlop, bool jointDirectSolve, Real linearSleepVelocity,
-                          Real angularSleepVelocity, Real timeToSleep, bool continuousCollision) {
+                          Real angularSleepVelocity, Real timeToSleep, bool continuousCollision,
+                          std::int64_t maxContactPairs) {
                   WorldDef def;
                   def.gravity = toVec3(gravity, "gravity");
                   def.integrator = integratorNamed(integrator);
@@ -140,6 +141,7 @@ void bindWorld(py::module_& m) {
                   def.angularSleepVelocity = angularSleepVelocity;
                   def.timeToSleep = timeToSleep;
                   def.continuousCollision = continuousCollision;
+                  def.maxContactPairs = maxContactPairs;
                   auto state = std::make_shared<WorldState>(World(def));
                   state->scene.world = def;
                   return PyWorld{std::move(state)};
@@ -158,7 +160,8 @@ void bindWorld(py::module_& m) {
               py::arg("joint_direct_solve") = d.jointDirectSolve,
               py::arg("linear_sleep_velocity") = d.linearSleepVelocity,
               py::arg("angular_sleep_velocity") = d.angularSleepVelocity, py::arg("time_to_sleep") = d.timeToSleep,
-              py::arg("continuous_collision") = d.continuousCollision);
+              py::arg("continuous_collision") = d.continuousCollision,
+              py::arg("max_contact_pairs") = d.maxContactPairs);
 
     // ---- settings
     world
@@ -184,6 +187,10 @@ void bindWorld(py::module_& m) {
         .def_property(
             "parallel_min_bodies", [](const PyWorld& w) { return w.world().settings().parallelMinBodies; },
             [](PyWorld& w, std::uint32_t n) { w.world().setParallelMinBodies(n); })
+        .def_property(
+            "max_contact_pairs", [](const PyWorld& w) { return w.world().settings().maxContactPairs; },
+            [](PyWorld& w, std::int64_t n) { w.world().setMaxContactPairs(n); },
+            "The contact pair limit; 0 is automatic (docs/solver.md, 'Contact pair limit').")
         .def("settings",
              [](const PyWorld& w) {
                  const WorldDef& s = w.world().settings();
@@ -209,6 +216,7 @@ void bindWorld(py::module_& m) {
                  out["angular_sleep_velocity"] = s.angularSleepVelocity;
                  out["time_to_sleep"] = s.timeToSleep;
                  out["continuous_collision"] = s.continuousCollision;
+                 out["max_contact_pairs"] = s.maxContactPairs;
                  return out;
              },
              "Every WorldDef field as a dict (the World() keywords).");
@@ -336,9 +344,33 @@ void bindWorld(py::module_& m) {
                  out["sleep"] = p.sleep, out["finish"] = p.finish, out["awake_bodies"] = p.awakeBodies;
                  out["contact_constraints"] = p.contactConstraints, out["joint_constraints"] = p.jointConstraints;
                  out["workers"] = p.workers;
+                 out["contact_pairs"] = p.contactPairs, out["contact_pair_limit"] = p.contactPairLimit;
+                 out["pairs_left_out"] = p.pairsLeftOut, out["bodies_over_pair_limit"] = p.bodiesOverPairLimit;
                  return out;
              },
-             "Wall-clock milliseconds per phase of the last step, and what it worked on (docs/api.md, 'Profiling').");
+             "Wall-clock milliseconds per phase of the last step, and what it worked on (docs/api.md, 'Profiling').")
+        .def("warnings",
+             [](const PyWorld& w) {
+                 py::list out;
+                 for (const WorldWarning& warning : w.world().warnings()) {
+                     out.append(py::dict(py::arg("step") = warning.step, py::arg("message") = warning.message));
+                 }
+                 return out;
+             },
+             "[{'step', 'message'}, ...]: what the world noticed (e.g. the contact pair limit held pairs back), oldest first.")
+        .def("deep_overlaps",
+             [](const PyWorld& w, Real fraction) {
+                 py::list out;
+                 for (const DeepOverlap& o : w.world().deepOverlaps(fraction)) {
+                     out.append(py::dict(py::arg("body_a") = bodyObject(w.state, o.bodyA),
+                                         py::arg("body_b") = bodyObject(w.state, o.bodyB), py::arg("depth") = o.depth,
+                                         py::arg("size") = o.size));
+                 }
+                 return out;
+             },
+             py::arg("fraction") = Real(0.1),
+             "[{'body_a', 'body_b', 'depth', 'size'}, ...]: pairs left overlapping deeper than fraction x the smaller "
+             "body's smallest extent, deepest first (World::deepOverlaps, docs/api.md).");
 
     // ---- events of the last step
     world
