@@ -291,6 +291,53 @@ BoxView viewBox(const ConvexShape& box, const ConvexShape& other, bool boxIsA, R
     return view;
 }
 
+// GJK/EPA's direction is poorly conditioned when hulls nearly touch: the
+// origin then lies on the Minkowski difference's boundary, and poses 0.1
+// degree apart gave normals 1.6 degrees apart that separated the pair up to
+// 8 cm less than the best axis, rarely metres (Box3D's hulls resting on each
+// other; tests HullNormal.* and PersistentManifold.HullPile*). A face
+// contact's best axis is a face normal, exact to rounding. So a face normal
+// replaces n when it separates the pair at least as well (less
+// kFaceAxisTolerance), as the box path does with its face normals: the
+// supporting faces' along n, or every face of the hulls when n separates the
+// pair worse than GJK/EPA's own points say by more than kNormalInconsistency
+// (the gap `gap` between them along n): then n is off, by up to metres, and
+// faces along it are no better (docs/narrow-phase.md, "Hull face axes").
+// Every face always would double the hull pile's step cost.
+constexpr Real kNormalInconsistency = Real(1e-3);
+
+Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real gap) {
+    Vec3 best = n;
+    const Real separation = separationAlong(a, b, n);
+    const bool everyFace = separation < gap - kNormalInconsistency;
+    Real bestSeparation = separation - kFaceAxisTolerance;
+    const auto consider = [&](const Vec3& axis) {
+        const Real s = separationAlong(a, b, axis);
+        if (s > bestSeparation) {
+            best = axis;
+            bestSeparation = s;
+        }
+    };
+    SupportFace face;
+    if (a.kind == ConvexKind::Hull) {
+        if (everyFace) {
+            for (const HullFace& f : a.hull->faces) consider(rotate(a.xf.q, f.normal));
+        } else {
+            supportingFace(a, n, face);
+            consider(face.normal);
+        }
+    }
+    if (b.kind == ConvexKind::Hull) {
+        if (everyFace) {
+            for (const HullFace& f : b.hull->faces) consider(-rotate(b.xf.q, f.normal));
+        } else {
+            supportingFace(b, -n, face);
+            consider(-face.normal);
+        }
+    }
+    return best;
+}
+
 }  // namespace
 
 bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, Real margin, Manifold& m) {
@@ -324,6 +371,17 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
             pa = a.support(n);
             pb = b.support(-n);
         }
+        // GJK's direction at a touch below kCoreTouch is noisy, but EPA's
+        // for shapes that do not overlap can be far worse (the origin is
+        // outside the polytope it expands): the better separating one stands.
+        if (!g.overlap && g.distance > 0) {
+            const Vec3 gn = (g.pointB - g.pointA) / g.distance;
+            if (separationAlong(a, b, gn) > separationAlong(a, b, n)) {
+                n = gn;
+                pa = g.pointA + n * a.radius;
+                pb = g.pointB - n * b.radius;
+            }
+        }
         if (dot(pa - pb, n) < -margin) return false;
     }
     int reference = 0;
@@ -345,6 +403,7 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
         const Vec3 h = boxShape.halfExtents * Real(1.0001);
         deepestKnown = local.x <= h.x && local.y <= h.y && local.z <= h.z;
     }
+    if (reference == 0 && (a.kind == ConvexKind::Hull || b.kind == ConvexKind::Hull)) n = bestHullFaceAxis(a, b, n, dot(pb - pa, n));
     buildFaceManifold(a, b, n, pa, pb, margin, m, reference, deepestKnown);
     return m.pointCount > 0;
 }
