@@ -1,8 +1,12 @@
 // The counting global operator new of counting_allocator.hpp. Every form of
-// operator new ends in one of the two counting functions below (libstdc++'s
-// array and nothrow forms call them), so an allocation by any container,
-// aligned (SIMD) types included, is counted while counting is on. The
-// replacements pair malloc / aligned_alloc with free on purpose.
+// operator new, the nothrow ones included, is replaced here and ends in the
+// counting functions below, so an allocation by any container, aligned (SIMD)
+// types and std::stable_sort's nothrow temporary buffer included, is counted
+// while counting is on. The nothrow forms are replaced too, not left to
+// libstdc++ (whose versions would call ours): AddressSanitizer intercepts
+// them itself, and its operator new paired with our free is a reported
+// alloc-dealloc mismatch. The replacements pair malloc / aligned_alloc with
+// free on purpose.
 #include "support/counting_allocator.hpp"
 
 #include <malloc.h>
@@ -84,6 +88,38 @@ void* operator new(std::size_t size) { return allocate(size, 0); }
 void* operator new[](std::size_t size) { return allocate(size, 0); }
 void* operator new(std::size_t size, std::align_val_t a) { return allocate(size, static_cast<std::size_t>(a)); }
 void* operator new[](std::size_t size, std::align_val_t a) { return allocate(size, static_cast<std::size_t>(a)); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+    try {
+        return allocate(size, 0);
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+    try {
+        return allocate(size, 0);
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
+    try {
+        return allocate(size, static_cast<std::size_t>(a));
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
+    try {
+        return allocate(size, static_cast<std::size_t>(a));
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
 void operator delete(void* p) noexcept { release(p); }
 void operator delete[](void* p) noexcept { release(p); }
 void operator delete(void* p, std::size_t) noexcept { release(p); }
