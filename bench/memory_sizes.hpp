@@ -13,7 +13,7 @@
 
 #include "collision/manifold.hpp"
 #include "fulcrum/fulcrum.hpp"
-#include "solver/contact.hpp"
+#include "contacts/contact.hpp"
 #include "solver/contact_solver.hpp"
 #include "world/world_impl.hpp"
 

@@ -17,7 +17,7 @@
 //   BlockReduction (blocks of 1024), to show when threads start to pay
 //   (items/s from wall time: Google Benchmark's CPU time counts only the
 //   calling thread, which flatters the pool).
-// BM_StagedStages/threads/units: StagedParallel (world/staged_parallel.hpp)
+// BM_StagedStages/threads/units: StagedParallel (threads/staged_parallel.hpp)
 //   running 41 dependent stages of `units` units of ~0.1 us each -- a box
 //   pile step's sub-steps -- in one call: wall time per stage, the cost of a
 //   stage's hand-over on top of its work (compare with threads 1).
@@ -27,9 +27,9 @@
 #include <thread>
 #include <vector>
 
-#include "world/deterministic_parallel.hpp"
-#include "world/staged_parallel.hpp"
-#include "world/thread_pool.hpp"
+#include "threads/deterministic_parallel.hpp"
+#include "threads/staged_parallel.hpp"
+#include "threads/thread_pool.hpp"
 
 namespace fulcrum {
 namespace {

@@ -55,7 +55,7 @@
 // pair missing from S has a proxy in the move buffer. A fresh entry may have
 // pairs in S already; `partners(proxy, visit)` names them (visit(partnerId)
 // for each pair of S holding `proxy`), and they are not reported again. The
-// caller's contact lists give them (src/solver/contact_manager.cpp); an
+// caller's contact lists give them (src/contacts/contact_manager.cpp); an
 // update with no limit and no deferred entries never asks. lastUpdate() says
 // how many pairs were left out and how many entries wait.
 //

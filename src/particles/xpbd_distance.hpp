@@ -57,7 +57,7 @@
 #include <vector>
 
 #include "particles/particle_soa.hpp"
-#include "world/staged_parallel.hpp"
+#include "threads/staged_parallel.hpp"
 #include "particles/particle_system.hpp"
 
 namespace fulcrum::detail {

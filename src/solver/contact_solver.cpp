@@ -6,9 +6,9 @@
 #include <numbers>
 
 #include "fulcrum/task_system.hpp"
-#include "solver/contact.hpp"
-#include "solver/contact_manager.hpp"
-#include "world/staged_parallel.hpp"
+#include "contacts/contact.hpp"
+#include "contacts/contact_manager.hpp"
+#include "threads/staged_parallel.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {

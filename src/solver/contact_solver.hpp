@@ -148,7 +148,7 @@ public:
     std::size_t largestColourBlocks() const;
 
     // ---- The staged sub-steps (step.cpp runs a step's solver passes and
-    // per-body passes as the stages of one parallelFor: world/staged_parallel.hpp).
+    // per-body passes as the stages of one parallelFor: threads/staged_parallel.hpp).
     // Appends one pass (warm start, solve with bias, or relax) as stages:
     // one per non-empty colour of wide blocks (units of kBlocksPerTask blocks,
     // independent: a colour's blocks share no dynamic body), then the

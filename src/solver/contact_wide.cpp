@@ -9,7 +9,7 @@
 
 #include "fulcrum/error.hpp"
 #include "math/simd.hpp"
-#include "solver/contact.hpp"
+#include "contacts/contact.hpp"
 #include "solver/contact_solver.hpp"
 
 #if defined(FULCRUM_SIMD_PORTABLE) || !FULCRUM_SIMD_HAS_SSE2

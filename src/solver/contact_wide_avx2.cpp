@@ -5,7 +5,7 @@
 #include "solver/contact_wide.hpp"
 
 #include "math/simd.hpp"
-#include "solver/contact.hpp"
+#include "contacts/contact.hpp"
 #include "solver/contact_solver.hpp"
 
 #if FULCRUM_SIMD_HAS_AVX2 && !defined(FULCRUM_SIMD_PORTABLE)

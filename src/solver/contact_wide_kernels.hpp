@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "math/simd.hpp"
-#include "solver/contact.hpp"
+#include "contacts/contact.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/contact_wide.hpp"
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <numbers>
 
-#include "solver/contact_manager.hpp"
+#include "contacts/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/graph_colouring.hpp"
 #include "world/world_impl.hpp"

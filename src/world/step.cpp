@@ -76,8 +76,8 @@
 #include "dynamics/forces.hpp"
 #include "dynamics/integrators.hpp"
 #include "dynamics/validation.hpp"
-#include "solver/continuous.hpp"
-#include "world/staged_parallel.hpp"
+#include "contacts/continuous.hpp"
+#include "threads/staged_parallel.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum {
@@ -303,7 +303,7 @@ void WorldImpl::step(Real dt) {
     // Staged sub-steps. When every stage of every sub-step is per body or per
     // solver colour (the fused case with contacts, no ForceCallback, no spring)
     // and there are several workers, the whole sub-step loop runs inside ONE
-    // parallelFor (StagedParallel, world/staged_parallel.hpp; Box2D v3's solver
+    // parallelFor (StagedParallel, threads/staged_parallel.hpp; Box2D v3's solver
     // stages): the same stages in the same order as the loop below, each
     // stage's units independent, so the same bits; but one fork-join per step
     // instead of ~8 per sub-step (box_pile: 40 of them), no end-of-call wait

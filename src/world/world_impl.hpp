@@ -64,7 +64,7 @@
 // Contacts
 // --------
 // `contacts` holds the touching manifolds of the last step as ContactReports
-// (src/solver/contact_manager.hpp fills it). World::contacts() returns a copy of
+// (src/contacts/contact_manager.hpp fills it). World::contacts() returns a copy of
 // the first contactReportCount entries. The report is built lazily: the step
 // only marks it stale, and ensureContactReport() builds it from the contacts as
 // the step left them when someone reads it (World::contacts(), snapshots), or
@@ -80,10 +80,10 @@
 
 #include "fulcrum/task_system.hpp"
 #include "fulcrum/world.hpp"
-#include "solver/contact_manager.hpp"
+#include "contacts/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/joint_solver.hpp"
-#include "solver/sleep.hpp"
+#include "islands/sleep.hpp"
 #include "world/particle_coupling.hpp"
 #include "world/stray_bodies.hpp"
 
@@ -125,7 +125,7 @@ struct BodyParams {
     Real friction = Real(0.6), restitution = 0, rollingResistance = 0;
     CollisionFilter filter;
     Real extent = 0;                 // farthest shape point from the centre of mass (0 for static bodies)
-    Real sleepTime = 0;              // seconds spent below the sleep speeds (solver/sleep.hpp)
+    Real sleepTime = 0;              // seconds spent below the sleep speeds (islands/sleep.hpp)
     std::uint32_t sleepIsland = 0;   // while asleep: the island it fell asleep with (0: none)
 };
 

@@ -298,7 +298,7 @@ TEST(JointValidation, ClearErrors) {
 // elbow, where the joint's position projection and the contacts undo each
 // other every sub-step: such a body stands still with a velocity (here 0.028
 // m/s) that never decays. Sleeping now tests how far bodies actually moved
-// (src/solver/sleep.hpp, "Held bodies"); on the velocities alone this pile
+// (src/islands/sleep.hpp, "Held bodies"); on the velocities alone this pile
 // never slept. Which limbs wedge depends on the pile to the last bit, so this
 // pile is one that did.
 TEST(Ragdoll, APileComesToRestAndSleeps) {

@@ -312,7 +312,7 @@ bool ropePairSleeps(Real speed, Real seconds, Real spin = 0) {
 
 }  // namespace
 
-// The sleep measure (src/solver/sleep.hpp): an island is still when its
+// The sleep measure (src/islands/sleep.hpp): an island is still when its
 // mass-weighted RMS speed is below linearSleepVelocity (0.05 m/s) and no body
 // of it is faster than twice that. A lone body is held to 0.05 m/s exactly.
 TEST(SleepMeasure, IslandRmsSpeedWithAPerBodyCap) {
@@ -333,7 +333,7 @@ TEST(SleepMeasure, IslandRmsSpeedWithAPerBodyCap) {
     }
 }
 
-// Rotation (src/solver/sleep.hpp): a body of a group is still when its spin is
+// Rotation (src/islands/sleep.hpp): a body of a group is still when its spin is
 // below angularSleepVelocity (0.05 rad/s) or the speed the spin gives its
 // farthest point is below linearSleepVelocity (0.05 m/s). The light box is a
 // 0.2 m cube: its farthest corner is sqrt(3) * 0.1 = 0.173 m from its centre.

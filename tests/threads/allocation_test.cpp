@@ -11,8 +11,8 @@
 #include "fulcrum/world.hpp"
 #include "reverse_scheduler.hpp"
 #include "support/counting_allocator.hpp"
-#include "world/deterministic_parallel.hpp"
-#include "world/thread_pool.hpp"
+#include "threads/deterministic_parallel.hpp"
+#include "threads/thread_pool.hpp"
 
 using namespace fulcrum;
 using fulcrum::test::CountAllocations;

@@ -1,4 +1,4 @@
-// Determinism of the parallel patterns (src/world/deterministic_parallel.hpp):
+// Determinism of the parallel patterns (src/threads/deterministic_parallel.hpp):
 // a float sum is bit-identical for every thread count and scheduler, and
 // per-worker outputs merge into exactly the single-threaded order.
 #include <gtest/gtest.h>
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "threads/reverse_scheduler.hpp"
-#include "world/deterministic_parallel.hpp"
-#include "world/thread_pool.hpp"
+#include "threads/deterministic_parallel.hpp"
+#include "threads/thread_pool.hpp"
 
 using namespace fulcrum;
 

@@ -1,4 +1,4 @@
-// The islands' concurrent union-find (src/solver/sleep.hpp): linked from
+// The islands' concurrent union-find (src/islands/sleep.hpp): linked from
 // several threads at once, in any order, it must give every element the
 // smallest index of its connected component, which is what the serial
 // union-find gives (and what a breadth-first search finds), for every thread
@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "solver/sleep.hpp"
+#include "islands/sleep.hpp"
 #include "threads/reverse_scheduler.hpp"
-#include "world/thread_pool.hpp"
+#include "threads/thread_pool.hpp"
 
 using namespace fulcrum;
 

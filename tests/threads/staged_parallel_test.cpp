@@ -1,4 +1,4 @@
-// StagedParallel (src/world/staged_parallel.hpp) and the staged sub-steps of
+// StagedParallel (src/threads/staged_parallel.hpp) and the staged sub-steps of
 // World::step (step.cpp): a step's solver and per-body passes run as the
 // stages of one parallelFor.
 //
@@ -25,8 +25,8 @@
 #include "reverse_scheduler.hpp"
 #include "support/counting_allocator.hpp"
 #include "solver/contact_wide.hpp"
-#include "world/staged_parallel.hpp"
-#include "world/thread_pool.hpp"
+#include "threads/staged_parallel.hpp"
+#include "threads/thread_pool.hpp"
 
 using namespace fulcrum;
 

@@ -16,7 +16,7 @@
 #include "fulcrum/error.hpp"
 #include "fulcrum/task_system.hpp"
 #include "threads/reverse_scheduler.hpp"
-#include "world/thread_pool.hpp"
+#include "threads/thread_pool.hpp"
 
 using namespace fulcrum;
 

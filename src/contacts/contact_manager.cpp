@@ -1,4 +1,4 @@
-#include "solver/contact_manager.hpp"
+#include "contacts/contact_manager.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,8 +1,8 @@
 // The public entry point to the built-in pool; the pool itself lives in
-// world/thread_pool.cpp so the public header stays free of <thread>/<mutex>.
+// threads/thread_pool.cpp so the public header stays free of <thread>/<mutex>.
 #include "fulcrum/task_system.hpp"
 
-#include "world/thread_pool.hpp"
+#include "threads/thread_pool.hpp"
 
 namespace fulcrum {
 

@@ -1,4 +1,4 @@
-#include "solver/continuous.hpp"
+#include "contacts/continuous.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -6,7 +6,7 @@
 
 #include "collision/shape_cast.hpp"
 #include "fulcrum/task_system.hpp"
-#include "solver/contact_manager.hpp"
+#include "contacts/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "world/world_impl.hpp"
 

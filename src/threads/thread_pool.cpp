@@ -1,4 +1,4 @@
-#include "world/thread_pool.hpp"
+#include "threads/thread_pool.hpp"
 
 #include <algorithm>
 #include <string>

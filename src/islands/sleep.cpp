@@ -1,11 +1,11 @@
-#include "solver/sleep.hpp"
+#include "islands/sleep.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <bit>
 
 #include "fulcrum/task_system.hpp"
-#include "solver/contact_manager.hpp"
+#include "contacts/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "world/world_impl.hpp"
 

@@ -51,7 +51,7 @@
 #include "collision/broad_phase.hpp"
 #include "collision/manifold.hpp"
 #include "fulcrum/world.hpp"
-#include "solver/contact.hpp"
+#include "contacts/contact.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
