@@ -12,12 +12,6 @@
 
 namespace fulcrum {
 
-struct ParticleSystemId {
-    std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
-    std::uint32_t generation = 0;
-    constexpr bool isNull() const { return index == std::numeric_limits<std::uint32_t>::max(); }
-    constexpr bool operator==(const ParticleSystemId&) const = default;
-};
 
 // N segments, N + 1 particles evenly spaced from start to end.
 struct RopeDef {
