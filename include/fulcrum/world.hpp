@@ -181,6 +181,9 @@ struct ParticleReport {
 
 struct WorldImpl;
 class TaskSystem;  // fulcrum/task_system.hpp
+namespace detail {
+struct WorldAccess;  // the engine's own way in (tests, io, tools); not installed
+}
 
 class World {
 public:
@@ -380,10 +383,8 @@ public:
     std::optional<ShapeCastHit> castShape(const Shape& shape, const Transform& transform, const Vec3& translation,
                                           const QueryFilter& filter = {}) const;
 
-    WorldImpl& impl() { return *impl_; }               // engine internals (tests, io, tools)
-    const WorldImpl& impl() const { return *impl_; }
-
 private:
+    friend struct detail::WorldAccess;
     std::unique_ptr<WorldImpl> impl_;
 };
 

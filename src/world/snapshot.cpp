@@ -38,7 +38,7 @@
 
 #include "world/input_file.hpp"
 #include "world/snapshot_versions.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum::detail {
 
@@ -790,9 +790,9 @@ std::vector<std::uint8_t> detail::saveSnapshotAsVersion(const World& world, std:
     w.out.resize(detail::kHeaderSize);
     std::string data(userData);
     // The contact report is built when read (world_impl.hpp): the snapshot holds it.
-    const_cast<WorldImpl&>(world.impl()).ensureContactReport();
+    const_cast<WorldImpl&>(detail::implOf(world)).ensureContactReport();
     // The field lists serve reading and writing alike; writing only reads.
-    detail::worldState(w, const_cast<WorldImpl&>(world.impl()), data);
+    detail::worldState(w, const_cast<WorldImpl&>(detail::implOf(world)), data);
 
     const std::uint64_t payload = w.out.size() - detail::kHeaderSize;
     const std::uint64_t checksum = detail::fnv1a(w.out.data() + detail::kHeaderSize, payload);
@@ -862,7 +862,7 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
     detail::Reader reader(payload, source, truncated, static_cast<std::uint32_t>(version));
     std::string data;
     World world;
-    WorldImpl& w = world.impl();
+    WorldImpl& w = detail::implOf(world);
     detail::worldState(reader, w, data);
     if (truncated) {
         throw Error(source + ": truncated at byte " + std::to_string(bytes.size()) + " (the header declares " +
