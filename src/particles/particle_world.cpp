@@ -126,19 +126,12 @@ ParticleSystemId ParticleWorld::add(ParticleSystem system, const RigidCollider* 
             detail::fail(label, "name", "is already used by another particle system");
         }
     }
-    std::uint32_t index;
-    if (!freeSlots_.empty()) {
-        index = freeSlots_.back();
-        freeSlots_.pop_back();
-    } else {
-        index = static_cast<std::uint32_t>(slots_.size());
-        slots_.emplace_back();
-    }
-    Slot& slot = slots_[index];
+    const std::uint32_t index = slots_.nextSlot();
+    Slot& slot = slots_.add();
     slot.system = std::make_unique<ParticleSystem>(std::move(system));
     slot.order = nextOrder_++;
     slot.accel.clear();
-    return {index, slot.generation};
+    return slots_.handleOf(index);
 }
 
 ParticleSystemId ParticleWorld::addRope(const RopeDef& def, const RigidCollider* collider) {
@@ -154,8 +147,9 @@ ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) {
 }
 
 const ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) const {
-    if (id.isNull()) throw Error("particle system handle: is null");
-    if (id.index >= slots_.size() || !slots_[id.index].system || slots_[id.index].generation != id.generation) {
+    const detail::HandleState state = slots_.lookup(id);
+    if (state == detail::HandleState::Null) throw Error("particle system handle: is null");
+    if (state != detail::HandleState::Live) {
         throw Error("particle system handle {" + std::to_string(id.index) + ", " + std::to_string(id.generation) +
                     "}: is stale or was never created");
     }
@@ -165,14 +159,10 @@ const ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) const {
 void ParticleWorld::remove(ParticleSystemId id) {
     Slot& slot = slotOf(id);
     slot.system.reset();
-    ++slot.generation;
-    freeSlots_.push_back(id.index);
+    slots_.remove(id.index);
 }
 
-bool ParticleWorld::isValid(ParticleSystemId id) const {
-    return !id.isNull() && id.index < slots_.size() && slots_[id.index].system &&
-           slots_[id.index].generation == id.generation;
-}
+bool ParticleWorld::isValid(ParticleSystemId id) const { return slots_.isLive(id); }
 
 ParticleSystem& ParticleWorld::system(ParticleSystemId id) { return *slotOf(id).system; }
 const ParticleSystem& ParticleWorld::system(ParticleSystemId id) const { return *slotOf(id).system; }
@@ -180,7 +170,7 @@ const ParticleSystem& ParticleWorld::system(ParticleSystemId id) const { return 
 std::vector<ParticleSystemId> ParticleWorld::systems() const {
     std::vector<std::pair<std::uint64_t, ParticleSystemId>> live;
     for (std::uint32_t i = 0; i < slots_.size(); ++i) {
-        if (slots_[i].system) live.push_back({slots_[i].order, {i, slots_[i].generation}});
+        if (slots_[i].alive) live.push_back({slots_[i].order, slots_.handleOf(i)});
     }
     std::sort(live.begin(), live.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<ParticleSystemId> out;
@@ -188,7 +178,7 @@ std::vector<ParticleSystemId> ParticleWorld::systems() const {
     return out;
 }
 
-std::size_t ParticleWorld::systemCount() const { return slots_.size() - freeSlots_.size(); }
+std::size_t ParticleWorld::systemCount() const { return slots_.liveCount(); }
 
 void ParticleWorld::step(Real dt, RigidCollider* collider, TaskSystem* tasks) {
     if (!std::isfinite(dt) || !(dt > 0)) throw Error("particle world: step dt must be positive and finite, got " + detail::formatReal(dt));
