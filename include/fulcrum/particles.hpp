@@ -59,4 +59,15 @@ struct ClothDef {
     Real liftCoefficient = 0;         // aerodynamic lift of each triangle
 };
 
+// The figures of one rope or cloth (the `particle_systems` entry of `--json`;
+// World::particleReport).
+struct ParticleReport {
+    std::string name;
+    std::size_t particles = 0;
+    Vec3 centroid;                 // mean particle position, m
+    Real maxStretch = 0;           // max over structural constraints of (length - rest) / rest
+    Real meanStretch = 0;          // mean of the same (signed: compression counts negative)
+    Real maxPenetration = 0;       // m: deepest any particle sphere sits inside a rigid shape (0 if none)
+};
+
 }  // namespace fulcrum

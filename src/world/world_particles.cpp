@@ -99,15 +99,7 @@ ParticleReport World::particleReport(ParticleSystemId id) const {
     // The collider only reads here (queryShapes); it needs a
     // mutable WorldImpl for the pushes, which report() never makes.
     const detail::WorldRigidCollider collider(const_cast<WorldImpl&>(*impl_));
-    ParticleReport r;
-    r.name = s.name;
-    r.particles = s.particleCount();
-    r.centroid = centroid(s);
-    const StretchStats stretch = structuralStretch(s);
-    r.maxStretch = stretch.max;
-    r.meanStretch = stretch.mean;
-    r.maxPenetration = maxPenetration(s, collider);
-    return r;
+    return report(s, &collider);
 }
 
 }  // namespace fulcrum
