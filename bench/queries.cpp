@@ -9,7 +9,7 @@
 
 #include <fulcrum/fulcrum.hpp>
 
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace {
 
@@ -118,7 +118,7 @@ BENCHMARK(BM_CastSphere10m);
 void BM_StrayRebuild10k(benchmark::State& state) {
     World& world = sharedWorld();
     for (auto _ : state) {
-        world.impl().strayBodies.invalidate();
+        detail::implOf(world).strayBodies.invalidate();
         benchmark::DoNotOptimize(world.overlapSphere({0, 0, 0}, Real(0.1)));
     }
 }

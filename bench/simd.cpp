@@ -33,7 +33,7 @@
 #include "../tests/simd/contact_rows.hpp"
 #include "fulcrum/fulcrum.hpp"
 #include "scenes.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum::test {
 namespace {
@@ -141,8 +141,8 @@ void BM_SceneSimdPaths(benchmark::State& state) {
     state.SetLabel(scene.name);
     std::vector<BodyId> idsA, idsB;
     std::unique_ptr<World> sse2 = buildScene(scene, idsA), avx2 = buildScene(scene, idsB);
-    sse2->impl().contactSolver.setSimdPath(detail::SimdPath::Sse2);
-    avx2->impl().contactSolver.setSimdPath(detail::SimdPath::Avx2);
+    detail::implOf(*sse2).contactSolver.setSimdPath(detail::SimdPath::Sse2);
+    detail::implOf(*avx2).contactSolver.setSimdPath(detail::SimdPath::Avx2);
     const Real dt = static_cast<Real>(scene.dt);
     for (std::int64_t i = 0; i < state.range(1); ++i) sse2->step(dt), avx2->step(dt);  // untimed
     double sse2Seconds = 0, avx2Seconds = 0;

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "fulcrum/id.hpp"
 #include "fulcrum/math.hpp"
 #include "fulcrum/shape.hpp"
 
@@ -14,14 +15,6 @@ namespace fulcrum {
 enum class BodyType : std::uint8_t { Static, Kinematic, Dynamic };
 const char* toString(BodyType type);
 
-// A value handle to a body. The generation changes when a slot is reused, so a
-// handle to a destroyed body is detected (World throws) instead of aliasing a new one.
-struct BodyId {
-    std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
-    std::uint32_t generation = 0;
-    constexpr bool isNull() const { return index == std::numeric_limits<std::uint32_t>::max(); }
-    constexpr bool operator==(const BodyId&) const = default;
-};
 inline constexpr BodyId kWorldBody{};  // "no body": the static world, in joints and springs
 
 // Collision filtering: A and B collide when (A.category & B.mask) and

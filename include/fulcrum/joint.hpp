@@ -12,12 +12,6 @@ namespace fulcrum {
 enum class JointType : std::uint8_t { Ball, Hinge, Slider, Distance, Fixed, ConeTwist };
 const char* toString(JointType type);
 
-struct JointId {
-    std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
-    std::uint32_t generation = 0;
-    constexpr bool isNull() const { return index == std::numeric_limits<std::uint32_t>::max(); }
-    constexpr bool operator==(const JointId&) const = default;
-};
 
 struct JointMotor {
     bool enabled = false;

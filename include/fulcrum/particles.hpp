@@ -12,12 +12,6 @@
 
 namespace fulcrum {
 
-struct ParticleSystemId {
-    std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
-    std::uint32_t generation = 0;
-    constexpr bool isNull() const { return index == std::numeric_limits<std::uint32_t>::max(); }
-    constexpr bool operator==(const ParticleSystemId&) const = default;
-};
 
 // N segments, N + 1 particles evenly spaced from start to end.
 struct RopeDef {
@@ -63,6 +57,17 @@ struct ClothDef {
     bool tethers = false;             // long-range tethers to the nearest pin (Kim et al. 2012)
     Real dragCoefficient = 0;         // aerodynamic drag of each triangle (flat plate: about 1)
     Real liftCoefficient = 0;         // aerodynamic lift of each triangle
+};
+
+// The figures of one rope or cloth (the `particle_systems` entry of `--json`;
+// World::particleReport).
+struct ParticleReport {
+    std::string name;
+    std::size_t particles = 0;
+    Vec3 centroid;                 // mean particle position, m
+    Real maxStretch = 0;           // max over structural constraints of (length - rest) / rest
+    Real meanStretch = 0;          // mean of the same (signed: compression counts negative)
+    Real maxPenetration = 0;       // m: deepest any particle sphere sits inside a rigid shape (0 if none)
 };
 
 }  // namespace fulcrum

@@ -9,12 +9,6 @@
 
 namespace fulcrum {
 
-struct SpringId {
-    std::uint32_t index = std::numeric_limits<std::uint32_t>::max();
-    std::uint32_t generation = 0;
-    constexpr bool isNull() const { return index == std::numeric_limits<std::uint32_t>::max(); }
-    constexpr bool operator==(const SpringId&) const = default;
-};
 
 struct SpringDef {
     BodyId bodyA = kWorldBody;  // null: anchored to the static world

@@ -166,21 +166,14 @@ struct DeepOverlap {
     Real size = 0;        // m: the smallest extent of the smaller dynamic body (what depth is compared with)
 };
 
-// ---- particle systems: the figures of one rope or cloth (design.md's
-// `particle_systems` entry of `--json`; World::particleReport).
+// ---- particle systems (ParticleReport, the figures of one rope or cloth: fulcrum/particles.hpp)
 enum class ParticleSystemType : std::uint8_t { Rope, Cloth };
-
-struct ParticleReport {
-    std::string name;
-    std::size_t particles = 0;
-    Vec3 centroid;                 // mean particle position, m
-    Real maxStretch = 0;           // max over structural constraints of (length - rest) / rest
-    Real meanStretch = 0;          // mean of the same (signed: compression counts negative)
-    Real maxPenetration = 0;       // m: deepest any particle sphere sits inside a rigid shape (0 if none)
-};
 
 struct WorldImpl;
 class TaskSystem;  // fulcrum/task_system.hpp
+namespace detail {
+struct WorldAccess;  // the engine's own way in (tests, io, tools); not installed
+}
 
 class World {
 public:
@@ -380,10 +373,8 @@ public:
     std::optional<ShapeCastHit> castShape(const Shape& shape, const Transform& transform, const Vec3& translation,
                                           const QueryFilter& filter = {}) const;
 
-    WorldImpl& impl() { return *impl_; }               // engine internals (tests, io, tools)
-    const WorldImpl& impl() const { return *impl_; }
-
 private:
+    friend struct detail::WorldAccess;
     std::unique_ptr<WorldImpl> impl_;
 };
 

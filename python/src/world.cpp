@@ -5,7 +5,7 @@
 
 #include <fulcrum/snapshot.hpp>
 
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 #include "common.hpp"
 
@@ -60,7 +60,7 @@ template <int Columns, class Get>
 py::array_t<double> gather(const PyWorld& w, Get get) {
     w.world();
     const std::vector<BodyId>& ids = w.state->creationOrder();
-    const WorldImpl& impl = w.state->world.impl();
+    const WorldImpl& impl = detail::implOf(w.state->world);
     py::array_t<double> out({static_cast<py::ssize_t>(ids.size()), py::ssize_t(Columns)});
     double* d = out.mutable_data();
     for (const BodyId id : ids) {

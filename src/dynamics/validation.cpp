@@ -17,6 +17,15 @@ std::string Subject::describe() const {
     return s;
 }
 
+std::string particleSystemLabel(std::string_view kind, std::string_view name) {
+    std::string s(kind);
+    if (name.empty()) return s + " (unnamed)";
+    s += " '";
+    s += name;
+    s += "'";
+    return s;
+}
+
 std::string formatReal(double v) {
     std::ostringstream s;
     s << v;

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <zlib.h>
 
+#include "io/markup_escape.hpp"
+
 namespace fulcrum::io {
 
 namespace {
@@ -118,19 +120,6 @@ std::string replaceAll(std::string s, const std::string& from, const std::string
     return s;
 }
 
-std::string escapeHtmlText(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
-
 }  // namespace
 
 std::string recordingJson(const Recording& rec) {
@@ -235,7 +224,7 @@ std::string renderHtml(const Recording& recording) {
         return base64(zipped.data(), zipped.size());
     }();
     std::string page = detail::viewerTemplate();
-    page = replaceAll(page, "{{FULCRUM_TITLE}}", escapeHtmlText(recording.title));
+    page = replaceAll(page, "{{FULCRUM_TITLE}}", fulcrum::detail::escapeMarkup(recording.title));
     // Data and script last, so nothing inside them is mistaken for a placeholder.
     const std::size_t dataAt = page.find("<!--FULCRUM_DATA-->");
     const std::size_t scriptAt = page.find("<!--FULCRUM_SCRIPT-->");

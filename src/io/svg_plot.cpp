@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "io/markup_escape.hpp"
+
 namespace fulcrum::detail {
 
 namespace {
@@ -14,20 +16,6 @@ constexpr double kWidth = 900;
 constexpr double kPanelHeight = 260;
 constexpr double kLeft = 90, kRight = 170, kTop = 50, kGap = 60, kBottom = 60;
 constexpr std::size_t kMaxColumns = 800;  // envelope resolution (about one per pixel of plot width)
-
-std::string escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
 
 std::string fmt(double v, const char* format = "%.2f") {
     char buf[64];
@@ -93,7 +81,7 @@ std::string svgPlot(const std::string& title, const std::string& xLabel, const s
     svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(kWidth, "%.0f") + "\" height=\"" + fmt(height, "%.0f") +
            "\" viewBox=\"0 0 " + fmt(kWidth, "%.0f") + " " + fmt(height, "%.0f") + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
     svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    svg += "<text x=\"" + fmt(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">" + escape(title) + "</text>\n";
+    svg += "<text x=\"" + fmt(kWidth / 2) + "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">" + escapeMarkup(title) + "</text>\n";
 
     Range xr;
     for (double v : x) xr.grow(v);
@@ -113,7 +101,7 @@ std::string svgPlot(const std::string& title, const std::string& xLabel, const s
         yr = padded(yr);
         const auto yPix = [&](double v) { return bottom - (v - yr.lo) / (yr.hi - yr.lo) * kPanelHeight; };
 
-        svg += "<g>\n<text x=\"" + fmt(kLeft) + "\" y=\"" + fmt(top - 8) + "\" font-size=\"13\">" + escape(panel.title) + "</text>\n";
+        svg += "<g>\n<text x=\"" + fmt(kLeft) + "\" y=\"" + fmt(top - 8) + "\" font-size=\"13\">" + escapeMarkup(panel.title) + "</text>\n";
         // Grid and ticks.
         const std::vector<double> yTicks = niceTicks(yr.lo, yr.hi, 6);
         const double yStep = yTicks.size() > 1 ? yTicks[1] - yTicks[0] : 1;
@@ -133,9 +121,9 @@ std::string svgPlot(const std::string& title, const std::string& xLabel, const s
         svg += "<rect x=\"" + fmt(kLeft) + "\" y=\"" + fmt(top) + "\" width=\"" + fmt(plotW) + "\" height=\"" + fmt(kPanelHeight) +
                "\" fill=\"none\" stroke=\"black\"/>\n";
         svg += "<text transform=\"translate(" + fmt(kLeft - 62) + "," + fmt(top + kPanelHeight / 2) +
-               ") rotate(-90)\" text-anchor=\"middle\">" + escape(panel.yLabel) + "</text>\n";
+               ") rotate(-90)\" text-anchor=\"middle\">" + escapeMarkup(panel.yLabel) + "</text>\n";
         if (p + 1 == panels.size()) {
-            svg += "<text x=\"" + fmt(kLeft + plotW / 2) + "\" y=\"" + fmt(bottom + 40) + "\" text-anchor=\"middle\">" + escape(xLabel) +
+            svg += "<text x=\"" + fmt(kLeft + plotW / 2) + "\" y=\"" + fmt(bottom + 40) + "\" text-anchor=\"middle\">" + escapeMarkup(xLabel) +
                    "</text>\n";
         }
 
@@ -161,12 +149,12 @@ std::string svgPlot(const std::string& title, const std::string& xLabel, const s
                 draw(first);
                 if (second != first) draw(second);
             }
-            svg += "<polyline fill=\"none\" stroke=\"" + escape(s.color) + "\" stroke-width=\"1.5\" points=\"" + points + "\"/>\n";
+            svg += "<polyline fill=\"none\" stroke=\"" + escapeMarkup(s.color) + "\" stroke-width=\"1.5\" points=\"" + points + "\"/>\n";
             const double ly = top + 14 + static_cast<double>(si) * 18;
             const double lx = kLeft + plotW + 15;
             svg += "<line x1=\"" + fmt(lx) + "\" y1=\"" + fmt(ly - 4) + "\" x2=\"" + fmt(lx + 20) + "\" y2=\"" + fmt(ly - 4) + "\" stroke=\"" +
-                   escape(s.color) + "\" stroke-width=\"2\"/>\n";
-            svg += "<text x=\"" + fmt(lx + 26) + "\" y=\"" + fmt(ly) + "\">" + escape(s.label) + "</text>\n";
+                   escapeMarkup(s.color) + "\" stroke-width=\"2\"/>\n";
+            svg += "<text x=\"" + fmt(lx + 26) + "\" y=\"" + fmt(ly) + "\">" + escapeMarkup(s.label) + "</text>\n";
         }
         svg += "</g>\n";
     }

@@ -5,50 +5,50 @@
 #include <cmath>
 
 #include "particles/particle_builders.hpp"
-#include "particles/particle_validation.hpp"
+#include "dynamics/validation.hpp"
 
 namespace fulcrum {
 
 ParticleSystem buildCloth(const ClothDef& def) {
-    const std::string label = detail::particles::systemLabel("cloth", def.name);
-    detail::particles::requireFinite(label, "origin", def.origin);
-    detail::particles::requireFinite(label, "u_axis", def.uAxis);
-    detail::particles::requireFinite(label, "v_axis", def.vAxis);
-    if (lengthSquared(def.uAxis) == 0) detail::particles::failField(label, "u_axis", "must not be the zero vector");
-    if (lengthSquared(def.vAxis) == 0) detail::particles::failField(label, "v_axis", "must not be the zero vector");
+    const std::string label = detail::particleSystemLabel("cloth", def.name);
+    detail::requireFinite(label, "origin", def.origin);
+    detail::requireFinite(label, "u_axis", def.uAxis);
+    detail::requireFinite(label, "v_axis", def.vAxis);
+    if (lengthSquared(def.uAxis) == 0) detail::fail(label, "u_axis", "must not be the zero vector");
+    if (lengthSquared(def.vAxis) == 0) detail::fail(label, "v_axis", "must not be the zero vector");
     const Real sine = length(cross(normalize(def.uAxis), normalize(def.vAxis)));
     if (sine < Real(1e-4)) {
-        detail::particles::failField(label, "v_axis", detail::particles::formatVec(def.vAxis) + " is parallel to u_axis " +
-                                               detail::particles::formatVec(def.uAxis) + ": the grid would be degenerate");
+        detail::fail(label, "v_axis", detail::formatVec(def.vAxis) + " is parallel to u_axis " +
+                     detail::formatVec(def.uAxis) + ": the grid would be degenerate");
     }
     for (int k = 0; k < 2; ++k) {
         if (def.size[static_cast<std::size_t>(k)] < 2) {
-            detail::particles::failField(label, k == 0 ? "size[0]" : "size[1]",
-                              "must be at least 2 particles, got " + std::to_string(def.size[static_cast<std::size_t>(k)]));
+            detail::fail(label, k == 0 ? "size[0]" : "size[1]",
+                         "must be at least 2 particles, got " + std::to_string(def.size[static_cast<std::size_t>(k)]));
         }
     }
-    detail::particles::requirePositive(label, "spacing", def.spacing);
-    detail::particles::requirePositive(label, "particle_mass", def.particleMass);
-    detail::particles::requirePositive(label, "radius", def.radius);
-    detail::particles::requireNonNegative(label, "stretch_compliance", def.stretchCompliance);
-    detail::particles::requireNonNegative(label, "bend_compliance", def.bendCompliance);
-    if (def.shearCompliance) detail::particles::requireNonNegative(label, "shear_compliance", *def.shearCompliance);
-    detail::particles::requireNonNegative(label, "damping", def.damping);
-    detail::particles::requireNonNegative(label, "friction", def.friction);
-    detail::particles::requireNonNegative(label, "drag_coefficient", def.dragCoefficient);
-    detail::particles::requireFinite(label, "lift_coefficient", def.liftCoefficient);
+    detail::requirePositive(label, "spacing", def.spacing);
+    detail::requirePositive(label, "particle_mass", def.particleMass);
+    detail::requirePositive(label, "radius", def.radius);
+    detail::requireNonNegative(label, "stretch_compliance", def.stretchCompliance);
+    detail::requireNonNegative(label, "bend_compliance", def.bendCompliance);
+    if (def.shearCompliance) detail::requireNonNegative(label, "shear_compliance", *def.shearCompliance);
+    detail::requireNonNegative(label, "damping", def.damping);
+    detail::requireNonNegative(label, "friction", def.friction);
+    detail::requireNonNegative(label, "drag_coefficient", def.dragCoefficient);
+    detail::requireFinite(label, "lift_coefficient", def.liftCoefficient);
     const int nu = def.size[0], nv = def.size[1];
     for (std::size_t k = 0; k < def.pinned.size(); ++k) {
         const auto& p = def.pinned[k];
         if (p[0] < 0 || p[0] >= nu || p[1] < 0 || p[1] >= nv) {
-            detail::particles::failField(label, "pinned[" + std::to_string(k) + "]",
-                              "= [" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + "] is outside the " +
-                                  std::to_string(nu) + " x " + std::to_string(nv) + " grid (i in [0, " +
-                                  std::to_string(nu - 1) + "], j in [0, " + std::to_string(nv - 1) + "])");
+            detail::fail(label, "pinned[" + std::to_string(k) + "]",
+                         "= [" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + "] is outside the " +
+                         std::to_string(nu) + " x " + std::to_string(nv) + " grid (i in [0, " +
+                         std::to_string(nu - 1) + "], j in [0, " + std::to_string(nv - 1) + "])");
         }
     }
     if (static_cast<double>(nu) * static_cast<double>(nv) > 1e8) {
-        detail::particles::failField(label, "size", "asks for more than 1e8 particles");
+        detail::fail(label, "size", "asks for more than 1e8 particles");
     }
 
     ParticleSystem cloth;
@@ -61,7 +61,7 @@ ParticleSystem buildCloth(const ClothDef& def) {
     for (int j = 0; j < nv; ++j) {
         for (int i = 0; i < nu; ++i) {
             const Vec3 p = def.origin + (def.uAxis * static_cast<Real>(i) + def.vAxis * static_cast<Real>(j)) * def.spacing;
-            if (!isFinite(p)) detail::particles::failField(label, "origin", "and spacing place a particle at a non-finite position");
+            if (!isFinite(p)) detail::fail(label, "origin", "and spacing place a particle at a non-finite position");
             addParticle(cloth, p, def.particleMass, def.radius);
         }
     }

@@ -68,8 +68,8 @@ Real maxPenetration(const ParticleSystem& s, const RigidCollider& collider) {
     return probe.deepest;
 }
 
-ParticleSystemReport report(const ParticleSystem& s, const RigidCollider* collider) {
-    ParticleSystemReport r;
+ParticleReport report(const ParticleSystem& s, const RigidCollider* collider) {
+    ParticleReport r;
     r.name = s.name;
     r.particles = s.particleCount();
     r.centroid = centroid(s);

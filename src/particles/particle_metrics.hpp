@@ -3,6 +3,7 @@
 // and for tests: stretch, centroid, penetration into rigid shapes, energy.
 #include <string>
 
+#include "fulcrum/particles.hpp"
 #include "particles/particle_system.hpp"
 #include "particles/rigid_collider.hpp"
 
@@ -13,21 +14,13 @@ struct StretchStats {
     Real mean = 0;  // mean of the same (signed: compression counts negative)
 };
 
-struct ParticleSystemReport {
-    std::string name;
-    std::size_t particles = 0;
-    Vec3 centroid;
-    Real maxStretch = 0;
-    Real meanStretch = 0;
-    Real maxPenetration = 0;  // m: deepest any particle sphere sits inside a rigid shape (0 if none)
-};
-
 Vec3 centroid(const ParticleSystem& system);
 StretchStats structuralStretch(const ParticleSystem& system);
 // Deepest overlap r - d over every particle and every rigid shape near the
 // system, except the bodies the system is attached to.
 Real maxPenetration(const ParticleSystem& system, const RigidCollider& collider);
-ParticleSystemReport report(const ParticleSystem& system, const RigidCollider* collider);
+// The figures World::particleReport returns (no collider: no penetration).
+ParticleReport report(const ParticleSystem& system, const RigidCollider* collider);
 
 // Energy: kinetic from the last sub-step's velocity (x - x_prev) / h,
 // gravitational potential at x (relative to the origin along -gravity) and the

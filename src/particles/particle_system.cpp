@@ -3,19 +3,19 @@
 
 #include <limits>
 
-#include "particles/particle_validation.hpp"
+#include "dynamics/validation.hpp"
 
 namespace fulcrum {
 
 namespace {
 
-std::string labelOf(const ParticleSystem& s) { return detail::particles::systemLabel(toString(s.kind), s.name); }
+std::string labelOf(const ParticleSystem& s) { return detail::particleSystemLabel(toString(s.kind), s.name); }
 
 void requireParticle(const ParticleSystem& s, std::uint32_t particle, std::string_view field) {
     if (particle >= s.particleCount()) {
-        detail::particles::failField(labelOf(s), field,
-                          "refers to particle " + std::to_string(particle) + ", but the system has " +
-                              std::to_string(s.particleCount()) + " particles");
+        detail::fail(labelOf(s), field,
+                     "refers to particle " + std::to_string(particle) + ", but the system has " +
+                     std::to_string(s.particleCount()) + " particles");
     }
 }
 
@@ -32,9 +32,9 @@ const char* toString(ParticleSystemKind kind) {
 
 std::uint32_t addParticle(ParticleSystem& system, const Vec3& position, Real mass, Real radius) {
     const std::string label = labelOf(system);
-    detail::particles::requireFinite(label, "position", position);
-    detail::particles::requireNonNegative(label, "particle_mass", mass);
-    detail::particles::requirePositive(label, "radius", radius);
+    detail::requireFinite(label, "position", position);
+    detail::requireNonNegative(label, "particle_mass", mass);
+    detail::requirePositive(label, "radius", radius);
     const auto index = static_cast<std::uint32_t>(system.particleCount());
     system.position.push_back(position);
     system.displacement.push_back(Vec3::zero());
@@ -47,21 +47,21 @@ std::uint32_t addParticle(ParticleSystem& system, const Vec3& position, Real mas
 
 void setParticleMass(ParticleSystem& system, std::uint32_t particle, Real mass) {
     requireParticle(system, particle, "particle");
-    detail::particles::requirePositive(labelOf(system), "particle_mass", mass);
+    detail::requirePositive(labelOf(system), "particle_mass", mass);
     system.inverseMass[particle] = 1 / mass;
 }
 
 void setParticlePosition(ParticleSystem& system, std::uint32_t particle, const Vec3& position) {
     requireParticle(system, particle, "particle");
-    detail::particles::requireFinite(labelOf(system), "position", position);
+    detail::requireFinite(labelOf(system), "position", position);
     system.position[particle] = position;
     system.displacement[particle] = Vec3::zero();
 }
 
 void setParticleVelocity(ParticleSystem& system, std::uint32_t particle, const Vec3& velocity, Real substep) {
     requireParticle(system, particle, "particle");
-    detail::particles::requireFinite(labelOf(system), "velocity", velocity);
-    detail::particles::requirePositive(labelOf(system), "substep", substep);
+    detail::requireFinite(labelOf(system), "velocity", velocity);
+    detail::requirePositive(labelOf(system), "substep", substep);
     system.displacement[particle] = velocity * substep;
     system.previousSubstep = substep;
 }
@@ -79,17 +79,17 @@ void addParticleSpring(ParticleSystem& system, const ParticleSpring& spring) {
     const std::string label = labelOf(system);
     requireParticle(system, spring.a, "spring.a");
     requireParticle(system, spring.b, "spring.b");
-    if (spring.a == spring.b) detail::particles::failField(label, "spring", "joins particle " + std::to_string(spring.a) + " to itself");
-    detail::particles::requireNonNegative(label, "spring.rest_length", spring.restLength);
-    detail::particles::requireNonNegative(label, "spring.stiffness", spring.stiffness);
-    detail::particles::requireNonNegative(label, "spring.damping", spring.damping);
+    if (spring.a == spring.b) detail::fail(label, "spring", "joins particle " + std::to_string(spring.a) + " to itself");
+    detail::requireNonNegative(label, "spring.rest_length", spring.restLength);
+    detail::requireNonNegative(label, "spring.stiffness", spring.stiffness);
+    detail::requireNonNegative(label, "spring.damping", spring.damping);
     system.springs.push_back(spring);
 }
 
 void attachParticle(ParticleSystem& system, std::uint32_t particle, std::uint32_t bodyIndex, Real compliance,
                     const char* field) {
     requireParticle(system, particle, field);
-    detail::particles::requireNonNegative(labelOf(system), "attach_compliance", compliance);
+    detail::requireNonNegative(labelOf(system), "attach_compliance", compliance);
     ParticleAttachment a;
     a.particle = particle;
     a.body = bodyIndex;
@@ -99,7 +99,7 @@ void attachParticle(ParticleSystem& system, std::uint32_t particle, std::uint32_
 }
 
 void addTethers(ParticleSystem& system, Real slack) {
-    detail::particles::requireNonNegative(labelOf(system), "tether_slack", slack);
+    detail::requireNonNegative(labelOf(system), "tether_slack", slack);
     if (system.pins.empty()) return;
     system.tethers.constraints.clear();
     system.tethers.lambda.clear();

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "particles/particle_builders.hpp"
-#include "particles/particle_validation.hpp"
+#include "dynamics/validation.hpp"
 #include "particles/xpbd_distance.hpp"
 
 namespace fulcrum {
@@ -13,43 +13,43 @@ namespace {
 
 void validateSettings(const ParticleWorldSettings& s) {
     const std::string label = "particle world";
-    detail::particles::requireFinite(label, "gravity", s.gravity);
-    detail::particles::requireFinite(label, "wind", s.wind);
-    detail::particles::requireNonNegative(label, "air_density", s.airDensity);
-    if (s.substeps < 1) detail::particles::failField(label, "substeps", "must be at least 1, got " + std::to_string(s.substeps));
+    detail::requireFinite(label, "gravity", s.gravity);
+    detail::requireFinite(label, "wind", s.wind);
+    detail::requireNonNegative(label, "air_density", s.airDensity);
+    if (s.substeps < 1) detail::fail(label, "substeps", "must be at least 1, got " + std::to_string(s.substeps));
     if (s.iterations < 1) {
-        detail::particles::failField(label, "iterations", "must be at least 1, got " + std::to_string(s.iterations));
+        detail::fail(label, "iterations", "must be at least 1, got " + std::to_string(s.iterations));
     }
 }
 
 // Everything the step trusts, checked once when a system joins the world
 // (systems assembled by hand, not by the builders, come through here too).
 void validateSystem(const ParticleSystem& s) {
-    const std::string label = detail::particles::systemLabel(toString(s.kind), s.name);
+    const std::string label = detail::particleSystemLabel(toString(s.kind), s.name);
     const std::size_t n = s.particleCount();
     if (s.displacement.size() != n || s.restPosition.size() != n || s.force.size() != n ||
         s.inverseMass.size() != n || s.radius.size() != n) {
-        detail::particles::failField(label, "particles", "arrays have different lengths");
+        detail::fail(label, "particles", "arrays have different lengths");
     }
     for (std::size_t i = 0; i < n; ++i) {
         const std::string field = "particles[" + std::to_string(i) + "]";
-        detail::particles::requireFinite(label, field + ".position", s.position[i]);
-        detail::particles::requireFinite(label, field + ".displacement", s.displacement[i]);
-        detail::particles::requireNonNegative(label, field + ".inverse_mass", s.inverseMass[i]);
-        detail::particles::requirePositive(label, field + ".radius", s.radius[i]);
+        detail::requireFinite(label, field + ".position", s.position[i]);
+        detail::requireFinite(label, field + ".displacement", s.displacement[i]);
+        detail::requireNonNegative(label, field + ".inverse_mass", s.inverseMass[i]);
+        detail::requirePositive(label, field + ".radius", s.radius[i]);
     }
     const auto checkGroup = [&](const DistanceConstraintGroup& g, const char* name) {
-        detail::particles::requireNonNegative(label, std::string(name) + "_compliance", g.compliance);
-        if (g.lambda.size() != g.constraints.size()) detail::particles::failField(label, name, "multiplier array has the wrong length");
+        detail::requireNonNegative(label, std::string(name) + "_compliance", g.compliance);
+        if (g.lambda.size() != g.constraints.size()) detail::fail(label, name, "multiplier array has the wrong length");
         for (std::size_t k = 0; k < g.size(); ++k) {
             const DistanceConstraint& c = g.constraints[k];
             if (c.a >= n || c.b >= n) {
-                detail::particles::failField(label, std::string(name) + "[" + std::to_string(k) + "]",
-                                  "refers to a particle outside the system (" + std::to_string(n) + " particles)");
+                detail::fail(label, std::string(name) + "[" + std::to_string(k) + "]",
+                             "refers to a particle outside the system (" + std::to_string(n) + " particles)");
             }
             if (!(c.restLength > 0) || !std::isfinite(c.restLength)) {
-                detail::particles::failField(label, std::string(name) + "[" + std::to_string(k) + "].rest_length",
-                                  "must be positive, got " + detail::particles::formatReal(c.restLength));
+                detail::fail(label, std::string(name) + "[" + std::to_string(k) + "].rest_length",
+                             "must be positive, got " + detail::formatReal(c.restLength));
             }
         }
     };
@@ -59,20 +59,20 @@ void validateSystem(const ParticleSystem& s) {
     checkGroup(s.tethers, "tether");
     for (std::size_t k = 0; k < s.pins.size(); ++k) {
         if (s.pins[k].particle >= n) {
-            detail::particles::failField(label, "pins[" + std::to_string(k) + "]", "refers to particle " +
-                                  std::to_string(s.pins[k].particle) + " outside the system");
+            detail::fail(label, "pins[" + std::to_string(k) + "]", "refers to particle " +
+                         std::to_string(s.pins[k].particle) + " outside the system");
         }
-        detail::particles::requireFinite(label, "pins[" + std::to_string(k) + "].target", s.pins[k].target);
+        detail::requireFinite(label, "pins[" + std::to_string(k) + "].target", s.pins[k].target);
     }
     for (const ParticleTriangle& t : s.triangles) {
-        if (t.a >= n || t.b >= n || t.c >= n) detail::particles::failField(label, "triangles", "refer to a particle outside the system");
+        if (t.a >= n || t.b >= n || t.c >= n) detail::fail(label, "triangles", "refer to a particle outside the system");
     }
-    detail::particles::requireNonNegative(label, "damping", s.damping);
-    detail::particles::requireNonNegative(label, "linear_drag", s.linearDrag);
-    detail::particles::requireNonNegative(label, "friction", s.friction);
-    detail::particles::requireNonNegative(label, "drag_coefficient", s.dragCoefficient);
-    detail::particles::requireFinite(label, "lift_coefficient", s.liftCoefficient);
-    detail::particles::requireNonNegative(label, "self_collision_exclusion", s.selfCollisionExclusion);
+    detail::requireNonNegative(label, "damping", s.damping);
+    detail::requireNonNegative(label, "linear_drag", s.linearDrag);
+    detail::requireNonNegative(label, "friction", s.friction);
+    detail::requireNonNegative(label, "drag_coefficient", s.dragCoefficient);
+    detail::requireFinite(label, "lift_coefficient", s.liftCoefficient);
+    detail::requireNonNegative(label, "self_collision_exclusion", s.selfCollisionExclusion);
 }
 
 // Ropes are swept one constraint after another from the end that holds them
@@ -104,17 +104,17 @@ void ParticleWorld::setSettings(const ParticleWorldSettings& settings) {
 
 ParticleSystemId ParticleWorld::add(ParticleSystem system, const RigidCollider* collider) {
     validateSystem(system);
-    const std::string label = detail::particles::systemLabel(toString(system.kind), system.name);
+    const std::string label = detail::particleSystemLabel(toString(system.kind), system.name);
     for (ParticleAttachment& a : system.attachments) {
         if (a.particle >= system.particleCount()) {
-            detail::particles::failField(label, a.field, "refers to particle " + std::to_string(a.particle) + " outside the system");
+            detail::fail(label, a.field, "refers to particle " + std::to_string(a.particle) + " outside the system");
         }
         if (collider == nullptr) {
-            detail::particles::failField(label, a.field, "ties a particle to body index " + std::to_string(a.body) +
-                                                  ", but no rigid world was given to resolve it");
+            detail::fail(label, a.field, "ties a particle to body index " + std::to_string(a.body) +
+                         ", but no rigid world was given to resolve it");
         }
         if (!collider->isValidBody(a.body)) {
-            detail::particles::failField(label, a.field, "refers to unknown body index " + std::to_string(a.body));
+            detail::fail(label, a.field, "refers to unknown body index " + std::to_string(a.body));
         }
         if (!a.resolved) {
             a.localAnchor = inverseTransformPoint(collider->bodyState(a.body).transform, system.position[a.particle]);
@@ -123,22 +123,15 @@ ParticleSystemId ParticleWorld::add(ParticleSystem system, const RigidCollider* 
     }
     for (const Slot& s : slots_) {
         if (s.system && !system.name.empty() && s.system->name == system.name) {
-            detail::particles::failField(label, "name", "is already used by another particle system");
+            detail::fail(label, "name", "is already used by another particle system");
         }
     }
-    std::uint32_t index;
-    if (!freeSlots_.empty()) {
-        index = freeSlots_.back();
-        freeSlots_.pop_back();
-    } else {
-        index = static_cast<std::uint32_t>(slots_.size());
-        slots_.emplace_back();
-    }
-    Slot& slot = slots_[index];
+    const std::uint32_t index = slots_.nextSlot();
+    Slot& slot = slots_.add();
     slot.system = std::make_unique<ParticleSystem>(std::move(system));
     slot.order = nextOrder_++;
     slot.accel.clear();
-    return {index, slot.generation};
+    return slots_.handleOf(index);
 }
 
 ParticleSystemId ParticleWorld::addRope(const RopeDef& def, const RigidCollider* collider) {
@@ -154,8 +147,9 @@ ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) {
 }
 
 const ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) const {
-    if (id.isNull()) throw Error("particle system handle: is null");
-    if (id.index >= slots_.size() || !slots_[id.index].system || slots_[id.index].generation != id.generation) {
+    const detail::HandleState state = slots_.lookup(id);
+    if (state == detail::HandleState::Null) throw Error("particle system handle: is null");
+    if (state != detail::HandleState::Live) {
         throw Error("particle system handle {" + std::to_string(id.index) + ", " + std::to_string(id.generation) +
                     "}: is stale or was never created");
     }
@@ -165,14 +159,10 @@ const ParticleWorld::Slot& ParticleWorld::slotOf(ParticleSystemId id) const {
 void ParticleWorld::remove(ParticleSystemId id) {
     Slot& slot = slotOf(id);
     slot.system.reset();
-    ++slot.generation;
-    freeSlots_.push_back(id.index);
+    slots_.remove(id.index);
 }
 
-bool ParticleWorld::isValid(ParticleSystemId id) const {
-    return !id.isNull() && id.index < slots_.size() && slots_[id.index].system &&
-           slots_[id.index].generation == id.generation;
-}
+bool ParticleWorld::isValid(ParticleSystemId id) const { return slots_.isLive(id); }
 
 ParticleSystem& ParticleWorld::system(ParticleSystemId id) { return *slotOf(id).system; }
 const ParticleSystem& ParticleWorld::system(ParticleSystemId id) const { return *slotOf(id).system; }
@@ -180,7 +170,7 @@ const ParticleSystem& ParticleWorld::system(ParticleSystemId id) const { return 
 std::vector<ParticleSystemId> ParticleWorld::systems() const {
     std::vector<std::pair<std::uint64_t, ParticleSystemId>> live;
     for (std::uint32_t i = 0; i < slots_.size(); ++i) {
-        if (slots_[i].system) live.push_back({slots_[i].order, {i, slots_[i].generation}});
+        if (slots_[i].alive) live.push_back({slots_[i].order, slots_.handleOf(i)});
     }
     std::sort(live.begin(), live.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<ParticleSystemId> out;
@@ -188,10 +178,10 @@ std::vector<ParticleSystemId> ParticleWorld::systems() const {
     return out;
 }
 
-std::size_t ParticleWorld::systemCount() const { return slots_.size() - freeSlots_.size(); }
+std::size_t ParticleWorld::systemCount() const { return slots_.liveCount(); }
 
 void ParticleWorld::step(Real dt, RigidCollider* collider, TaskSystem* tasks) {
-    if (!std::isfinite(dt) || !(dt > 0)) throw Error("particle world: step dt must be positive and finite, got " + detail::particles::formatReal(dt));
+    if (!std::isfinite(dt) || !(dt > 0)) throw Error("particle world: step dt must be positive and finite, got " + detail::formatReal(dt));
     const int substeps = settings_.substeps;
     const Real h = dt / static_cast<Real>(substeps);
     const detail::AirSettings air{settings_.wind, settings_.airDensity};

@@ -25,6 +25,7 @@
 
 #include "fulcrum/particles.hpp"
 #include "fulcrum/task_system.hpp"
+#include "dynamics/slot_pool.hpp"
 #include "particles/particle_integration.hpp"
 #include "particles/particle_soa.hpp"
 #include "particles/particle_system.hpp"
@@ -81,9 +82,8 @@ public:
 
 private:
     friend struct fulcrum::SnapshotAccess;
-    struct Slot {
+    struct Slot : detail::PoolSlot {
         std::unique_ptr<ParticleSystem> system;  // null when free
-        std::uint32_t generation = 0;
         std::uint64_t order = 0;                 // creation order, for deterministic stepping
         detail::SelfCollision selfCollision;
         std::vector<Vec3> accel;                 // scratch
@@ -99,8 +99,7 @@ private:
     const Slot& slotOf(ParticleSystemId id) const;
 
     ParticleWorldSettings settings_;
-    std::vector<Slot> slots_;
-    std::vector<std::uint32_t> freeSlots_;
+    detail::SlotPool<Slot, ParticleSystemId> slots_;
     std::uint64_t nextOrder_ = 0;
     detail::RigidCoupling coupling_;
     std::uint64_t stagedSweeps_ = 0;

@@ -1,28 +1,28 @@
 // buildRope: a chain of particles joined by stretch and bend constraints.
 #include "particles/particle_builders.hpp"
-#include "particles/particle_validation.hpp"
+#include "dynamics/validation.hpp"
 
 namespace fulcrum {
 
 ParticleSystem buildRope(const RopeDef& def) {
-    const std::string label = detail::particles::systemLabel("rope", def.name);
-    detail::particles::requireFinite(label, "start", def.start);
-    detail::particles::requireFinite(label, "end", def.end);
+    const std::string label = detail::particleSystemLabel("rope", def.name);
+    detail::requireFinite(label, "start", def.start);
+    detail::requireFinite(label, "end", def.end);
     if (def.segments < 1) {
-        detail::particles::failField(label, "segments", "must be at least 1, got " + std::to_string(def.segments));
+        detail::fail(label, "segments", "must be at least 1, got " + std::to_string(def.segments));
     }
-    detail::particles::requirePositive(label, "particle_mass", def.particleMass);
-    detail::particles::requirePositive(label, "radius", def.radius);
-    detail::particles::requireNonNegative(label, "stretch_compliance", def.stretchCompliance);
-    detail::particles::requireNonNegative(label, "bend_compliance", def.bendCompliance);
-    detail::particles::requireNonNegative(label, "damping", def.damping);
-    detail::particles::requireNonNegative(label, "friction", def.friction);
-    detail::particles::requireNonNegative(label, "attach_compliance", def.attachCompliance);
+    detail::requirePositive(label, "particle_mass", def.particleMass);
+    detail::requirePositive(label, "radius", def.radius);
+    detail::requireNonNegative(label, "stretch_compliance", def.stretchCompliance);
+    detail::requireNonNegative(label, "bend_compliance", def.bendCompliance);
+    detail::requireNonNegative(label, "damping", def.damping);
+    detail::requireNonNegative(label, "friction", def.friction);
+    detail::requireNonNegative(label, "attach_compliance", def.attachCompliance);
     const Real length = distance(def.start, def.end);
     const Real spacing = length / static_cast<Real>(def.segments);
     if (!(spacing > 0)) {
-        detail::particles::failField(label, "end", "coincides with start " + detail::particles::formatVec(def.start) +
-                                            ": the segment spacing must be positive, got " + detail::particles::formatReal(spacing));
+        detail::fail(label, "end", "coincides with start " + detail::formatVec(def.start) +
+                     ": the segment spacing must be positive, got " + detail::formatReal(spacing));
     }
 
     ParticleSystem rope;

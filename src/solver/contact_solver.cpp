@@ -69,15 +69,6 @@ void prefetchManifold(const CachedManifold* m) {
     __builtin_prefetch(p + sizeof(CachedManifold) - 1);
 }
 
-Softness makeSoftness(Real hertz, Real zeta, Real h) {
-    if (hertz == 0) return {0, 1, 0};
-    const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
-    const Real a1 = 2 * zeta + h * omega;
-    const Real a2 = h * omega * a1;
-    const Real a3 = 1 / (1 + a2);
-    return {omega / a1, a2 * a3, a3};
-}
-
 // toRotationVector for the small turns of one step, without atan2 (with the
 // atan2f/atanf calls, updateDeltas was 5.4 % of a sphere pile's instructions):
 // 2 atan(s / w) / s = (2 / w)(1 - x^2/3 + x^4/5 - x^6/7 + ...), x = s / w. For

@@ -26,6 +26,7 @@
 
 #include "fulcrum/math.hpp"
 #include "solver/contact_wide.hpp"
+#include "solver/softness.hpp"
 
 namespace fulcrum {
 struct WorldImpl;
@@ -46,11 +47,6 @@ struct SolverBody {
     Vec3 dtheta;                // rotation since the step's start as a rotation vector (R = exp(dtheta) R0)
     Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
     Real padding[2] = {0, 0};   // 96 bytes: the wide kernels read whole rows of 4 floats (contact_wide.cpp)
-};
-
-// Implicit spring-damper coefficients (see the solver notes).
-struct Softness {
-    Real biasRate = 0, massScale = 1, impulseScale = 0;
 };
 
 // The Jacobians are fixed for the step, so everything that depends only on

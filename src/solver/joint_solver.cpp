@@ -10,18 +10,10 @@
 #include "contacts/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/graph_colouring.hpp"
+#include "solver/softness.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
-
-Softness jointSoftness(Real hertz, Real zeta, Real h) {
-    if (hertz == 0) return {0, 1, 0};
-    const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
-    const Real a1 = 2 * zeta + h * omega;
-    const Real a2 = h * omega * a1;
-    const Real a3 = 1 / (1 + a2);
-    return {omega / a1, a2 * a3, a3};
-}
 
 void JointSolver::reserve(std::size_t jointCount) {
     if (constraints_.capacity() < jointCount) constraints_.reserve(2 * jointCount);
@@ -70,7 +62,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     ctx_.invH = 1 / h;
     const WorldDef& settings = w.settings;
     const Real hertz = std::min(settings.jointHertz, JointTuning::kMaxHertzPerSubstepRate / h);
-    ctx_.soft = jointSoftness(hertz, settings.jointDampingRatio, h);
+    ctx_.soft = makeSoftness(hertz, settings.jointDampingRatio, h);
     projectionSlop_ = settings.jointProjectionSlop;
     ctx_.limitSoft = ctx_.soft;
 

@@ -206,7 +206,4 @@ private:
     std::vector<std::uint32_t> scalarRows_, scalarRowStart_;      // the others of rowJoints_, per colour (passes)
 };
 
-// Softness of a spring-damper at `hertz` and damping ratio `zeta` on sub-step h (0 Hz: rigid).
-Softness jointSoftness(Real hertz, Real zeta, Real h);
-
 }  // namespace fulcrum::detail

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "particles/particle_metrics.hpp"
-#include "particles/particle_validation.hpp"
+#include "dynamics/validation.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
@@ -92,7 +92,7 @@ void checkFinite(const WorldImpl& w) {
         const ParticleSystem& s = pw.system(id);
         for (std::size_t i = 0; i < s.particleCount(); ++i) {
             if (isFinite(s.position[i])) continue;
-            throw NumericalError(particles::systemLabel(toString(s.kind), s.name) + " particle " + std::to_string(i) +
+            throw NumericalError(particleSystemLabel(toString(s.kind), s.name) + " particle " + std::to_string(i) +
                                  ": position became NaN/inf at step " + std::to_string(w.stepCount + 1));
         }
     }

@@ -38,7 +38,7 @@
 
 #include "world/input_file.hpp"
 #include "world/snapshot_versions.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum::detail {
 
@@ -546,19 +546,19 @@ struct SnapshotAccess {
         io(a, p.settings_.airDensity);
         std::size_t n = p.slots_.size();
         a.count(n, 13);
-        if constexpr (A::kReading) p.slots_.resize(n);
+        if constexpr (A::kReading) p.slots_.slots().resize(n);
         for (std::size_t i = 0; i < n; ++i) {
             a.at("particle systems", i);
             auto& slot = p.slots_[i];
-            bool present = slot.system != nullptr;
-            io(a, present), io(a, slot.generation), io(a, slot.order);
-            if (present) {
+            io(a, slot.alive), io(a, slot.generation), io(a, slot.order);
+            if (slot.alive) {
                 if constexpr (A::kReading) slot.system = std::make_unique<ParticleSystem>();
                 io(a, *slot.system);
             }
         }
         a.at("particle systems");
-        io(a, p.freeSlots_), io(a, p.nextOrder_);
+        io(a, p.slots_.freeSlots()), io(a, p.nextOrder_);
+        if (!p.slots_.consistent()) a.fail("free particle system slot list");
     }
 
     static std::size_t contactCount(const ContactManager& c) { return c.contacts_.size(); }
@@ -640,20 +640,20 @@ void worldState(A& a, WorldImpl& w, std::string& userData) {
     }
 
     a.at("springs");
-    io(a, w.springs), io(a, w.freeSpringSlots);
-    std::uint64_t liveSprings = w.liveSprings;
+    io(a, w.springs.slots()), io(a, w.springs.freeSlots());
+    std::uint64_t liveSprings = w.springs.liveCount();  // kept in the format; the pool counts for itself
     io(a, liveSprings);
-    w.liveSprings = static_cast<std::size_t>(liveSprings);
+    if (liveSprings != w.springs.liveCount()) a.fail("live spring count");
     a.at("joints");
     std::size_t jointCount = w.joints.size();
     a.count(jointCount, 16);
-    if constexpr (A::kReading) w.joints.resize(jointCount);
+    if constexpr (A::kReading) w.joints.slots().resize(jointCount);
     for (std::size_t i = 0; i < jointCount; ++i) {
         a.at("joints", i);
         io(a, w.joints[i]);
     }
     a.at("joints");
-    io(a, w.freeJointSlots);
+    io(a, w.joints.freeSlots());
 
     SnapshotAccess::contactManager(a, w.contactManager);
     a.at("contact reports");
@@ -700,16 +700,12 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         const SpringData& s = w.springs[i];
         if (s.alive && (!bodyOk(s.bodyA) || !bodyOk(s.bodyB))) fail("springs[" + std::to_string(i) + "] body handle");
     }
-    for (std::uint32_t f : w.freeSpringSlots) {
-        if (f >= w.springs.size() || w.springs[f].alive) fail("free spring slot list");
-    }
+    if (!w.springs.consistent()) fail("free spring slot list");
     for (std::size_t i = 0; i < w.joints.size(); ++i) {
         const JointData& j = w.joints[i];
         if (j.alive && (!bodyOk(j.def.bodyA) || !bodyOk(j.def.bodyB))) fail("joints[" + std::to_string(i) + "] body handle");
     }
-    for (std::uint32_t f : w.freeJointSlots) {
-        if (f >= w.joints.size() || w.joints[f].alive) fail("free joint slot list");
-    }
+    if (!w.joints.consistent()) fail("free joint slot list");
 
     // Broad phase: the trees' and records' own invariants, then the links to bodies.
     if (const std::string why = SnapshotAccess::validateBroadPhase(w.contactManager); !why.empty()) fail("broad phase: " + why);
@@ -790,9 +786,9 @@ std::vector<std::uint8_t> detail::saveSnapshotAsVersion(const World& world, std:
     w.out.resize(detail::kHeaderSize);
     std::string data(userData);
     // The contact report is built when read (world_impl.hpp): the snapshot holds it.
-    const_cast<WorldImpl&>(world.impl()).ensureContactReport();
+    const_cast<WorldImpl&>(detail::implOf(world)).ensureContactReport();
     // The field lists serve reading and writing alike; writing only reads.
-    detail::worldState(w, const_cast<WorldImpl&>(world.impl()), data);
+    detail::worldState(w, const_cast<WorldImpl&>(detail::implOf(world)), data);
 
     const std::uint64_t payload = w.out.size() - detail::kHeaderSize;
     const std::uint64_t checksum = detail::fnv1a(w.out.data() + detail::kHeaderSize, payload);
@@ -862,7 +858,7 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
     detail::Reader reader(payload, source, truncated, static_cast<std::uint32_t>(version));
     std::string data;
     World world;
-    WorldImpl& w = world.impl();
+    WorldImpl& w = detail::implOf(world);
     detail::worldState(reader, w, data);
     if (truncated) {
         throw Error(source + ": truncated at byte " + std::to_string(bytes.size()) + " (the header declares " +

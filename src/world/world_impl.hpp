@@ -54,8 +54,9 @@
 //
 // Springs and joints
 // ------------------
-// Stored in slot vectors with a generation and an `alive` flag (they are few
-// and rarely iterated outside the step, so holes are fine). They refer to
+// Stored in slot pools (dynamics/slot_pool.hpp: a generation and an `alive`
+// flag per slot; they are few and rarely iterated outside the step, so holes
+// are fine). They refer to
 // bodies by BodyId and resolve the dense index when used; a body's
 // destruction destroys its springs and joints first, so they never hold a
 // stale BodyId. Anchors are stored relative to the body's centre of mass in
@@ -81,6 +82,7 @@
 #include "fulcrum/task_system.hpp"
 #include "fulcrum/world.hpp"
 #include "contacts/contact_manager.hpp"
+#include "dynamics/slot_pool.hpp"
 #include "solver/contact_solver.hpp"
 #include "solver/joint_solver.hpp"
 #include "islands/sleep.hpp"
@@ -141,17 +143,13 @@ struct BodySlot {
     std::uint32_t generation = 0;
 };
 
-struct SpringData {
-    bool alive = false;
-    std::uint32_t generation = 0;
+struct SpringData : PoolSlot {
     BodyId bodyA, bodyB;             // null: the static world
     Vec3 localA, localB;             // from the centre of mass, body axes; world point for a world end
     Real restLength = 0, stiffness = 0, damping = 0;
 };
 
-struct JointData {
-    bool alive = false;
-    std::uint32_t generation = 0;
+struct JointData : PoolSlot {
     JointDef def;                    // as created (validated; axis normalised)
     Vec3 localAnchorA, localAnchorB; // from each body's centre of mass, body axes (world point for the world)
     Vec3 localAxisA, localAxisB;     // unit axis in each body's axes (world axis for the world)
@@ -199,11 +197,8 @@ struct WorldImpl {
     std::vector<detail::IntegratorScratch> scratch;
 
     // ---- springs and joints
-    std::vector<detail::SpringData> springs;
-    std::vector<std::uint32_t> freeSpringSlots;
-    std::size_t liveSprings = 0;
-    std::vector<detail::JointData> joints;
-    std::vector<std::uint32_t> freeJointSlots;
+    detail::SlotPool<detail::SpringData, SpringId> springs;
+    detail::SlotPool<detail::JointData, JointId> joints;
 
     // ---- contacts of the last step (filled by the collision pipeline): the
     // first contactReportCount entries are valid; the rest keep their capacity

@@ -76,22 +76,12 @@ detail::JointData& WorldImpl::resolveJoint(JointId id, const char* where) {
 }
 
 const detail::JointData& WorldImpl::resolveJoint(JointId id, const char* where) const {
-    if (id.isNull()) throw Error(std::string(where) + ": null JointId");
-    if (id.index >= joints.size()) {
-        throw Error(std::string(where) + ": JointId index " + std::to_string(id.index) + " does not exist");
-    }
-    const detail::JointData& j = joints[id.index];
-    if (!j.alive || j.generation != id.generation) {
-        throw Error(std::string(where) + ": stale JointId (index " + std::to_string(id.index) +
-                    "): that joint was destroyed (or one of its bodies was)");
-    }
-    return j;
+    return detail::resolveHandle(joints, id, where, "JointId", "joint");
 }
 
 JointId World::createJoint(const JointDef& def) {
     WorldImpl& w = *impl_;
-    const std::uint32_t slot =
-        w.freeJointSlots.empty() ? static_cast<std::uint32_t>(w.joints.size()) : w.freeJointSlots.back();
+    const std::uint32_t slot = w.joints.nextSlot();
     const Subject who{"joint", def.name, slot};
 
     switch (def.type) {
@@ -174,13 +164,7 @@ JointId World::createJoint(const JointDef& def) {
     auto localAxis = [&](std::uint32_t dense, const Vec3& v) {
         return dense == kNoIndex ? v : inverseRotate(w.motion[dense].q, v);
     };
-    if (slot == w.joints.size()) {
-        w.joints.emplace_back();
-    } else {
-        w.freeJointSlots.pop_back();
-    }
-    detail::JointData& j = w.joints[slot];
-    j.alive = true;
+    detail::JointData& j = w.joints.add();
     j.def = def;
     j.localAnchorA = localPoint(a, def.anchor);
     j.localAnchorB = localPoint(b, worldAnchorB);
@@ -198,28 +182,23 @@ JointId World::createJoint(const JointDef& def) {
     w.jointSolver.reserve(w.joints.size());
     w.jointSolver.graph().add(w, slot);
     jointChangedPairs(w, j.def);
-    return {slot, j.generation};
+    return w.joints.handleOf(slot);
 }
 
 void World::destroyJoint(JointId id) {
     detail::JointData& j = impl_->resolveJoint(id, "World::destroyJoint");
     impl_->jointSolver.graph().remove(*impl_, id.index);
-    j.alive = false;
+    j.alive = false;  // already dead for the pairs it stops filtering
     jointChangedPairs(*impl_, j.def);
-    ++j.generation;
-    impl_->freeJointSlots.push_back(id.index);
+    impl_->joints.remove(id.index);
 }
 
-bool World::isValid(JointId id) const {
-    const WorldImpl& w = *impl_;
-    return !id.isNull() && id.index < w.joints.size() && w.joints[id.index].alive &&
-           w.joints[id.index].generation == id.generation;
-}
+bool World::isValid(JointId id) const { return impl_->joints.isLive(id); }
 
 std::vector<JointId> World::joints() const {
     std::vector<JointId> out;
     for (std::uint32_t i = 0; i < impl_->joints.size(); ++i) {
-        if (impl_->joints[i].alive) out.push_back({i, impl_->joints[i].generation});
+        if (impl_->joints[i].alive) out.push_back(impl_->joints.handleOf(i));
     }
     return out;
 }

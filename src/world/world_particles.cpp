@@ -6,7 +6,7 @@
 
 #include "particles/particle_builders.hpp"
 #include "particles/particle_metrics.hpp"
-#include "particles/particle_validation.hpp"
+#include "dynamics/validation.hpp"
 #include "particles/shape_query_adapter.hpp"
 #include "world/world_impl.hpp"
 
@@ -19,12 +19,12 @@ namespace {
 void requireAttachBody(const WorldImpl& w, const std::string& label, const char* field, BodyId id) {
     if (id.isNull()) return;
     if (id.index >= w.bodySlots.size()) {
-        detail::particles::failField(label, field, "BodyId index " + std::to_string(id.index) + " does not exist (" +
-                                                       std::to_string(w.bodySlots.size()) + " body slots)");
+        detail::fail(label, field, "BodyId index " + std::to_string(id.index) + " does not exist (" +
+                     std::to_string(w.bodySlots.size()) + " body slots)");
     }
     if (!w.isLive(id)) {
-        detail::particles::failField(label, field, "stale BodyId (index " + std::to_string(id.index) + ", generation " +
-                                                       std::to_string(id.generation) + "): that body was destroyed");
+        detail::fail(label, field, "stale BodyId (index " + std::to_string(id.index) + ", generation " +
+                     std::to_string(id.generation) + "): that body was destroyed");
     }
 }
 
@@ -40,7 +40,7 @@ ParticleSystemId addSystem(WorldImpl& w, ParticleSystem system) {
 
 ParticleSystemId World::createRope(const RopeDef& def) {
     WorldImpl& w = *impl_;
-    const std::string label = detail::particles::systemLabel("rope", def.name);
+    const std::string label = detail::particleSystemLabel("rope", def.name);
     requireAttachBody(w, label, "attach_start", def.attachStart);
     requireAttachBody(w, label, "attach_end", def.attachEnd);
     // buildRope names bodies by BodyId::index, the slot: the body index of
@@ -87,9 +87,9 @@ std::span<const Vec3> World::particlePositions(ParticleSystemId id) const {
 Vec3 World::particleVelocity(ParticleSystemId id, std::size_t particle) const {
     const ParticleSystem& s = impl_->particles.world.system(id);
     if (particle >= s.particleCount()) {
-        detail::particles::failField(detail::particles::systemLabel(toString(s.kind), s.name), "particle",
-                                     "index " + std::to_string(particle) + " is outside the system (" +
-                                         std::to_string(s.particleCount()) + " particles)");
+        detail::fail(detail::particleSystemLabel(toString(s.kind), s.name), "particle",
+                     "index " + std::to_string(particle) + " is outside the system (" +
+                     std::to_string(s.particleCount()) + " particles)");
     }
     return s.velocity(particle);
 }
@@ -99,15 +99,7 @@ ParticleReport World::particleReport(ParticleSystemId id) const {
     // The collider only reads here (queryShapes); it needs a
     // mutable WorldImpl for the pushes, which report() never makes.
     const detail::WorldRigidCollider collider(const_cast<WorldImpl&>(*impl_));
-    ParticleReport r;
-    r.name = s.name;
-    r.particles = s.particleCount();
-    r.centroid = centroid(s);
-    const StretchStats stretch = structuralStretch(s);
-    r.maxStretch = stretch.max;
-    r.meanStretch = stretch.mean;
-    r.maxPenetration = maxPenetration(s, collider);
-    return r;
+    return report(s, &collider);
 }
 
 }  // namespace fulcrum

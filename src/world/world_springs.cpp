@@ -13,22 +13,12 @@ detail::SpringData& WorldImpl::resolveSpring(SpringId id, const char* where) {
 }
 
 const detail::SpringData& WorldImpl::resolveSpring(SpringId id, const char* where) const {
-    if (id.isNull()) throw Error(std::string(where) + ": null SpringId");
-    if (id.index >= springs.size()) {
-        throw Error(std::string(where) + ": SpringId index " + std::to_string(id.index) + " does not exist");
-    }
-    const detail::SpringData& s = springs[id.index];
-    if (!s.alive || s.generation != id.generation) {
-        throw Error(std::string(where) + ": stale SpringId (index " + std::to_string(id.index) +
-                    "): that spring was destroyed (or one of its bodies was)");
-    }
-    return s;
+    return detail::resolveHandle(springs, id, where, "SpringId", "spring");
 }
 
 SpringId World::createSpring(const SpringDef& def) {
     WorldImpl& w = *impl_;
-    const std::uint32_t slot =
-        w.freeSpringSlots.empty() ? static_cast<std::uint32_t>(w.springs.size()) : w.freeSpringSlots.back();
+    const std::uint32_t slot = w.springs.nextSlot();
     const Subject who{"spring", "", slot};
     auto endpoint = [&](BodyId id, const char* field) -> std::uint32_t {
         if (id.isNull()) return kNoIndex;
@@ -51,13 +41,7 @@ SpringId World::createSpring(const SpringDef& def) {
     auto toLocal = [&](std::uint32_t dense, const Vec3& p) {
         return dense == kNoIndex ? p : inverseRotate(w.motion[dense].q, p - w.motion[dense].com);
     };
-    if (slot == w.springs.size()) {
-        w.springs.emplace_back();
-    } else {
-        w.freeSpringSlots.pop_back();
-    }
-    detail::SpringData& s = w.springs[slot];
-    s.alive = true;
+    detail::SpringData& s = w.springs.add();
     s.bodyA = def.bodyA;
     s.bodyB = def.bodyB;
     s.localA = toLocal(a, def.anchorA);
@@ -65,25 +49,17 @@ SpringId World::createSpring(const SpringDef& def) {
     s.restLength = def.restLength;
     s.stiffness = def.stiffness;
     s.damping = def.damping;
-    ++w.liveSprings;
-    return {slot, s.generation};
+    return w.springs.handleOf(slot);
 }
 
 void World::destroySpring(SpringId id) {
-    detail::SpringData& s = impl_->resolveSpring(id, "World::destroySpring");
-    s.alive = false;
-    ++s.generation;
-    impl_->freeSpringSlots.push_back(id.index);
-    --impl_->liveSprings;
+    (void)impl_->resolveSpring(id, "World::destroySpring");
+    impl_->springs.remove(id.index);
 }
 
-bool World::isValid(SpringId id) const {
-    const WorldImpl& w = *impl_;
-    return !id.isNull() && id.index < w.springs.size() && w.springs[id.index].alive &&
-           w.springs[id.index].generation == id.generation;
-}
+bool World::isValid(SpringId id) const { return impl_->springs.isLive(id); }
 
-std::size_t World::springCount() const { return impl_->liveSprings; }
+std::size_t World::springCount() const { return impl_->springs.liveCount(); }
 
 Real World::springLength(SpringId id) const {
     const WorldImpl& w = *impl_;

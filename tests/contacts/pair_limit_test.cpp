@@ -14,7 +14,7 @@
 #include "contacts/helpers.hpp"
 #include "fulcrum/fulcrum.hpp"
 #include "support/counting_allocator.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum {
 namespace {
@@ -66,7 +66,7 @@ TEST(PairLimit, CrowdAtOneSpotStaysUnderTheLimitOnAnyThreadCount) {
         const StepProfile p = one.lastStepProfile();
         ASSERT_LE(p.contactPairs, kLimit) << "step " << step;
         ASSERT_EQ(p.contactPairLimit, kLimit);
-        ASSERT_LE(one.impl().contactManager.liveContactCount(), kLimit);
+        ASSERT_LE(detail::implOf(one).contactManager.liveContactCount(), kLimit);
         mostWaiting = std::max(mostWaiting, p.bodiesOverPairLimit);
         // The same pairs kept, the same bits, on one thread and two.
         const StepProfile q = two.lastStepProfile();
@@ -163,7 +163,7 @@ TEST(PairLimit, PairsHeldBackArriveOnceThereIsRoom) {
     // The same set of pairs (no duplicate, none missing).
     const auto pairsOf = [](const World& w) {
         std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-        for (const detail::Contact& c : w.impl().contactManager.contacts()) {
+        for (const detail::Contact& c : detail::implOf(w).contactManager.contacts()) {
             if (c.alive) pairs.emplace_back(c.slotA, c.slotB);
         }
         std::sort(pairs.begin(), pairs.end());

@@ -41,7 +41,7 @@
 #include "collision/narrow_phase.hpp"
 #include "collision/support.hpp"
 #include "fulcrum/fulcrum.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 
@@ -125,7 +125,7 @@ struct Check {
 
 // Every persistent manifold of `world` against collide() at the poses it describes.
 void checkManifolds(World& world, int step, Check& out) {
-    const WorldImpl& w = world.impl();
+    const WorldImpl& w = detail::implOf(world);
     const std::vector<detail::Contact>& contacts = w.contactManager.contacts();
     ManifoldBuffer fresh;
     std::vector<char> paired(w.motion.size() * w.motion.size(), 0);

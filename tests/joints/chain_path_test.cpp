@@ -6,12 +6,12 @@
 #include <vector>
 
 #include "joint_test_util.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum::jointtest {
 namespace {
 
-const detail::JointTreeSolver& trees(const World& w) { return w.impl().jointSolver.trees(); }
+const detail::JointTreeSolver& trees(const World& w) { return detail::implOf(w).jointSolver.trees(); }
 
 // `links` capsules of mass 1 + 0.1 k, 1 m between anchors, hung from the
 // world at `top` along `dir`. Joint k joins link k - 1 (the world for k = 0)

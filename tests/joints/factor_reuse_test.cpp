@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "joint_test_util.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum::jointtest {
 namespace {
 
-detail::JointTreeSolver& trees(World& w) { return w.impl().jointSolver.trees(); }
+detail::JointTreeSolver& trees(World& w) { return detail::implOf(w).jointSolver.trees(); }
 
 // `links` capsules of 1 kg, 1 m between anchors, hung from the world at the
 // origin along `dir` (straight down: at rest; sideways: it falls and whips).

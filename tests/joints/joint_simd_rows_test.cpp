@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "joint_test_util.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::jointtest;
@@ -220,15 +220,15 @@ void expectRowsAgree(int threads, int steps) {
         worlds.push_back(std::make_unique<World>(def));
         World& world = *worlds.back();
         world.setThreadCount(path == SimdPath::Scalar ? 1 : threads);
-        world.impl().contactSolver.setSimdPath(SimdPath::Scalar);
-        ASSERT_EQ(world.impl().jointSolver.setSimdPath(path), path);
+        detail::implOf(world).contactSolver.setSimdPath(SimdPath::Scalar);
+        ASSERT_EQ(detail::implOf(world).jointSolver.setSimdPath(path), path);
         bodies.push_back(buildRowScene(world));
     }
     for (int step = 0; step < steps; ++step) {
         for (std::size_t p = 0; p < worlds.size(); ++p) {
             worlds[p]->step(kDt);
             if (step != 0) continue;
-            const detail::JointSolver& solver = worlds[p]->impl().jointSolver;
+            const detail::JointSolver& solver = detail::implOf(*worlds[p]).jointSolver;
             if (paths[p] == SimdPath::Scalar) {
                 EXPECT_EQ(solver.wideJointCount(), 0u);
                 continue;
@@ -274,7 +274,7 @@ std::vector<SimdPath> allPaths() {
 }
 
 World& onPath(World& world, SimdPath path) {
-    world.impl().jointSolver.setSimdPath(path);
+    detail::implOf(world).jointSolver.setSimdPath(path);
     return world;
 }
 
@@ -297,7 +297,7 @@ TEST(JointSimdRows, HingePendulumPeriod) {
         const double expected = pendulumPeriod(4 * l / 3, theta0);
         EXPECT_NEAR(T / expected, 1, 0.01) << detail::simdPathName(path) << ": T " << T << " expected " << expected;
         EXPECT_LT(world.jointError(hinge), 1e-3);
-        EXPECT_EQ(world.impl().jointSolver.wideJointCount(), path == SimdPath::Scalar ? 0u : 1u);
+        EXPECT_EQ(detail::implOf(world).jointSolver.wideJointCount(), path == SimdPath::Scalar ? 0u : 1u);
     }
 }
 
@@ -323,7 +323,7 @@ TEST(JointSimdRows, HingeLimitHoldsALoad) {
         const Vec3 force = world.jointReactionForce(hinge), torque = world.jointReactionTorque(hinge);
         EXPECT_NEAR(force.y, m * kG, 0.01 * m * kG) << detail::simdPathName(path);
         EXPECT_NEAR(std::fabs(double(torque.z)), m * kG * r, 0.02 * m * kG * r) << detail::simdPathName(path);
-        EXPECT_EQ(world.impl().jointSolver.wideJointCount(), path == SimdPath::Scalar ? 0u : 1u);
+        EXPECT_EQ(detail::implOf(world).jointSolver.wideJointCount(), path == SimdPath::Scalar ? 0u : 1u);
     }
 }
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "joint_test_util.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::jointtest;
@@ -171,14 +171,14 @@ void expectPathsAgree(const std::function<Scene(World&)>& build, int steps, int 
         worlds.push_back(std::make_unique<World>(def));
         World& world = *worlds.back();
         world.setThreadCount(path == SimdPath::Scalar ? 1 : threads);
-        world.impl().contactSolver.setSimdPath(SimdPath::Scalar);
-        ASSERT_EQ(world.impl().jointSolver.setSimdPath(path), path);
+        detail::implOf(world).contactSolver.setSimdPath(SimdPath::Scalar);
+        ASSERT_EQ(detail::implOf(world).jointSolver.setSimdPath(path), path);
         scenes.push_back(build(world));
     }
     for (int step = 0; step < steps; ++step) {
         for (std::size_t p = 0; p < worlds.size(); ++p) {
             worlds[p]->step(kDt);
-            if (step == 0) check(worlds[p]->impl().jointSolver, paths[p]);
+            if (step == 0) check(detail::implOf(*worlds[p]).jointSolver, paths[p]);
         }
         const World& reference = *worlds[0];
         for (std::size_t p = 1; p < worlds.size(); ++p) {
@@ -253,10 +253,10 @@ TEST(JointSimd, MixedSceneIsTheSameOnEveryPath) {
 // AVX2 where it cannot run gives SSE2.
 TEST(JointSimd, PathFollowsTheContactSolversAndFallsBack) {
     World world;
-    EXPECT_EQ(world.impl().jointSolver.simdPath(), world.impl().contactSolver.simdPath());
+    EXPECT_EQ(detail::implOf(world).jointSolver.simdPath(), detail::implOf(world).contactSolver.simdPath());
     const SimdPath expected = detail::avx2Available() ? SimdPath::Avx2 : SimdPath::Sse2;
-    EXPECT_EQ(world.impl().jointSolver.setSimdPath(SimdPath::Avx2), expected);
-    EXPECT_EQ(world.impl().jointSolver.setSimdPath(SimdPath::Scalar), SimdPath::Scalar);
+    EXPECT_EQ(detail::implOf(world).jointSolver.setSimdPath(SimdPath::Avx2), expected);
+    EXPECT_EQ(detail::implOf(world).jointSolver.setSimdPath(SimdPath::Scalar), SimdPath::Scalar);
 }
 
 // A hanging lattice at rest carries its weight at its static anchors: the
@@ -270,7 +270,7 @@ TEST(JointSimd, HangingLatticeCarriesItsWeightAtItsAnchors) {
     Scene s;
     addLattice(world, s, {0, 0, 0}, 5, 4);
     for (int step = 0; step < 240; ++step) world.step(kDt);
-    const detail::JointSolver& solver = world.impl().jointSolver;
+    const detail::JointSolver& solver = detail::implOf(world).jointSolver;
     if (solver.simdPath() != SimdPath::Scalar) {
         EXPECT_EQ(solver.wideJointCount(), solver.constraintCount());
     }

@@ -8,20 +8,12 @@
 #include "particles/particle_builders.hpp"
 #include "particles/particle_world.hpp"
 #include "rigid_test_world.hpp"
+#include "support/error_of.hpp"
 
 using namespace fulcrum;
+using fulcrum::test::errorOf;
 
 namespace {
-
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
 
 #define EXPECT_ERROR(expr, ...)                                                    \
     do {                                                                           \

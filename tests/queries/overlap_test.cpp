@@ -23,7 +23,7 @@
 
 #include "collision/narrow_phase.hpp"
 #include "collision/shape_queries.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace {
 
@@ -100,8 +100,8 @@ template <class TruthFn>
 int compareWithBruteForce(const World& world, const std::vector<BodyId>& answer, TruthFn&& truth, const char* what) {
     int definite = 0;
     EXPECT_TRUE(std::is_sorted(answer.begin(), answer.end(), [&](BodyId a, BodyId b) {
-        return world.impl().cold[world.impl().bodySlots[a.index].dense].creationSerial <
-               world.impl().cold[world.impl().bodySlots[b.index].dense].creationSerial;
+        return detail::implOf(world).cold[detail::implOf(world).bodySlots[a.index].dense].creationSerial <
+               detail::implOf(world).cold[detail::implOf(world).bodySlots[b.index].dense].creationSerial;
     })) << what << ": not in creation order";
     for (const BodyId id : world.bodies()) {
         const Truth t = truth(world.shape(id), world.transform(id));
@@ -248,7 +248,7 @@ TEST(StrayBodies, BouncingBallIsFoundEveryStep) {
     Real worstEscape = 0;
     for (int step = 0; step < 30; ++step) {
         world.step(Real(1) / 60);
-        const WorldImpl& w = world.impl();
+        const WorldImpl& w = detail::implOf(world);
         const AABB fat = w.contactManager.broadPhase().fatAABB(w.contactManager.proxyOfSlot(ball.index));
         const AABB tight = world.shape(ball).bounds(world.transform(ball));
         const Real escape = std::max(maxComponent(tight.max - fat.max), maxComponent(fat.min - tight.min));

@@ -16,7 +16,7 @@
 #include "contacts/helpers.hpp"
 #include "determinism/state_hash.hpp"
 #include "fulcrum/snapshot.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -32,7 +32,7 @@ bool sameBits(const Transform& a, const Transform& b) {
 class Checker {
 public:
     void check(World& world) {
-        WorldImpl& w = world.impl();
+        WorldImpl& w = detail::implOf(world);
         w.refreshAwakeList();  // applies the pending changes; the list is a pure function of the state
         std::vector<std::uint32_t> expected;
         for (std::uint32_t d = 0; d < w.motion.size(); ++d) {
@@ -132,7 +132,7 @@ TEST(SleepCost, SleepingWorldStepsWithoutPerBodyWork) {
     const std::size_t reports = world.contacts().size();
     EXPECT_GT(reports, 12u);  // every box rests on something: at least one manifold each
     stepChecked(world, checker, 30);
-    const WorldImpl& w = world.impl();
+    const WorldImpl& w = detail::implOf(world);
     EXPECT_TRUE(w.awakeBodies.empty());
     EXPECT_EQ(w.contactManager.visitedContactCount(), 0u);
     EXPECT_EQ(w.contactSolver.denseOfSolverBody().size(), 1u);  // entry 0: the static stand-in
@@ -272,12 +272,12 @@ TEST(SleepCost, SleepingOffAndOnAgain) {
     ASSERT_TRUE(stepCheckedUntilAllAsleep(world, checker));
     world.setSleepingEnabled(false);
     stepChecked(world, checker, 1);
-    EXPECT_EQ(world.impl().awakeBodies.size(), world.bodyCount() - 1);  // all but the ground
+    EXPECT_EQ(detail::implOf(world).awakeBodies.size(), world.bodyCount() - 1);  // all but the ground
     stepChecked(world, checker, 30);
     world.setSleepingEnabled(true);
     for (int i = 0; i < 300 && !allAsleep(world); ++i) stepChecked(world, checker, 1);
     EXPECT_TRUE(allAsleep(world));
-    EXPECT_TRUE(world.impl().awakeBodies.empty());
+    EXPECT_TRUE(detail::implOf(world).awakeBodies.empty());
     EXPECT_FALSE(anyAwake(world, p.towerA));
 }
 

@@ -12,7 +12,7 @@
 #include "fulcrum/snapshot.hpp"
 #include "fulcrum/world.hpp"
 #include "world/snapshot_versions.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum {
 namespace {
@@ -126,7 +126,7 @@ TEST(JointFrictionSnapshot, FrictionImpulseMatters) {
     for (int i = 0; i < 45; ++i) straight.step(kDt);
     World resumed = loadSnapshotFromMemory(saveSnapshotToMemory(straight));
     bool anyFriction = false;
-    for (detail::JointData& j : resumed.impl().joints) {
+    for (detail::JointData& j : detail::implOf(resumed).joints) {
         anyFriction = anyFriction || j.impulses.friction != Vec3{};
         j.impulses.friction = {};
     }

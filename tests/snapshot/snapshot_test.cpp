@@ -12,7 +12,7 @@
 #include "fulcrum/scene.hpp"
 #include "fulcrum/snapshot.hpp"
 #include "fulcrum/world.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 namespace fulcrum {
 namespace {
@@ -164,10 +164,10 @@ TEST(Snapshot, InconsistentContentIsRefused) {
     // A structurally wrong file with a valid checksum (a buggy writer) is
     // rejected by the consistency checks instead of crashing a later step.
     World w = steppedMixed(3);
-    const std::uint32_t slot = w.impl().denseToSlot[0];
-    w.impl().denseToSlot[0] = 9999;  // a body pointing at a slot that does not exist
+    const std::uint32_t slot = detail::implOf(w).denseToSlot[0];
+    detail::implOf(w).denseToSlot[0] = 9999;  // a body pointing at a slot that does not exist
     const auto bytes = saveSnapshotToMemory(w);
-    w.impl().denseToSlot[0] = slot;
+    detail::implOf(w).denseToSlot[0] = slot;
     const std::string what = errorOf(bytes);
     EXPECT_NE(what.find("inconsistent snapshot"), std::string::npos) << what;
 }

@@ -13,7 +13,7 @@
 
 #include "contacts/helpers.hpp"
 #include "fulcrum/task_system.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -82,15 +82,15 @@ WorldDef awakeWorld() {
 // may differ, which no later operation can turn into a different value).
 void expectWideAgreesWithScalar(detail::SimdPath path) {
     World wide(awakeWorld()), scalar(awakeWorld());
-    ASSERT_EQ(wide.impl().contactSolver.setSimdPath(path), path);
-    scalar.impl().contactSolver.setSimdPath(detail::SimdPath::Scalar);
+    ASSERT_EQ(detail::implOf(wide).contactSolver.setSimdPath(path), path);
+    detail::implOf(scalar).contactSolver.setSimdPath(detail::SimdPath::Scalar);
     const std::vector<BodyId> a = buildMixedPile(wide);
     const std::vector<BodyId> b = buildMixedPile(scalar);
     std::size_t maxConstraints = 0;
     for (int step = 0; step < 240; ++step) {
         wide.step(kDt);
         scalar.step(kDt);
-        maxConstraints = std::max(maxConstraints, wide.impl().contactSolver.constraintCount());
+        maxConstraints = std::max(maxConstraints, detail::implOf(wide).contactSolver.constraintCount());
         for (std::size_t i = 0; i < a.size(); ++i) {
             const Vec3 pa = wide.position(a[i]), pb = scalar.position(b[i]);
             const Quat qa = wide.orientation(a[i]), qb = scalar.orientation(b[i]);
@@ -138,7 +138,7 @@ TEST(WideSolver, SimdSettingIsParsedOrRejectedWithItsName) {
 // the CPU runs; asking for AVX2 where it is missing gives SSE2, never a crash.
 TEST(WideSolver, DefaultPathIsTheWidestTheCpuRuns) {
     World world(awakeWorld());
-    detail::ContactSolver& solver = world.impl().contactSolver;
+    detail::ContactSolver& solver = detail::implOf(world).contactSolver;
     if (std::getenv("FULCRUM_SIMD") == nullptr) {
         EXPECT_EQ(solver.simdPath(), detail::bestSimdPath());
     }
@@ -169,7 +169,7 @@ TEST(WideSolver, IsDeterministic) {
 TEST(WideSolver, BothPathsStackAndRest) {
     for (const bool useWide : {true, false}) {
         World world(awakeWorld());
-        world.impl().contactSolver.setWide(useWide);
+        detail::implOf(world).contactSolver.setWide(useWide);
         addGround(world);
         std::vector<BodyId> boxes;
         std::vector<Vec3> start;
@@ -206,8 +206,8 @@ TEST(WideSolver, ParallelColoursGiveIdenticalResultsForAnyThreadCount) {
         poolDef.threads = threads;
         const std::unique_ptr<TaskSystem> pool = makeThreadPool(poolDef);
         World world(awakeWorld());
-        world.impl().contactSolver.setWide(true);  // whatever FULCRUM_SIMD says
-        world.impl().contactSolver.setTaskSystem(pool.get());
+        detail::implOf(world).contactSolver.setWide(true);  // whatever FULCRUM_SIMD says
+        detail::implOf(world).contactSolver.setTaskSystem(pool.get());
         addGround(world);
         std::vector<BodyId> ids;
         for (int k = 0; k < 2; ++k) {
@@ -222,14 +222,14 @@ TEST(WideSolver, ParallelColoursGiveIdenticalResultsForAnyThreadCount) {
         run(world, 90);
         // Many blocks per colour, or the test would not run anything in parallel.
         // (A colour is split from 16 blocks on: 18 blocks here with 8 lanes, 36 with 4.)
-        EXPECT_GE(world.impl().contactSolver.largestColourBlocks(), std::size_t{16});
+        EXPECT_GE(detail::implOf(world).contactSolver.largestColourBlocks(), std::size_t{16});
         positions.emplace_back();
         velocities.emplace_back();
         for (BodyId id : ids) {
             positions.back().push_back(world.position(id));
             velocities.back().push_back(world.linearVelocity(id));
         }
-        world.impl().contactSolver.setTaskSystem(nullptr);
+        detail::implOf(world).contactSolver.setTaskSystem(nullptr);
     }
     for (std::size_t t = 1; t < positions.size(); ++t) {
         for (std::size_t i = 0; i < positions[0].size(); ++i) {

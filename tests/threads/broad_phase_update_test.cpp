@@ -17,7 +17,7 @@
 #include "fulcrum/world.hpp"
 #include "ground.hpp"
 #include "reverse_scheduler.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 
@@ -45,7 +45,7 @@ World buildSpherePile() {
 }
 
 void expectValidBroadPhase(const World& world, const std::string& config, int step) {
-    const WorldImpl& w = world.impl();
+    const WorldImpl& w = detail::implOf(world);
     const detail::ContactManager& manager = w.contactManager;
     ASSERT_EQ(manager.broadPhase().validate(), "") << config << ", step " << step;
     for (const std::uint32_t d : w.awakeBodies) {
@@ -76,7 +76,7 @@ TEST(ThreadedBroadPhase, TreeStaysValidWhileReinsertionsRunBesideTheNarrowPhase)
             expectValidBroadPhase(world, config.name, s);
         }
         // The pile did collapse: bodies moved well beyond the fat margins.
-        EXPECT_GT(world.impl().awakeBodies.size(), 0u) << config.name;
+        EXPECT_GT(detail::implOf(world).awakeBodies.size(), 0u) << config.name;
     }
     EXPECT_GT(reverse.calls, 0u);
 }

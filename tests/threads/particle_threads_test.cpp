@@ -13,7 +13,7 @@
 #include "fulcrum/fulcrum.hpp"
 #include "fulcrum/task_system.hpp"
 #include "reverse_scheduler.hpp"
-#include "world/world_impl.hpp"
+#include "world/world_access.hpp"
 
 using namespace fulcrum;
 
@@ -117,7 +117,7 @@ TEST(ParticleThreads, ClothIsBitIdenticalForAnyThreadCountAndScheduler) {
             ASSERT_EQ(hashParticles(world), reference[static_cast<std::size_t>(s)]) << config.name << ", step " << s + 1;
         }
         // 16 sub-steps x 1 iteration per step, all as stages.
-        EXPECT_EQ(world.impl().particles.world.stagedSweeps(), std::uint64_t{16} * kSteps) << config.name;
+        EXPECT_EQ(detail::implOf(world).particles.world.stagedSweeps(), std::uint64_t{16} * kSteps) << config.name;
     }
     EXPECT_GT(recording.searchCalls, 0u) << "the self-collision search did not run on the task system";
 }
@@ -141,7 +141,7 @@ World buildTiedScene() {
     const BodyId moving = world.createBody(paddle);
     world.setLinearVelocity(moving, {Real(2), 0, 0});
     const ParticleSystemId id = world.particleSystems()[0];
-    ParticleSystem& cloth = world.impl().particles.world.system(id);
+    ParticleSystem& cloth = detail::implOf(world).particles.world.system(id);
     for (const std::uint32_t corner : {0u, 1u}) {  // a corner particle and its neighbour
         ParticleAttachment a;
         a.particle = corner;
@@ -172,7 +172,7 @@ TEST(ParticleThreads, TiesAndMovingShapesAreBitIdenticalForAnyThreadCount) {
         const ParticleSystemId id = world.particleSystems()[0];
         const auto x = world.particlePositions(id);
         const BodyId tied = world.bodies()[3];
-        for (const ParticleAttachment& a : world.impl().particles.world.system(id).attachments) {
+        for (const ParticleAttachment& a : detail::implOf(world).particles.world.system(id).attachments) {
             const Vec3 anchor = world.position(tied) + rotate(world.orientation(tied), a.localAnchor);
             EXPECT_LT(length(x[a.particle] - anchor), Real(0.005)) << "corner " << a.particle;
         }
@@ -202,7 +202,7 @@ TEST(ParticleThreads, TiesAndMovingShapesAreBitIdenticalForAnyThreadCount) {
             world.step(dt);
             ASSERT_EQ(hashParticles(world), reference[static_cast<std::size_t>(s)]) << config.name << ", step " << s + 1;
         }
-        EXPECT_EQ(world.impl().particles.world.stagedSweeps(), std::uint64_t{16} * kSteps) << config.name;
+        EXPECT_EQ(detail::implOf(world).particles.world.stagedSweeps(), std::uint64_t{16} * kSteps) << config.name;
     }
 }
 
