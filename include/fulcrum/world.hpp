@@ -166,7 +166,7 @@ struct DeepOverlap {
     Real size = 0;        // m: the smallest extent of the smaller dynamic body (what depth is compared with)
 };
 
-// ---- particle systems: the figures of one rope or cloth (design.md's
+// ---- particle systems: the figures of one rope or cloth (docs/cli.md's
 // `particle_systems` entry of `--json`; World::particleReport).
 enum class ParticleSystemType : std::uint8_t { Rope, Cloth };
 
