@@ -1,5 +1,5 @@
 // Side-by-side scene benchmark: every scene and accuracy probe of
-// shared/docs/benchmark-scenes.md (bench/scenes.hpp) in Fulcrum and in each
+// docs/benchmarks.md (described once in bench/scenes.hpp) in Fulcrum and in each
 // peer engine built in (bench/peers/: Bullet 3, ODE, MuJoCo), in the same run.
 // scripts/bench.sh builds and runs it (and --write-docs puts the output in
 // docs/benchmarks.md).

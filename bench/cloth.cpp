@@ -1,4 +1,4 @@
-// The `cloth` benchmark scene (shared/docs/benchmark-scenes.md): 64 x 64
+// The `cloth` benchmark scene (bench/scenes.hpp; docs/benchmarks.md): 64 x 64
 // particles spaced 0.05 m (a 3.15 m square, 0.01 kg each) with structural,
 // shear and bend constraints, held horizontal at y = 3 and dropped onto a
 // static sphere (radius 0.8, centre (0, 1, 0)) above the ground plane y = 0;
@@ -24,7 +24,6 @@
 #include "particles/particle_world.hpp"
 #include "particles/shape_query_adapter.hpp"
 #include "particles/xpbd_distance.hpp"
-#include "../tests/particles/interim_closest_point.hpp"  // until branch `shapes` lands (compiles to nothing after)
 #include "../tests/particles/rigid_test_world.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// Joint benchmark: docs/benchmark-scenes.md's `chain`, a pile of 100 ragdolls
+// Joint benchmark: the `chain` of bench/scenes.hpp (docs/benchmarks.md), a pile of 100 ragdolls
 // (11 bodies each) on the ground, and a 30 x 30 x 30 grid of spheres joined by
 // ball joints to their neighbours below and beside, hanging from the top layer.
 //
@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
         std::function<void(Scene&)> build;
     };
     const std::vector<Entry> scenes = {
-        {"chain", "`chain` (benchmark-scenes.md)", buildChain},
+        {"chain", "`chain` (bench/scenes.hpp)", buildChain},
         {"ragdolls", "`ragdolls`: 100 ragdolls of 11 bodies (cone-twist + hinges) dropped in a 5 x 5 x 4 pile", buildRagdolls},
         {"grid",
          "`grid`: " + std::to_string(gridSide) + " x " + std::to_string(gridSide) + " x " + std::to_string(gridSide) +

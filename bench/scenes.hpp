@@ -1,5 +1,5 @@
 #pragma once
-// The benchmark scenes and accuracy probes of docs/benchmark-scenes.md as
+// The benchmark scenes and accuracy probes of docs/benchmarks.md as
 // engine-neutral descriptions (bodies, ball joints, one cloth), so Fulcrum and
 // the peer engines (bench/peers/) build exactly the same thing; and the
 // interface every engine implements for the harness (bench/benchmark_scenes.cpp).
@@ -59,7 +59,7 @@ struct JointSpec {  // ball-and-socket; a = -1 is the static world
     V3 anchor;      // world space at creation
 };
 
-// docs/benchmark-scenes.md's cloth (the harness measures it from particle positions).
+// docs/benchmarks.md's cloth (the harness measures it from particle positions).
 struct ClothSpec {
     int n = 0;                    // n x n particles; 0: no cloth
     double spacing = 0.05;

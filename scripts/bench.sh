@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The side-by-side benchmark: builds Release with benchmarks and runs every
-# scene and accuracy probe of shared/docs/benchmark-scenes.md in Fulcrum and in
+# scene and accuracy probe of bench/scenes.hpp (docs/benchmarks.md) in Fulcrum and in
 # every peer engine found (Bullet 3, ODE, MuJoCo: installed here from Debian's
 # packages when missing), in one invocation. See docs/benchmarks.md.
 #

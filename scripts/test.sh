@@ -31,8 +31,10 @@ if [ $quick -eq 0 ]; then
   # same reports with file:line), and assertions left on (no NDEBUG). The
   # browser test runs in the Release pass only: its C++ part (writing the page)
   # is covered by the other recording tests, and Chromium isn't instrumented.
+  # FULCRUM_VALIDATE: every step of every test also checks the engine's
+  # internal invariants at each phase (docs/validation.md).
   sanitize_ctest_args="-E ^Browser\."
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     run_suite "ASan+UBSan" build/sanitize "$sanitize_ctest_args" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFULCRUM_SANITIZE=ON \
-      "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+      -DFULCRUM_VALIDATE=ON "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
 fi

@@ -1,6 +1,6 @@
 #pragma once
-// Batches: N independent worlds stepped together (design.md, "Contract: many
-// worlds"; docs/scale-out.md). Parameter sweeps, Monte Carlo runs and learning
+// Batches: N independent worlds stepped together (docs/scale-out.md).
+// Parameter sweeps, Monte Carlo runs and learning
 // roll-outs run many small worlds; one world rarely fills the cores, so a
 // Batch gives each world to one task instead: the worlds are stepped on the
 // built-in thread pool, one world per task, and the pool's work stealing

@@ -1,6 +1,6 @@
 #pragma once
 // Verlet particle systems: ropes and cloths. The definitions below are what the
-// scene format's `ropes` and `cloths` sections describe (design.md).
+// scene format's `ropes` and `cloths` sections describe (docs/scene-format.md).
 #include <array>
 #include <cstdint>
 #include <limits>

@@ -1,5 +1,5 @@
 #pragma once
-// Scene files: the JSON format of design.md ("Contract: scene files") and the
+// Scene files: the JSON format of docs/scene-format.md and the
 // plain `Scene` description it is read into. Two layers, on purpose:
 //
 //  1. parseScene / loadScene read and validate JSON into a Scene: plain

@@ -1,5 +1,5 @@
 #pragma once
-// Batches from scene files (design.md, "Contract: many worlds"): one scene
+// Batches from scene files (docs/scale-out.md): one scene
 // with per-world overrides, or N scenes. Lives in fulcrum::io.
 //
 // An override names a value by its path in the scene file and gives the new

@@ -166,7 +166,8 @@ struct DeepOverlap {
     Real size = 0;        // m: the smallest extent of the smaller dynamic body (what depth is compared with)
 };
 
-// ---- particle systems (ParticleReport, the figures of one rope or cloth: fulcrum/particles.hpp)
+// ---- particle systems (ParticleReport, the figures of one rope or cloth: fulcrum/particles.hpp;
+// docs/cli.md's `particle_systems` entry of `--json`; World::particleReport)
 enum class ParticleSystemType : std::uint8_t { Rope, Cloth };
 
 struct WorldImpl;

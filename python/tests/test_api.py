@@ -23,7 +23,7 @@ def pile(n=10, threads=1):
     return w
 
 
-# ---- the names fixed by design.md, "Contract: Python"
+# ---- the names the public Python API fixes (docs/python.md)
 def test_contract_example():
     w = fulcrum.World(gravity=(0, -9.81, 0), substeps=5, integrator="semi_implicit_euler", threads=1, sleeping=True)
     b = w.create_body(shape=fulcrum.Sphere(0.5), position=(0, 10, 0), type="dynamic", mass=1.0,

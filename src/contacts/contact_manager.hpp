@@ -112,6 +112,16 @@ public:
     std::uint32_t liveContactCount() const { return liveContacts_; }
     std::uint32_t lastPairLimit() const { return lastPairLimit_; }
     const PairUpdateStats& lastPairStats() const { return broad_.lastUpdate(); }
+    // Read-only views of the per-body contact lists and the free list, for
+    // the FULCRUM_VALIDATE checks (src/world/invariants.cpp). A key is
+    // contact * 2 + end (0: the contact's slotA, 1: its slotB), UINT32_MAX
+    // at a list's end. The lists exist only once built (contactListsBuilt).
+    bool contactListsBuilt() const { return !linksRebuild_; }
+    std::size_t contactListCount() const { return headOfSlot_.size(); }  // one per body slot
+    std::uint32_t firstContactKey(std::uint32_t slot) const { return headOfSlot_[slot]; }
+    std::uint32_t nextContactKey(std::uint32_t key) const { return links_[key >> 1].next[key & 1]; }
+    std::uint32_t previousContactKey(std::uint32_t key) const { return links_[key >> 1].prev[key & 1]; }
+    std::uint32_t firstFreeContact() const { return freeContact_; }  // then Contact::nextFree
 
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 

@@ -520,7 +520,7 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         joints.push_back(ojson{{"name", jointName(scene, i)}, {"error", std::move(error)}});
     }
     j["joints"] = std::move(joints);
-    // design.md: {"name", "particles", "centroid", "max_stretch", "mean_stretch", "max_penetration"}, ropes then cloths.
+    // docs/cli.md: {"name", "particles", "centroid", "max_stretch", "mean_stretch", "max_penetration"}, ropes then cloths.
     ojson systems = ojson::array();
     for (int kind = 0; kind < 2; ++kind) {
         const std::vector<ParticleSystemId>& ids = kind == 0 ? result.handles.ropes : result.handles.cloths;

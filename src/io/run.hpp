@@ -88,7 +88,7 @@ RunResult runWorld(World world, const SceneHandles& handles, const Scene& scene,
 // remaining steps from the snapshot's run record), and its handles.
 Scene resumeScene(const World& world, const std::string& userData, const std::string& source, SceneHandles& handles);
 
-// The --json report (design.md, "Contract: the command line").
+// The --json report (docs/cli.md).
 // withProfile (--profile): plus a "profile" object (ms per step of each phase).
 std::string runReportJson(const Scene& scene, const RunResult& result, bool withProfile = false);
 // Adds one step's World::lastStepProfile to result.profile (runScene does, each step).

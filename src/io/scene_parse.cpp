@@ -1,5 +1,5 @@
-// Reading a scene file: JSON text -> validated Scene (design.md, "Contract:
-// scene files"; every key is documented in docs/scene-format.md).
+// Reading a scene file: JSON text -> validated Scene (every key is documented
+// in docs/scene-format.md).
 //
 // Validation is strict on purpose: an unknown key, a wrong type or a value
 // without physical sense is an error that names the path in the document and

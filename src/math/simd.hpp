@@ -44,7 +44,7 @@
 //
 // ---- Gather and scatter ----------------------------------------------------------
 // Bodies stay array-of-structs (the solver reaches them by index, see
-// solver-notes.md), constraints are bundled kSimdLanes at a time. A kernel
+// docs/solver.md, "The wide (SIMD) solve"), constraints are bundled kSimdLanes at a time. A kernel
 // gathers the lanes' bodies with Vec3W::gather(bodies, indices, &Body::field),
 // works on whole bundles, and scatters the results back. An index of
 // kEmptyLane gathers zeros and is skipped by scatter, for bundles that are not

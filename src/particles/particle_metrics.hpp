@@ -1,5 +1,5 @@
 #pragma once
-// Per-system figures for the `--json` report (design.md: "particle_systems")
+// Per-system figures for the `--json` report (docs/cli.md, `--json`: "particle_systems")
 // and for tests: stretch, centroid, penetration into rigid shapes, energy.
 #include <string>
 

@@ -19,7 +19,7 @@
 // latency-bound. Instead the constraints are split into colours - sets that
 // share no particle - and a colour is solved 8 (AVX2, chosen at run time) or
 // 4 (SSE2) constraints at a time in SIMD lanes (the graph colouring of
-// solver-notes.md; constraints within a colour are independent, so the result
+// docs/solver.md; constraints within a colour are independent, so the result
 // is the same whatever the lane count: tested in Cloth.SimulationIsDeterministic).
 //
 // The colouring uses the structure every rope and cloth has: constraints

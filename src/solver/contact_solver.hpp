@@ -1,6 +1,6 @@
 #pragma once
 // The contact solver: Box2D v3's "soft step" (Catto, "Solver2D", 2024) in 3D.
-// docs/solver.md has the long form; the formulas are in the solver notes.
+// docs/solver.md has the long form and the formulas ("The soft step").
 //
 // Per step, prepare() builds
 //   - a compact array of solver bodies: every awake dynamic or kinematic body,
@@ -172,6 +172,13 @@ public:
     std::uint32_t solverIndexOf(std::uint32_t dense) const { return dense < solverOfDense_.size() ? solverOfDense_[dense] : 0; }
     const Vec3& startCom(std::uint32_t i) const { return startCom_[i]; }
     const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
+    // The colouring, read by the FULCRUM_VALIDATE checks (src/world/invariants.cpp):
+    // pairs()[i] has colour constraintColours()[i]; colour c holds the
+    // colour-ordered slots [colourStart(c), colourStart(c + 1)), slot s being
+    // pairs()[pendingOfSlot()[s]]; the last colour is the overflow (solved in order).
+    const std::vector<std::uint32_t>& constraintColours() const { return colourOf_; }
+    std::uint32_t colourStart(std::size_t c) const { return colourStart_[c]; }
+    const std::vector<std::uint32_t>& pendingOfSlot() const { return pendingOfSlot_; }
 
 private:
     using PendingConstraint = ConstraintPair;

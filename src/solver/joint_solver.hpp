@@ -90,6 +90,7 @@ public:
     // must run in order. The tree solver's trees share no body with each other.
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
     std::uint32_t colourStart(std::size_t k) const { return colourStart_[k]; }
+    std::span<const JointConstraint> constraints() const { return constraints_; }  // in colour order
     std::span<const JointBreakEvent> breakEvents() const { return events_; }
     // Per-body joint lists (joint_graph.hpp): World keeps them on joint
     // creation and destruction; the contact manager asks them which pairs

@@ -78,6 +78,7 @@
 #include "dynamics/validation.hpp"
 #include "contacts/continuous.hpp"
 #include "threads/staged_parallel.hpp"
+#include "world/invariants.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum {
@@ -176,6 +177,7 @@ void WorldImpl::step(Real dt) {
     const int substeps = settings.substeps;
     const Real h = dt / static_cast<Real>(substeps);
     const double hd = static_cast<double>(dt) / substeps;
+    FULCRUM_VALIDATE_PHASE(*this, StepStart);
 
     // Turning sleeping off wakes everything once.
     if (!settings.sleeping && wasSleeping) {
@@ -214,6 +216,7 @@ void WorldImpl::step(Real dt) {
     notePairLimit(prof);
     // The bodies it woke move in this step.
     refreshAwakeList();
+    FULCRUM_VALIDATE_PHASE(*this, AfterCollide);
     const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
     // Constraints are prepared once per step on the step's start configuration.
     detail::ContactSolver& solver = contactSolver;
@@ -247,6 +250,7 @@ void WorldImpl::step(Real dt) {
     // Joints work on the contact solver's bodies, in the same passes, before
     // the contacts (Box2D v3's order; docs/joints.md has the measurements).
     jointSolver.prepare(*this, solver, h);
+    FULCRUM_VALIDATE_PHASE(*this, AfterPrepare);
     const bool hasContacts = solver.constraintCount() > 0;
     const bool hasJoints = jointSolver.constraintCount() > 0;
     const bool hasConstraints = hasContacts || hasJoints;
@@ -435,6 +439,7 @@ void WorldImpl::step(Real dt) {
         detail::finalizeSubstep(*this, method, h, tStart + hd);
     }
 
+    FULCRUM_VALIDATE_PHASE(*this, AfterSubsteps);
     prof.solve = clock.lap();
     if (hasContacts) {
         // Restitution once per step on the final velocities (threshold and
@@ -446,17 +451,20 @@ void WorldImpl::step(Real dt) {
     }
     // Joint impulses for warm starting, reaction forces, breaking.
     if (hasJoints) jointSolver.store(*this);
+    FULCRUM_VALIDATE_PHASE(*this, AfterStore);
     prof.store = clock.lap();
     if (settings.continuousCollision) {
         detail::solveContinuous(*this, solver, contactManager, dt);
         // Time of impact moves fast bodies back alone: close the joints it opened.
         if (hasJoints) jointSolver.projectPositions(*this);
     }
+    FULCRUM_VALIDATE_PHASE(*this, AfterContinuous);
     // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
     prof.continuous = clock.lap();
     detail::stepParticles(*this, dt);
     prof.particles = clock.lap();
     sleepManager.update(*this, solver, contactManager, dt);
+    FULCRUM_VALIDATE_PHASE(*this, AfterSleep);
     prof.sleep = clock.lap();
     // Built when read (World::contacts(), snapshots): world_impl.hpp.
     contactReportStale = true;
@@ -492,6 +500,7 @@ void WorldImpl::step(Real dt) {
     stepOnCaller = false;  // the contact report, built when read, may use the pool again
     ++stepCount;
     time = t0 + static_cast<double>(dt);
+    FULCRUM_VALIDATE_PHASE(*this, StepEnd);
     if (firstBad.load(std::memory_order_relaxed) == kNoIndexBody) return;
 
     // Contacts spread a NaN to the bodies touching it, so name a body whose

@@ -14,8 +14,8 @@
 // generations match; `resolveBody` is the only way from a handle to a dense
 // index, and it throws fulcrum::Error for a null, out-of-range or stale handle.
 //
-// Per-body data is split by how often the step touches it (Box2D v3 and the
-// solver notes' hot / warm / cold tiers):
+// Per-body data is split by how often the step touches it (hot / warm / cold
+// tiers, as Box2D v3 splits its body sim, state and body records):
 //   motion[]    hot: centre of mass, orientation, velocities, inverse mass and
 //               world inverse inertia. Read and written every sub-step by the
 //               integrators and (later) the solver.

@@ -43,7 +43,7 @@ inline void run(World& world, int steps) {
     for (int i = 0; i < steps; ++i) world.step(kDt);
 }
 
-// pyramid20 of docs/benchmark-scenes.md (base row n): returns the top box.
+// pyramid20 of bench/scenes.hpp (base row n): returns the top box.
 inline BodyId buildPyramid(World& world, int base) {
     addGround(world);
     BodyId top;

@@ -121,7 +121,7 @@ TEST(SceneParticles, BendComplianceDefaultIsFloppyAndExplicitZeroIsKept) {
     EXPECT_EQ(parseScene(sceneToJson(absent)), absent);
 }
 
-// design.md's --json contract for particle systems, on the example scene.
+// docs/cli.md's --json contract for particle systems, on the example scene.
 TEST(SceneParticles, CliJsonReportsEveryParticleSystemKey) {
     const CliResult r = fulcrumCli("run scenes/rope_and_cloth.json --steps 30 --json");
     ASSERT_EQ(r.status, 0) << r.err;

@@ -51,7 +51,7 @@ TEST(Stacking, TowerOfTwentyBoxesStands) {
     EXPECT_GT(q.sink, Real(-0.01));  // and it didn't get pushed up
 }
 
-// pyramid20 (docs/benchmark-scenes.md): 210 boxes for 10 s with sleeping off.
+// pyramid20 (bench/scenes.hpp; docs/benchmarks.md): 210 boxes for 10 s with sleeping off.
 // Same criteria as the benchmark: drift < 5 cm, top box sink < 25 cm.
 TEST(Stacking, Pyramid20Stands) {
     World world(noSleep());

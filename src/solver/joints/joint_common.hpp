@@ -18,7 +18,7 @@
 //             solved as 3x3 blocks, which converges far better than three
 //             scalar rows on long chains.
 // Anchors and axes rotate with each sub-step's rotation delta (dq), as the
-// solver notes require for joints (contacts keep the step's anchors).
+// soft step requires for joints (docs/joints.md; contacts keep the step's anchors).
 #include <cmath>
 #include <cstdint>
 
