@@ -93,4 +93,29 @@ void solveCoupledLimit(const CoupledRow& r, Real sign, SolverBody& a, SolverBody
 void solveCoupledMotor(const CoupledRow& r, SolverBody& a, SolverBody& b, Real speed, Real maxImpulse, Real& lambda);
 void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma, Real& lambda);
 
+// JointSolver::prepare for a hinge or slider: the free axis's limits, motor
+// and spring from its definition's record (h: the sub-step).
+inline void prepareFreeAxis(JointConstraint& j, const JointDef& def, Real h) {
+    j.limit = def.hasLimits;
+    j.lower = def.lowerLimit;
+    j.upper = def.upperLimit;
+    j.motor = def.motor.enabled;
+    j.motorSpeed = def.motor.speed;
+    j.maxMotorImpulse = h * def.motor.maxForce;
+    j.spring = def.spring.enabled && (def.spring.stiffness > 0 || def.spring.damping > 0);
+    j.springTarget = def.spring.target;
+    springCoefficients(def.spring.stiffness, def.spring.damping, h, j.springBias, j.springGamma);
+}
+
+// The reaction of the free axis's rows with the held rows' share (not in
+// those rows' accumulated impulses, so added here; torque about B's anchor).
+inline void addFreeAxisReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
+    if (!(j.spring || j.motor || j.limit)) return;
+    const JointImpulses& i = j.impulse;
+    const Real axial = i.spring + i.motor + i.lower - i.upper;
+    const Vec3 P = j.axial.apply.linear * axial;
+    force += P;
+    torque += j.axial.apply.angularB * axial - cross(j.frame.rB, P);
+}
+
 }  // namespace fulcrum::detail

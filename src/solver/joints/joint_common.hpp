@@ -57,7 +57,7 @@ struct CoupledRow {
 struct JointFrame {
     Vec3 rA, rB;   // anchors from each centre of mass, world, now
     Vec3 d;        // pB - pA
-    Quat qA, qB;   // orientations now (not kept for ball and distance joints: updateFrame)
+    Quat qA, qB;   // orientations now (kept only where the type reads them: updateFrame)
 };
 
 // One joint prepared for this step.
@@ -67,6 +67,7 @@ struct JointConstraint {
     std::uint32_t denseA = 0, denseB = 0;  // dense body indices (kNoIndex: the world)
     Vec3 localAnchorA, localAnchorB;  // from each centre of mass, body axes (world point for the world)
     JointType type = JointType::Ball;
+    bool readsOrientations = false;   // its type's kReadsOrientations (joint_types.hpp): updateFrame keeps qA, qB
     bool limit = false, motor = false, spring = false;
     Vec3 rA0, rB0;                    // anchors from each centre of mass, world, step start
     Vec3 centreDelta;                 // comB - comA at the step's start (world end: its com is the origin)
@@ -342,9 +343,6 @@ inline Quat deltaRotation(const SolverBody& b) {
     return {static_cast<Real>(c), b.dtheta.x * k, b.dtheta.y * k, b.dtheta.z * k};
 }
 
-// Ball and distance joints read only the anchors and their separation.
-inline bool frameNeedsOrientations(JointType t) { return t != JointType::Ball && t != JointType::Distance; }
-
 // f <- the joint's geometry for rotations dqA, dqB since the step's start
 // (orientations only where the joint type reads them).
 inline void updateFrame(JointFrame& f, const JointConstraint& j, const SolverBody& a, const SolverBody& b, const Quat& dqA,
@@ -352,7 +350,7 @@ inline void updateFrame(JointFrame& f, const JointConstraint& j, const SolverBod
     f.rA = rotate(dqA, j.rA0);
     f.rB = rotate(dqB, j.rB0);
     f.d = j.centreDelta + (b.dp - a.dp) + f.rB - f.rA;
-    if (frameNeedsOrientations(j.type)) {
+    if (j.readsOrientations) {
         f.qA = dqA * j.qA0;
         f.qB = dqB * j.qB0;
     }
@@ -382,20 +380,19 @@ inline Real twistAngle(const Quat& relative0, const Quat& qA, const Quat& qB, co
     return 2 * std::atan2(dot(r.vec(), localAxis), r.w);
 }
 
-// ---- per joint type (src/solver/joints/<type>.cpp)
+// ---- prepare (JointSolver::prepare): rows a joint does not use this step start at zero
 
-void warmStartBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void solveBall(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void solveDistance(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void solveFixed(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
-void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+inline void dropLimitImpulsesIfOff(JointConstraint& j) {
+    if (!j.limit) j.impulse.lower = j.impulse.upper = 0;
+}
+// Spin friction (ball, cone-twist) off: no friction row and no impulse.
+inline void dropSpinFriction(JointConstraint& j) {
+    j.maxFrictionImpulse = 0;
+    j.impulse.friction = {};
+}
+inline void dropSpinFrictionIfOff(JointConstraint& j) {
+    if (j.maxFrictionImpulse == 0) dropSpinFriction(j);
+}
 
 // Force (N) and torque (N m) the joint applied to body B over the last sub-step,
 // from its accumulated impulses; `invH` = 1 / sub-step. Torque about B's anchor

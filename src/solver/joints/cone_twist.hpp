@@ -1,0 +1,29 @@
+#pragma once
+// The cone-twist joint (cone_twist.cpp; its SIMD lanes: cone_twist_wide.hpp).
+// The members every joint type has are described in joint_types.hpp.
+#include "solver/joints/joint_common.hpp"
+#include "solver/joints/joint_def.hpp"
+#include "solver/joints/joint_wide.hpp"
+
+namespace fulcrum::detail {
+
+struct ConeTwistJoint {
+    using Def = ConeTwistJointDef;
+    static constexpr JointType kType = JointType::ConeTwist;
+    static constexpr bool kReadsOrientations = true;
+    static constexpr bool kHasFreeAxis = false;
+    static constexpr bool kProjected = true;
+
+    static Def fromJointDef(const JointDef& def, const JointEnds& ends);
+    static JointSetup setup(const Def& def, const Subject& who, const JointEnds& ends);
+    static void prepare(JointConstraint& j, const StoredJoint& stored, Real h);
+    static void warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+    static void solve(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+    static bool hasRows(const JointConstraint&) { return true; }
+    static WideKind wideKind(const JointConstraint& j);
+    static void addReaction(const JointConstraint& j, Vec3& force, Vec3& torque);
+    static Real error(const JointPose& pose);
+    static Real position(const JointPose& pose);
+};
+
+}  // namespace fulcrum::detail

@@ -1,0 +1,31 @@
+#pragma once
+// The slider joint (slider.cpp; scalar kernels only).
+// The members every joint type has are described in joint_types.hpp.
+#include "solver/joints/joint_common.hpp"
+#include "solver/joints/joint_def.hpp"
+#include "solver/joints/joint_wide.hpp"
+
+namespace fulcrum::detail {
+
+struct SliderJoint {
+    using Def = SliderJointDef;
+    static constexpr JointType kType = JointType::Slider;
+    static constexpr bool kReadsOrientations = true;
+    static constexpr bool kHasFreeAxis = true;
+    static constexpr bool kProjected = false;
+
+    static Def fromJointDef(const JointDef& def, const JointEnds& ends);
+    static JointSetup setup(const Def& def, const Subject& who, const JointEnds& ends);
+    // World::setJointLimits's check of new limits.
+    static void validateLimits(const Subject& who, bool enabled, Real lower, Real upper);
+    static void prepare(JointConstraint& j, const StoredJoint& stored, Real h);
+    static void warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+    static void solve(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
+    static bool hasRows(const JointConstraint&) { return true; }
+    static WideKind wideKind(const JointConstraint& j);
+    static void addReaction(const JointConstraint& j, Vec3& force, Vec3& torque);
+    static Real error(const JointPose& pose);
+    static Real position(const JointPose& pose);
+};
+
+}  // namespace fulcrum::detail
