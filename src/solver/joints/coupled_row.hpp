@@ -40,7 +40,7 @@ bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, i
 // (double): L holds K_oo's lower triangle (overwritten by its Cholesky
 // factor), rhs = -K_oa, kaa = K_aa. Gives c = K_oo^-1 rhs and the Schur
 // complement schur = K_aa + K_ao c; false where K_oo or the complement is (nearly) singular.
-// Shared by coupleRow and the wide hinge kernels (joint_wide_hinge.hpp),
+// Shared by coupleRow and the wide hinge kernels (hinge_wide.hpp),
 // which compute the couplings in lanes: one code, so the same bits. Static:
 // each translation unit has its own copy (the AVX2 one may not lend its copy
 // to code that runs without AVX2), and a constant `count` unrolls it (the
