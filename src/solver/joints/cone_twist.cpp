@@ -157,7 +157,7 @@ ConeTwistJointDef ConeTwistJointDef::fromWorld(const World& world, BodyId a, Bod
     d.bodyB = b;
     d.localAnchorA = ends.a.localPoint(anchor);
     d.localAnchorB = ends.b.localPoint(anchor);
-    const Vec3 unit = normalize(axis);
+    const Vec3 unit = detail::worldAxisArgument(axis, "ConeTwistJointDef::fromWorld");
     d.localAxisA = ends.a.localAxis(unit);
     d.localAxisB = ends.b.localAxis(unit);
     return d;

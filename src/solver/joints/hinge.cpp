@@ -169,7 +169,7 @@ HingeJointDef HingeJointDef::fromWorld(const World& world, BodyId a, BodyId b, V
     d.bodyB = b;
     d.localAnchorA = ends.a.localPoint(anchor);
     d.localAnchorB = ends.b.localPoint(anchor);
-    const Vec3 unit = normalize(axis);
+    const Vec3 unit = detail::worldAxisArgument(axis, "HingeJointDef::fromWorld");
     d.localAxisA = ends.a.localAxis(unit);
     d.localAxisB = ends.b.localAxis(unit);
     return d;

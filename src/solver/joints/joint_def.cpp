@@ -27,6 +27,14 @@ JointEnds jointEnds(const World& world, BodyId a, BodyId b, const char* where) {
     return {endPose(world, a, where, "bodyA"), endPose(world, b, where, "bodyB")};
 }
 
+Vec3 worldAxisArgument(const Vec3& axis, const char* where) {
+    const Real len = length(axis);
+    if (!isFinite(axis) || !(len > Real(1e-6))) {
+        throw Error(std::string(where) + ": axis must be a finite, non-zero direction, got " + formatVec(axis));
+    }
+    return axis / len;
+}
+
 JointDef baseRecord(const JointDefBase& def, JointType type) {
     JointDef r;
     r.name = def.name;

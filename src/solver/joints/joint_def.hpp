@@ -33,6 +33,8 @@ struct JointEnds {
 // helpers (`where` names the helper in the error for a stale body; a null
 // `a` is the static world).
 JointEnds jointEnds(const World& world, BodyId a, BodyId b, const char* where);
+// A fromWorld helper's world axis, normalised (a zero or non-finite one is an error).
+Vec3 worldAxisArgument(const Vec3& axis, const char* where);
 
 // A joint as a type's setup() makes it from its definition.
 struct JointSetup {

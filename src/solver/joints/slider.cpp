@@ -167,7 +167,7 @@ SliderJointDef SliderJointDef::fromWorld(const World& world, BodyId a, BodyId b,
     d.bodyB = b;
     d.localAnchorA = ends.a.localPoint(anchor);
     d.localAnchorB = ends.b.localPoint(anchor);
-    const Vec3 unit = normalize(axis);
+    const Vec3 unit = detail::worldAxisArgument(axis, "SliderJointDef::fromWorld");
     d.localAxisA = ends.a.localAxis(unit);
     d.localAxisB = ends.b.localAxis(unit);
     return d;
