@@ -640,17 +640,7 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
             const JointConstraint& limits = constraints_[j.constraint];
             const Real len = length(d);
             if (len < Real(1e-6)) continue;
-            Real C = 0;
-            if (limits.rigidDistance) {
-                C = len - limits.restLength;
-            } else if (len > limits.upper) {
-                C = len - limits.upper;
-            } else if (len < limits.lower) {
-                C = len - limits.lower;
-            } else {
-                continue;
-            }
-            C = C > slop ? C - slop : (C < -slop ? C + slop : 0);
+            const Real C = DistanceJoint::projectionError(limits, len, slop);
             if (C == 0) continue;
             const Vec3 n = d * (1 / len);
             const Real k = rowInverseMass(linearRow(n, rA, rB), sa, sb);

@@ -26,7 +26,10 @@ using detail::validateSpring;
 using detail::withJointType;
 
 
-bool usesAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider || t == JointType::ConeTwist; }
+// Whether JointDef::axis means something for the type: its definition has axes.
+bool usesAxis(JointType t) {
+    return withJointType(t, [](auto type) { return requires(typename decltype(type)::Def d) { d.localAxisA; }; });
+}
 
 // A joint between two bodies changes whether they may collide (unless it
 // keeps collideConnected): drop A's contacts and let the broad phase report

@@ -13,6 +13,7 @@ struct BallJoint {
     static constexpr JointType kType = JointType::Ball;
     static constexpr bool kReadsOrientations = false;
     static constexpr bool kHasFreeAxis = false;
+    static constexpr bool kHasPointBlock = true;
     static constexpr bool kProjected = true;
 
     static Def fromJointDef(const JointDef& def, const JointEnds& ends);

@@ -112,6 +112,20 @@ void DistanceJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, cons
     }
 }
 
+Real DistanceJoint::projectionError(const JointConstraint& j, Real len, Real slop) {
+    Real C = 0;
+    if (j.rigidDistance) {
+        C = len - j.restLength;
+    } else if (len > j.upper) {
+        C = len - j.upper;
+    } else if (len < j.lower) {
+        C = len - j.lower;
+    } else {
+        return 0;
+    }
+    return C > slop ? C - slop : (C < -slop ? C + slop : 0);
+}
+
 WideKind DistanceJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
 
 void DistanceJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3&) {

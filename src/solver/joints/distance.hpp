@@ -12,6 +12,7 @@ struct DistanceJoint {
     static constexpr JointType kType = JointType::Distance;
     static constexpr bool kReadsOrientations = false;
     static constexpr bool kHasFreeAxis = false;
+    static constexpr bool kHasPointBlock = false;
     static constexpr bool kProjected = true;
 
     static Def fromJointDef(const JointDef& def, const JointEnds& ends);
@@ -20,6 +21,9 @@ struct DistanceJoint {
     static void warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
     static void solve(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx);
     static bool hasRows(const JointConstraint&) { return true; }
+    // The length error beyond the slop that JointSolver::projectPositions
+    // removes at `len` (0: within the limits, or within the slop of them).
+    static Real projectionError(const JointConstraint& j, Real len, Real slop);
     static WideKind wideKind(const JointConstraint& j);
     static void addReaction(const JointConstraint& j, Vec3& force, Vec3& torque);
     static Real error(const JointPose& pose);

@@ -12,6 +12,7 @@ struct FixedJoint {
     static constexpr JointType kType = JointType::Fixed;
     static constexpr bool kReadsOrientations = true;
     static constexpr bool kHasFreeAxis = false;
+    static constexpr bool kHasPointBlock = true;
     static constexpr bool kProjected = true;
 
     static Def fromJointDef(const JointDef& def, const JointEnds& ends);

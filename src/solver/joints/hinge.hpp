@@ -12,6 +12,7 @@ struct HingeJoint {
     static constexpr JointType kType = JointType::Hinge;
     static constexpr bool kReadsOrientations = true;
     static constexpr bool kHasFreeAxis = true;
+    static constexpr bool kHasPointBlock = true;
     static constexpr bool kProjected = true;
 
     static Def fromJointDef(const JointDef& def, const JointEnds& ends);

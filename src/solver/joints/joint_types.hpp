@@ -7,6 +7,7 @@
 //   kType               its JointType
 //   kReadsOrientations  its rows read the bodies' orientations (updateFrame keeps them)
 //   kHasFreeAxis        a hinge or slider: motor, limits and spring, also after creation
+//   kHasPointBlock      its anchors meet (a 3-row point block): the tree solver may take it
 //   kProjected          JointSolver::projectPositions pulls its anchors together
 //   fromJointDef        the generic JointDef (world space) as its definition
 //   setup               validates its definition (errors name the joint and the

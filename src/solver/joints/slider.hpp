@@ -12,6 +12,7 @@ struct SliderJoint {
     static constexpr JointType kType = JointType::Slider;
     static constexpr bool kReadsOrientations = true;
     static constexpr bool kHasFreeAxis = true;
+    static constexpr bool kHasPointBlock = false;
     static constexpr bool kProjected = false;
 
     static Def fromJointDef(const JointDef& def, const JointEnds& ends);
