@@ -140,7 +140,6 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         // does not have this step (a limit switched off, no friction).
         const bool projected = withJointType(def.type, [&](auto type) {
             using T = decltype(type);
-            j.readsOrientations = T::kReadsOrientations;
             T::prepare(j, stored, h);
             return T::kProjected;
         });

@@ -29,11 +29,6 @@ JointSetup BallJoint::setup(const Def& def, const Subject& who, const JointEnds&
 
 // ---- solver
 
-void BallJoint::prepare(JointConstraint& j, const StoredJoint&, Real) {
-    dropLimitImpulsesIfOff(j);
-    dropSpinFrictionIfOff(j);
-}
-
 void BallJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
@@ -53,24 +48,6 @@ void BallJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const Jo
     solveFrictionBlock(j, a, b, f.rA, f.rB);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }
-
-WideKind BallJoint::wideKind(const JointConstraint& j) {
-    // With friction: a cone-twist without limits (in a tree or not); a tree's
-    // frictionless one has no rows there.
-    if (j.maxFrictionImpulse > 0) return WideKind::ConeTwist;
-    return !j.direct ? WideKind::Ball : WideKind::NotWide;
-}
-
-void BallJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
-    // Friction carries the point rows' share that goes with it (cacheFriction).
-    if (j.frictionValid) force += j.frictionCoupling * j.impulse.friction;
-    torque += j.impulse.friction;
-}
-
-// ---- reports
-
-Real BallJoint::error(const JointPose& pose) { return length(pose.d); }
-Real BallJoint::position(const JointPose&) { return 0; }
 
 }  // namespace fulcrum::detail
 

@@ -29,4 +29,28 @@ struct BallJoint {
     static Real position(const JointPose& pose);
 };
 
+// The per-step glue, inline: called for every joint every step.
+
+inline void BallJoint::prepare(JointConstraint& j, const StoredJoint&, Real) {
+    dropLimitImpulsesIfOff(j);
+    dropSpinFrictionIfOff(j);
+}
+
+inline WideKind BallJoint::wideKind(const JointConstraint& j) {
+    // With friction: a cone-twist without limits (in a tree or not); a tree's
+    // frictionless one has no rows there.
+    if (j.maxFrictionImpulse > 0) return WideKind::ConeTwist;
+    return !j.direct ? WideKind::Ball : WideKind::NotWide;
+}
+
+inline void BallJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
+    // Friction carries the point rows' share that goes with it (cacheFriction).
+    if (j.frictionValid) force += j.frictionCoupling * j.impulse.friction;
+    torque += j.impulse.friction;
+}
+
+inline Real BallJoint::error(const JointPose& pose) { return length(pose.d); }
+
+inline Real BallJoint::position(const JointPose&) { return 0; }
+
 }  // namespace fulcrum::detail

@@ -81,15 +81,6 @@ JointSetup ConeTwistJoint::setup(const Def& def, const Subject& who, const Joint
 
 // ---- solver
 
-void ConeTwistJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real) {
-    const JointDef& def = stored.def;
-    j.limit = true;
-    j.swingLimit = def.swingLimit;
-    j.lower = def.twistLower;
-    j.upper = def.twistUpper;
-    dropSpinFrictionIfOff(j);
-}
-
 void ConeTwistJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
@@ -122,28 +113,6 @@ void ConeTwistJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, con
     const JointRow back{Vec3{}, -g.twistAxis, -g.twistAxis};
     solveLimitRow(back, a, b, j.upper - twist, i.upper, ctx);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx, j.pointMass);
-}
-
-WideKind ConeTwistJoint::wideKind(const JointConstraint&) { return WideKind::ConeTwist; }
-
-void ConeTwistJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
-    const JointFrame& f = j.frame;
-    const JointImpulses& i = j.impulse;
-    if (j.frictionValid) force += j.frictionCoupling * i.friction;
-    const Vec3 axisA = rotate(f.qA, j.localAxisA), axisB = rotate(f.qB, j.localAxisB);
-    const Vec3 c = cross(axisA, axisB);
-    const Real s = length(c);
-    const Vec3 mid = axisA + axisB;
-    const Real m = length(mid);
-    torque += (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
-    if (s > Real(1e-6)) torque -= c * (i.swing / s);
-}
-
-// ---- reports
-
-Real ConeTwistJoint::error(const JointPose& pose) { return length(pose.d); }
-Real ConeTwistJoint::position(const JointPose& pose) {
-    return twistAngle(pose.relativeRotation, pose.qA, pose.qB, pose.localAxisA);
 }
 
 }  // namespace fulcrum::detail

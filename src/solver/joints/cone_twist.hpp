@@ -27,4 +27,36 @@ struct ConeTwistJoint {
     static Real position(const JointPose& pose);
 };
 
+// The per-step glue, inline: called for every joint every step.
+
+inline void ConeTwistJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real) {
+    const JointDef& def = stored.def;
+    j.limit = true;
+    j.swingLimit = def.swingLimit;
+    j.lower = def.twistLower;
+    j.upper = def.twistUpper;
+    dropSpinFrictionIfOff(j);
+}
+
+inline WideKind ConeTwistJoint::wideKind(const JointConstraint&) { return WideKind::ConeTwist; }
+
+inline void ConeTwistJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
+    const JointFrame& f = j.frame;
+    const JointImpulses& i = j.impulse;
+    if (j.frictionValid) force += j.frictionCoupling * i.friction;
+    const Vec3 axisA = rotate(f.qA, j.localAxisA), axisB = rotate(f.qB, j.localAxisB);
+    const Vec3 c = cross(axisA, axisB);
+    const Real s = length(c);
+    const Vec3 mid = axisA + axisB;
+    const Real m = length(mid);
+    torque += (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
+    if (s > Real(1e-6)) torque -= c * (i.swing / s);
+}
+
+inline Real ConeTwistJoint::error(const JointPose& pose) { return length(pose.d); }
+
+inline Real ConeTwistJoint::position(const JointPose& pose) {
+    return twistAngle(*pose.relativeRotation, *pose.qA, *pose.qB, *pose.localAxisA);
+}
+
 }  // namespace fulcrum::detail

@@ -73,17 +73,6 @@ JointSetup DistanceJoint::setup(const Def& def, const Subject& who, const JointE
 
 // ---- solver
 
-void DistanceJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
-    const JointDef& def = stored.def;
-    j.lower = stored.minLength;
-    j.upper = stored.maxLength;
-    j.restLength = stored.restLength;
-    j.spring = def.stiffness > 0 || def.damping > 0;
-    j.rigidDistance = !j.spring && stored.minLength == stored.maxLength;
-    springCoefficients(def.stiffness, def.damping, h, j.springBias, j.springGamma);
-    dropSpinFriction(j);  // its limit impulses stay: its min / max rows are always on
-}
-
 void DistanceJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     Vec3 n;
@@ -111,40 +100,6 @@ void DistanceJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, cons
         solveLimitRow(pull, a, b, j.upper - len, i.upper, ctx);
     }
 }
-
-Real DistanceJoint::projectionError(const JointConstraint& j, Real len, Real slop) {
-    Real C = 0;
-    if (j.rigidDistance) {
-        C = len - j.restLength;
-    } else if (len > j.upper) {
-        C = len - j.upper;
-    } else if (len < j.lower) {
-        C = len - j.lower;
-    } else {
-        return 0;
-    }
-    return C > slop ? C - slop : (C < -slop ? C + slop : 0);
-}
-
-WideKind DistanceJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
-
-void DistanceJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3&) {
-    const JointImpulses& i = j.impulse;
-    const Real axial = i.spring + i.motor + i.lower - i.upper;
-    const Real len = length(j.frame.d);
-    force = len > Real(1e-6) ? j.frame.d * ((i.axial + axial) / len) : Vec3{};
-}
-
-// ---- reports
-
-Real DistanceJoint::error(const JointPose& pose) {
-    const Real len = length(pose.d);
-    if (len < pose.minLength) return pose.minLength - len;
-    if (len > pose.maxLength) return len - pose.maxLength;
-    return 0;
-}
-
-Real DistanceJoint::position(const JointPose& pose) { return length(pose.d); }
 
 }  // namespace fulcrum::detail
 

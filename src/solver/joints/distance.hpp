@@ -30,4 +30,49 @@ struct DistanceJoint {
     static Real position(const JointPose& pose);
 };
 
+// The per-step glue, inline: called for every joint every step.
+
+inline void DistanceJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
+    const JointDef& def = stored.def;
+    j.lower = stored.minLength;
+    j.upper = stored.maxLength;
+    j.restLength = stored.restLength;
+    j.spring = def.stiffness > 0 || def.damping > 0;
+    j.rigidDistance = !j.spring && stored.minLength == stored.maxLength;
+    springCoefficients(def.stiffness, def.damping, h, j.springBias, j.springGamma);
+    dropSpinFriction(j);  // its limit impulses stay: its min / max rows are always on
+}
+
+inline WideKind DistanceJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
+
+inline void DistanceJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3&) {
+    const JointImpulses& i = j.impulse;
+    const Real axial = i.spring + i.motor + i.lower - i.upper;
+    const Real len = length(j.frame.d);
+    force = len > Real(1e-6) ? j.frame.d * ((i.axial + axial) / len) : Vec3{};
+}
+
+inline Real DistanceJoint::error(const JointPose& pose) {
+    const Real len = length(pose.d);
+    if (len < pose.minLength) return pose.minLength - len;
+    if (len > pose.maxLength) return len - pose.maxLength;
+    return 0;
+}
+
+inline Real DistanceJoint::position(const JointPose& pose) { return length(pose.d); }
+
+inline Real DistanceJoint::projectionError(const JointConstraint& j, Real len, Real slop) {
+    Real C = 0;
+    if (j.rigidDistance) {
+        C = len - j.restLength;
+    } else if (len > j.upper) {
+        C = len - j.upper;
+    } else if (len < j.lower) {
+        C = len - j.lower;
+    } else {
+        return 0;
+    }
+    return C > slop ? C - slop : (C < -slop ? C + slop : 0);
+}
+
 }  // namespace fulcrum::detail

@@ -28,11 +28,6 @@ JointSetup FixedJoint::setup(const Def& def, const Subject& who, const JointEnds
 
 // ---- solver
 
-void FixedJoint::prepare(JointConstraint& j, const StoredJoint&, Real) {
-    dropLimitImpulsesIfOff(j);
-    dropSpinFriction(j);
-}
-
 void FixedJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
@@ -46,15 +41,6 @@ void FixedJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const J
     solveAngularBlock(a, b, angularError(j, f.qA, f.qB), j.impulse.angular, ctx);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, j.impulse.linear, ctx, j.pointMass);
 }
-
-WideKind FixedJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
-
-void FixedJoint::addReaction(const JointConstraint& j, Vec3&, Vec3& torque) { torque += j.impulse.angular; }
-
-// ---- reports
-
-Real FixedJoint::error(const JointPose& pose) { return length(pose.d); }
-Real FixedJoint::position(const JointPose&) { return 0; }
 
 }  // namespace fulcrum::detail
 

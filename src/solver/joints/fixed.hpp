@@ -27,4 +27,19 @@ struct FixedJoint {
     static Real position(const JointPose& pose);
 };
 
+// The per-step glue, inline: called for every joint every step.
+
+inline void FixedJoint::prepare(JointConstraint& j, const StoredJoint&, Real) {
+    dropLimitImpulsesIfOff(j);
+    dropSpinFriction(j);
+}
+
+inline WideKind FixedJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
+
+inline void FixedJoint::addReaction(const JointConstraint& j, Vec3&, Vec3& torque) { torque += j.impulse.angular; }
+
+inline Real FixedJoint::error(const JointPose& pose) { return length(pose.d); }
+
+inline Real FixedJoint::position(const JointPose&) { return 0; }
+
 }  // namespace fulcrum::detail

@@ -95,18 +95,6 @@ JointSetup HingeJoint::setup(const Def& def, const Subject& who, const JointEnds
 
 // ---- solver
 
-void HingeJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
-    prepareFreeAxis(j, stored.def, h);
-    // Friction in a hinge is a motor at speed 0 (only while the motor is off).
-    if (!j.motor && stored.def.frictionTorque > 0) {
-        j.motor = true;
-        j.motorSpeed = 0;
-        j.maxMotorImpulse = j.maxFrictionImpulse;
-    }
-    dropLimitImpulsesIfOff(j);
-    dropSpinFriction(j);
-}
-
 void HingeJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
@@ -142,20 +130,6 @@ void HingeJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const J
     }
     solveAlignment(a, b, axisA, axisB, i.angular, ctx);
     if (!j.direct && j.pointMassValid) solvePointBlock(a, b, f.rA, f.rB, f.d, i.linear, ctx, j.pointMass);
-}
-
-WideKind HingeJoint::wideKind(const JointConstraint&) { return WideKind::Hinge; }
-
-void HingeJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
-    addFreeAxisReaction(j, force, torque);
-    torque += j.impulse.angular;
-}
-
-// ---- reports
-
-Real HingeJoint::error(const JointPose& pose) { return length(pose.d); }
-Real HingeJoint::position(const JointPose& pose) {
-    return twistAngle(pose.relativeRotation, pose.qA, pose.qB, pose.localAxisA);
 }
 
 }  // namespace fulcrum::detail

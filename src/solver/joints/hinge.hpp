@@ -1,6 +1,7 @@
 #pragma once
 // The hinge joint (hinge.cpp; its SIMD lanes: hinge_wide.hpp).
 // The members every joint type has are described in joint_types.hpp.
+#include "solver/joints/coupled_row.hpp"
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_def.hpp"
 #include "solver/joints/joint_wide.hpp"
@@ -28,5 +29,32 @@ struct HingeJoint {
     static Real error(const JointPose& pose);
     static Real position(const JointPose& pose);
 };
+
+// The per-step glue, inline: called for every joint every step.
+
+inline void HingeJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
+    prepareFreeAxis(j, stored.def, h);
+    // Friction in a hinge is a motor at speed 0 (only while the motor is off).
+    if (!j.motor && stored.def.frictionTorque > 0) {
+        j.motor = true;
+        j.motorSpeed = 0;
+        j.maxMotorImpulse = j.maxFrictionImpulse;
+    }
+    dropLimitImpulsesIfOff(j);
+    dropSpinFriction(j);
+}
+
+inline WideKind HingeJoint::wideKind(const JointConstraint&) { return WideKind::Hinge; }
+
+inline void HingeJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
+    addFreeAxisReaction(j, force, torque);
+    torque += j.impulse.angular;
+}
+
+inline Real HingeJoint::error(const JointPose& pose) { return length(pose.d); }
+
+inline Real HingeJoint::position(const JointPose& pose) {
+    return twistAngle(*pose.relativeRotation, *pose.qA, *pose.qB, *pose.localAxisA);
+}
 
 }  // namespace fulcrum::detail

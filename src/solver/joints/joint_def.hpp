@@ -75,13 +75,16 @@ struct StoredJoint {
     Real minLength, maxLength, restLength;
 };
 
-// What World::jointError and World::jointPosition measure a joint by.
+// What World::jointError and World::jointPosition measure a joint by: the
+// anchors' separation, and where to read the rest (pointers: most types
+// read only d, and the queries read nothing they don't need).
 struct JointPose {
-    Vec3 d;                // anchor B - anchor A, world
-    Quat qA, qB;           // orientations (the world: identity)
-    bool worldA = false;   // A is the static world
-    Vec3 localAxisA;
-    Quat relativeRotation;  // the rest pose
+    Vec3 d;                     // anchor B - anchor A, world
+    const Quat* qA;             // orientations (the world: identity)
+    const Quat* qB;
+    bool worldA = false;        // A is the static world
+    const Vec3* localAxisA;
+    const Quat* relativeRotation;  // the rest pose
     Real minLength = 0, maxLength = 0;
 };
 

@@ -5,7 +5,8 @@
 //
 //   Def                 its definition in the public API (fulcrum/joint.hpp)
 //   kType               its JointType
-//   kReadsOrientations  its rows read the bodies' orientations (updateFrame keeps them)
+//   kReadsOrientations  its rows read the bodies' orientations (updateFrame keeps them;
+//                       frameNeedsOrientations must agree, checked below)
 //   kHasFreeAxis        a hinge or slider: motor, limits and spring, also after creation
 //   kHasPointBlock      its anchors meet (a 3-row point block): the tree solver may take it
 //   kProjected          JointSolver::projectPositions pulls its anchors together
@@ -33,8 +34,9 @@
 namespace fulcrum::detail {
 
 // f(T{}) for the class T of `type`: the one switch over the joint types.
+// Always inline: a joint's kernel call through it is then the switch's direct call.
 template <class F>
-decltype(auto) withJointType(JointType type, F&& f) {
+[[gnu::always_inline]] inline decltype(auto) withJointType(JointType type, F&& f) {
     switch (type) {
         case JointType::Ball: return f(BallJoint{});
         case JointType::Hinge: return f(HingeJoint{});
@@ -45,6 +47,14 @@ decltype(auto) withJointType(JointType type, F&& f) {
     }
     return f(BallJoint{});  // not reached: a joint's type is checked at creation
 }
+
+// updateFrame's test of the type (joint_common.hpp) agrees with every type's trait.
+template <class... T>
+constexpr bool frameTestsAgree() {
+    return ((frameNeedsOrientations(T::kType) == T::kReadsOrientations) && ...);
+}
+static_assert(frameTestsAgree<BallJoint, HingeJoint, SliderJoint, DistanceJoint, FixedJoint, ConeTwistJoint>(),
+              "frameNeedsOrientations (joint_common.hpp) must match each type's kReadsOrientations");
 
 // Whether `type` is one of the list (a JointDef's type is checked with it).
 constexpr bool isJointType(JointType type) {

@@ -98,12 +98,6 @@ JointSetup SliderJoint::setup(const Def& def, const Subject& who, const JointEnd
 
 // ---- solver
 
-void SliderJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
-    prepareFreeAxis(j, stored.def, h);
-    dropLimitImpulsesIfOff(j);
-    dropSpinFriction(j);
-}
-
 void SliderJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
@@ -138,23 +132,6 @@ void SliderJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const 
     solveAngularBlock(a, b, angularError(j, f.qA, f.qB), i.angular, ctx);
     solvePerpendicular(a, b, axis, leverA, f.rB, f.d, i.linear, ctx);
 }
-
-WideKind SliderJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
-
-void SliderJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
-    addFreeAxisReaction(j, force, torque);
-    torque += j.impulse.angular;
-}
-
-// ---- reports
-
-Real SliderJoint::error(const JointPose& pose) {
-    // Only motion along the axis (fixed in body A) is free.
-    const Vec3 axis = pose.worldA ? pose.localAxisA : rotate(pose.qA, pose.localAxisA);
-    return length(pose.d - axis * dot(pose.d, axis));
-}
-
-Real SliderJoint::position(const JointPose& pose) { return dot(pose.d, rotate(pose.qA, pose.localAxisA)); }
 
 }  // namespace fulcrum::detail
 

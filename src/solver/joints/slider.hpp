@@ -1,6 +1,7 @@
 #pragma once
 // The slider joint (slider.cpp; scalar kernels only).
 // The members every joint type has are described in joint_types.hpp.
+#include "solver/joints/coupled_row.hpp"
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_def.hpp"
 #include "solver/joints/joint_wide.hpp"
@@ -28,5 +29,28 @@ struct SliderJoint {
     static Real error(const JointPose& pose);
     static Real position(const JointPose& pose);
 };
+
+// The per-step glue, inline: called for every joint every step.
+
+inline void SliderJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
+    prepareFreeAxis(j, stored.def, h);
+    dropLimitImpulsesIfOff(j);
+    dropSpinFriction(j);
+}
+
+inline WideKind SliderJoint::wideKind(const JointConstraint&) { return WideKind::NotWide; }
+
+inline void SliderJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
+    addFreeAxisReaction(j, force, torque);
+    torque += j.impulse.angular;
+}
+
+inline Real SliderJoint::error(const JointPose& pose) {
+    // Only motion along the axis (fixed in body A) is free.
+    const Vec3 axis = pose.worldA ? *pose.localAxisA : rotate(*pose.qA, *pose.localAxisA);
+    return length(pose.d - axis * dot(pose.d, axis));
+}
+
+inline Real SliderJoint::position(const JointPose& pose) { return dot(pose.d, rotate(*pose.qA, *pose.localAxisA)); }
 
 }  // namespace fulcrum::detail
