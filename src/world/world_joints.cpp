@@ -1,12 +1,12 @@
 // Joints: validated and stored with body-local anchors and axes, plus the
 // rest pose (relative orientation at creation) that angles are measured from.
-// The joint solver (src/solver/joint_solver.hpp) reads them from
+// Every type is created by one path (createJointOf), its own fields checked
+// and made by its file pair (src/solver/joints/joint_types.hpp lists them);
+// a JointDef is first turned into its type's definition. The joint solver (src/solver/joint_solver.hpp) reads them from
 // WorldImpl::joints every step and writes back impulses, reaction forces and
 // the broken flag. docs/joints.md describes every joint type.
-#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "dynamics/validation.hpp"
 #include "solver/joints/joint_types.hpp"
@@ -24,7 +24,6 @@ namespace {
 using detail::validateMotor;
 using detail::validateSpring;
 using detail::withJointType;
-
 
 // Whether JointDef::axis means something for the type: its definition has axes.
 bool usesAxis(JointType t) {

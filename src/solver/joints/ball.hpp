@@ -1,6 +1,7 @@
 #pragma once
-// The ball-and-socket joint (ball.cpp; its SIMD lanes: ball_wide.hpp, and
-// cone_twist_wide.hpp's blocks for one with friction).
+// The ball-and-socket joint: here its members and the per-step glue; ball.cpp its
+// definition, warm start and rows; its SIMD lanes: ball_wide.hpp, and
+// cone_twist_wide.hpp's blocks for one with friction.
 // The members every joint type has are described in joint_types.hpp.
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_def.hpp"

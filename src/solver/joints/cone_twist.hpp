@@ -1,5 +1,6 @@
 #pragma once
-// The cone-twist joint (cone_twist.cpp; its SIMD lanes: cone_twist_wide.hpp).
+// The cone-twist joint: here its members and the per-step glue; cone_twist.cpp its
+// definition, warm start and rows; its SIMD lanes: cone_twist_wide.hpp.
 // The members every joint type has are described in joint_types.hpp.
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_def.hpp"

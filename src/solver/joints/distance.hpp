@@ -1,5 +1,6 @@
 #pragma once
-// The distance joint (distance.cpp; scalar kernels only).
+// The distance joint: here its members and the per-step glue; distance.cpp its
+// definition, warm start and rows; scalar kernels only.
 // The members every joint type has are described in joint_types.hpp.
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_def.hpp"

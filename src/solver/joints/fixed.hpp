@@ -1,5 +1,6 @@
 #pragma once
-// The fixed joint (fixed.cpp; scalar kernels only).
+// The fixed joint: here its members and the per-step glue; fixed.cpp its
+// definition, warm start and rows; scalar kernels only.
 // The members every joint type has are described in joint_types.hpp.
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_def.hpp"

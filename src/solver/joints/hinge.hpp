@@ -1,5 +1,6 @@
 #pragma once
-// The hinge joint (hinge.cpp; its SIMD lanes: hinge_wide.hpp).
+// The hinge joint: here its members and the per-step glue; hinge.cpp its
+// definition, warm start and rows; its SIMD lanes: hinge_wide.hpp.
 // The members every joint type has are described in joint_types.hpp.
 #include "solver/joints/coupled_row.hpp"
 #include "solver/joints/joint_common.hpp"

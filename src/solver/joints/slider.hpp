@@ -1,5 +1,6 @@
 #pragma once
-// The slider joint (slider.cpp; scalar kernels only).
+// The slider joint: here its members and the per-step glue; slider.cpp its
+// definition, warm start and rows; scalar kernels only.
 // The members every joint type has are described in joint_types.hpp.
 #include "solver/joints/coupled_row.hpp"
 #include "solver/joints/joint_common.hpp"
