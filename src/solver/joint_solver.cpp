@@ -218,7 +218,7 @@ void JointSolver::buildWide() {
         // The colour's wide joints kind by kind (a block holds one kind),
         // then its scalar ones; isWide_ holds the kind meanwhile.
         for (std::uint32_t k = colourStart_[c]; k < colourStart_[c + 1]; ++k) {
-            isWide_[k] = static_cast<std::uint8_t>(overflow ? WideKind::NotWide : wideKind(constraints_[k]));
+            isWide_[k] = static_cast<std::uint8_t>(overflow ? WideKind::NotWide : jointWideKind(constraints_[k]));
         }
         for (int kind = 0; kind <= kKinds; ++kind) {
             const std::size_t start = wideJoints_.size();

@@ -223,20 +223,15 @@ const std::string& World::name(JointId id) const { return impl_->resolveJoint(id
 
 namespace {
 
-const Quat kIdentity{};
-
 detail::JointPose poseOf(const WorldImpl& w, const detail::JointData& j) {
     const std::uint32_t a = w.denseOrNone(j.def.bodyA), b = w.denseOrNone(j.def.bodyB);
-    detail::JointPose p;
-    p.d = w.anchorWorld(b, j.localAnchorB) - w.anchorWorld(a, j.localAnchorA);
-    p.qA = a == kNoIndex ? &kIdentity : &w.motion[a].q;
-    p.qB = &w.motion[b].q;
-    p.worldA = a == kNoIndex;
-    p.localAxisA = &j.localAxisA;
-    p.relativeRotation = &j.relativeRotation;
-    p.minLength = j.minLength;
-    p.maxLength = j.maxLength;
-    return p;
+    return {w.anchorWorld(b, j.localAnchorB) - w.anchorWorld(a, j.localAnchorA),
+            a == kNoIndex ? nullptr : &w.motion[a].q,
+            &w.motion[b].q,
+            &j.localAxisA,
+            &j.relativeRotation,
+            &j.minLength,
+            &j.maxLength};
 }
 
 }  // namespace

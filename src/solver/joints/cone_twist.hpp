@@ -57,7 +57,7 @@ inline void ConeTwistJoint::addReaction(const JointConstraint& j, Vec3& force, V
 inline Real ConeTwistJoint::error(const JointPose& pose) { return length(pose.d); }
 
 inline Real ConeTwistJoint::position(const JointPose& pose) {
-    return twistAngle(*pose.relativeRotation, *pose.qA, *pose.qB, *pose.localAxisA);
+    return twistAngle(*pose.relativeRotation, pose.orientationA(), *pose.qB, *pose.localAxisA);
 }
 
 }  // namespace fulcrum::detail

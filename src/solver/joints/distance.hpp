@@ -55,8 +55,8 @@ inline void DistanceJoint::addReaction(const JointConstraint& j, Vec3& force, Ve
 
 inline Real DistanceJoint::error(const JointPose& pose) {
     const Real len = length(pose.d);
-    if (len < pose.minLength) return pose.minLength - len;
-    if (len > pose.maxLength) return len - pose.maxLength;
+    if (len < *pose.minLength) return *pose.minLength - len;
+    if (len > *pose.maxLength) return len - *pose.maxLength;
     return 0;
 }
 

@@ -55,7 +55,7 @@ inline void HingeJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3&
 inline Real HingeJoint::error(const JointPose& pose) { return length(pose.d); }
 
 inline Real HingeJoint::position(const JointPose& pose) {
-    return twistAngle(*pose.relativeRotation, *pose.qA, *pose.qB, *pose.localAxisA);
+    return twistAngle(*pose.relativeRotation, pose.orientationA(), *pose.qB, *pose.localAxisA);
 }
 
 }  // namespace fulcrum::detail

@@ -79,13 +79,15 @@ struct StoredJoint {
 // anchors' separation, and where to read the rest (pointers: most types
 // read only d, and the queries read nothing they don't need).
 struct JointPose {
-    Vec3 d;                     // anchor B - anchor A, world
-    const Quat* qA;             // orientations (the world: identity)
+    Vec3 d;                        // anchor B - anchor A, world
+    const Quat* qA;                // orientations (qA null: A is the static world)
     const Quat* qB;
-    bool worldA = false;        // A is the static world
     const Vec3* localAxisA;
     const Quat* relativeRotation;  // the rest pose
-    Real minLength = 0, maxLength = 0;
+    const Real* minLength;         // distance joints, resolved
+    const Real* maxLength;
+    Quat orientationA() const { return qA != nullptr ? *qA : Quat{}; }
+    Vec3 axisA() const { return qA != nullptr ? rotate(*qA, *localAxisA) : *localAxisA; }
 };
 
 // ---- checks shared by the types (errors name the joint and the field)

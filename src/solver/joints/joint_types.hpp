@@ -48,6 +48,12 @@ template <class F>
     return f(BallJoint{});  // not reached: a joint's type is checked at creation
 }
 
+// The SIMD blocks that take j (joint_wide.hpp's wideKind, which the kernels
+// call; this inline form for JointSolver::buildWide's sweep over every joint).
+[[gnu::always_inline]] inline WideKind jointWideKind(const JointConstraint& j) {
+    return withJointType(j.type, [&](auto type) { return decltype(type)::wideKind(j); });
+}
+
 // updateFrame's test of the type (joint_common.hpp) agrees with every type's trait.
 template <class... T>
 constexpr bool frameTestsAgree() {

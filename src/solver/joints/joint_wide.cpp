@@ -17,7 +17,7 @@
 namespace fulcrum::detail {
 
 WideKind wideKind(const JointConstraint& j) {
-    return withJointType(j.type, [&](auto type) { return decltype(type)::wideKind(j); });
+    return jointWideKind(j);
 }
 
 std::unique_ptr<WideJoints> makeWideJoints(SimdPath path) {

@@ -48,10 +48,10 @@ inline void SliderJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3
 
 inline Real SliderJoint::error(const JointPose& pose) {
     // Only motion along the axis (fixed in body A) is free.
-    const Vec3 axis = pose.worldA ? *pose.localAxisA : rotate(*pose.qA, *pose.localAxisA);
+    const Vec3 axis = pose.axisA();
     return length(pose.d - axis * dot(pose.d, axis));
 }
 
-inline Real SliderJoint::position(const JointPose& pose) { return dot(pose.d, rotate(*pose.qA, *pose.localAxisA)); }
+inline Real SliderJoint::position(const JointPose& pose) { return dot(pose.d, rotate(pose.orientationA(), *pose.localAxisA)); }
 
 }  // namespace fulcrum::detail
