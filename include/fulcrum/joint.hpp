@@ -65,4 +65,92 @@ struct JointDef {
     bool collideConnected = false;
 };
 
+// ---- Per-type definitions (World::createJoint overloads)
+//
+// Each joint type has its own definition holding only the fields it uses,
+// with anchors and axes in each body's local frame: body axes, measured from
+// the body's centre of mass (World::localCenterOfMass; the body origin for a
+// shape centred on it), as JointDef's world-space values are stored. For the
+// static world (bodyA null) "local" is world space. Users who think in world
+// space build a definition with fromWorld, from the bodies' poses now.
+// Angles (hinge and cone-twist twist, spring targets, the fixed joint's and
+// slider's locked rotation) are measured from the bodies' relative
+// orientation when the joint is created. JointDef (above) stays: it creates
+// the same joint through the per-type definition of its type.
+
+class World;
+
+// What every joint has.
+struct JointDefBase {
+    std::string name;
+    BodyId bodyA = kWorldBody;      // null: the static world
+    BodyId bodyB;
+    Real breakForce = std::numeric_limits<Real>::infinity();   // N; the joint breaks above it
+    Real breakTorque = std::numeric_limits<Real>::infinity();  // N m
+    bool collideConnected = false;
+};
+
+// Ball-and-socket: the anchors coincide; free rotation.
+struct BallJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    Real frictionTorque = 0;        // N m, >= 0 (JointDef::frictionTorque)
+    static BallJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor);
+};
+
+// Hinge (revolute): the anchors coincide and B turns only about the axis.
+struct HingeJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    Vec3 localAxisA{0, 1, 0}, localAxisB{0, 1, 0};  // unit
+    bool hasLimits = false;
+    Real lowerLimit = 0, upperLimit = 0;  // rad, within [-pi, pi]
+    JointMotor motor;                     // rad/s, N m
+    JointSpring spring;                   // target rad, N m/rad, N m s/rad
+    Real frictionTorque = 0;              // N m, about the axis while the motor is off
+    static HingeJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis);
+};
+
+// Slider (prismatic): B keeps its orientation relative to A and its anchor
+// moves only along A's axis. Position 0 at creation.
+struct SliderJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    Vec3 localAxisA{0, 1, 0}, localAxisB{0, 1, 0};  // unit
+    bool hasLimits = false;
+    Real lowerLimit = 0, upperLimit = 0;  // m
+    JointMotor motor;                     // m/s, N
+    JointSpring spring;                   // target m, N/m, N s/m
+    static SliderJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis);
+};
+
+// Distance between two anchors: a rod (minLength == maxLength), a rope
+// (minLength 0, maxLength L: it only pulls) or a soft spring (stiffness or
+// damping > 0) towards `length`, its min / max still enforced.
+struct DistanceJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    Real length = 0;       // rest length (m, >= 0; clamped to the limits)
+    Real minLength = 0;    // m, >= 0
+    Real maxLength = 0;    // m, >= minLength; +infinity: no upper limit
+    Real stiffness = 0;    // N/m; > 0 makes it a soft spring
+    Real damping = 0;      // N s/m
+    // A rod: length, minLength and maxLength all the anchors' distance now.
+    static DistanceJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchorA, Vec3 anchorB);
+};
+
+// Fixed (weld): the anchors coincide and B keeps its orientation relative to A.
+struct FixedJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    static FixedJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor);
+};
+
+// Cone-twist (ragdoll shoulder): a ball joint whose twist axis (B's) stays in a
+// cone about A's, and whose twist about it is limited.
+struct ConeTwistJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    Vec3 localAxisA{0, 1, 0}, localAxisB{0, 1, 0};  // unit twist axes
+    Real swingLimit = Real(0.7853982);   // cone half-angle, rad, (0, pi]
+    Real twistLower = Real(-0.7853982);  // rad, within [-pi, pi]
+    Real twistUpper = Real(0.7853982);
+    Real frictionTorque = 0;             // N m, >= 0
+    static ConeTwistJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis);
+};
+
 }  // namespace fulcrum

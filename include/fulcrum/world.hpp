@@ -260,6 +260,13 @@ public:
 
     // ---- joints (constraints)
     JointId createJoint(const JointDef& def);
+    // The per-type definitions (fulcrum/joint.hpp): local anchors and axes.
+    JointId createJoint(const BallJointDef& def);
+    JointId createJoint(const HingeJointDef& def);
+    JointId createJoint(const SliderJointDef& def);
+    JointId createJoint(const DistanceJointDef& def);
+    JointId createJoint(const FixedJointDef& def);
+    JointId createJoint(const ConeTwistJointDef& def);
     void destroyJoint(JointId id);
     bool isValid(JointId id) const;
     std::vector<JointId> joints() const;

@@ -11,6 +11,7 @@
 #include "solver/contact_solver.hpp"
 #include "solver/graph_colouring.hpp"
 #include "solver/softness.hpp"
+#include "solver/joints/joint_types.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
@@ -126,52 +127,19 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         j.localAxisB = data.localAxisB;
         j.impulse = data.impulses;
         j.maxFrictionImpulse = h * def.frictionTorque;
-        switch (def.type) {
-            case JointType::Hinge:
-            case JointType::Slider:
-                j.limit = def.hasLimits;
-                j.lower = def.lowerLimit;
-                j.upper = def.upperLimit;
-                j.motor = def.motor.enabled;
-                j.motorSpeed = def.motor.speed;
-                j.maxMotorImpulse = h * def.motor.maxForce;
-                // Friction in a hinge is a motor at speed 0 (only while the motor is off).
-                if (!j.motor && def.type == JointType::Hinge && def.frictionTorque > 0) {
-                    j.motor = true;
-                    j.motorSpeed = 0;
-                    j.maxMotorImpulse = j.maxFrictionImpulse;
-                }
-                j.spring = def.spring.enabled && (def.spring.stiffness > 0 || def.spring.damping > 0);
-                j.springTarget = def.spring.target;
-                springCoefficients(def.spring.stiffness, def.spring.damping, h, j.springBias, j.springGamma);
-                break;
-            case JointType::Distance:
-                j.lower = data.minLength;
-                j.upper = data.maxLength;
-                j.restLength = data.restLength;
-                j.spring = def.stiffness > 0 || def.damping > 0;
-                j.rigidDistance = !j.spring && data.minLength == data.maxLength;
-                springCoefficients(def.stiffness, def.damping, h, j.springBias, j.springGamma);
-                break;
-            case JointType::ConeTwist:
-                j.limit = true;
-                j.swingLimit = def.swingLimit;
-                j.lower = def.twistLower;
-                j.upper = def.twistUpper;
-                break;
-            case JointType::Ball:
-            case JointType::Fixed: break;
-        }
-        // Unused rows start at zero (a limit switched off, a motor disabled).
-        if (!j.limit && def.type != JointType::Distance) j.impulse.lower = j.impulse.upper = 0;
+        const StoredJoint stored{def, data.minLength, data.maxLength, data.restLength};
+        // The type's own fields; it also sets to zero the impulses of rows it
+        // does not have this step (a limit switched off, no friction).
+        const bool projected = withJointType(def.type, [&](auto type) {
+            using T = decltype(type);
+            T::prepare(j, stored, h);
+            return T::kProjected;
+        });
+        // Unused rows start at zero (a motor disabled, no spring).
         if (!j.motor) j.impulse.motor = 0;
         if (!j.spring) j.impulse.spring = 0;
-        if (j.maxFrictionImpulse == 0 || (def.type != JointType::Ball && def.type != JointType::ConeTwist)) {
-            j.maxFrictionImpulse = 0;
-            j.impulse.friction = {};
-        }
         // The projection's packed copy, in creation order (sliders have none).
-        if (j.type != JointType::Slider) {
+        if (projected) {
             projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type});
         }
     }
@@ -190,7 +158,7 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     bodyHasRows_.assign(solver.mutableBodies().size(), 0);
     for (std::uint32_t k = 0; k < constraints_.size(); ++k) {
         const JointConstraint& j = constraints_[k];
-        if (j.type == JointType::Ball && j.direct && !(j.maxFrictionImpulse > 0)) continue;
+        if (!withJointType(j.type, [&](auto type) { return decltype(type)::hasRows(j); })) continue;
         rowJoints_.push_back(k);
         // Static and kinematic ends: rows don't change their velocities.
         if (bodies_[j.bodyA].invMass > 0) bodyHasRows_[j.bodyA] = 1;
@@ -242,7 +210,7 @@ void JointSolver::buildWide() {
         // The colour's wide joints kind by kind (a block holds one kind),
         // then its scalar ones; isWide_ holds the kind meanwhile.
         for (std::uint32_t k = colourStart_[c]; k < colourStart_[c + 1]; ++k) {
-            isWide_[k] = static_cast<std::uint8_t>(overflow ? WideKind::NotWide : wideKind(constraints_[k]));
+            isWide_[k] = static_cast<std::uint8_t>(overflow ? WideKind::NotWide : jointWideKind(constraints_[k]));
         }
         for (int kind = 0; kind <= kKinds; ++kind) {
             const std::size_t start = wideJoints_.size();
@@ -445,14 +413,7 @@ void JointSolver::warmStart() {
         wide ? scalarJoints_.data() : nullptr, wide ? scalarJointStart_.data() : colourStart_.data(),
         [this, fold](JointConstraint& j, SolverBody& a, SolverBody& b) {
             if (fold && j.warmStartInTree) return;
-            switch (j.type) {
-                case JointType::Ball: warmStartBall(j, a, b, ctx_); break;
-                case JointType::Hinge: warmStartHinge(j, a, b, ctx_); break;
-                case JointType::Slider: warmStartSlider(j, a, b, ctx_); break;
-                case JointType::Distance: warmStartDistance(j, a, b, ctx_); break;
-                case JointType::Fixed: warmStartFixed(j, a, b, ctx_); break;
-                case JointType::ConeTwist: warmStartConeTwist(j, a, b, ctx_); break;
-            }
+            withJointType(j.type, [&](auto type) { decltype(type)::warmStart(j, a, b, ctx_); });
         },
         [this](std::uint32_t firstBlock, std::uint32_t blocks) {
             wide_->warmStart(firstBlock, blocks, bodies_, constraints_.data(), ctx_);
@@ -471,14 +432,7 @@ void JointSolver::solve(bool useBias) {
     forEachJointByColour(
         wide ? scalarRows_.data() : rowJoints_.data(), wide ? scalarRowStart_.data() : rowColourStart_.data(),
         [this](JointConstraint& j, SolverBody& a, SolverBody& b) {
-            switch (j.type) {
-                case JointType::Ball: solveBall(j, a, b, ctx_); break;
-                case JointType::Hinge: solveHinge(j, a, b, ctx_); break;
-                case JointType::Slider: solveSlider(j, a, b, ctx_); break;
-                case JointType::Distance: solveDistance(j, a, b, ctx_); break;
-                case JointType::Fixed: solveFixed(j, a, b, ctx_); break;
-                case JointType::ConeTwist: solveConeTwist(j, a, b, ctx_); break;
-            }
+            withJointType(j.type, [&](auto type) { decltype(type)::solve(j, a, b, ctx_); });
         },
         [this](std::uint32_t firstBlock, std::uint32_t blocks) {
             wide_->solve(firstBlock, blocks, bodies_, constraints_.data(), ctx_);
@@ -677,17 +631,7 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
             const JointConstraint& limits = constraints_[j.constraint];
             const Real len = length(d);
             if (len < Real(1e-6)) continue;
-            Real C = 0;
-            if (limits.rigidDistance) {
-                C = len - limits.restLength;
-            } else if (len > limits.upper) {
-                C = len - limits.upper;
-            } else if (len < limits.lower) {
-                C = len - limits.lower;
-            } else {
-                continue;
-            }
-            C = C > slop ? C - slop : (C < -slop ? C + slop : 0);
+            const Real C = DistanceJoint::projectionError(limits, len, slop);
             if (C == 0) continue;
             const Vec3 n = d * (1 / len);
             const Real k = rowInverseMass(linearRow(n, rA, rB), sa, sb);
@@ -732,44 +676,15 @@ void JointSolver::store(WorldImpl& w) {
 }
 
 void jointReaction(const JointConstraint& j, const SolverBody&, const SolverBody&, Real invH, Vec3& force, Vec3& torque) {
-    const JointFrame& f = j.frame;
-    const JointImpulses& i = j.impulse;
-    const Real axial = i.spring + i.motor + i.lower - i.upper;
-    force = i.linear;
+    // The point / perpendicular rows' impulse, then the type's own part:
+    // friction (ball, cone-twist) and the free-axis rows (hinge, slider)
+    // carry the share of the point / perpendicular / alignment rows that goes
+    // with them (coupled_row.hpp, cacheFriction), which is not in those rows'
+    // accumulated impulses. Torques are about B's anchor: a force at the
+    // anchor adds none.
+    force = j.impulse.linear;
     torque = {};
-    // Friction (ball, cone-twist) and the free-axis rows (hinge, slider) carry
-    // the share of the point / perpendicular / alignment rows that goes with
-    // them (coupled_row.hpp, cacheFriction); it is not in those rows'
-    // accumulated impulses, so it is added here. Torques are about B's anchor:
-    // a force at the anchor adds none.
-    const bool axialRows = (j.type == JointType::Hinge || j.type == JointType::Slider) && (j.spring || j.motor || j.limit);
-    if (axialRows) {
-        const Vec3 P = j.axial.apply.linear * axial;
-        force += P;
-        torque += j.axial.apply.angularB * axial - cross(f.rB, P);
-    }
-    if (j.frictionValid) force += j.frictionCoupling * i.friction;
-    switch (j.type) {
-        case JointType::Ball: torque += i.friction; break;
-        case JointType::Fixed: torque += i.angular; break;
-        case JointType::Hinge: torque += i.angular; break;
-        case JointType::Slider: torque += i.angular; break;
-        case JointType::Distance: {
-            const Real len = length(f.d);
-            force = len > Real(1e-6) ? f.d * ((i.axial + axial) / len) : Vec3{};
-            break;
-        }
-        case JointType::ConeTwist: {
-            const Vec3 axisA = rotate(f.qA, j.localAxisA), axisB = rotate(f.qB, j.localAxisB);
-            const Vec3 c = cross(axisA, axisB);
-            const Real s = length(c);
-            const Vec3 mid = axisA + axisB;
-            const Real m = length(mid);
-            torque += (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
-            if (s > Real(1e-6)) torque -= c * (i.swing / s);
-            break;
-        }
-    }
+    withJointType(j.type, [&](auto type) { decltype(type)::addReaction(j, force, torque); });
     force *= invH;
     torque *= invH;
 }

@@ -1,15 +1,15 @@
 // Joints: validated and stored with body-local anchors and axes, plus the
 // rest pose (relative orientation at creation) that angles are measured from.
-// The joint solver (src/solver/joint_solver.hpp) reads them from
+// Every type is created by one path (createJointOf), its own fields checked
+// and made by its file pair (src/solver/joints/joint_types.hpp lists them);
+// a JointDef is first turned into its type's definition. The joint solver (src/solver/joint_solver.hpp) reads them from
 // WorldImpl::joints every step and writes back impulses, reaction forces and
 // the broken flag. docs/joints.md describes every joint type.
-#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "dynamics/validation.hpp"
-#include "solver/joints/joint_common.hpp"
+#include "solver/joints/joint_types.hpp"
 #include "world/world_impl.hpp"
 
 namespace fulcrum {
@@ -21,43 +21,14 @@ using detail::Subject;
 
 namespace {
 
-// Finite or +infinity, and positive (break thresholds: infinity means unbreakable).
-void requireBreakThreshold(const Subject& who, const char* field, Real v) {
-    if (std::isnan(v) || v <= 0 || v == -std::numeric_limits<Real>::infinity()) {
-        fail(who, field, "must be positive (or +infinity for unbreakable), got " + formatReal(v));
-    }
+using detail::validateMotor;
+using detail::validateSpring;
+using detail::withJointType;
+
+// Whether JointDef::axis means something for the type: its definition has axes.
+bool usesAxis(JointType t) {
+    return withJointType(t, [](auto type) { return requires(typename decltype(type)::Def d) { d.localAxisA; }; });
 }
-
-bool usesAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider || t == JointType::ConeTwist; }
-
-constexpr Real kPi = std::numbers::pi_v<Real>;
-
-void validateLimits(const Subject& who, JointType type, bool enabled, Real lower, Real upper) {
-    detail::requireFinite(who, "lowerLimit", lower);
-    detail::requireFinite(who, "upperLimit", upper);
-    if (!enabled) return;
-    if (lower > upper) {
-        fail(who, "lowerLimit", "(" + formatReal(lower) + ") is above upperLimit (" + formatReal(upper) + ")");
-    }
-    // Hinge angles are measured in (-pi, pi]: a limit outside can never be reached.
-    if (type == JointType::Hinge && (lower < -kPi || upper > kPi)) {
-        fail(who, lower < -kPi ? "lowerLimit" : "upperLimit",
-             "must be within [-pi, pi] radians for a hinge, got [" + formatReal(lower) + ", " + formatReal(upper) + "]");
-    }
-}
-
-void validateMotor(const Subject& who, const JointMotor& m) {
-    detail::requireFinite(who, "motor.speed", m.speed);
-    detail::requireNonNegative(who, "motor.maxForce", m.maxForce);
-}
-
-void validateSpring(const Subject& who, const JointSpring& s) {
-    detail::requireFinite(who, "spring.target", s.target);
-    detail::requireNonNegative(who, "spring.stiffness", s.stiffness);
-    detail::requireNonNegative(who, "spring.damping", s.damping);
-}
-
-bool hasFreeAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider; }
 
 // A joint between two bodies changes whether they may collide (unless it
 // keeps collideConnected): drop A's contacts and let the broad phase report
@@ -79,100 +50,102 @@ const detail::JointData& WorldImpl::resolveJoint(JointId id, const char* where) 
     return detail::resolveHandle(joints, id, where, "JointId", "joint");
 }
 
-JointId World::createJoint(const JointDef& def) {
-    WorldImpl& w = *impl_;
-    const std::uint32_t slot = w.joints.nextSlot();
-    const Subject who{"joint", def.name, slot};
+namespace {
 
-    switch (def.type) {
-        case JointType::Ball:
-        case JointType::Hinge:
-        case JointType::Slider:
-        case JointType::Distance:
-        case JointType::Fixed:
-        case JointType::ConeTwist: break;
-        default: fail(who, "type", "is not a known joint type");
-    }
-    if (def.bodyB.isNull()) fail(who, "bodyB", "must be a body (only bodyA may be the static world)");
-    auto endpoint = [&](BodyId id, const char* field) -> std::uint32_t {
-        if (id.isNull()) return kNoIndex;
-        if (!w.isLive(id)) {
-            fail(who, field, "refers to a body that does not exist or was destroyed (index " + std::to_string(id.index) +
-                                 ", generation " + std::to_string(id.generation) + ")");
-        }
-        return w.bodySlots[id.index].dense;
+// The poses of a joint's ends now (the static world: none).
+detail::JointEnds endsOf(const WorldImpl& w, std::uint32_t a, std::uint32_t b) {
+    const auto pose = [&](std::uint32_t dense) {
+        return dense == kNoIndex ? detail::EndPose{} : detail::EndPose{w.motion[dense].com, w.motion[dense].q, false};
     };
-    const std::uint32_t a = endpoint(def.bodyA, "bodyA");
-    const std::uint32_t b = endpoint(def.bodyB, "bodyB");
+    return {pose(a), pose(b)};
+}
+
+// The dense index of a joint's end (kNoIndex: the static world), checked.
+std::uint32_t endpoint(const WorldImpl& w, const Subject& who, BodyId id, const char* field) {
+    if (id.isNull()) return kNoIndex;
+    if (!w.isLive(id)) {
+        fail(who, field, "refers to a body that does not exist or was destroyed (index " + std::to_string(id.index) +
+                             ", generation " + std::to_string(id.generation) + ")");
+    }
+    return w.bodySlots[id.index].dense;
+}
+
+std::uint32_t nextJointSlot(const WorldImpl& w) {
+    return w.joints.nextSlot();
+}
+
+// The checks of a JointDef as they have always been: every field, whatever
+// the type (so a definition that was refused still is), errors naming
+// JointDef's fields.
+void validateJointDef(const WorldImpl& w, const JointDef& def, const Subject& who) {
+    if (!detail::isJointType(def.type)) fail(who, "type", "is not a known joint type");
+    if (def.bodyB.isNull()) fail(who, "bodyB", "must be a body (only bodyA may be the static world)");
+    const std::uint32_t a = endpoint(w, who, def.bodyA, "bodyA");
+    const std::uint32_t b = endpoint(w, who, def.bodyB, "bodyB");
     if (a == b) fail(who, "bodyB", "is the same body as bodyA: a joint connects two different bodies");
 
     detail::requireFinite(who, "anchor", def.anchor);
     detail::requireFinite(who, "anchorB", def.anchorB);
-    Vec3 axis = normalize(def.axis);
     if (usesAxis(def.type)) {
-        axis = detail::requireDirection(who, "axis", def.axis);
+        detail::requireDirection(who, "axis", def.axis);
     } else {
         detail::requireFinite(who, "axis", def.axis);
     }
 
-    validateLimits(who, def.type, def.hasLimits, def.lowerLimit, def.upperLimit);
+    detail::validateLimits(who, def.hasLimits, def.lowerLimit, def.upperLimit, def.type == JointType::Hinge);
     validateMotor(who, def.motor);
     validateSpring(who, def.spring);
     detail::requireFinite(who, "minLength", def.minLength);
     detail::requireFinite(who, "maxLength", def.maxLength);
     detail::requireNonNegative(who, "stiffness", def.stiffness);
     detail::requireNonNegative(who, "damping", def.damping);
-    detail::requireFinite(who, "swingLimit", def.swingLimit);
-    if (def.swingLimit <= 0 || def.swingLimit > kPi) {
-        fail(who, "swingLimit", "must be in (0, pi] radians (pi: no cone), got " + formatReal(def.swingLimit));
-    }
-    detail::requireFinite(who, "twistLower", def.twistLower);
-    detail::requireFinite(who, "twistUpper", def.twistUpper);
-    if (def.twistLower > def.twistUpper) {
-        fail(who, "twistLower", "(" + formatReal(def.twistLower) + ") is above twistUpper (" + formatReal(def.twistUpper) + ")");
-    }
-    if (def.twistLower < -kPi || def.twistUpper > kPi) {
-        fail(who, def.twistLower < -kPi ? "twistLower" : "twistUpper",
-             "must be within [-pi, pi] radians, got [" + formatReal(def.twistLower) + ", " + formatReal(def.twistUpper) + "]");
-    }
-    requireBreakThreshold(who, "breakForce", def.breakForce);
-    requireBreakThreshold(who, "breakTorque", def.breakTorque);
+    detail::validateConeTwistRanges(who, def.swingLimit, def.twistLower, def.twistUpper);
+    detail::requireBreakThreshold(who, "breakForce", def.breakForce);
+    detail::requireBreakThreshold(who, "breakTorque", def.breakTorque);
     detail::requireFinite(who, "frictionTorque", def.frictionTorque);
-    detail::requireNonNegative(who, "frictionTorque", def.frictionTorque);
+    detail::validateFrictionTorque(who, def.frictionTorque);
 
     // Distance joints: negative lengths mean "the distance at creation" (joint.hpp);
-    // for a soft one (stiffness or damping > 0) the spring's rest length is the
-    // distance at creation and a negative limit means "no limit on that side".
-    const Vec3 worldAnchorB = def.type == JointType::Distance ? def.anchorB : def.anchor;
-    Real minLength = 0, maxLength = 0, restLength = 0;
+    // for a soft one (stiffness or damping > 0) a negative limit means "no limit on that side".
     if (def.type == JointType::Distance) {
         const Real d0 = distance(def.anchor, def.anchorB);
         const bool soft = def.stiffness > 0 || def.damping > 0;
-        minLength = def.minLength < 0 ? (soft ? 0 : d0) : def.minLength;
-        maxLength = def.maxLength < 0 ? (soft ? std::numeric_limits<Real>::infinity() : d0) : def.maxLength;
-        restLength = std::clamp(d0, minLength, maxLength);
+        const Real minLength = def.minLength < 0 ? (soft ? 0 : d0) : def.minLength;
+        const Real maxLength = def.maxLength < 0 ? (soft ? std::numeric_limits<Real>::infinity() : d0) : def.maxLength;
         if (minLength > maxLength) {
             fail(who, "minLength", "(" + formatReal(minLength) + (def.minLength < 0 ? ", the distance at creation" : "") +
                                        ") is above maxLength (" + formatReal(maxLength) +
                                        (def.maxLength < 0 ? ", the distance at creation" : "") + ")");
         }
     }
+}
 
-    auto localPoint = [&](std::uint32_t dense, const Vec3& p) {
-        return dense == kNoIndex ? p : inverseRotate(w.motion[dense].q, p - w.motion[dense].com);
-    };
-    auto localAxis = [&](std::uint32_t dense, const Vec3& v) {
-        return dense == kNoIndex ? v : inverseRotate(w.motion[dense].q, v);
-    };
+// The one creation path of every joint type T: the ends and the common
+// fields checked here, T's own fields by T::setup (joint_types.hpp), then
+// stored. `record`: what World::jointDef reports (a JointDef's own copy),
+// else the one T::setup makes.
+template <class T>
+JointId createJointOf(WorldImpl& w, const typename T::Def& def, const JointDef* record) {
+    const std::uint32_t slot = nextJointSlot(w);
+    const Subject who{"joint", def.name, slot};
+    if (def.bodyB.isNull()) fail(who, "bodyB", "must be a body (only bodyA may be the static world)");
+    const std::uint32_t a = endpoint(w, who, def.bodyA, "bodyA");
+    const std::uint32_t b = endpoint(w, who, def.bodyB, "bodyB");
+    if (a == b) fail(who, "bodyB", "is the same body as bodyA: a joint connects two different bodies");
+    detail::requireBreakThreshold(who, "breakForce", def.breakForce);
+    detail::requireBreakThreshold(who, "breakTorque", def.breakTorque);
+    detail::JointSetup setup = T::setup(def, who, endsOf(w, a, b));
+    if (record != nullptr) setup.record = *record;
+
     detail::JointData& j = w.joints.add();
-    j.def = def;
-    j.localAnchorA = localPoint(a, def.anchor);
-    j.localAnchorB = localPoint(b, worldAnchorB);
-    j.localAxisA = localAxis(a, axis);
-    j.localAxisB = localAxis(b, axis);
-    j.minLength = minLength;
-    j.maxLength = maxLength;
-    j.restLength = restLength;
+    j.def = std::move(setup.record);
+    j.localAnchorA = setup.localAnchorA;
+    j.localAnchorB = setup.localAnchorB;
+    j.localAxisA = setup.localAxisA;
+    j.localAxisB = setup.localAxisB;
+    j.minLength = setup.minLength;
+    j.maxLength = setup.maxLength;
+    j.restLength = setup.restLength;
     j.relativeRotation = conjugate(a == kNoIndex ? Quat{} : w.motion[a].q) * w.motion[b].q;
     j.enabled = true;
     j.broken = false;
@@ -183,6 +156,28 @@ JointId World::createJoint(const JointDef& def) {
     w.jointSolver.graph().add(w, slot);
     jointChangedPairs(w, j.def);
     return w.joints.handleOf(slot);
+}
+
+}  // namespace
+
+JointId World::createJoint(const JointDef& def) {
+    WorldImpl& w = *impl_;
+    validateJointDef(w, def, {"joint", def.name, nextJointSlot(w)});
+    // The same joint as its type's definition makes (one creation path per type).
+    const detail::JointEnds ends = endsOf(w, w.denseOrNone(def.bodyA), w.denseOrNone(def.bodyB));
+    return withJointType(def.type, [&](auto type) {
+        using T = decltype(type);
+        return createJointOf<T>(w, T::fromJointDef(def, ends), &def);
+    });
+}
+
+JointId World::createJoint(const BallJointDef& def) { return createJointOf<detail::BallJoint>(*impl_, def, nullptr); }
+JointId World::createJoint(const HingeJointDef& def) { return createJointOf<detail::HingeJoint>(*impl_, def, nullptr); }
+JointId World::createJoint(const SliderJointDef& def) { return createJointOf<detail::SliderJoint>(*impl_, def, nullptr); }
+JointId World::createJoint(const DistanceJointDef& def) { return createJointOf<detail::DistanceJoint>(*impl_, def, nullptr); }
+JointId World::createJoint(const FixedJointDef& def) { return createJointOf<detail::FixedJoint>(*impl_, def, nullptr); }
+JointId World::createJoint(const ConeTwistJointDef& def) {
+    return createJointOf<detail::ConeTwistJoint>(*impl_, def, nullptr);
 }
 
 void World::destroyJoint(JointId id) {
@@ -206,30 +201,25 @@ std::vector<JointId> World::joints() const {
 const JointDef& World::jointDef(JointId id) const { return impl_->resolveJoint(id, "World::jointDef").def; }
 const std::string& World::name(JointId id) const { return impl_->resolveJoint(id, "World::name").def.name; }
 
-Real World::jointError(JointId id) const {
-    const WorldImpl& w = *impl_;
-    const detail::JointData& j = w.resolveJoint(id, "World::jointError");
+namespace {
+
+detail::JointPose poseOf(const WorldImpl& w, const detail::JointData& j) {
     const std::uint32_t a = w.denseOrNone(j.def.bodyA), b = w.denseOrNone(j.def.bodyB);
-    const Vec3 pA = w.anchorWorld(a, j.localAnchorA), pB = w.anchorWorld(b, j.localAnchorB);
-    const Vec3 d = pB - pA;
-    switch (j.def.type) {
-        case JointType::Distance: {
-            const Real len = length(d);
-            if (len < j.minLength) return j.minLength - len;
-            if (len > j.maxLength) return len - j.maxLength;
-            return 0;
-        }
-        case JointType::Slider: {
-            // Only motion along the axis (fixed in body A) is free.
-            const Vec3 axis = a == kNoIndex ? j.localAxisA : rotate(w.motion[a].q, j.localAxisA);
-            return length(d - axis * dot(d, axis));
-        }
-        case JointType::Ball:
-        case JointType::Hinge:
-        case JointType::Fixed:
-        case JointType::ConeTwist: return length(d);
-    }
-    return 0;
+    return {w.anchorWorld(b, j.localAnchorB) - w.anchorWorld(a, j.localAnchorA),
+            a == kNoIndex ? nullptr : &w.motion[a].q,
+            &w.motion[b].q,
+            &j.localAxisA,
+            &j.relativeRotation,
+            &j.minLength,
+            &j.maxLength};
+}
+
+}  // namespace
+
+Real World::jointError(JointId id) const {
+    const detail::JointData& j = impl_->resolveJoint(id, "World::jointError");
+    const detail::JointPose pose = poseOf(*impl_, j);
+    return withJointType(j.def.type, [&](auto type) { return decltype(type)::error(pose); });
 }
 
 Vec3 World::jointReactionForce(JointId id) const {
@@ -243,21 +233,9 @@ Vec3 World::jointReactionTorque(JointId id) const {
 }
 
 Real World::jointPosition(JointId id) const {
-    const WorldImpl& w = *impl_;
-    const detail::JointData& j = w.resolveJoint(id, "World::jointPosition");
-    const std::uint32_t a = w.denseOrNone(j.def.bodyA), b = w.denseOrNone(j.def.bodyB);
-    const Quat qA = a == kNoIndex ? Quat{} : w.motion[a].q;
-    const Quat qB = w.motion[b].q;
-    const Vec3 d = w.anchorWorld(b, j.localAnchorB) - w.anchorWorld(a, j.localAnchorA);
-    switch (j.def.type) {
-        case JointType::Hinge:
-        case JointType::ConeTwist: return detail::twistAngle(j.relativeRotation, qA, qB, j.localAxisA);
-        case JointType::Slider: return dot(d, rotate(qA, j.localAxisA));
-        case JointType::Distance: return length(d);
-        case JointType::Ball:
-        case JointType::Fixed: return 0;
-    }
-    return 0;
+    const detail::JointData& j = impl_->resolveJoint(id, "World::jointPosition");
+    const detail::JointPose pose = poseOf(*impl_, j);
+    return withJointType(j.def.type, [&](auto type) { return decltype(type)::position(pose); });
 }
 
 namespace {
@@ -269,6 +247,10 @@ void wakeJointBodies(WorldImpl& w, const detail::JointData& j) {
 }
 
 Subject subjectOf(const detail::JointData& j, JointId id) { return {"joint", j.def.name, id.index}; }
+
+bool hasFreeAxis(JointType t) {
+    return withJointType(t, [](auto type) { return decltype(type)::kHasFreeAxis; });
+}
 
 }  // namespace
 
@@ -299,8 +281,14 @@ void World::setJointMotor(JointId id, const JointMotor& motor) {
 void World::setJointLimits(JointId id, bool enabled, Real lower, Real upper) {
     detail::JointData& j = impl_->resolveJoint(id, "World::setJointLimits");
     const Subject who = subjectOf(j, id);
-    if (!hasFreeAxis(j.def.type)) fail(who, "limits", std::string("only hinge and slider joints have limits, not ") + toString(j.def.type));
-    validateLimits(who, j.def.type, enabled, lower, upper);
+    withJointType(j.def.type, [&](auto type) {
+        using T = decltype(type);
+        if constexpr (T::kHasFreeAxis) {
+            T::validateLimits(who, enabled, lower, upper);
+        } else {
+            fail(who, "limits", std::string("only hinge and slider joints have limits, not ") + toString(j.def.type));
+        }
+    });
     j.def.hasLimits = enabled;
     j.def.lowerLimit = lower;
     j.def.upperLimit = upper;

@@ -1,5 +1,5 @@
 // Hinge and cone-twist rows in SIMD lanes (src/solver/joints/
-// joint_wide_hinge.hpp, joint_wide_cone_twist.hpp) against the scalar
+// hinge_wide.hpp, cone_twist_wide.hpp) against the scalar
 // kernels: the scalar path, 4 lanes (SSE2) and 8 lanes (AVX2), on 1 and 3
 // threads, give the same positions, orientations and velocities after every
 // step on a scene that runs every row and branch: hinges with limits (hit),

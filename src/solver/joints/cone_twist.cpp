@@ -10,7 +10,7 @@
 // (swing-twist decomposition), its row about the bisector of the two axes.
 #include <numbers>
 
-#include "solver/joints/joint_common.hpp"
+#include "solver/joints/cone_twist.hpp"
 
 namespace fulcrum::detail {
 
@@ -44,7 +44,44 @@ bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers
 
 }  // namespace
 
-void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+// ---- definition
+
+ConeTwistJointDef ConeTwistJoint::fromJointDef(const JointDef& def, const JointEnds& ends) {
+    ConeTwistJointDef d;
+    static_cast<JointDefBase&>(d) = baseOf(def);
+    d.localAnchorA = ends.a.localPoint(def.anchor);
+    d.localAnchorB = ends.b.localPoint(def.anchor);
+    const Vec3 axis = requireDirection({"joint", def.name}, "axis", def.axis);
+    d.localAxisA = ends.a.localAxis(axis);
+    d.localAxisB = ends.b.localAxis(axis);
+    d.swingLimit = def.swingLimit;
+    d.twistLower = def.twistLower;
+    d.twistUpper = def.twistUpper;
+    d.frictionTorque = def.frictionTorque;
+    return d;
+}
+
+JointSetup ConeTwistJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {
+    requireFinite(who, "localAnchorA", def.localAnchorA);
+    requireFinite(who, "localAnchorB", def.localAnchorB);
+    requireUnitAxis(who, "localAxisA", def.localAxisA);
+    requireUnitAxis(who, "localAxisB", def.localAxisB);
+    validateConeTwistRanges(who, def.swingLimit, def.twistLower, def.twistUpper);
+    validateFrictionTorque(who, def.frictionTorque);
+    JointSetup s;
+    s.record = baseRecord(def, kType);
+    setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
+    setAxes(s, ends, def.localAxisA, def.localAxisB);
+    s.record.swingLimit = def.swingLimit;
+    s.record.twistLower = def.twistLower;
+    s.record.twistUpper = def.twistUpper;
+    s.record.frictionTorque = def.frictionTorque;
+    return s;
+}
+
+// ---- solver
+
+void ConeTwistJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
@@ -61,7 +98,7 @@ void warmStartConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const 
     }
 }
 
-void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+void ConeTwistJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
@@ -79,3 +116,20 @@ void solveConeTwist(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
 }
 
 }  // namespace fulcrum::detail
+
+namespace fulcrum {
+
+ConeTwistJointDef ConeTwistJointDef::fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis) {
+    const detail::JointEnds ends = detail::jointEnds(world, a, b, "ConeTwistJointDef::fromWorld");
+    ConeTwistJointDef d;
+    d.bodyA = a;
+    d.bodyB = b;
+    d.localAnchorA = ends.a.localPoint(anchor);
+    d.localAnchorB = ends.b.localPoint(anchor);
+    const Vec3 unit = detail::worldAxisArgument(axis, "ConeTwistJointDef::fromWorld");
+    d.localAxisA = ends.a.localAxis(unit);
+    d.localAxisB = ends.b.localAxis(unit);
+    return d;
+}
+
+}  // namespace fulcrum

@@ -40,7 +40,7 @@ bool coupleRow(const SolverBody& a, const SolverBody& b, const JointRow* held, i
 // (double): L holds K_oo's lower triangle (overwritten by its Cholesky
 // factor), rhs = -K_oa, kaa = K_aa. Gives c = K_oo^-1 rhs and the Schur
 // complement schur = K_aa + K_ao c; false where K_oo or the complement is (nearly) singular.
-// Shared by coupleRow and the wide hinge kernels (joint_wide_hinge.hpp),
+// Shared by coupleRow and the wide hinge kernels (hinge_wide.hpp),
 // which compute the couplings in lanes: one code, so the same bits. Static:
 // each translation unit has its own copy (the AVX2 one may not lend its copy
 // to code that runs without AVX2), and a constant `count` unrolls it (the
@@ -92,5 +92,30 @@ void solveCoupledLimit(const CoupledRow& r, Real sign, SolverBody& a, SolverBody
                        const JointContext& ctx);
 void solveCoupledMotor(const CoupledRow& r, SolverBody& a, SolverBody& b, Real speed, Real maxImpulse, Real& lambda);
 void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma, Real& lambda);
+
+// JointSolver::prepare for a hinge or slider: the free axis's limits, motor
+// and spring from its definition's record (h: the sub-step).
+inline void prepareFreeAxis(JointConstraint& j, const JointDef& def, Real h) {
+    j.limit = def.hasLimits;
+    j.lower = def.lowerLimit;
+    j.upper = def.upperLimit;
+    j.motor = def.motor.enabled;
+    j.motorSpeed = def.motor.speed;
+    j.maxMotorImpulse = h * def.motor.maxForce;
+    j.spring = def.spring.enabled && (def.spring.stiffness > 0 || def.spring.damping > 0);
+    j.springTarget = def.spring.target;
+    springCoefficients(def.spring.stiffness, def.spring.damping, h, j.springBias, j.springGamma);
+}
+
+// The reaction of the free axis's rows with the held rows' share (not in
+// those rows' accumulated impulses, so added here; torque about B's anchor).
+inline void addFreeAxisReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
+    if (!(j.spring || j.motor || j.limit)) return;
+    const JointImpulses& i = j.impulse;
+    const Real axial = i.spring + i.motor + i.lower - i.upper;
+    const Vec3 P = j.axial.apply.linear * axial;
+    force += P;
+    torque += j.axial.apply.angularB * axial - cross(j.frame.rB, P);
+}
 
 }  // namespace fulcrum::detail

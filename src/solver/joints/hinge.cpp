@@ -8,6 +8,7 @@
 // The angle is B's rotation relative to A about the axis, measured from the
 // pose at creation (swing-twist decomposition, joint_common.hpp), in (-pi, pi].
 #include "solver/joints/coupled_row.hpp"
+#include "solver/joints/hinge.hpp"
 
 namespace fulcrum::detail {
 
@@ -47,7 +48,54 @@ void solveAlignment(SolverBody& a, SolverBody& b, const Vec3& axisA, const Vec3&
 
 }  // namespace
 
-void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+// ---- definition
+
+HingeJointDef HingeJoint::fromJointDef(const JointDef& def, const JointEnds& ends) {
+    HingeJointDef d;
+    static_cast<JointDefBase&>(d) = baseOf(def);
+    d.localAnchorA = ends.a.localPoint(def.anchor);
+    d.localAnchorB = ends.b.localPoint(def.anchor);
+    const Vec3 axis = requireDirection({"joint", def.name}, "axis", def.axis);
+    d.localAxisA = ends.a.localAxis(axis);
+    d.localAxisB = ends.b.localAxis(axis);
+    d.hasLimits = def.hasLimits;
+    d.lowerLimit = def.lowerLimit;
+    d.upperLimit = def.upperLimit;
+    d.motor = def.motor;
+    d.spring = def.spring;
+    d.frictionTorque = def.frictionTorque;
+    return d;
+}
+
+void HingeJoint::validateLimits(const Subject& who, bool enabled, Real lower, Real upper) {
+    detail::validateLimits(who, enabled, lower, upper, true);
+}
+
+JointSetup HingeJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {
+    requireFinite(who, "localAnchorA", def.localAnchorA);
+    requireFinite(who, "localAnchorB", def.localAnchorB);
+    requireUnitAxis(who, "localAxisA", def.localAxisA);
+    requireUnitAxis(who, "localAxisB", def.localAxisB);
+    validateLimits(who, def.hasLimits, def.lowerLimit, def.upperLimit);
+    validateMotor(who, def.motor);
+    validateSpring(who, def.spring);
+    validateFrictionTorque(who, def.frictionTorque);
+    JointSetup s;
+    s.record = baseRecord(def, kType);
+    setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
+    setAxes(s, ends, def.localAxisA, def.localAxisB);
+    s.record.hasLimits = def.hasLimits;
+    s.record.lowerLimit = def.lowerLimit;
+    s.record.upperLimit = def.upperLimit;
+    s.record.motor = def.motor;
+    s.record.spring = def.spring;
+    s.record.frictionTorque = def.frictionTorque;
+    return s;
+}
+
+// ---- solver
+
+void HingeJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     if (!j.direct) cachePointMass(j, a, b, f.rA, f.rB);
@@ -64,7 +112,7 @@ void warmStartHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const Join
     }
 }
 
-void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+void HingeJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axisA = rotate(f.qA, j.localAxisA);
     const Vec3 axisB = rotate(f.qB, j.localAxisB);
@@ -85,3 +133,20 @@ void solveHinge(JointConstraint& j, SolverBody& a, SolverBody& b, const JointCon
 }
 
 }  // namespace fulcrum::detail
+
+namespace fulcrum {
+
+HingeJointDef HingeJointDef::fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis) {
+    const detail::JointEnds ends = detail::jointEnds(world, a, b, "HingeJointDef::fromWorld");
+    HingeJointDef d;
+    d.bodyA = a;
+    d.bodyB = b;
+    d.localAnchorA = ends.a.localPoint(anchor);
+    d.localAnchorB = ends.b.localPoint(anchor);
+    const Vec3 unit = detail::worldAxisArgument(axis, "HingeJointDef::fromWorld");
+    d.localAxisA = ends.a.localAxis(unit);
+    d.localAxisB = ends.b.localAxis(unit);
+    return d;
+}
+
+}  // namespace fulcrum

@@ -4,6 +4,7 @@
 #include "solver/joints/joint_wide.hpp"
 
 #include "math/simd.hpp"
+#include "solver/joints/joint_types.hpp"
 
 #if defined(FULCRUM_SIMD_PORTABLE) || !FULCRUM_SIMD_HAS_SSE2
 #define FULCRUM_JOINT_WIDE_POLICY simd::PortablePolicy<4>
@@ -16,16 +17,7 @@
 namespace fulcrum::detail {
 
 WideKind wideKind(const JointConstraint& j) {
-    switch (j.type) {
-        // A ball joint with friction: a cone-twist without limits (in a tree
-        // or not); a tree's frictionless one has no rows here.
-        case JointType::Ball:
-            if (j.maxFrictionImpulse > 0) return WideKind::ConeTwist;
-            return !j.direct ? WideKind::Ball : WideKind::NotWide;
-        case JointType::ConeTwist: return WideKind::ConeTwist;
-        case JointType::Hinge: return WideKind::Hinge;
-        default: return WideKind::NotWide;
-    }
+    return jointWideKind(j);
 }
 
 std::unique_ptr<WideJoints> makeWideJoints(SimdPath path) {

@@ -3,8 +3,8 @@
 // of one graph colour solved a block of 4 or 8 at a time (docs/joints.md,
 // "Joint rows in SIMD lanes"), on the contact solver's pattern
 // (solver/contact_wide.hpp). This essay describes the ball joints' blocks
-// (joint_wide_kernels.hpp); hinges and cone-twists follow the same rules
-// with what their rows add (joint_wide_hinge.hpp, joint_wide_cone_twist.hpp).
+// (ball_wide.hpp); hinges and cone-twists follow the same rules
+// with what their rows add (hinge_wide.hpp, cone_twist_wide.hpp).
 //
 // Which joints (wideKind): ball joints whose point block the Gauss-Seidel
 // passes solve (not a joint tree's: tree_solver.hpp has those rows) and that
@@ -68,8 +68,8 @@ public:
     // all of one type (wideKind), the rest of its lanes empty (no body, zero impulse).
     virtual void build(const JointConstraint* constraints, const std::uint32_t* indices, int laneCount,
                        const SolverBody* bodies) = 0;
-    // Twins of the warm start and solve kernels (warmStartBall, solveBall,
-    // warmStartConeTwist...) over blocks [first, first + count). The context
+    // Twins of the warm start and solve kernels (BallJoint::warmStart, BallJoint::solve,
+    // ConeTwistJoint::warmStart...) over blocks [first, first + count). The context
     // gives the rotations of the latest refresh (ctx.rotations, number
     // ctx.generation: a block computes its frame once per refresh), the
     // softness and the pass; `constraints` the records (a tree joint's point

@@ -8,6 +8,7 @@
 // of A under B's anchor), which makes the rows exact for any separation
 // (Catto's prismatic joint, Box2D).
 #include "solver/joints/coupled_row.hpp"
+#include "solver/joints/slider.hpp"
 
 namespace fulcrum::detail {
 
@@ -53,7 +54,51 @@ void solvePerpendicular(SolverBody& a, SolverBody& b, const Vec3& axis, const Ve
 
 }  // namespace
 
-void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+// ---- definition
+
+SliderJointDef SliderJoint::fromJointDef(const JointDef& def, const JointEnds& ends) {
+    SliderJointDef d;
+    static_cast<JointDefBase&>(d) = baseOf(def);
+    d.localAnchorA = ends.a.localPoint(def.anchor);
+    d.localAnchorB = ends.b.localPoint(def.anchor);
+    const Vec3 axis = requireDirection({"joint", def.name}, "axis", def.axis);
+    d.localAxisA = ends.a.localAxis(axis);
+    d.localAxisB = ends.b.localAxis(axis);
+    d.hasLimits = def.hasLimits;
+    d.lowerLimit = def.lowerLimit;
+    d.upperLimit = def.upperLimit;
+    d.motor = def.motor;
+    d.spring = def.spring;
+    return d;
+}
+
+void SliderJoint::validateLimits(const Subject& who, bool enabled, Real lower, Real upper) {
+    detail::validateLimits(who, enabled, lower, upper, false);
+}
+
+JointSetup SliderJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {
+    requireFinite(who, "localAnchorA", def.localAnchorA);
+    requireFinite(who, "localAnchorB", def.localAnchorB);
+    requireUnitAxis(who, "localAxisA", def.localAxisA);
+    requireUnitAxis(who, "localAxisB", def.localAxisB);
+    validateLimits(who, def.hasLimits, def.lowerLimit, def.upperLimit);
+    validateMotor(who, def.motor);
+    validateSpring(who, def.spring);
+    JointSetup s;
+    s.record = baseRecord(def, kType);
+    setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
+    setAxes(s, ends, def.localAxisA, def.localAxisB);
+    s.record.hasLimits = def.hasLimits;
+    s.record.lowerLimit = def.lowerLimit;
+    s.record.upperLimit = def.upperLimit;
+    s.record.motor = def.motor;
+    s.record.spring = def.spring;
+    return s;
+}
+
+// ---- solver
+
+void SliderJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     j.impulse.linear -= axis * dot(axis, j.impulse.linear);
@@ -68,7 +113,7 @@ void warmStartSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const Joi
     }
 }
 
-void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
+void SliderJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const JointContext& ctx) {
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const Vec3 axis = rotate(f.qA, j.localAxisA);
     const Vec3 leverA = f.rA + f.d;
@@ -89,3 +134,20 @@ void solveSlider(JointConstraint& j, SolverBody& a, SolverBody& b, const JointCo
 }
 
 }  // namespace fulcrum::detail
+
+namespace fulcrum {
+
+SliderJointDef SliderJointDef::fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis) {
+    const detail::JointEnds ends = detail::jointEnds(world, a, b, "SliderJointDef::fromWorld");
+    SliderJointDef d;
+    d.bodyA = a;
+    d.bodyB = b;
+    d.localAnchorA = ends.a.localPoint(anchor);
+    d.localAnchorB = ends.b.localPoint(anchor);
+    const Vec3 unit = detail::worldAxisArgument(axis, "SliderJointDef::fromWorld");
+    d.localAxisA = ends.a.localAxis(unit);
+    d.localAxisB = ends.b.localAxis(unit);
+    return d;
+}
+
+}  // namespace fulcrum

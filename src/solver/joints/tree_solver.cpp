@@ -3,12 +3,14 @@
 
 #include <cmath>
 
+#include "solver/joints/joint_types.hpp"
+
 namespace fulcrum::detail {
 
 namespace {
 
 bool hasPointBlock(JointType t) {
-    return t == JointType::Ball || t == JointType::Hinge || t == JointType::ConeTwist || t == JointType::Fixed;
+    return withJointType(t, [](auto type) { return decltype(type)::kHasPointBlock; });
 }
 
 // In-place Cholesky of the N x N symmetric matrix a (lower triangle used).

@@ -1,11 +1,11 @@
-// Cone-twist joints in SIMD lanes: the twins of warmStartConeTwist and
-// solveConeTwist (cone_twist.cpp, joint_common.hpp), a part of the wide
+// Cone-twist joints in SIMD lanes: the twins of ConeTwistJoint::warmStart and
+// ConeTwistJoint::solve (cone_twist.cpp, joint_common.hpp), a part of the wide
 // kernels (joint_wide_kernels.hpp includes it once per width, inside its
 // namespace, after the shared pieces). Every cone-twist of a regular colour
 // is wide: with or without friction, in a joint tree or not (a tree's joint
 // leaves its point block to the tree solver, whose impulse lives in the
 // constraint record, read from there at each warm start). Ball joints with
-// friction (warmStartBall, solveBall: a cone-twist without its limits) share
+// friction (BallJoint::warmStart and solve: a cone-twist without its limits) share
 // these blocks, their lanes masked out of the limit rows (`cone` = 0).
 //
 // Same bits as the scalar kernels, and why:
@@ -131,7 +131,7 @@ FULCRUM_JOINT_WIDE_INLINE void applyFriction(const ConeTwistBlock& k, Ends& e, c
     e.wB = select(on, e.wB + e.invIB * (T + cross(k.rB, P)), e.wB);
 }
 
-// warmStartConeTwist: cachePointMass (the lanes not in a tree), the twist and
+// ConeTwistJoint::warmStart: cachePointMass (the lanes not in a tree), the twist and
 // swing impulses and the point impulse applied, cacheFriction and its impulse.
 void warmStartConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody* bodies,
                               JointConstraint* constraints, const JointContext& ctx) {
@@ -179,7 +179,7 @@ void warmStartConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverB
     }
 }
 
-// solveConeTwist: the friction block, the swing limit, the twist limits, the
+// ConeTwistJoint::solve: the friction block, the swing limit, the twist limits, the
 // point block (the lanes not in a tree), in that order.
 void solveConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
                    const JointContext& ctx) {

@@ -1,4 +1,4 @@
-// Hinge joints in SIMD lanes: the twins of warmStartHinge and solveHinge
+// Hinge joints in SIMD lanes: the twins of HingeJoint::warmStart and HingeJoint::solve
 // (hinge.cpp, coupled_row.cpp, joint_common.hpp), a part of the wide kernels
 // (joint_wide_kernels.hpp includes it once per width, inside its namespace,
 // after the shared pieces). Every hinge of a regular colour is wide, in a
@@ -205,7 +205,7 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
     k.axialInvMass = FloatW::load(invMass);
 }
 
-// warmStartHinge: cachePointMass (the lanes not in a tree), the alignment
+// HingeJoint::warmStart: cachePointMass (the lanes not in a tree), the alignment
 // impulse's perpendicular part, the point and alignment impulses applied,
 // then the free axis coupled (lane by lane) and its impulse applied.
 void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
@@ -236,7 +236,7 @@ void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bod
     }
 }
 
-// solveHinge: spring, motor, lower and upper limits on the free axis (the
+// HingeJoint::solve: spring, motor, lower and upper limits on the free axis (the
 // coupled rows), the alignment rows, the point block (the lanes not in a tree).
 void solveHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies, JointConstraint* constraints,
                    const JointContext& ctx) {
