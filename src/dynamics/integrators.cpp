@@ -1,6 +1,5 @@
 #include "dynamics/integrators.hpp"
 
-#include "dynamics/forces.hpp"
 
 #include <bit>
 #include <cstdint>
@@ -8,6 +7,22 @@
 namespace fulcrum::detail {
 
 namespace {
+
+// An awake body's state as the integrators see it: its pose and its
+// velocities in the body store's awake set (body_store.hpp), one view.
+struct Motion {
+    Vec3& com;
+    Quat& q;
+    Vec3& v;
+    Vec3& w;
+    const Real& invMass;
+    Mat3& invInertiaWorld;
+};
+Motion motionOf(BodyStore& b, std::size_t solverIndex) {
+    BodyPose& x = b.pose[solverIndex];
+    SolverBody& s = b.state[solverIndex];
+    return {x.com, x.q, s.v, s.w, s.invMass, x.invInertiaWorld};
+}
 
 bool moves(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 bool isDynamic(const BodyParams& p) { return p.type == BodyType::Dynamic && p.awake; }
@@ -291,12 +306,12 @@ void driftGeneral(DriftLanes<double>& d, double hd) {
     d.ax = an.x, d.ay = an.y, d.az = an.z;
 }
 
-DriftLanes<double> loadDrift(const BodyMotion& m, const BodyParams& p, int k) {
+DriftLanes<double> loadDrift(const Motion& m, const BodyParams& p, int k) {
     const int side = (k + 1) % 3;
     return {m.q.w, m.q.x, m.q.y, m.q.z, m.w.x, m.w.y, m.w.z, 0, 0, 0, p.localInertia(k, k), p.localInertia(side, side)};
 }
 
-void storeDrift(BodyMotion& m, const BodyParams& p, int k, const DriftLanes<double>& d) {
+void storeDrift(const Motion& m, const BodyParams& p, int k, const DriftLanes<double>& d) {
     m.q = Quat{static_cast<Real>(d.qw), static_cast<Real>(d.qx), static_cast<Real>(d.qy), static_cast<Real>(d.qz)};
     m.w = Vec3{static_cast<Real>(d.wx), static_cast<Real>(d.wy), static_cast<Real>(d.wz)};
     // I_w^-1 = E / I_t + (1/I_a - 1/I_t) a a^T
@@ -308,13 +323,13 @@ void storeDrift(BodyMotion& m, const BodyParams& p, int k, const DriftLanes<doub
 }
 
 template <int K>
-void driftOne(BodyMotion& m, const BodyParams& p, double hd) {
+void driftOne(const Motion& m, const BodyParams& p, double hd) {
     DriftLanes<double> d = loadDrift(m, p, K);
     if (!driftLanes<K>(d, hd)) driftGeneral<K>(d, hd);
     storeDrift(m, p, K, d);
 }
 
-void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
+void driftAxisymmetric(const Motion& m, const BodyParams& p, int k, Real h) {
     const double hd = static_cast<double>(h);
     switch (k) {
         case 0: driftOne<0>(m, p, hd); break;
@@ -325,7 +340,7 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
 
 #if defined(__GNUC__) && defined(__SSE2__)
 template <int K>
-void driftPairK(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, double hd) {
+void driftPairK(const Motion& m0, const BodyParams& p0, const Motion& m1, const BodyParams& p1, double hd) {
     const DriftLanes<double> a = loadDrift(m0, p0, K), b = loadDrift(m1, p1, K);
     DriftLanes<Double2> d{Double2{a.qw, b.qw}, Double2{a.qx, b.qx}, Double2{a.qy, b.qy}, Double2{a.qz, b.qz},
                           Double2{a.wx, b.wx}, Double2{a.wy, b.wy}, Double2{a.wz, b.wz}, Double2{},
@@ -343,7 +358,7 @@ void driftPairK(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const Body
     }
 }
 
-void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, int k, Real h) {
+void driftPair(const Motion& m0, const BodyParams& p0, const Motion& m1, const BodyParams& p1, int k, Real h) {
     const double hd = static_cast<double>(h);
     switch (k) {
         case 0: driftPairK<0>(m0, p0, m1, p1, hd); break;
@@ -355,12 +370,12 @@ void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyP
 // Four bodies (see Double4 above); a lane outside the fast path sends the
 // four through driftOne alone (the same bits).
 template <int K>
-void driftQuadK(WorldImpl& w, const std::uint32_t* bodies, double hd) {
+void driftQuadK(BodyStore& w, const std::uint32_t* entries, double hd) {
     // The same values as loadDrift's, gathered straight into the lanes.
-    const BodyMotion &m0 = w.motion[bodies[0]], &m1 = w.motion[bodies[1]], &m2 = w.motion[bodies[2]],
-                     &m3 = w.motion[bodies[3]];
-    const BodyParams &p0 = w.params[bodies[0]], &p1 = w.params[bodies[1]], &p2 = w.params[bodies[2]],
-                     &p3 = w.params[bodies[3]];
+    const Motion m0 = motionOf(w, entries[0] + 1), m1 = motionOf(w, entries[1] + 1), m2 = motionOf(w, entries[2] + 1),
+                 m3 = motionOf(w, entries[3] + 1);
+    const BodyParams &p0 = w.params[w.awakeBodies[entries[0]]], &p1 = w.params[w.awakeBodies[entries[1]]],
+                     &p2 = w.params[w.awakeBodies[entries[2]]], &p3 = w.params[w.awakeBodies[entries[3]]];
     const auto lanes = [](Real a, Real b, Real c, Real e) {
         return Double4{static_cast<double>(a), static_cast<double>(b), static_cast<double>(c), static_cast<double>(e)};
     };
@@ -379,35 +394,35 @@ void driftQuadK(WorldImpl& w, const std::uint32_t* bodies, double hd) {
                           lanes(p0.localInertia(kSide, kSide), p1.localInertia(kSide, kSide), p2.localInertia(kSide, kSide),
                                 p3.localInertia(kSide, kSide))};
     if (!driftLanes<K>(d, hd)) {
-        for (int lane = 0; lane < 4; ++lane) driftOne<K>(w.motion[bodies[lane]], w.params[bodies[lane]], hd);
+        for (int lane = 0; lane < 4; ++lane) driftOne<K>(motionOf(w, entries[lane] + 1), w.params[w.awakeBodies[entries[lane]]], hd);
         return;
     }
     for (int lane = 0; lane < 4; ++lane) {
         const DriftLanes<double> out{d.qw[lane], d.qx[lane], d.qy[lane], d.qz[lane], d.wx[lane], d.wy[lane],
                                      d.wz[lane], d.ax[lane], d.ay[lane], d.az[lane], 0, 0};
-        storeDrift(w.motion[bodies[lane]], w.params[bodies[lane]], K, out);
+        storeDrift(motionOf(w, entries[lane] + 1), w.params[w.awakeBodies[entries[lane]]], K, out);
     }
 }
 
-void driftQuad(WorldImpl& w, const std::uint32_t* bodies, int k, Real h) {
+void driftQuad(BodyStore& w, const std::uint32_t* entries, int k, Real h) {
     const double hd = static_cast<double>(h);
     switch (k) {
-        case 0: driftQuadK<0>(w, bodies, hd); break;
-        case 1: driftQuadK<1>(w, bodies, hd); break;
-        default: driftQuadK<2>(w, bodies, hd); break;
+        case 0: driftQuadK<0>(w, entries, hd); break;
+        case 1: driftQuadK<1>(w, entries, hd); break;
+        default: driftQuadK<2>(w, entries, hd); break;
     }
 }
 #else
-void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, int k, Real h) {
+void driftPair(const Motion& m0, const BodyParams& p0, const Motion& m1, const BodyParams& p1, int k, Real h) {
     driftAxisymmetric(m0, p0, k, h);
     driftAxisymmetric(m1, p1, k, h);
 }
-void driftQuad(WorldImpl& w, const std::uint32_t* bodies, int k, Real h) {
-    for (int lane = 0; lane < 4; ++lane) driftAxisymmetric(w.motion[bodies[lane]], w.params[bodies[lane]], k, h);
+void driftQuad(BodyStore& w, const std::uint32_t* entries, int k, Real h) {
+    for (int lane = 0; lane < 4; ++lane) driftAxisymmetric(motionOf(w, entries[lane] + 1), w.params[w.awakeBodies[entries[lane]]], k, h);
 }
 #endif
 
-void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
+void applyDamping(const Motion& m, const BodyParams& p, Real h) {
     // Implicit (unconditionally stable) exponential decay: v *= 1 / (1 + h c).
     if (p.linearDamping > 0) m.v *= Real(1) / (1 + h * p.linearDamping);
     if (p.angularDamping > 0) m.w *= Real(1) / (1 + h * p.angularDamping);
@@ -415,12 +430,12 @@ void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
 
 }  // namespace
 
-void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
+void integrateVelocities(BodyStore& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         if (!isDynamic(p)) continue;
-        BodyMotion& m = w.motion[i];
+        const Motion m = motionOf(w, k + 1);
         const ForceTorque& ft = w.forces[i];
         switch (method) {
             case Integrator::ExplicitEuler: {
@@ -462,16 +477,16 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
     }
 }
 
-void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
-    const Real maxTurn = w.settings.maxRotationPerSubstep;
-    // Axisymmetric bodies waiting for three partners, per symmetry axis (driftQuad).
+void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, std::size_t begin, std::size_t end) {
+    // Axisymmetric bodies waiting for three partners, per symmetry axis (driftQuad):
+    // their awake-list entries.
     std::uint32_t waitingDrift[3][4];
     int waitingCount[3] = {0, 0, 0};
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         if (!moves(p)) continue;
-        BodyMotion& m = w.motion[i];
+        const Motion m = motionOf(w, k + 1);
         if (p.type == BodyType::Kinematic) {
             m.com += m.v * h;
             m.q = integrateRotation(m.q, m.w, h);
@@ -507,7 +522,7 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                         continue;
                     }
                     int& count = waitingCount[symmetry];
-                    waitingDrift[symmetry][count++] = i;
+                    waitingDrift[symmetry][count++] = static_cast<std::uint32_t>(k);
                     if (count == 4) {
                         driftQuad(w, waitingDrift[symmetry], symmetry, h);
                         count = 0;
@@ -530,38 +545,47 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                 break;
             }
         }
-        w.updateWorldInertia(i);
+        const Mat3 r = toMat3(m.q);
+        m.invInertiaWorld = r * p.invLocalInertia * transpose(r);
     }
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t* waiting = waitingDrift[k];
         int n = 0;
         for (; n + 2 <= waitingCount[k]; n += 2) {
-            driftPair(w.motion[waiting[n]], w.params[waiting[n]], w.motion[waiting[n + 1]], w.params[waiting[n + 1]], k, h);
+            driftPair(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], motionOf(w, waiting[n + 1] + 1),
+                      w.params[w.awakeBodies[waiting[n + 1]]], k, h);
         }
-        if (n < waitingCount[k]) driftAxisymmetric(w.motion[waiting[n]], w.params[waiting[n]], k, h);
+        if (n < waitingCount[k]) driftAxisymmetric(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], k, h);
     }
+    // The pose change since the step's start, for the constraint kernels
+    // (every moved body's: the drifts above included).
+    for (std::size_t k = begin; k < end; ++k) w.updateDeltas(static_cast<std::uint32_t>(k + 1));
 }
 
-void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter) {
-    if (method != Integrator::Verlet) return;
+void verletPredict(BodyStore& w, Real h, std::size_t begin, std::size_t end) {
     const Real half = Real(0.5) * h;
     // Velocity-dependent forces (drag, spring damping, callbacks) at the new
     // position need a velocity there, which the second kick is about to
     // produce. Evaluate them at the predictor v_half + a_old h/2 (the velocity
     // the kick would give if the acceleration did not change): the error is
     // O(h^2) in the force, so the scheme stays second order.
-    for (const std::uint32_t i : w.awakeBodies) {
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         if (!isDynamic(w.params[i])) continue;
-        BodyMotion& m = w.motion[i];
+        const Motion m = motionOf(w, k + 1);
         w.scratch[i].dv = m.v;
         w.scratch[i].dw = m.w;
         m.v += w.forces[i].force * (m.invMass * half);
         m.w += m.invInertiaWorld * w.forces[i].torque * half;
     }
-    evaluateForces(w, timeAfter);
-    for (const std::uint32_t i : w.awakeBodies) {
+}
+
+void verletKick(BodyStore& w, Real h, std::size_t begin, std::size_t end) {
+    const Real half = Real(0.5) * h;
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         if (!isDynamic(w.params[i])) continue;
-        BodyMotion& m = w.motion[i];
+        const Motion m = motionOf(w, k + 1);
         m.v = w.scratch[i].dv + w.forces[i].force * (m.invMass * half);
         m.w = w.scratch[i].dw + m.invInertiaWorld * w.forces[i].torque * half;
     }

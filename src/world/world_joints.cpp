@@ -66,6 +66,7 @@ void jointChangedPairs(WorldImpl& w, const JointDef& def) {
     if (!def.bodyA.isNull()) w.wakeBody(w.bodySlots[def.bodyA.index].dense);
     if (!def.bodyB.isNull()) w.wakeBody(w.bodySlots[def.bodyB.index].dense);
     if (def.bodyA.isNull() || def.bodyB.isNull() || def.collideConnected) return;
+    w.ensureContactReport();  // the last step's report still holds the contacts dropped here
     w.contactManager.resetPairs(w, def.bodyA.index);
 }
 
@@ -196,14 +197,14 @@ JointId World::createJoint(const JointDef& def) {
     j.reactionForce = {};
     j.reactionTorque = {};
     w.jointSolver.reserve(w.joints.size());
-    w.jointSolver.graph().add(w, slot);
+    w.jointSolver.graph().add(w.joints, slot);
     jointChangedPairs(w, j.def);
     return {slot, j.generation};
 }
 
 void World::destroyJoint(JointId id) {
     detail::JointData& j = impl_->resolveJoint(id, "World::destroyJoint");
-    impl_->jointSolver.graph().remove(*impl_, id.index);
+    impl_->jointSolver.graph().remove(impl_->joints, id.index);
     j.alive = false;
     jointChangedPairs(*impl_, j.def);
     ++j.generation;
