@@ -120,6 +120,10 @@ void BodyStore::refreshAwakeList() {
     }
 }
 
+void BodyStore::updateDeltas(std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin + 1; i <= end; ++i) updateDeltas(static_cast<std::uint32_t>(i));
+}
+
 void BodyStore::writeRecords(std::size_t begin, std::size_t end) {
     for (std::size_t i = begin + 1; i <= end; ++i) {
         BodyMotion& m = motion[denseOfSolver[i]];

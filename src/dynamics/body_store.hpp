@@ -303,6 +303,8 @@ struct BodyStore {
         state[i].dp = pose[i].com - startCom[i];
         state[i].dtheta = stepRotationVector(pose[i].q * conjugate(startQ[i]));
     }
+    // The same for the solver bodies of awake-list entries [begin, end).
+    void updateDeltas(std::size_t begin, std::size_t end);
     // The awake set back into the records of awake-list entries [begin, end)
     // (solver bodies begin + 1 .. end): once, after the sub-steps.
     void writeRecords(std::size_t begin, std::size_t end);

@@ -477,7 +477,8 @@ void integrateVelocities(BodyStore& w, Integrator method, Real h, std::size_t be
     }
 }
 
-void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, std::size_t begin, std::size_t end) {
+void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, bool deltas, std::size_t begin,
+                        std::size_t end) {
     // Axisymmetric bodies waiting for three partners, per symmetry axis (driftQuad):
     // their awake-list entries.
     std::uint32_t waitingDrift[3][4];
@@ -558,8 +559,8 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, s
         if (n < waitingCount[k]) driftAxisymmetric(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], k, h);
     }
     // The pose change since the step's start, for the constraint kernels
-    // (every moved body's: the drifts above included).
-    for (std::size_t k = begin; k < end; ++k) w.updateDeltas(static_cast<std::uint32_t>(k + 1));
+    // (every moved body's: the drifts above included), if there are any.
+    if (deltas) w.updateDeltas(begin, end);
 }
 
 void verletPredict(BodyStore& w, Real h, std::size_t begin, std::size_t end) {

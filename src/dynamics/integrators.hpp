@@ -25,9 +25,11 @@ void integrateVelocities(BodyStore& b, Integrator method, Real h, std::size_t be
 //   Verlet:               drift x += v_half h; q turns at constant angular momentum.
 // Kinematic bodies move at their velocity whatever the integrator. The spin
 // limit is maxTurn (WorldDef::maxRotationPerSubstep).
-// Refreshes every moved body's world inverse inertia, and its pose change
-// since the step's start (SolverBody::dp, dtheta) for the constraint kernels.
-void integratePositions(BodyStore& b, Integrator method, Real h, Real maxTurn, std::size_t begin, std::size_t end);
+// Refreshes every moved body's world inverse inertia and, with `deltas` (the
+// step has constraints), its pose change since the step's start
+// (SolverBody::dp, dtheta) for the constraint kernels.
+void integratePositions(BodyStore& b, Integrator method, Real h, Real maxTurn, bool deltas, std::size_t begin,
+                        std::size_t end);
 
 // Stage 5, Verlet's second half kick, in three parts (entries [begin, end)
 // each): verletPredict moves the velocities to the predictor the forces are

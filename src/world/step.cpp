@@ -195,7 +195,7 @@ enum StageKind : std::uint32_t {
     kForcesVelocities,  // per body: stages 1 and 2 body by body (no callback, no spring)
     kJointPass,         // caller stage: the joint solver's pass `arg` (ContactSolver::Pass)
     kContactPass,       // the contact solver's stages (ContactSolver::addPassStages)
-    kPositions,         // per body: stage 4 and the pose change since the step's start
+    kPositions,         // per body: stage 4 and (arg 1: the step has constraints) the pose change since the step's start
     kProjection,        // one unit: the joints' position projection (4b)
     kVerletPredict,     // per body: stage 5's predictor velocities
     kVerletKick,        // per body: stage 5's second half kick
@@ -409,7 +409,7 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         solverPass(Pass::WarmStart);
         for (int it = 0; it < iterations; ++it) solverPass(Pass::Solve);
         // Stage 4, the joints' projection, and the relax pass.
-        subSteps.add(kPositions, 0, 0, bodies, kBodiesPerRange);
+        subSteps.add(kPositions, hasContacts || hasJoints ? 1 : 0, 0, bodies, kBodiesPerRange);
         if (hasJoints) subSteps.add(kProjection, 0, 0, 1, 1);
         solverPass(Pass::Relax);
         // Stage 5
@@ -447,7 +447,7 @@ void WorldImpl::runSubSteps(TaskSystem& tasks, double t0, Real h, double hd) {
                 }
                 break;
             case kContactPass: contactSolver.runPassStage(stage.arg, begin, end); break;
-            case kPositions: detail::integratePositions(*this, method, h, maxTurn, begin, end); break;
+            case kPositions: detail::integratePositions(*this, method, h, maxTurn, stage.arg != 0, begin, end); break;
             case kProjection: jointSolver.projectPositions(*this); break;
             case kVerletPredict: detail::verletPredict(*this, h, begin, end); break;
             default: detail::verletKick(*this, h, begin, end); break;
