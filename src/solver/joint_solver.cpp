@@ -13,6 +13,12 @@
 
 namespace fulcrum::detail {
 
+namespace {
+// A world end for the projection's check in lanes: centre 0 and the identity
+// rotation (com x y z, q w x y z).
+alignas(16) constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
+}  // namespace
+
 Softness jointSoftness(Real hertz, Real zeta, Real h) {
     if (hertz == 0) return {0, 1, 0};
     const Real omega = 2 * std::numbers::pi_v<Real> * hertz;
@@ -179,7 +185,12 @@ void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const Jo
         }
         // The projection's packed copy, in creation order (sliders have none).
         if (j.type != JointType::Slider) {
-            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type});
+            // An awake end's pose is in the awake set, a static end's in its record.
+            const auto pose = [&](std::uint32_t body, std::uint32_t dense) {
+                return dense == kNoIndex ? kWorldEnd : body != 0 ? &w.pose[body].com.x : &w.motion[dense].com.x;
+            };
+            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type,
+                                   pose(j.bodyA, dA), pose(j.bodyB, dB)});
         }
     }
     if (!settings.directSolve) {
@@ -342,7 +353,7 @@ void JointSolver::refreshRotations() {
     // Each body's exp(dtheta), recomputed only where its deltas changed since
     // the last refresh (compared bit for bit, so a kept rotation, and a kept
     // joint frame, has exactly the bits a recomputed one would). The deltas
-    // change only with the positions (ContactSolver::updateDeltas), so this
+    // change only with the positions (the step's deltas: BodyStore::updateDeltas), so this
     // runs once per sub-step's worth of change, not once per pass. Each
     // joint's frame is then brought up to date where it is used (currentFrame:
     // recomputed if one of its bodies changed since), inside the passes'
@@ -591,8 +602,6 @@ void JointSolver::squaredSeparations4(const BodyStore& w, std::size_t first, std
     static_assert(offsetof(BodyPose, q) == offsetof(BodyPose, com) + 3 * sizeof(float));
     static_assert(offsetof(ProjectionJoint, localAnchorB) == offsetof(ProjectionJoint, localAnchorA) + 4 * sizeof(float));
     static_assert(sizeof(Quat) == 4 * sizeof(float) && sizeof(Vec3) == 3 * sizeof(float));
-    // A world end: centre 0 and the identity rotation (com x y z, q w x y z).
-    alignas(16) static constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
     const auto load = [](const float* p) {
         Float4 v;
         std::memcpy(&v, p, sizeof v);
@@ -611,14 +620,11 @@ void JointSolver::squaredSeparations4(const BodyStore& w, std::size_t first, std
     const float* endA[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
     const float* endB[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
     const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, denseA, B (7 floats)
-    // An awake end's pose is in the awake set, a static end's in its record.
-    const auto pose = [&](std::uint32_t body, std::uint32_t dense) {
-        return dense == kNoIndex ? kWorldEnd : body != 0 ? &w.pose[body].com.x : &w.motion[dense].com.x;
-    };
+    (void)w;
     for (std::size_t k = 0; k < count; ++k) {
         const ProjectionJoint& j = projection_[first + k];
-        endA[k] = pose(j.bodyA, j.denseA);
-        endB[k] = pose(j.bodyB, j.denseB);
+        endA[k] = j.poseA;
+        endB[k] = j.poseB;
         anchors[k] = &j.localAnchorA.x;
     }
     const auto end = [&](const float* const* ends, int anchorOffset, Float4& x, Float4& y, Float4& z) {
@@ -717,15 +723,8 @@ bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
             if (!(determinant(K) > 0)) continue;
             P = -(inverse(K) * (d * ((e - slop) / e)));
         }
-        // The kernels read the pose change since the step's start: kept current.
-        if (ma) {
-            shiftBody(*ma, sa, rA, -P);
-            w.updateDeltas(j.bodyA);
-        }
-        if (mb) {
-            shiftBody(*mb, sb, rB, P);
-            w.updateDeltas(j.bodyB);
-        }
+        if (ma) shiftBody(*ma, sa, rA, -P);
+        if (mb) shiftBody(*mb, sb, rB, P);
         moved = true;
     }
     return moved;

@@ -84,7 +84,7 @@ public:
     void solve(bool useBias);
     // After the sub-step's position integration: moves the joined bodies so the
     // anchors meet again (one nonlinear Gauss-Seidel pass, no velocity change),
-    // in the awake set, and keeps the moved bodies' pose changes current.
+    // in the awake set. The step computes the pose changes (dp, dtheta) after it.
     void projectPositions(BodyStore& w) const;
     // Impulses back into the joints, reaction forces, breaking (events; the
     // broken joints' bodies are woken through the store's wake queue).
@@ -173,6 +173,11 @@ private:
         std::uint32_t bodyA = 0, bodyB = 0;  // solver bodies
         std::uint32_t constraint = 0;        // in constraints_ (a distance joint's limits)
         JointType type = JointType::Ball;
+        // Each end's com x y z, q w x y z (7 floats) for the check in lanes:
+        // an awake end's pose in the awake set, a static end's record, or a
+        // world end's constants (set in prepare, valid for the step).
+        const float* poseA = nullptr;
+        const float* poseB = nullptr;
     };
     std::vector<ProjectionJoint> projection_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order

@@ -24,7 +24,8 @@
 //                            constraints with soft position bias (Box2D v3 soft
 //                            step, src/solver), solverIterations times
 //   4. integrate positions   x, q from the velocities; the pose change since the
-//                            step's start for the kernels (dp, dtheta)
+//                            step's start for the kernels (dp, dtheta; with joints
+//                            after 4b)
 //   4b. project              joints: anchors put back together at the position level
 //   4c. relax                the solver's bias-free pass on the step's anchors
 //   5. finalize              Verlet's second kick
@@ -101,7 +102,7 @@ namespace fulcrum {
 namespace {
 
 // Which part of a body's state is not finite ("" when all is).
-const char* firstNonFinite(const detail::BodyMotion& m) {
+[[gnu::always_inline]] inline const char* firstNonFinite(const detail::BodyMotion& m) {
     if (!isFinite(m.com)) return "position";
     if (!isFinite(m.q)) return "orientation";
     if (!isFinite(m.v)) return "linear velocity";
@@ -197,6 +198,7 @@ enum StageKind : std::uint32_t {
     kContactPass,       // the contact solver's stages (ContactSolver::addPassStages)
     kPositions,         // per body: stage 4 and (arg 1: the step has constraints) the pose change since the step's start
     kProjection,        // one unit: the joints' position projection (4b)
+    kDeltas,            // per body: the pose change since the step's start (after the projection)
     kVerletPredict,     // per body: stage 5's predictor velocities
     kVerletKick,        // per body: stage 5's second half kick
 };
@@ -409,8 +411,14 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         solverPass(Pass::WarmStart);
         for (int it = 0; it < iterations; ++it) solverPass(Pass::Solve);
         // Stage 4, the joints' projection, and the relax pass.
-        subSteps.add(kPositions, hasContacts || hasJoints ? 1 : 0, 0, bodies, kBodiesPerRange);
-        if (hasJoints) subSteps.add(kProjection, 0, 0, 1, 1);
+        // The pose change since the step's start (dp, dtheta) for the relax
+        // pass and the store: with the position stage, body by body; with
+        // joints after their projection, which moves bodies again.
+        subSteps.add(kPositions, hasContacts && !hasJoints ? 1 : 0, 0, bodies, kBodiesPerRange);
+        if (hasJoints) {
+            subSteps.add(kProjection, 0, 0, 1, 1);
+            subSteps.add(kDeltas, 0, 0, bodies, kBodiesPerRange);
+        }
         solverPass(Pass::Relax);
         // Stage 5
         if (verlet) {
@@ -449,6 +457,7 @@ void WorldImpl::runSubSteps(TaskSystem& tasks, double t0, Real h, double hd) {
             case kContactPass: contactSolver.runPassStage(stage.arg, begin, end); break;
             case kPositions: detail::integratePositions(*this, method, h, maxTurn, stage.arg != 0, begin, end); break;
             case kProjection: jointSolver.projectPositions(*this); break;
+            case kDeltas: updateDeltas(begin, end); break;
             case kVerletPredict: detail::verletPredict(*this, h, begin, end); break;
             default: detail::verletKick(*this, h, begin, end); break;
         }
