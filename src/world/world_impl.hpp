@@ -2,6 +2,10 @@
 // WorldImpl: the internal state behind fulcrum::World: a BodyStore (every
 // body's data and, during a step, the awake set: src/dynamics/body_store.hpp)
 // plus the springs, joints, subsystems, settings and bookkeeping of the world.
+// The BodyStore is its base rather than a member so that the world's code,
+// the Python binding, io and the tests keep reading bodies as `w.motion[d]`;
+// a subsystem is handed the BodyStore part (`*this` converts) and sees
+// nothing else of the world.
 //
 // The subsystems below the world (src/contacts, src/solver, src/islands,
 // src/dynamics) never see this struct: the step (src/world/step.cpp) hands
@@ -81,7 +85,7 @@ struct WorldImpl : detail::BodyStore {
         contactReportStale = false;
     }
 
-    // ---- collision pipeline and solver (src/solver)
+    // ---- subsystems: collision pipeline (src/contacts), solvers (src/solver), islands (src/islands)
     detail::ContactManager contactManager;
     detail::ContactSolver contactSolver;
     detail::JointSolver jointSolver;
