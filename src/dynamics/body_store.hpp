@@ -61,11 +61,12 @@
 // beginStep() copies the awake bodies' records into the awake set, indexed by
 // *solver index* i = k + 1 for awakeBodies[k]; entry 0 is an all-zero static
 // body that stands for every static body (writes to it add zero, so
-// constraints need no branch for a static end). From then until endSubSteps()
-// every stage of the step reads and writes an awake body there and only there:
-// force evaluation, the three integrators, the contact and joint kernels, the
-// joint position projection and the time of impact. endSubSteps() writes the
-// records back once (sleeping, particles, queries and users read the records).
+// constraints need no branch for a static end). From then until
+// writeRecords() every stage of the step reads and writes an awake body there
+// and only there: force evaluation, the three integrators, the contact and
+// joint kernels, the joint position projection and the time of impact.
+// writeRecords() writes the records back once, after the time of impact
+// (sleeping, particles, queries and users read the records).
 // Before, the integrators worked on motion[] and the kernels on the contact
 // solver's own copy, and velocities crossed between them four times per
 // sub-step (docs/solver.md, "Solver bodies").

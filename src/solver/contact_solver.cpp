@@ -117,12 +117,6 @@ SimdPath ContactSolver::setSimdPath(SimdPath path) {
     return simd_;
 }
 
-void ContactSolver::prepare(BodyStore& w, ContactManager& manager, const SolverSettings& s, Real h) {
-    prepareConstraintList(w, manager, s, h);
-    colourGreedy();
-    finishPrepare(manager);
-}
-
 void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager, const SolverSettings& s, Real h) {
     store_ = &w;
     invH_ = 1 / h;
@@ -520,27 +514,6 @@ void ContactSolver::forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn
                         });
 }
 
-// kernel(firstBlock, blockCount) over the blocks of every colour, colour by
-// colour; a colour's blocks across the task system when there is one.
-template <class Kernel>
-void ContactSolver::forEachColour(Kernel&& kernel) {
-    if (tasks_ == nullptr || tasks_->workerCount() == 1) {
-        kernel(std::size_t{0}, blocks_->size());
-        return;
-    }
-    for (std::uint32_t c = 0; c < kColourCount; ++c) {
-        const std::uint32_t first = blockStart_[c], count = blockStart_[c + 1] - first;
-        if (count == 0) continue;
-        if (count < 2 * kBlocksPerTask) {
-            kernel(std::size_t{first}, std::size_t{count});
-            continue;
-        }
-        tasks_->parallelFor(count, kBlocksPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            kernel(std::size_t{first} + begin, std::size_t{end - begin});
-        });
-    }
-}
-
 // A stage's arg: the pass (bits 0-1) and whether it is the overflow/scalar part (bit 2).
 constexpr std::uint32_t kOverflowStage = 4;
 
@@ -576,17 +549,6 @@ void ContactSolver::runPassStage(std::uint32_t arg, std::uint32_t first, std::ui
     }
 }
 
-void ContactSolver::warmStart() {
-    if (wide_) {
-        forEachColour([this](std::size_t first, std::size_t count) {
-            blocks_->warmStart(first, count, store_->state.data());
-        });
-        warmStartRange(0, constraints_.size());
-    } else {
-        warmStartRange(0, constraints_.size());
-    }
-}
-
 void ContactSolver::warmStartRange(std::size_t begin, std::size_t end) {
     for (std::size_t ki = begin; ki < end; ++ki) {
         ContactConstraint& k = constraints_[ki];
@@ -611,21 +573,6 @@ void ContactSolver::warmStartRange(std::size_t begin, std::size_t end) {
         a.w = wA;
         b.v = vB;
         b.w = wB;
-    }
-}
-
-void ContactSolver::solve(bool useBias) {
-    // Two instantiations: the relax pass has no bias branches at all.
-    // Wide mode: the blocks, then the overflow colour (all constraints_ hold).
-    if (wide_) {
-        forEachColour([this, useBias](std::size_t first, std::size_t count) {
-            blocks_->solve(first, count, store_->state.data(), useBias, invH_);
-        });
-    }
-    if (useBias) {
-        solvePass<true>(0, constraints_.size());
-    } else {
-        solvePass<false>(0, constraints_.size());
     }
 }
 

@@ -94,19 +94,16 @@ public:
     // Grows the per-step buffers for `bodyCount` bodies (at body creation).
     void reserve(std::size_t bodyCount);
     // Builds the constraints for the contacts with an awake body, on the
-    // store's awake set (filled by BodyStore::beginStep just before).
-    void prepare(BodyStore& w, ContactManager& contacts, const SolverSettings& s, Real h);
-    // prepare in three parts, the same bits: the list of constraints; the
-    // greedy colouring (serial: the step runs it beside the first force
-    // evaluation, step.cpp); the colour slots and the constraint build.
+    // store's awake set (filled by BodyStore::beginStep just before), in
+    // three parts: the list of constraints; the greedy colouring (serial: the
+    // step runs it beside the first force evaluation, step.cpp); the colour
+    // slots and the constraint build.
     // colourGreedy reads only the constraint list and the solver bodies'
     // inverse masses, and writes only the colouring's arrays and the
     // deep-overlap counts of pushLimit.
     void prepareConstraintList(BodyStore& w, ContactManager& contacts, const SolverSettings& s, Real h);
     void colourGreedy();
     void finishPrepare(ContactManager& contacts);
-    void warmStart();
-    void solve(bool useBias);
     void applyRestitution();
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(ContactManager& contacts);
@@ -121,22 +118,21 @@ public:
     // Wide: the machine's best wide path (as the default); else scalar.
     void setWide(bool wide) { setSimdPath(wide ? bestSimdPath() : SimdPath::Scalar); }
     bool wide() const { return simd_ != SimdPath::Scalar; }
-    // Runs the blocks of each colour (wide mode, warmStart() and solve()),
-    // the constraint build and the store across `tasks`
-    // (nullptr: on the calling thread). Blocks of a colour share no dynamic
-    // body and every other loop writes only its own indices, so the results
-    // are the same bit for bit for any thread count.
+    // Runs the prepare's loops, the constraint build and the store across
+    // `tasks` (nullptr: on the calling thread); every loop writes only its own
+    // indices, so the results are the same bit for bit for any thread count.
+    // (The passes are stages of the step's list: addPassStages.)
     void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
-    // The most blocks any colour has this step (a colour is split across
-    // threads from 8 blocks on: kBlocksPerTask in contact_solver.cpp).
+    // The most blocks any colour has this step (a colour's stage is claimed
+    // in units of kBlocksPerTask blocks: contact_solver.cpp).
     std::size_t largestColourBlocks() const;
 
     // ---- The sub-steps' stage list (step.cpp, threads/staged_parallel.hpp).
     // Appends one pass (warm start, solve with bias, or relax) as stages:
     // one per non-empty colour of wide blocks (units of kBlocksPerTask blocks,
     // independent: a colour's blocks share no dynamic body), then the
-    // overflow colour (or, in scalar mode, every constraint) as one unit. The
-    // same operations in the same order as warmStart() / solve(), so the same bits.
+    // overflow colour (or, in scalar mode, every constraint) as one unit.
+    // Colour after colour, so the bits do not depend on how the units are spread.
     enum class Pass : std::uint32_t { WarmStart = 0, Solve = 1, Relax = 2 };
     void addPassStages(StagedParallel& stages, std::uint32_t kind, Pass pass) const;
     static std::uint32_t maxPassStages();  // the most stages addPassStages appends
@@ -157,8 +153,6 @@ private:
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);
-    template <class Kernel>
-    void forEachColour(Kernel&& kernel);
     // fn(begin, end) over [0, count), across the task system when there is
     // one and count holds at least two ranges of minRange; each index is
     // handled by exactly one call, so per-index writes stay deterministic.
