@@ -68,9 +68,10 @@
 // The stage list (docs/threading.md): per-body stages (units of
 // kBodiesPerRange awake bodies), the contact solver's passes (a stage per
 // graph colour, units of wide blocks; the overflow colour one unit), serial
-// single-unit stages (ForceCallbacks in body order, springs, the joint
-// projection), and the joint solver's passes as caller stages (they spread
-// their own colours and trees over the task system). StagedParallel runs
+// single-unit stages (springs, the joint projection), and caller stages, run
+// on the calling thread between the parallel segments: the ForceCallbacks in
+// body order (user code) and the joint solver's passes (they spread their own
+// colours and trees over the task system). StagedParallel runs
 // the list: with one worker every stage in order on this thread; with more,
 // each run of stages between two caller stages inside ONE parallelFor, each
 // stage's units independent. A stage is added in one place, for every
@@ -190,7 +191,7 @@ namespace {
 // What a stage of the sub-step list runs (WorldImpl::buildSubSteps).
 enum StageKind : std::uint32_t {
     kForces,            // per body: stage 1 without ForceCallbacks and springs
-    kCallbacks,         // one unit: the ForceCallbacks in body order (arg: the time, see callbackTime)
+    kCallbacks,         // caller stage: the ForceCallbacks in body order (arg: the time, see callbackTime)
     kSprings,           // one unit: the springs
     kVelocities,        // per body: stage 2
     kForcesVelocities,  // per body: stages 1 and 2 body by body (no callback, no spring)
@@ -389,7 +390,8 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
             return;
         }
         subSteps.add(kForces, 0, 0, bodies, kBodiesPerRange);
-        if (anyCallback) subSteps.add(kCallbacks, timeArg, 0, 1, 1);
+        // ForceCallbacks are user code: on the calling thread, as every step calls them.
+        if (anyCallback) subSteps.addOnCaller(kCallbacks, timeArg);
         if (!springs.empty()) subSteps.add(kSprings, 0, 0, 1, 1);
         if (withVelocities) subSteps.add(kVelocities, 0, 0, bodies, kBodiesPerRange);
     };
