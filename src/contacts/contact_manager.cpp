@@ -6,7 +6,8 @@
 #include <cmath>
 
 #include "collision/narrow_phase.hpp"
-#include "world/world_impl.hpp"
+#include "fulcrum/task_system.hpp"
+#include "solver/joint_data.hpp"
 
 namespace fulcrum::detail {
 
@@ -22,8 +23,9 @@ constexpr std::uint32_t endOfKey(std::uint32_t key) { return key & 1; }
 namespace {
 
 struct PairRule {
-    const WorldImpl* w;
-    bool operator()(std::uint32_t slotA, std::uint32_t slotB) const { return mayCollide(*w, slotA, slotB); }
+    const BodyStore* w;
+    const JointPairFilter* joints;
+    bool operator()(std::uint32_t slotA, std::uint32_t slotB) const { return mayCollide(*w, *joints, slotA, slotB); }
 };
 
 constexpr Real kMatchDistance = Real(0.02);
@@ -37,14 +39,14 @@ bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.
 bool isRound(ShapeType t) { return t == ShapeType::Sphere || t == ShapeType::Capsule; }
 
 // A sphere whose centre of mass is its centre (the default): collideSpheres.
-bool isCentredSphere(const WorldImpl& w, std::uint32_t d) {
+bool isCentredSphere(const BodyStore& w, std::uint32_t d) {
     const Vec3& c = w.params[d].localCom;
     return w.cold[d].shape.type() == ShapeType::Sphere && c.x == 0 && c.y == 0 && c.z == 0;
 }
 
 // Friction as the geometric mean, restitution as the maximum, rolling
 // resistance as the larger coefficient times the larger round radius.
-void mixMaterial(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB) {
+void mixMaterial(const BodyStore& w, Contact& c, std::uint32_t dA, std::uint32_t dB) {
     const BodyParams& pa = w.params[dA];
     const BodyParams& pb = w.params[dB];
     c.friction = std::sqrt(pa.friction * pb.friction);
@@ -89,16 +91,16 @@ inline void copyGeometry(CachedPoint& dst, const ContactPoint& src) {
 
 }  // namespace
 
-bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) {
+bool mayCollide(const BodyStore& w, const JointPairFilter& joints, std::uint32_t slotA, std::uint32_t slotB) {
     const BodyParams& pa = w.params[w.bodySlots[slotA].dense];
     const BodyParams& pb = w.params[w.bodySlots[slotB].dense];
     if (pa.isSensor && pb.isSensor) return false;
     // Per-body joint lists (solver/joints/joint_graph.hpp): the scan of every
     // joint here was ~20 % of the ragdoll pile's step.
-    return !w.jointSolver.graph().keepsApart(w, slotA, slotB);
+    return !joints.keepsApart(slotA, slotB);
 }
 
-void ContactManager::addBody(WorldImpl& w, std::uint32_t dense) {
+void ContactManager::addBody(BodyStore& w, std::uint32_t dense) {
     const std::uint32_t slot = w.denseToSlot[dense];
     if (proxyOfSlot_.size() <= slot) proxyOfSlot_.resize(slot + 1, kNullProxy);
     if (headOfSlot_.size() <= slot) headOfSlot_.resize(slot + 1, UINT32_MAX);
@@ -107,10 +109,10 @@ void ContactManager::addBody(WorldImpl& w, std::uint32_t dense) {
     proxyOfSlot_[slot] = broad_.createProxy(box, p.type, p.filter, slot);
 }
 
-void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
+void ContactManager::reserve(std::size_t bodyCount, std::int64_t maxContactPairs, std::vector<ContactReport>& reports) {
     // No more than the pair limit lets live (a small explicit limit).
     const std::size_t wantContacts =
-        std::min<std::size_t>(4 * bodyCount, contactPairLimit(w.settings.maxContactPairs, bodyCount));
+        std::min<std::size_t>(4 * bodyCount, contactPairLimit(maxContactPairs, bodyCount));
     if (contacts_.size() < wantContacts) {
         // Geometric growth of the capacity (not of the size): reserving twice
         // the size on every body creation reallocated every time, quadratic in
@@ -148,11 +150,11 @@ void ContactManager::reserve(WorldImpl& w, std::size_t bodyCount) {
     aliveBits_.resize(contacts_.size() / 64 + 1, 0);
     if (proxyMoves_.capacity() < bodyCount) proxyMoves_.reserve(std::max(bodyCount, 2 * proxyMoves_.capacity()));
     const std::size_t wantReports = 2 * bodyCount;
-    if (w.contacts.size() < wantReports) {
-        if (w.contacts.capacity() < wantReports) w.contacts.reserve(std::max(wantReports, 2 * w.contacts.capacity()));
-        while (w.contacts.size() < wantReports) {
-            w.contacts.emplace_back();
-            w.contacts.back().points.reserve(4);
+    if (reports.size() < wantReports) {
+        if (reports.capacity() < wantReports) reports.reserve(std::max(wantReports, 2 * reports.capacity()));
+        while (reports.size() < wantReports) {
+            reports.emplace_back();
+            reports.back().points.reserve(4);
         }
     }
 }
@@ -169,8 +171,7 @@ void ContactManager::ensureWorkers(std::size_t workers) {
     }
 }
 
-void ContactManager::removeBody(WorldImpl& w, std::uint32_t slot) {
-    w.ensureContactReport();  // the last step's report still holds the contacts destroyed here
+void ContactManager::removeBody(BodyStore& w, std::uint32_t slot) {
     for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
         Contact& c = contacts_[i];
         if (!c.alive || (c.slotA != slot && c.slotB != slot)) continue;
@@ -183,7 +184,7 @@ void ContactManager::removeBody(WorldImpl& w, std::uint32_t slot) {
     proxyOfSlot_[slot] = kNullProxy;
 }
 
-void ContactManager::bodyTeleported(WorldImpl& w, std::uint32_t dense) {
+void ContactManager::bodyTeleported(BodyStore& w, std::uint32_t dense) {
     const std::uint32_t slot = w.denseToSlot[dense];
     const AABB box = w.cold[dense].shape.bounds(w.originTransform(dense));
     broad_.moveProxy(proxyOfSlot_[slot], box, Vec3::zero());
@@ -192,8 +193,7 @@ void ContactManager::bodyTeleported(WorldImpl& w, std::uint32_t dense) {
     if (w.params[dense].type == BodyType::Static) visitAll_ = true;
 }
 
-void ContactManager::resetPairs(WorldImpl& w, std::uint32_t slot) {
-    w.ensureContactReport();  // the last step's report still holds the contacts destroyed here
+void ContactManager::resetPairs(BodyStore& w, std::uint32_t slot) {
     // The body's own contacts from its list, not a scan of every contact slot
     // (createJoint calls this once per joint: the scan made building the
     // 30^3 joint grid of bench_joints quadratic, 36 % of its run). Destroyed
@@ -209,7 +209,7 @@ void ContactManager::resetPairs(WorldImpl& w, std::uint32_t slot) {
     broad_.refreshProxy(proxyOfSlot_[slot]);
 }
 
-std::uint32_t ContactManager::createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA,
+std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA,
                                             ProxyId proxyB) {
     std::uint32_t index;
     if (freeContact_ != UINT32_MAX) {
@@ -297,7 +297,7 @@ void ContactManager::rebuildLinks() {
     linksRebuild_ = false;
 }
 
-void ContactManager::gatherActiveContacts(const WorldImpl& w) {
+void ContactManager::gatherActiveContacts(const BodyStore& w) {
     activeContacts_.clear();
     // With most bodies awake, every live contact: read from the alive bitmap
     // (kept by create/destroy), not from the ~100-byte contacts (a cache miss
@@ -320,7 +320,7 @@ void ContactManager::gatherActiveContacts(const WorldImpl& w) {
     collectAwakeContacts(w, marks_, activeContacts_);
 }
 
-void ContactManager::collectAwakeContacts(const WorldImpl& w, std::vector<std::uint64_t>& marks,
+void ContactManager::collectAwakeContacts(const BodyStore& w, std::vector<std::uint64_t>& marks,
                                           std::vector<std::uint32_t>& out) const {
     for (const std::uint32_t d : w.awakeBodies) {
         for (std::uint32_t key = headOfSlot_[w.denseToSlot[d]]; key != kNoKey;) {
@@ -343,14 +343,14 @@ void ContactManager::collectAwakeContacts(const WorldImpl& w, std::vector<std::u
     }
 }
 
-bool ContactManager::contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out) {
+bool ContactManager::contactsOfAwakeBodies(const BodyStore& w, std::vector<std::uint32_t>& out) {
     if (linksRebuild_ || 2 * w.awakeBodies.size() >= w.motion.size()) return false;
     out.clear();
     collectAwakeContacts(w, awakeMarks_, out);
     return true;
 }
 
-void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
+void ContactManager::destroyContact(BodyStore& w, std::uint32_t index) {
     Contact& c = contacts_[index];
     if (!linksRebuild_) {
         unlinkContact(index);
@@ -382,7 +382,7 @@ void ContactManager::destroyContact(WorldImpl& w, std::uint32_t index) {
 // points. The one point (feature 0) keeps its warm-start impulse, as the
 // matching of the general path does. Measured on sphere_pile: see
 // docs/solver.md ("Sphere pairs").
-std::uint8_t ContactManager::collideSpheres(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB,
+std::uint8_t ContactManager::collideSpheres(const BodyStore& w, Contact& c, std::uint32_t dA, std::uint32_t dB,
                                             Real margin) const {
     c.hasPose = false;
     const Vec3 ca = w.motion[dA].com, cb = w.motion[dB].com;  // centred spheres: the origin
@@ -415,7 +415,7 @@ std::uint8_t ContactManager::collideSpheres(const WorldImpl& w, Contact& c, std:
                                      wakeFlags(w.params[dA], w.params[dB]));
 }
 
-std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& ns) const {
+std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real dt, NarrowScratch& ns) const {
     ManifoldBuffer& buffer = ns.buffer;
     std::vector<CachedManifold>& scratch = ns.manifolds;
     const std::uint32_t dA = w.bodySlots[c.slotA].dense;
@@ -429,7 +429,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
         mixMaterial(w, c, dA, dB);
         // Spinning does not move a centred sphere's surface: only the linear
         // approach counts (the angular term below would add |w| r dt).
-        return collideSpheres(w, c, dA, dB, w.settings.speculativeMargin + length(mb.v - ma.v) * dt);
+        return collideSpheres(w, c, dA, dB, speculativeMargin_ + length(mb.v - ma.v) * dt);
     }
     Real margin = 0;
     if (!c.sensor) {
@@ -437,7 +437,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
         Real approach = length(mb.v - ma.v);
         if (pa.type != BodyType::Static) approach += length(ma.w) * pa.extent;
         if (pb.type != BodyType::Static) approach += length(mb.w) * pb.extent;
-        margin = w.settings.speculativeMargin + approach * dt;
+        margin = speculativeMargin_ + approach * dt;
     }
     const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);
     const Transform rel = relative(xA, xB);
@@ -591,7 +591,7 @@ std::uint8_t ContactManager::collideContact(const WorldImpl& w, Contact& c, Real
     return flags | kCollided | (touching ? kTouching : 0);
 }
 
-void ContactManager::updateTouching(WorldImpl& w, Contact& c, bool touching) {
+void ContactManager::updateTouching(BodyStore& w, Contact& c, bool touching) {
     if (touching == c.touching) return;
     const BodyId a = {c.slotA, w.bodySlots[c.slotA].generation};
     const BodyId b = {c.slotB, w.bodySlots[c.slotB].generation};
@@ -604,13 +604,14 @@ void ContactManager::updateTouching(WorldImpl& w, Contact& c, bool touching) {
     c.touching = touching;
 }
 
-void ContactManager::update(WorldImpl& w, Real dt) {
+void ContactManager::update(BodyStore& w, const CollisionSettings& settings, const JointPairFilter& joints,
+                            TaskSystem& tasks, Real dt) {
+    speculativeMargin_ = settings.speculativeMargin;
     beginEvents.clear();
     endEvents.clear();
     sensorBeginEvents.clear();
     sensorEndEvents.clear();
 
-    TaskSystem& tasks = w.taskSystem();
     ensureWorkers(tasks.workerCount());
     if (linksRebuild_) rebuildLinks();
 
@@ -718,10 +719,10 @@ void ContactManager::update(WorldImpl& w, Real dt) {
     // broad phase keeps the rest for later updates, docs/solver.md "Contact
     // pair limit"; the pairs this update separates make room from the next
     // one on). Then their narrow phase (the same test as step 2's, in parallel).
-    lastPairLimit_ = contactPairLimit(w.settings.maxContactPairs, w.motion.size());
+    lastPairLimit_ = contactPairLimit(settings.maxContactPairs, w.motion.size());
     const std::uint32_t room = liveContacts_ < lastPairLimit_ ? lastPairLimit_ - liveContacts_ : 0;
     newContacts_.clear();
-    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w}, KnownPartners{this}, &tasks, room)) {
+    for (const ProxyPair& pair : broad_.updatePairs(PairRule{&w, &joints}, KnownPartners{this}, &tasks, room)) {
         newContacts_.push_back(createContact(w, pair.userA, pair.userB, pair.a, pair.b));
     }
     // Ascending, like the active list; made in this update, so not visited by the next one.
@@ -777,10 +778,10 @@ bool reportable(const CachedManifold& m, Real& deepest) {
 
 }  // namespace
 
-void ContactManager::report(WorldImpl& w) const {
+void ContactManager::report(const BodyStore& w, std::vector<ContactReport>& out, std::size_t& reportCount,
+                            TaskSystem& tasks) const {
     // In parallel and in contact order: count each contact's reports, place
     // them by prefix sums (serial), then fill each contact's slots.
-    TaskSystem& tasks = w.taskSystem();
     const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
     if (reportStart_.size() < contactCount + 1) reportStart_.resize(contactCount + 1);
     tasks.parallelFor(contactCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
@@ -796,7 +797,7 @@ void ContactManager::report(WorldImpl& w) const {
     reportStart_[0] = 0;
     for (std::uint32_t i = 0; i < contactCount; ++i) reportStart_[i + 1] += reportStart_[i];
     const std::size_t n = reportStart_[contactCount];
-    while (w.contacts.size() < n) w.contacts.emplace_back();
+    while (out.size() < n) out.emplace_back();
     tasks.parallelFor(contactCount, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t i = begin; i < end; ++i) {
             const Contact& c = contacts_[i];
@@ -805,17 +806,17 @@ void ContactManager::report(WorldImpl& w) const {
             for (const CachedManifold& m : c.manifolds) {
                 Real deepest = 0;
                 if (!reportable(m, deepest)) continue;
-                ContactReport& out = w.contacts[r++];
-                out.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
-                out.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
-                out.normal = m.normal;
-                out.depth = deepest;
-                out.points.resize(m.pointCount);
-                for (std::uint32_t k = 0; k < m.pointCount; ++k) out.points[k] = m.points[k].position;
+                ContactReport& rep = out[r++];
+                rep.bodyA = {c.slotA, w.bodySlots[c.slotA].generation};
+                rep.bodyB = {c.slotB, w.bodySlots[c.slotB].generation};
+                rep.normal = m.normal;
+                rep.depth = deepest;
+                rep.points.resize(m.pointCount);
+                for (std::uint32_t k = 0; k < m.pointCount; ++k) rep.points[k] = m.points[k].position;
             }
         }
     });
-    w.contactReportCount = n;
+    reportCount = n;
 }
 
 }  // namespace fulcrum::detail

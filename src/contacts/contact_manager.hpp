@@ -26,7 +26,7 @@
 // A touching manifold with a sleeping body wakes the sleeping body's island.
 //
 // Sleeping costs nothing (docs/solver.md, "Sleeping"): update() moves the
-// proxies of the awake bodies only (WorldImpl::awakeBodies) and visits only
+// proxies of the awake bodies only (BodyStore::awakeBodies) and visits only
 // the contacts that can change: those of an awake body (each body keeps a
 // doubly linked list of its contacts, as Box2D's contact edges) and those
 // created this step, gathered through a bitmap so they come out in ascending
@@ -37,9 +37,13 @@
 // visits every contact once.) report() is not called by the step: the world
 // builds the report when it is read (WorldImpl::ensureContactReport).
 //
+// Its contract is the body store (dynamics/body_store.hpp), the collision
+// settings, the joints' pair filter and the task system, all passed in: it
+// wakes bodies through the store's wake queue (BodyStore::wakeBody).
+//
 // Threads (docs/threading.md): update() computes tight boxes, runs the broad
 // phase's queries and collides the contacts as parallelFor calls on
-// w.taskSystem(); each contact writes only itself and its flag byte, and the
+// the task system; each contact writes only itself and its flag byte, and the
 // destructions, wakes and events are applied afterwards in contact order, so
 // the result is the same for any thread count. report() fills the reports in
 // parallel at offsets from a prefix sum.
@@ -52,13 +56,16 @@
 #include "collision/manifold.hpp"
 #include "fulcrum/world.hpp"
 #include "contacts/contact.hpp"
+#include "dynamics/body_store.hpp"
+#include "fulcrum/task_system.hpp"
 
 namespace fulcrum {
-struct WorldImpl;
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 }
 
 namespace fulcrum::detail {
+
+struct JointPairFilter;  // solver/joint_data.hpp: which pairs joints keep apart
 
 inline constexpr Real kTouchSlop = Real(0.005);
 
@@ -74,25 +81,33 @@ inline std::uint32_t contactPairLimit(std::int64_t maxContactPairs, std::size_t 
 }
 
 // The joint rule and the sensor-sensor rule for two bodies (by slot).
-bool mayCollide(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB);
+bool mayCollide(const BodyStore& w, const JointPairFilter& joints, std::uint32_t slotA, std::uint32_t slotB);
+
+// The settings the collision pipeline reads.
+struct CollisionSettings {
+    Real speculativeMargin = Real(0.02);
+    std::int64_t maxContactPairs = 0;
+};
 
 class ContactManager {
 public:
     // Body lifetime (called by World::createBody / destroyBody / setTransform).
-    void addBody(WorldImpl& w, std::uint32_t dense);
-    void removeBody(WorldImpl& w, std::uint32_t slot);  // before the dense arrays are changed
-    void bodyTeleported(WorldImpl& w, std::uint32_t dense);
+    void addBody(BodyStore& w, std::uint32_t dense);
+    // Before the dense arrays are changed, after the world built the last step's contact report.
+    void removeBody(BodyStore& w, std::uint32_t slot);
+    void bodyTeleported(BodyStore& w, std::uint32_t dense);
     // Grows every per-step buffer for `bodyCount` bodies (about 4 contacts and
     // 2 reports per body), at body creation, so steps don't allocate.
-    void reserve(WorldImpl& w, std::size_t bodyCount);
+    void reserve(std::size_t bodyCount, std::int64_t maxContactPairs, std::vector<ContactReport>& reports);
     // Drops the body's contacts and reports all its overlaps anew next step
-    // (a joint that changes which partners it may collide with).
-    void resetPairs(WorldImpl& w, std::uint32_t slot);
+    // (a joint that changes which partners it may collide with). Like
+    // removeBody, after the world built the last step's contact report.
+    void resetPairs(BodyStore& w, std::uint32_t slot);
 
     // Broad phase + narrow phase + events. Clears the previous step's events.
-    void update(WorldImpl& w, Real dt);
-    // Fills w.contacts with the touching manifolds (after the solver stored its results).
-    void report(WorldImpl& w) const;
+    void update(BodyStore& w, const CollisionSettings& settings, const JointPairFilter& joints, TaskSystem& tasks, Real dt);
+    // Fills out[0, count) with the touching manifolds (after the solver stored its results).
+    void report(const BodyStore& w, std::vector<ContactReport>& out, std::size_t& count, TaskSystem& tasks) const;
 
     std::vector<Contact>& contacts() { return contacts_; }
     const std::vector<Contact>& contacts() const { return contacts_; }
@@ -104,7 +119,7 @@ public:
     // untouched). Every contact the solver works on has an awake body, so
     // this is the contact solver's candidate list (prepareConstraintList):
     // a world that sleeps then costs nothing per contact.
-    bool contactsOfAwakeBodies(const WorldImpl& w, std::vector<std::uint32_t>& out);
+    bool contactsOfAwakeBodies(const BodyStore& w, std::vector<std::uint32_t>& out);
     // Contacts the last update() visited (tests: a sleeping world visits none).
     std::size_t visitedContactCount() const { return activeContacts_.size() + newContacts_.size(); }
     // Live contacts (pairs), the limit the last update() worked under, and
@@ -128,8 +143,8 @@ public:
 private:
     friend struct fulcrum::SnapshotAccess;
     // Returns the new contact's index.
-    std::uint32_t createContact(WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
-    void destroyContact(WorldImpl& w, std::uint32_t index);
+    std::uint32_t createContact(BodyStore& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);
+    void destroyContact(BodyStore& w, std::uint32_t index);
     // Per-worker narrow-phase scratch (threads: docs/threading.md).
     struct alignas(64) NarrowScratch {
         ManifoldBuffer buffer;
@@ -137,10 +152,10 @@ private:
     };
     // Runs on any worker: reads the world, writes only c and scratch; returns
     // kTouching / kWakeA / kWakeB flags that update() applies in index order.
-    std::uint8_t collideContact(const WorldImpl& w, Contact& c, Real dt, NarrowScratch& scratch) const;
-    std::uint8_t collideSpheres(const WorldImpl& w, Contact& c, std::uint32_t dA, std::uint32_t dB, Real margin) const;
+    std::uint8_t collideContact(const BodyStore& w, Contact& c, Real dt, NarrowScratch& scratch) const;
+    std::uint8_t collideSpheres(const BodyStore& w, Contact& c, std::uint32_t dA, std::uint32_t dB, Real margin) const;
     void ensureWorkers(std::size_t workers);
-    void updateTouching(WorldImpl& w, Contact& c, bool touching);
+    void updateTouching(BodyStore& w, Contact& c, bool touching);
     // Per-body contact lists (slot-indexed heads, links parallel to contacts_).
     void linkContact(std::uint32_t index);
     void unlinkContact(std::uint32_t index);
@@ -152,11 +167,11 @@ private:
         aliveBits_[index >> 6] = alive ? (aliveBits_[index >> 6] | bit) : (aliveBits_[index >> 6] & ~bit);
     }
     // The existing contacts update() must visit, ascending, into activeContacts_.
-    void gatherActiveContacts(const WorldImpl& w);
+    void gatherActiveContacts(const BodyStore& w);
     // Marks the contacts of the awake bodies (their per-body lists) in `marks`,
     // then appends every live marked contact to `out`, ascending, and clears
     // `marks` (gatherActiveContacts with marks_, contactsOfAwakeBodies with awakeMarks_).
-    void collectAwakeContacts(const WorldImpl& w, std::vector<std::uint64_t>& marks, std::vector<std::uint32_t>& out) const;
+    void collectAwakeContacts(const BodyStore& w, std::vector<std::uint64_t>& marks, std::vector<std::uint32_t>& out) const;
     // The broad phase's `partners`: the other proxy of each contact of a
     // proxy's body (its list; read-only, so any thread may walk it).
     struct KnownPartners {
@@ -186,6 +201,7 @@ private:
     std::uint32_t freeContact_ = UINT32_MAX;
     std::uint32_t liveContacts_ = 0;          // alive entries of contacts_ (kept by create/destroy, counted by rebuildLinks)
     std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()
+    Real speculativeMargin_ = 0;              // update()'s CollisionSettings, for the narrow phase
     std::vector<NarrowScratch> narrow_;       // one per worker
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found

@@ -7,8 +7,7 @@
 #include "collision/shape_cast.hpp"
 #include "fulcrum/task_system.hpp"
 #include "contacts/contact_manager.hpp"
-#include "solver/contact_solver.hpp"
-#include "world/world_impl.hpp"
+#include "solver/joint_data.hpp"
 
 namespace fulcrum::detail {
 
@@ -39,22 +38,22 @@ Real coreExtent(const Shape& shape) {
 namespace {
 
 // Sweeps solver body i (if it is a dynamic body that moved far enough) and
-// puts it back at its first time of impact. `bullets`: whether this pass takes
-// the bullets (true) or the other bodies (false).
-void sweepBody(WorldImpl& w, const ContactSolver& solver, const BroadPhase& broad, Real dt, std::uint32_t i,
+// puts it back at its first time of impact, in the awake set. `bullets`:
+// whether this pass takes the bullets (true) or the other bodies (false).
+void sweepBody(BodyStore& w, const JointPairFilter& joints, const BroadPhase& broad, Real dt, std::uint32_t i,
                bool bullets) {
-    const std::uint32_t d = solver.denseOfSolverBody()[i];
+    const std::uint32_t d = w.denseOfSolver[i];
     const BodyParams& p = w.params[d];
     if (p.type != BodyType::Dynamic || !p.awake || p.isSensor || p.isBullet != bullets) return;
-    BodyMotion& m = w.motion[d];
-    const Vec3 dp = m.com - solver.startCom(i);
+    BodyPose& m = w.pose[i];
+    const Vec3 dp = m.com - w.startCom[i];
     const Shape& shape = w.cold[d].shape;
     const Real core = coreExtent(shape);
     if (lengthSquared(dp) <= Real(0.25) * core * core) return;
 
-    const Quat q0 = solver.startOrientation(i);
-    const Transform x0{solver.startCom(i) - rotate(q0, p.localCom), q0};
-    const Transform x1 = w.originTransform(d);
+    const Quat q0 = w.startQ[i];
+    const Transform x0{w.startCom[i] - rotate(q0, p.localCom), q0};
+    const Transform x1{m.com - rotate(m.q, p.localCom), m.q};
     const Vec3 translation = x1.p - x0.p;
     const AABB swept = merge(shape.bounds(x0), shape.bounds(x1));
     const std::uint32_t selfSlot = w.denseToSlot[d];
@@ -63,21 +62,21 @@ void sweepBody(WorldImpl& w, const ContactSolver& solver, const BroadPhase& broa
         if (otherSlot == selfSlot) return true;
         const std::uint32_t od = w.bodySlots[otherSlot].dense;
         const BodyParams& op = w.params[od];
-        if (op.isSensor || !shouldCollide(p.filter, op.filter) || !mayCollide(w, selfSlot, otherSlot)) return true;
+        if (op.isSensor || !shouldCollide(p.filter, op.filter) || !mayCollide(w, joints, selfSlot, otherSlot)) return true;
         const Shape& other = w.cold[od].shape;
         if (op.type == BodyType::Static) {
             const ShapeCastResult r = shapeCast(shape, x0, translation, other, w.originTransform(od));
             if (r.hit && r.fraction > 0 && r.fraction < best) best = r.fraction;
         } else if (p.isBullet && op.type == BodyType::Dynamic && !op.isBullet && isConvexShape(shape.type()) &&
                    isConvexShape(other.type())) {
-            const std::uint32_t oi = solver.solverIndexOf(od);
-            Sweep sa{x0, p.localCom, dp / dt, m.w};
+            const std::uint32_t oi = w.solverIndexOf(od);
+            Sweep sa{x0, p.localCom, dp / dt, w.state[i].w};
             Sweep sb{w.originTransform(od), op.localCom, Vec3::zero(), Vec3::zero()};
             if (oi != 0) {
-                const Quat oq0 = solver.startOrientation(oi);
-                sb.start = {solver.startCom(oi) - rotate(oq0, op.localCom), oq0};
-                sb.linearVelocity = (w.motion[od].com - solver.startCom(oi)) / dt;
-                sb.angularVelocity = w.motion[od].w;
+                const Quat oq0 = w.startQ[oi];
+                sb.start = {w.startCom[oi] - rotate(oq0, op.localCom), oq0};
+                sb.linearVelocity = (w.pose[oi].com - w.startCom[oi]) / dt;
+                sb.angularVelocity = w.state[oi].w;
             }
             const ToiResult r = timeOfImpact(shape, sa, other, sb, dt);
             if (r.state == ToiResult::State::Hit && r.time > 0 && r.time / dt < best) best = r.time / dt;
@@ -99,9 +98,10 @@ void sweepBody(WorldImpl& w, const ContactSolver& solver, const BroadPhase& broa
     if ((1 - best) * travel < 2 * kToiSlop) return;
     const Real back = kToiSlop / travel;
     const Real t = std::max(Real(0), best - back);
-    m.com = solver.startCom(i) + dp * t;
+    m.com = w.startCom[i] + dp * t;
     m.q = normalize(slerp(q0, m.q, t));
-    w.updateWorldInertia(d);
+    const Mat3 r = toMat3(m.q);
+    m.invInertiaWorld = r * p.invLocalInertia * transpose(r);
 }
 
 }  // namespace
@@ -114,21 +114,21 @@ void sweepBody(WorldImpl& w, const ContactSolver& solver, const BroadPhase& broa
 // was 31 % of the serial instructions of box_pile's first 120 steps (39 M of
 // 127 M, callgrind), almost all of it the distance test of bodies that did
 // not move far.
-void solveContinuous(WorldImpl& w, const ContactSolver& solver, const ContactManager& manager, Real dt) {
-    const auto count = static_cast<std::uint32_t>(solver.denseOfSolverBody().size());
+void solveContinuous(BodyStore& w, const JointPairFilter& joints, const ContactManager& manager, TaskSystem& tasks, Real dt) {
+    const auto count = static_cast<std::uint32_t>(w.denseOfSolver.size());
     if (count <= 1) return;
     const BroadPhase& broad = manager.broadPhase();
     std::atomic<bool> anyBullet{false};
-    w.taskSystem().parallelFor(count - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+    tasks.parallelFor(count - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         bool bullet = false;
         for (std::uint32_t i = begin + 1; i <= end; ++i) {
-            bullet = bullet || w.params[solver.denseOfSolverBody()[i]].isBullet;
-            sweepBody(w, solver, broad, dt, i, false);
+            bullet = bullet || w.params[w.denseOfSolver[i]].isBullet;
+            sweepBody(w, joints, broad, dt, i, false);
         }
         if (bullet) anyBullet.store(true, std::memory_order_relaxed);
     });
     if (!anyBullet.load(std::memory_order_relaxed)) return;
-    for (std::uint32_t i = 1; i < count; ++i) sweepBody(w, solver, broad, dt, i, true);
+    for (std::uint32_t i = 1; i < count; ++i) sweepBody(w, joints, broad, dt, i, true);
 }
 
 }  // namespace fulcrum::detail

@@ -14,18 +14,20 @@
 // its velocity kept; next step's speculative contact then handles the impact.
 // Hits at fraction 0 (already touching at the start) are ignored so a body
 // sliding fast along the floor is not stopped.
+//
+// It runs on the body store's awake set (body_store.hpp), before the records
+// are written: it reads each body's pose at the step's start (startCom,
+// startQ) and its pose now, and moves the pose now.
 #include "fulcrum/shape.hpp"
-
-namespace fulcrum {
-struct WorldImpl;
-}
+#include "fulcrum/task_system.hpp"
+#include "dynamics/body_store.hpp"
 
 namespace fulcrum::detail {
 
-class ContactSolver;
 class ContactManager;
+struct JointPairFilter;
 
-void solveContinuous(WorldImpl& w, const ContactSolver& solver, const ContactManager& manager, Real dt);
+void solveContinuous(BodyStore& w, const JointPairFilter& joints, const ContactManager& manager, TaskSystem& tasks, Real dt);
 
 // Half the thickness of the thinnest part of a shape (how far it may move
 // before it could pass through something thin).

@@ -14,15 +14,9 @@ Vec3 springForceOnB(const Vec3& pA, const Vec3& pB, const Vec3& vRel, Real restL
     return -(d - n * restLength) * stiffness - n * (damping * dot(vRel, n));
 }
 
-void evaluateForces(WorldImpl& w, double time) {
-    if (evaluateBodyForces(w, 0, static_cast<std::uint32_t>(w.awakeBodies.size()))) addCallbackForces(w, time);
-    addSpringForces(w);
-}
-
-bool evaluateBodyForces(WorldImpl& w, std::uint32_t begin, std::uint32_t end) {
-    const Vec3 g = w.settings.gravity;
+bool evaluateBodyForces(BodyStore& w, const Vec3& g, std::uint32_t begin, std::uint32_t end) {
     bool callbacks = false;
-    // Awake bodies only (world_impl.hpp, "Awake list"): a sleeping body's
+    // Awake bodies only (body_store.hpp, "Awake list"): a sleeping body's
     // forces are not used until it wakes, and the step re-evaluates them then.
     // Its ForceCallback is not called while it sleeps.
     for (std::uint32_t k = begin; k < end; ++k) {
@@ -33,9 +27,9 @@ bool evaluateBodyForces(WorldImpl& w, std::uint32_t begin, std::uint32_t end) {
             out = {};
             continue;
         }
-        const BodyMotion& m = w.motion[i];
+        const Vec3& v = w.state[k + 1].v;
         Vec3 f = w.applied[i].force + g * (p.mass * p.gravityScale);
-        if (p.linearDrag > 0 || p.quadraticDrag > 0) f -= m.v * (p.linearDrag + p.quadraticDrag * length(m.v));
+        if (p.linearDrag > 0 || p.quadraticDrag > 0) f -= v * (p.linearDrag + p.quadraticDrag * length(v));
         out.force = f;
         out.torque = w.applied[i].torque;
         callbacks = callbacks || static_cast<bool>(w.cold[i].callback);
@@ -45,36 +39,38 @@ bool evaluateBodyForces(WorldImpl& w, std::uint32_t begin, std::uint32_t end) {
 
 // The callbacks' wrenches, added after the rest of each body's force: the
 // additions evaluateForces always did, in the same order.
-void addCallbackForces(WorldImpl& w, double time) {
+void addCallbackForces(BodyStore& w, double time) {
     const Real t = static_cast<Real>(time);
-    for (const std::uint32_t i : w.awakeBodies) {
+    for (std::size_t k = 0; k < w.awakeBodies.size(); ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         const ForceCallback& cb = w.cold[i].callback;
         if (p.type != BodyType::Dynamic || !cb) continue;
-        const BodyMotion& m = w.motion[i];
-        const Wrench wr = cb(BodyKinematics{m.com, m.q, m.v, m.w, p.mass, t});
+        const BodyPose& x = w.pose[k + 1];
+        const SolverBody& s = w.state[k + 1];
+        const Wrench wr = cb(BodyKinematics{x.com, x.q, s.v, s.w, p.mass, t});
         w.forces[i].force += wr.force;
         w.forces[i].torque += wr.torque;
     }
 }
 
-void addSpringForces(WorldImpl& w) {
-    for (const SpringData& s : w.springs) {
+void addSpringForces(BodyStore& w, std::span<const SpringData> springs) {
+    for (const SpringData& s : springs) {
         if (!s.alive) continue;
         const std::uint32_t a = w.denseOrNone(s.bodyA), b = w.denseOrNone(s.bodyB);
-        const Vec3 pA = w.anchorWorld(a, s.localA), pB = w.anchorWorld(b, s.localB);
+        const Vec3 pA = w.anchorNow(a, s.localA), pB = w.anchorNow(b, s.localB);
         Vec3 vA, vB;
-        if (a != kNoIndex) vA = w.motion[a].v + cross(w.motion[a].w, pA - w.motion[a].com);
-        if (b != kNoIndex) vB = w.motion[b].v + cross(w.motion[b].w, pB - w.motion[b].com);
+        if (a != kNoIndex) vA = w.velocityNow(a) + cross(w.angularVelocityNow(a), pA - w.comNow(a));
+        if (b != kNoIndex) vB = w.velocityNow(b) + cross(w.angularVelocityNow(b), pB - w.comNow(b));
         const Vec3 f = springForceOnB(pA, pB, vB - vA, s.restLength, s.stiffness, s.damping);
         // A sleeping end keeps its forces untouched (they are not used while it sleeps).
         if (a != kNoIndex && w.params[a].type == BodyType::Dynamic && w.params[a].awake) {
             w.forces[a].force -= f;
-            w.forces[a].torque -= cross(pA - w.motion[a].com, f);
+            w.forces[a].torque -= cross(pA - w.comNow(a), f);
         }
         if (b != kNoIndex && w.params[b].type == BodyType::Dynamic && w.params[b].awake) {
             w.forces[b].force += f;
-            w.forces[b].torque += cross(pB - w.motion[b].com, f);
+            w.forces[b].torque += cross(pB - w.comNow(b), f);
         }
     }
 }

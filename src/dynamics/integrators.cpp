@@ -1,6 +1,5 @@
 #include "dynamics/integrators.hpp"
 
-#include "dynamics/forces.hpp"
 
 #include <bit>
 #include <cstdint>
@@ -8,6 +7,14 @@
 namespace fulcrum::detail {
 
 namespace {
+
+// An awake body's state as the integrators see it: its pose and its
+// velocities in the body store's awake set (body_store.hpp), one view.
+struct Motion {
+    BodyPose& x;
+    SolverBody& s;
+};
+Motion motionOf(BodyStore& b, std::size_t solverIndex) { return {b.pose[solverIndex], b.state[solverIndex]}; }
 
 bool moves(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 bool isDynamic(const BodyParams& p) { return p.type == BodyType::Dynamic && p.awake; }
@@ -291,30 +298,30 @@ void driftGeneral(DriftLanes<double>& d, double hd) {
     d.ax = an.x, d.ay = an.y, d.az = an.z;
 }
 
-DriftLanes<double> loadDrift(const BodyMotion& m, const BodyParams& p, int k) {
+DriftLanes<double> loadDrift(Motion m, const BodyParams& p, int k) {
     const int side = (k + 1) % 3;
-    return {m.q.w, m.q.x, m.q.y, m.q.z, m.w.x, m.w.y, m.w.z, 0, 0, 0, p.localInertia(k, k), p.localInertia(side, side)};
+    return {m.x.q.w, m.x.q.x, m.x.q.y, m.x.q.z, m.s.w.x, m.s.w.y, m.s.w.z, 0, 0, 0, p.localInertia(k, k), p.localInertia(side, side)};
 }
 
-void storeDrift(BodyMotion& m, const BodyParams& p, int k, const DriftLanes<double>& d) {
-    m.q = Quat{static_cast<Real>(d.qw), static_cast<Real>(d.qx), static_cast<Real>(d.qy), static_cast<Real>(d.qz)};
-    m.w = Vec3{static_cast<Real>(d.wx), static_cast<Real>(d.wy), static_cast<Real>(d.wz)};
+void storeDrift(Motion m, const BodyParams& p, int k, const DriftLanes<double>& d) {
+    m.x.q = Quat{static_cast<Real>(d.qw), static_cast<Real>(d.qx), static_cast<Real>(d.qy), static_cast<Real>(d.qz)};
+    m.s.w = Vec3{static_cast<Real>(d.wx), static_cast<Real>(d.wy), static_cast<Real>(d.wz)};
     // I_w^-1 = E / I_t + (1/I_a - 1/I_t) a a^T
     const Real invSide = p.invLocalInertia((k + 1) % 3, (k + 1) % 3);
     const Vec3 axis{static_cast<Real>(d.ax), static_cast<Real>(d.ay), static_cast<Real>(d.az)};
     const Vec3 cc = axis * (p.invLocalInertia(k, k) - invSide);
-    m.invInertiaWorld =
+    m.x.invInertiaWorld =
         Mat3{Vec3{invSide, 0, 0} + cc * axis.x, Vec3{0, invSide, 0} + cc * axis.y, Vec3{0, 0, invSide} + cc * axis.z};
 }
 
 template <int K>
-void driftOne(BodyMotion& m, const BodyParams& p, double hd) {
+void driftOne(Motion m, const BodyParams& p, double hd) {
     DriftLanes<double> d = loadDrift(m, p, K);
     if (!driftLanes<K>(d, hd)) driftGeneral<K>(d, hd);
     storeDrift(m, p, K, d);
 }
 
-void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
+void driftAxisymmetric(Motion m, const BodyParams& p, int k, Real h) {
     const double hd = static_cast<double>(h);
     switch (k) {
         case 0: driftOne<0>(m, p, hd); break;
@@ -325,7 +332,7 @@ void driftAxisymmetric(BodyMotion& m, const BodyParams& p, int k, Real h) {
 
 #if defined(__GNUC__) && defined(__SSE2__)
 template <int K>
-void driftPairK(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, double hd) {
+void driftPairK(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1, double hd) {
     const DriftLanes<double> a = loadDrift(m0, p0, K), b = loadDrift(m1, p1, K);
     DriftLanes<Double2> d{Double2{a.qw, b.qw}, Double2{a.qx, b.qx}, Double2{a.qy, b.qy}, Double2{a.qz, b.qz},
                           Double2{a.wx, b.wx}, Double2{a.wy, b.wy}, Double2{a.wz, b.wz}, Double2{},
@@ -343,7 +350,7 @@ void driftPairK(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const Body
     }
 }
 
-void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, int k, Real h) {
+void driftPair(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1, int k, Real h) {
     const double hd = static_cast<double>(h);
     switch (k) {
         case 0: driftPairK<0>(m0, p0, m1, p1, hd); break;
@@ -355,83 +362,90 @@ void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyP
 // Four bodies (see Double4 above); a lane outside the fast path sends the
 // four through driftOne alone (the same bits).
 template <int K>
-void driftQuadK(WorldImpl& w, const std::uint32_t* bodies, double hd) {
+void driftQuadK(BodyStore& w, const std::uint32_t* entries, double hd) {
+    // The four bodies' pose, velocities and constants, looked up once (the
+    // calls below may write anything, so the compiler would look them up again).
+    BodyPose* x[4];
+    SolverBody* v[4];
+    const BodyParams* p[4];
+    for (int lane = 0; lane < 4; ++lane) {
+        x[lane] = &w.pose[entries[lane] + 1];
+        v[lane] = &w.state[entries[lane] + 1];
+        p[lane] = &w.params[w.awakeBodies[entries[lane]]];
+    }
     // The same values as loadDrift's, gathered straight into the lanes.
-    const BodyMotion &m0 = w.motion[bodies[0]], &m1 = w.motion[bodies[1]], &m2 = w.motion[bodies[2]],
-                     &m3 = w.motion[bodies[3]];
-    const BodyParams &p0 = w.params[bodies[0]], &p1 = w.params[bodies[1]], &p2 = w.params[bodies[2]],
-                     &p3 = w.params[bodies[3]];
     const auto lanes = [](Real a, Real b, Real c, Real e) {
         return Double4{static_cast<double>(a), static_cast<double>(b), static_cast<double>(c), static_cast<double>(e)};
     };
     constexpr int kSide = (K + 1) % 3;
-    DriftLanes<Double4> d{lanes(m0.q.w, m1.q.w, m2.q.w, m3.q.w),
-                          lanes(m0.q.x, m1.q.x, m2.q.x, m3.q.x),
-                          lanes(m0.q.y, m1.q.y, m2.q.y, m3.q.y),
-                          lanes(m0.q.z, m1.q.z, m2.q.z, m3.q.z),
-                          lanes(m0.w.x, m1.w.x, m2.w.x, m3.w.x),
-                          lanes(m0.w.y, m1.w.y, m2.w.y, m3.w.y),
-                          lanes(m0.w.z, m1.w.z, m2.w.z, m3.w.z),
+    DriftLanes<Double4> d{lanes(x[0]->q.w, x[1]->q.w, x[2]->q.w, x[3]->q.w),
+                          lanes(x[0]->q.x, x[1]->q.x, x[2]->q.x, x[3]->q.x),
+                          lanes(x[0]->q.y, x[1]->q.y, x[2]->q.y, x[3]->q.y),
+                          lanes(x[0]->q.z, x[1]->q.z, x[2]->q.z, x[3]->q.z),
+                          lanes(v[0]->w.x, v[1]->w.x, v[2]->w.x, v[3]->w.x),
+                          lanes(v[0]->w.y, v[1]->w.y, v[2]->w.y, v[3]->w.y),
+                          lanes(v[0]->w.z, v[1]->w.z, v[2]->w.z, v[3]->w.z),
                           Double4{},
                           Double4{},
                           Double4{},
-                          lanes(p0.localInertia(K, K), p1.localInertia(K, K), p2.localInertia(K, K), p3.localInertia(K, K)),
-                          lanes(p0.localInertia(kSide, kSide), p1.localInertia(kSide, kSide), p2.localInertia(kSide, kSide),
-                                p3.localInertia(kSide, kSide))};
+                          lanes(p[0]->localInertia(K, K), p[1]->localInertia(K, K), p[2]->localInertia(K, K),
+                                p[3]->localInertia(K, K)),
+                          lanes(p[0]->localInertia(kSide, kSide), p[1]->localInertia(kSide, kSide),
+                                p[2]->localInertia(kSide, kSide), p[3]->localInertia(kSide, kSide))};
     if (!driftLanes<K>(d, hd)) {
-        for (int lane = 0; lane < 4; ++lane) driftOne<K>(w.motion[bodies[lane]], w.params[bodies[lane]], hd);
+        for (int lane = 0; lane < 4; ++lane) driftOne<K>(Motion{*x[lane], *v[lane]}, *p[lane], hd);
         return;
     }
     for (int lane = 0; lane < 4; ++lane) {
         const DriftLanes<double> out{d.qw[lane], d.qx[lane], d.qy[lane], d.qz[lane], d.wx[lane], d.wy[lane],
                                      d.wz[lane], d.ax[lane], d.ay[lane], d.az[lane], 0, 0};
-        storeDrift(w.motion[bodies[lane]], w.params[bodies[lane]], K, out);
+        storeDrift(Motion{*x[lane], *v[lane]}, *p[lane], K, out);
     }
 }
 
-void driftQuad(WorldImpl& w, const std::uint32_t* bodies, int k, Real h) {
+void driftQuad(BodyStore& w, const std::uint32_t* entries, int k, Real h) {
     const double hd = static_cast<double>(h);
     switch (k) {
-        case 0: driftQuadK<0>(w, bodies, hd); break;
-        case 1: driftQuadK<1>(w, bodies, hd); break;
-        default: driftQuadK<2>(w, bodies, hd); break;
+        case 0: driftQuadK<0>(w, entries, hd); break;
+        case 1: driftQuadK<1>(w, entries, hd); break;
+        default: driftQuadK<2>(w, entries, hd); break;
     }
 }
 #else
-void driftPair(BodyMotion& m0, const BodyParams& p0, BodyMotion& m1, const BodyParams& p1, int k, Real h) {
+void driftPair(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1, int k, Real h) {
     driftAxisymmetric(m0, p0, k, h);
     driftAxisymmetric(m1, p1, k, h);
 }
-void driftQuad(WorldImpl& w, const std::uint32_t* bodies, int k, Real h) {
-    for (int lane = 0; lane < 4; ++lane) driftAxisymmetric(w.motion[bodies[lane]], w.params[bodies[lane]], k, h);
+void driftQuad(BodyStore& w, const std::uint32_t* entries, int k, Real h) {
+    for (int lane = 0; lane < 4; ++lane) driftAxisymmetric(motionOf(w, entries[lane] + 1), w.params[w.awakeBodies[entries[lane]]], k, h);
 }
 #endif
 
-void applyDamping(BodyMotion& m, const BodyParams& p, Real h) {
+void applyDamping(Motion m, const BodyParams& p, Real h) {
     // Implicit (unconditionally stable) exponential decay: v *= 1 / (1 + h c).
-    if (p.linearDamping > 0) m.v *= Real(1) / (1 + h * p.linearDamping);
-    if (p.angularDamping > 0) m.w *= Real(1) / (1 + h * p.angularDamping);
+    if (p.linearDamping > 0) m.s.v *= Real(1) / (1 + h * p.linearDamping);
+    if (p.angularDamping > 0) m.s.w *= Real(1) / (1 + h * p.angularDamping);
 }
 
 }  // namespace
 
-void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
+void integrateVelocities(BodyStore& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         if (!isDynamic(p)) continue;
-        BodyMotion& m = w.motion[i];
+        const Motion m = motionOf(w, k + 1);
         const ForceTorque& ft = w.forces[i];
         switch (method) {
             case Integrator::ExplicitEuler: {
                 // a(x_n, v_n), with the gyroscopic torque -w x I_w w evaluated at the old state.
-                const Vec3 v0 = m.v, w0 = m.w;
-                const Vec3 lw = worldInertia(m.q, p.localInertia) * m.w;
-                m.v += ft.force * (m.invMass * h);
-                m.w += m.invInertiaWorld * (ft.torque - cross(m.w, lw)) * h;
+                const Vec3 v0 = m.s.v, w0 = m.s.w;
+                const Vec3 lw = worldInertia(m.x.q, p.localInertia) * m.s.w;
+                m.s.v += ft.force * (m.s.invMass * h);
+                m.s.w += m.x.invInertiaWorld * (ft.torque - cross(m.s.w, lw)) * h;
                 applyDamping(m, p, h);
-                w.scratch[i].dv = m.v - v0;
-                w.scratch[i].dw = m.w - w0;
+                w.scratch[i].dv = m.s.v - v0;
+                w.scratch[i].dw = m.s.w - w0;
                 break;
             }
             case Integrator::SemiImplicitEuler: {
@@ -440,11 +454,11 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
                 // Verlet). Catto's implicit gyroscopic step, used before, bleeds
                 // |L| at high spin: the demo's tumbling box lost 13 % of |L| in
                 // 10 s at 240 Hz; with the constant-L drift it keeps it to ~1e-5.
-                m.v += ft.force * (m.invMass * h);
+                m.s.v += ft.force * (m.s.invMass * h);
                 // Most bodies have no torque (gravity acts at the centre of
                 // mass): w then keeps its value without the 3x3 product (the
                 // same value as w + 0, but for the sign of a zero component).
-                if (ft.torque.x != 0 || ft.torque.y != 0 || ft.torque.z != 0) m.w += m.invInertiaWorld * ft.torque * h;
+                if (ft.torque.x != 0 || ft.torque.y != 0 || ft.torque.z != 0) m.s.w += m.x.invInertiaWorld * ft.torque * h;
                 applyDamping(m, p, h);
                 break;
             }
@@ -453,8 +467,8 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
                 // world axes dL/dt = tau, and the drift below turns the body at
                 // constant L, which is where w x I w comes from.
                 const Real half = Real(0.5) * h;
-                m.v += ft.force * (m.invMass * half);
-                m.w += m.invInertiaWorld * ft.torque * half;
+                m.s.v += ft.force * (m.s.invMass * half);
+                m.s.w += m.x.invInertiaWorld * ft.torque * half;
                 applyDamping(m, p, h);
                 break;
             }
@@ -462,41 +476,42 @@ void integrateVelocities(WorldImpl& w, Integrator method, Real h, std::size_t be
     }
 }
 
-void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
-    const Real maxTurn = w.settings.maxRotationPerSubstep;
-    // Axisymmetric bodies waiting for three partners, per symmetry axis (driftQuad).
+void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, bool deltas, std::size_t begin,
+                        std::size_t end) {
+    // Axisymmetric bodies waiting for three partners, per symmetry axis (driftQuad):
+    // their awake-list entries.
     std::uint32_t waitingDrift[3][4];
     int waitingCount[3] = {0, 0, 0};
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
         if (!moves(p)) continue;
-        BodyMotion& m = w.motion[i];
+        const Motion m = motionOf(w, k + 1);
         if (p.type == BodyType::Kinematic) {
-            m.com += m.v * h;
-            m.q = integrateRotation(m.q, m.w, h);
+            m.x.com += m.s.v * h;
+            m.x.q = integrateRotation(m.x.q, m.s.w, h);
             continue;
         }
         // The spin limit (WorldDef::maxRotationPerSubstep).
-        if (const Real w2 = lengthSquared(m.w); w2 * h * h > maxTurn * maxTurn) m.w *= maxTurn / (std::sqrt(w2) * h);
+        if (const Real w2 = lengthSquared(m.s.w); w2 * h * h > maxTurn * maxTurn) m.s.w *= maxTurn / (std::sqrt(w2) * h);
         switch (method) {
             case Integrator::ExplicitEuler:
                 // The old velocity: the current one minus what forces added this
                 // sub-step. (A solver's correction, applied after the forces, is kept.)
-                m.com += (m.v - w.scratch[i].dv) * h;
-                m.q = integrateRotation(m.q, m.w - w.scratch[i].dw, h);
+                m.x.com += (m.s.v - w.scratch[i].dv) * h;
+                m.x.q = integrateRotation(m.x.q, m.s.w - w.scratch[i].dw, h);
                 break;
             case Integrator::SemiImplicitEuler:
             case Integrator::Verlet: {
-                m.com += m.v * h;
+                m.x.com += m.s.v * h;
                 // Isotropic bodies: the drift below is exactly a rotation at
                 // constant w (it cost ~45 % of sphere_pile's position stage and
                 // ~20 % of its step: three R I R^T and two inverses per body).
                 // Its world inverse inertia is the local one (no R I^-1 R^T below).
                 const int symmetry = inertiaSymmetry(p.localInertia);
                 if (symmetry == kIsotropic) {
-                    m.q = integrateRotation(m.q, m.w, h);
-                    m.invInertiaWorld = p.invLocalInertia;
+                    m.x.q = integrateRotation(m.x.q, m.s.w, h);
+                    m.x.invInertiaWorld = p.invLocalInertia;
                     continue;
                 }
                 if (symmetry >= 0) {
@@ -507,7 +522,7 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                         continue;
                     }
                     int& count = waitingCount[symmetry];
-                    waitingDrift[symmetry][count++] = i;
+                    waitingDrift[symmetry][count++] = static_cast<std::uint32_t>(k);
                     if (count == 4) {
                         driftQuad(w, waitingDrift[symmetry], symmetry, h);
                         count = 0;
@@ -522,48 +537,57 @@ void integratePositions(WorldImpl& w, Integrator method, Real h, std::size_t beg
                 // up to unbiased rounding. (Mapping back with the quaternion rotate()
                 // instead leaves a ~1-ulp *bias* per sub-step from the unit-length
                 // assumption: |L| drifted by 1.5e-4 over 1,920 sub-steps; now ~1e-6.)
-                const Vec3 angularMomentum = worldInertia(m.q, p.localInertia) * m.w;
-                const Quat qMid = integrateRotation(m.q, m.w, Real(0.5) * h);
+                const Vec3 angularMomentum = worldInertia(m.x.q, p.localInertia) * m.s.w;
+                const Quat qMid = integrateRotation(m.x.q, m.s.w, Real(0.5) * h);
                 const Vec3 omegaMid = inverse(worldInertia(qMid, p.localInertia)) * angularMomentum;
-                m.q = integrateRotation(m.q, omegaMid, h);
-                m.w = inverse(worldInertia(m.q, p.localInertia)) * angularMomentum;
+                m.x.q = integrateRotation(m.x.q, omegaMid, h);
+                m.s.w = inverse(worldInertia(m.x.q, p.localInertia)) * angularMomentum;
                 break;
             }
         }
-        w.updateWorldInertia(i);
+        const Mat3 r = toMat3(m.x.q);
+        m.x.invInertiaWorld = r * p.invLocalInertia * transpose(r);
     }
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t* waiting = waitingDrift[k];
         int n = 0;
         for (; n + 2 <= waitingCount[k]; n += 2) {
-            driftPair(w.motion[waiting[n]], w.params[waiting[n]], w.motion[waiting[n + 1]], w.params[waiting[n + 1]], k, h);
+            driftPair(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], motionOf(w, waiting[n + 1] + 1),
+                      w.params[w.awakeBodies[waiting[n + 1]]], k, h);
         }
-        if (n < waitingCount[k]) driftAxisymmetric(w.motion[waiting[n]], w.params[waiting[n]], k, h);
+        if (n < waitingCount[k]) driftAxisymmetric(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], k, h);
     }
+    // The pose change since the step's start, for the constraint kernels
+    // (every moved body's: the drifts above included), if there are any.
+    if (deltas) w.updateDeltas(begin, end);
 }
 
-void finalizeSubstep(WorldImpl& w, Integrator method, Real h, double timeAfter) {
-    if (method != Integrator::Verlet) return;
+void verletPredict(BodyStore& w, Real h, std::size_t begin, std::size_t end) {
     const Real half = Real(0.5) * h;
     // Velocity-dependent forces (drag, spring damping, callbacks) at the new
     // position need a velocity there, which the second kick is about to
     // produce. Evaluate them at the predictor v_half + a_old h/2 (the velocity
     // the kick would give if the acceleration did not change): the error is
     // O(h^2) in the force, so the scheme stays second order.
-    for (const std::uint32_t i : w.awakeBodies) {
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         if (!isDynamic(w.params[i])) continue;
-        BodyMotion& m = w.motion[i];
-        w.scratch[i].dv = m.v;
-        w.scratch[i].dw = m.w;
-        m.v += w.forces[i].force * (m.invMass * half);
-        m.w += m.invInertiaWorld * w.forces[i].torque * half;
+        const Motion m = motionOf(w, k + 1);
+        w.scratch[i].dv = m.s.v;
+        w.scratch[i].dw = m.s.w;
+        m.s.v += w.forces[i].force * (m.s.invMass * half);
+        m.s.w += m.x.invInertiaWorld * w.forces[i].torque * half;
     }
-    evaluateForces(w, timeAfter);
-    for (const std::uint32_t i : w.awakeBodies) {
+}
+
+void verletKick(BodyStore& w, Real h, std::size_t begin, std::size_t end) {
+    const Real half = Real(0.5) * h;
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
         if (!isDynamic(w.params[i])) continue;
-        BodyMotion& m = w.motion[i];
-        m.v = w.scratch[i].dv + w.forces[i].force * (m.invMass * half);
-        m.w = w.scratch[i].dw + m.invInertiaWorld * w.forces[i].torque * half;
+        const Motion m = motionOf(w, k + 1);
+        m.s.v = w.scratch[i].dv + w.forces[i].force * (m.s.invMass * half);
+        m.s.w = w.scratch[i].dw + m.x.invInertiaWorld * w.forces[i].torque * half;
     }
 }
 

@@ -83,6 +83,7 @@ public:
     // The slots and the free stack as they are, for snapshots; check
     // consistent() after loading them.
     std::vector<Entry>& slots() { return slots_; }
+    const std::vector<Entry>& slots() const { return slots_; }
     std::vector<std::uint32_t>& freeSlots() { return free_; }
     // Every free slot in range, dead and listed once, and every dead slot listed.
     bool consistent() const {

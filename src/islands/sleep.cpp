@@ -6,8 +6,7 @@
 
 #include "fulcrum/task_system.hpp"
 #include "contacts/contact_manager.hpp"
-#include "solver/contact_solver.hpp"
-#include "world/world_impl.hpp"
+#include "solver/joint_data.hpp"
 
 namespace fulcrum::detail {
 
@@ -64,10 +63,11 @@ std::uint32_t SleepManager::find(std::uint32_t i) {
     return i;
 }
 
-void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const ContactManager& manager, Real dt) {
-    const std::vector<std::uint32_t>& denseOf = solver.denseOfSolverBody();
+void SleepManager::update(BodyStore& w, const SleepSettings& s, const std::vector<ContactSolver::ConstraintPair>& pairs,
+                          const ContactManager& manager, const std::vector<JointData>& joints, TaskSystem& tasks,
+                          Real dt) {
+    const std::vector<std::uint32_t>& denseOf = w.denseOfSolver;
     const std::size_t n = denseOf.size();  // entry 0 is the static stand-in
-    const WorldDef& s = w.settings;
     const Real lin2 = s.linearSleepVelocity * s.linearSleepVelocity;
     const Real ang2 = s.angularSleepVelocity * s.angularSleepVelocity;
 
@@ -93,8 +93,6 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
     // Before, the unions, the finds, the minima and the clears were serial:
     // 40.5 M of the 127 M serial instructions of box_pile's first 120 steps
     // (callgrind), the largest serial part of the step after the time of impact.
-    TaskSystem& tasks = w.taskSystem();
-    const std::vector<ContactSolver::ConstraintPair>& pairs = solver.pairs();
     const auto pairCount = static_cast<std::uint32_t>(pairs.size());
     const auto bodyCount = static_cast<std::uint32_t>(n);
     parent_.resize(n);
@@ -118,7 +116,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
         for (std::uint32_t i = begin + 1; i <= end; ++i) {
             const std::uint32_t d = denseOf[i];
             const BodyMotion& m = w.motion[d];
-            const Real moved2 = lengthSquared(m.com - solver.startCom(i)) * invDt * invDt;
+            const Real moved2 = lengthSquared(m.com - w.startCom[i]) * invDt * invDt;
             speed2_[i] = std::min(lengthSquared(m.v), moved2);
             // The turn over the step is only known modulo a full turn: used
             // while the spin turns the body by less than a radian a step. And
@@ -132,7 +130,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
             const BodyParams& p = w.params[d];
             const bool speedMayPass = p.allowSleep && speed2_[i] <= (p.mass > 0 ? bodyCap2 : lin2);
             if (speedMayPass && w2 > ang2 && w2 * dt * dt < 1) {
-                const Vec3 turn = toRotationVector(m.q * conjugate(solver.startOrientation(i)));
+                const Vec3 turn = toRotationVector(m.q * conjugate(w.startQ[i]));
                 spin2_[i] = std::min(w2, lengthSquared(turn) * invDt * invDt);
             }
             parent_[i] = i;
@@ -154,7 +152,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
             if (c.bodyA != 0 && c.bodyB != 0 && contacts[c.contact].touching) uniteConcurrently(parent_.data(), c.bodyA, c.bodyB);
         }
     });
-    for (const JointData& j : w.joints) {
+    for (const JointData& j : joints) {
         if (!j.alive || !j.enabled || j.def.bodyA.isNull() || j.def.bodyB.isNull()) continue;
         const std::uint32_t da = w.bodySlots[j.def.bodyA.index].dense;
         const std::uint32_t db = w.bodySlots[j.def.bodyB.index].dense;
@@ -166,7 +164,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
             continue;  // joined next step, once both are in the solver
         }
         if (!awakeA) continue;
-        const std::uint32_t ia = solver.solverIndexOf(da), ib = solver.solverIndexOf(db);
+        const std::uint32_t ia = w.solverIndexOf(da), ib = w.solverIndexOf(db);
         if (ia == 0 || ib == 0) continue;
         const std::uint32_t ra = find(ia), rb = find(ib);
         if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
@@ -249,7 +247,7 @@ void SleepManager::update(WorldImpl& w, const ContactSolver& solver, const Conta
         m.w = {};
         // Off the awake list at the next refresh; its previous[] (set at this
         // step's start) needs the one refresh that makes it equal to its
-        // transform for the rest of its sleep (world_impl.hpp).
+        // transform for the rest of its sleep (body_store.hpp).
         w.awakeListHasSleepers = true;
         w.markPreviousStale(denseOf[i]);
     }

@@ -21,7 +21,7 @@
 // body's timer has reached timeToSleep falls asleep: velocities zeroed,
 // `awake` cleared, all bodies tagged with one island id so that waking any of
 // them (contact, joint, user call) wakes the whole island at once
-// (WorldImpl::wakeBody). Sleeping bodies are skipped by the integrators, the
+// (BodyStore::wakeBody). Sleeping bodies are skipped by the integrators, the
 // broad phase updates, the narrow phase (when both ends sleep or are static)
 // and the solver: they cost nothing per step beyond this bookkeeping.
 //
@@ -51,16 +51,24 @@
 #include <vector>
 
 #include "fulcrum/math.hpp"
+#include "fulcrum/task_system.hpp"
+#include "dynamics/body_store.hpp"
+#include "solver/contact_solver.hpp"
 
 namespace fulcrum {
-struct WorldImpl;
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 }
 
 namespace fulcrum::detail {
 
-class ContactSolver;
 class ContactManager;
+struct JointData;
+
+// The settings the islands read (WorldDef's sleeping and sleep thresholds).
+struct SleepSettings {
+    bool sleeping = true;
+    Real linearSleepVelocity = Real(0.05), angularSleepVelocity = Real(0.05), timeToSleep = Real(0.5);
+};
 
 // Union-find on parent[] (parent[i] == i: a root) that several threads may
 // run at once, each call on any elements: `uniteConcurrently` links the
@@ -78,9 +86,13 @@ void uniteConcurrently(std::uint32_t* parent, std::uint32_t a, std::uint32_t b);
 
 class SleepManager {
 public:
-    // Updates timers and puts resting islands to sleep. Reads the solver's
-    // body list (the awake bodies of this step) and the contacts' touching flags.
-    void update(WorldImpl& w, const ContactSolver& solver, const ContactManager& contacts, Real dt);
+    // Updates timers and puts resting islands to sleep. Reads the store's
+    // awake set's list (the awake bodies of this step) and its start poses,
+    // the records as the step left them, the contact solver's constraint
+    // pairs, the contacts' touching flags and the joints; wakes bodies
+    // through the store's wake queue.
+    void update(BodyStore& w, const SleepSettings& s, const std::vector<ContactSolver::ConstraintPair>& pairs,
+                const ContactManager& contacts, const std::vector<JointData>& joints, TaskSystem& tasks, Real dt);
 
     void reserve(std::size_t bodyCount) {
         if (parent_.capacity() < bodyCount + 1) {

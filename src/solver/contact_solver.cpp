@@ -9,7 +9,6 @@
 #include "contacts/contact.hpp"
 #include "contacts/contact_manager.hpp"
 #include "threads/staged_parallel.hpp"
-#include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
 
@@ -27,12 +26,10 @@ constexpr std::uint32_t kColourCount = 32;
 constexpr std::uint32_t kBlocksPerTask = 4;
 
 // Ranges for the loops spread over threads: building a block (four
-// constraints) is ~0.3-0.6 us, storing one ~0.1 us, and gathering or
-// scattering a body ~5 ns, so these sizes keep a range above the pool's
-// hand-off cost (~0.1-0.2 us). 64 bodies as in step.cpp's per-body loops.
+// constraints) is ~0.3-0.6 us and storing one ~0.1 us, so these sizes keep
+// a range above the pool's hand-off cost (~0.1-0.2 us).
 constexpr std::uint32_t kBlocksPerBuildTask = 16;
 constexpr std::uint32_t kConstraintsPerTask = 64;
-constexpr std::uint32_t kBodiesPerTask = 64;
 // The pending-constraint list is built over fixed blocks of contact slots (a
 // constant, so the block sums do not depend on the thread count); a block is
 // ~1-2 us of work.
@@ -69,27 +66,9 @@ void prefetchManifold(const CachedManifold* m) {
     __builtin_prefetch(p + sizeof(CachedManifold) - 1);
 }
 
-// toRotationVector for the small turns of one step, without atan2 (with the
-// atan2f/atanf calls, updateDeltas was 5.4 % of a sphere pile's instructions):
-// 2 atan(s / w) / s = (2 / w)(1 - x^2/3 + x^4/5 - x^6/7 + ...), x = s / w. For
-// x < 0.1 (turns under ~11 degrees since the step's start) the first omitted
-// term, x^8/9 < 1.2e-9, is far below float precision; larger turns take the
-// exact path.
-Vec3 stepRotationVector(const Quat& q) {
-    const Quat p = q.w < 0 ? -q : q;  // shortest arc
-    const Real s2 = lengthSquared(p.vec());
-    const Real w2 = p.w * p.w;
-    if (s2 < Real(0.01) * w2) {
-        const Real x2 = s2 / w2;
-        const Real series = 1 - x2 * (Real(1) / 3 - x2 * (Real(1) / 5 - x2 * (Real(1) / 7)));
-        return p.vec() * (Real(2) / p.w * series);
-    }
-    return toRotationVector(p);
-}
-
 }  // namespace
 
-ContactSolver::ContactSolver() : subStepStages_(std::make_unique<StagedParallel>()) { setSimdPath(initialSimdPath()); }
+ContactSolver::ContactSolver() { setSimdPath(initialSimdPath()); }
 ContactSolver::~ContactSolver() = default;
 ContactSolver::ContactSolver(ContactSolver&&) noexcept = default;
 ContactSolver& ContactSolver::operator=(ContactSolver&&) noexcept = default;
@@ -98,11 +77,6 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     const auto grow = [](auto& v, std::size_t n) {
         if (v.capacity() < n) v.reserve(2 * n);
     };
-    grow(bodies_, bodyCount + 1);
-    grow(startCom_, bodyCount + 1);
-    grow(startQ_, bodyCount + 1);
-    grow(denseOf_, bodyCount + 1);
-    grow(solverOfDense_, bodyCount);
     grow(constraints_, 4 * bodyCount);
     grow(pending_, 4 * bodyCount);
     grow(overlapping_, 4 * bodyCount);
@@ -134,16 +108,10 @@ SimdPath ContactSolver::setSimdPath(SimdPath path) {
     return simd_;
 }
 
-void ContactSolver::prepare(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
-    prepareConstraintList(w, manager, dt, h);
-    colourGreedy();
-    finishPrepare(w, manager);
-}
-
-void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager, Real dt, Real h) {
-    const WorldDef& s = w.settings;
+void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager, const SolverSettings& s, Real h) {
+    store_ = &w;
     invH_ = 1 / h;
-    pushMax_ = s.contactPushMaxVelocity;
+    pushMax_ = s.pushMaxVelocity;
     restitutionThreshold_ = s.restitutionThreshold;
     // Contact stiffness between two dynamic bodies capped at a sixth of the
     // sub-step rate (h omega <= 1.05). At a quarter (h omega = pi/2) one
@@ -155,43 +123,12 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
     // rate: at half the rate (Box2D's limit for static contacts) a stack of
     // three unit boxes jittered at 0.1 m/s; capped, below 1e-4 m/s.
     const Real hertz = std::min(s.contactHertz, Real(1) / (6 * h));
-    contactSoftness_ = makeSoftness(hertz, s.contactDampingRatio, h);
-    staticSoftness_ = makeSoftness(std::min(2 * s.contactHertz, Real(0.25) / h), s.contactDampingRatio, h);
-    (void)dt;
+    contactSoftness_ = makeSoftness(hertz, s.dampingRatio, h);
+    staticSoftness_ = makeSoftness(std::min(2 * s.contactHertz, Real(0.25) / h), s.dampingRatio, h);
 
-    // ---- solver bodies: awake dynamic and kinematic bodies, entry 0 = static.
-    // They are the awake list (w.awakeBodies: ascending dense indices of the
-    // awake non-static bodies, refreshed by the step just before), so solver
-    // body i is awakeBodies[i - 1] and each entry is filled by one index.
-    const std::vector<std::uint32_t>& awake = w.awakeBodies;
-    const std::size_t count = w.motion.size();
-    const std::size_t solverCount = awake.size() + 1;
-    solverOfDense_.assign(count, 0);
-    bodies_.resize(solverCount);
-    denseOf_.resize(solverCount);
-    startCom_.resize(solverCount);
-    startQ_.resize(solverCount);
-    bodies_[0] = SolverBody{};
-    denseOf_[0] = kNoIndex;
-    startCom_[0] = {};
-    startQ_[0] = {};
-    forRanges(awake.size(), kBodiesPerTask, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = begin; k < end; ++k) {
-            const std::uint32_t d = awake[k];
-            const std::size_t i = k + 1;
-            const BodyMotion& m = w.motion[d];
-            solverOfDense_[d] = static_cast<std::uint32_t>(i);
-            SolverBody b;
-            b.v = m.v;
-            b.w = m.w;
-            b.invMass = m.invMass;
-            b.invI = m.invInertiaWorld;
-            bodies_[i] = b;
-            denseOf_[i] = d;
-            startCom_[i] = m.com;
-            startQ_[i] = m.q;
-        }
-    });
+    // The solver bodies are the body store's awake set (body_store.hpp),
+    // filled by the step just before: solver body i is w.awakeBodies[i - 1].
+    const std::vector<std::uint32_t>& solverOfDense_ = w.solverOfDense;
 
     // ---- constraints, one per manifold of every contact with an awake body.
     // First the list of (contact, manifold, bodies), coloured; then each
@@ -234,7 +171,7 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
                 if ((ia == 0 && w.params[dA].type != BodyType::Static) ||
                     (ib == 0 && w.params[dB].type != BodyType::Static))
                     continue;
-                if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;
+                if (store_->state[ia].invMass == 0 && store_->state[ib].invMass == 0) continue;
                 ends.bodyA = ia;
                 ends.bodyB = ib;
                 ends.manifolds = static_cast<std::uint32_t>(c.manifolds.size());
@@ -270,18 +207,18 @@ void ContactSolver::prepareConstraintList(WorldImpl& w, ContactManager& manager,
     });
 }
 
-void ContactSolver::finishPrepare(const WorldImpl& w, ContactManager& manager) {
+void ContactSolver::finishPrepare(ContactManager& manager) {
     const std::vector<Contact>& contacts = manager.contacts();
     placeInColourSlots();
     if (wide_) {
-        packWide(w, contacts);
+        packWide(contacts);
         return;
     }
     constraints_.resize(pending_.size());
     forRanges(pending_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t pi = begin; pi < end; ++pi) {
             const PendingConstraint& pc = pending_[pi];
-            buildConstraint(w, contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
+            buildConstraint(contacts[pc.contact], pc, constraints_[slotOf_[pi]]);
         }
     });
 }
@@ -300,7 +237,7 @@ void ContactSolver::finishPrepare(const WorldImpl& w, ContactManager& manager) {
 // same bits for any thread count. (Building per pending constraint instead
 // would have two threads writing lanes of the same block: false sharing, and
 // the block-wide flags would need a second pass.)
-void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& contacts) {
+void ContactSolver::packWide(const std::vector<Contact>& contacts) {
     WideBlocks& wideBlocks = *blocks_;
     const auto kWideLanes = static_cast<std::uint32_t>(wideBlocks.lanes());
     blockStart_.assign(kColourCount + 1, 0);
@@ -361,8 +298,8 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
             const std::uint32_t c = blockColour_[bi];
             const std::uint32_t first = colourStart_[c] + (static_cast<std::uint32_t>(bi) - blockStart_[c]) * kWideLanes;
             const std::uint32_t last = std::min<std::uint32_t>(first + kWideLanes, colourStart_[c + 1]);
-            wideBlocks.build(bi, laneSources_.data() + first, static_cast<int>(last - first), bodies_.data(),
-                             startCom_.data());
+            wideBlocks.build(bi, laneSources_.data() + first, static_cast<int>(last - first), store_->state.data(),
+                             store_->startCom.data());
         }
     });
 
@@ -371,7 +308,7 @@ void ContactSolver::packWide(const WorldImpl& w, const std::vector<Contact>& con
     forRanges(constraints_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             const PendingConstraint& pc = pending_[pendingOfSlot_[overflow + i]];
-            buildConstraint(w, contacts[pc.contact], pc, constraints_[i]);
+            buildConstraint(contacts[pc.contact], pc, constraints_[i]);
         }
     });
 }
@@ -384,16 +321,14 @@ std::size_t ContactSolver::largestColourBlocks() const {
     return largest;
 }
 
-void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc,
-                                    ContactConstraint& k) const {
-    (void)w;
+void ContactSolver::buildConstraint(const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const {
     // Only the contact and the solver's own arrays: a static body is the zero
     // body 0 with a zero centre (its anchor rB is then only ever multiplied by
     // its zero velocity and zero inverse inertia).
     const std::uint32_t ia = pc.bodyA, ib = pc.bodyB, ci = pc.contact, mi = pc.manifold;
-    const SolverBody& ba = bodies_[ia];
-    const SolverBody& bb = bodies_[ib];
-    const Vec3 comA = startCom_[ia], comB = startCom_[ib];
+    const SolverBody& ba = store_->state[ia];
+    const SolverBody& bb = store_->state[ib];
+    const Vec3 comA = store_->startCom[ia], comB = store_->startCom[ib];
     const Real friction = c.friction;
     const Real restitution = c.restitution;
     const Real rolling = c.rollingResistance;
@@ -480,11 +415,11 @@ void ContactSolver::buildConstraint(const WorldImpl& w, const Contact& c, const 
 
 void ContactSolver::colourGreedy() {
     colourGreedily<kColourCount>(
-        pending_.size(), bodies_.size(), [&](std::size_t i) { return constraintEnds(pending_[i], bodies_.data()); },
+        pending_.size(), store_->state.size(), [&](std::size_t i) { return constraintEnds(pending_[i], store_->state.data()); },
         colourBits_, colourOf_, colourStart_);
     // Each body's deep overlaps, for pushLimit (serial here, beside the
     // first force evaluation, like the colouring).
-    overlapCount_.assign(bodies_.size(), 0);
+    overlapCount_.assign(store_->state.size(), 0);
     for (std::size_t i = 0; i < pending_.size(); ++i) {
         if (overlapping_[i] == 0) continue;
         ++overlapCount_[pending_[i].bodyA];
@@ -494,7 +429,7 @@ void ContactSolver::colourGreedy() {
 
 [[gnu::always_inline]] inline Softness ContactSolver::softnessOf(const PendingConstraint& pc) const {
     // Against static (and kinematic: infinite mass) bodies the stiffer softness.
-    const bool stiff = bodies_[pc.bodyA].invMass == 0 || bodies_[pc.bodyB].invMass == 0;
+    const bool stiff = store_->state[pc.bodyA].invMass == 0 || store_->state[pc.bodyB].invMass == 0;
     return stiff ? staticSoftness_ : contactSoftness_;
 }
 
@@ -508,7 +443,7 @@ void ContactSolver::colourGreedy() {
 // demands on any body sum to at most pushMax. Resting contacts do not count.
 [[gnu::always_inline]] inline Real ContactSolver::pushLimit(const PendingConstraint& pc) const {
     const auto countOf = [&](std::uint32_t body) {
-        return bodies_[body].invMass > 0 ? overlapCount_[body] : 0u;  // static and kinematic ends are never pushed
+        return store_->state[body].invMass > 0 ? overlapCount_[body] : 0u;  // static and kinematic ends are never pushed
     };
     const std::uint32_t count = std::max(countOf(pc.bodyA), countOf(pc.bodyB));
     return count > 1 ? pushMax_ / static_cast<Real>(count) : pushMax_;
@@ -570,67 +505,6 @@ void ContactSolver::forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn
                         });
 }
 
-void ContactSolver::gatherVelocities(const WorldImpl& w) {
-    forRanges(bodies_.size() - 1, kBodiesPerTask,
-              [&](std::size_t begin, std::size_t end) { gatherVelocities(w, begin, end); });
-}
-
-void ContactSolver::gatherVelocities(const WorldImpl& w, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin + 1; i <= end; ++i) {
-        const BodyMotion& m = w.motion[denseOf_[i]];
-        bodies_[i].v = m.v;
-        bodies_[i].w = m.w;
-    }
-}
-
-void ContactSolver::scatterVelocities(WorldImpl& w) const {
-    forRanges(bodies_.size() - 1, kBodiesPerTask,
-              [&](std::size_t begin, std::size_t end) { scatterVelocities(w, begin, end); });
-}
-
-void ContactSolver::scatterVelocities(WorldImpl& w, std::size_t begin, std::size_t end) const {
-    for (std::size_t i = begin + 1; i <= end; ++i) {
-        if (bodies_[i].invMass == 0) continue;  // kinematic: untouched
-        BodyMotion& m = w.motion[denseOf_[i]];
-        m.v = bodies_[i].v;
-        m.w = bodies_[i].w;
-    }
-}
-
-void ContactSolver::updateDeltas(const WorldImpl& w) {
-    forRanges(bodies_.size() - 1, kBodiesPerTask,
-              [&](std::size_t begin, std::size_t end) { updateDeltas(w, begin, end); });
-}
-
-void ContactSolver::updateDeltas(const WorldImpl& w, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin + 1; i <= end; ++i) {
-        const BodyMotion& m = w.motion[denseOf_[i]];
-        bodies_[i].dp = m.com - startCom_[i];
-        bodies_[i].dtheta = stepRotationVector(m.q * conjugate(startQ_[i]));
-    }
-}
-
-// kernel(firstBlock, blockCount) over the blocks of every colour, colour by
-// colour; a colour's blocks across the task system when there is one.
-template <class Kernel>
-void ContactSolver::forEachColour(Kernel&& kernel) {
-    if (tasks_ == nullptr || tasks_->workerCount() == 1) {
-        kernel(std::size_t{0}, blocks_->size());
-        return;
-    }
-    for (std::uint32_t c = 0; c < kColourCount; ++c) {
-        const std::uint32_t first = blockStart_[c], count = blockStart_[c + 1] - first;
-        if (count == 0) continue;
-        if (count < 2 * kBlocksPerTask) {
-            kernel(std::size_t{first}, std::size_t{count});
-            continue;
-        }
-        tasks_->parallelFor(count, kBlocksPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            kernel(std::size_t{first} + begin, std::size_t{end - begin});
-        });
-    }
-}
-
 // A stage's arg: the pass (bits 0-1) and whether it is the overflow/scalar part (bit 2).
 constexpr std::uint32_t kOverflowStage = 4;
 
@@ -660,28 +534,17 @@ void ContactSolver::runPassStage(std::uint32_t arg, std::uint32_t first, std::ui
         return;
     }
     if (pass == Pass::WarmStart) {
-        blocks_->warmStart(first, last - first, bodies_.data());
+        blocks_->warmStart(first, last - first, store_->state.data());
     } else {
-        blocks_->solve(first, last - first, bodies_.data(), pass == Pass::Solve, invH_);
-    }
-}
-
-void ContactSolver::warmStart() {
-    if (wide_) {
-        forEachColour([this](std::size_t first, std::size_t count) {
-            blocks_->warmStart(first, count, bodies_.data());
-        });
-        warmStartRange(0, constraints_.size());
-    } else {
-        warmStartRange(0, constraints_.size());
+        blocks_->solve(first, last - first, store_->state.data(), pass == Pass::Solve, invH_);
     }
 }
 
 void ContactSolver::warmStartRange(std::size_t begin, std::size_t end) {
     for (std::size_t ki = begin; ki < end; ++ki) {
         ContactConstraint& k = constraints_[ki];
-        SolverBody& a = bodies_[k.bodyA];
-        SolverBody& b = bodies_[k.bodyB];
+        SolverBody& a = store_->state[k.bodyA];
+        SolverBody& b = store_->state[k.bodyB];
         Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         Real total = 0;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
@@ -704,27 +567,12 @@ void ContactSolver::warmStartRange(std::size_t begin, std::size_t end) {
     }
 }
 
-void ContactSolver::solve(bool useBias) {
-    // Two instantiations: the relax pass has no bias branches at all.
-    // Wide mode: the blocks, then the overflow colour (all constraints_ hold).
-    if (wide_) {
-        forEachColour([this, useBias](std::size_t first, std::size_t count) {
-            blocks_->solve(first, count, bodies_.data(), useBias, invH_);
-        });
-    }
-    if (useBias) {
-        solvePass<true>(0, constraints_.size());
-    } else {
-        solvePass<false>(0, constraints_.size());
-    }
-}
-
 template <bool useBias>
 void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
     for (std::size_t ki = begin; ki < end; ++ki) {
         ContactConstraint& k = constraints_[ki];
-        SolverBody& a = bodies_[k.bodyA];
-        SolverBody& b = bodies_[k.bodyB];
+        SolverBody& a = store_->state[k.bodyA];
+        SolverBody& b = store_->state[k.bodyB];
         Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         const Real mA = a.invMass, mB = b.invMass;
         const Vec3 dp = b.dp - a.dp;
@@ -825,11 +673,11 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
 }
 
 void ContactSolver::applyRestitution() {
-    if (wide_) blocks_->restitution(bodies_.data(), restitutionThreshold_);
+    if (wide_) blocks_->restitution(store_->state.data(), restitutionThreshold_);
     for (ContactConstraint& k : constraints_) {
         if (k.restitution == 0) continue;
-        SolverBody& a = bodies_[k.bodyA];
-        SolverBody& b = bodies_[k.bodyB];
+        SolverBody& a = store_->state[k.bodyA];
+        SolverBody& b = store_->state[k.bodyB];
         Vec3 vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             ConstraintPoint& cp = k.points[i];
@@ -854,8 +702,7 @@ void ContactSolver::applyRestitution() {
     }
 }
 
-void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
-    (void)w;
+void ContactSolver::store(ContactManager& manager) {
     std::vector<Contact>& contacts = manager.contacts();
     // Every lane and constraint writes its own manifold: in parallel.
     if (wide_) {
@@ -876,7 +723,7 @@ void ContactSolver::store(WorldImpl& w, ContactManager& manager) {
                         }
                     }
                 }
-                wideBlocks.store(bi, 1, bodies_.data(), contacts.data());
+                wideBlocks.store(bi, 1, store_->state.data(), contacts.data());
             }
         });
     }
@@ -888,8 +735,8 @@ void ContactSolver::storeRange(std::vector<Contact>& contacts, std::size_t begin
     for (std::size_t ki = begin; ki < end; ++ki) {
         const ContactConstraint& k = constraints_[ki];
         CachedManifold& m = contacts[k.contact].manifolds[k.manifold];
-        const SolverBody& a = bodies_[k.bodyA];
-        const SolverBody& b = bodies_[k.bodyB];
+        const SolverBody& a = store_->state[k.bodyA];
+        const SolverBody& b = store_->state[k.bodyB];
         const Vec3 dp = b.dp - a.dp;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             const ConstraintPoint& cp = k.points[i];

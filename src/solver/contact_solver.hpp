@@ -3,9 +3,6 @@
 // docs/solver.md has the long form and the formulas ("The soft step").
 //
 // Per step, prepare() builds
-//   - a compact array of solver bodies: every awake dynamic or kinematic body,
-//     plus entry 0, an all-zero "static" body that stands for every static body
-//     (writes to it add zero, so constraints need no branch for static ends);
 //   - one constraint per manifold, with anchors relative to the centres of
 //     mass at the step's start, effective masses, softness and mixed
 //     friction/restitution/rolling resistance;
@@ -13,23 +10,28 @@
 //     Colours are solved in order, deterministically. In wide mode (the
 //     default) each colour's constraints are built 4 or 8 at a time (SSE2 or
 //     AVX2, chosen at run time: setSimdPath) into SoA blocks and solved with
-//     SIMD (contact_wide.hpp), optionally spread over a TaskSystem; only the
-//     overflow colour is kept as ContactConstraint. The scalar mode
-//     (SimdPath::Scalar) keeps every constraint as a ContactConstraint and is
-//     the reference both wide modes equal bit for bit.
-// Per sub-step the step calls: gather velocities, warmStart, solve(bias),
-// scatter, [integrate positions], updateDeltas, relax (solve without bias),
-// scatter. After the sub-steps: applyRestitution, store.
+//     SIMD (contact_wide.hpp); only the overflow colour is kept as
+//     ContactConstraint. The scalar mode (SimdPath::Scalar) keeps every
+//     constraint as a ContactConstraint and is the reference both wide modes
+//     equal bit for bit.
+// The bodies are not the solver's: it works on the body store's awake set
+// (src/dynamics/body_store.hpp; solver body i is awake-list entry i - 1,
+// entry 0 the static body), the same array the integrators and the joint
+// solver work on, so nothing is copied between them. Per sub-step the step's
+// stage list (src/world/step.cpp) runs the warm start, the biased solve
+// iterations and, after the position integration, the relax pass, each as
+// stages from addPassStages (one per colour). After the sub-steps:
+// applyRestitution, store.
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "fulcrum/math.hpp"
+#include "dynamics/body_store.hpp"
 #include "solver/contact_wide.hpp"
 #include "solver/softness.hpp"
 
 namespace fulcrum {
-struct WorldImpl;
 class TaskSystem;
 }
 
@@ -38,16 +40,6 @@ namespace fulcrum::detail {
 class ContactManager;
 struct Contact;
 class StagedParallel;
-
-struct SolverBody {
-    Vec3 v;                     // linear velocity of the centre of mass
-    Real invMass = 0;
-    Vec3 w;                     // angular velocity, world
-    Vec3 dp;                    // centre-of-mass displacement since the step's start
-    Vec3 dtheta;                // rotation since the step's start as a rotation vector (R = exp(dtheta) R0)
-    Mat3 invI = Mat3::zero();   // world inverse inertia at the step's start
-    Real padding[2] = {0, 0};   // 96 bytes: the wide kernels read whole rows of 4 floats (contact_wide.cpp)
-};
 
 // The Jacobians are fixed for the step, so everything that depends only on
 // them is computed once in prepare(): the angular parts r x n and the velocity
@@ -84,6 +76,7 @@ struct ContactConstraint {
     Vec3 rollingImpulse;
 };
 
+// The settings the contact solver reads (WorldDef's contact* and restitutionThreshold).
 struct SolverSettings {
     Real contactHertz = 30, dampingRatio = 10, pushMaxVelocity = 3, restitutionThreshold = 1;
 };
@@ -96,32 +89,20 @@ public:
     ContactSolver& operator=(ContactSolver&&) noexcept;
     // Grows the per-step buffers for `bodyCount` bodies (at body creation).
     void reserve(std::size_t bodyCount);
-    // Builds solver bodies and constraints for the contacts with an awake body.
-    void prepare(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
-    // prepare in three parts, the same bits: the solver bodies and the list
-    // of constraints; the greedy colouring (serial: the step runs it beside
-    // the first force evaluation, step.cpp); the colour slots and the
-    // constraint build. colourGreedy reads only the constraint list and the
-    // solver bodies' inverse masses, and writes only the colouring's arrays
-    // and the deep-overlap counts of pushLimit.
-    void prepareConstraintList(WorldImpl& w, ContactManager& contacts, Real dt, Real h);
+    // Builds the constraints for the contacts with an awake body, on the
+    // store's awake set (filled by BodyStore::beginStep just before), in
+    // three parts: the list of constraints; the greedy colouring (serial: the
+    // step runs it beside the first force evaluation, step.cpp); the colour
+    // slots and the constraint build.
+    // colourGreedy reads only the constraint list and the solver bodies'
+    // inverse masses, and writes only the colouring's arrays and the
+    // deep-overlap counts of pushLimit.
+    void prepareConstraintList(BodyStore& w, ContactManager& contacts, const SolverSettings& s, Real h);
     void colourGreedy();
-    void finishPrepare(const WorldImpl& w, ContactManager& contacts);
-    void gatherVelocities(const WorldImpl& w);
-    void scatterVelocities(WorldImpl& w) const;
-    // dp and dR of every solver body from its pose now vs the step's start.
-    void updateDeltas(const WorldImpl& w);
-    // The same three for the solver bodies of awake-list entries [begin, end)
-    // only (solver body k + 1 is w.awakeBodies[k]): the step fuses them with
-    // its own per-body passes (step.cpp). Each writes only those bodies.
-    void gatherVelocities(const WorldImpl& w, std::size_t begin, std::size_t end);
-    void scatterVelocities(WorldImpl& w, std::size_t begin, std::size_t end) const;
-    void updateDeltas(const WorldImpl& w, std::size_t begin, std::size_t end);
-    void warmStart();
-    void solve(bool useBias);
+    void finishPrepare(ContactManager& contacts);
     void applyRestitution();
     // Impulses (warm start) and end-of-step separations back into the contacts.
-    void store(WorldImpl& w, ContactManager& contacts);
+    void store(ContactManager& contacts);
 
     // Scalar, 4-lane (SSE2) or 8-lane (AVX2) solve; all give the same results
     // (contact_wide.hpp says why). The scalar path is the reference; the
@@ -133,31 +114,26 @@ public:
     // Wide: the machine's best wide path (as the default); else scalar.
     void setWide(bool wide) { setSimdPath(wide ? bestSimdPath() : SimdPath::Scalar); }
     bool wide() const { return simd_ != SimdPath::Scalar; }
-    // Runs the blocks of each colour (wide mode), the constraint build, the
-    // store and the per-body gather/scatter/delta loops across `tasks`
-    // (nullptr: on the calling thread). Blocks of a colour share no dynamic
-    // body and every other loop writes only its own indices, so the results
-    // are the same bit for bit for any thread count.
+    // Runs the prepare's loops, the constraint build and the store across
+    // `tasks` (nullptr: on the calling thread); every loop writes only its own
+    // indices, so the results are the same bit for bit for any thread count.
+    // (The passes are stages of the step's list: addPassStages.)
     void setTaskSystem(TaskSystem* tasks) { tasks_ = tasks; }
-    // The most blocks any colour has this step (a colour is split across
-    // threads from 8 blocks on: kBlocksPerTask in contact_solver.cpp).
+    // The most blocks any colour has this step (a colour's stage is claimed
+    // in units of kBlocksPerTask blocks: contact_solver.cpp).
     std::size_t largestColourBlocks() const;
 
-    // ---- The staged sub-steps (step.cpp runs a step's solver passes and
-    // per-body passes as the stages of one parallelFor: threads/staged_parallel.hpp).
+    // ---- The sub-steps' stage list (step.cpp, threads/staged_parallel.hpp).
     // Appends one pass (warm start, solve with bias, or relax) as stages:
     // one per non-empty colour of wide blocks (units of kBlocksPerTask blocks,
     // independent: a colour's blocks share no dynamic body), then the
-    // overflow colour (or, in scalar mode, every constraint) as one unit. The
-    // same operations in the same order as warmStart() / solve(), so the same bits.
+    // overflow colour (or, in scalar mode, every constraint) as one unit.
+    // Colour after colour, so the bits do not depend on how the units are spread.
     enum class Pass : std::uint32_t { WarmStart = 0, Solve = 1, Relax = 2 };
     void addPassStages(StagedParallel& stages, std::uint32_t kind, Pass pass) const;
     static std::uint32_t maxPassStages();  // the most stages addPassStages appends
     // Runs items [first, last) of a stage added above (its arg).
     void runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last);
-    // The step's stage list, kept here between steps so that its storage is
-    // reused (no allocation per step).
-    StagedParallel& subStepStages() { return *subStepStages_; }
 
     std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
@@ -166,12 +142,6 @@ public:
         std::uint32_t contact, manifold, bodyA, bodyB;
     };
     const std::vector<ConstraintPair>& pairs() const { return pending_; }
-    const std::vector<std::uint32_t>& denseOfSolverBody() const { return denseOf_; }
-    const std::vector<SolverBody>& bodies() const { return bodies_; }
-    std::vector<SolverBody>& mutableBodies() { return bodies_; }  // the joint solver works on the same bodies
-    std::uint32_t solverIndexOf(std::uint32_t dense) const { return dense < solverOfDense_.size() ? solverOfDense_[dense] : 0; }
-    const Vec3& startCom(std::uint32_t i) const { return startCom_[i]; }
-    const Quat& startOrientation(std::uint32_t i) const { return startQ_[i]; }
     // The colouring, read by the FULCRUM_VALIDATE checks (src/world/invariants.cpp):
     // pairs()[i] has colour constraintColours()[i]; colour c holds the
     // colour-ordered slots [colourStart(c), colourStart(c + 1)), slot s being
@@ -186,16 +156,14 @@ private:
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);
-    template <class Kernel>
-    void forEachColour(Kernel&& kernel);
     // fn(begin, end) over [0, count), across the task system when there is
     // one and count holds at least two ranges of minRange; each index is
     // handled by exactly one call, so per-index writes stay deterministic.
     template <class Fn>
     void forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn) const;
-    void packWide(const WorldImpl& w, const std::vector<Contact>& contacts);
+    void packWide(const std::vector<Contact>& contacts);
     void storeRange(std::vector<Contact>& contacts, std::size_t begin, std::size_t end) const;
-    void buildConstraint(const WorldImpl& w, const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
+    void buildConstraint(const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
     // The push-out speed limit of one constraint: contactPushMaxVelocity
     // shared among the deep overlaps of its busier dynamic body, so that the
     // pushes asked of any one body add up to at most contactPushMaxVelocity
@@ -205,11 +173,7 @@ private:
     // build both take it from here).
     Softness softnessOf(const PendingConstraint& pc) const;
 
-    std::vector<SolverBody> bodies_;
-    std::vector<Vec3> startCom_;
-    std::vector<Quat> startQ_;
-    std::vector<std::uint32_t> denseOf_;         // solver index -> dense (entry 0 unused)
-    std::vector<std::uint32_t> solverOfDense_;   // dense -> solver index (0: static or asleep)
+    BodyStore* store_ = nullptr;                 // this step's (prepare): its awake set holds the bodies
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
     std::vector<std::uint8_t> overlapping_;      // per pending constraint: its manifold is a deep overlap (pushLimit)
@@ -233,7 +197,6 @@ private:
     SimdPath simd_ = SimdPath::Scalar;           // set by the constructor
     bool wide_ = false;                          // simd_ != Scalar
     TaskSystem* tasks_ = nullptr;
-    std::unique_ptr<StagedParallel> subStepStages_;  // behind a pointer: only step.cpp needs its header
     Softness contactSoftness_, staticSoftness_;
     Real invH_ = 0, pushMax_ = 3, restitutionThreshold_ = 1;
 };

@@ -7,14 +7,19 @@
 #include <limits>
 #include <numbers>
 
-#include "contacts/contact_manager.hpp"
 #include "solver/contact_solver.hpp"
+#include "fulcrum/task_system.hpp"
 #include "solver/graph_colouring.hpp"
 #include "solver/softness.hpp"
 #include "solver/joints/joint_types.hpp"
-#include "world/world_impl.hpp"
 
 namespace fulcrum::detail {
+
+namespace {
+// A world end for the projection's check in lanes: centre 0 and the identity
+// rotation (com x y z, q w x y z).
+alignas(16) constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
+}  // namespace
 
 void JointSolver::reserve(std::size_t jointCount) {
     if (constraints_.capacity() < jointCount) constraints_.reserve(2 * jointCount);
@@ -50,21 +55,21 @@ SimdPath JointSolver::setSimdPath(SimdPath path) {
     return simd_;
 }
 
-void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
+void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const JointSettings& settings, TaskSystem& tasks,
+                          Real h) {
     events_.clear();
     framesStale_ = true;
     refreshedSincePositions_ = false;
     // After a snapshot load the per-body joint lists start out of sync (O(1) check).
-    if (!graph_.inSync(w)) graph_.rebuild(w);
-    bodies_ = solver.mutableBodies().data();
-    tasks_ = &w.taskSystem();
-    allBodies_ = &solver.mutableBodies();
+    if (!graph_.inSync(joints)) graph_.rebuild(joints);
+    bodies_ = w.state.data();
+    tasks_ = &tasks;
+    allBodies_ = &w.state;
     ctx_.h = h;
     ctx_.invH = 1 / h;
-    const WorldDef& settings = w.settings;
-    const Real hertz = std::min(settings.jointHertz, JointTuning::kMaxHertzPerSubstepRate / h);
-    ctx_.soft = makeSoftness(hertz, settings.jointDampingRatio, h);
-    projectionSlop_ = settings.jointProjectionSlop;
+    const Real hertz = std::min(settings.hertz, JointTuning::kMaxHertzPerSubstepRate / h);
+    ctx_.soft = makeSoftness(hertz, settings.dampingRatio, h);
+    projectionSlop_ = settings.projectionSlop;
     ctx_.limitSoft = ctx_.soft;
 
     // Which joints take part, and their bodies, first (~20 bytes each): the
@@ -73,13 +78,13 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     // copied into colour order, the records were written twice and read once
     // more per step (perf, grid: colour() 6 % of the step, with the joint rows in lanes).
     active_.clear();
-    for (std::uint32_t slot = 0; slot < w.joints.size(); ++slot) {
-        JointData& data = w.joints[slot];
+    for (std::uint32_t slot = 0; slot < joints.size(); ++slot) {
+        JointData& data = joints[slot];
         if (!data.alive || !data.enabled) continue;
         const JointDef& def = data.def;
         const std::uint32_t dA = w.denseOrNone(def.bodyA), dB = w.denseOrNone(def.bodyB);
-        const std::uint32_t ia = dA == kNoIndex ? 0 : solver.solverIndexOf(dA);
-        const std::uint32_t ib = solver.solverIndexOf(dB);
+        const std::uint32_t ia = dA == kNoIndex ? 0 : w.solverIndexOf(dA);
+        const std::uint32_t ib = w.solverIndexOf(dB);
         // A sleeping end (not static) sits out this step; the sleep manager wakes it.
         const auto asleep = [&](std::uint32_t d, std::uint32_t i) {
             return d != kNoIndex && i == 0 && w.params[d].type != BodyType::Static;
@@ -97,14 +102,14 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
     // sleeping don't change, the same as the last step's, so kept (chain
     // benchmark, callgrind, 120 steps: tree build 8.1 M -> 0.2 M, colouring
     // 1.6 M -> 1.1 M; docs/joints.md).
-    const bool same = sameStructureAsLastStep(w, solver.mutableBodies(), settings.jointDirectSolve);
-    colour(solver.mutableBodies(), same);  // colourOf_, colourStart_, placeOf_
+    const bool same = sameStructureAsLastStep(joints, w.state, settings.directSolve);
+    colour(w.state, same);  // colourOf_, colourStart_, placeOf_
     constraints_.resize(active_.size());
     projection_.clear();
     for (std::size_t i = 0; i < active_.size(); ++i) {
         const ActiveJoint& e = active_[i];
         const std::uint32_t slot = e.slot, dA = e.denseA, dB = e.denseB;
-        const JointData& data = w.joints[slot];
+        const JointData& data = joints[slot];
         const JointDef& def = data.def;
         JointConstraint& j = constraints_[placeOf_[i]];
         j = JointConstraint{};
@@ -140,22 +145,27 @@ void JointSolver::prepare(WorldImpl& w, ContactSolver& solver, Real h) {
         if (!j.spring) j.impulse.spring = 0;
         // The projection's packed copy, in creation order (sliders have none).
         if (projected) {
-            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type});
+            // An awake end's pose is in the awake set, a static end's in its record.
+            const auto pose = [&](std::uint32_t body, std::uint32_t dense) {
+                return dense == kNoIndex ? kWorldEnd : body != 0 ? &w.pose[body].com.x : &w.motion[dense].com.x;
+            };
+            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type,
+                                   pose(j.bodyA, dA), pose(j.bodyB, dB)});
         }
     }
-    if (!settings.jointDirectSolve) {
+    if (!settings.directSolve) {
         for (JointConstraint& j : constraints_) j.direct = false;
-        if (!same) trees_.build(empty_, solver.mutableBodies());
+        if (!same) trees_.build(empty_, w.state);
     } else if (same) {
         trees_.reuse(constraints_);
     } else {
-        trees_.build(constraints_, solver.mutableBodies());
+        trees_.build(constraints_, w.state);
     }
     // The joints with rows for the Gauss-Seidel passes: all but a tree's
     // frictionless ball joints, whose only rows, the point block, the tree
     // solver has (a chain's joints skip the call per pass).
     rowJoints_.clear();
-    bodyHasRows_.assign(solver.mutableBodies().size(), 0);
+    bodyHasRows_.assign(w.state.size(), 0);
     for (std::uint32_t k = 0; k < constraints_.size(); ++k) {
         const JointConstraint& j = constraints_[k];
         if (!withJointType(j.type, [&](auto type) { return decltype(type)::hasRows(j); })) continue;
@@ -242,10 +252,11 @@ void JointSolver::buildWide() {
     scalarRowStart_[colours] = static_cast<std::uint32_t>(scalarRows_.size());
 }
 
-bool JointSolver::sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve) {
+bool JointSolver::sameStructureAsLastStep(const std::vector<JointData>& joints, const std::vector<SolverBody>& bodies,
+                                          bool directSolve) {
     nextStructure_.clear();
     for (const ActiveJoint& j : active_) {
-        std::uint32_t flags = static_cast<std::uint32_t>(w.joints[j.slot].def.type) << 4;
+        std::uint32_t flags = static_cast<std::uint32_t>(joints[j.slot].def.type) << 4;
         const auto endFlags = [&](std::uint32_t i, std::uint32_t shift) {
             const SolverBody& b = bodies[i];
             if (!(b.invMass > 0)) return;
@@ -302,7 +313,7 @@ void JointSolver::refreshRotations() {
     // Each body's exp(dtheta), recomputed only where its deltas changed since
     // the last refresh (compared bit for bit, so a kept rotation, and a kept
     // joint frame, has exactly the bits a recomputed one would). The deltas
-    // change only with the positions (ContactSolver::updateDeltas), so this
+    // change only with the positions (the step's deltas: BodyStore::updateDeltas), so this
     // runs once per sub-step's worth of change, not once per pass. Each
     // joint's frame is then brought up to date where it is used (currentFrame:
     // recomputed if one of its bodies changed since), inside the passes'
@@ -459,7 +470,7 @@ void JointSolver::solveTrees() {
 namespace {
 
 // Moves a body by the position-level impulse P at anchor r (sign -1 for body A).
-void shiftBody(BodyMotion& m, const SolverBody& s, const Vec3& r, const Vec3& P) {
+void shiftBody(BodyPose& m, const SolverBody& s, const Vec3& r, const Vec3& P) {
     m.com += P * s.invMass;
     const Vec3 dtheta = s.invI * cross(r, P);
     m.q = normalize(m.q + Quat(0, dtheta.x, dtheta.y, dtheta.z) * m.q * Real(0.5));
@@ -467,7 +478,7 @@ void shiftBody(BodyMotion& m, const SolverBody& s, const Vec3& r, const Vec3& P)
 
 }  // namespace
 
-void JointSolver::projectPositions(WorldImpl& w) const {
+void JointSolver::projectPositions(BodyStore& w) const {
     const Real slop = projectionSlop_;
     if (!(slop < std::numeric_limits<Real>::infinity())) return;
     // In creation order, not colour order: chains are usually made from their
@@ -494,7 +505,7 @@ void JointSolver::projectPositions(WorldImpl& w) const {
     }
 }
 
-bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
+bool JointSolver::anyBeyondSlop(const BodyStore& w, Real slop) const {
 #if defined(__GNUC__) && defined(__SSE2__)
     const std::size_t n = projection_.size();
     for (std::size_t first = 0; first < n; first += 4) {
@@ -517,7 +528,7 @@ bool JointSolver::anyBeyondSlop(const WorldImpl& w, Real slop) const {
 }
 
 #if defined(__GNUC__) && defined(__SSE2__)
-void JointSolver::squaredSeparations4(const WorldImpl& w, std::size_t first, std::size_t count, float* e2) const {
+void JointSolver::squaredSeparations4(const BodyStore& w, std::size_t first, std::size_t count, float* e2) const {
     // Four joints per round, structure of arrays: per lane exactly the
     // scalar steps of projectionPass (rotate(q, v) = (v + t q.w) + u x t with
     // t = 2 (u x v); d = (comB + rB) - (comA + rA); |d| = sqrt(x x + y y + z z)).
@@ -528,16 +539,15 @@ void JointSolver::squaredSeparations4(const WorldImpl& w, std::size_t first, std
     // against the pass's ~166, and no pass followed it there.
     using Float4 = float __attribute__((vector_size(16)));
     // The gather: each end's centre and rotation are 7 consecutive floats of
-    // BodyMotion (com x y z, q w x y z), its anchor 3 of the packed record; four
+    // BodyPose or BodyMotion (com x y z, q w x y z), its anchor 3 of the packed record; four
     // joints' ends are loaded 4 floats at a time and transposed into lanes
     // (chain benchmark, callgrind 120 steps: 7.5 M -> see docs/joints.md,
     // fifth round; it was one scalar store per float into a staging array).
     // The lanes hold the same values as before, so the same decisions.
     static_assert(offsetof(BodyMotion, q) == offsetof(BodyMotion, com) + 3 * sizeof(float));
+    static_assert(offsetof(BodyPose, q) == offsetof(BodyPose, com) + 3 * sizeof(float));
     static_assert(offsetof(ProjectionJoint, localAnchorB) == offsetof(ProjectionJoint, localAnchorA) + 4 * sizeof(float));
     static_assert(sizeof(Quat) == 4 * sizeof(float) && sizeof(Vec3) == 3 * sizeof(float));
-    // A world end: centre 0 and the identity rotation (com x y z, q w x y z).
-    alignas(16) static constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
     const auto load = [](const float* p) {
         Float4 v;
         std::memcpy(&v, p, sizeof v);
@@ -556,11 +566,11 @@ void JointSolver::squaredSeparations4(const WorldImpl& w, std::size_t first, std
     const float* endA[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
     const float* endB[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};
     const float* anchors[4] = {kWorldEnd, kWorldEnd, kWorldEnd, kWorldEnd};  // localAnchorA, denseA, B (7 floats)
-    const auto motion = [&](std::uint32_t dense) { return dense == kNoIndex ? kWorldEnd : &w.motion[dense].com.x; };
+    (void)w;
     for (std::size_t k = 0; k < count; ++k) {
         const ProjectionJoint& j = projection_[first + k];
-        endA[k] = motion(j.denseA);
-        endB[k] = motion(j.denseB);
+        endA[k] = j.poseA;
+        endB[k] = j.poseB;
         anchors[k] = &j.localAnchorA.x;
     }
     const auto end = [&](const float* const* ends, int anchorOffset, Float4& x, Float4& y, Float4& z) {
@@ -584,7 +594,7 @@ void JointSolver::squaredSeparations4(const WorldImpl& w, std::size_t first, std
 }
 #endif
 
-bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
+bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
     bool moved = false;
     const std::size_t joints = projection_.size();
     for (std::size_t i = 0; i < joints; ++i) {  // sliders left out
@@ -610,10 +620,17 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
         }
 #endif
         const ProjectionJoint& j = projection_[i];
-        const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(w.motion[j.denseA].q, j.localAnchorA);
-        const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : w.motion[j.denseA].com + rA;
-        const Vec3 rB = rotate(w.motion[j.denseB].q, j.localAnchorB);
-        const Vec3 d = w.motion[j.denseB].com + rB - pA;
+        // An awake end's pose is in the awake set, a static end's in its record.
+        const auto com = [&](std::uint32_t body, std::uint32_t dense) -> const Vec3& {
+            return body != 0 ? w.pose[body].com : w.motion[dense].com;
+        };
+        const auto orientation = [&](std::uint32_t body, std::uint32_t dense) -> const Quat& {
+            return body != 0 ? w.pose[body].q : w.motion[dense].q;
+        };
+        const Vec3 rA = j.denseA == kNoIndex ? Vec3{} : rotate(orientation(j.bodyA, j.denseA), j.localAnchorA);
+        const Vec3 pA = j.denseA == kNoIndex ? j.localAnchorA : com(j.bodyA, j.denseA) + rA;
+        const Vec3 rB = rotate(orientation(j.bodyB, j.denseB), j.localAnchorB);
+        const Vec3 d = com(j.bodyB, j.denseB) + rB - pA;
         // Point joints within the slop (nearly all, every sub-step) stop here,
         // before the masses are gathered (chain benchmark, callgrind 120 steps:
         // projection 15.8 M -> see docs/joints.md).
@@ -622,10 +639,10 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
         // Masses of the current orientations (the step's start is far off for a link spinning at 40 rad/s).
         SolverBody sa = bodies_[j.bodyA];
         SolverBody sb = bodies_[j.bodyB];
-        if (sa.invMass > 0) sa.invI = w.motion[j.denseA].invInertiaWorld;
-        if (sb.invMass > 0) sb.invI = w.motion[j.denseB].invInertiaWorld;
-        BodyMotion* ma = j.denseA == kNoIndex || sa.invMass == 0 ? nullptr : &w.motion[j.denseA];
-        BodyMotion* mb = sb.invMass == 0 ? nullptr : &w.motion[j.denseB];
+        if (sa.invMass > 0) sa.invI = w.pose[j.bodyA].invInertiaWorld;
+        if (sb.invMass > 0) sb.invI = w.pose[j.bodyB].invInertiaWorld;
+        BodyPose* ma = j.denseA == kNoIndex || sa.invMass == 0 ? nullptr : &w.pose[j.bodyA];
+        BodyPose* mb = sb.invMass == 0 ? nullptr : &w.pose[j.bodyB];
         Vec3 P;
         if (j.type == JointType::Distance) {
             const JointConstraint& limits = constraints_[j.constraint];
@@ -649,13 +666,13 @@ bool JointSolver::projectionPass(WorldImpl& w, Real slop) const {
     return moved;
 }
 
-void JointSolver::store(WorldImpl& w) {
+void JointSolver::store(BodyStore& w, std::vector<JointData>& joints) {
     // The reactions read each joint's frame: current after the last relax
     // pass (nothing is recomputed unless the deltas changed since).
     if (framesStale_ || !refreshedSincePositions_) refreshRotations();
     if (wideActive()) wide_->store(constraints_.data());  // the lanes' impulses back into their joints
     for (JointConstraint& j : constraints_) {
-        JointData& data = w.joints[j.slot];
+        JointData& data = joints[j.slot];
         data.impulses = j.impulse;
         // A ball joint's reaction reads no frame (jointReaction): not
         // recomputed for the joints the wide path kept no AoS frame for.
@@ -664,14 +681,13 @@ void JointSolver::store(WorldImpl& w) {
         const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
         if (force <= data.def.breakForce && torque <= data.def.breakTorque) continue;
         // Broken: disabled from the next step on, reported once. Its bodies may
-        // collide again, so their pairs are re-examined.
+        // collide again: the world re-examines their pairs (breakEvents()).
         data.enabled = false;
         data.broken = true;
         data.impulses = {};
         events_.push_back({{j.slot, data.generation}, data.def.bodyA, data.def.bodyB, data.reactionForce, data.reactionTorque});
         if (!data.def.bodyA.isNull()) w.wakeBody(w.bodySlots[data.def.bodyA.index].dense);
         w.wakeBody(w.bodySlots[data.def.bodyB.index].dense);
-        if (!data.def.bodyA.isNull() && !data.def.collideConnected) w.contactManager.resetPairs(w, data.def.bodyA.index);
     }
 }
 

@@ -2,14 +2,16 @@
 // The joint solver: joints as constraints in the contact solver's soft step
 // (docs/joints.md has the long form).
 //
-// It shares the contact solver's solver-body array (awake dynamic and
-// kinematic bodies, entry 0 the static stand-in), so joints and contacts act
-// on the same velocities inside one sub-step: a ragdoll lying on the floor is
-// one problem. Per step the step calls prepare() after the contact solver's
-// prepare; per sub-step warmStart() and solve(true) before the contacts', and
-// solve(false) (relax) before theirs; after the sub-steps store(), which keeps
-// the impulses for warm starting, computes reaction forces and breaks joints
-// over their thresholds.
+// It works on the body store's awake set (src/dynamics/body_store.hpp:
+// awake dynamic and kinematic bodies, entry 0 the static stand-in), as the
+// contact solver and the integrators do, so joints and contacts act on the
+// same velocities inside one sub-step: a ragdoll lying on the floor is one
+// problem. Per step the step calls prepare() after the contact solver's
+// prepare; per sub-step warmStart() and solve(true) before the contacts',
+// projectPositions() after the position integration, and solve(false)
+// (relax) before theirs; after the sub-steps store(), which keeps the
+// impulses for warm starting, computes reaction forces and breaks joints
+// over their thresholds (the world re-examines the broken joints' pairs).
 //
 // Order: joints before contacts in every pass (Box2D v3's order). Joints are
 // graph-coloured on their own (greedy, creation order; contacts have their
@@ -27,18 +29,20 @@
 #include <vector>
 
 #include "fulcrum/world.hpp"
+#include "dynamics/body_store.hpp"
+#include "solver/joint_data.hpp"
 #include "solver/joints/joint_common.hpp"
 #include "solver/joints/joint_graph.hpp"
 #include "solver/joints/joint_wide.hpp"
 #include "solver/joints/tree_solver.hpp"
 
-namespace fulcrum {
-struct WorldImpl;
-}
-
 namespace fulcrum::detail {
 
-class ContactSolver;
+// The settings the joint solver reads (WorldDef's joint*).
+struct JointSettings {
+    Real hertz = 60, dampingRatio = 2, projectionSlop = Real(0.005);
+    bool directSolve = true;
+};
 
 // Joint stiffness: soft at WorldDef::jointHertz (60) with damping ratio
 // jointDampingRatio (2), capped at a quarter of the sub-step rate (solver
@@ -74,14 +78,17 @@ public:
     // Grows the per-step buffers for `jointCount` joints (at joint creation).
     void reserve(std::size_t jointCount);
     // Builds the constraints of the enabled joints whose bodies are awake (or static).
-    void prepare(WorldImpl& w, ContactSolver& bodies, Real h);
+    // On the store's awake set (filled by BodyStore::beginStep just before).
+    void prepare(BodyStore& w, std::vector<JointData>& joints, const JointSettings& settings, TaskSystem& tasks, Real h);
     void warmStart();  // also computes the bodies' rotations for the biased pass
     void solve(bool useBias);
     // After the sub-step's position integration: moves the joined bodies so the
-    // anchors meet again (one nonlinear Gauss-Seidel pass, no velocity change).
-    void projectPositions(WorldImpl& w) const;
-    // Impulses back into the joints, reaction forces, breaking (events).
-    void store(WorldImpl& w);
+    // anchors meet again (one nonlinear Gauss-Seidel pass, no velocity change),
+    // in the awake set. The step computes the pose changes (dp, dtheta) after it.
+    void projectPositions(BodyStore& w) const;
+    // Impulses back into the joints, reaction forces, breaking (events; the
+    // broken joints' bodies are woken through the store's wake queue).
+    void store(BodyStore& w, std::vector<JointData>& joints);
 
     std::size_t constraintCount() const { return constraints_.size(); }
     // Graph colouring: the joints of colour k, [colourStart(k), colourStart(k + 1))
@@ -104,17 +111,17 @@ public:
 private:
     static constexpr std::uint32_t kColourCount = 24;
     void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
-    bool sameStructureAsLastStep(const WorldImpl& w, const std::vector<SolverBody>& bodies, bool directSolve);
+    bool sameStructureAsLastStep(const std::vector<JointData>& joints, const std::vector<SolverBody>& bodies, bool directSolve);
     void refreshRotations();
-    bool projectionPass(WorldImpl& w, Real slop) const;  // true if it moved a body
+    bool projectionPass(BodyStore& w, Real slop) const;  // true if it moved a body
     // Whether a projection pass could move anything: every point joint's
     // anchor separation, four joints at a time in SIMD lanes (false: all
     // within the slop, the pass would move nothing).
-    bool anyBeyondSlop(const WorldImpl& w, Real slop) const;
+    bool anyBeyondSlop(const BodyStore& w, Real slop) const;
     // |pB - pA|^2 of the point joints projection_[first, first + count)
     // (count <= 4) into e2[0 .. count), four lanes at once with the pass's
     // float steps (x86-64 builds; elsewhere the check is not made).
-    void squaredSeparations4(const WorldImpl& w, std::size_t first, std::size_t count, float* e2) const;
+    void squaredSeparations4(const BodyStore& w, std::size_t first, std::size_t count, float* e2) const;
     // The joints of each colour across the task system (docs/threading.md,
     // "Joints"): kernel(constraint, a, b) for the constraints
     // indices[first[c] .. first[c + 1]) of every colour c in order (indices
@@ -167,6 +174,11 @@ private:
         std::uint32_t bodyA = 0, bodyB = 0;  // solver bodies
         std::uint32_t constraint = 0;        // in constraints_ (a distance joint's limits)
         JointType type = JointType::Ball;
+        // Each end's com x y z, q w x y z (7 floats) for the check in lanes:
+        // an awake end's pose in the awake set, a static end's record, or a
+        // world end's constants (set in prepare, valid for the step).
+        const float* poseA = nullptr;
+        const float* poseB = nullptr;
     };
     std::vector<ProjectionJoint> projection_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order

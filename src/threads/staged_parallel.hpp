@@ -30,12 +30,20 @@
 // independent (blocks of one graph colour, per-body work), so results do not
 // depend on which participant ran a unit.
 //
+// Caller stages (addOnCaller): a stage that runs on the calling thread
+// between the parallel segments, for work that spreads itself over the task
+// system (the joint solver's passes: colours and trees each a parallelFor).
+// The list is then run as segments: the stages up to a caller stage in one
+// parallelFor, the caller stage, the next segment. With one worker every
+// stage runs in order on the calling thread, caller stages included.
+//
 // Participant p is the `begin` of the range that parallelFor hands it
 // (parallelFor over W = workerCount() indices, minRange 1); the worker index
 // is not used, so any scheduler that keeps the contract works.
 //
 // Allocation: the stage list and the per-stage counters only grow (to the
 // largest stage count seen), so steady-state steps allocate nothing.
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -50,10 +58,10 @@
 
 namespace fulcrum::detail {
 
-// Whether World::step runs its sub-steps as stages (step.cpp; default on,
-// FULCRUM_STAGED=0 in the environment turns it off): the loop of parallelFor
-// calls gives the same bits, so this exists for side-by-side measurements and
-// for the tests that check both paths agree.
+// Whether World::step runs its stage list in segments of one parallelFor each
+// (default on; FULCRUM_STAGED=0 in the environment turns it off) or one
+// parallelFor per stage: the same bits, so this exists for side-by-side
+// measurements and for the tests that check both agree.
 bool stagedSubStepsEnabled();
 void setStagedSubStepsEnabled(bool enabled);
 
@@ -63,6 +71,7 @@ struct Stage {
     std::uint32_t begin = 0;  // items [begin, begin + count)
     std::uint32_t count = 0;
     std::uint32_t unit = 1;   // items per claim
+    bool onCaller = false;    // a caller stage (see the top): one exec call on the calling thread
 };
 
 class StagedParallel {
@@ -73,24 +82,54 @@ public:
         if (count == 0) return;
         stages_.push_back(Stage{kind, arg, begin, count, unit == 0 ? 1u : unit});
     }
+    // Appends a caller stage: exec(stage, 0, 1) on the calling thread.
+    void addOnCaller(std::uint32_t kind, std::uint32_t arg) { stages_.push_back(Stage{kind, arg, 0, 1, 1, true}); }
     std::size_t size() const { return stages_.size(); }
     const std::vector<Stage>& stages() const { return stages_; }
 
     // Runs every stage, in order, across `tasks`; exec(stage, first, last)
     // processes items [first, last) of `stage` and must be noexcept. With one
     // worker each stage is one exec call over all its items (no atomics).
+    // `segments` false: one parallelFor per stage instead of per segment.
     template <class Exec>
-    void run(TaskSystem& tasks, Exec&& exec) {
+    void run(TaskSystem& tasks, Exec&& exec, bool segments = true) {
         if (stages_.empty()) return;
         const std::uint32_t workers = tasks.workerCount();
         if (workers <= 1) {
             for (const Stage& s : stages_) exec(s, s.begin, s.begin + s.count);
             return;
         }
+        if (!segments) {
+            for (const Stage& s : stages_) {
+                if (s.onCaller || s.count <= s.unit) {
+                    exec(s, s.begin, s.begin + s.count);
+                    continue;
+                }
+                const std::uint32_t units = (s.count + s.unit - 1) / s.unit;
+                tasks.parallelFor(units, 1, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+                    for (std::uint32_t u = begin; u < end; ++u) {
+                        const std::uint32_t first = s.begin + u * s.unit;
+                        exec(s, first, std::min(first + s.unit, s.begin + s.count));
+                    }
+                });
+            }
+            return;
+        }
         prepareSync(workers);
-        tasks.parallelFor(workers, 1, [&](std::uint32_t begin, std::uint32_t, std::uint32_t) {
-            participate(begin, workers, exec);
-        });
+        const std::size_t stageCount = stages_.size();
+        for (std::size_t first = 0; first < stageCount;) {
+            if (stages_[first].onCaller) {
+                const Stage& s = stages_[first++];
+                exec(s, s.begin, s.begin + s.count);
+                continue;
+            }
+            std::size_t last = first;
+            while (last < stageCount && !stages_[last].onCaller) ++last;
+            tasks.parallelFor(workers, 1, [&](std::uint32_t begin, std::uint32_t, std::uint32_t) {
+                participate(begin, workers, exec, first, last);
+            });
+            first = last;
+        }
     }
 
 private:
@@ -175,9 +214,8 @@ private:
     }
 
     template <class Exec>
-    void participate(std::uint32_t self, std::uint32_t workers, Exec& exec) {
-        const std::size_t stageCount = stages_.size();
-        for (std::size_t s = 0; s < stageCount; ++s) {
+    void participate(std::uint32_t self, std::uint32_t workers, Exec& exec, std::size_t firstStage, std::size_t lastStage) {
+        for (std::size_t s = firstStage; s < lastStage; ++s) {
             const Stage& st = stages_[s];
             const std::uint32_t units = unitCount_[s];
             Done& done = done_[s];

@@ -265,16 +265,16 @@ private:
     // The solver bodies: entry 0 the static stand-in, then awake non-static
     // bodies, each mapped back to its solver index.
     void solverBodies() const {
-        const ContactSolver& s = w_.contactSolver;
-        const std::vector<std::uint32_t>& denseOf = s.denseOfSolverBody();
-        if (s.bodies().size() != denseOf.size()) fail("solver bodies", num(s.bodies().size()) + " bodies, " + num(denseOf.size()) + " dense indices");
+        const BodyStore& s = w_;  // the awake set (body_store.hpp)
+        const std::vector<std::uint32_t>& denseOf = s.denseOfSolver;
+        if (s.state.size() != denseOf.size()) fail("solver bodies", num(s.state.size()) + " bodies, " + num(denseOf.size()) + " dense indices");
         for (std::uint32_t i = 1; i < denseOf.size(); ++i) {
             const std::uint32_t d = denseOf[i];
             if (d >= bodyCount()) fail("solver bodies", "solver body " + num(i) + " maps to dense " + num(d) + ", past the bodies");
             if (isStatic(d) || !w_.params[d].awake) fail("solver bodies", body(d) + " is a solver body but static or asleep");
             if (s.solverIndexOf(d) != i) fail("solver bodies", body(d) + " is solver body " + num(i) + " but maps to " + num(s.solverIndexOf(d)));
         }
-        if (!s.bodies().empty() && s.bodies()[0].invMass != 0) fail("solver bodies", "the static stand-in (entry 0) has mass");
+        if (!s.state.empty() && s.state[0].invMass != 0) fail("solver bodies", "the static stand-in (entry 0) has mass");
     }
 
     // Colour c's constraints (but the overflow's, solved in order) share no
@@ -315,7 +315,7 @@ private:
         const std::size_t colours = s.colourCount();
         if (pairs.empty()) return;
         if (colourOf.size() != pairs.size()) fail("contact colours", num(colourOf.size()) + " colours for " + num(pairs.size()) + " constraints");
-        const auto& bodies = s.bodies();
+        const auto& bodies = w_.state;
         coloursShareNoBody("contact colours", colours, &colourOf, pairs.size(), bodies.size(),
                            [&](std::size_t i, std::uint32_t& a, std::uint32_t& b) {
                                a = pairs[i].bodyA < bodies.size() && bodies[pairs[i].bodyA].invMass > 0 ? pairs[i].bodyA : kNoIndex;
@@ -339,7 +339,7 @@ private:
         const auto constraints = j.constraints();
         const std::size_t colours = j.colourCount();
         if (constraints.empty()) return;
-        const auto& bodies = w_.contactSolver.bodies();
+        const auto& bodies = w_.state;
         if (j.colourStart(colours) != constraints.size()) {
             fail("joint colours", "the colour ranges cover " + num(j.colourStart(colours)) + " of " + num(constraints.size()) + " joints");
         }

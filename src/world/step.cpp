@@ -2,31 +2,47 @@
 //
 // Design
 // ------
-// A step of `dt` runs `substeps` sub-steps of h = dt / substeps. Each sub-step
-// is a fixed sequence of stages over the dense body arrays:
+// A step of `dt` is this pipeline (WorldImpl::step below):
 //
-//   1. compute forces        gravity, drag, springs, user forces, callbacks -> w.forces
+//   collide      proxies follow the awake bodies; broad phase, contacts,
+//                narrow phase, events (wakes what awake bodies touch)
+//   prepare      the awake set is filled from the records (BodyStore::beginStep),
+//                the contact and joint constraints are built on the step's start
+//                configuration, graph colouring, the first forces
+//   sub-steps    ONE list of stages (buildSubSteps), run by one scheduler
+//   restitution  once per step on the final velocities, then the impulses
+//   + store      are stored (contacts and joints; breaking)
+//   continuous   time of impact (and the joint projection it may need)
+//   records      the awake set written back into the body records, once
+//   particles, sleep, finish (user forces cleared, NaN check, time advances)
+//
+// Each sub-step of h = dt / substeps is a fixed sequence of stages:
+//
+//   1. compute forces        gravity, drag, springs, user forces, callbacks -> forces[]
 //   2. integrate velocities  v, w from the forces (+ damping)
-//   3. solve                 contacts: warm start, then velocity constraints with
-//                            soft position bias (Box2D v3 soft step, src/solver)
-//   4. integrate positions   x, q from the velocities
-//   4b. relax                the solver's bias-free pass on the step's anchors
+//   3. solve                 joints then contacts: warm start, then velocity
+//                            constraints with soft position bias (Box2D v3 soft
+//                            step, src/solver), solverIterations times
+//   4. integrate positions   x, q from the velocities; the pose change since the
+//                            step's start for the kernels (dp, dtheta; with joints
+//                            after 4b)
+//   4b. project              joints: anchors put back together at the position level
+//   4c. relax                the solver's bias-free pass on the step's anchors
 //   5. finalize              Verlet's second kick
 //
-// Around the sub-steps: before them the collision pipeline (broad phase, contacts,
-// narrow phase, events) and the solver's prepare (constraints on the step's start
-// configuration, graph colouring); after them restitution, impulse storage,
-// continuous collision (time of impact), islands and sleeping; the contact
-// report is only marked stale (built when read: world_impl.hpp).
-//
-// Every per-body stage walks the awake list (WorldImpl::awakeBodies, ascending
-// dense indices of the awake non-static bodies), so sleeping and static bodies
+// One home for body state: from prepare to the records stage every stage
+// reads and writes the awake bodies in the body store's awake set
+// (src/dynamics/body_store.hpp): integrators, forces, contact and joint
+// kernels, projection and time of impact work on the same arrays, so nothing
+// is copied between sub-steps (before, velocities crossed between the
+// integrators' records and the solver's bodies four times per sub-step).
+// Every per-body stage walks the awake list, so sleeping and static bodies
 // cost nothing per step (docs/solver.md, "Sleeping").
 //
 // This is the shape of Box2D v3's soft step (integrate velocities, warm start
 // and solve, integrate positions, relax), so the constraint solver slots in
 // between stages 2 and 4 without touching the integrators: every integrator
-// leaves in w.motion the velocity that positions will use, and position
+// leaves in the awake set the velocity that positions will use, and position
 // integration reads it back after the solver has corrected it.
 //
 // How each integrator maps onto the stages:
@@ -49,24 +65,27 @@
 //                        re-evaluates, because the user may have changed bodies
 //                        or forces between steps.
 //
-// After the sub-steps: user forces are cleared, time advances, and every moving
-// body's state is checked for NaN/inf (NumericalError names the body).
+// The stage list (docs/threading.md): per-body stages (units of
+// kBodiesPerRange awake bodies), the contact solver's passes (a stage per
+// graph colour, units of wide blocks; the overflow colour one unit), serial
+// single-unit stages (springs, the joint projection), and caller stages, run
+// on the calling thread between the parallel segments: the ForceCallbacks in
+// body order (user code) and the joint solver's passes (they spread their own
+// colours and trees over the task system). StagedParallel runs
+// the list: with one worker every stage in order on this thread; with more,
+// each run of stages between two caller stages inside ONE parallelFor, each
+// stage's units independent. A stage is added in one place, for every
+// thread count, and per-body work that needs nothing from other bodies
+// shares a stage (the next sub-step's forces with its velocities) so its data
+// stays in cache.
 //
-// Threads (docs/threading.md): the per-body and per-pair loops run as
-// parallelFor calls on taskSystem(): the broad phase's tree queries, the
-// narrow phase per contact with the tree re-insertions beside it
-// (ContactManager::update), the contact report (ContactManager::report, when
-// read), the contact solver's per-body, per-constraint and per-colour loops
-// (ContactSolver), the islands' per-index parts (SleepManager), and here the
-// start transforms, force evaluation (all but ForceCallbacks), the velocity and
-// position integration per body and the end-of-step NaN check.
 // Every range writes only the slots of the indices it covers and anything
-// order-dependent (contact creation, events, wakes, tree updates) is applied
-// afterwards on this thread in index order, so results are bit-identical for
-// every thread count and scheduler (tests/threads/step_determinism_test.cpp).
-// No heap allocation happens here in steady state: every scratch array is
-// sized at body creation, per-worker buffers on the first step with a given
-// worker count.
+// order-dependent (contact creation, events, wakes, tree updates, callbacks,
+// springs) is applied on one thread in index order, so results are
+// bit-identical for every thread count and scheduler
+// (tests/threads/step_determinism_test.cpp). No heap allocation happens here
+// in steady state: every scratch array is sized at body creation, per-worker
+// buffers and the stage list on the first step with a given size.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -77,7 +96,6 @@
 #include "dynamics/integrators.hpp"
 #include "dynamics/validation.hpp"
 #include "contacts/continuous.hpp"
-#include "threads/staged_parallel.hpp"
 #include "world/invariants.hpp"
 #include "world/world_impl.hpp"
 
@@ -86,7 +104,7 @@ namespace fulcrum {
 namespace {
 
 // Which part of a body's state is not finite ("" when all is).
-const char* firstNonFinite(const detail::BodyMotion& m) {
+[[gnu::always_inline]] inline const char* firstNonFinite(const detail::BodyMotion& m) {
     if (!isFinite(m.com)) return "position";
     if (!isFinite(m.q)) return "orientation";
     if (!isFinite(m.v)) return "linear velocity";
@@ -169,32 +187,136 @@ TaskSystem& WorldImpl::taskSystem() {
     return *ownedPool;
 }
 
+namespace {
+
+// What a stage of the sub-step list runs (WorldImpl::buildSubSteps).
+enum StageKind : std::uint32_t {
+    kForces,            // per body: stage 1 without ForceCallbacks and springs
+    kCallbacks,         // caller stage: the ForceCallbacks in body order (arg: the time, see callbackTime)
+    kSprings,           // one unit: the springs
+    kVelocities,        // per body: stage 2
+    kForcesVelocities,  // per body: stages 1 and 2 body by body (no callback, no spring)
+    kJointPass,         // caller stage: the joint solver's pass `arg` (ContactSolver::Pass)
+    kContactPass,       // the contact solver's stages (ContactSolver::addPassStages)
+    kPositions,         // per body: stage 4 and (arg 1: the step has constraints) the pose change since the step's start
+    kProjection,        // one unit: the joints' position projection (4b)
+    kDeltas,            // per body: the pose change since the step's start (after the projection)
+    kVerletPredict,     // per body: stage 5's predictor velocities
+    kVerletKick,        // per body: stage 5's second half kick
+};
+
+// kForcesVelocities walks its range in blocks of this many bodies, so each
+// body's data stays in L1 from its force evaluation to its velocity update.
+constexpr std::uint32_t kFusedBlock = 32;
+
+// A kCallbacks stage's arg: sub-step s's start (2 s) or end (2 s + 1, Verlet).
+// The end is the start plus hd, rounded as the loop of sub-steps always did.
+double callbackTime(double t0, double hd, std::uint32_t arg) {
+    const double start = t0 + hd * static_cast<double>(arg / 2);
+    return (arg & 1) != 0 ? start + hd : start;
+}
+
+}  // namespace
+
 void WorldImpl::step(Real dt) {
     PhaseClock clock;
     const auto stepStart = clock.last();
     StepProfile prof;
-    const Integrator method = settings.integrator;
-    const int substeps = settings.substeps;
-    const Real h = dt / static_cast<Real>(substeps);
-    const double hd = static_cast<double>(dt) / substeps;
-    FULCRUM_VALIDATE_PHASE(*this, StepStart);
+    const Real h = dt / static_cast<Real>(settings.substeps);
+    const double hd = static_cast<double>(dt) / settings.substeps;
+    const double t0 = time;
 
+    FULCRUM_VALIDATE_PHASE(*this, StepStart);
     // Turning sleeping off wakes everything once.
     if (!settings.sleeping && wasSleeping) {
         for (std::uint32_t i = 0; i < motion.size(); ++i) wakeBody(i);
     }
     wasSleeping = settings.sleeping;
-
-    // The per-body stages walk the awake list only (world_impl.hpp): a body
+    // The per-body stages walk the awake list only (body_store.hpp): a body
     // that sleeps or is static costs nothing per step.
     refreshAwakeList();
     // A small step runs on this thread alone (WorldDef::parallelMinBodies):
     // decided once, here, for the whole step.
     stepOnCaller = awakeBodies.size() < settings.parallelMinBodies;
     TaskSystem& tasks = taskSystem();
-    // previous[] = the transform at the start of the step: the awake bodies,
-    // plus the few that stopped moving since the last step (sleeping, static
-    // and teleported bodies keep previous[] equal to their transform).
+    refreshPrevious(tasks);
+
+    // Collide: broad phase, contacts, narrow phase (wakes what awake bodies
+    // touch: they move in this step, so the list is refreshed again).
+    contactManager.update(*this, {settings.speculativeMargin, settings.maxContactPairs}, jointPairFilter(), tasks, dt);
+    prof.collide = clock.lap();
+    notePairLimit(prof);
+    refreshAwakeList();
+    FULCRUM_VALIDATE_PHASE(*this, AfterCollide);
+
+    // Prepare: the awake set, constraints on the step's start configuration, the first forces.
+    const bool anyCallback = prepareSolvers(tasks, h);
+    FULCRUM_VALIDATE_PHASE(*this, AfterPrepare);
+    const bool hasContacts = contactSolver.constraintCount() > 0;
+    const bool hasJoints = jointSolver.constraintCount() > 0;
+    prof.prepare = clock.lap();
+    prof.awakeBodies = static_cast<std::uint32_t>(awakeBodies.size());
+    prof.contactConstraints = static_cast<std::uint32_t>(contactSolver.constraintCount());
+    prof.jointConstraints = static_cast<std::uint32_t>(jointSolver.constraintCount());
+    prof.workers = tasks.workerCount();
+
+    // The sub-steps: one list of stages, one scheduler.
+    buildSubSteps(tasks, anyCallback);
+    runSubSteps(tasks, t0, h, hd);
+    FULCRUM_VALIDATE_PHASE(*this, AfterSubsteps);
+    prof.solve = clock.lap();
+
+    // Restitution once per step on the final velocities (threshold and
+    // "received impulse" rule in the solver), then keep the impulses; joint
+    // impulses for warm starting, reaction forces, breaking.
+    if (hasContacts) {
+        contactSolver.applyRestitution();
+        contactSolver.store(contactManager);
+    }
+    if (hasJoints) {
+        jointSolver.store(*this, joints.slots());
+        resetPairsOfBrokenJoints();
+    }
+    FULCRUM_VALIDATE_PHASE(*this, AfterStore);
+    prof.store = clock.lap();
+
+    // Time of impact, on the awake set; it moves fast bodies back alone:
+    // close the joints it opened. Then the records, once.
+    if (settings.continuousCollision) {
+        detail::solveContinuous(*this, jointPairFilter(), contactManager, tasks, dt);
+        if (hasJoints) jointSolver.projectPositions(*this);
+    }
+    tasks.parallelFor(static_cast<std::uint32_t>(awakeBodies.size()), kBodiesPerRange,
+                      [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { writeRecords(begin, end); });
+    FULCRUM_VALIDATE_PHASE(*this, AfterContinuous);
+    prof.continuous = clock.lap();
+
+    // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
+    detail::stepParticles(*this, dt);
+    prof.particles = clock.lap();
+    sleepManager.update(*this,
+                        {settings.sleeping, settings.linearSleepVelocity, settings.angularSleepVelocity, settings.timeToSleep},
+                        contactSolver.pairs(), contactManager, joints.slots(), tasks, dt);
+    FULCRUM_VALIDATE_PHASE(*this, AfterSleep);
+    prof.sleep = clock.lap();
+    // Built when read (World::contacts(), snapshots): world_impl.hpp.
+    contactReportStale = true;
+
+    const std::uint32_t firstBad = finishStep(tasks);
+    prof.finish = clock.lap();
+    prof.total = clock.since(stepStart);
+    profile = prof;
+    stepOnCaller = false;  // the contact report, built when read, may use the pool again
+    ++stepCount;
+    time = t0 + static_cast<double>(dt);
+    FULCRUM_VALIDATE_PHASE(*this, StepEnd);
+    if (firstBad != kNoIndexBody) throwNonFinite(firstBad);
+}
+
+// previous[] = the transform at the start of the step: the awake bodies,
+// plus the few that stopped moving since the last step (sleeping, static
+// and teleported bodies keep previous[] equal to their transform).
+void WorldImpl::refreshPrevious(TaskSystem& tasks) {
     if (previousAllStale) {
         const auto all = static_cast<std::uint32_t>(motion.size());
         tasks.parallelFor(all, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
@@ -209,302 +331,192 @@ void WorldImpl::step(Real dt) {
         });
     }
     previousStale.clear();
+}
 
-    // Collision: broad phase, contacts, narrow phase (wakes what awake bodies touch).
-    contactManager.update(*this, dt);
-    prof.collide = clock.lap();
-    notePairLimit(prof);
-    // The bodies it woke move in this step.
-    refreshAwakeList();
-    FULCRUM_VALIDATE_PHASE(*this, AfterCollide);
-    const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
-    // Constraints are prepared once per step on the step's start configuration.
-    detail::ContactSolver& solver = contactSolver;
-    // The solver splits each large graph colour across the same task system
+bool WorldImpl::prepareSolvers(TaskSystem& tasks, Real h) {
+    // From here to the records stage the awake set is the awake bodies' only home.
+    beginStep([&](std::size_t count, auto&& fill) {
+        tasks.parallelFor(static_cast<std::uint32_t>(count), kBodiesPerRange,
+                          [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { fill(begin, end); });
+    });
+    // The solver splits its prepare's loops across the same task system
     // (bit-identical for any thread count: tests/solver/simd_solver_test.cpp).
-    solver.setTaskSystem(&tasks);
-    solver.prepareConstraintList(*this, contactManager, dt, h);
+    contactSolver.setTaskSystem(&tasks);
+    contactSolver.prepareConstraintList(
+        *this, contactManager,
+        {settings.contactHertz, settings.contactDampingRatio, settings.contactPushMaxVelocity, settings.restitutionThreshold},
+        h);
     // The greedy colouring is serial (each constraint's colour depends on the
     // ones before it); it runs at index 0 of the first sub-step's force
     // evaluation, which needs nothing from the solver, while the other ranges
     // evaluate forces: the same bits, and ~40 us less serial time per step of
     // box_pile's collapse (the colouring was 16.6 M of the 59 M serial
     // instructions left over its first 120 steps).
-    bool anyCallback = false;
-    {
-        std::atomic<bool> callbacks{false};
-        tasks.parallelFor(bodyCount + 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            if (begin == 0) {
-                solver.colourGreedy();
-                ++begin;
-            }
-            if (begin < end && detail::evaluateBodyForces(*this, begin - 1, end - 1)) {
-                callbacks.store(true, std::memory_order_relaxed);
-            }
-        });
-        anyCallback = callbacks.load(std::memory_order_relaxed);
-        if (anyCallback) detail::addCallbackForces(*this, time);
-        detail::addSpringForces(*this);
-    }
-    solver.finishPrepare(*this, contactManager);
-    // Joints work on the contact solver's bodies, in the same passes, before
-    // the contacts (Box2D v3's order; docs/joints.md has the measurements).
-    jointSolver.prepare(*this, solver, h);
-    FULCRUM_VALIDATE_PHASE(*this, AfterPrepare);
-    const bool hasContacts = solver.constraintCount() > 0;
+    std::atomic<bool> callbacks{false};
+    const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
+    tasks.parallelFor(bodyCount + 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        if (begin == 0) {
+            contactSolver.colourGreedy();
+            ++begin;
+        }
+        if (begin < end && detail::evaluateBodyForces(*this, settings.gravity, begin - 1, end - 1)) {
+            callbacks.store(true, std::memory_order_relaxed);
+        }
+    });
+    // ForceCallbacks (not required to be thread-safe) in body order, then the springs.
+    const bool anyCallback = callbacks.load(std::memory_order_relaxed);
+    if (anyCallback) detail::addCallbackForces(*this, time);
+    detail::addSpringForces(*this, springs.slots());
+    contactSolver.finishPrepare(contactManager);
+    // Joints work on the same awake set, in the same passes, before the
+    // contacts (Box2D v3's order; docs/joints.md has the measurements).
+    jointSolver.prepare(*this, joints.slots(),
+                        {settings.jointHertz, settings.jointDampingRatio, settings.jointProjectionSlop, settings.jointDirectSolve},
+                        tasks, h);
+    return anyCallback;
+}
+
+// The sub-steps as one list of stages (the design comment at the top). Whether
+// a body has a ForceCallback, and the springs, do not change during a step,
+// so the list is fixed once prepared.
+void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
+    using Pass = detail::ContactSolver::Pass;
+    const bool verlet = settings.integrator == Integrator::Verlet;
+    const bool hasContacts = contactSolver.constraintCount() > 0;
     const bool hasJoints = jointSolver.constraintCount() > 0;
-    const bool hasConstraints = hasContacts || hasJoints;
-    const int iterations = settings.solverIterations;
-    prof.prepare = clock.lap();
-    prof.awakeBodies = bodyCount;
-    prof.contactConstraints = static_cast<std::uint32_t>(solver.constraintCount());
-    prof.jointConstraints = static_cast<std::uint32_t>(jointSolver.constraintCount());
-    prof.workers = tasks.workerCount();
-
-    // Stage 1 as evaluateForces computes it (the same bits): the per-body part
-    // in parallel, then on this thread the ForceCallbacks (not required to be
-    // thread-safe) in body order, if any body has one, and the springs. Force
-    // evaluation was 4.5 % of box_pile's one-thread step, all serial.
-    // Returns whether a body has a ForceCallback.
-    const auto evaluateForcesInParallel = [&](double tEval) {
-        std::atomic<bool> callbacks{false};
-        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            if (detail::evaluateBodyForces(*this, begin, end)) callbacks.store(true, std::memory_order_relaxed);
-        });
-        const bool any = callbacks.load(std::memory_order_relaxed);
-        if (any) detail::addCallbackForces(*this, tEval);
-        detail::addSpringForces(*this);
-        return any;
+    const auto bodies = static_cast<std::uint32_t>(awakeBodies.size());
+    const int substeps = settings.substeps, iterations = settings.solverIterations;
+    // Room for the most stages any step can have, so a step with more colours
+    // than before allocates nothing.
+    const auto passes = static_cast<std::size_t>(2 + iterations);
+    subSteps.reserve(static_cast<std::size_t>(substeps) * (10 + passes * (1 + detail::ContactSolver::maxPassStages())),
+                     tasks.workerCount());
+    subSteps.clear();
+    // Stage 1 (forces at callbackTime(timeArg)) and, with withVelocities, stage 2.
+    const auto addForces = [&](std::uint32_t timeArg, bool withVelocities) {
+        if (withVelocities && !anyCallback && springs.empty()) {
+            subSteps.add(kForcesVelocities, 0, 0, bodies, kBodiesPerRange);
+            return;
+        }
+        subSteps.add(kForces, 0, 0, bodies, kBodiesPerRange);
+        // ForceCallbacks are user code: on the calling thread, as every step calls them.
+        if (anyCallback) subSteps.addOnCaller(kCallbacks, timeArg);
+        if (!springs.empty()) subSteps.add(kSprings, 0, 0, 1, 1);
+        if (withVelocities) subSteps.add(kVelocities, 0, 0, bodies, kBodiesPerRange);
     };
-
-    // Fused per-body passes. Without joints (their position projection sits
-    // between the position integration and the rotation deltas) and with an
-    // integrator that has no stage 5 (Verlet's second kick is serial), every
-    // per-body stage between two solver passes touches only its own body, so
-    // one parallelFor can run them back to back, body by body:
-    //   [velocity integration + gather]   before the warm start and solve,
-    //   [scatter + position integration + rotation deltas + gather]   before relax,
-    //   [scatter + next sub-step's forces + velocity integration + gather]
-    //                                      after relax (when the forces need no
-    //                                      ForceCallback or spring: serial parts).
-    // Each body gets the same operations in the same order, so the bits do not
-    // change; a sub-step then has 2 per-body barriers instead of 8 (box_pile:
-    // 5 sub-steps, 40 of its ~65 parallelFor calls per step were these) and
-    // reads each body's motion once per pass instead of once per stage.
-    // Solver body k + 1 is awakeBodies[k] (ContactSolver::prepare).
-    const bool fuse = !hasJoints && method != Integrator::Verlet &&
-                      (!hasContacts || solver.denseOfSolverBody().size() == std::size_t{bodyCount} + 1);
-    const bool gatherScatter = fuse && hasContacts;
-    // Sub-ranges of a range, so a body's data stays in L1 across the fused stages.
-    constexpr std::uint32_t kFusedBlock = 32;
-    const auto fusedPass = [&](auto&& perBlock) {
-        tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            for (std::uint32_t b = begin; b < end; b += kFusedBlock) perBlock(b, std::min(end, b + kFusedBlock));
-        });
+    const auto solverPass = [&](Pass pass) {
+        if (hasJoints) subSteps.addOnCaller(kJointPass, static_cast<std::uint32_t>(pass));
+        if (hasContacts) contactSolver.addPassStages(subSteps, kContactPass, pass);
     };
-    bool forcesAndVelocitiesDone = false;  // by the previous sub-step's last fused pass
-
-    // Staged sub-steps. When every stage of every sub-step is per body or per
-    // solver colour (the fused case with contacts, no ForceCallback, no spring)
-    // and there are several workers, the whole sub-step loop runs inside ONE
-    // parallelFor (StagedParallel, threads/staged_parallel.hpp; Box2D v3's solver
-    // stages): the same stages in the same order as the loop below, each
-    // stage's units independent, so the same bits; but one fork-join per step
-    // instead of ~8 per sub-step (box_pile: 40 of them), no end-of-call wait
-    // between stages beyond the stage's own, and each participant keeps the
-    // same bodies and colour blocks from stage to stage (docs/threading.md,
-    // "Staged sub-steps").
-    const double t0 = time;
-    const bool staged = gatherScatter && !anyCallback && springs.empty() && tasks.workerCount() > 1 &&
-                        detail::stagedSubStepsEnabled();
-    if (staged) {
-        enum : std::uint32_t { kVelocities, kSolverPass, kPositions, kForcesVelocities, kScatter };
-        using Pass = detail::ContactSolver::Pass;
-        detail::StagedParallel& stages = solver.subStepStages();
-        // Room for the most stages any step can have, so a step with more
-        // colours than before allocates nothing.
-        const auto passes = static_cast<std::size_t>(2 + iterations);
-        stages.reserve(static_cast<std::size_t>(substeps) * (3 + passes * detail::ContactSolver::maxPassStages()),
-                       tasks.workerCount());
-        stages.clear();
-        for (int s = 0; s < substeps; ++s) {
-            if (s == 0) stages.add(kVelocities, 0, 0, bodyCount, kBodiesPerRange);
-            solver.addPassStages(stages, kSolverPass, Pass::WarmStart);
-            for (int it = 0; it < iterations; ++it) solver.addPassStages(stages, kSolverPass, Pass::Solve);
-            stages.add(kPositions, 0, 0, bodyCount, kBodiesPerRange);
-            solver.addPassStages(stages, kSolverPass, Pass::Relax);
-            stages.add(s + 1 < substeps ? kForcesVelocities : kScatter, 0, 0, bodyCount, kBodiesPerRange);
-        }
-        stages.run(tasks, [&](const detail::Stage& stage, std::uint32_t begin, std::uint32_t end) {
-            if (stage.kind == kSolverPass) {
-                solver.runPassStage(stage.arg, begin, end);
-                return;
-            }
-            for (std::uint32_t b = begin; b < end; b += kFusedBlock) {
-                const std::uint32_t e = std::min(end, b + kFusedBlock);
-                switch (stage.kind) {
-                    case kVelocities:
-                        detail::integrateVelocities(*this, method, h, b, e);
-                        solver.gatherVelocities(*this, b, e);
-                        break;
-                    case kPositions:
-                        solver.scatterVelocities(*this, b, e);
-                        detail::integratePositions(*this, method, h, b, e);
-                        solver.updateDeltas(*this, b, e);
-                        solver.gatherVelocities(*this, b, e);
-                        break;
-                    case kForcesVelocities:
-                        solver.scatterVelocities(*this, b, e);
-                        detail::evaluateBodyForces(*this, b, e);
-                        detail::integrateVelocities(*this, method, h, b, e);
-                        solver.gatherVelocities(*this, b, e);
-                        break;
-                    default:  // kScatter
-                        solver.scatterVelocities(*this, b, e);
-                        break;
-                }
-            }
-        });
-    }
-    for (int s = 0; s < substeps && !staged; ++s) {
-        const double tStart = t0 + hd * s;
-        if (!forcesAndVelocitiesDone) {
-            // Stage 1 (skipped for Verlet after the first sub-step: stage 5 left the
-            // forces at exactly this state and time; the first sub-step's beside the colouring).
-            if (method != Integrator::Verlet && s > 0) anyCallback = evaluateForcesInParallel(tStart);
-            // Stage 2
-            if (fuse) {
-                fusedPass([&](std::uint32_t b, std::uint32_t e) {
-                    detail::integrateVelocities(*this, method, h, b, e);
-                    if (gatherScatter) solver.gatherVelocities(*this, b, e);
-                });
-            } else {
-                tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-                    detail::integrateVelocities(*this, method, h, begin, end);
-                });
-            }
-        }
-        forcesAndVelocitiesDone = false;
-        // Stage 3: warm start and solve with soft position bias.
-        if (hasConstraints) {
-            if (!gatherScatter) solver.gatherVelocities(*this);
-            jointSolver.warmStart();
-            solver.warmStart();
-            for (int it = 0; it < iterations; ++it) {
-                jointSolver.solve(true);
-                solver.solve(true);
-            }
-            if (!gatherScatter) solver.scatterVelocities(*this);
-        }
-        // Stage 4
-        if (fuse) {
-            fusedPass([&](std::uint32_t b, std::uint32_t e) {
-                if (gatherScatter) solver.scatterVelocities(*this, b, e);
-                detail::integratePositions(*this, method, h, b, e);
-                if (gatherScatter) {
-                    solver.updateDeltas(*this, b, e);
-                    solver.gatherVelocities(*this, b, e);
-                }
-            });
+    for (int s = 0; s < substeps; ++s) {
+        const auto sub = static_cast<std::uint32_t>(s);
+        // Stages 1 and 2. The first sub-step's forces were evaluated beside the
+        // colouring (prepareSolvers); Verlet's later ones by stage 5 ("first
+        // same as last"): the same state and time.
+        if (s == 0 || verlet) {
+            subSteps.add(kVelocities, 0, 0, bodies, kBodiesPerRange);
         } else {
-            tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-                detail::integratePositions(*this, method, h, begin, end);
-            });
+            addForces(2 * sub, true);
         }
-        // Joints: put the anchors back together at the position level.
-        if (hasJoints) jointSolver.projectPositions(*this);
-        // Relax: the bias-free pass removes the velocity the soft push added.
-        if (hasConstraints) {
-            if (!gatherScatter) {
-                solver.updateDeltas(*this);
-                solver.gatherVelocities(*this);
-            }
-            jointSolver.solve(false);
-            solver.solve(false);
-            if (gatherScatter && s + 1 < substeps && !anyCallback && springs.empty()) {
-                // This scatter, and the next sub-step's stages 1 and 2 (no
-                // callback or spring: the forces are per body alone).
-                fusedPass([&](std::uint32_t b, std::uint32_t e) {
-                    solver.scatterVelocities(*this, b, e);
-                    detail::evaluateBodyForces(*this, b, e);
-                    detail::integrateVelocities(*this, method, h, b, e);
-                    solver.gatherVelocities(*this, b, e);
-                });
-                forcesAndVelocitiesDone = true;
-            } else {
-                solver.scatterVelocities(*this);
-            }
+        // Stage 3: warm start and solve with soft position bias.
+        solverPass(Pass::WarmStart);
+        for (int it = 0; it < iterations; ++it) solverPass(Pass::Solve);
+        // Stage 4, the joints' projection, and the relax pass.
+        // The pose change since the step's start (dp, dtheta) for the relax
+        // pass and the store: with the position stage, body by body; with
+        // joints after their projection, which moves bodies again.
+        subSteps.add(kPositions, hasContacts && !hasJoints ? 1 : 0, 0, bodies, kBodiesPerRange);
+        if (hasJoints) {
+            subSteps.add(kProjection, 0, 0, 1, 1);
+            subSteps.add(kDeltas, 0, 0, bodies, kBodiesPerRange);
         }
+        solverPass(Pass::Relax);
         // Stage 5
-        detail::finalizeSubstep(*this, method, h, tStart + hd);
+        if (verlet) {
+            subSteps.add(kVerletPredict, 0, 0, bodies, kBodiesPerRange);
+            addForces(2 * sub + 1, false);
+            subSteps.add(kVerletKick, 0, 0, bodies, kBodiesPerRange);
+        }
     }
+}
 
-    FULCRUM_VALIDATE_PHASE(*this, AfterSubsteps);
-    prof.solve = clock.lap();
-    if (hasContacts) {
-        // Restitution once per step on the final velocities (threshold and
-        // "received impulse" rule in the solver), then keep the impulses.
-        solver.gatherVelocities(*this);
-        solver.applyRestitution();
-        solver.scatterVelocities(*this);
-        solver.store(*this, contactManager);
-    }
-    // Joint impulses for warm starting, reaction forces, breaking.
-    if (hasJoints) jointSolver.store(*this);
-    FULCRUM_VALIDATE_PHASE(*this, AfterStore);
-    prof.store = clock.lap();
-    if (settings.continuousCollision) {
-        detail::solveContinuous(*this, solver, contactManager, dt);
-        // Time of impact moves fast bodies back alone: close the joints it opened.
-        if (hasJoints) jointSolver.projectPositions(*this);
-    }
-    FULCRUM_VALIDATE_PHASE(*this, AfterContinuous);
-    // Particle systems after the rigid bodies, before sleeping (why: world/particle_coupling.hpp).
-    prof.continuous = clock.lap();
-    detail::stepParticles(*this, dt);
-    prof.particles = clock.lap();
-    sleepManager.update(*this, solver, contactManager, dt);
-    FULCRUM_VALIDATE_PHASE(*this, AfterSleep);
-    prof.sleep = clock.lap();
-    // Built when read (World::contacts(), snapshots): world_impl.hpp.
-    contactReportStale = true;
+void WorldImpl::runSubSteps(TaskSystem& tasks, double t0, Real h, double hd) {
+    using Pass = detail::ContactSolver::Pass;
+    const Integrator method = settings.integrator;
+    const Real maxTurn = settings.maxRotationPerSubstep;
+    const Vec3 gravity = settings.gravity;
+    const auto exec = [&](const detail::Stage& stage, std::uint32_t begin, std::uint32_t end) {
+        switch (stage.kind) {
+            case kForces: detail::evaluateBodyForces(*this, gravity, begin, end); break;
+            case kCallbacks: detail::addCallbackForces(*this, callbackTime(t0, hd, stage.arg)); break;
+            case kSprings: detail::addSpringForces(*this, springs.slots()); break;
+            case kVelocities: detail::integrateVelocities(*this, method, h, begin, end); break;
+            case kForcesVelocities:
+                for (std::uint32_t b = begin; b < end; b += kFusedBlock) {
+                    const std::uint32_t e = std::min(end, b + kFusedBlock);
+                    detail::evaluateBodyForces(*this, gravity, b, e);
+                    detail::integrateVelocities(*this, method, h, b, e);
+                }
+                break;
+            case kJointPass:
+                if (stage.arg == static_cast<std::uint32_t>(Pass::WarmStart)) {
+                    jointSolver.warmStart();
+                } else {
+                    jointSolver.solve(stage.arg == static_cast<std::uint32_t>(Pass::Solve));
+                }
+                break;
+            case kContactPass: contactSolver.runPassStage(stage.arg, begin, end); break;
+            case kPositions: detail::integratePositions(*this, method, h, maxTurn, stage.arg != 0, begin, end); break;
+            case kProjection: jointSolver.projectPositions(*this); break;
+            case kDeltas: updateDeltas(begin, end); break;
+            case kVerletPredict: detail::verletPredict(*this, h, begin, end); break;
+            default: detail::verletKick(*this, h, begin, end); break;
+        }
+    };
+    subSteps.run(tasks, exec, detail::stagedSubStepsEnabled());
+}
 
-    // Clear the user forces and look for a non-finite state, per body range in
-    // parallel; the lowest bad index is an order-independent merge (an atomic min).
-    // Only the bodies that moved: the awake list of the integration (the sleep
-    // manager's removals wait for the next refresh) and the bodies woken since
-    // (a particle impulse). A user force wakes its body, so no sleeping body
-    // holds one.
+// A broken joint's bodies may collide again: their pairs are looked at anew
+// (after the contact report of the contacts it drops was built).
+void WorldImpl::resetPairsOfBrokenJoints() {
+    for (const JointBreakEvent& e : jointSolver.breakEvents()) {
+        const detail::JointData& data = joints[e.joint.index];
+        if (data.def.bodyA.isNull() || data.def.collideConnected) continue;
+        ensureContactReport();
+        contactManager.resetPairs(*this, data.def.bodyA.index);
+    }
+}
+
+// Clears the user forces and looks for a non-finite state, per body range in
+// parallel; the lowest bad index is an order-independent merge (an atomic min).
+// Only the bodies that moved: the awake list of the integration (the sleep
+// manager's removals wait for the next refresh) and the bodies woken since
+// (a particle impulse). A user force wakes its body, so no sleeping body
+// holds one.
+std::uint32_t WorldImpl::finishStep(TaskSystem& tasks) {
     std::atomic<std::uint32_t> firstBad{kNoIndexBody};
     const auto checkBody = [&](std::uint32_t i, std::uint32_t& bad) {
         applied[i] = {};
         if (*firstNonFinite(motion[i]) != '\0') bad = std::min(bad, i);
     };
-    tasks.parallelFor(bodyCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        std::uint32_t bad = kNoIndexBody;
-        for (std::uint32_t k = begin; k < end; ++k) checkBody(awakeBodies[k], bad);
-        std::uint32_t seen = firstBad.load(std::memory_order_relaxed);
-        while (bad < seen && !firstBad.compare_exchange_weak(seen, bad, std::memory_order_relaxed)) {
-        }
-    });
-    {
-        std::uint32_t bad = firstBad.load(std::memory_order_relaxed);
-        for (const std::uint32_t i : wokenBodies) {
-            if (params[i].type != BodyType::Static) checkBody(i, bad);
-        }
-        firstBad.store(bad, std::memory_order_relaxed);
+    tasks.parallelFor(static_cast<std::uint32_t>(awakeBodies.size()), kBodiesPerRange,
+                      [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+                          std::uint32_t bad = kNoIndexBody;
+                          for (std::uint32_t k = begin; k < end; ++k) checkBody(awakeBodies[k], bad);
+                          std::uint32_t seen = firstBad.load(std::memory_order_relaxed);
+                          while (bad < seen && !firstBad.compare_exchange_weak(seen, bad, std::memory_order_relaxed)) {
+                          }
+                      });
+    std::uint32_t bad = firstBad.load(std::memory_order_relaxed);
+    for (const std::uint32_t i : wokenBodies) {
+        if (params[i].type != BodyType::Static) checkBody(i, bad);
     }
-    prof.finish = clock.lap();
-    prof.total = clock.since(stepStart);
-    profile = prof;
-    stepOnCaller = false;  // the contact report, built when read, may use the pool again
-    ++stepCount;
-    time = t0 + static_cast<double>(dt);
-    FULCRUM_VALIDATE_PHASE(*this, StepEnd);
-    if (firstBad.load(std::memory_order_relaxed) == kNoIndexBody) return;
+    return bad;
+}
 
-    // Contacts spread a NaN to the bodies touching it, so name a body whose
-    // forces went non-finite first: that is where the NaN came from.
+// Contacts spread a NaN to the bodies touching it, so name a body whose
+// forces went non-finite first: that is where the NaN came from.
+void WorldImpl::throwNonFinite(std::uint32_t firstBad) const {
     std::uint32_t culprit = kNoIndexBody;
     for (std::uint32_t i = 0; i < motion.size() && culprit == kNoIndexBody; ++i) {
         if (params[i].type == BodyType::Static) continue;
@@ -520,6 +532,8 @@ void WorldImpl::step(Real dt) {
                                  detail::formatReal(time) + " s)");
         }
     }
+    throw NumericalError(describeBody(firstBad) + ": state became NaN/inf at step " + std::to_string(stepCount));
 }
+
 
 }  // namespace fulcrum

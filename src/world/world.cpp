@@ -66,111 +66,6 @@ Subject subjectOf(const WorldImpl& w, std::uint32_t dense) {
 
 }  // namespace
 
-// ---------------------------------------------------------------- WorldImpl helpers
-
-std::uint32_t WorldImpl::resolveBody(BodyId id, const char* where) const {
-    if (id.isNull()) throw Error(std::string(where) + ": null BodyId (the world body is not a body here)");
-    if (id.index >= bodySlots.size()) {
-        throw Error(std::string(where) + ": BodyId index " + std::to_string(id.index) + " does not exist (" +
-                    std::to_string(bodySlots.size()) + " body slots)");
-    }
-    const detail::BodySlot& slot = bodySlots[id.index];
-    if (slot.dense == kNoIndex || slot.generation != id.generation) {
-        throw Error(std::string(where) + ": stale BodyId (index " + std::to_string(id.index) + ", generation " +
-                    std::to_string(id.generation) + "): that body was destroyed");
-    }
-    return slot.dense;
-}
-
-void WorldImpl::wakeBody(std::uint32_t dense) {
-    detail::BodyParams& p = params[dense];
-    if (p.type == BodyType::Static) return;
-    p.sleepTime = 0;
-    if (p.awake) return;
-    const auto queue = [this](std::uint32_t d) {
-        if (wokenBodies.size() >= motion.size()) {
-            awakeListRebuild = true;  // (cannot happen between two refreshes; a bound, not a path)
-            wokenBodies.clear();
-        }
-        if (!awakeListRebuild) wokenBodies.push_back(d);
-    };
-    const std::uint32_t island = p.sleepIsland;
-    if (island == 0) {
-        p.awake = true;
-        queue(dense);
-        return;
-    }
-    // The island's bodies wake together (a linear scan: waking is an event, not per step).
-    for (std::uint32_t d = 0; d < params.size(); ++d) {
-        detail::BodyParams& q = params[d];
-        if (q.sleepIsland != island) continue;
-        q.awake = true;
-        q.sleepTime = 0;
-        q.sleepIsland = 0;
-        queue(d);
-    }
-}
-
-void WorldImpl::reserveAwakeList(std::size_t bodyCount) {
-    // Geometric growth: reserving exactly on every creation would reallocate every time.
-    for (std::vector<std::uint32_t>* v : {&awakeBodies, &wokenBodies, &awakeMergeScratch, &previousStale}) {
-        if (v->capacity() < bodyCount) v->reserve(std::max(bodyCount, 2 * v->capacity()));
-    }
-    if (inAwakeList.capacity() < bodyCount) inAwakeList.reserve(std::max(bodyCount, 2 * inAwakeList.capacity()));
-}
-
-void WorldImpl::refreshAwakeList() {
-    const auto count = static_cast<std::uint32_t>(motion.size());
-    if (awakeListRebuild) {
-        awakeBodies.clear();
-        inAwakeList.assign(count, 0);
-        for (std::uint32_t d = 0; d < count; ++d) {
-            if (params[d].type == BodyType::Static || !params[d].awake) continue;
-            awakeBodies.push_back(d);
-            inAwakeList[d] = 1;
-        }
-        wokenBodies.clear();
-        awakeListRebuild = false;
-        awakeListHasSleepers = false;
-        return;
-    }
-    if (awakeListHasSleepers) {
-        std::size_t kept = 0;
-        for (const std::uint32_t d : awakeBodies) {
-            if (params[d].awake) {
-                awakeBodies[kept++] = d;
-            } else {
-                inAwakeList[d] = 0;
-            }
-        }
-        awakeBodies.resize(kept);
-        awakeListHasSleepers = false;
-    }
-    if (wokenBodies.empty()) return;
-    // The newly woken, sorted, merged into the sorted list from the back (in place, no allocation).
-    awakeMergeScratch.clear();
-    for (const std::uint32_t d : wokenBodies) {
-        if (!params[d].awake || inAwakeList[d] != 0) continue;
-        inAwakeList[d] = 1;
-        awakeMergeScratch.push_back(d);
-    }
-    wokenBodies.clear();
-    if (awakeMergeScratch.empty()) return;
-    std::sort(awakeMergeScratch.begin(), awakeMergeScratch.end());
-    std::size_t a = awakeBodies.size(), b = awakeMergeScratch.size();
-    awakeBodies.resize(a + b);
-    std::size_t out = a + b;
-    while (b > 0) {
-        if (a > 0 && awakeBodies[a - 1] > awakeMergeScratch[b - 1]) {
-            awakeBodies[--out] = awakeBodies[--a];
-        } else {
-            awakeBodies[--out] = awakeMergeScratch[--b];
-        }
-    }
-}
-
-std::string WorldImpl::describeBody(std::uint32_t dense) const { return subjectOf(*this, dense).describe(); }
-
 // ---------------------------------------------------------------- World: lifetime and settings
 
 World::World(const WorldDef& def) : impl_(std::make_unique<WorldImpl>()) {
@@ -307,7 +202,7 @@ BodyId World::createBody(const BodyDef& def) {
         if (p.awake && p.type != BodyType::Static) w.wokenBodies.push_back(dense);
     }
     w.markPreviousStale(dense);
-    w.contactManager.reserve(w, w.motion.size());
+    w.contactManager.reserve(w.motion.size(), w.settings.maxContactPairs, w.contacts);
     w.contactSolver.reserve(w.motion.size());
     w.sleepManager.reserve(w.motion.size());
     return {slotIndex, w.bodySlots[slotIndex].generation};

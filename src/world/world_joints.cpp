@@ -37,6 +37,7 @@ void jointChangedPairs(WorldImpl& w, const JointDef& def) {
     if (!def.bodyA.isNull()) w.wakeBody(w.bodySlots[def.bodyA.index].dense);
     if (!def.bodyB.isNull()) w.wakeBody(w.bodySlots[def.bodyB.index].dense);
     if (def.bodyA.isNull() || def.bodyB.isNull() || def.collideConnected) return;
+    w.ensureContactReport();  // the last step's report still holds the contacts dropped here
     w.contactManager.resetPairs(w, def.bodyA.index);
 }
 
@@ -153,7 +154,7 @@ JointId createJointOf(WorldImpl& w, const typename T::Def& def, const JointDef* 
     j.reactionForce = {};
     j.reactionTorque = {};
     w.jointSolver.reserve(w.joints.size());
-    w.jointSolver.graph().add(w, slot);
+    w.jointSolver.graph().add(w.joints.slots(), slot);
     jointChangedPairs(w, j.def);
     return w.joints.handleOf(slot);
 }
@@ -182,7 +183,7 @@ JointId World::createJoint(const ConeTwistJointDef& def) {
 
 void World::destroyJoint(JointId id) {
     detail::JointData& j = impl_->resolveJoint(id, "World::destroyJoint");
-    impl_->jointSolver.graph().remove(*impl_, id.index);
+    impl_->jointSolver.graph().remove(impl_->joints.slots(), id.index);
     j.alive = false;  // already dead for the pairs it stops filtering
     jointChangedPairs(*impl_, j.def);
     impl_->joints.remove(id.index);

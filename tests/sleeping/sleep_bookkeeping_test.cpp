@@ -135,7 +135,7 @@ TEST(SleepCost, SleepingWorldStepsWithoutPerBodyWork) {
     const WorldImpl& w = detail::implOf(world);
     EXPECT_TRUE(w.awakeBodies.empty());
     EXPECT_EQ(w.contactManager.visitedContactCount(), 0u);
-    EXPECT_EQ(w.contactSolver.denseOfSolverBody().size(), 1u);  // entry 0: the static stand-in
+    EXPECT_EQ(w.denseOfSolver.size(), 1u);  // the awake set: entry 0, the static stand-in, alone
     EXPECT_EQ(bodyHash(), before);
     EXPECT_EQ(world.contacts().size(), reports);  // the lazy report still lists the resting contacts
 }

@@ -179,6 +179,50 @@ TEST(ThreadedStep, SpherePileIsBitIdenticalForAnyThreadCount) {
                         [](const World& w) { checkPile(w, kY); });
 }
 
+// The stages the piles above do not take, under every integrator:
+// ForceCallbacks (called in body order on one thread) and springs as
+// single-unit stages between the per-body ones, Verlet's predictor and second
+// kick as per-body stages around a force evaluation, explicit Euler's drift
+// with the old velocity. A pile of boxes, every 7th with a callback that reads
+// its velocity and the time, every 5th tied to the one before by a spring at
+// rest. Physics check as for the piles.
+TEST(ThreadedStep, CallbacksSpringsAndEveryIntegratorAreBitIdenticalForAnyThreadCount) {
+    constexpr int kY = 4;
+    for (const Integrator integrator : {Integrator::Verlet, Integrator::ExplicitEuler, Integrator::SemiImplicitEuler}) {
+        SCOPED_TRACE(static_cast<int>(integrator));
+        const auto build = [&] {
+            World world = buildPile(false, 8, kY, 8);
+            world.setIntegrator(integrator);
+            int k = 0;
+            BodyId previous;
+            for (const BodyId id : world.bodies()) {
+                if (world.bodyType(id) == BodyType::Static) continue;
+                if (k % 7 == 0) {
+                    world.setForceCallback(id, [](const BodyKinematics& b) {
+                        return Wrench{b.linearVelocity * (-Real(0.5) * b.mass) + Vec3{Real(0.2) * std::sin(b.time), 0, 0},
+                                      Vec3{}};
+                    });
+                }
+                if (k % 5 == 0 && !previous.isNull()) {
+                    SpringDef spring;
+                    spring.bodyA = previous;
+                    spring.bodyB = id;
+                    spring.anchorA = world.position(previous);
+                    spring.anchorB = world.position(id);
+                    spring.restLength = length(spring.anchorB - spring.anchorA);
+                    spring.stiffness = 20;
+                    spring.damping = Real(0.5);
+                    world.createSpring(spring);
+                }
+                previous = id;
+                ++k;
+            }
+            return world;
+        };
+        expectIdenticalRuns(build, 30, Real(1) / 60, [](const World& w) { checkPile(w, kY); });
+    }
+}
+
 // Islands and sleep timers (SleepManager::update runs its per-constraint and
 // per-body loops on the task system): a layer of 600 boxes resting on the
 // ground in 20 rows of touching boxes, every row one island through its

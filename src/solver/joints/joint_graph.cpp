@@ -1,7 +1,7 @@
 // Per-body joint lists: see joint_graph.hpp.
 #include "solver/joints/joint_graph.hpp"
 
-#include "world/world_impl.hpp"
+#include "solver/joint_data.hpp"
 
 namespace fulcrum::detail {
 
@@ -25,30 +25,30 @@ void JointGraph::link(std::uint32_t body, std::uint32_t jointSlot, int end) {
     ++degree_[body];
 }
 
-std::uint32_t& JointGraph::nextOf(const WorldImpl& w, std::uint32_t jointSlot, std::uint32_t body) {
-    return next_[2 * jointSlot + (endOf(w.joints[jointSlot].def, 0) == body ? 0u : 1u)];
+std::uint32_t& JointGraph::nextOf(const Joints& w, std::uint32_t jointSlot, std::uint32_t body) {
+    return next_[2 * jointSlot + (endOf(w[jointSlot].def, 0) == body ? 0u : 1u)];
 }
 
-void JointGraph::add(const WorldImpl& w, std::uint32_t jointSlot) {
+void JointGraph::add(const Joints& w, std::uint32_t jointSlot) {
     // In sync before this joint: it reused a free slot, or it was appended.
-    const bool reused = jointSlots_ == w.joints.size() && jointSlot < jointSlots_;
-    const bool appended = jointSlots_ + 1 == w.joints.size() && jointSlot == jointSlots_;
+    const bool reused = jointSlots_ == w.size() && jointSlot < jointSlots_;
+    const bool appended = jointSlots_ + 1 == w.size() && jointSlot == jointSlots_;
     if (!reused && !appended) {
         rebuild(w);  // out of sync (a snapshot load): start over, the new joint included
         return;
     }
-    jointSlots_ = w.joints.size();
+    jointSlots_ = w.size();
     if (next_.size() < 2 * jointSlots_) next_.resize(2 * jointSlots_, kNone);
-    const JointDef& d = w.joints[jointSlot].def;
+    const JointDef& d = w[jointSlot].def;
     for (int end = 0; end < 2; ++end) {
         const std::uint32_t body = endOf(d, end);
         if (body != UINT32_MAX) link(body, jointSlot, end);
     }
 }
 
-void JointGraph::remove(const WorldImpl& w, std::uint32_t jointSlot) {
+void JointGraph::remove(const Joints& w, std::uint32_t jointSlot) {
     if (!inSync(w)) return;  // the next rebuild leaves it out
-    const JointDef& d = w.joints[jointSlot].def;
+    const JointDef& d = w[jointSlot].def;
     for (int end = 0; end < 2; ++end) {
         const std::uint32_t body = endOf(d, end);
         if (body == UINT32_MAX) continue;
@@ -61,14 +61,14 @@ void JointGraph::remove(const WorldImpl& w, std::uint32_t jointSlot) {
     }
 }
 
-void JointGraph::rebuild(const WorldImpl& w) {
+void JointGraph::rebuild(const Joints& w) {
     head_.assign(head_.size(), kNone);
     degree_.assign(degree_.size(), 0);
-    jointSlots_ = w.joints.size();
+    jointSlots_ = w.size();
     next_.assign(2 * jointSlots_, kNone);
     for (std::uint32_t k = 0; k < jointSlots_; ++k) {
-        if (!w.joints[k].alive) continue;
-        const JointDef& d = w.joints[k].def;
+        if (!w[k].alive) continue;
+        const JointDef& d = w[k].def;
         for (int end = 0; end < 2; ++end) {
             const std::uint32_t body = endOf(d, end);
             if (body != UINT32_MAX) link(body, k, end);
@@ -76,16 +76,16 @@ void JointGraph::rebuild(const WorldImpl& w) {
     }
 }
 
-bool JointGraph::inSync(const WorldImpl& w) const { return jointSlots_ == w.joints.size(); }
+bool JointGraph::inSync(const Joints& w) const { return jointSlots_ == w.size(); }
 
-bool JointGraph::keepsApart(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) const {
+bool JointGraph::keepsApart(const Joints& w, std::uint32_t slotA, std::uint32_t slotB) const {
     const auto blocks = [&](const JointData& j, std::uint32_t a, std::uint32_t b) {
         if (!j.alive || !j.enabled || j.def.collideConnected) return false;
         const std::uint32_t ja = endOf(j.def, 0), jb = endOf(j.def, 1);
         return (ja == a && jb == b) || (ja == b && jb == a);
     };
     if (!inSync(w)) {
-        for (const JointData& j : w.joints) {
+        for (const JointData& j : w) {
             if (blocks(j, slotA, slotB)) return true;
         }
         return false;
@@ -96,11 +96,15 @@ bool JointGraph::keepsApart(const WorldImpl& w, std::uint32_t slotA, std::uint32
     const std::uint32_t body = degreeA <= degreeB ? slotA : slotB;
     if (body >= head_.size()) return false;
     for (std::uint32_t k = head_[body]; k != kNone;) {
-        const JointData& j = w.joints[k];
+        const JointData& j = w[k];
         if (blocks(j, slotA, slotB)) return true;
         k = next_[2 * k + (endOf(j.def, 0) == body ? 0u : 1u)];
     }
     return false;
+}
+
+bool JointPairFilter::keepsApart(std::uint32_t slotA, std::uint32_t slotB) const {
+    return graph != nullptr && graph->keepsApart(*joints, slotA, slotB);
 }
 
 }  // namespace fulcrum::detail

@@ -8,33 +8,32 @@
 // Scanning every joint for that was ~20 % of the ragdoll pile's step
 // (docs/joints.md); the lists make it O(joints of the body with fewer).
 //
-// A world filled by a snapshot load (which writes WorldImpl::joints directly)
+// A world filled by a snapshot load (which writes the joint records directly)
 // starts out of sync; until JointSolver::prepare rebuilds the lists (every
 // step, O(1) when in sync), the question falls back to the scan.
 #include <cstdint>
 #include <vector>
 
-namespace fulcrum {
-struct WorldImpl;
-}
-
 namespace fulcrum::detail {
+
+struct JointData;
 
 class JointGraph {
 public:
+    using Joints = std::vector<JointData>;  // WorldImpl::joints
     // After a joint was created in `jointSlot` (alive, bodies set).
-    void add(const WorldImpl& w, std::uint32_t jointSlot);
+    void add(const Joints& w, std::uint32_t jointSlot);
     // Before or after a joint is destroyed (its def still names its bodies).
-    void remove(const WorldImpl& w, std::uint32_t jointSlot);
-    void rebuild(const WorldImpl& w);
-    bool inSync(const WorldImpl& w) const;
+    void remove(const Joints& w, std::uint32_t jointSlot);
+    void rebuild(const Joints& w);
+    bool inSync(const Joints& w) const;
     // An enabled joint without collideConnected joins the bodies in these slots.
-    bool keepsApart(const WorldImpl& w, std::uint32_t slotA, std::uint32_t slotB) const;
+    bool keepsApart(const Joints& w, std::uint32_t slotA, std::uint32_t slotB) const;
 
 private:
     static constexpr std::uint32_t kNone = UINT32_MAX;
     void link(std::uint32_t body, std::uint32_t jointSlot, int end);
-    std::uint32_t& nextOf(const WorldImpl& w, std::uint32_t jointSlot, std::uint32_t body);
+    std::uint32_t& nextOf(const Joints& w, std::uint32_t jointSlot, std::uint32_t body);
     std::vector<std::uint32_t> head_;     // per body slot: its first joint slot (kNone: none)
     std::vector<std::uint32_t> degree_;   // per body slot: how many joints
     std::vector<std::uint32_t> next_;     // per joint slot, 2 entries: the next joint on bodyA's / bodyB's list
