@@ -303,7 +303,7 @@ DriftLanes<double> loadDrift(Motion m, const BodyParams& p, int k) {
     return {m.x.q.w, m.x.q.x, m.x.q.y, m.x.q.z, m.s.w.x, m.s.w.y, m.s.w.z, 0, 0, 0, p.localInertia(k, k), p.localInertia(side, side)};
 }
 
-void storeDrift(Motion m, const BodyParams& p, int k, const DriftLanes<double>& d) {
+[[gnu::always_inline]] inline void storeDrift(Motion m, const BodyParams& p, int k, const DriftLanes<double>& d) {
     m.x.q = Quat{static_cast<Real>(d.qw), static_cast<Real>(d.qx), static_cast<Real>(d.qy), static_cast<Real>(d.qz)};
     m.s.w = Vec3{static_cast<Real>(d.wx), static_cast<Real>(d.wy), static_cast<Real>(d.wz)};
     // I_w^-1 = E / I_t + (1/I_a - 1/I_t) a a^T
