@@ -301,6 +301,8 @@ void WorldImpl::step(Real dt) {
     prof.sleep = clock.lap();
     // Built when read (World::contacts(), snapshots): world_impl.hpp.
     contactReportStale = true;
+    hitEventsStale = true;
+    lastStepDt = dt;
 
     const std::uint32_t firstBad = finishStep(tasks);
     prof.finish = clock.lap();
