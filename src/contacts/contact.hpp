@@ -25,7 +25,7 @@ struct CachedPoint {
     // the sum over its sub-steps of the accumulated impulse after the relax
     // pass, plus restitution's (N s; the contact report's forces).
     Real stepNormalImpulse = 0;
-    Real relativeVelocity = 0;   // normal velocity when the point first pushed in the last step (hit events)
+    Real approachVelocity = 0;   // normal velocity when the point first pushed in the last step (hit events)
 };
 
 struct CachedManifold {

@@ -774,9 +774,9 @@ void ContactManager::appendHitEvent(const BodyStore& w, const Contact& c, const 
     std::uint32_t at = UINT32_MAX;
     for (std::uint32_t k = 0; k < m.pointCount; ++k) {
         const CachedPoint& p = m.points[k];
-        // Only points that pushed in the step; relativeVelocity is the normal
+        // Only points that pushed in the step; approachVelocity is the normal
         // velocity when they first did (negative: approaching).
-        const Real approach = -p.relativeVelocity;
+        const Real approach = -p.approachVelocity;
         if (p.maxNormalImpulse > 0 && approach > threshold && approach > fastest) {
             fastest = approach;
             at = k;

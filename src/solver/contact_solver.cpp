@@ -366,6 +366,7 @@ void ContactSolver::buildConstraint(const Contact& c, const PendingConstraint& p
                 cp.stepImpulse = 0;
                 const Vec3 dv = bb.v + cross(bb.w, cp.rB) - ba.v - cross(ba.w, cp.rA);
                 cp.relativeVelocity = dot(n, dv);
+                cp.approachVelocity = cp.relativeVelocity;
                 centre += src.position;
             }
             centre *= Real(1) / static_cast<Real>(m.pointCount);
@@ -607,8 +608,9 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
             // pushes, which includes the gravity of the sub-steps before the
             // impact (the speed at the step's start misses up to g dt: a ball
             // with e = 1 lost ~7 % of its height per bounce; now ~1.5 %).
-            if constexpr (useBias) {
-                if (impulse > 0 && cp.maxNormalImpulse == 0) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+            if (impulse > 0 && cp.maxNormalImpulse == 0) {
+                if constexpr (useBias) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+                cp.approachVelocity = std::min(cp.approachVelocity, vn);
             }
             cp.normalImpulse = newImpulse;
             cp.maxNormalImpulse = std::max(cp.maxNormalImpulse, impulse);
@@ -755,7 +757,7 @@ void ContactSolver::storeRange(std::vector<Contact>& contacts, std::size_t begin
             dst.normalImpulse = cp.normalImpulse;
             dst.maxNormalImpulse = cp.maxNormalImpulse;
             dst.stepNormalImpulse = cp.stepImpulse;
-            dst.relativeVelocity = cp.relativeVelocity;
+            dst.approachVelocity = cp.approachVelocity;
             dst.depthAfter = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
         }
         m.frictionImpulse = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;

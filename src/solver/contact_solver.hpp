@@ -55,6 +55,10 @@ struct ConstraintPoint {
     Real maxNormalImpulse = 0;
     Real relativeVelocity = 0;  // normal approach speed at impact (restitution)
     Real stepImpulse = 0;       // applied over the step: each sub-step's impulse after relax, plus restitution's
+    // As relativeVelocity, but also when the point first pushes in a relax
+    // pass (a speculative point can): the impact speed of hit events.
+    // relativeVelocity stays as it was, so restitution's bits do not change.
+    Real approachVelocity = 0;
 };
 
 struct ContactConstraint {

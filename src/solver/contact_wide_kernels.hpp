@@ -58,7 +58,7 @@ constexpr int kWideLanes = Policy::kLanes;
 struct WidePoint {
     Vec3W rAxn, rBxn, angA, angB;
     FloatW baseSeparation, normalMass, normalImpulse, maxNormalImpulse, relativeVelocity;
-    FloatW stepImpulse;  // ConstraintPoint::stepImpulse
+    FloatW stepImpulse, approachVelocity;  // ConstraintPoint's
 };
 
 // What a block needs only when a lane has more than one point or rolling
@@ -301,6 +301,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
         wp.maxNormalImpulse = zero;
         wp.stepImpulse = zero;
         wp.relativeVelocity = keep(on, dot(n, dv));
+        wp.approachVelocity = wp.relativeVelocity;
         centre = select(on, centre + p, centre);
     }
     centre = centre * (one / pointCount);
@@ -414,10 +415,9 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
             FloatW impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
             const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
             impulse = newImpulse - cp.normalImpulse;
-            if constexpr (useBias) {
-                const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
-                cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
-            }
+            const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
+            if constexpr (useBias) cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
+            cp.approachVelocity = select(first, min(vn, cp.approachVelocity), cp.approachVelocity);
             cp.normalImpulse = newImpulse;
             cp.maxNormalImpulse = max(impulse, cp.maxNormalImpulse);
             if constexpr (!useBias) cp.stepImpulse += newImpulse;
@@ -556,7 +556,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
         const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
         const Vec3W dp = b.dp - a.dp;
         alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
-        alignas(32) float stepImpulse[4][kWideLanes], relativeVelocity[4][kWideLanes];
+        alignas(32) float stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             const WidePoint& cp = k.point(i);
             const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
@@ -564,7 +564,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
             cp.normalImpulse.store(impulse[i]);
             cp.maxNormalImpulse.store(maxImpulse[i]);
             cp.stepImpulse.store(stepImpulse[i]);
-            cp.relativeVelocity.store(relativeVelocity[i]);
+            cp.approachVelocity.store(approachVelocity[i]);
         }
         const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
         const Vec3W stepFriction = k.tangent1 * k.stepTangent1 + k.tangent2 * k.stepTangent2;
@@ -576,7 +576,7 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
                 dst.normalImpulse = impulse[i][lane];
                 dst.maxNormalImpulse = maxImpulse[i][lane];
                 dst.stepNormalImpulse = stepImpulse[i][lane];
-                dst.relativeVelocity = relativeVelocity[i][lane];
+                dst.approachVelocity = approachVelocity[i][lane];
                 dst.depthAfter = depth[i][lane];
             }
             m.frictionImpulse = friction.lane(l);

@@ -339,7 +339,7 @@ template <typename A>
 void io(A& a, CachedPoint& p) {
     io(a, p.localA), io(a, p.localB), io(a, p.position), io(a, p.depth), io(a, p.depthAfter), io(a, p.featureId);
     io(a, p.normalImpulse), io(a, p.maxNormalImpulse);
-    if (a.version >= 5) io(a, p.stepNormalImpulse), io(a, p.relativeVelocity);  // contact forces (version 5)
+    if (a.version >= 5) io(a, p.stepNormalImpulse), io(a, p.approachVelocity);  // contact forces (version 5)
 }
 template <typename A>
 void io(A& a, CachedManifold& m) {
