@@ -218,6 +218,7 @@ public:
     void setSleepingEnabled(bool enabled);
     void setThreadCount(int threads);
     void setParallelMinBodies(std::uint32_t minimum);  // WorldDef::parallelMinBodies
+    void setHitEventThreshold(Real threshold);         // WorldDef::hitEventThreshold (>= 0), from the last step's events on
     // WorldDef::maxContactPairs (validated the same way). A limit below the
     // pairs held now keeps them; new ones wait until they end.
     void setMaxContactPairs(std::int64_t limit);

@@ -244,6 +244,7 @@ class World:
     threads: int
     parallel_min_bodies: int
     max_contact_pairs: int
+    hit_event_threshold: float
     scene_dt: float
     scene_steps: int
     @property

@@ -189,6 +189,10 @@ void bindWorld(py::module_& m) {
             "parallel_min_bodies", [](const PyWorld& w) { return w.world().settings().parallelMinBodies; },
             [](PyWorld& w, std::uint32_t n) { w.world().setParallelMinBodies(n); })
         .def_property(
+            "hit_event_threshold", [](const PyWorld& w) { return w.world().settings().hitEventThreshold; },
+            [](PyWorld& w, Real v) { w.world().setHitEventThreshold(v); },
+            "m/s: slower impacts make no contact_hit_events().")
+        .def_property(
             "max_contact_pairs", [](const PyWorld& w) { return w.world().settings().maxContactPairs; },
             [](PyWorld& w, std::int64_t n) { w.world().setMaxContactPairs(n); },
             "The contact pair limit; 0 is automatic (docs/solver.md, 'Contact pair limit').")

@@ -103,6 +103,12 @@ void World::setThreadCount(int threads) {
     impl_->settings.threads = threads;
 }
 void World::setParallelMinBodies(std::uint32_t minimum) { impl_->settings.parallelMinBodies = minimum; }
+void World::setHitEventThreshold(Real threshold) {
+    requireNonNegative(kWorldSubject, "hitEventThreshold", threshold);
+    impl_->settings.hitEventThreshold = threshold;
+    impl_->hitEvents.clear();  // the last step's were chosen by the old threshold: built anew when read
+    impl_->hitEventsStale = !impl_->contactSolver.pairs().empty();
+}
 void World::setMaxContactPairs(std::int64_t limit) {
     validateMaxContactPairs(limit);
     impl_->settings.maxContactPairs = limit;

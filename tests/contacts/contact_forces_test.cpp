@@ -175,6 +175,10 @@ TEST(HitEvents, SlowTouchMakesNone) {
     WorldDef bad;
     bad.hitEventThreshold = -1;
     EXPECT_THROW(World{bad}, Error);
+    World world;
+    EXPECT_THROW(world.setHitEventThreshold(std::nan("")), Error);
+    world.setHitEventThreshold(Real(0.5));
+    EXPECT_EQ(world.settings().hitEventThreshold, Real(0.5));
 }
 
 // A kinematic platform driven by targets (sway, bob and yaw from rest, at most
