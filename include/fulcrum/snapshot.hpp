@@ -40,8 +40,9 @@ namespace fulcrum {
 // fields later versions added take their defaults); older or newer versions
 // are refused. 2: joint solver runtime state; 3: joint friction
 // (JointDef::frictionTorque and its impulse) and the WorldDef joint solver
-// settings; 4: WorldDef::maxContactPairs.
-inline constexpr std::uint32_t kSnapshotVersion = 4;
+// settings; 4: WorldDef::maxContactPairs; 5: contact forces (the last step's
+// impulses per point and manifold, the report's forces) and WorldDef::hitEventThreshold.
+inline constexpr std::uint32_t kSnapshotVersion = 5;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -59,6 +59,7 @@ struct WorldDef {
     Real contactPushMaxVelocity = 3;    // m/s: the fastest an overlap is pushed apart; > 0
     Real speculativeMargin = Real(0.02);  // m: contact points are made this far before touching (plus the motion of a step); >= 0
     Real restitutionThreshold = 1;      // m/s: slower impacts don't bounce; >= 0
+    Real hitEventThreshold = 1;         // m/s: slower impacts make no ContactHitEvent (World::contactHitEvents); >= 0
     // ---- joint solver tuning (docs/joints.md explains each one)
     Real jointHertz = 60;                  // stiffness of the soft joint rows (capped at 1/4 of the sub-step rate); > 0
     Real jointDampingRatio = 2;            // > 0
@@ -98,6 +99,17 @@ struct WorldDef {
 // has the smaller handle index). Sensors: bodyA is the sensor, bodyB the visitor.
 struct ContactEvent {
     BodyId bodyA, bodyB;
+};
+
+// An impact of the last step (World::contactHitEvents; Box2D v3's hit
+// events, for sounds and damage): a manifold of two bodies that pushed in the
+// step after approaching along its normal faster than
+// WorldDef::hitEventThreshold. The point of the manifold that approached fastest.
+struct ContactHitEvent {
+    BodyId bodyA, bodyB;   // as ContactEvent
+    Vec3 point;            // world, at the step's start
+    Vec3 normal;           // unit, from A to B
+    Real approachSpeed = 0;  // m/s, > 0: the normal speed when the point first pushed
 };
 
 // A joint that broke in the last step: its reaction force or torque exceeded
@@ -151,11 +163,23 @@ struct WorldWarning {
 };
 
 // One contact manifold of the last step, as reported to users and --json.
+//
+// The forces are what the solver applied over the last step in which the pair
+// was solved (a sleeping pair keeps those of the step it fell asleep in; a
+// pair without a dynamic body has none): per point, the sum over the
+// step's sub-steps of the normal impulse each sub-step applied (its warm
+// start, biased iterations and relax pass: the accumulated impulse after the
+// relax) plus the restitution applied after the sub-steps (docs/solver.md,
+// "Contact forces").
 struct ContactReport {
     BodyId bodyA, bodyB;
     Vec3 normal;                // unit, from A to B
     Real depth = 0;             // deepest point; positive when overlapping
     std::vector<Vec3> points;   // world space
+    Real normalImpulse = 0;     // N s, on B along `normal`, summed over the points
+    Vec3 frictionImpulse;       // N s, tangent impulse on B (world), at the manifold's centre
+    Vec3 force;                 // N, on B, averaged over the step: (normalImpulse normal + frictionImpulse) / dt
+    std::vector<Real> pointNormalImpulses;  // N s, per point (as points)
 };
 
 // Two bodies left overlapping far deeper than contacts rest (World::deepOverlaps):
@@ -194,6 +218,7 @@ public:
     void setSleepingEnabled(bool enabled);
     void setThreadCount(int threads);
     void setParallelMinBodies(std::uint32_t minimum);  // WorldDef::parallelMinBodies
+    void setHitEventThreshold(Real threshold);         // WorldDef::hitEventThreshold (>= 0), from the last step's events on
     // WorldDef::maxContactPairs (validated the same way). A limit below the
     // pairs held now keeps them; new ones wait until they end.
     void setMaxContactPairs(std::int64_t limit);
@@ -230,6 +255,15 @@ public:
 
     void setTransform(BodyId id, const Vec3& position, const Quat& orientation);  // wakes the body
     void setLinearVelocity(BodyId id, const Vec3& v);
+    // Kinematic targets: sets a kinematic body's velocities so that a step of
+    // `dt` brings it to `target` (its origin and orientation): the linear one
+    // moves the centre of mass in a straight line, the angular one turns along
+    // the shortest arc. Dynamic bodies it touches are pushed and carried by the
+    // solver as by any moving kinematic body. The velocities stay after the
+    // step (call it every step to follow a path; zero velocities to stop).
+    // Wakes the body. Throws fulcrum::Error for a body that is not kinematic,
+    // a non-finite target or a dt that is not finite and > 0.
+    void moveKinematic(BodyId id, const Transform& target, Real dt);
     void setAngularVelocity(BodyId id, const Vec3& w);
     void setFriction(BodyId id, Real friction);
     void setRestitution(BodyId id, Real restitution);
@@ -341,6 +375,10 @@ public:
     std::span<const ContactEvent> sensorBeginEvents() const;   // a body started overlapping a sensor
     std::span<const ContactEvent> sensorEndEvents() const;     // ... stopped overlapping it
     std::span<const JointBreakEvent> jointBreakEvents() const; // joints that broke
+    // Impacts faster than WorldDef::hitEventThreshold (ContactHitEvent), in
+    // the solver's constraint order (the same for every thread count). Built
+    // when first read after a step, like contacts().
+    std::span<const ContactHitEvent> contactHitEvents() const;
 
     // ---- queries (include/fulcrum/query.hpp, docs/queries.md) ----------------
     // Read-only and valid at any time between steps: bodies created, moved

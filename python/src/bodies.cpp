@@ -137,6 +137,13 @@ void bindBodies(py::module_& m) {
                  a.world.setTransform(b.id, toVec3(p, "position"), toQuat(q, "orientation"));
              },
              py::arg("position"), py::arg("orientation"), "Teleports the body (also resets its previous transform).")
+        .def("move_kinematic",
+             [](const B& b, py::object p, py::object q, Real dt) {
+                 auto a = b.access("Body");
+                 a.world.moveKinematic(b.id, Transform(toVec3(p, "position"), toQuat(q, "orientation")), dt);
+             },
+             py::arg("position"), py::arg("orientation"), py::arg("dt"),
+             "Kinematic bodies: sets the velocities that bring it to (position, orientation) after a step of dt.")
         .def("previous_transform", [](const B& b) {
             auto a = b.access("Body");
             const Transform t = a.world.previousTransform(b.id);

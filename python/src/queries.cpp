@@ -68,6 +68,19 @@ void bindQueries(py::module_& m) {
         .def_property_readonly("normal", [](const PyContact& c) { return fromVec3(c.report.normal); }, "Unit, from A to B.")
         .def_property_readonly("depth", [](const PyContact& c) { return c.report.depth; }, "Positive when overlapping, m.")
         .def_property_readonly("points", [](const PyContact& c) { return fromVec3List(c.report.points); }, "(k, 3) world points.")
+        .def_property_readonly("normal_impulse", [](const PyContact& c) { return c.report.normalImpulse; },
+                               "N s on B along the normal, summed over the points, over the last step.")
+        .def_property_readonly("friction_impulse", [](const PyContact& c) { return fromVec3(c.report.frictionImpulse); },
+                               "N s, tangent impulse on B over the last step, (3,).")
+        .def_property_readonly("force", [](const PyContact& c) { return fromVec3(c.report.force); },
+                               "N on B, averaged over the last step, (3,).")
+        .def_property_readonly("point_normal_impulses",
+                               [](const PyContact& c) {
+                                   py::list out;
+                                   for (const Real v : c.report.pointNormalImpulses) out.append(v);
+                                   return out;
+                               },
+                               "N s per point (as points).")
         .def("__repr__", [](const PyContact& c) {
             return "<fulcrum.Contact " + std::to_string(c.report.points.size()) + " points, depth " +
                    std::to_string(c.report.depth) + ">";
@@ -151,6 +164,18 @@ void bindQueries(py::module_& m) {
             return out;
         },
         "The touching contact manifolds of the last step, as Contact objects.");
+    cls.def(
+        "contact_hit_events",
+        [](const PyWorld& w) {
+            py::list out;
+            for (const ContactHitEvent& e : w.world().contactHitEvents())
+                out.append(py::dict(py::arg("body_a") = bodyObject(w.state, e.bodyA),
+                                    py::arg("body_b") = bodyObject(w.state, e.bodyB), py::arg("point") = fromVec3(e.point),
+                                    py::arg("normal") = fromVec3(e.normal), py::arg("approach_speed") = e.approachSpeed));
+            return out;
+        },
+        "Impacts of the last step faster than hit_event_threshold: [{'body_a', 'body_b', 'point', 'normal', "
+        "'approach_speed'}, ...].");
 }
 
 }  // namespace fulcrum::python

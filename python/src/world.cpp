@@ -118,7 +118,7 @@ void bindWorld(py::module_& m) {
                           Real restitutionThreshold, Real jointHertz, Real jointDampingRatio, Real maxRotationPerSubstep,
                           Real jointProjectionSlop, bool jointDirectSolve, Real linearSleepVelocity,
                           Real angularSleepVelocity, Real timeToSleep, bool continuousCollision,
-                          std::int64_t maxContactPairs) {
+                          std::int64_t maxContactPairs, Real hitEventThreshold) {
                   WorldDef def;
                   def.gravity = toVec3(gravity, "gravity");
                   def.integrator = integratorNamed(integrator);
@@ -142,6 +142,7 @@ void bindWorld(py::module_& m) {
                   def.timeToSleep = timeToSleep;
                   def.continuousCollision = continuousCollision;
                   def.maxContactPairs = maxContactPairs;
+                  def.hitEventThreshold = hitEventThreshold;
                   auto state = std::make_shared<WorldState>(World(def));
                   state->scene.world = def;
                   return PyWorld{std::move(state)};
@@ -161,7 +162,7 @@ void bindWorld(py::module_& m) {
               py::arg("linear_sleep_velocity") = d.linearSleepVelocity,
               py::arg("angular_sleep_velocity") = d.angularSleepVelocity, py::arg("time_to_sleep") = d.timeToSleep,
               py::arg("continuous_collision") = d.continuousCollision,
-              py::arg("max_contact_pairs") = d.maxContactPairs);
+              py::arg("max_contact_pairs") = d.maxContactPairs, py::arg("hit_event_threshold") = d.hitEventThreshold);
 
     // ---- settings
     world
@@ -188,6 +189,10 @@ void bindWorld(py::module_& m) {
             "parallel_min_bodies", [](const PyWorld& w) { return w.world().settings().parallelMinBodies; },
             [](PyWorld& w, std::uint32_t n) { w.world().setParallelMinBodies(n); })
         .def_property(
+            "hit_event_threshold", [](const PyWorld& w) { return w.world().settings().hitEventThreshold; },
+            [](PyWorld& w, Real v) { w.world().setHitEventThreshold(v); },
+            "m/s: slower impacts make no contact_hit_events().")
+        .def_property(
             "max_contact_pairs", [](const PyWorld& w) { return w.world().settings().maxContactPairs; },
             [](PyWorld& w, std::int64_t n) { w.world().setMaxContactPairs(n); },
             "The contact pair limit; 0 is automatic (docs/solver.md, 'Contact pair limit').")
@@ -207,6 +212,7 @@ void bindWorld(py::module_& m) {
                  out["contact_push_max_velocity"] = s.contactPushMaxVelocity;
                  out["speculative_margin"] = s.speculativeMargin;
                  out["restitution_threshold"] = s.restitutionThreshold;
+                 out["hit_event_threshold"] = s.hitEventThreshold;
                  out["joint_hertz"] = s.jointHertz;
                  out["joint_damping_ratio"] = s.jointDampingRatio;
                  out["max_rotation_per_substep"] = s.maxRotationPerSubstep;

@@ -129,6 +129,40 @@ def test_contact_events_after_a_step():
     assert w.contact_end_events() == [(ground, ball)]
 
 
+def test_contact_forces_hit_events_and_kinematic_targets():
+    w = fulcrum.World(sleeping=False)
+    w.create_body(shape=fulcrum.Box((5, 0.5, 5)), position=(0, -0.5, 0), type="static", name="ground")
+    box = w.create_body(shape=fulcrum.Box((0.5, 0.5, 0.5)), position=(0, 0.5, 0), mass=2, name="box")
+    for _ in range(120):
+        w.step(DT)
+    c = w.contacts()[0]
+    sign = 1 if c.body_b == box else -1
+    assert sign * c.force[1] == pytest.approx(2 * 9.81, rel=0.005)      # the ground carries m g
+    assert c.normal_impulse == pytest.approx(sum(c.point_normal_impulses), rel=1e-5)
+    assert len(c.point_normal_impulses) == len(c.points) and len(c.friction_impulse) == 3
+
+    w = fulcrum.World(sleeping=False, hit_event_threshold=1.0)
+    assert w.settings()["hit_event_threshold"] == 1.0
+    w.create_body(shape=fulcrum.Box((5, 0.5, 5)), position=(0, -0.5, 0), type="static")
+    w.create_body(shape=fulcrum.Sphere(0.25), position=(0, 2.25, 0))
+    hits = []
+    for _ in range(120):
+        w.step(DT)
+        hits += w.contact_hit_events()
+    assert len(hits) == 1 and hits[0]["approach_speed"] == pytest.approx((2 * 9.81 * 2) ** 0.5, rel=0.01)
+    assert set(hits[0]) == {"body_a", "body_b", "point", "normal", "approach_speed"}
+
+    lift = w.create_body(shape=fulcrum.Box((1, 0.1, 1)), position=(3, 0, 0), type="kinematic", name="lift")
+    lift.move_kinematic((3, 0.1, 0), (1, 0, 0, 0), DT)
+    w.step(DT)
+    np.testing.assert_allclose(lift.position, (3, 0.1, 0), atol=1e-5)
+    with pytest.raises(fulcrum.Error, match="lift.*dt"):
+        lift.move_kinematic((3, 0.1, 0), (1, 0, 0, 0), 0.0)
+    ball = w.create_body(shape=fulcrum.Sphere(0.25), position=(-3, 0.25, 0), name="ball")
+    with pytest.raises(fulcrum.Error, match="ball.*kinematic"):
+        ball.move_kinematic((0, 0, 0), (1, 0, 0, 0), DT)
+
+
 def test_ropes_and_cloths_as_arrays():
     w = fulcrum.World()
     rope = w.create_rope(start=(0, 5, 0), end=(2, 5, 0), segments=8, name="rope")

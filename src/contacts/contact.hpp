@@ -21,6 +21,11 @@ struct CachedPoint {
     std::uint32_t featureId = 0;
     Real normalImpulse = 0;      // accumulated over a sub-step (warm start)
     Real maxNormalImpulse = 0;   // largest sub-step impulse of the last step (restitution, events)
+    // What the solver applied over the whole last step (ContactSolver::store):
+    // the sum over its sub-steps of the accumulated impulse after the relax
+    // pass, plus restitution's (N s; the contact report's forces).
+    Real stepNormalImpulse = 0;
+    Real approachVelocity = 0;   // normal velocity when the point first pushed in the last step (hit events)
 };
 
 struct CachedManifold {
@@ -35,6 +40,7 @@ struct CachedManifold {
     Vec3 frictionImpulse;
     Real twistImpulse = 0;
     Vec3 rollingImpulse;
+    Vec3 stepFrictionImpulse;    // tangent impulse on B over the last step, as stepNormalImpulse (world)
 };
 
 struct Contact {

@@ -155,6 +155,7 @@ void ContactManager::reserve(std::size_t bodyCount, std::int64_t maxContactPairs
         while (reports.size() < wantReports) {
             reports.emplace_back();
             reports.back().points.reserve(4);
+            reports.back().pointNormalImpulses.reserve(4);
         }
     }
 }
@@ -767,6 +768,25 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
     for (; kn < newCount; ++kn) apply(newContacts_[kn], newFlags[kn]);
 }
 
+void ContactManager::appendHitEvent(const BodyStore& w, const Contact& c, const CachedManifold& m, Real threshold,
+                                    std::vector<ContactHitEvent>& out) {
+    Real fastest = 0;
+    std::uint32_t at = UINT32_MAX;
+    for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+        const CachedPoint& p = m.points[k];
+        // Only points that pushed in the step; approachVelocity is the normal
+        // velocity when they first did (negative: approaching).
+        const Real approach = -p.approachVelocity;
+        if (p.maxNormalImpulse > 0 && approach > threshold && approach > fastest) {
+            fastest = approach;
+            at = k;
+        }
+    }
+    if (at == UINT32_MAX) return;
+    out.push_back({{c.slotA, w.bodySlots[c.slotA].generation}, {c.slotB, w.bodySlots[c.slotB].generation},
+                   m.points[at].position, m.normal, fastest});
+}
+
 namespace {
 
 // Whether a manifold is reported (a point within kTouchSlop), and its deepest point.
@@ -778,8 +798,9 @@ bool reportable(const CachedManifold& m, Real& deepest) {
 
 }  // namespace
 
-void ContactManager::report(const BodyStore& w, std::vector<ContactReport>& out, std::size_t& reportCount,
+void ContactManager::report(const BodyStore& w, std::vector<ContactReport>& out, std::size_t& reportCount, Real dt,
                             TaskSystem& tasks) const {
+    const Real invDt = dt > 0 ? Real(1) / dt : Real(0);
     // In parallel and in contact order: count each contact's reports, place
     // them by prefix sums (serial), then fill each contact's slots.
     const auto contactCount = static_cast<std::uint32_t>(contacts_.size());
@@ -812,7 +833,19 @@ void ContactManager::report(const BodyStore& w, std::vector<ContactReport>& out,
                 rep.normal = m.normal;
                 rep.depth = deepest;
                 rep.points.resize(m.pointCount);
-                for (std::uint32_t k = 0; k < m.pointCount; ++k) rep.points[k] = m.points[k].position;
+                rep.pointNormalImpulses.resize(m.pointCount);
+                // A pair without a dynamic body is never solved: its stored impulses mean nothing.
+                const bool solved = w.params[w.bodySlots[c.slotA].dense].type == BodyType::Dynamic ||
+                                    w.params[w.bodySlots[c.slotB].dense].type == BodyType::Dynamic;
+                Real total = 0;
+                for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+                    rep.points[k] = m.points[k].position;
+                    rep.pointNormalImpulses[k] = solved ? m.points[k].stepNormalImpulse : Real(0);
+                    total += rep.pointNormalImpulses[k];
+                }
+                rep.normalImpulse = total;
+                rep.frictionImpulse = solved ? m.stepFrictionImpulse : Vec3{};
+                rep.force = (m.normal * total + rep.frictionImpulse) * invDt;
             }
         }
     });

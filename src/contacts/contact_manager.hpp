@@ -107,7 +107,23 @@ public:
     // Broad phase + narrow phase + events. Clears the previous step's events.
     void update(BodyStore& w, const CollisionSettings& settings, const JointPairFilter& joints, TaskSystem& tasks, Real dt);
     // Fills out[0, count) with the touching manifolds (after the solver stored its results).
-    void report(const BodyStore& w, std::vector<ContactReport>& out, std::size_t& count, TaskSystem& tasks) const;
+    // The forces are the stored step impulses over `dt` (the last step's).
+    void report(const BodyStore& w, std::vector<ContactReport>& out, std::size_t& count, Real dt, TaskSystem& tasks) const;
+    // The impacts of the last step (World::contactHitEvents) among `solved`,
+    // the solver's constraints of that step (ContactSolver::pairs), in their
+    // order: each manifold whose fastest-approaching point that pushed
+    // approached faster than `threshold`. Clears `out` first.
+    template <class Pairs>
+    void hitEvents(const BodyStore& w, const Pairs& solved, Real threshold, std::vector<ContactHitEvent>& out) const {
+        out.clear();
+        for (const auto& pc : solved) {
+            if (pc.contact >= contacts_.size()) continue;
+            const Contact& c = contacts_[pc.contact];
+            // A pair dropped since (a joint's or a destroyed body's) has no manifold left.
+            if (!c.alive || c.sensor || pc.manifold >= c.manifolds.size()) continue;
+            appendHitEvent(w, c, c.manifolds[pc.manifold], threshold, out);
+        }
+    }
 
     std::vector<Contact>& contacts() { return contacts_; }
     const std::vector<Contact>& contacts() const { return contacts_; }
@@ -141,6 +157,8 @@ public:
     std::vector<ContactEvent> beginEvents, endEvents, sensorBeginEvents, sensorEndEvents;
 
 private:
+    static void appendHitEvent(const BodyStore& w, const Contact& c, const CachedManifold& m, Real threshold,
+                               std::vector<ContactHitEvent>& out);
     friend struct fulcrum::SnapshotAccess;
     // Returns the new contact's index.
     std::uint32_t createContact(BodyStore& w, std::uint32_t slotA, std::uint32_t slotB, ProxyId proxyA, ProxyId proxyB);

@@ -509,7 +509,9 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
                                  {"body_b", nameOf(c.bodyB)},
                                  {"normal", vec(c.normal)},
                                  {"depth", num(c.depth)},
-                                 {"points", std::move(points)}});
+                                 {"points", std::move(points)},
+                                 {"normal_impulse", num(c.normalImpulse)},
+                                 {"force", vec(c.force)}});
     }
     j["contacts"] = std::move(contacts);
     ojson joints = ojson::array();

@@ -363,8 +363,10 @@ void ContactSolver::buildConstraint(const Contact& c, const PendingConstraint& p
                 cp.normalMass = kn > 0 ? 1 / kn : 0;
                 cp.normalImpulse = src.normalImpulse;
                 cp.maxNormalImpulse = 0;
+                cp.stepImpulse = 0;
                 const Vec3 dv = bb.v + cross(bb.w, cp.rB) - ba.v - cross(ba.w, cp.rA);
                 cp.relativeVelocity = dot(n, dv);
+                cp.approachVelocity = cp.relativeVelocity;
                 centre += src.position;
             }
             centre *= Real(1) / static_cast<Real>(m.pointCount);
@@ -401,6 +403,8 @@ void ContactSolver::buildConstraint(const Contact& c, const PendingConstraint& p
             k.twistMass = kt > 0 ? 1 / kt : 0;
             k.tangentImpulse1 = dot(m.frictionImpulse, k.tangent1);
             k.tangentImpulse2 = dot(m.frictionImpulse, k.tangent2);
+            k.stepTangent1 = 0;
+            k.stepTangent2 = 0;
             k.twistImpulse = m.twistImpulse;
             if (rolling > 0) {
                 const Mat3 kr = ba.invI + bb.invI;
@@ -604,11 +608,15 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
             // pushes, which includes the gravity of the sub-steps before the
             // impact (the speed at the step's start misses up to g dt: a ball
             // with e = 1 lost ~7 % of its height per bounce; now ~1.5 %).
-            if constexpr (useBias) {
-                if (impulse > 0 && cp.maxNormalImpulse == 0) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+            if (impulse > 0 && cp.maxNormalImpulse == 0) {
+                if constexpr (useBias) cp.relativeVelocity = std::min(cp.relativeVelocity, vn);
+                cp.approachVelocity = std::min(cp.approachVelocity, vn);
             }
             cp.normalImpulse = newImpulse;
             cp.maxNormalImpulse = std::max(cp.maxNormalImpulse, impulse);
+            // The relax pass is a sub-step's last: what its warm start, solve and
+            // relax applied adds up to the accumulated impulse now.
+            if constexpr (!useBias) cp.stepImpulse += newImpulse;
             totalNormal += newImpulse;
             const Vec3 P = n * impulse;
             vA -= P * mA;
@@ -634,6 +642,10 @@ void ContactSolver::solvePass(std::size_t begin, std::size_t end) {
             }
             k.tangentImpulse1 = new1;
             k.tangentImpulse2 = new2;
+            if constexpr (!useBias) {
+                k.stepTangent1 += new1;
+                k.stepTangent2 += new2;
+            }
             const Real d1 = new1 - old1, d2 = new2 - old2;
             const Vec3 P = k.tangent1 * d1 + k.tangent2 * d2;
             vA -= P * mA;
@@ -689,6 +701,7 @@ void ContactSolver::applyRestitution() {
             impulse = newImpulse - cp.normalImpulse;
             cp.normalImpulse = newImpulse;
             cp.maxNormalImpulse = std::max(cp.maxNormalImpulse, impulse);
+            cp.stepImpulse += impulse;
             const Vec3 P = k.normal * impulse;
             vA -= P * a.invMass;
             wA -= cp.angA * impulse;
@@ -743,11 +756,14 @@ void ContactSolver::storeRange(std::vector<Contact>& contacts, std::size_t begin
             CachedPoint& dst = m.points[i];
             dst.normalImpulse = cp.normalImpulse;
             dst.maxNormalImpulse = cp.maxNormalImpulse;
+            dst.stepNormalImpulse = cp.stepImpulse;
+            dst.approachVelocity = cp.approachVelocity;
             dst.depthAfter = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
         }
         m.frictionImpulse = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
         m.twistImpulse = k.twistImpulse;
         m.rollingImpulse = k.rollingImpulse;
+        m.stepFrictionImpulse = k.tangent1 * k.stepTangent1 + k.tangent2 * k.stepTangent2;
     }
 }
 

@@ -54,6 +54,11 @@ struct ConstraintPoint {
     Real normalImpulse = 0;
     Real maxNormalImpulse = 0;
     Real relativeVelocity = 0;  // normal approach speed at impact (restitution)
+    Real stepImpulse = 0;       // applied over the step: each sub-step's impulse after relax, plus restitution's
+    // As relativeVelocity, but also when the point first pushes in a relax
+    // pass (a speculative point can): the impact speed of hit events.
+    // relativeVelocity stays as it was, so restitution's bits do not change.
+    Real approachVelocity = 0;
 };
 
 struct ContactConstraint {
@@ -71,6 +76,7 @@ struct ContactConstraint {
     Vec3 twistA, twistB;                     // invIA n, invIB n
     Real k11 = 0, k12 = 0, k22 = 0;          // inverse of the 2x2 tangent effective mass
     Real tangentImpulse1 = 0, tangentImpulse2 = 0;
+    Real stepTangent1 = 0, stepTangent2 = 0;  // applied over the step (as ConstraintPoint::stepImpulse)
     Real twistMass = 0, twistImpulse = 0, twistRadius = 0;
     Mat3 rollingMass = Mat3::zero();
     Vec3 rollingImpulse;

@@ -58,6 +58,7 @@ constexpr int kWideLanes = Policy::kLanes;
 struct WidePoint {
     Vec3W rAxn, rBxn, angA, angB;
     FloatW baseSeparation, normalMass, normalImpulse, maxNormalImpulse, relativeVelocity;
+    FloatW stepImpulse, approachVelocity;  // ConstraintPoint's
 };
 
 // What a block needs only when a lane has more than one point or rolling
@@ -83,7 +84,8 @@ struct WideContactBlock {
     WidePoint point0;
     Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
     FloatW k11, k12, k22, tangentImpulse1, tangentImpulse2, twistMass, twistImpulse, twistRadius;
-    // Cold: restitution and store only.
+    // Cold: relax, restitution and store only.
+    FloatW stepTangent1, stepTangent2;  // ContactConstraint::stepTangent1, 2
     FloatW rollingResistance, restitution;
     std::uint32_t contact[kWideLanes], manifold[kWideLanes];  // where store() writes each lane's results
     std::uint32_t lanePoints[kWideLanes];                  // each lane's point count
@@ -297,7 +299,9 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
         wp.normalMass = keep(on & (kn > zero), one / kn);
         wp.normalImpulse = FloatW::load(impulse[i]);
         wp.maxNormalImpulse = zero;
+        wp.stepImpulse = zero;
         wp.relativeVelocity = keep(on, dot(n, dv));
+        wp.approachVelocity = wp.relativeVelocity;
         centre = select(on, centre + p, centre);
     }
     centre = centre * (one / pointCount);
@@ -339,6 +343,8 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     const Vec3W frictionImpulse{FloatW::load(fx), FloatW::load(fy), FloatW::load(fz)};
     k.tangentImpulse1 = keep(laneActive, dot(frictionImpulse, t1));
     k.tangentImpulse2 = keep(laneActive, dot(frictionImpulse, t2));
+    k.stepTangent1 = zero;
+    k.stepTangent2 = zero;
     k.twistImpulse = FloatW::load(twistImpulse);
 }
 
@@ -409,12 +415,12 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
             FloatW impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
             const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
             impulse = newImpulse - cp.normalImpulse;
-            if constexpr (useBias) {
-                const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
-                cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
-            }
+            const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
+            if constexpr (useBias) cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
+            cp.approachVelocity = select(first, min(vn, cp.approachVelocity), cp.approachVelocity);
             cp.normalImpulse = newImpulse;
             cp.maxNormalImpulse = max(impulse, cp.maxNormalImpulse);
+            if constexpr (!useBias) cp.stepImpulse += newImpulse;
             totalNormal += newImpulse;
             const Vec3W P = n * impulse;
             vA -= P * mA;
@@ -440,6 +446,10 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
             }
             k.tangentImpulse1 = new1;
             k.tangentImpulse2 = new2;
+            if constexpr (!useBias) {
+                k.stepTangent1 += new1;
+                k.stepTangent2 += new2;
+            }
             const FloatW d1 = new1 - old1, d2 = new2 - old2;
             const Vec3W P = k.tangent1 * d1 + k.tangent2 * d2;
             vA -= P * mA;
@@ -520,6 +530,7 @@ void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bo
             cp.normalImpulse = select(apply, newImpulse, cp.normalImpulse);
             cp.maxNormalImpulse = select(apply, max(impulse, cp.maxNormalImpulse), cp.maxNormalImpulse);
             impulse = select(apply, impulse, zero);
+            cp.stepImpulse += impulse;
             const Vec3W P = k.normal * impulse;
             vA -= P * a.invMass;
             wA -= cp.angA * impulse;
@@ -545,14 +556,18 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
         const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
         const Vec3W dp = b.dp - a.dp;
         alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
+        alignas(32) float stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             const WidePoint& cp = k.point(i);
             const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
             d.store(depth[i]);
             cp.normalImpulse.store(impulse[i]);
             cp.maxNormalImpulse.store(maxImpulse[i]);
+            cp.stepImpulse.store(stepImpulse[i]);
+            cp.approachVelocity.store(approachVelocity[i]);
         }
         const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+        const Vec3W stepFriction = k.tangent1 * k.stepTangent1 + k.tangent2 * k.stepTangent2;
         for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
             const int l = static_cast<int>(lane);
             CachedManifold& m = contacts[k.contact[lane]].manifolds[k.manifold[lane]];
@@ -560,10 +575,13 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
                 CachedPoint& dst = m.points[i];
                 dst.normalImpulse = impulse[i][lane];
                 dst.maxNormalImpulse = maxImpulse[i][lane];
+                dst.stepNormalImpulse = stepImpulse[i][lane];
+                dst.approachVelocity = approachVelocity[i][lane];
                 dst.depthAfter = depth[i][lane];
             }
             m.frictionImpulse = friction.lane(l);
             m.twistImpulse = k.twistImpulse.lane(l);
+            m.stepFrictionImpulse = stepFriction.lane(l);
             m.rollingImpulse = k.rolling ? k.extra->rollingImpulse.lane(l) : Vec3{};
         }
     }

@@ -265,6 +265,7 @@ void io(A& a, WorldDef& s) {
     // The contact pair limit (version 4); older files ran without one, and
     // the automatic limit it gets leaves every scene that fit in memory alone.
     if (a.version >= 4) io(a, s.maxContactPairs);
+    if (a.version >= 5) io(a, s.hitEventThreshold);  // version 5 (older: the default, 1 m/s)
 }
 
 // ---- bodies
@@ -338,6 +339,7 @@ template <typename A>
 void io(A& a, CachedPoint& p) {
     io(a, p.localA), io(a, p.localB), io(a, p.position), io(a, p.depth), io(a, p.depthAfter), io(a, p.featureId);
     io(a, p.normalImpulse), io(a, p.maxNormalImpulse);
+    if (a.version >= 5) io(a, p.stepNormalImpulse), io(a, p.approachVelocity);  // contact forces (version 5)
 }
 template <typename A>
 void io(A& a, CachedManifold& m) {
@@ -347,6 +349,7 @@ void io(A& a, CachedManifold& m) {
     }
     for (CachedPoint& p : m.points) io(a, p);
     io(a, m.frictionImpulse), io(a, m.twistImpulse), io(a, m.rollingImpulse);
+    if (a.version >= 5) io(a, m.stepFrictionImpulse);
 }
 template <typename A>
 void io(A& a, Contact& c) {
@@ -357,6 +360,11 @@ void io(A& a, Contact& c) {
 template <typename A>
 void io(A& a, ContactReport& r) {
     io(a, r.bodyA), io(a, r.bodyB), io(a, r.normal), io(a, r.depth), io(a, r.points);
+    if (a.version >= 5) {
+        io(a, r.normalImpulse), io(a, r.frictionImpulse), io(a, r.force), io(a, r.pointNormalImpulses);
+    } else if constexpr (A::kReading) {
+        r.pointNormalImpulses.assign(r.points.size(), Real(0));  // written before forces were reported
+    }
 }
 
 // ---- particles
@@ -591,6 +599,7 @@ void worldState(A& a, WorldImpl& w, std::string& userData) {
     io(a, w.settings);
     a.at("world");
     io(a, w.time), io(a, w.stepCount), io(a, w.nextBodySerial), io(a, w.wasSleeping);
+    if (a.version >= 5) io(a, w.lastStepDt);
 
     // ---- shape table, then bodies referring to it
     a.at("shapes");

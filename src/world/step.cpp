@@ -273,6 +273,10 @@ void WorldImpl::step(Real dt) {
         contactSolver.applyRestitution();
         contactSolver.store(contactManager);
     }
+    // The hit events are built when read (world_impl.hpp); marked here, not at
+    // the end, so that a broken joint's dropped pairs (below) build them first.
+    hitEventsStale = true;
+    lastStepDt = dt;  // the contact report's forces are the stored impulses / dt
     if (hasJoints) {
         jointSolver.store(*this, joints.slots());
         resetPairsOfBrokenJoints();

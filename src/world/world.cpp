@@ -50,6 +50,7 @@ void validateSettings(const WorldDef& def) {
     requirePositive(kWorldSubject, "contactPushMaxVelocity", def.contactPushMaxVelocity);
     requireNonNegative(kWorldSubject, "speculativeMargin", def.speculativeMargin);
     requireNonNegative(kWorldSubject, "restitutionThreshold", def.restitutionThreshold);
+    requireNonNegative(kWorldSubject, "hitEventThreshold", def.hitEventThreshold);
     requirePositive(kWorldSubject, "jointHertz", def.jointHertz);
     requirePositive(kWorldSubject, "jointDampingRatio", def.jointDampingRatio);
     if (!(def.maxRotationPerSubstep > 0)) fail(kWorldSubject, "maxRotationPerSubstep", "must be > 0 (inf: no limit), got " + detail::formatReal(def.maxRotationPerSubstep));
@@ -102,6 +103,12 @@ void World::setThreadCount(int threads) {
     impl_->settings.threads = threads;
 }
 void World::setParallelMinBodies(std::uint32_t minimum) { impl_->settings.parallelMinBodies = minimum; }
+void World::setHitEventThreshold(Real threshold) {
+    requireNonNegative(kWorldSubject, "hitEventThreshold", threshold);
+    impl_->settings.hitEventThreshold = threshold;
+    impl_->hitEvents.clear();  // the last step's were chosen by the old threshold: built anew when read
+    impl_->hitEventsStale = !impl_->contactSolver.pairs().empty();
+}
 void World::setMaxContactPairs(std::int64_t limit) {
     validateMaxContactPairs(limit);
     impl_->settings.maxContactPairs = limit;
@@ -350,6 +357,24 @@ void World::setLinearVelocity(BodyId id, const Vec3& v) {
     requireFinite(subjectOf(w, d), "linearVelocity", v);
     if (w.params[d].type == BodyType::Static) return;  // static bodies never move
     w.motion[d].v = v;
+    w.wakeBody(d);
+}
+
+void World::moveKinematic(BodyId id, const Transform& target, Real dt) {
+    WorldImpl& w = *impl_;
+    const std::uint32_t d = w.resolveBody(id, "World::moveKinematic");
+    const Subject who = subjectOf(w, d);
+    if (w.params[d].type != BodyType::Kinematic) fail(who, "moveKinematic", "needs a kinematic body");
+    requireFinite(who, "target position", target.p);
+    const Quat q = detail::requireOrientation(who, "target orientation", target.q);
+    requirePositive(who, "dt", dt);
+    detail::BodyMotion& m = w.motion[d];
+    // The integrator moves a kinematic body's centre of mass by v h and turns
+    // it by the exact exponential map of w h per sub-step (integrators.cpp),
+    // so constant velocities over the step land on the target.
+    const Vec3 targetCom = target.p + rotate(q, w.params[d].localCom);
+    m.v = (targetCom - m.com) * (Real(1) / dt);
+    m.w = toRotationVector(q * conjugate(m.q)) * (Real(1) / dt);
     w.wakeBody(d);
 }
 

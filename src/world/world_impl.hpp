@@ -78,10 +78,21 @@ struct WorldImpl : detail::BodyStore {
     std::vector<ContactReport> contacts;
     std::size_t contactReportCount = 0;
     bool contactReportStale = false;  // the step ran since `contacts` was built (see above)
+    Real lastStepDt = 0;              // the last step's dt: the report's forces are its impulses / dt
+    // The last step's impacts (World::contactHitEvents), built like the report
+    // when read, from the solver's constraint list of that step.
+    std::vector<ContactHitEvent> hitEvents;
+    bool hitEventsStale = false;
     void ensureContactReport() {
+        ensureHitEvents();  // from the same contacts, before they change
         if (!contactReportStale) return;
-        contactManager.report(*this, contacts, contactReportCount, taskSystem());
+        contactManager.report(*this, contacts, contactReportCount, lastStepDt, taskSystem());
         contactReportStale = false;
+    }
+    void ensureHitEvents() {
+        if (!hitEventsStale) return;
+        contactManager.hitEvents(*this, contactSolver.pairs(), settings.hitEventThreshold, hitEvents);
+        hitEventsStale = false;
     }
 
     // ---- subsystems: collision pipeline (src/contacts), solvers (src/solver), islands (src/islands)

@@ -306,5 +306,9 @@ void World::setJointSpring(JointId id, const JointSpring& spring) {
 }
 
 std::span<const JointBreakEvent> World::jointBreakEvents() const { return impl_->jointSolver.breakEvents(); }
+std::span<const ContactHitEvent> World::contactHitEvents() const {
+    impl_->ensureHitEvents();  // built on first read after a step (world_impl.hpp)
+    return impl_->hitEvents;
+}
 
 }  // namespace fulcrum

@@ -152,6 +152,9 @@ TEST(Cli, JsonPrintsEachVectorOnOneLine) {
     for (const auto& c : j["contacts"]) {
         EXPECT_NE(r.out.find("\"normal\": " + oneLine(c["normal"])), std::string::npos);
         for (const auto& p : c["points"]) EXPECT_NE(r.out.find(oneLine(p)), std::string::npos);
+        EXPECT_TRUE(c["normal_impulse"].is_number());  // the contract: terrain and contact forces
+        EXPECT_EQ(c["force"].size(), 3u);
+        EXPECT_NE(r.out.find("\"force\": " + oneLine(c["force"])), std::string::npos);
     }
     // No line is a bare number any more; the body block is about 8 lines a body.
     std::istringstream lines(r.out);
@@ -161,7 +164,7 @@ TEST(Cli, JsonPrintsEachVectorOnOneLine) {
         ASSERT_NE(at, std::string::npos);
         EXPECT_FALSE(line[at] == '-' || std::isdigit(static_cast<unsigned char>(line[at]))) << "a lone number: " << line;
     }
-    EXPECT_LT(count, 9u * 10u + 40u + 8u * j["contacts"].size());
+    EXPECT_LT(count, 9u * 10u + 40u + 10u * j["contacts"].size());  // a contact: 8 lines, 10 with its normal_impulse and force
 }
 
 // --profile: the phases of the step (World::lastStepProfile) averaged over the

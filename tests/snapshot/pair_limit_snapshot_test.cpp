@@ -53,7 +53,7 @@ TEST(PairLimitSnapshot, VersionThreeLoadsWithTheAutomaticLimit) {
     World world = crowd();
     world.step(kDt);
     const std::vector<std::uint8_t> v3 = detail::saveSnapshotAsVersion(world, 3);
-    const std::vector<std::uint8_t> v4 = saveSnapshotToMemory(world);
+    const std::vector<std::uint8_t> v4 = detail::saveSnapshotAsVersion(world, 4);
     EXPECT_EQ(v3[8], 3);
     EXPECT_EQ(v4[8], 4);
     EXPECT_EQ(v4.size() - v3.size(), sizeof(std::int64_t));  // the one field version 4 added

@@ -117,7 +117,7 @@ TEST(Snapshot, FileRoundTrip) {
 TEST(Snapshot, UnknownVersionIsRefused) {
     auto bytes = saveSnapshotToMemory(steppedMixed(1));
     bytes[8] = 7;
-    EXPECT_EQ(errorOf(bytes), "snap.bin: unsupported snapshot version 7 (this build reads versions 2 to 4)");
+    EXPECT_EQ(errorOf(bytes), "snap.bin: unsupported snapshot version 7 (this build reads versions 2 to 5)");
 }
 
 TEST(Snapshot, ForeignFileIsRefused) {
