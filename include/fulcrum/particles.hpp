@@ -12,6 +12,10 @@
 
 namespace fulcrum {
 
+// The most particles one rope or cloth may have (docs/reliability.md, "Bad
+// input"): beyond any real system, it makes a typo an error instead of an
+// allocation that the system's memory cannot hold.
+inline constexpr std::int64_t kMaxParticlesPerSystem = 100000000;
 
 // N segments, N + 1 particles evenly spaced from start to end.
 struct RopeDef {

@@ -128,8 +128,8 @@ inline constexpr Real kSceneDefaultBendCompliance = Real(0.1);
 // documented in docs/scene-format.md: far beyond any real scene, they make a
 // typo ("substeps": 1e9, a cloth of 4096 x 4096) an error naming the limit
 // instead of a run that never ends.
-inline constexpr int kSceneMaxSubsteps = 1000;
-inline constexpr int kSceneMaxSolverIterations = 1000;
+inline constexpr int kSceneMaxSubsteps = kMaxSubsteps;  // the world's own limits (world.hpp)
+inline constexpr int kSceneMaxSolverIterations = kMaxSolverIterations;
 inline constexpr int kSceneMaxRopeSegments = 100000;
 inline constexpr int kSceneMaxClothSide = 4096;              // particles along either side
 inline constexpr long long kSceneMaxClothParticles = 1000000;  // size[0] * size[1]

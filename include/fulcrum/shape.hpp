@@ -82,7 +82,8 @@ public:
     static Shape plane(const Vec3& normal, Real offset);
     // Static triangle mesh. Triangles index into vertices; degenerate (zero-area) triangles are an error.
     static Shape mesh(std::span<const Vec3> vertices, std::span<const std::array<std::uint32_t, 3>> triangles);
-    // Several shapes rigidly joined; at least one child, no planes or meshes inside a dynamic compound.
+    // Several shapes rigidly joined; at least one child, no planes or meshes inside a dynamic compound;
+    // compounds inside compounds at most kMaxCompoundLevels deep.
     static Shape compound(std::span<const CompoundChild> children);
 
     Shape();  // a unit sphere, so a default-constructed BodyDef is valid
@@ -116,6 +117,12 @@ private:
     std::shared_ptr<const TriangleMesh> mesh_;
     std::shared_ptr<const std::vector<CompoundChild>> children_;
 };
+
+// The deepest nesting of compounds (a compound of leaves is 1 level): the
+// shape code walks compounds recursively, so a depth the stack cannot hold is
+// refused when the compound is made, not discovered as a crash (snapshots
+// hold the same limit).
+inline constexpr int kMaxCompoundLevels = 32;
 
 struct CompoundChild {
     Shape shape;

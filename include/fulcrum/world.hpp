@@ -37,16 +37,22 @@ enum class Integrator : std::uint8_t { ExplicitEuler, SemiImplicitEuler, Verlet 
 inline constexpr std::int64_t kAutoContactPairsPerBody = 16;
 inline constexpr std::int64_t kAutoContactPairsBase = 65536;
 inline constexpr std::int64_t kMaxContactPairs = 2147483647;  // the largest limit
+// Upper limits of WorldDef (docs/reliability.md, "Bad input"): far beyond any
+// real world, they turn a typo (substeps = 1e9) into an error naming the
+// setting instead of a step that never ends or a stage list that exhausts memory.
+inline constexpr int kMaxSubsteps = 1000;
+inline constexpr int kMaxSolverIterations = 1000;
+inline constexpr int kMaxThreads = 1024;
 const char* toString(Integrator integrator);                        // "explicit_euler", ...
 std::optional<Integrator> integratorFromString(std::string_view name);
 
 struct WorldDef {
     Vec3 gravity{0, Real(-9.81), 0};
     Integrator integrator = Integrator::SemiImplicitEuler;
-    int substeps = 5;           // sub-steps per step (>= 1)
-    int solverIterations = 1;   // constraint iterations per sub-step (>= 1)
+    int substeps = 5;           // sub-steps per step (1 to kMaxSubsteps)
+    int solverIterations = 1;   // constraint iterations per sub-step (1 to kMaxSolverIterations)
     bool sleeping = true;
-    int threads = 1;            // >= 1; results are identical for every count
+    int threads = 1;            // 1 to kMaxThreads; results are identical for every count
     // Steps with fewer awake bodies than this run on the calling thread alone
     // even when threads > 1: handing each small loop to the pool's workers costs
     // more than it saves (docs/threading.md, "Small steps"). 0: always use the

@@ -32,6 +32,8 @@ def scene_text(source, source_name: str | None = None) -> tuple[str, str]:
                 return f.read(), source_name or path
         except OSError as e:
             raise _fulcrum.SceneError(f"{path}: cannot open file for reading ({e.strerror})") from None
+        except UnicodeDecodeError as e:  # binary garbage, or another encoding
+            raise _fulcrum.SceneError(f"{path}: not UTF-8 text at byte offset {e.start}: a scene file is JSON text") from None
     raise TypeError(f"argument 'scene': expected a path, a dict or JSON text, got {type(source).__name__}")
 
 

@@ -16,6 +16,7 @@ import argparse
 import csv
 import itertools
 import json
+import os
 import sys
 
 from . import _fulcrum
@@ -23,6 +24,9 @@ from .batch import scene_text
 from .distributed import BatchSpec, run, run_local
 
 COLUMNS = ("x", "y", "z", "vx", "vy", "vz")
+# The most worlds one sweep's grid may hold (docs/reliability.md, "Bad input"):
+# a typo such as 0:1:1000000000 is refused before any list of values is made.
+MAX_WORLDS = 1_000_000
 
 
 class SweepError(Exception):
@@ -54,6 +58,8 @@ def parse_set(setting: str) -> tuple[str, list]:
         n = _number(parts[2], setting)
         if not isinstance(n, int) or n < 1:
             raise SweepError(f"--set '{setting}': the count n of a:b:n must be a whole number >= 1, got {parts[2]}")
+        if n > MAX_WORLDS:
+            raise SweepError(f"--set '{setting}': the count n of a:b:n must be at most {MAX_WORLDS}, got {n}")
         if n == 1:
             return path, [a]
         values = [a + (b - a) * i / (n - 1) for i in range(n)]
@@ -68,6 +74,11 @@ def parse_set(setting: str) -> tuple[str, list]:
 
 def grid(sets: list[tuple[str, list]]) -> list[tuple]:
     """Every combination, the last set varying fastest."""
+    count = 1
+    for _, values in sets:
+        count *= len(values)
+    if count > MAX_WORLDS:
+        raise SweepError(f"the grid holds {count} worlds, at most {MAX_WORLDS}: split the sweep")
     return list(itertools.product(*(values for _, values in sets)))
 
 
@@ -132,6 +143,13 @@ def main(argv=None) -> int:
             raise SweepError(f"--steps must be >= 0, got {args.steps}")
         if args.threads < 1:
             raise SweepError(f"--threads must be >= 1, got {args.threads}")
+        if args.chunk_size is not None and args.chunk_size < 1:
+            raise SweepError(f"--chunk-size must be >= 1, got {args.chunk_size}")
+        # Checked before the run, not after it: a sweep's results must have somewhere to go.
+        if os.path.isdir(args.out):
+            raise SweepError(f"--out {args.out}: is a directory, give a CSV file name")
+        if not os.path.isdir(os.path.dirname(os.path.abspath(args.out))):
+            raise SweepError(f"--out {args.out}: the directory does not exist")
         sets = [parse_set(s) for s in args.sets]
         paths = [p for p, _ in sets]
         if len(set(paths)) != len(paths):
@@ -158,7 +176,12 @@ def main(argv=None) -> int:
         if args.scheduler:
             from dask.distributed import Client
 
-            with Client(args.scheduler) as client:
+            try:
+                client = Client(args.scheduler)
+            except OSError as e:  # unreachable, refused, timed out
+                print(f"fulcrum sweep: error: --scheduler {args.scheduler}: {e}", file=sys.stderr)
+                return 1
+            with client:
                 results = run(spec, client, chunk_size=args.chunk_size, progress=progress)
         else:
             results = run_local(spec, threads=args.threads, progress=progress)
@@ -167,10 +190,14 @@ def main(argv=None) -> int:
         return 2 if isinstance(e, _fulcrum.SceneError) else 1
 
     table = list(rows(points, paths, results))
-    with open(args.out, "w", newline="", encoding="utf-8") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(["world", *paths, "body", *COLUMNS])
-        writer.writerows(table)
+    try:
+        with open(args.out, "w", newline="", encoding="utf-8") as f:
+            writer = csv.writer(f, lineterminator="\n")
+            writer.writerow(["world", *paths, "body", *COLUMNS])
+            writer.writerows(table)
+    except OSError as e:
+        print(f"fulcrum sweep: error: --out {args.out}: cannot write ({e.strerror})", file=sys.stderr)
+        return 1
     if args.summary:
         summary(table, sys.stdout)
     return 0

@@ -1,5 +1,7 @@
 // Scene files (load_scene, World.save_scene), recordings (Recorder: .glb and
 // .html) and the scene description a world carries through pickle/snapshots.
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <pybind11/stl/filesystem.h>
@@ -144,11 +146,24 @@ void bindIo(py::module_& m) {
              "starts restart). Joints and springs need named bodies.")
         .def_property(
             "scene_dt", [](const PyWorld& w) { return w.state->scene.dt; },
-            [](PyWorld& w, Real dt) { w.world(), w.state->scene.dt = dt; },
+            [](PyWorld& w, Real dt) {
+                w.world();
+                // Checked here, not at run(): save_scene would write it too.
+                if (!std::isfinite(dt) || !(dt >= std::numeric_limits<Real>::min())) {
+                    std::ostringstream text;
+                    text << "World.scene_dt: must be a positive finite time step in seconds, got " << dt;
+                    throw Error(text.str());
+                }
+                w.state->scene.dt = dt;
+            },
             "The scene file's dt (s), default 1/60: what run() and save_scene use.")
         .def_property(
             "scene_steps", [](const PyWorld& w) { return w.state->scene.steps; },
-            [](PyWorld& w, int steps) { w.world(), w.state->scene.steps = steps; },
+            [](PyWorld& w, int steps) {
+                w.world();
+                if (steps < 0) throw Error("World.scene_steps: must not be negative, got " + std::to_string(steps));
+                w.state->scene.steps = steps;
+            },
             "The scene file's step count, default 600.");
 
     py::class_<PyRecorder>(m, "Recorder",

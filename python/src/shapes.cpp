@@ -194,7 +194,12 @@ void bindShapes(py::module_& m) {
                              throw py::type_error("argument '" + where + "': expected a Shape, (shape, position) or (shape, position, orientation)");
                          c.shape = seq[0].cast<Shape>();
                          if (seq.size() > 1) c.transform.p = toVec3(seq[1], "position");
-                         if (seq.size() > 2) c.transform.q = normalize(toQuat(seq[2], "orientation"));
+                         if (seq.size() > 2) {
+                             // normalize() turns a zero or NaN quaternion into the identity:
+                             // hand those on as given, for Shape::compound to refuse.
+                             const Quat q = toQuat(seq[2], "orientation");
+                             c.transform.q = length(q) > Real(0) ? normalize(q) : q;
+                         }
                      } else {
                          throw py::type_error("argument '" + where + "': expected a Shape, (shape, position) or (shape, position, orientation)");
                      }

@@ -105,6 +105,33 @@ def test_missing_scene_is_exit_2(tmp_path):
     assert r.returncode == 2 and "nope.json" in r.stderr
 
 
+@pytest.mark.parametrize("extra, message", [
+    # A billion values used to be a MemoryError traceback while the list was made.
+    (["--set", "bodies[ball].mass=1:2:1000000000"], "the count n of a:b:n must be at most 1000000, got 1000000000"),
+    (["--set", "bodies[ball].mass=1:2:1001", "--set", "bodies[box].mass=1:2:1000"],
+     "the grid holds 1001000 worlds, at most 1000000: split the sweep"),
+    (["--set", "bodies[ball].mass=1", "--chunk-size", "0"], "--chunk-size must be >= 1, got 0"),
+])
+def test_huge_grids_and_bad_options_are_exit_2(scene_file, tmp_path, capsys, extra, message):
+    out = tmp_path / "results.csv"
+    assert sweep.main([str(scene_file), *extra, "--out", str(out)]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_bad_out_and_binary_scene_are_exit_2_before_running(scene_file, tmp_path, capsys):
+    # Both used to be tracebacks: --out only after the whole run, the scene at decoding.
+    assert sweep.main([str(scene_file), "--set", "bodies[ball].mass=1", "--out", str(tmp_path)]) == 2
+    assert f"--out {tmp_path}: is a directory" in capsys.readouterr().err
+    missing = tmp_path / "no" / "r.csv"
+    assert sweep.main([str(scene_file), "--set", "bodies[ball].mass=1", "--out", str(missing)]) == 2
+    assert "the directory does not exist" in capsys.readouterr().err
+    garbage = tmp_path / "garbage.json"
+    garbage.write_bytes(b"{\xff\xfe\x00 binary")
+    assert sweep.main([str(garbage), "--set", "bodies[ball].mass=1", "--out", str(tmp_path / "r.csv")]) == 2
+    assert "garbage.json: not UTF-8 text at byte offset 1: a scene file is JSON text" in capsys.readouterr().err
+
+
 def test_progress_bar_only_on_a_terminal(scene_file, tmp_path):
     import pty
 

@@ -2,6 +2,7 @@
 // and compounds. Convex hulls are built in hull.cpp, meshes in mesh.cpp.
 #include "fulcrum/shape.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -91,9 +92,23 @@ Shape Shape::plane(const Vec3& normal, Real offset) {
     return s;
 }
 
+namespace {
+// Recursion bounded by kMaxCompoundLevels: every compound was checked when it was made.
+int compoundLevels(const Shape& s) {
+    if (s.type() != ShapeType::Compound) return 0;
+    int deepest = 0;
+    for (const CompoundChild& c : s.children()) deepest = std::max(deepest, compoundLevels(c.shape));
+    return deepest + 1;
+}
+}  // namespace
+
 Shape Shape::compound(std::span<const CompoundChild> children) {
     if (children.empty()) throw Error("compound: needs at least one child shape");
     for (std::size_t i = 0; i < children.size(); ++i) {
+        if (compoundLevels(children[i].shape) >= kMaxCompoundLevels) {
+            throw Error("compound: children[" + std::to_string(i) + "] makes compounds nested deeper than " +
+                        std::to_string(kMaxCompoundLevels) + " levels");
+        }
         const Transform& t = children[i].transform;
         if (!isFinite(t.p) || !isFinite(t.q)) {
             throw Error("compound: children[" + std::to_string(i) + "] has a non-finite position or orientation");

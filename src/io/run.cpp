@@ -190,7 +190,7 @@ struct IntegerOption {
 constexpr IntegerOption kIntegerOptions[] = {
     {"--steps", 0, std::numeric_limits<int>::max()},
     {"--substeps", 1, kSceneMaxSubsteps},
-    {"--threads", 1, 1024},
+    {"--threads", 1, kMaxThreads},
 };
 
 const IntegerOption& integerOption(std::string_view name) {

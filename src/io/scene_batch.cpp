@@ -2,6 +2,7 @@
 #include "fulcrum/scene_batch.hpp"
 
 #include <cctype>
+#include <new>
 #include <string>
 #include <utility>
 
@@ -179,20 +180,26 @@ Batch makeSceneBatch(std::string_view sceneJson, std::size_t count, std::span<co
         throw Error("makeSceneBatch: " + std::to_string(perWorld.size()) + " sets of overrides for " +
                     std::to_string(count) + " worlds (give one per world, or none)");
     std::vector<World> worlds;
-    worlds.reserve(count);
-    if (perWorld.empty()) {
-        const Scene scene = parseScene(sceneJson, sourceName);
-        for (std::size_t w = 0; w < count; ++w) worlds.push_back(buildWorld(scene));
+    try {
+        worlds.reserve(count);
+        if (perWorld.empty()) {
+            const Scene scene = parseScene(sceneJson, sourceName);
+            for (std::size_t w = 0; w < count; ++w) worlds.push_back(buildWorld(scene));
+            return Batch(std::move(worlds), def);
+        }
+        // Every world's scene is read (and so checked) before any is built.
+        (void)parseScene(sceneJson, sourceName);  // what only the text shows (duplicate keys) is checked on the text
+        const json base = parseDocument(sceneJson, sourceName);
+        std::vector<Scene> scenes;
+        scenes.reserve(count);
+        for (const SceneOverrides& overrides : perWorld) scenes.push_back(readWithOverrides(base, sceneJson, overrides, sourceName));
+        for (const Scene& scene : scenes) worlds.push_back(buildWorld(scene));
         return Batch(std::move(worlds), def);
+    } catch (const std::bad_alloc&) {
+        // A huge count is a request, not a bug: say which, not std::bad_alloc.
+        throw Error("makeSceneBatch: out of memory building " + std::to_string(count) + " worlds of " +
+                    std::string(sourceName) + " (" + std::to_string(worlds.size()) + " built)");
     }
-    // Every world's scene is read (and so checked) before any is built.
-    (void)parseScene(sceneJson, sourceName);  // what only the text shows (duplicate keys) is checked on the text
-    const json base = parseDocument(sceneJson, sourceName);
-    std::vector<Scene> scenes;
-    scenes.reserve(count);
-    for (const SceneOverrides& overrides : perWorld) scenes.push_back(readWithOverrides(base, sceneJson, overrides, sourceName));
-    for (const Scene& scene : scenes) worlds.push_back(buildWorld(scene));
-    return Batch(std::move(worlds), def);
 }
 
 Batch makeSceneBatch(std::span<const std::string> scenesJson, const BatchDef& def, std::span<const std::string> sourceNames) {

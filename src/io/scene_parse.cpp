@@ -266,7 +266,7 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
         w.solverIterations = static_cast<int>(integer(v, p, 1, kSceneMaxSolverIterations, "solver_iterations"));
     });
     opt(j, path, "threads", [&](const json& v, const std::string& p) {
-        w.threads = static_cast<int>(integer(v, p, 1, 1024, "threads"));
+        w.threads = static_cast<int>(integer(v, p, 1, kMaxThreads, "threads"));
     });
     opt(j, path, "integrator", [&](const json& v, const std::string& p) {
         const std::string name = string(v, p);
@@ -383,7 +383,9 @@ ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) 
         }
         case ShapeType::Compound: {
             checkKeys(j, path, {"type", "children"}, what);
-            if (depth > 16) fail(path, "compounds nested deeper than 16 levels");
+            if (depth >= kMaxCompoundLevels) {  // depth counts from 0: this compound is level depth + 1
+                fail(path, "compounds nested deeper than " + std::to_string(kMaxCompoundLevels) + " levels");
+            }
             const std::string cp = childPath(path, "children");
             const json& kids = requireArray(required(j, path, "children"), cp);
             if (kids.empty()) fail(cp, "a compound needs at least one child");

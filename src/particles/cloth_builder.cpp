@@ -47,7 +47,7 @@ ParticleSystem buildCloth(const ClothDef& def) {
                          std::to_string(nu - 1) + "], j in [0, " + std::to_string(nv - 1) + "])");
         }
     }
-    if (static_cast<double>(nu) * static_cast<double>(nv) > 1e8) {
+    if (static_cast<double>(nu) * static_cast<double>(nv) > static_cast<double>(kMaxParticlesPerSystem)) {
         detail::fail(label, "size", "asks for more than 1e8 particles");
     }
 

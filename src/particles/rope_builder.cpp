@@ -11,6 +11,10 @@ ParticleSystem buildRope(const RopeDef& def) {
     if (def.segments < 1) {
         detail::fail(label, "segments", "must be at least 1, got " + std::to_string(def.segments));
     }
+    if (def.segments >= kMaxParticlesPerSystem) {  // segments + 1 particles
+        detail::fail(label, "segments", "must be below " + std::to_string(kMaxParticlesPerSystem) +
+                     " (the particle limit of a system), got " + std::to_string(def.segments));
+    }
     detail::requirePositive(label, "particle_mass", def.particleMass);
     detail::requirePositive(label, "radius", def.radius);
     detail::requireNonNegative(label, "stretch_compliance", def.stretchCompliance);

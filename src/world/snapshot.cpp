@@ -431,7 +431,7 @@ struct SnapshotAccess {
     // geometry, meshes from vertices and triangles (see the top comment).
     template <typename A>
     static void shape(A& a, Shape& s, int depth) {
-        if (depth > 32) a.fail("compound shapes nested deeper than 32");
+        if (depth > kMaxCompoundLevels) a.fail("compound shapes nested deeper than " + std::to_string(kMaxCompoundLevels));
         a.enumeration(s.type_, ShapeType::Compound);
         io(a, s.radius_), io(a, s.halfHeight_), io(a, s.halfExtents_);
         switch (s.type_) {

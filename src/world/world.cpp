@@ -32,13 +32,16 @@ void validateMaxContactPairs(std::int64_t limit) {
     }
 }
 
+void requireCount(std::string_view field, int value, int most) {
+    if (value < 1) fail(kWorldSubject, field, "must be at least 1, got " + std::to_string(value));
+    if (value > most) fail(kWorldSubject, field, "must be at most " + std::to_string(most) + ", got " + std::to_string(value));
+}
+
 void validateSettings(const WorldDef& def) {
     requireFinite(kWorldSubject, "gravity", def.gravity);
-    if (def.substeps < 1) fail(kWorldSubject, "substeps", "must be at least 1, got " + std::to_string(def.substeps));
-    if (def.solverIterations < 1) {
-        fail(kWorldSubject, "solverIterations", "must be at least 1, got " + std::to_string(def.solverIterations));
-    }
-    if (def.threads < 1) fail(kWorldSubject, "threads", "must be at least 1, got " + std::to_string(def.threads));
+    requireCount("substeps", def.substeps, kMaxSubsteps);
+    requireCount("solverIterations", def.solverIterations, kMaxSolverIterations);
+    requireCount("threads", def.threads, kMaxThreads);
     switch (def.integrator) {
         case Integrator::ExplicitEuler:
         case Integrator::SemiImplicitEuler:
@@ -90,16 +93,16 @@ void World::setIntegrator(Integrator integrator) {
     impl_->settings.integrator = integrator;
 }
 void World::setSubsteps(int substeps) {
-    if (substeps < 1) fail(kWorldSubject, "substeps", "must be at least 1, got " + std::to_string(substeps));
+    requireCount("substeps", substeps, kMaxSubsteps);
     impl_->settings.substeps = substeps;
 }
 void World::setSolverIterations(int iterations) {
-    if (iterations < 1) fail(kWorldSubject, "solverIterations", "must be at least 1, got " + std::to_string(iterations));
+    requireCount("solverIterations", iterations, kMaxSolverIterations);
     impl_->settings.solverIterations = iterations;
 }
 void World::setSleepingEnabled(bool enabled) { impl_->settings.sleeping = enabled; }  // the step wakes all when off
 void World::setThreadCount(int threads) {
-    if (threads < 1) fail(kWorldSubject, "threads", "must be at least 1, got " + std::to_string(threads));
+    requireCount("threads", threads, kMaxThreads);
     impl_->settings.threads = threads;
 }
 void World::setParallelMinBodies(std::uint32_t minimum) { impl_->settings.parallelMinBodies = minimum; }
@@ -529,10 +532,16 @@ void World::step(Real dt) {
         // half-updated contacts. The pairs are what grows with crowding.
         w.outOfMemoryAtStep = w.stepCount + 1;
         const detail::ContactManager& cm = w.contactManager;
+        std::size_t particles = 0;
+        for (const ParticleSystemId id : w.particles.live) particles += particleCount(id);
+        // Ropes and cloths hold their own buffers: name them when they may be the cause.
+        const std::string particleNote =
+            particles == 0 ? std::string()
+                           : ", or fewer rope and cloth particles (" + std::to_string(particles) + " now)";
         throw Error("World::step: out of memory in step " + std::to_string(w.outOfMemoryAtStep) + " with " +
                     std::to_string(w.motion.size()) + " bodies and " + std::to_string(cm.liveContactCount()) +
                     " contact pairs (WorldDef::maxContactPairs allows " + std::to_string(cm.lastPairLimit()) +
-                    "; a pair takes about 2 KB): lower maxContactPairs, or start the bodies apart");
+                    "; a pair takes about 2 KB): lower maxContactPairs, or start the bodies apart" + particleNote);
     }
 }
 Real World::time() const { return static_cast<Real>(impl_->time); }

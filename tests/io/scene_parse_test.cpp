@@ -382,5 +382,20 @@ TEST(SceneErrors, LoadReportsUnreadableFiles) {
     }
 }
 
+// Compounds nest as deep in a scene as through the API (kMaxCompoundLevels), so
+// a world of a deep compound saved as a scene loads again; one level more is
+// an error at the innermost compound's path, not a crash.
+TEST(SceneErrors, CompoundNestingLimit) {
+    const auto nested = [](int levels) {
+        std::string shape = R"({"type":"sphere","radius":1})";
+        for (int i = 0; i < levels; ++i) shape = R"({"type":"compound","children":[{"shape":)" + shape + "}]}";
+        return R"({"bodies":[{"shape":)" + shape + "}]}";
+    };
+    const Scene scene = parseScene(nested(kMaxCompoundLevels), "test.json");
+    EXPECT_NO_THROW(buildWorld(scene).step(Real(1) / 60));
+    const SceneError e = parseError(nested(kMaxCompoundLevels + 1));
+    EXPECT_NE(e.reason().find("compounds nested deeper than 32 levels"), std::string::npos) << e.what();
+    EXPECT_EQ(e.path().rfind("bodies[0].shape.children[0].shape", 0), 0u) << e.what();
+}
 }  // namespace
 }  // namespace fulcrum

@@ -40,6 +40,8 @@ TEST(Validation, RopeBadInputs) {
     RopeDef d = rope();
     d.segments = 0;
     EXPECT_ERROR(buildRope(d), "rope 'r1'", "segments", "at least 1", "got 0");
+    d.segments = 1000000000;  // was a std::bad_alloc (or the OOM killer), not an Error
+    EXPECT_ERROR(buildRope(d), "rope 'r1'", "segments", "must be below 100000000", "got 1000000000");
     d = rope();
     d.end = d.start;
     EXPECT_ERROR(buildRope(d), "rope 'r1'", "end", "coincides with start", "spacing must be positive");
