@@ -251,7 +251,7 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     requireObject(j, path);
     checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads",
                         "joint_hertz", "joint_damping_ratio", "joint_projection_slop", "joint_direct_solve",
-                        "max_rotation_per_substep", "max_contact_pairs"},
+                        "max_rotation_per_substep", "max_contact_pairs", "hit_event_threshold"},
               "");
     WorldDef& w = scene.world;
     opt(j, path, "gravity", [&](const json& v, const std::string& p) { w.gravity = vec3(v, p); });
@@ -287,6 +287,9 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     opt(j, path, "joint_direct_solve", [&](const json& v, const std::string& p) { w.jointDirectSolve = boolean(v, p); });
     opt(j, path, "max_rotation_per_substep", [&](const json& v, const std::string& p) {
         w.maxRotationPerSubstep = numberOrOff(v, p, "max_rotation_per_substep", true, "rad");
+    });
+    opt(j, path, "hit_event_threshold", [&](const json& v, const std::string& p) {
+        w.hitEventThreshold = nonNegative(v, p, "hit_event_threshold");
     });
     // WorldDef::maxContactPairs: "auto" (or 0) for the automatic limit.
     opt(j, path, "max_contact_pairs", [&](const json& v, const std::string& p) {

@@ -52,5 +52,23 @@ TEST(PairLimitScene, InvalidValuesNameThePath) {
     expectError(sceneWith(R"(, "max_contact_pairs": null)"), "world.max_contact_pairs", "or \"auto\", got null");
 }
 
+// world.hit_event_threshold (WorldDef::hitEventThreshold): read, validated
+// with the path, written only when not the default, round-tripped, built.
+TEST(HitEventThresholdScene, ReadWrittenAndBuilt) {
+    const Scene quiet = parseScene(sceneWith(R"(, "hit_event_threshold": 2.5)"), "quiet.json");
+    EXPECT_EQ(quiet.world.hitEventThreshold, Real(2.5));
+    EXPECT_EQ(parseScene(sceneWith(""), "d.json").world.hitEventThreshold, WorldDef{}.hitEventThreshold);
+    const std::string saved = sceneToJson(quiet);
+    EXPECT_NE(saved.find("\"hit_event_threshold\": 2.5"), std::string::npos) << saved;
+    EXPECT_TRUE(parseScene(saved, "saved.json") == quiet);
+    Scene changed = quiet;
+    changed.world.hitEventThreshold = 3;
+    EXPECT_FALSE(changed == quiet);
+    EXPECT_EQ(sceneToJson(parseScene(sceneWith(""), "plain.json")).find("hit_event_threshold"), std::string::npos);
+    EXPECT_EQ(buildWorld(quiet).settings().hitEventThreshold, Real(2.5));
+    expectError(sceneWith(R"(, "hit_event_threshold": -1)"), "world.hit_event_threshold", "hit_event_threshold");
+    expectError(sceneWith(R"(, "hit_event_threshold": "fast")"), "world.hit_event_threshold", "expected a number, got a string");
+}
+
 }  // namespace
 }  // namespace fulcrum
