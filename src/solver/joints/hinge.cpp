@@ -51,18 +51,7 @@ void solveAlignment(SolverBody& a, SolverBody& b, const Vec3& axisA, const Vec3&
 // ---- definition
 
 HingeJointDef HingeJoint::fromJointDef(const JointDef& def, const JointEnds& ends) {
-    HingeJointDef d;
-    static_cast<JointDefBase&>(d) = baseOf(def);
-    d.localAnchorA = ends.a.localPoint(def.anchor);
-    d.localAnchorB = ends.b.localPoint(def.anchor);
-    const Vec3 axis = requireDirection({"joint", def.name}, "axis", def.axis);
-    d.localAxisA = ends.a.localAxis(axis);
-    d.localAxisB = ends.b.localAxis(axis);
-    d.hasLimits = def.hasLimits;
-    d.lowerLimit = def.lowerLimit;
-    d.upperLimit = def.upperLimit;
-    d.motor = def.motor;
-    d.spring = def.spring;
+    HingeJointDef d = axisDefFromJointDef<HingeJointDef>(def, ends);
     d.frictionTorque = def.frictionTorque;
     return d;
 }
@@ -72,23 +61,8 @@ void HingeJoint::validateLimits(const Subject& who, bool enabled, Real lower, Re
 }
 
 JointSetup HingeJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {
-    requireFinite(who, "localAnchorA", def.localAnchorA);
-    requireFinite(who, "localAnchorB", def.localAnchorB);
-    requireUnitAxis(who, "localAxisA", def.localAxisA);
-    requireUnitAxis(who, "localAxisB", def.localAxisB);
-    validateLimits(who, def.hasLimits, def.lowerLimit, def.upperLimit);
-    validateMotor(who, def.motor);
-    validateSpring(who, def.spring);
+    JointSetup s = setupAxisJoint(def, who, ends, kType, true);
     validateFrictionTorque(who, def.frictionTorque);
-    JointSetup s;
-    s.record = baseRecord(def, kType);
-    setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
-    setAxes(s, ends, def.localAxisA, def.localAxisB);
-    s.record.hasLimits = def.hasLimits;
-    s.record.lowerLimit = def.lowerLimit;
-    s.record.upperLimit = def.upperLimit;
-    s.record.motor = def.motor;
-    s.record.spring = def.spring;
     s.record.frictionTorque = def.frictionTorque;
     return s;
 }

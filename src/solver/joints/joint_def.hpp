@@ -90,6 +90,34 @@ struct JointPose {
     Vec3 axisA() const { return qA != nullptr ? rotate(*qA, *localAxisA) : *localAxisA; }
 };
 
+// ---- the free-axis types (hinge, slider): an anchor, an axis, limits, a
+// motor and a spring about or along the axis. The halves their definitions
+// share; each type adds its own fields (the hinge's friction) after them.
+
+// JointDef's axis-joint fields into a per-type definition (anchors and axis
+// as each body's local image of JointDef's world ones).
+template <class AxisDef>
+AxisDef axisDefFromJointDef(const JointDef& def, const JointEnds& ends) {
+    AxisDef d;
+    static_cast<JointDefBase&>(d) = baseOf(def);
+    d.localAnchorA = ends.a.localPoint(def.anchor);
+    d.localAnchorB = ends.b.localPoint(def.anchor);
+    const Vec3 axis = requireDirection({"joint", def.name}, "axis", def.axis);
+    d.localAxisA = ends.a.localAxis(axis);
+    d.localAxisB = ends.b.localAxis(axis);
+    d.hasLimits = def.hasLimits;
+    d.lowerLimit = def.lowerLimit;
+    d.upperLimit = def.upperLimit;
+    d.motor = def.motor;
+    d.spring = def.spring;
+    return d;
+}
+
+// Checks the axis-joint fields (limits as angles or as lengths) and makes
+// the joint's setup from them.
+template <class AxisDef>
+JointSetup setupAxisJoint(const AxisDef& def, const Subject& who, const JointEnds& ends, JointType type, bool angular);
+
 // ---- checks shared by the types (errors name the joint and the field)
 
 // Finite or +infinity, and positive (break thresholds: infinity means unbreakable).
@@ -103,5 +131,26 @@ void requireUnitAxis(const Subject& who, const char* field, const Vec3& v);
 void validateFrictionTorque(const Subject& who, Real frictionTorque);
 // Cone-twist ranges: swing in (0, pi], twist lower <= upper within [-pi, pi].
 void validateConeTwistRanges(const Subject& who, Real swingLimit, Real twistLower, Real twistUpper);
+
+template <class AxisDef>
+JointSetup setupAxisJoint(const AxisDef& def, const Subject& who, const JointEnds& ends, JointType type, bool angular) {
+    requireFinite(who, "localAnchorA", def.localAnchorA);
+    requireFinite(who, "localAnchorB", def.localAnchorB);
+    requireUnitAxis(who, "localAxisA", def.localAxisA);
+    requireUnitAxis(who, "localAxisB", def.localAxisB);
+    validateLimits(who, def.hasLimits, def.lowerLimit, def.upperLimit, angular);
+    validateMotor(who, def.motor);
+    validateSpring(who, def.spring);
+    JointSetup s;
+    s.record = baseRecord(def, type);
+    setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
+    setAxes(s, ends, def.localAxisA, def.localAxisB);
+    s.record.hasLimits = def.hasLimits;
+    s.record.lowerLimit = def.lowerLimit;
+    s.record.upperLimit = def.upperLimit;
+    s.record.motor = def.motor;
+    s.record.spring = def.spring;
+    return s;
+}
 
 }  // namespace fulcrum::detail

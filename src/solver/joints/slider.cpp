@@ -57,18 +57,7 @@ void solvePerpendicular(SolverBody& a, SolverBody& b, const Vec3& axis, const Ve
 // ---- definition
 
 SliderJointDef SliderJoint::fromJointDef(const JointDef& def, const JointEnds& ends) {
-    SliderJointDef d;
-    static_cast<JointDefBase&>(d) = baseOf(def);
-    d.localAnchorA = ends.a.localPoint(def.anchor);
-    d.localAnchorB = ends.b.localPoint(def.anchor);
-    const Vec3 axis = requireDirection({"joint", def.name}, "axis", def.axis);
-    d.localAxisA = ends.a.localAxis(axis);
-    d.localAxisB = ends.b.localAxis(axis);
-    d.hasLimits = def.hasLimits;
-    d.lowerLimit = def.lowerLimit;
-    d.upperLimit = def.upperLimit;
-    d.motor = def.motor;
-    d.spring = def.spring;
+    SliderJointDef d = axisDefFromJointDef<SliderJointDef>(def, ends);
     return d;
 }
 
@@ -77,23 +66,7 @@ void SliderJoint::validateLimits(const Subject& who, bool enabled, Real lower, R
 }
 
 JointSetup SliderJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {
-    requireFinite(who, "localAnchorA", def.localAnchorA);
-    requireFinite(who, "localAnchorB", def.localAnchorB);
-    requireUnitAxis(who, "localAxisA", def.localAxisA);
-    requireUnitAxis(who, "localAxisB", def.localAxisB);
-    validateLimits(who, def.hasLimits, def.lowerLimit, def.upperLimit);
-    validateMotor(who, def.motor);
-    validateSpring(who, def.spring);
-    JointSetup s;
-    s.record = baseRecord(def, kType);
-    setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
-    setAxes(s, ends, def.localAxisA, def.localAxisB);
-    s.record.hasLimits = def.hasLimits;
-    s.record.lowerLimit = def.lowerLimit;
-    s.record.upperLimit = def.upperLimit;
-    s.record.motor = def.motor;
-    s.record.spring = def.spring;
-    return s;
+    return setupAxisJoint(def, who, ends, kType, false);
 }
 
 // ---- solver
