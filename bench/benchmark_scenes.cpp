@@ -7,6 +7,8 @@
 //   bench_benchmark_scenes [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco]
 //                          [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS per engine and scene: 60, --quick 20]
 //                          [--rounds N: interleaved rounds per scene, a step's fastest time kept: 3]
+//                          [--suite shared|box3d: docs/benchmarks.md's scenes (default) or Box3D's own benchmark
+//                           scenes, bench/box3d_scenes.hpp; probes run with the shared suite only]
 //
 // Per scene, a table: engine, threads, median and mean ms per step, mean over
 // the first 120 steps, total seconds, the quality metric and Fulcrum's
@@ -24,6 +26,7 @@
 
 #include "fulcrum/fulcrum.hpp"
 #include "peers/peers.hpp"
+#include "box3d_scenes.hpp"
 #include "scenes.hpp"
 #include "memory_sizes.hpp"
 
@@ -59,9 +62,16 @@ public:
         def.sleeping = scene.sleeping;
         def.threads = threads_;
         def.gravity = fv(scene.gravity);
+        if (scene.substeps > 0) def.substeps = scene.substeps;
         world_ = std::make_unique<fulcrum::World>(def);
         const fulcrum::Shape unitBox = fulcrum::Shape::box({0.5f, 0.5f, 0.5f});
         const fulcrum::Shape unitSphere = fulcrum::Shape::sphere(0.5f);
+        fulcrum::Shape hull;
+        if (!scene.hullPoints.empty()) {
+            std::vector<fulcrum::Vec3> points;
+            for (const V3& p : scene.hullPoints) points.push_back(fv(p));
+            hull = fulcrum::Shape::convexHull(points);
+        }
         for (const BodySpec& b : scene.bodies) {
             fulcrum::BodyDef d;
             d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
@@ -72,7 +82,9 @@ public:
                 case BodySpec::Kind::Box:
                     d.shape = (b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) ? unitBox : fulcrum::Shape::box(fv(b.half));
                     break;
+                case BodySpec::Kind::Hull: d.shape = hull; break;
             }
+            if (!scene.bodyCollisions) d.filter.group = -1;  // a shared negative group never collides
             if (!b.isStatic) d.mass = static_cast<fulcrum::Real>(b.mass);
             d.position = fv(b.position);
             d.orientation = {static_cast<fulcrum::Real>(b.orientation.w), static_cast<fulcrum::Real>(b.orientation.x),
@@ -231,7 +243,7 @@ Result run(Engine& engine, const SceneSpec& scene) {
         const auto t1 = std::chrono::steady_clock::now();
         r.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
         elapsedMs += r.stepMs.back();
-        if (scene.kind == SceneSpec::Kind::Chain) {
+        if (scene.kind == SceneSpec::Kind::Chain || scene.kind == SceneSpec::Kind::Jointed) {
             engine.sync();
             jointErrorMax = std::max(jointErrorMax, worstJointError());
         } else if (scene.probe == Probe::Pendulum) {
@@ -271,6 +283,9 @@ Result run(Engine& engine, const SceneSpec& scene) {
             r.quality = format("joint error max %.3f m, end %.4f m; free end y %.2f m", jointErrorMax, worstJointError(), freeEnd.y);
             break;
         }
+        case SceneSpec::Kind::Jointed:
+            r.quality = format("joint error max %.4f m, end %.4f m", jointErrorMax, worstJointError());
+            break;
         case SceneSpec::Kind::Cloth: {
             const std::vector<V3> p = engine.clothParticles();
             const int cn = scene.cloth.n;
@@ -341,6 +356,7 @@ struct Options {
     std::string only;
     std::vector<int> threads{1, 2};
     std::string engines = "fulcrum,bullet,ode,mujoco";
+    std::string suite = "shared";  // shared: docs/benchmarks.md's scenes; box3d: Box3D's own (bench/box3d_scenes.hpp)
     int rounds = 3;
 };
 
@@ -483,6 +499,7 @@ int main(int argc, char** argv) {
         else if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) o.only = argv[++i];
         else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) o.threads = parseThreads(argv[++i]);
         else if (std::strcmp(argv[i], "--engines") == 0 && i + 1 < argc) o.engines = argv[++i];
+        else if (std::strcmp(argv[i], "--suite") == 0 && i + 1 < argc) o.suite = argv[++i];
         else if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) o.rounds = std::max(1, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--budget") == 0 && i + 1 < argc) {
             gBudgetSeconds = std::atof(argv[++i]);
@@ -491,7 +508,7 @@ int main(int argc, char** argv) {
         else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco] "
-                         "[--fulcrum-only] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
+                         "[--fulcrum-only] [--suite shared|box3d] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
                          argv[0]);
             return 2;
         }
@@ -506,7 +523,8 @@ int main(int argc, char** argv) {
     }
     if (o.sizes) printMemorySizes();
     if (o.scenes) {
-        for (const SceneSpec& scene : allScenes(o.quick)) {
+        const std::vector<SceneSpec> suite = o.suite == "box3d" ? box3dScenes(o.quick) : allScenes(o.quick);
+        for (const SceneSpec& scene : suite) {
             if (!o.only.empty() && scene.name.rfind(o.only, 0) != 0) continue;
             std::vector<Result> results;
             for (const Factory& f : factories) {
@@ -523,7 +541,7 @@ int main(int argc, char** argv) {
             printScene(scene, results);
         }
     }
-    if (o.probes && o.only.empty()) {
+    if (o.probes && o.only.empty() && o.suite == "shared") {
         const std::vector<SceneSpec> probes = allProbes();
         std::vector<std::vector<Result>> results;
         for (const SceneSpec& probe : probes) {

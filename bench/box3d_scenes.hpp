@@ -13,6 +13,14 @@
 // 80 layers 4 m apart from y = 2; a static box of half extents 250 x 1 x 250
 // centred at y = -1 (top face at y = 0). Density 1000, friction 0.6,
 // restitution 0, sleeping on; 500 steps of 1/60 s with 4 sub-steps.
+//
+// box3dScenes() turns these descriptions into the harness's SceneSpecs
+// (bench/scenes.hpp), with the rest of Box3D's suite that the shared
+// description can hold: joint_grid, large_pyramid, many_pyramids. Every scene
+// runs at Box3D's 1/60 s with 4 sub-steps. Masses follow Box3D's densities
+// where the shape's volume is plain (boxes, spheres); a hull body gets mass 1
+// (all dynamic bodies of a scene share one mass and the ground is static, so
+// the motion does not depend on its value).
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -85,6 +93,142 @@ inline HullPileSpec convexPile(int countX = 8, int countZ = 8, int layers = 80) 
         }
     }
     return s;
+}
+
+// The harness's description of a hull pile (bench_benchmark_scenes --suite box3d).
+inline SceneSpec hullPileScene(const HullPileSpec& pile) {
+    SceneSpec s;
+    s.name = pile.name;
+    s.steps = pile.steps;
+    s.dt = pile.dt;
+    s.substeps = pile.substeps;
+    s.gravity = pile.gravity;
+    s.friction = pile.friction;
+    s.sleeping = pile.sleeping;
+    s.hullPoints = pile.hullPoints;
+    BodySpec ground;
+    ground.isStatic = true;
+    ground.half = pile.groundHalf;
+    ground.position = pile.groundPosition;
+    s.bodies.push_back(ground);
+    for (const V3& p : pile.positions) {
+        BodySpec b;
+        b.kind = BodySpec::Kind::Hull;
+        b.position = p;
+        s.bodies.push_back(b);
+    }
+    return s;
+}
+
+// Box3D's joint_grid: n x n spheres of radius 0.4 (density 1) 1 m apart in
+// the x-y plane, column k at x = k, row i at y = -i; row 0 static; each sphere
+// tied by a ball joint to the one above (anchor midway) and to the one on its
+// left. Nothing collides (Box3D's filter: category 2, mask ~2). Sleeping off;
+// 100 steps.
+inline SceneSpec jointGrid(int n = 100) {
+    SceneSpec s;
+    s.name = n == 100 ? "joint_grid" : "joint_grid(" + std::to_string(n) + ")";
+    s.kind = SceneSpec::Kind::Jointed;
+    s.steps = 100;
+    s.substeps = 4;
+    s.sleeping = false;
+    s.bodyCollisions = false;
+    const double radius = 0.4, density = 1;
+    const double mass = density * 4.0 / 3.0 * 3.14159265358979323846 * radius * radius * radius;
+    for (int k = 0; k < n; ++k) {
+        for (int i = 0; i < n; ++i) {
+            const int index = k * n + i;
+            BodySpec b;
+            b.kind = BodySpec::Kind::Sphere;
+            b.half = {radius, radius, radius};
+            b.position = {double(k), -double(i), 0};
+            b.isStatic = i == 0;
+            b.mass = mass;
+            s.bodies.push_back(b);
+            if (i > 0) s.joints.push_back({index - 1, index, {double(k), 0.5 - i, 0}});
+            if (k > 0) s.joints.push_back({index - n, index, {k - 0.5, -double(i), 0}});
+        }
+    }
+    return s;
+}
+
+// Box3D's pyramid of boxes (half extent `extent`, density 100) with `base`
+// boxes in its bottom row, in the plane z = `z`: row i, box j (i <= j < base)
+// at x = (i + 1) extent + 2 (j - i) extent + offsetX, y = (2 i + 1) extent.
+inline void addBox3dPyramid(SceneSpec& s, int base, double extent, double offsetX, double z) {
+    const double mass = 100 * 8 * extent * extent * extent;
+    for (int i = 0; i < base; ++i) {
+        const double y = (2.0 * i + 1.0) * extent;
+        for (int j = i; j < base; ++j) {
+            BodySpec b;
+            b.half = {extent, extent, extent};
+            b.position = {(i + 1.0) * extent + 2.0 * (j - i) * extent + offsetX, y, z};
+            b.mass = mass;
+            s.bodies.push_back(b);
+        }
+    }
+}
+
+inline void addBox3dGround(SceneSpec& s, double halfExtent) {
+    BodySpec g;
+    g.isStatic = true;
+    g.half = {halfExtent, 1, halfExtent};
+    g.position = {0, -1, 0};
+    s.bodies.push_back(g);
+}
+
+// Box3D's large_pyramid: one pyramid with 100 boxes at its base (5050 boxes),
+// ground 800 x 800 m; sleeping off; 200 steps. Quality: it stands.
+inline SceneSpec largePyramid(int base = 100) {
+    SceneSpec s;
+    s.name = base == 100 ? "large_pyramid" : "large_pyramid(" + std::to_string(base) + ")";
+    s.steps = 200;
+    s.substeps = 4;
+    s.sleeping = false;
+    s.pyramid = true;
+    addBox3dGround(s, 400);
+    addBox3dPyramid(s, base, 0.5, -0.5 * base, 0);  // Box3D's offset: -h base
+    s.topIndex = static_cast<int>(s.bodies.size()) - 1;
+    return s;
+}
+
+// Box3D's many_pyramids: rows x columns pyramids of 10-box bases (55 boxes
+// each; 14 x 14 = 10,780 boxes), spread over a ground of half extent
+// 0.5 * columns * 11; bodies never sleep; 100 steps.
+inline SceneSpec manyPyramids(int rows = 14, int columns = 14) {
+    SceneSpec s;
+    s.name = rows == 14 && columns == 14 ? "many_pyramids"
+                                         : "many_pyramids(" + std::to_string(rows) + "x" + std::to_string(columns) + ")";
+    s.steps = 100;
+    s.substeps = 4;
+    s.sleeping = false;
+    s.pyramid = true;
+    const int base = 10;
+    const double extent = 0.5;
+    const double groundExtent = extent * columns * (base + 1.0);
+    addBox3dGround(s, groundExtent);
+    const double baseWidth = 2 * extent * base;
+    double z = -groundExtent + 2 * extent;
+    const double deltaZ = rows > 1 ? 2 * (groundExtent - 2 * extent) / (rows - 1.0) : 0;
+    for (int i = 0; i < rows; ++i) {
+        for (int j = 0; j < columns; ++j) {
+            const double centerX = -groundExtent + j * (baseWidth + 2 * extent) + 2 * extent;
+            addBox3dPyramid(s, base, extent, centerX - 0.5, z);
+        }
+        z += deltaZ;
+    }
+    s.topIndex = static_cast<int>(s.bodies.size()) - 1;
+    return s;
+}
+
+// The part of Box3D's suite the harness runs (--suite box3d). Not yet here:
+// junkyard, rain, trees, washer and large_world (meshes, ragdolls created
+// and destroyed while stepping, a kinematic drum, a million static bodies).
+inline std::vector<SceneSpec> box3dScenes(bool quick) {
+    if (quick) {
+        return {jointGrid(30), largePyramid(40), manyPyramids(4, 4), hullPileScene(convexPile(4, 4, 20))};
+    }
+    return {jointGrid(), largePyramid(), manyPyramids(), hullPileScene(convexPile())};
 }
 
 }  // namespace bench

@@ -45,7 +45,7 @@ inline V3 rotate(Q q, V3 v) {
 
 // ---- scene description ---------------------------------------------------------
 struct BodySpec {
-    enum class Kind { Box, Sphere, Capsule } kind = Kind::Box;
+    enum class Kind { Box, Sphere, Capsule, Hull } kind = Kind::Box;  // Hull: the scene's hullPoints
     V3 position;                  // centre (= centre of mass: every shape here is symmetric)
     Q orientation;
     V3 half{0.5, 0.5, 0.5};       // box: half extents; sphere: radius in x; capsule: radius x, half height y (axis: local y)
@@ -73,7 +73,8 @@ enum class Probe { None, FreeFall, Pendulum, Slope20, Slope30, Spin };
 
 struct SceneSpec {
     std::string name;
-    enum class Kind { Bodies, Chain, Cloth, Probe } kind = Kind::Bodies;
+    // Jointed: bodies held by ball joints other than the chain (quality: joint error).
+    enum class Kind { Bodies, Chain, Jointed, Cloth, Probe } kind = Kind::Bodies;
     Probe probe = Probe::None;
     std::vector<BodySpec> bodies;
     std::vector<JointSpec> joints;
@@ -86,6 +87,10 @@ struct SceneSpec {
     bool pyramid = false;      // quality = drift and top sink
     int topIndex = -1;         // the top box of a pyramid; the free end of the chain
     bool fixedCost = false;    // report microseconds per step: the cost of a step with almost nothing to do
+    // Peers' own suites (bench/box3d_scenes.hpp) fix what the shared scenes leave to each engine:
+    int substeps = 0;          // 0: the engine's default; otherwise engines with sub-steps use this many
+    bool bodyCollisions = true;  // false: no body collides with any other (Box3D's joint_grid)
+    std::vector<V3> hullPoints;  // the one convex hull Kind::Hull bodies use, in their body frame
 };
 
 // ---- what an engine implements -------------------------------------------------

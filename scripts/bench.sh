@@ -10,7 +10,8 @@
 #                 its "bench.sh:begin"/"bench.sh:end" and "bench_joints:begin"/
 #                 "bench_joints:end" markers) with this run
 #   --quick       smaller scenes, 120 steps: a couple of minutes
-#   other options go to bench_benchmark_scenes (--scene PREFIX, --threads 1,2,
+#   other options go to bench_benchmark_scenes (--suite box3d for Box3D's own
+#   scenes, --scene PREFIX, --threads 1,2,
 #   --engines fulcrum,bullet,ode,mujoco, --budget SECONDS, --no-probes, ...)
 # Environment: BUILD_DIR (default build-bench), FULCRUM_BENCH_NO_INSTALL=1 skips apt-get.
 set -euo pipefail
@@ -23,7 +24,7 @@ joints_args=(--markdown)
 for a in "$@"; do
     case "$a" in
         --write-docs) write_docs=1 ;;
-        --scene|--engines) joints=0; args+=("$a") ;;
+        --scene|--engines|--suite) joints=0; args+=("$a") ;;
         --quick) joints_args+=(--quick); args+=("$a") ;;
         *) args+=("$a") ;;
     esac

@@ -64,6 +64,7 @@ public:
         const auto friction = static_cast<btScalar>(std::sqrt(scene.friction));
         btCollisionShape* unitBox = nullptr;
         btCollisionShape* unitSphere = nullptr;
+        btCollisionShape* hull = nullptr;
         for (const BodySpec& b : scene.bodies) {
             btCollisionShape* shape = nullptr;
             if (b.kind == BodySpec::Kind::Sphere && b.half.x == 0.5 && !b.isStatic) {
@@ -71,6 +72,15 @@ public:
                 shape = unitSphere;
             } else if (b.kind == BodySpec::Kind::Sphere) {
                 shape = addShape(std::make_unique<btSphereShape>(static_cast<btScalar>(b.half.x)));
+            } else if (b.kind == BodySpec::Kind::Hull) {
+                if (hull == nullptr) {
+                    auto h = std::make_unique<btConvexHullShape>();
+                    for (const V3& p : scene.hullPoints) h->addPoint(bt(p), false);
+                    h->recalcLocalAabb();
+                    h->optimizeConvexHull();
+                    hull = addShape(std::move(h));
+                }
+                shape = hull;
             } else if (b.kind == BodySpec::Kind::Capsule) {
                 shape = addShape(std::make_unique<btCapsuleShape>(static_cast<btScalar>(b.half.x), static_cast<btScalar>(2 * b.half.y)));
             } else if (!b.isStatic && b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) {
@@ -94,7 +104,11 @@ public:
             body.setLinearVelocity(bt(b.linearVelocity));
             body.setAngularVelocity(bt(b.angularVelocity));
             if (!scene.sleeping && mass > 0) body.setActivationState(DISABLE_DEACTIVATION);
-            world_->addRigidBody(&body);
+            if (scene.bodyCollisions) {
+                world_->addRigidBody(&body);
+            } else {  // every body in filter group 2, masking group 2 out: nothing collides
+                world_->addRigidBody(&body, 2, ~2);
+            }
         }
         for (const JointSpec& j : scene.joints) {
             btRigidBody& b = *bodies_[static_cast<std::size_t>(j.b)];

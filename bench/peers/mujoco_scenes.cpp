@@ -45,6 +45,10 @@ public:
     }
 
     bool build(const SceneSpec& scene, std::string& why) override {
+        if (!scene.hullPoints.empty() || !scene.bodyCollisions || scene.substeps > 0) {
+            why = "Box3D's suite is run in Fulcrum and Bullet only";
+            return false;
+        }
         if (scene.cloth.n > 0) {
             why = "MuJoCo 2.2 has no particle cloth (its <composite type=\"cloth\"> is a tree of rigid bodies, not run)";
             return false;
@@ -192,6 +196,7 @@ private:
                 xml << " type=\"capsule\" size=\"" << b.half.x << ' ' << b.half.y << "\" quat=\"0.7071067811865476 -0.7071067811865476 0 0\"";
                 break;
             case BodySpec::Kind::Box: writeVec(xml, "size", b.half); xml << " type=\"box\""; break;
+            case BodySpec::Kind::Hull: break;  // refused in build()
         }
         if (!b.isStatic) xml << " mass=\"" << b.mass << '"';
     }

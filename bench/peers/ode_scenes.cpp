@@ -38,6 +38,10 @@ public:
     }
 
     bool build(const SceneSpec& scene, std::string& why) override {
+        if (!scene.hullPoints.empty() || !scene.bodyCollisions || scene.substeps > 0) {
+            why = "Box3D's suite is run in Fulcrum and Bullet only";
+            return false;
+        }
         if (scene.cloth.n > 0) {
             why = "ODE has no cloth or particle system";
             return false;
