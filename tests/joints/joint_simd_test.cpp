@@ -35,7 +35,10 @@ struct Scene {
 
 // A side x side lattice of spheres (mass 1, 1 m apart) with `layers` dynamic
 // layers hanging below a static one, each joined by ball joints to its
-// neighbours above and beside: loops, so Gauss-Seidel rows, not trees.
+// neighbours above and beside: loops. With the tree solver on, each column
+// is a tree solved exactly and the cross joints close loops (Gauss-Seidel
+// rows); with it off (WorldDef::jointDirectSolve), every joint is a
+// Gauss-Seidel row, what the lane tests below want.
 // `tweak` may change a joint's definition (friction, type) by its index.
 void addLattice(World& world, Scene& s, Vec3 origin, int side, int layers,
                 const std::function<void(JointDef&, int)>& tweak = {}) {
@@ -160,7 +163,7 @@ Scene buildMixedScene(World& world) {
 // (==: the sign of a zero may differ, no later operation turns it into a
 // different value). `check` looks at each world's joint solver after step 1.
 void expectPathsAgree(const std::function<Scene(World&)>& build, int steps, int threads,
-                      const std::function<void(const detail::JointSolver&, SimdPath)>& check) {
+                      const std::function<void(const detail::JointSolver&, SimdPath)>& check, bool trees = true) {
     std::vector<SimdPath> paths = {SimdPath::Scalar, SimdPath::Sse2};
     if (detail::avx2Available()) paths.push_back(SimdPath::Avx2);
     std::vector<std::unique_ptr<World>> worlds;
@@ -168,6 +171,7 @@ void expectPathsAgree(const std::function<Scene(World&)>& build, int steps, int 
     for (const SimdPath path : paths) {
         WorldDef def = worldDef(5);
         def.parallelMinBodies = 0;
+        def.jointDirectSolve = trees;
         worlds.push_back(std::make_unique<World>(def));
         World& world = *worlds.back();
         world.setThreadCount(path == SimdPath::Scalar ? 1 : threads);
@@ -206,13 +210,13 @@ void expectLatticeAgrees(int threads) {
             EXPECT_EQ(solver.wideJointCount(), 0u);
             return;
         }
-        // Every joint is a Gauss-Seidel ball joint (loops: no trees) in a
+        // Every joint is a Gauss-Seidel ball joint (the tree solver off) in a
         // regular colour, and the colours are large enough for the task system
         // (over 2 x 64 joints).
         EXPECT_EQ(solver.wideJointCount(), solver.constraintCount());
         EXPECT_GT(solver.wideJointsInColour(0), 128u);
         EXPECT_GE(solver.wideBlockCount() * static_cast<std::size_t>(lanesOf(path)), solver.wideJointCount());
-    });
+    }, /*trees=*/false);
 }
 
 }  // namespace
@@ -266,7 +270,9 @@ TEST(JointSimd, PathFollowsTheContactSolversAndFallsBack) {
 // 0.5 % (what is left of the swing; the soft rows' error is not a force
 // error at rest).
 TEST(JointSimd, HangingLatticeCarriesItsWeightAtItsAnchors) {
-    World world(worldDef(5));
+    WorldDef def = worldDef(5);
+    def.jointDirectSolve = false;  // every joint a Gauss-Seidel row, in lanes
+    World world(def);
     Scene s;
     addLattice(world, s, {0, 0, 0}, 5, 4);
     for (int step = 0; step < 240; ++step) world.step(kDt);
@@ -283,4 +289,31 @@ TEST(JointSimd, HangingLatticeCarriesItsWeightAtItsAnchors) {
     // At rest, and every joint within the projection slop (5 mm).
     for (const BodyId b : s.latticeBodies) EXPECT_LT(length(world.linearVelocity(b)), Real(0.01));
     for (const JointId j : s.joints) EXPECT_LE(world.jointError(j), Real(0.005));
+}
+
+// The same lattice with the tree solver on (the default): a spanning forest,
+// one tree per column hanging from its anchor (the joints that carry the
+// weight, solved exactly), the cross joints Gauss-Seidel rows closing the
+// loops. It carries the same weight at its anchors within 0.5 %, comes to
+// rest, and every joint holds within 0.1 mm (Gauss-Seidel alone: up to the
+// 5 mm projection slop).
+TEST(JointTrees, HangingLatticeIsAForestOfColumns) {
+    const int side = 5, layers = 4;
+    World world(worldDef(5));
+    Scene s;
+    addLattice(world, s, {0, 0, 0}, side, layers);
+    for (int step = 0; step < 240; ++step) world.step(kDt);
+    const detail::JointSolver& solver = detail::implOf(world).jointSolver;
+    EXPECT_EQ(solver.trees().treeCount(), static_cast<std::size_t>(side * side));
+    // Column joints in trees, the cross joints (2 side (side - 1) per layer) on rows.
+    EXPECT_EQ(solver.constraintCount() - solver.trees().directJointCount(),
+              static_cast<std::size_t>(2 * side * (side - 1) * layers));
+    Vec3 total;
+    for (const JointId j : s.anchors) total += world.jointReactionForce(j);
+    const double weight = static_cast<double>(s.latticeBodies.size()) * kG;
+    EXPECT_NEAR(total.y, weight, 0.005 * weight);
+    EXPECT_NEAR(total.x, 0, 0.005 * weight);
+    EXPECT_NEAR(total.z, 0, 0.005 * weight);
+    for (const BodyId b : s.latticeBodies) EXPECT_LT(length(world.linearVelocity(b)), Real(0.01));
+    for (const JointId j : s.joints) EXPECT_LE(world.jointError(j), Real(1e-4));
 }

@@ -264,43 +264,27 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
         }
     }
 
-    // Per component (indexed by its root): bodies, joints, joints to a non-dynamic end.
-    bodies_.assign(nb, 0);
-    joints_.assign(nb, 0);
-    worldJoints_.assign(nb, 0);
-    componentOf_.assign(nb, kNone);  // root -> its first joint to a non-dynamic end
-    visited_.assign(nb + nj, 0);     // bodies [0, nb), joints [nb, nb + nj)
+    // A body whose inertia can't be inverted (locked rotation) makes the
+    // elimination singular: its whole group stays on Gauss-Seidel.
+    singular_.assign(nb, 0);
+    visited_.assign(nb + nj, 0);  // bodies [0, nb), joints [nb, nb + nj)
     contracted_.assign(nb, 0);
-    for (std::uint32_t k = 0; k < nj; ++k) {
-        const JointConstraint& j = joints[k];
-        if (!eligible(j)) continue;
-        const std::uint32_t body = dynamic(j.bodyA) ? j.bodyA : j.bodyB;
-        const std::uint32_t root = find(body);
-        ++joints_[root];
-        for (const std::uint32_t b : {j.bodyA, j.bodyB}) {
-            if (dynamic(b) && !visited_[b]) {
-                visited_[b] = 1;
-                ++bodies_[root];
-                // A body whose inertia can't be inverted (locked rotation) makes
-                // the elimination singular: keep its group on Gauss-Seidel.
-                const Mat3& I = bodies[b].invI;
-                if (!(determinant(I) > 0)) worldJoints_[root] += 2;
-            }
-        }
-        if (!(dynamic(j.bodyA) && dynamic(j.bodyB))) {
-            ++worldJoints_[root];
-            if (componentOf_[root] == kNone) componentOf_[root] = k;
-        }
-    }
-    const auto isTree = [&](std::uint32_t root) {
-        return worldJoints_[root] <= 1 && joints_[root] == bodies_[root] - 1 + worldJoints_[root];
-    };
-
-    // Adjacency: body -> its eligible joints (CSR), for tree components only.
-    adjStart_.assign(nb + 1, 0);
     for (const JointConstraint& j : joints) {
         if (!eligible(j)) continue;
-        if (!isTree(find(dynamic(j.bodyA) ? j.bodyA : j.bodyB))) continue;
+        for (const std::uint32_t b : {j.bodyA, j.bodyB}) {
+            if (!dynamic(b) || visited_[b]) continue;
+            visited_[b] = 1;
+            if (!(determinant(bodies[b].invI) > 0)) singular_[find(b)] = 1;
+        }
+    }
+    const auto usable = [&](const JointConstraint& j) {
+        return eligible(j) && !singular_[find(dynamic(j.bodyA) ? j.bodyA : j.bodyB)];
+    };
+
+    // Adjacency: body -> its usable joints (CSR).
+    adjStart_.assign(nb + 1, 0);
+    for (const JointConstraint& j : joints) {
+        if (!usable(j)) continue;
         if (dynamic(j.bodyA)) ++adjStart_[j.bodyA + 1];
         if (dynamic(j.bodyB)) ++adjStart_[j.bodyB + 1];
     }
@@ -309,29 +293,78 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     order_.assign(adjStart_.begin(), adjStart_.end() - 1);  // fill cursors
     for (std::uint32_t k = 0; k < nj; ++k) {
         const JointConstraint& j = joints[k];
-        if (!eligible(j)) continue;
-        if (!isTree(find(dynamic(j.bodyA) ? j.bodyA : j.bodyB))) continue;
+        if (!usable(j)) continue;
         if (dynamic(j.bodyA)) adj_[order_[j.bodyA]++] = k;
         if (dynamic(j.bodyB)) adj_[order_[j.bodyB]++] = k;
     }
 
+    // The spanning forest: which joints are tree edges (solved exactly) and
+    // which close a loop (they stay Gauss-Seidel rows). Every joint to a
+    // static or kinematic end roots a tree of its own, unless its body was
+    // claimed by an earlier one (a second anchor to the world closes a loop
+    // through it); the trees then grow breadth first side by side, each body
+    // joining the first tree to reach it. A group that is a tree keeps all its
+    // joints; a grid hung from a row of anchors becomes one chain per column
+    // (the joints that carry the load), its cross joints loop edges. A group
+    // with no joint to the world is rooted at its first joint's body A.
+    // Deterministic: sources in joint order, adjacency in joint order.
+    treeEdge_.assign(nj, 0);
+    rootOf_.assign(nb, kNone);  // per claimed body: its tree's root joint (to the world), or kBodyRoot | root body
+    std::vector<std::uint32_t>& frontier = frontier_;
+    frontier.clear();
+    std::fill(visited_.begin(), visited_.end(), 0);  // here: bodies claimed
+    const auto grow = [&](std::size_t from) {
+        for (std::size_t head = from; head < frontier.size(); ++head) {
+            const std::uint32_t u = frontier[head];
+            for (std::uint32_t e = adjStart_[u]; e < adjStart_[u + 1]; ++e) {
+                const std::uint32_t k = adj_[e];
+                const JointConstraint& j = joints[k];
+                const std::uint32_t o = j.bodyA == u ? j.bodyB : j.bodyA;
+                if (!dynamic(o) || visited_[o]) continue;  // to the world, or closing a loop
+                visited_[o] = 1;
+                treeEdge_[k] = 1;
+                rootOf_[o] = rootOf_[u];
+                frontier.push_back(o);
+            }
+        }
+    };
+    for (std::uint32_t k = 0; k < nj; ++k) {
+        const JointConstraint& j = joints[k];
+        if (!usable(j) || (dynamic(j.bodyA) && dynamic(j.bodyB))) continue;
+        const std::uint32_t b = dynamic(j.bodyA) ? j.bodyA : j.bodyB;
+        if (visited_[b]) continue;
+        visited_[b] = 1;
+        treeEdge_[k] = 1;
+        rootOf_[b] = k;
+        frontier.push_back(b);
+    }
+    grow(0);
+    for (std::uint32_t k = 0; k < nj; ++k) {
+        const JointConstraint& j = joints[k];
+        if (!usable(j) || visited_[j.bodyA] || !dynamic(j.bodyA)) continue;
+        visited_[j.bodyA] = 1;
+        rootOf_[j.bodyA] = kBodyRoot | j.bodyA;
+        const std::size_t from = frontier.size();
+        frontier.push_back(j.bodyA);
+        grow(from);
+    }
+
     // Breadth-first from each tree's root (its joint to the world if it has
-    // one, else the first joint's dynamic body), then stored reversed so that
-    // children come before parents. Trees start in joint order: deterministic.
+    // one, else its root body) over the tree edges, then stored reversed so
+    // that children come before parents. Trees start in joint order: deterministic.
     std::fill(visited_.begin(), visited_.end(), 0);
     std::vector<Pending>& queue = queue_;
     for (std::uint32_t k = 0; k < nj; ++k) {
         const JointConstraint& first = joints[k];
-        if (!eligible(first) || visited_[nb + k]) continue;
-        const std::uint32_t root = find(dynamic(first.bodyA) ? first.bodyA : first.bodyB);
-        if (!isTree(root)) continue;
+        if (!treeEdge_[k] || visited_[nb + k]) continue;
+        const std::uint32_t root = rootOf_[dynamic(first.bodyA) ? first.bodyA : first.bodyB];
         queue.clear();
-        if (componentOf_[root] != kNone) {
-            queue.push_back({componentOf_[root], kNone, true, false});
-            visited_[nb + componentOf_[root]] = 1;
+        if ((root & kBodyRoot) == 0) {
+            queue.push_back({root, kNone, true, false});
+            visited_[nb + root] = 1;
         } else {
-            queue.push_back({first.bodyA, kNone, false, false});
-            visited_[first.bodyA] = 1;
+            queue.push_back({root & ~kBodyRoot, kNone, false, false});
+            visited_[root & ~kBodyRoot] = 1;
         }
         for (std::uint32_t head = 0; head < queue.size(); ++head) {
             const Pending p = queue[head];
@@ -345,7 +378,7 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
             } else {
                 for (std::uint32_t e = adjStart_[p.ref]; e < adjStart_[p.ref + 1]; ++e) {
                     const std::uint32_t k2 = adj_[e];
-                    if (visited_[nb + k2]) continue;
+                    if (!treeEdge_[k2] || visited_[nb + k2]) continue;
                     visited_[nb + k2] = 1;
                     queue.push_back({k2, head, true, joints[k2].bodyA == p.ref});
                 }

@@ -31,7 +31,9 @@
 // before the block). A connected group of such joints between dynamic bodies
 // is a tree when it has no loop: joints = bodies - 1 + (joints to static or
 // kinematic ends), with at most one such end (two anchors to the static world
-// close a loop through it). Loops (the grid benchmark) stay Gauss-Seidel.
+// close a loop through it). A group with loops (a ring, the ball grids) is
+// split into a spanning forest (findTrees): its trees are solved exactly and
+// the joints that close its loops stay Gauss-Seidel, solved before them.
 // The factorization is redone as the anchors turn with the bodies: a pass
 // reuses it while its anchors are at most one position update old (3
 // factorizations per 5-sub-step step) and no anchor turned more than
@@ -103,6 +105,12 @@ public:
     std::size_t chainCount() const {
         std::size_t n = 0;
         for (const std::uint8_t c : chain_) n += c;
+        return n;
+    }
+    // Joints whose point rows a tree solves (their `direct` flag), for tests.
+    std::size_t directJointCount() const {
+        std::size_t n = 0;
+        for (const std::uint8_t d : direct_) n += d;
         return n;
     }
     // Factorization reuse (solve()): a pass factors again once the anchors
@@ -205,9 +213,9 @@ private:
     std::uint64_t factorizations_ = 0, guardTripsPast_ = 0;
     std::vector<std::uint64_t> guardTripsOf_;
     // build() scratch
-    std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, componentOf_;
-    std::vector<std::uint32_t> bodies_, joints_, worldJoints_;
-    std::vector<std::uint8_t> visited_, contracted_;
+    static constexpr std::uint32_t kBodyRoot = 0x80000000u;  // rootOf_: a tree rooted at a body, not a world joint
+    std::vector<std::uint32_t> parentOf_, adjStart_, adj_, order_, rootOf_, frontier_;
+    std::vector<std::uint8_t> visited_, contracted_, singular_, treeEdge_;
     std::vector<std::uint32_t> children_, nodeOf_;
     std::vector<Pending> queue_;
 };
