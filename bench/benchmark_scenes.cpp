@@ -7,8 +7,9 @@
 //   bench_benchmark_scenes [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco]
 //                          [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS per engine and scene: 60, --quick 20]
 //                          [--rounds N: interleaved rounds per scene, a step's fastest time kept: 3]
-//                          [--suite shared|box3d: docs/benchmarks.md's scenes (default) or Box3D's own benchmark
-//                           scenes, bench/box3d_scenes.hpp; probes run with the shared suite only]
+//                          [--suite shared|box3d|jolt: docs/benchmarks.md's scenes (default), Box3D's own
+//                           benchmark scenes or Jolt's PerformanceTest pyramid (bench/box3d_scenes.hpp);
+//                           probes run with the shared suite only]
 //
 // Per scene, a table: engine, threads, median and mean ms per step, mean over
 // the first 120 steps, total seconds, the quality metric and Fulcrum's
@@ -508,7 +509,7 @@ int main(int argc, char** argv) {
         else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco] "
-                         "[--fulcrum-only] [--suite shared|box3d] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
+                         "[--fulcrum-only] [--suite shared|box3d|jolt] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
                          argv[0]);
             return 2;
         }
@@ -523,7 +524,9 @@ int main(int argc, char** argv) {
     }
     if (o.sizes) printMemorySizes();
     if (o.scenes) {
-        const std::vector<SceneSpec> suite = o.suite == "box3d" ? box3dScenes(o.quick) : allScenes(o.quick);
+        const std::vector<SceneSpec> suite = o.suite == "box3d"  ? box3dScenes(o.quick)
+                                             : o.suite == "jolt" ? joltScenes(o.quick)
+                                                                 : allScenes(o.quick);
         for (const SceneSpec& scene : suite) {
             if (!o.only.empty() && scene.name.rfind(o.only, 0) != 0) continue;
             std::vector<Result> results;

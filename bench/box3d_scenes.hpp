@@ -221,6 +221,41 @@ inline SceneSpec manyPyramids(int rows = 14, int columns = 14) {
     return s;
 }
 
+// Jolt's PerformanceTest "Pyramid" (its PyramidScene.h): boxes of half
+// extent 1 with no convex radius, 15 layers; layer i is a square of n x n
+// boxes, n = 15 - floor(i / 2) - floor((i + 1) / 2) (1240 boxes in all): j, k
+// from floor(i / 2) to 15 - floor((i + 1) / 2) - 1, at
+// (-15 + 2 j + (i odd ? 1 : 0), 1 + 2.5 i, -15 + 2 k + (i odd ? 1 : 0)),
+// so each layer starts 0.5 m above the one below and drops onto it; a
+// static floor box of half extents (50, 1, 50) centred at y = -1. Sleeping
+// off; 500 steps of 1/60 s (Jolt: one collision step, its own iterations;
+// here each engine's default sub-steps). Quality: the deepest overlap.
+inline SceneSpec joltPyramid(int height = 15) {
+    SceneSpec s;
+    s.name = height == 15 ? "jolt_pyramid" : "jolt_pyramid(" + std::to_string(height) + ")";
+    s.steps = 500;
+    s.sleeping = false;
+    BodySpec floor;
+    floor.isStatic = true;
+    floor.half = {50, 1, 50};
+    floor.position = {0, -1, 0};
+    s.bodies.push_back(floor);
+    const double size = 2, separation = 0.5, half = 0.5 * size;
+    for (int i = 0; i < height; ++i) {
+        const double shift = (i & 1) != 0 ? half : 0.0;
+        for (int j = i / 2; j < height - (i + 1) / 2; ++j) {
+            for (int k = i / 2; k < height - (i + 1) / 2; ++k) {
+                BodySpec b;
+                b.half = {half, half, half};
+                b.mass = 8 * half * half * half * 1000;  // Jolt's default density, 1000 kg/m^3
+                b.position = {-height + size * j + shift, 1 + (size + separation) * i, -height + size * k + shift};
+                s.bodies.push_back(b);
+            }
+        }
+    }
+    return s;
+}
+
 // The part of Box3D's suite the harness runs (--suite box3d). Not yet here:
 // junkyard, rain, trees, washer and large_world (meshes, ragdolls created
 // and destroyed while stepping, a kinematic drum, a million static bodies).
@@ -229,6 +264,13 @@ inline std::vector<SceneSpec> box3dScenes(bool quick) {
         return {jointGrid(30), largePyramid(40), manyPyramids(4, 4), hullPileScene(convexPile(4, 4, 20))};
     }
     return {jointGrid(), largePyramid(), manyPyramids(), hullPileScene(convexPile())};
+}
+
+// The part of Jolt's PerformanceTest the harness runs (--suite jolt). Not
+// yet: Ragdoll, ConvexVsMesh (a mesh terrain) and the high-speed continuous bodies.
+inline std::vector<SceneSpec> joltScenes(bool quick) {
+    if (quick) return {joltPyramid(8)};
+    return {joltPyramid()};
 }
 
 }  // namespace bench
