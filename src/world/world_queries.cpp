@@ -20,6 +20,7 @@
 #include <string>
 
 #include "collision/gjk.hpp"
+#include "collision/heightfield.hpp"
 #include "collision/mesh_bvh.hpp"
 #include "collision/shape_cast.hpp"
 #include "collision/shape_queries.hpp"
@@ -198,6 +199,18 @@ bool shapesOverlap(const Shape& q, const Transform& xq, const Shape& b, const Tr
                     if (overlaps(triangleBounds(mesh, t), local)) test(t);
                 }
             }
+            return found;
+        }
+        case ShapeType::HeightField: {
+            // A surface too, as a mesh.
+            const HeightField& hf = b.heightField();
+            bool found = false;
+            detail::forEachHeightFieldTriangle(hf, transformBounds(inverse(xb), q.bounds(xq)), [&](std::uint32_t t) {
+                Vec3 v[3];
+                hf.triangle(t, v);
+                found = convexOverlap(cq, detail::makeTriangle(transformPoint(xb, v[0]), transformPoint(xb, v[1]), transformPoint(xb, v[2])));
+                return !found;
+            });
             return found;
         }
         default: return convexOverlap(cq, detail::makeConvex(b, xb));
