@@ -104,7 +104,7 @@ double seconds(std::chrono::steady_clock::duration d) { return std::chrono::dura
 
 struct Figures {
     double narrowPerBody = 0;  // s per collide() call
-    double collidePerStep = 0;  // s of the step's collide phase
+    double collidePerStep = 0;  // ms of the step's collide phase (StepProfile is in ms)
     std::size_t manifolds = 0, points = 0;
 };
 
@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
         const Figures f = measure(s, g, rounds);
         if (g == Ground::Plane) plane = f;
         std::printf("%-34s %14.1f %16.3f %10zu %8zu   (x%.2f narrow, x%.2f collide; built and settled in %.1f s)\n", name(g),
-                    f.narrowPerBody * 1e9, f.collidePerStep * 1e3, f.manifolds, f.points, f.narrowPerBody / plane.narrowPerBody,
+                    f.narrowPerBody * 1e9, f.collidePerStep, f.manifolds, f.points, f.narrowPerBody / plane.narrowPerBody,
                     f.collidePerStep / plane.collidePerStep, buildSeconds);
     }
     return 0;
