@@ -80,3 +80,18 @@ def test_bodies_rest_rays_hit_and_scenes_round_trip(tmp_path):
     restored = fulcrum.load_snapshot(w.save_snapshot())
     assert restored.bodies()[1].position == pytest.approx(ball.position)
     assert isinstance(restored.bodies()[0].shape, fulcrum.HeightField)
+
+
+def test_closest_points_and_distance():
+    w = fulcrum.World()
+    a = w.create_body(shape=fulcrum.Sphere(1), position=(0, 0, 0))
+    b = w.create_body(shape=fulcrum.Sphere(0.5), position=(3, 4, 0))
+    c = w.closest_points(a, b)
+    assert c["distance"] == pytest.approx(3.5, abs=1e-4) and w.distance(a, b) == pytest.approx(3.5, abs=1e-4)
+    np.testing.assert_allclose(c["normal"], (0.6, 0.8, 0), atol=1e-4)
+    np.testing.assert_allclose(c["point_a"], (0.6, 0.8, 0), atol=1e-4)
+    ground = w.create_body(shape=fulcrum.Plane((0, 1, 0), -1), type="static")
+    assert w.closest_points(fulcrum.Box((0.5, 0.5, 0.5)), ground, position=(0, 2, 0))["distance"] == pytest.approx(2.5, abs=1e-4)
+    field = w.create_body(shape=fulcrum.HeightField(np.zeros((3, 3)), 1), type="static")
+    with pytest.raises(fulcrum.Error, match="heightfield"):
+        w.distance(field, a)
