@@ -1,6 +1,6 @@
 #pragma once
 // World queries: the input and result types of World::castRay, castRayAll,
-// overlapAABB / overlapSphere / overlapBox / overlapShape and castShape
+// overlapAABB / overlapSphere / overlapBox / overlapShape, castShape and closestPoints
 // (declared in world.hpp; docs/queries.md describes each one).
 //
 // Queries are read-only, may run at any time between steps (bodies created
@@ -55,6 +55,14 @@ struct ShapeCastHit {
     Real fraction = 0;    // of the translation, in [0, 1]: the shape's frame is then at start.p + fraction * translation
     Vec3 point;           // world contact point at that time
     Vec3 normal;          // unit, outward from the body hit (against the cast)
+};
+
+// The closest points of two shapes (World::closestPoints, World::distanceBetween).
+struct ClosestPoints {
+    Real distance = 0;  // m between the surfaces; negative when they overlap (minus the penetration depth)
+    Vec3 pointA;        // world: on the first shape's surface (when overlapping, its deepest point inside the second)
+    Vec3 pointB;        // world: on the second shape's surface
+    Vec3 normal;        // unit, from the first shape towards the second (moving the second along it separates them)
 };
 
 }  // namespace fulcrum

@@ -59,7 +59,7 @@ struct SceneLocation {
 };
 
 // A shape as written in the file. Kept as a description (not a fulcrum::Shape)
-// so parsing never needs the hull and mesh builders; buildShape makes the Shape.
+// so parsing never needs the hull, mesh and heightfield builders; buildShape makes the Shape.
 struct ShapeDesc {
     ShapeType type = ShapeType::Sphere;
     Real radius = 1;                                  // sphere, capsule, cylinder
@@ -70,6 +70,10 @@ struct ShapeDesc {
     std::vector<Vec3> points;                         // convex_hull
     std::vector<Vec3> vertices;                       // mesh
     std::vector<std::array<std::uint32_t, 3>> triangles;  // mesh
+    std::uint32_t rows = 0, columns = 0;              // heightfield: samples along z and x
+    Real spacingX = 1, spacingZ = 1;                  // heightfield: "spacing": [dx, dz]
+    std::vector<Real> heights;                        // heightfield: rows * columns, row by row
+    std::vector<std::uint32_t> holes;                 // heightfield: cell indices without collision
     struct Child;
     std::vector<Child> children;                      // compound
     bool operator==(const ShapeDesc&) const;

@@ -14,7 +14,7 @@
 
 namespace fulcrum {
 
-enum class ShapeType : std::uint8_t { Sphere, Box, Capsule, Cylinder, ConvexHull, Plane, Mesh, Compound };
+enum class ShapeType : std::uint8_t { Sphere, Box, Capsule, Cylinder, ConvexHull, Plane, Mesh, Compound, HeightField };
 
 const char* toString(ShapeType type);
 
@@ -64,6 +64,61 @@ struct TriangleMesh {
     std::shared_ptr<const MeshBvh> bvh;
 };
 
+// Static heightfield (docs/terrain.md): a grid of rows x columns height
+// samples; sample (row r, column c) is at shape-local (c * spacingX,
+// heights[r * columns + c], r * spacingZ). Cell (r, c), r < rows - 1 and
+// c < columns - 1, has index r * (columns - 1) + c and is split along its
+// diagonal from sample (r, c) to sample (r + 1, c + 1) into two triangles,
+// counter-clockwise seen from +y (front faces point up):
+//   triangle 2 * cell     = (r, c), (r + 1, c), (r + 1, c + 1)
+//   triangle 2 * cell + 1 = (r, c), (r + 1, c + 1), (r, c + 1)
+// A hole is a cell without its two triangles (nothing collides there).
+struct HeightField {
+    std::uint32_t rows = 0;     // samples along z
+    std::uint32_t columns = 0;  // samples along x
+    Real spacingX = 1;
+    Real spacingZ = 1;
+    std::vector<Real> heights;             // rows * columns, row by row
+    std::vector<std::uint32_t> holes;      // the hole cells' indices, sorted, unique
+    std::vector<std::uint8_t> cellIsHole;  // per cell, 1 for a hole (empty when there are no holes)
+    // Per triangle: bit k set when edge k (v0v1, v1v2, v2v0) is convex or a
+    // boundary (the field's rim or a hole's), as TriangleMesh::convexEdgeMask.
+    std::vector<std::uint8_t> convexEdgeMask;
+    // The min/max mip-map: level 0 holds each cell's lowest and highest
+    // corner, level k + 1 the extremes of 2 x 2 blocks of level k, up to a
+    // single block. A hole cell (or a block of holes) has min > max.
+    struct Level {
+        std::uint32_t rows = 0, columns = 0;  // blocks along z and x
+        std::vector<Real> minY, maxY;         // row by row
+    };
+    std::vector<Level> levels;
+    AABB bounds;
+
+    std::uint32_t cellRows() const { return rows - 1; }
+    std::uint32_t cellColumns() const { return columns - 1; }
+    Real height(std::uint32_t r, std::uint32_t c) const { return heights[std::size_t(r) * columns + c]; }
+    Vec3 sample(std::uint32_t r, std::uint32_t c) const {
+        return {static_cast<Real>(c) * spacingX, height(r, c), static_cast<Real>(r) * spacingZ};
+    }
+    bool isHole(std::uint32_t cell) const { return !cellIsHole.empty() && cellIsHole[cell] != 0; }
+    // Triangle t's corners, shape-local, counter-clockwise from above.
+    void triangle(std::uint32_t t, Vec3 out[3]) const {
+        const std::uint32_t cell = t >> 1, r = cell / cellColumns(), c = cell % cellColumns();
+        out[0] = sample(r, c);
+        if ((t & 1u) == 0) {
+            out[1] = sample(r + 1, c);
+            out[2] = sample(r + 1, c + 1);
+        } else {
+            out[1] = sample(r + 1, c + 1);
+            out[2] = sample(r, c + 1);
+        }
+    }
+};
+
+// Limits of Shape::heightField: 2 .. kMaxHeightFieldSamples samples along
+// each axis (4097 x 4097 is 16.8 million samples, 64 MiB of heights).
+inline constexpr std::uint32_t kMaxHeightFieldSamples = 4097;
+
 struct CompoundChild;
 
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
@@ -82,6 +137,12 @@ public:
     static Shape plane(const Vec3& normal, Real offset);
     // Static triangle mesh. Triangles index into vertices; degenerate (zero-area) triangles are an error.
     static Shape mesh(std::span<const Vec3> vertices, std::span<const std::array<std::uint32_t, 3>> triangles);
+    // Static heightfield of rows x columns samples (HeightField above), spacing
+    // spacingX along x (between columns) and spacingZ along z (between rows);
+    // `holes` lists cell indices r * (columns - 1) + c without collision.
+    // Static bodies only.
+    static Shape heightField(std::uint32_t rows, std::uint32_t columns, Real spacingX, Real spacingZ,
+                             std::span<const Real> heights, std::span<const std::uint32_t> holes = {});
     // Several shapes rigidly joined; at least one child, no planes or meshes inside a dynamic compound;
     // compounds inside compounds at most kMaxCompoundLevels deep.
     static Shape compound(std::span<const CompoundChild> children);
@@ -96,9 +157,10 @@ public:
     Real planeOffset() const { return radius_; }              // plane
     const ConvexHull& hull() const;                           // convex hull only
     const TriangleMesh& mesh() const;                         // mesh only
+    const HeightField& heightField() const;                   // heightfield only
     std::span<const CompoundChild> children() const;          // compound only
 
-    // True for shapes that can only belong to static bodies (plane, mesh, compounds holding them).
+    // True for shapes that can only belong to static bodies (plane, mesh, heightfield, compounds holding them).
     bool staticOnly() const;
     // Mass properties at the given density; throws for shapes without volume (plane, mesh).
     MassProperties massProperties(Real density) const;
@@ -115,6 +177,7 @@ private:
     Vec3 halfExtents_;
     std::shared_ptr<const ConvexHull> hull_;
     std::shared_ptr<const TriangleMesh> mesh_;
+    std::shared_ptr<const HeightField> heightField_;
     std::shared_ptr<const std::vector<CompoundChild>> children_;
 };
 

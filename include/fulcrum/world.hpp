@@ -424,6 +424,13 @@ public:
     // body. Starting in contact gives fraction 0.
     std::optional<ShapeCastHit> castShape(const Shape& shape, const Transform& transform, const Vec3& translation,
                                           const QueryFilter& filter = {}) const;
+    // Closest points and distance between two bodies, or a shape placed at
+    // `transform` and a body (GJK; EPA for the depth when they overlap):
+    // convex shapes, planes and compounds of them (the closest pair of
+    // children). Meshes and heightfields are refused (no bound on the search).
+    ClosestPoints closestPoints(BodyId a, BodyId b) const;
+    ClosestPoints closestPoints(const Shape& shape, const Transform& transform, BodyId body) const;
+    Real distanceBetween(BodyId a, BodyId b) const;  // closestPoints(a, b).distance (not "distance": World members call the Vec3 one)
 
 private:
     friend struct detail::WorldAccess;

@@ -30,6 +30,7 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     ConvexHull,
     Cylinder,
     Error,
+    HeightField,
     Joint,
     Mesh,
     NumericalError,
@@ -47,8 +48,8 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
 from .batch import Batch  # noqa: F401  (re-exported)
 
 __all__ = [
-    "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error", "Joint",
-    "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "SceneError", "Shape", "ShapeHit",
+    "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error",
+    "HeightField", "Joint", "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "SceneError", "Shape", "ShapeHit",
     "Sphere", "Spring", "World", "load_scene", "load_snapshot", "real_dtype",
 ]
 
@@ -134,7 +135,7 @@ def _name_bad_arguments(cls, method: str):
 # lists the signatures). Not on the per-step calls (step, the arrays), whose
 # overhead is measured (docs/benchmarks.md).
 for _cls in (World, Body, Joint, Spring, ParticleSystem, Recorder, Sphere, Box, Capsule, Cylinder, ConvexHull, Plane,
-             Mesh, Compound):
+             Mesh, Compound, HeightField):
     for _method in list(vars(_cls)):
         if _method == "__init__" or _method.startswith(("create_", "overlap_", "ray_cast", "shape_cast", "set_",
                                                          "apply_", "destroy_", "find_", "mass_properties")):

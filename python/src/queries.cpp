@@ -1,4 +1,4 @@
-// Queries (ray casts, overlaps, shape casts) with results as objects, and the
+// Queries (ray casts, overlaps, shape casts, closest points) with results as objects, and the
 // contact manifolds of the last step (docs/queries.md).
 #include "common.hpp"
 
@@ -155,6 +155,31 @@ void bindQueries(py::module_& m) {
         py::arg("shape"), py::arg("position"), py::arg("translation"), py::kw_only(),
         py::arg("orientation") = py::make_tuple(1, 0, 0, 0), FULCRUM_FILTER_ARGS,
         "Sweeps a convex shape (no rotation) along translation: its first contact as a ShapeHit, or None.");
+    const auto closestDict = [](const ClosestPoints& c) {
+        return py::dict(py::arg("distance") = c.distance, py::arg("point_a") = fromVec3(c.pointA),
+                        py::arg("point_b") = fromVec3(c.pointB), py::arg("normal") = fromVec3(c.normal));
+    };
+    cls.def(
+        "closest_points",
+        [closestDict](const PyWorld& w, py::object a, py::object b, py::object position, py::object orientation) {
+            const BodyId idB = bodyIdOf(b, w.state, "b");
+            if (py::isinstance<Shape>(a)) {
+                if (position.is_none()) throw py::type_error("argument 'position': needed when 'a' is a Shape");
+                const Transform xf(toVec3(position, "position"), toQuat(orientation, "orientation"));
+                return closestDict(w.world().closestPoints(a.cast<const Shape&>(), xf, idB));
+            }
+            return closestDict(w.world().closestPoints(bodyIdOf(a, w.state, "a"), idB));
+        },
+        py::arg("a"), py::arg("b"), py::kw_only(), py::arg("position") = py::none(),
+        py::arg("orientation") = py::make_tuple(1, 0, 0, 0),
+        "Closest points of body a (or Shape a at position / orientation) and body b: a dict of distance (negative: "
+        "overlap depth), point_a, point_b and normal (unit, from a towards b). Convex shapes, planes and compounds.");
+    cls.def(
+        "distance",
+        [](const PyWorld& w, py::object a, py::object b) {
+            return w.world().distanceBetween(bodyIdOf(a, w.state, "a"), bodyIdOf(b, w.state, "b"));
+        },
+        py::arg("a"), py::arg("b"), "Distance between the surfaces of two bodies (negative: overlap depth).");
     cls.def(
         "contacts",
         [](const PyWorld& w) {

@@ -1,5 +1,5 @@
 // Shapes: fulcrum.Shape and one Python class per kind (Sphere, Box, Capsule,
-// Cylinder, ConvexHull, Plane, Mesh, Compound), each a thin subclass of the
+// Cylinder, ConvexHull, Plane, Mesh, Compound, HeightField), each a thin subclass of the
 // engine's Shape value so isinstance() works and body.shape comes back as the
 // kind it is.
 #include <cstdio>
@@ -18,6 +18,7 @@ struct HullShape : Shape {};
 struct PlaneShape : Shape {};
 struct MeshShape : Shape {};
 struct CompoundShape : Shape {};
+struct HeightFieldShape : Shape {};
 
 template <class Kind>
 Kind as(Shape s) {
@@ -44,6 +45,9 @@ std::string describe(const Shape& s) {
             return "Mesh(<" + std::to_string(s.mesh().vertices.size()) + " vertices, " +
                    std::to_string(s.mesh().triangles.size()) + " triangles>)";
         case ShapeType::Compound: return "Compound(<" + std::to_string(s.children().size()) + " children>)";
+        case ShapeType::HeightField:
+            return "HeightField(<" + std::to_string(s.heightField().rows) + " x " + std::to_string(s.heightField().columns) +
+                   " samples>, (" + number(s.heightField().spacingX) + ", " + number(s.heightField().spacingZ) + "))";
     }
     return "Shape()";
 }
@@ -85,6 +89,13 @@ ShapeDesc describeShape(const Shape& s) {
         case ShapeType::Compound:
             for (const CompoundChild& c : s.children()) d.children.push_back({describeShape(c.shape), c.transform.p, c.transform.q});
             break;
+        case ShapeType::HeightField: {
+            const HeightField& h = s.heightField();
+            d.rows = h.rows, d.columns = h.columns, d.spacingX = h.spacingX, d.spacingZ = h.spacingZ;
+            d.heights = h.heights;
+            d.holes = h.holes;
+            break;
+        }
     }
     return d;
 }
@@ -99,6 +110,7 @@ py::object shapeToPython(const Shape& s) {
         case ShapeType::Plane: return py::cast(as<PlaneShape>(s));
         case ShapeType::Mesh: return py::cast(as<MeshShape>(s));
         case ShapeType::Compound: return py::cast(as<CompoundShape>(s));
+        case ShapeType::HeightField: return py::cast(as<HeightFieldShape>(s));
     }
     return py::cast(s);
 }
@@ -108,8 +120,9 @@ void bindShapes(py::module_& m) {
                       "A collision shape: an immutable value, cheap to share between bodies. Make one with Sphere, "
                       "Box, Capsule, Cylinder, ConvexHull, Plane, Mesh or Compound.")
         .def_property_readonly("type", [](const Shape& s) { return std::string(toString(s.type())); },
-                               "The kind: 'sphere', 'box', 'capsule', 'cylinder', 'convex_hull', 'plane', 'mesh', 'compound'.")
-        .def_property_readonly("static_only", &Shape::staticOnly, "True for planes, meshes and compounds holding them.")
+                               "The kind: 'sphere', 'box', 'capsule', 'cylinder', 'convex_hull', 'plane', 'mesh', 'compound', "
+                               "'heightfield'.")
+        .def_property_readonly("static_only", &Shape::staticOnly, "True for planes, meshes, heightfields and compounds holding them.")
         .def_property_readonly("volume", &Shape::volume, "m^3 (planes and meshes: an error).")
         .def(
             "mass_properties",
@@ -177,6 +190,56 @@ void bindShapes(py::module_& m) {
             for (const auto& tri : t) *d++ = tri[0], *d++ = tri[1], *d++ = tri[2];
             return a;
         });
+    py::class_<HeightFieldShape, Shape>(
+        m, "HeightField",
+        "A static heightfield: heights (rows, columns), sample (r, c) at local (c * dx, heights[r, c], r * dz) with "
+        "spacing (dx, dz) in metres; holes: cell indices r * (columns - 1) + c without collision. Each cell is split "
+        "along its diagonal from sample (r, c) to (r + 1, c + 1). Static bodies only.")
+        .def(py::init([](py::object heights, py::object spacing, py::object holes) {
+                 auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(heights);
+                 if (!a || heights.is_none() || a.ndim() != 2) {
+                     PyErr_Clear();
+                     throw py::type_error("argument 'heights': expected a 2-d array (rows, columns) of heights");
+                 }
+                 // Counts and values go to Shape::heightField unchecked: it names the field that is wrong.
+                 const auto rows = static_cast<std::uint64_t>(a.shape(0)), columns = static_cast<std::uint64_t>(a.shape(1));
+                 const auto clampCount = [](std::uint64_t n) { return static_cast<std::uint32_t>(std::min<std::uint64_t>(n, 0xFFFFFFFFu)); };
+                 std::vector<Real> h(static_cast<std::size_t>(a.size()));
+                 for (std::size_t i = 0; i < h.size(); ++i) h[i] = static_cast<Real>(a.data()[i]);
+                 Real dx = 0, dz = 0;
+                 if (py::isinstance<py::float_>(spacing) || py::isinstance<py::int_>(spacing)) {
+                     dx = dz = spacing.cast<Real>();
+                 } else {
+                     const auto sp = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(spacing);
+                     if (!sp || spacing.is_none() || sp.ndim() != 1 || sp.shape(0) != 2) {
+                         PyErr_Clear();
+                         throw py::type_error("argument 'spacing': expected (dx, dz) or a number");
+                     }
+                     dx = static_cast<Real>(sp.data()[0]), dz = static_cast<Real>(sp.data()[1]);
+                 }
+                 std::vector<std::uint32_t> cells;
+                 if (!holes.is_none()) {
+                     for (py::handle v : py::iter(holes)) {
+                         const long long cell = v.cast<long long>();
+                         if (cell < 0 || cell > 0xFFFFFFFELL) fail("heightfield: holes has a negative or too large cell index");
+                         cells.push_back(static_cast<std::uint32_t>(cell));
+                     }
+                 }
+                 return as<HeightFieldShape>(Shape::heightField(clampCount(rows), clampCount(columns), dx, dz, h, cells));
+             }),
+             py::arg("heights"), py::arg("spacing") = py::make_tuple(1, 1), py::arg("holes") = py::none())
+        .def_property_readonly("rows", [](const Shape& s) { return s.heightField().rows; })
+        .def_property_readonly("columns", [](const Shape& s) { return s.heightField().columns; })
+        .def_property_readonly("spacing", [](const Shape& s) {
+            return py::make_tuple(s.heightField().spacingX, s.heightField().spacingZ);
+        })
+        .def_property_readonly("heights", [](const Shape& s) {
+            const HeightField& h = s.heightField();
+            py::array_t<Real> a({static_cast<py::ssize_t>(h.rows), static_cast<py::ssize_t>(h.columns)});
+            std::copy(h.heights.begin(), h.heights.end(), a.mutable_data());
+            return a;
+        })
+        .def_property_readonly("holes", [](const Shape& s) { return s.heightField().holes; });
     py::class_<CompoundShape, Shape>(m, "Compound",
                                      "Several shapes rigidly joined. children: a list of Shape, (shape, position) or "
                                      "(shape, position, orientation (w, x, y, z)).")

@@ -14,6 +14,8 @@
 // The contacts of all triangles are then grouped by normal (cosine > 0.999)
 // and each group is reduced to one manifold of at most four points, so a box
 // lying across many triangles gets one manifold, not one per triangle.
+// Heightfields (collide_heightfield.cpp) run the same two halves on the
+// triangles of their cells.
 #include "collision/collide_mesh.hpp"
 
 #include <cmath>
@@ -55,55 +57,48 @@ bool edgeNormalAllowed(const Vec3 w[3], std::uint8_t convexMask, const Vec3& p, 
 
 }  // namespace
 
-void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const ConvexShape& b, const AABB& bBounds,
-                       Real margin, ManifoldBuffer& out) {
-    std::vector<MeshContactCandidate>& scratch = out.meshScratch();
-    scratch.clear();
-    const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
-    const Vec3 centerB = b.center();
-    forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
-        const auto& idx = mesh.triangles[t];
-        const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
-                           transformPoint(meshXf, mesh.vertices[idx[2]])};
-        const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
-        if (dot(faceN, centerB - w[0]) < 0) return;  // one-sided: behind the triangle
-        const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
-        Manifold tm;
-        const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
-                                                     : collideConvexConvex(tri, b, margin, tm);
-        if (!hit) return;
-        if (dot(tm.normal, faceN) < kFaceNormalCos) {
-            // Where the deepest point touches the triangle.
-            std::uint32_t deepest = 0;
-            for (std::uint32_t i = 1; i < tm.pointCount; ++i) {
-                if (tm.points[i].depth > tm.points[deepest].depth) deepest = i;
-            }
-            const Vec3 onTri = tm.points[deepest].position + tm.normal * (Real(0.5) * tm.points[deepest].depth);
-            const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
-            if (!edgeNormalAllowed(w, mask, onTri, tm.normal, faceN)) {
-                // Rebuild the contact along the face normal.
-                const Vec3 pb = b.support(-faceN);
-                const Real depth = dot(w[0] - pb, faceN);
-                if (depth < -margin) return;
-                if (b.kind == ConvexKind::Point) {
-                    tm.normal = faceN;
-                    tm.pointCount = 0;
-                    addContact(tm, pb + faceN * depth, pb, depth, 7, margin);
-                } else {
-                    buildFaceManifold(tri, b, faceN, pb + faceN * depth, pb, margin, tm, 1);
-                }
-                if (tm.pointCount == 0) return;
-            }
+bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
+                               std::vector<MeshContactCandidate>& scratch) {
+    const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
+    if (dot(faceN, b.center() - w[0]) < 0) return false;  // one-sided: behind the triangle
+    const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
+    Manifold tm;
+    const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
+                                                 : collideConvexConvex(tri, b, margin, tm);
+    if (!hit) return false;
+    if (dot(tm.normal, faceN) < kFaceNormalCos) {
+        // Where the deepest point touches the triangle.
+        std::uint32_t deepest = 0;
+        for (std::uint32_t i = 1; i < tm.pointCount; ++i) {
+            if (tm.points[i].depth > tm.points[deepest].depth) deepest = i;
         }
-        for (std::uint32_t i = 0; i < tm.pointCount; ++i) {
-            MeshContactCandidate c;
-            c.contact = {tm.points[i].position, tm.points[i].depth, meshFeature(t, tm.points[i].featureId)};
-            c.normal = tm.normal;
-            c.triangle = t;
-            scratch.push_back(c);
+        const Vec3 onTri = tm.points[deepest].position + tm.normal * (Real(0.5) * tm.points[deepest].depth);
+        if (!edgeNormalAllowed(w, convexMask, onTri, tm.normal, faceN)) {
+            // Rebuild the contact along the face normal.
+            const Vec3 pb = b.support(-faceN);
+            const Real depth = dot(w[0] - pb, faceN);
+            if (depth < -margin) return false;
+            if (b.kind == ConvexKind::Point) {
+                tm.normal = faceN;
+                tm.pointCount = 0;
+                addContact(tm, pb + faceN * depth, pb, depth, 7, margin);
+            } else {
+                buildFaceManifold(tri, b, faceN, pb + faceN * depth, pb, margin, tm, 1);
+            }
+            if (tm.pointCount == 0) return false;
         }
-    });
+    }
+    for (std::uint32_t i = 0; i < tm.pointCount; ++i) {
+        MeshContactCandidate c;
+        c.contact = {tm.points[i].position, tm.points[i].depth, meshFeature(t, tm.points[i].featureId)};
+        c.normal = tm.normal;
+        c.triangle = t;
+        scratch.push_back(c);
+    }
+    return true;
+}
 
+void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out) {
     // Group by normal, deepest first; consumed candidates get depth -inf.
     constexpr Real kUsed = -1e30f;
     for (;;) {
@@ -137,6 +132,21 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
         reduceContacts({batch, count}, margin, m);
         if (m.pointCount == 0) out.pop();
     }
+}
+
+void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const ConvexShape& b, const AABB& bBounds,
+                       Real margin, ManifoldBuffer& out) {
+    std::vector<MeshContactCandidate>& scratch = out.meshScratch();
+    scratch.clear();
+    const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
+    forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
+        const auto& idx = mesh.triangles[t];
+        const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
+                           transformPoint(meshXf, mesh.vertices[idx[2]])};
+        const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
+        collideTriangleWithConvex(w, mask, t, b, margin, scratch);
+    });
+    groupTriangleContacts(scratch, margin, out);
 }
 
 }  // namespace fulcrum::detail

@@ -12,6 +12,21 @@ namespace fulcrum::detail {
 void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const ConvexShape& b, const AABB& bBounds,
                        Real margin, ManifoldBuffer& out);
 
+// Convex b against a heightfield placed at `xf`, the same way
+// (collide_heightfield.cpp); childA of each manifold is its triangle.
+void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const ConvexShape& b, const AABB& bBounds,
+                              Real margin, ManifoldBuffer& out);
+
+// The two halves every triangle surface (meshes, heightfields) shares.
+// collideTriangleWithConvex appends the contacts of world-space triangle w
+// (counter-clockwise front, index t, convex-edge flags `convexMask` as
+// TriangleMesh::convexEdgeMask) with b to `scratch`, internal edges resolved;
+// false when they do not touch. groupTriangleContacts then turns the
+// candidates into manifolds, one per normal direction, at most 4 points each.
+bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
+                               std::vector<MeshContactCandidate>& scratch);
+void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out);
+
 // Calls fn(triangleIndex) for each triangle whose bounds overlap `localBox`
 // (mesh-local coordinates).
 template <class Fn>

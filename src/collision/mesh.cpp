@@ -35,6 +35,21 @@ constexpr double kMinAspect = 1e-6;
 
 }  // namespace
 
+// The dihedral angle phi of the neighbour, measured in the plane perpendicular
+// to the edge: phi = atan2(y, x) with x the neighbour's far vertex's distance
+// away from this triangle in its plane and y its height above the plane.
+// phi = 0 is flat, phi < 0 bends away (convex), phi > 0 folds up (concave),
+// |phi| near pi is a knife edge (two sheets back to back), which collides
+// like a convex one. Shape building only, never in a step.
+bool isConvexEdge(const Vec3& faceNormal, const Vec3& edgeStart, const Vec3& edgeEnd, const Vec3& farVertex) {
+    const Vec3 e = normalize(edgeEnd - edgeStart);
+    const Vec3 c = farVertex - edgeStart;
+    const Real x = -dot(c, cross(faceNormal, e));  // cross(n, e) points into this triangle
+    const Real y = dot(c, faceNormal);
+    const Real phi = std::atan2(y, x);
+    return phi < -kFlatAngle || std::fabs(phi) > std::numbers::pi_v<Real> - kFlatAngle;
+}
+
 Shape Shape::mesh(std::span<const Vec3> vertices, std::span<const std::array<std::uint32_t, 3>> triangles) {
     if (vertices.empty()) throw Error("mesh: vertices must not be empty");
     if (triangles.empty()) throw Error("mesh: triangles must not be empty");
@@ -103,12 +118,7 @@ Shape Shape::mesh(std::span<const Vec3> vertices, std::span<const std::array<std
         i = j;
     }
 
-    // Convex-edge flags from the dihedral angle phi of the neighbour, measured
-    // in the plane perpendicular to the edge: phi = atan2(y, x) with x the
-    // neighbour's far vertex's distance away from this triangle in its plane
-    // and y its height above the plane. phi = 0 is flat, phi < 0 bends away
-    // (convex), phi > 0 folds up (concave), |phi| near pi is a knife edge
-    // (two sheets back to back), which collides like a convex one.
+    // Convex-edge flags (isConvexEdge).
     mesh->convexEdgeMask.assign(nt, 0);
     for (std::uint32_t t = 0; t < nt; ++t) {
         const auto& tri = triangles[t];
@@ -117,18 +127,12 @@ Shape Shape::mesh(std::span<const Vec3> vertices, std::span<const std::array<std
         for (std::uint32_t k = 0; k < 3; ++k) {
             const std::uint32_t other = mesh->adjacency[t][k];
             if (other == kBoundary) { mask = static_cast<std::uint8_t>(mask | (1u << k)); continue; }
-            const Vec3& a = vertices[tri[k]];
-            const Vec3 e = normalize(vertices[tri[(k + 1) % 3]] - a);
             const auto& nb = triangles[other];
             std::uint32_t far = nb[0];
             for (std::uint32_t v : nb) {
                 if (v != tri[k] && v != tri[(k + 1) % 3]) far = v;
             }
-            const Vec3 c = vertices[far] - a;
-            const Real x = -dot(c, cross(n, e));  // cross(n, e) points into this triangle
-            const Real y = dot(c, n);
-            const Real phi = std::atan2(y, x);
-            if (phi < -kFlatAngle || std::fabs(phi) > std::numbers::pi_v<Real> - kFlatAngle) {
+            if (isConvexEdge(n, vertices[tri[k]], vertices[tri[(k + 1) % 3]], vertices[far])) {
                 mask = static_cast<std::uint8_t>(mask | (1u << k));
             }
         }

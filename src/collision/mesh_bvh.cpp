@@ -132,8 +132,13 @@ private:
     std::vector<AABB> bounds_;
 };
 
-// Entry fraction of the ray into a box, or a negative value for a miss
-// (slab test with the reciprocal direction; an axis-parallel ray compares the origin).
+Real pointBoxDistanceSquared(const AABB& b, const Vec3& p) {
+    const Vec3 q = max(b.min, min(p, b.max));
+    return lengthSquared(p - q);
+}
+
+}  // namespace
+
 Real rayBox(const AABB& b, const Vec3& p, const Vec3& invD, const std::array<bool, 3>& parallel, Real maxFraction) {
     Real tmin = 0, tmax = maxFraction;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -149,13 +154,6 @@ Real rayBox(const AABB& b, const Vec3& p, const Vec3& invD, const std::array<boo
     }
     return tmin;
 }
-
-Real pointBoxDistanceSquared(const AABB& b, const Vec3& p) {
-    const Vec3 q = max(b.min, min(p, b.max));
-    return lengthSquared(p - q);
-}
-
-}  // namespace
 
 MeshBvh buildMeshBvh(const TriangleMesh& mesh) {
     MeshBvh bvh;

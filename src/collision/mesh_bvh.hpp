@@ -48,6 +48,12 @@ struct MeshBvh {
     Real rayEpsilon = 0;                       // node boxes are widened by this for ray traversal
 };
 
+// True when the edge edgeStart -> edgeEnd of a triangle with unit normal
+// `faceNormal` is convex (or a knife edge) given the neighbour triangle's far
+// vertex; flat (within 1e-3 rad) and concave edges are internal. Meshes and
+// heightfields set their convex-edge flags with it (mesh.cpp).
+bool isConvexEdge(const Vec3& faceNormal, const Vec3& edgeStart, const Vec3& edgeEnd, const Vec3& farVertex);
+
 // Builds the BVH and the normals of a mesh whose vertices, triangles and
 // adjacency are already set and validated.
 MeshBvh buildMeshBvh(const TriangleMesh& mesh);
@@ -96,6 +102,11 @@ void queryTriangles(const TriangleMesh& mesh, const AABB& box, F&& callback) {
 // [0, maxFraction] or nothing.
 std::optional<Real> rayTriangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& d,
                                 Real maxFraction);
+
+// Entry fraction in [0, maxFraction] of the ray p + t d into box b, or a
+// negative value for a miss (slab test with the reciprocal direction invD; an
+// axis `parallel` to the box compares the origin).
+Real rayBox(const AABB& b, const Vec3& p, const Vec3& invD, const std::array<bool, 3>& parallel, Real maxFraction);
 
 struct MeshRayHit {
     Real fraction = 0;

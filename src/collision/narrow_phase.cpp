@@ -1,8 +1,8 @@
 // The narrow phase dispatcher. Convex pairs go through a table indexed by the
 // two convex kinds; pairs of different kinds always run in one canonical
 // order (lower kind first) and are flipped afterwards, so collide(b, a) is
-// bit-for-bit the mirror of collide(a, b). Planes, meshes and compounds are
-// unwrapped here; anchors are computed last, in the top-level frames.
+// bit-for-bit the mirror of collide(a, b). Planes, meshes, heightfields and
+// compounds are unwrapped here; anchors are computed last, in the top-level frames.
 #include "collision/narrow_phase.hpp"
 
 #include "collision/collide_mesh.hpp"
@@ -81,8 +81,8 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
         }
         return;
     }
-    const bool staticA = ta == ShapeType::Plane || ta == ShapeType::Mesh;
-    const bool staticB = tb == ShapeType::Plane || tb == ShapeType::Mesh;
+    const bool staticA = ta == ShapeType::Plane || ta == ShapeType::Mesh || ta == ShapeType::HeightField;
+    const bool staticB = tb == ShapeType::Plane || tb == ShapeType::Mesh || tb == ShapeType::HeightField;
     if (staticA && staticB) return;
     if (ta == ShapeType::Plane) {
         collidePlane(a, xa, b, xb, margin, out, childB);
@@ -98,15 +98,23 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
         }
         return;
     }
-    if (ta == ShapeType::Mesh) {
+    if (ta == ShapeType::Mesh || ta == ShapeType::HeightField) {
         const std::size_t first = out.size();
-        collideMeshConvex(a.mesh(), xa, makeConvex(b, xb), b.bounds(xb), margin, out);
+        if (ta == ShapeType::Mesh) {
+            collideMeshConvex(a.mesh(), xa, makeConvex(b, xb), b.bounds(xb), margin, out);
+        } else {
+            collideHeightFieldConvex(a.heightField(), xa, makeConvex(b, xb), b.bounds(xb), margin, out);
+        }
         for (std::size_t i = first; i < out.size(); ++i) out[i].childB = childB;
         return;
     }
-    if (tb == ShapeType::Mesh) {
+    if (tb == ShapeType::Mesh || tb == ShapeType::HeightField) {
         const std::size_t first = out.size();
-        collideMeshConvex(b.mesh(), xb, makeConvex(a, xa), a.bounds(xa), margin, out);
+        if (tb == ShapeType::Mesh) {
+            collideMeshConvex(b.mesh(), xb, makeConvex(a, xa), a.bounds(xa), margin, out);
+        } else {
+            collideHeightFieldConvex(b.heightField(), xb, makeConvex(a, xa), a.bounds(xa), margin, out);
+        }
         for (std::size_t i = first; i < out.size(); ++i) {
             flipManifold(out[i]);
             out[i].childB = out[i].childA;  // the triangle

@@ -131,6 +131,13 @@ const ConvexHull& Shape::hull() const {
     return *hull_;
 }
 
+const HeightField& Shape::heightField() const {
+    if (type_ != ShapeType::HeightField || !heightField_) {
+        throw Error(std::string("shape is a ") + toString(type_) + ", not a heightfield");
+    }
+    return *heightField_;
+}
+
 const TriangleMesh& Shape::mesh() const {
     if (type_ != ShapeType::Mesh || !mesh_) throw Error(std::string("shape is a ") + toString(type_) + ", not a mesh");
     return *mesh_;
@@ -142,7 +149,7 @@ std::span<const CompoundChild> Shape::children() const {
 }
 
 bool Shape::staticOnly() const {
-    if (type_ == ShapeType::Plane || type_ == ShapeType::Mesh) return true;
+    if (type_ == ShapeType::Plane || type_ == ShapeType::Mesh || type_ == ShapeType::HeightField) return true;
     if (type_ == ShapeType::Compound) {
         for (const CompoundChild& c : *children_) {
             if (c.shape.staticOnly()) return true;
@@ -160,7 +167,8 @@ Real Shape::volume() const {
         case ShapeType::Cylinder: return kPi * radius_ * radius_ * 2 * halfHeight_;
         case ShapeType::ConvexHull: return hull_->volume;
         case ShapeType::Plane:
-        case ShapeType::Mesh: return 0;
+        case ShapeType::Mesh:
+        case ShapeType::HeightField: return 0;
         case ShapeType::Compound: {
             Real v = 0;
             for (const CompoundChild& c : *children_) v += c.shape.volume();
@@ -212,6 +220,7 @@ MassProperties Shape::massProperties(Real density) const {
             break;
         case ShapeType::Plane:
         case ShapeType::Mesh:
+        case ShapeType::HeightField:
             throw Error(std::string(toString(type_)) + " shapes have no volume, so no mass: use them on static bodies");
         case ShapeType::Compound: {
             std::vector<MassProperties> parts;
@@ -243,6 +252,7 @@ AABB Shape::localBounds() const {
         case ShapeType::Cylinder: return AABB::fromCenterHalf(Vec3::zero(), {radius_, halfHeight_, radius_});
         case ShapeType::ConvexHull: return hull_->bounds;
         case ShapeType::Mesh: return mesh_->bounds;
+        case ShapeType::HeightField: return heightField_->bounds;
         case ShapeType::Plane: {
             // Solid below n . p = offset: an axis-aligned normal bounds one side.
             AABB b{Vec3::splat(-kHuge), Vec3::splat(kHuge)};

@@ -11,6 +11,7 @@
 #include "collision/collide_mesh.hpp"
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
+#include "collision/heightfield.hpp"
 
 namespace fulcrum {
 
@@ -121,6 +122,19 @@ ShapeCastResult castRecursive(const Shape& a, const Transform& xa, const Vec3& t
     }
     const ConvexShape ca = makeConvex(a, xa);
     if (b.type() == ShapeType::Plane) return castConvexPlane(ca, translation, b, xb, tol);
+    if (b.type() == ShapeType::HeightField) {
+        const HeightField& hf = b.heightField();
+        AABB swept = a.bounds(xa);
+        swept.grow(a.bounds({xa.p + translation, xa.q}));
+        const AABB local = transformBounds(inverse(xb), swept.fattened(tol));
+        forEachHeightFieldTriangle(hf, local, [&](std::uint32_t t) {
+            Vec3 w[3];
+            hf.triangle(t, w);
+            const ConvexShape tri = makeTriangle(transformPoint(xb, w[0]), transformPoint(xb, w[1]), transformPoint(xb, w[2]));
+            keepEarliest(best, castConvexConvex(ca, translation, tri, tol));
+        });
+        return best;
+    }
     if (b.type() == ShapeType::Mesh) {
         const TriangleMesh& mesh = b.mesh();
         AABB swept = a.bounds(xa);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "collision/heightfield.hpp"
 #include "collision/mesh_bvh.hpp"
 
 namespace fulcrum {
@@ -171,6 +172,13 @@ std::optional<LocalHit> rayLocal(const Shape& shape, const Vec3& o, const Vec3& 
             h.triangle = hit->triangle;
             return h;
         }
+        case ShapeType::HeightField: {
+            const auto hit = detail::rayCastHeightField(shape.heightField(), o, d, maxFraction);
+            if (!hit) return std::nullopt;
+            LocalHit h{hit->fraction, hit->normal};
+            h.triangle = hit->triangle;
+            return h;
+        }
         case ShapeType::Compound: {
             std::optional<LocalHit> best;
             const auto children = shape.children();
@@ -316,6 +324,12 @@ LocalPoint pointLocal(const Shape& shape, const Vec3& p) {
         }
         case ShapeType::Mesh: {
             const MeshClosestPoint m = closestPointOnMesh(shape.mesh(), p);
+            LocalPoint r{m.point, m.distance, m.normal};
+            r.triangle = m.triangle;
+            return r;
+        }
+        case ShapeType::HeightField: {
+            const MeshClosestPoint m = detail::closestPointOnHeightField(shape.heightField(), p);
             LocalPoint r{m.point, m.distance, m.normal};
             r.triangle = m.triangle;
             return r;

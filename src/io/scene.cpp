@@ -58,6 +58,9 @@ bool ShapeDesc::operator==(const ShapeDesc& o) const {
         case ShapeType::Plane: return normal == o.normal && offset == o.offset;
         case ShapeType::Mesh: return vertices == o.vertices && triangles == o.triangles;
         case ShapeType::Compound: return children == o.children;
+        case ShapeType::HeightField:
+            return rows == o.rows && columns == o.columns && spacingX == o.spacingX && spacingZ == o.spacingZ &&
+                   heights == o.heights && holes == o.holes;
     }
     return false;
 }

@@ -81,7 +81,7 @@ std::string nlohmannReason(std::string_view what) {
 
 std::optional<ShapeType> shapeTypeFromString(std::string_view name) {
     for (ShapeType t : {ShapeType::Sphere, ShapeType::Box, ShapeType::Capsule, ShapeType::Cylinder, ShapeType::ConvexHull,
-                        ShapeType::Plane, ShapeType::Mesh, ShapeType::Compound}) {
+                        ShapeType::Plane, ShapeType::Mesh, ShapeType::Compound, ShapeType::HeightField}) {
         if (name == toString(t)) return t;
     }
     return std::nullopt;
@@ -102,17 +102,17 @@ std::optional<JointType> jointTypeFromString(std::string_view name) {
     return std::nullopt;
 }
 
-std::string shapeTypeList() { return "sphere, box, capsule, cylinder, convex_hull, plane, mesh, compound"; }
+std::string shapeTypeList() { return "sphere, box, capsule, cylinder, convex_hull, plane, mesh, heightfield, compound"; }
 std::string jointTypeList() { return "ball, hinge, slider, distance, fixed, cone_twist"; }
 std::string integratorList() { return "semi_implicit_euler, explicit_euler, verlet"; }
 
 bool isStaticOnly(const ShapeDesc& shape) {
-    if (shape.type == ShapeType::Plane || shape.type == ShapeType::Mesh) return true;
+    if (shape.type == ShapeType::Plane || shape.type == ShapeType::Mesh || shape.type == ShapeType::HeightField) return true;
     return std::any_of(shape.children.begin(), shape.children.end(), [](const ShapeDesc::Child& c) { return isStaticOnly(c.shape); });
 }
 
 bool containsHullOrMesh(const ShapeDesc& shape) {
-    if (shape.type == ShapeType::ConvexHull || shape.type == ShapeType::Mesh) return true;
+    if (shape.type == ShapeType::ConvexHull || shape.type == ShapeType::Mesh || shape.type == ShapeType::HeightField) return true;
     return std::any_of(shape.children.begin(), shape.children.end(),
                        [](const ShapeDesc::Child& c) { return containsHullOrMesh(c.shape); });
 }
@@ -133,7 +133,8 @@ Shape buildPrimitiveShape(const ShapeDesc& s) {
             return Shape::compound(children);
         }
         case ShapeType::ConvexHull:
-        case ShapeType::Mesh: break;
+        case ShapeType::Mesh:
+        case ShapeType::HeightField: break;
     }
     throw Error(std::string("internal: buildPrimitiveShape called for a ") + toString(s.type));
 }

@@ -38,10 +38,11 @@ std::string jointTypeList();
 std::string integratorList();
 
 // True when the described shape can only belong to a static body (plane, mesh,
-// or a compound holding one).
+// heightfield, or a compound holding one).
 bool isStaticOnly(const ShapeDesc& shape);
+// True when the described shape holds a hull, mesh or heightfield.
 bool containsHullOrMesh(const ShapeDesc& shape);
-// Builds a shape that holds no hull or mesh (those need the hull and mesh
+// Builds a shape that holds no hull, mesh or heightfield (those need their
 // builders, which buildShape uses).
 Shape buildPrimitiveShape(const ShapeDesc& shape);
 

@@ -384,6 +384,35 @@ ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) 
             }
             break;
         }
+        case ShapeType::HeightField: {
+            checkKeys(j, path, {"type", "rows", "columns", "spacing", "heights", "holes"}, what);
+            const long long maxSamples = kMaxHeightFieldSamples;
+            s.rows = static_cast<std::uint32_t>(integer(required(j, path, "rows"), childPath(path, "rows"), 2, maxSamples, "rows"));
+            s.columns = static_cast<std::uint32_t>(
+                integer(required(j, path, "columns"), childPath(path, "columns"), 2, maxSamples, "columns"));
+            const std::string sp = childPath(path, "spacing");
+            const json& spacing = requireArray(required(j, path, "spacing"), sp);
+            if (spacing.size() != 2) fail(sp, "expected [dx, dz], got " + describe(spacing));
+            s.spacingX = positive(spacing[0], childPath(sp, 0), "spacing");
+            s.spacingZ = positive(spacing[1], childPath(sp, 1), "spacing");
+            const std::string hp = childPath(path, "heights");
+            const json& heights = requireArray(required(j, path, "heights"), hp);
+            const std::size_t samples = std::size_t(s.rows) * s.columns;
+            if (heights.size() != samples) {
+                fail(hp, "expected rows * columns = " + std::to_string(s.rows) + " * " + std::to_string(s.columns) + " = " +
+                             std::to_string(samples) + " heights, got " + std::to_string(heights.size()));
+            }
+            s.heights.reserve(samples);
+            for (std::size_t i = 0; i < samples; ++i) s.heights.push_back(number(heights[i], childPath(hp, i)));
+            opt(j, path, "holes", [&](const json& v, const std::string& p) {
+                const json& holes = requireArray(v, p);
+                const long long lastCell = static_cast<long long>(s.rows - 1) * (s.columns - 1) - 1;
+                for (std::size_t i = 0; i < holes.size(); ++i) {
+                    s.holes.push_back(static_cast<std::uint32_t>(integer(holes[i], childPath(p, i), 0, lastCell, "cell index")));
+                }
+            });
+            break;
+        }
         case ShapeType::Compound: {
             checkKeys(j, path, {"type", "children"}, what);
             if (depth >= kMaxCompoundLevels) {  // depth counts from 0: this compound is level depth + 1

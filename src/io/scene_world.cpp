@@ -33,6 +33,7 @@ Shape buildShape(const ShapeDesc& s) {
     switch (s.type) {
         case ShapeType::ConvexHull: return Shape::convexHull(s.points);
         case ShapeType::Mesh: return Shape::mesh(s.vertices, s.triangles);
+        case ShapeType::HeightField: return Shape::heightField(s.rows, s.columns, s.spacingX, s.spacingZ, s.heights, s.holes);
         case ShapeType::Compound: {
             if (!detail::containsHullOrMesh(s)) return detail::buildPrimitiveShape(s);
             std::vector<CompoundChild> children;

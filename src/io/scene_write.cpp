@@ -53,6 +53,16 @@ ojson shapeJson(const ShapeDesc& s) {
             j["triangles"] = std::move(tris);
             break;
         }
+        case ShapeType::HeightField: {
+            j["rows"] = s.rows;
+            j["columns"] = s.columns;
+            j["spacing"] = ojson::array({num(s.spacingX), num(s.spacingZ)});
+            ojson heights = ojson::array();
+            for (const Real h : s.heights) heights.push_back(num(h));
+            j["heights"] = std::move(heights);
+            if (!s.holes.empty()) j["holes"] = s.holes;
+            break;
+        }
         case ShapeType::Compound: {
             ojson kids = ojson::array();
             for (const ShapeDesc::Child& c : s.children) {

@@ -84,6 +84,7 @@ void flatten(const Shape& shape, const Transform& frame, const TessellationOptio
         case ShapeType::Cylinder: part.mesh = tessellateCylinder(shape.radius(), shape.halfHeight(), local); break;
         case ShapeType::ConvexHull: part.mesh = tessellateHull(shape.hull()); break;
         case ShapeType::Mesh: part.mesh = tessellateTriangleMesh(shape.mesh()); break;
+        case ShapeType::HeightField: part.mesh = tessellateHeightField(shape.heightField()); break;
         case ShapeType::Plane: part.mesh = tessellatePlane(shape.planeNormal(), shape.planeOffset(), local); break;
         case ShapeType::Compound: break;  // handled above
     }
@@ -172,6 +173,47 @@ RenderMesh tessellateHull(const ConvexHull& hull) {
         }
         for (std::uint32_t i = 1; i + 1 < face.indexCount; ++i) {
             mesh.indices.insert(mesh.indices.end(), {base, base + i, base + i + 1});  // fan: the face is convex
+        }
+    }
+    return mesh;
+}
+
+RenderMesh tessellateHeightField(const HeightField& field, std::uint32_t maxCells) {
+    // Every stride-th sample along each axis (and the last), so at most
+    // maxCells cells per axis are drawn.
+    const std::uint32_t longest = std::max(field.cellRows(), field.cellColumns());
+    const std::uint32_t stride = std::max<std::uint32_t>(1, (longest + maxCells - 1) / std::max<std::uint32_t>(1, maxCells));
+    std::vector<std::uint32_t> rows, columns;
+    for (std::uint32_t r = 0; r < field.rows; r += stride) rows.push_back(r);
+    if (rows.back() != field.rows - 1) rows.push_back(field.rows - 1);
+    for (std::uint32_t c = 0; c < field.columns; c += stride) columns.push_back(c);
+    if (columns.back() != field.columns - 1) columns.push_back(field.columns - 1);
+    RenderMesh mesh;
+    mesh.positions.reserve(rows.size() * columns.size());
+    mesh.normals.reserve(rows.size() * columns.size());
+    for (const std::uint32_t r : rows) {
+        for (const std::uint32_t c : columns) {
+            // Smooth shading: the normal of the central-difference slopes.
+            const std::uint32_t r0 = r > 0 ? r - 1 : r, r1 = r + 1 < field.rows ? r + 1 : r;
+            const std::uint32_t c0 = c > 0 ? c - 1 : c, c1 = c + 1 < field.columns ? c + 1 : c;
+            const Real dhdx = (field.height(r, c1) - field.height(r, c0)) / (static_cast<Real>(c1 - c0) * field.spacingX);
+            const Real dhdz = (field.height(r1, c) - field.height(r0, c)) / (static_cast<Real>(r1 - r0) * field.spacingZ);
+            mesh.positions.push_back(field.sample(r, c));
+            mesh.normals.push_back(normalize(Vec3{-dhdx, 1, -dhdz}));
+        }
+    }
+    const auto vertex = [&](std::size_t i, std::size_t j) { return static_cast<std::uint32_t>(i * columns.size() + j); };
+    for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
+        for (std::size_t j = 0; j + 1 < columns.size(); ++j) {
+            // A drawn cell covering any hole is left out, so holes stay visible.
+            bool hole = false;
+            for (std::uint32_t r = rows[i]; r < rows[i + 1] && !hole; ++r) {
+                for (std::uint32_t c = columns[j]; c < columns[j + 1] && !hole; ++c) hole = field.isHole(r * field.cellColumns() + c);
+            }
+            if (hole) continue;
+            // The field's diagonal, (r, c) to (r + 1, c + 1); counter-clockwise from above.
+            mesh.indices.insert(mesh.indices.end(), {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1)});
+            mesh.indices.insert(mesh.indices.end(), {vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1)});
         }
     }
     return mesh;

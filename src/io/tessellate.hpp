@@ -5,7 +5,7 @@
 //
 // Curved shapes are tessellated (a sphere, capsule or cylinder becomes a
 // polyhedron inscribed in it); hulls use their faces (flat shaded); meshes are
-// emitted as they are (flat shaded); an infinite plane becomes a finite quad
+// emitted as they are (flat shaded); heightfields as their grid (smooth); an infinite plane becomes a finite quad
 // centred on the point of the plane nearest to a given centre; compounds
 // become one part per leaf child with the child's frame.
 #include <cstdint>
@@ -40,6 +40,9 @@ RenderMesh tessellateCapsule(Real radius, Real halfHeight, const TessellationOpt
 RenderMesh tessellateCylinder(Real radius, Real halfHeight, const TessellationOptions& options = {});
 RenderMesh tessellateHull(const ConvexHull& hull);
 RenderMesh tessellateTriangleMesh(const TriangleMesh& mesh);
+// A heightfield with smooth normals; fields of more than maxCells cells along
+// an axis are drawn from every k-th sample (the replay page stays small).
+RenderMesh tessellateHeightField(const HeightField& field, std::uint32_t maxCells = 256);
 RenderMesh tessellatePlane(const Vec3& normal, Real offset, const TessellationOptions& options = {});
 
 // Every shape type; a compound yields one part per leaf (nested compounds flattened).

@@ -18,6 +18,7 @@ const char* toString(ShapeType type) {
         case ShapeType::Plane: return "plane";
         case ShapeType::Mesh: return "mesh";
         case ShapeType::Compound: return "compound";
+        case ShapeType::HeightField: return "heightfield";
     }
     return "unknown";
 }

@@ -432,7 +432,7 @@ struct SnapshotAccess {
     template <typename A>
     static void shape(A& a, Shape& s, int depth) {
         if (depth > kMaxCompoundLevels) a.fail("compound shapes nested deeper than " + std::to_string(kMaxCompoundLevels));
-        a.enumeration(s.type_, ShapeType::Compound);
+        a.enumeration(s.type_, ShapeType::HeightField);
         io(a, s.radius_), io(a, s.halfHeight_), io(a, s.halfExtents_);
         switch (s.type_) {
             case ShapeType::ConvexHull: {
@@ -468,6 +468,24 @@ struct SnapshotAccess {
                         s.mesh_ = Shape::mesh(vertices, triangles).mesh_;
                     } catch (const Error& e) {
                         a.fail(std::string("invalid mesh: ") + e.what());
+                    }
+                }
+                break;
+            }
+            case ShapeType::HeightField: {
+                // From its definition, rebuilt (and validated again) on load, as a mesh.
+                HeightField h;
+                if constexpr (!A::kReading) {
+                    const HeightField& f = *s.heightField_;
+                    h.rows = f.rows, h.columns = f.columns, h.spacingX = f.spacingX, h.spacingZ = f.spacingZ;
+                    h.heights = f.heights, h.holes = f.holes;
+                }
+                io(a, h.rows), io(a, h.columns), io(a, h.spacingX), io(a, h.spacingZ), io(a, h.heights), io(a, h.holes);
+                if constexpr (A::kReading) {
+                    try {
+                        s.heightField_ = Shape::heightField(h.rows, h.columns, h.spacingX, h.spacingZ, h.heights, h.holes).heightField_;
+                    } catch (const Error& e) {
+                        a.fail(std::string("invalid heightfield: ") + e.what());
                     }
                 }
                 break;
@@ -585,6 +603,7 @@ const void* sharedGeometry(const Shape& s) {
     switch (s.type()) {
         case ShapeType::ConvexHull: return &s.hull();
         case ShapeType::Mesh: return &s.mesh();
+        case ShapeType::HeightField: return &s.heightField();
         case ShapeType::Compound: return s.children().data();
         default: return nullptr;
     }

@@ -19,7 +19,9 @@
 #include <limits>
 #include <string>
 
+#include "collision/epa.hpp"
 #include "collision/gjk.hpp"
+#include "collision/heightfield.hpp"
 #include "collision/mesh_bvh.hpp"
 #include "collision/shape_cast.hpp"
 #include "collision/shape_queries.hpp"
@@ -198,6 +200,18 @@ bool shapesOverlap(const Shape& q, const Transform& xq, const Shape& b, const Tr
                     if (overlaps(triangleBounds(mesh, t), local)) test(t);
                 }
             }
+            return found;
+        }
+        case ShapeType::HeightField: {
+            // A surface too, as a mesh.
+            const HeightField& hf = b.heightField();
+            bool found = false;
+            detail::forEachHeightFieldTriangle(hf, transformBounds(inverse(xb), q.bounds(xq)), [&](std::uint32_t t) {
+                Vec3 v[3];
+                hf.triangle(t, v);
+                found = convexOverlap(cq, detail::makeTriangle(transformPoint(xb, v[0]), transformPoint(xb, v[1]), transformPoint(xb, v[2])));
+                return !found;
+            });
             return found;
         }
         default: return convexOverlap(cq, detail::makeConvex(b, xb));
@@ -444,5 +458,94 @@ std::optional<ShapeCastHit> World::castShape(const Shape& shape, const Transform
     });
     return best;
 }
+
+// ---- closest points ----------------------------------------------------------------
+
+namespace {
+
+// Refuses what closestPoints cannot measure, naming the argument.
+void requireMeasurable(const Subject& who, const char* argument, const Shape& shape) {
+    const ShapeType t = shape.type();
+    if (t == ShapeType::Mesh || t == ShapeType::HeightField) {
+        detail::fail(who, argument,
+                     std::string("must be convex, a plane or a compound of them (a ") + toString(t) +
+                         " has no bound on the search for its closest triangle)");
+    }
+    for (const CompoundChild& c : shape.children()) requireMeasurable(who, argument, c.shape);
+}
+
+ClosestPoints convexClosest(const detail::ConvexShape& a, const detail::ConvexShape& b) {
+    const detail::GjkResult g = detail::gjkDistance(a, b, false);
+    if (!g.overlap && g.distance > Real(1e-6)) {
+        const Vec3 n = (g.pointB - g.pointA) / g.distance;
+        return {g.distance - a.radius - b.radius, g.pointA + n * a.radius, g.pointB - n * b.radius, n};
+    }
+    const detail::PenetrationResult p = detail::epaPenetration(a, b);
+    if (p.valid) return {-p.depth, p.pointA, p.pointB, p.normal};
+    // Touching cores without a usable penetration (degenerate): the centres say which way.
+    const Vec3 d = b.center() - a.center();
+    const Real len = length(d);
+    const Vec3 n = len > 0 ? d / len : Vec3{0, 1, 0};
+    return {-(a.radius + b.radius), g.pointA + n * a.radius, g.pointB - n * b.radius, n};
+}
+
+// Convex `b` and the half-space of plane `a` (normal n out of the solid).
+ClosestPoints planeClosest(const Shape& plane, const Transform& xp, const detail::ConvexShape& b) {
+    Vec3 n;
+    Real offset;
+    worldPlane(plane, xp, n, offset);
+    const Vec3 deepest = b.support(-n);
+    const Real gap = dot(n, deepest) - offset;
+    return {gap, deepest - n * gap, deepest, n};
+}
+
+ClosestPoints flipped(const ClosestPoints& c) { return {c.distance, c.pointB, c.pointA, -c.normal}; }
+
+ClosestPoints closestRecursive(const Subject& who, const Shape& a, const Transform& xa, const Shape& b, const Transform& xb) {
+    const auto best = [&](auto&& each, std::span<const CompoundChild> children) {
+        ClosestPoints out;
+        out.distance = std::numeric_limits<Real>::max();
+        for (const CompoundChild& c : children) {
+            const ClosestPoints r = each(c);
+            if (r.distance < out.distance) out = r;
+        }
+        return out;
+    };
+    if (a.type() == ShapeType::Compound) {
+        return best([&](const CompoundChild& c) { return closestRecursive(who, c.shape, xa * c.transform, b, xb); }, a.children());
+    }
+    if (b.type() == ShapeType::Compound) {
+        return best([&](const CompoundChild& c) { return closestRecursive(who, a, xa, c.shape, xb * c.transform); }, b.children());
+    }
+    const bool planeA = a.type() == ShapeType::Plane, planeB = b.type() == ShapeType::Plane;
+    if (planeA && planeB) detail::fail(who, "shapes", "cannot both be planes (two infinite half-spaces have no closest points)");
+    if (planeA) return planeClosest(a, xa, detail::makeConvex(b, xb));
+    if (planeB) return flipped(planeClosest(b, xb, detail::makeConvex(a, xa)));
+    return convexClosest(detail::makeConvex(a, xa), detail::makeConvex(b, xb));
+}
+
+}  // namespace
+
+ClosestPoints World::closestPoints(BodyId a, BodyId b) const {
+    const WorldImpl& w = *impl_;
+    const Subject who = query("World::closestPoints");
+    const std::uint32_t da = w.resolveBody(a, "World::closestPoints"), db = w.resolveBody(b, "World::closestPoints");
+    requireMeasurable(who, "body a's shape", w.cold[da].shape);
+    requireMeasurable(who, "body b's shape", w.cold[db].shape);
+    return closestRecursive(who, w.cold[da].shape, w.originTransform(da), w.cold[db].shape, w.originTransform(db));
+}
+
+ClosestPoints World::closestPoints(const Shape& shape, const Transform& transform, BodyId body) const {
+    const WorldImpl& w = *impl_;
+    const Subject who = query("World::closestPoints");
+    detail::requireFinite(who, "transform.p", transform.p);
+    const Quat q = detail::requireOrientation(who, "transform.q", transform.q);
+    const std::uint32_t d = w.resolveBody(body, "World::closestPoints");
+    requireMeasurable(who, "shape", shape);
+    requireMeasurable(who, "the body's shape", w.cold[d].shape);
+    return closestRecursive(who, shape, {transform.p, q}, w.cold[d].shape, w.originTransform(d));
+}
+
+Real World::distanceBetween(BodyId a, BodyId b) const { return closestPoints(a, b).distance; }
 
 }  // namespace fulcrum

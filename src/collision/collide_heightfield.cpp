@@ -1,0 +1,24 @@
+// Convex shapes against heightfields: the triangles of the cells under the
+// shape's bounds (found through the min/max mip-map, heightfield.hpp) go
+// through the same per-triangle collision, internal-edge handling and
+// grouping into manifolds as a mesh's (collide_mesh.cpp).
+#include "collision/collide_mesh.hpp"
+#include "collision/heightfield.hpp"
+
+namespace fulcrum::detail {
+
+void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const ConvexShape& b, const AABB& bBounds,
+                              Real margin, ManifoldBuffer& out) {
+    std::vector<MeshContactCandidate>& scratch = out.meshScratch();
+    scratch.clear();
+    const AABB localBox = transformBounds(inverse(xf), bBounds.fattened(margin));
+    forEachHeightFieldTriangle(hf, localBox, [&](std::uint32_t t) {
+        Vec3 w[3];
+        hf.triangle(t, w);
+        for (Vec3& v : w) v = transformPoint(xf, v);
+        collideTriangleWithConvex(w, hf.convexEdgeMask[t], t, b, margin, scratch);
+    });
+    groupTriangleContacts(scratch, margin, out);
+}
+
+}  // namespace fulcrum::detail
