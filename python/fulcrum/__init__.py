@@ -36,6 +36,7 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     Plane,
     RayHit,
     Recorder,
+    Robot,
     SceneError,
     Shape,
     ShapeHit,
@@ -43,13 +44,14 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     Spring,
     World,
     load_snapshot,
+    load_urdf,
 )
 from .batch import Batch  # noqa: F401  (re-exported)
 
 __all__ = [
     "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error", "Joint",
-    "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "SceneError", "Shape", "ShapeHit",
-    "Sphere", "Spring", "World", "load_scene", "load_snapshot", "real_dtype",
+    "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "Robot", "SceneError", "Shape", "ShapeHit",
+    "Sphere", "Spring", "World", "load_scene", "load_snapshot", "load_urdf", "real_dtype",
 ]
 
 __version__ = "0.1.0"
