@@ -70,6 +70,9 @@ public:
                 failAttr(e, owner, attr, "is not " + std::string(count == 1 ? "a finite number" : "a list of finite numbers") +
                                              ": '" + std::string(text) + "'");
             }
+            if (std::fabs(v) > static_cast<double>(std::numeric_limits<Real>::max())) {
+                failAttr(e, owner, attr, "holds a number beyond the engine's range: '" + std::string(text) + "'");
+            }
             out.push_back(v);
             i = j;
         }
