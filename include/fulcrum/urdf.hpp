@@ -33,7 +33,7 @@ struct JointDrive {
 struct UrdfOptions {
     Vec3 position;        // of the root link's frame, world
     Quat orientation;     // of the root link's frame
-    bool fixedBase = false;  // the root link static (also when it is named "world" and has no <inertial>)
+    bool fixedBase = false;  // the root link static (also when it is named "world" and has no <inertial>); links fixed to a static link are static too
     // Folders that `package://NAME/...` and relative mesh paths are looked up in
     // (after the URDF file's own folder, for relative paths).
     std::vector<std::filesystem::path> searchPath;
@@ -66,7 +66,7 @@ struct RobotJoint {
     std::string name;
     UrdfJointType type = UrdfJointType::Fixed;
     std::string parent, child;     // link names
-    JointId joint;                 // null for a floating joint (no joint: the child is free)
+    JointId joint;                 // null for a floating joint (the child is free) and a fixed one between static links
     Vec3 axis{1, 0, 0};            // in the joint frame (the child link's)
     Real lower = -std::numeric_limits<Real>::infinity(), upper = std::numeric_limits<Real>::infinity();
     Real effortLimit = std::numeric_limits<Real>::infinity();    // N m or N (0 in the file: none)
@@ -153,6 +153,7 @@ Robot loadUrdfFromString(World& world, std::string_view xml, const std::string& 
 struct UrdfSceneParts {
     std::vector<SceneBody> bodies;
     std::vector<SceneJoint> joints;
+    std::vector<std::size_t> jointIndex;  // per scene joint: its index in robot.joints
     Robot robot;
 };
 UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceName, const UrdfOptions& options,

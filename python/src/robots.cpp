@@ -150,11 +150,9 @@ void bindRobots(py::module_& m) {
                 w.state->handles.bodies.push_back(robot.robot.links[i].body);
                 w.state->bodyCreated(robot.robot.links[i].body);
             }
-            std::size_t k = 0;
-            for (const RobotJoint& j : robot.robot.joints) {
-                if (j.joint.isNull()) continue;
-                w.state->scene.joints.push_back(parts.joints[k++]);
-                w.state->handles.joints.push_back(j.joint);
+            for (std::size_t k = 0; k < parts.joints.size(); ++k) {
+                w.state->scene.joints.push_back(parts.joints[k]);
+                w.state->handles.joints.push_back(robot.robot.joints[parts.jointIndex[k]].joint);
             }
             return robot;
         },

@@ -170,9 +170,24 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
     CollisionFilter filter;
     if (!options.selfCollision) filter.group = options.collisionGroup != 0 ? options.collisionGroup : -1;
 
+    // Static links: the root of a fixed base (or a root named "world" without
+    // an inertial), and every link welded to a static link by fixed joints: a
+    // soft weld to the ground would let the whole robot sag and tilt under its
+    // weight (the KR5's base on its "world" link: 2 mm, its tool 3 cm).
+    std::vector<bool> staticLink(m.links.size(), false);
+    for (const std::size_t i : m.order) {
+        if (i == m.root) {
+            const UrdfLink& l = m.links[i];
+            staticLink[i] = options.fixedBase || (l.name == "world" && !l.hasInertial);
+        } else {
+            const UrdfJoint& j = m.joints[m.parentJoint[i]];
+            staticLink[i] = j.type == UrdfJointType::Fixed && staticLink[linkIndex.find(j.parent)->second];
+        }
+    }
+
     for (std::size_t i = 0; i < m.links.size(); ++i) {
         const UrdfLink& l = m.links[i];
-        const bool isStatic = i == m.root && (options.fixedBase || (l.name == "world" && !l.hasInertial));
+        const bool isStatic = staticLink[i];
         SceneBody body;
         BodyDef& d = body.def;
         d.name = l.name;
@@ -271,10 +286,12 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
             throw Error(where + ": planar joints are not supported yet (Fulcrum has no joint with two free translations "
                                 "and one free rotation); make it floating or fixed");
         }
-        if (j.type == UrdfJointType::Floating) {
-            robot.joints.push_back(rj);  // no joint: the child moves freely
+        if (j.type == UrdfJointType::Floating || staticLink[child]) {
+            // No joint: the child moves freely, or is static itself (welded to a static link).
+            robot.joints.push_back(rj);
             continue;
         }
+        out.jointIndex.push_back(robot.joints.size());
         SceneJoint sj;
         JointDef& d = sj.def;
         d.name = j.name;
@@ -378,10 +395,9 @@ Robot createUrdfParts(World& world, const UrdfSceneParts& parts, const std::stri
             ids[def.name] = id;
             robot.links[i].body = id;
         }
-        std::size_t k = 0;
-        for (RobotJoint& rj : robot.joints) {
-            if (rj.type == UrdfJointType::Floating) continue;
-            JointDef def = parts.joints[k++].def;
+        for (std::size_t k = 0; k < parts.joints.size(); ++k) {
+            RobotJoint& rj = robot.joints[parts.jointIndex[k]];
+            JointDef def = parts.joints[k].def;
             def.bodyA = ids.at(rj.parent);
             def.bodyB = ids.at(rj.child);
             rj.joint = world.createJoint(def);
@@ -422,7 +438,11 @@ const RobotJoint& Robot::jointInfo(std::string_view joint) const {
 
 JointId Robot::joint(std::string_view joint) const {
     const RobotJoint& j = jointInfo(joint);
-    if (j.joint.isNull()) throw Error("robot '" + name + "': joint '" + j.name + "' is floating: no Fulcrum joint stands for it");
+    if (j.joint.isNull()) {
+        throw Error("robot '" + name + "': joint '" + j.name + "' is " +
+                    (j.type == UrdfJointType::Floating ? "floating" : "fixed to a static link (both static)") +
+                    ": no Fulcrum joint stands for it");
+    }
     return j.joint;
 }
 

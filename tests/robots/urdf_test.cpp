@@ -81,7 +81,7 @@ TEST_P(EveryRobot, LoadsAndStandsTenSeconds) {
     ASSERT_FALSE(robot.links.empty());
     for (const RobotLink& l : robot.links) EXPECT_EQ(world.name(l.body), l.name);
     for (const RobotJoint& j : robot.joints) {
-        if (j.type != UrdfJointType::Floating) {
+        if (!j.joint.isNull()) {  // floating, or fixed between static links: no joint
             EXPECT_EQ(world.name(j.joint), j.name);
         }
     }
@@ -146,10 +146,14 @@ TEST(Urdf, ModelsAreReadAsWritten) {
 
     // The KR5's full inertia tensor and its centre of mass off the link origin.
     Robot kr5 = loadUrdf(world, robotsDir() / "kr5/kr5_sixx_r650.urdf", quietOptions());
-    const BodyId base = kr5.body("base_link");
-    EXPECT_NEAR(world.mass(base), 7.58585707666653, 1e-5);
-    EXPECT_NEAR(world.localCenterOfMass(base).z, 0.0975924044854325, 1e-6);
+    const BodyId shoulder = kr5.body("shoulder");
+    EXPECT_NEAR(world.mass(shoulder), 5.77242340173648, 1e-5);
+    EXPECT_NEAR(world.localCenterOfMass(shoulder).x, 0.0359968408135882, 1e-6);
+    EXPECT_NEAR(world.localCenterOfMass(shoulder).z, 0.0864969937502713, 1e-6);
+    // A root named "world" without an inertial is static, and so is the base welded to it.
     EXPECT_EQ(world.bodyType(kr5.body("world")), BodyType::Static);
+    EXPECT_EQ(world.bodyType(kr5.body("base_link")), BodyType::Static);
+    EXPECT_TRUE(kr5.jointInfo(kr5.joints[0].name).joint.isNull());
     int missingCollisionMeshes = 0;
     for (const std::string& w : kr5.warnings) {
         if (w.find("collision: mesh") != std::string::npos && w.find("not found") != std::string::npos) ++missingCollisionMeshes;
