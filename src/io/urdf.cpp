@@ -562,38 +562,36 @@ std::vector<Real> Robot::jointEfforts(const World& world) const {
 
 namespace {
 
-ImuReading imuReading(const World& world, BodyId body, Vec3& lastVelocity, Real& lastTime, bool& sampled) {
+// One body's reading; `elapsed` the time since `lastVelocity` was read (0:
+// none yet, the acceleration reads zero). Keeps the velocity for the next.
+ImuReading imuReading(const World& world, BodyId body, Vec3& lastVelocity, Real elapsed) {
     const Vec3 v = world.linearVelocity(body);
-    const Real t = world.time();
-    Vec3 a;
-    if (sampled && t > lastTime) a = (v - lastVelocity) / (t - lastTime);
+    const Vec3 a = elapsed > 0 ? (v - lastVelocity) / elapsed : Vec3{};
     lastVelocity = v;
-    lastTime = t;
-    sampled = true;
     const Quat q = world.orientation(body);
-    // Gravity acts on the body as world.settings().gravity * its gravity scale; an
-    // accelerometer reads everything but gravity.
+    // An accelerometer reads everything but gravity.
     return {inverseRotate(q, a - world.settings().gravity), inverseRotate(q, world.angularVelocity(body))};
 }
 
 }  // namespace
 
-ImuReading Imu::update(const World& world) { return imuReading(world, body_, lastVelocity_, lastTime_, sampled_); }
+ImuReading Imu::update(const World& world) {
+    const Real t = world.time();
+    const ImuReading r = imuReading(world, body_, lastVelocity_, sampled_ ? t - lastTime_ : Real(0));
+    lastTime_ = t;
+    sampled_ = true;
+    return r;
+}
 
 std::vector<ImuReading> Robot::sampleImu(const World& world) {
+    const Real t = world.time();
+    const Real elapsed = sampled_ ? t - lastTime_ : Real(0);
+    lastVelocity_.resize(links.size());
     std::vector<ImuReading> out;
     out.reserve(links.size());
-    lastVelocity_.resize(links.size());
-    const Real time = lastTime_;
-    for (std::size_t i = 0; i < links.size(); ++i) {
-        Real t = time;
-        bool s = sampled_;
-        out.push_back(imuReading(world, links[i].body, lastVelocity_[i], t, s));
-        if (i + 1 == links.size()) {
-            lastTime_ = t;
-            sampled_ = s;
-        }
-    }
+    for (std::size_t i = 0; i < links.size(); ++i) out.push_back(imuReading(world, links[i].body, lastVelocity_[i], elapsed));
+    lastTime_ = t;
+    sampled_ = true;
     return out;
 }
 
