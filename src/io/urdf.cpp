@@ -4,7 +4,12 @@
 #include "fulcrum/urdf.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstring>
+#include <locale>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -69,6 +74,105 @@ std::optional<std::filesystem::path> findMesh(const std::string& filename, const
         if (exists(dir / p)) return dir / p;
     }
     return std::nullopt;
+}
+
+// The vertices and triangles of an STL (binary or ASCII) or OBJ file, scaled;
+// nullopt with `why` set for another format or a file it cannot read.
+struct MeshData {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+std::optional<MeshData> readMesh(const std::filesystem::path& file, const Vec3& scale, std::string& why) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".stl" && ext != ".obj") {
+        why = "only STL and OBJ meshes are read";
+        return std::nullopt;
+    }
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+    if (!in && !in.eof()) {
+        why = "it cannot be read";
+        return std::nullopt;
+    }
+    MeshData m;
+    const auto add = [&](double x, double y, double z) {
+        m.vertices.push_back({static_cast<Real>(x) * scale.x, static_cast<Real>(y) * scale.y, static_cast<Real>(z) * scale.z});
+    };
+    const auto finite = [](double v) { return std::isfinite(v) && std::fabs(v) < 1e30; };
+    if (ext == ".stl" && text.size() >= 84 && text.rfind("solid", 0) != 0) {
+        // Binary: an 80-byte header, a triangle count, 50 bytes per triangle
+        // (normal, three vertices as little-endian float32, two attribute bytes).
+        std::uint32_t count = 0;
+        std::memcpy(&count, text.data() + 80, 4);
+        if (text.size() < 84 + std::size_t{count} * 50) {
+            why = "the binary STL is shorter than its triangle count says";
+            return std::nullopt;
+        }
+        for (std::uint32_t t = 0; t < count; ++t) {
+            const char* p = text.data() + 84 + std::size_t{t} * 50 + 12;
+            for (int k = 0; k < 3; ++k) {
+                float xyz[3];
+                std::memcpy(xyz, p + 12 * k, 12);
+                if (!finite(xyz[0]) || !finite(xyz[1]) || !finite(xyz[2])) {
+                    why = "it holds a non-finite vertex";
+                    return std::nullopt;
+                }
+                add(xyz[0], xyz[1], xyz[2]);
+            }
+            m.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+        }
+    } else {
+        std::istringstream lines(text);
+        lines.imbue(std::locale::classic());
+        std::string line;
+        std::vector<std::uint32_t> stlCorners;
+        while (std::getline(lines, line)) {
+            std::istringstream words(line);
+            words.imbue(std::locale::classic());
+            std::string key;
+            words >> key;
+            if (key == "v" || key == "vertex") {
+                double x = 0, y = 0, z = 0;
+                if (!(words >> x >> y >> z) || !finite(x) || !finite(y) || !finite(z)) {
+                    why = "a vertex line is not three finite numbers: '" + line + "'";
+                    return std::nullopt;
+                }
+                add(x, y, z);
+                if (key == "vertex") {
+                    stlCorners.push_back(static_cast<std::uint32_t>(m.vertices.size() - 1));
+                    if (stlCorners.size() == 3) {
+                        m.triangles.push_back({stlCorners[0], stlCorners[1], stlCorners[2]});
+                        stlCorners.clear();
+                    }
+                }
+            } else if (key == "f") {
+                // "f a b c ...", each "i", "i/t", "i//n" or "i/t/n"; negative: from the end. A fan.
+                std::vector<std::uint32_t> face;
+                std::string corner;
+                while (words >> corner) {
+                    long long i = 0;
+                    const auto [end, ec] = std::from_chars(corner.data(), corner.data() + corner.size(), i);
+                    (void)end;
+                    const long long n = static_cast<long long>(m.vertices.size());
+                    if (ec != std::errc() || i == 0 || i > n || i < -n) {
+                        why = "a face names a vertex that does not exist: '" + line + "'";
+                        return std::nullopt;
+                    }
+                    face.push_back(static_cast<std::uint32_t>(i > 0 ? i - 1 : n + i));
+                }
+                for (std::size_t k = 2; k < face.size(); ++k) m.triangles.push_back({face[0], face[k - 1], face[k]});
+            }
+        }
+    }
+    if (m.vertices.size() < 4) {
+        why = "it has fewer than 4 vertices";
+        return std::nullopt;
+    }
+    return m;
 }
 
 // A primitive URDF geometry as a shape in the link frame. URDF cylinders and
@@ -208,7 +312,33 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
             }
             const auto found = findMesh(c.geometry.filename, folder, options.searchPath);
             std::string what = lineOf(m, c.line) + ": link '" + l.name + "', collision: mesh '" + c.geometry.filename + "' ";
-            what += found ? "found at " + found->string() + " but mesh files are not read yet" : "not found";
+            if (found) {
+                std::string why;
+                if (const auto mesh = readMesh(*found, c.geometry.scale, why)) {
+                    // Dynamic links collide as the mesh's convex hull, static ones as the triangles.
+                    ShapeDesc::Child part;
+                    part.position = c.origin.p;
+                    part.orientation = c.origin.q;
+                    if (isStatic) {
+                        part.shape.type = ShapeType::Mesh;
+                        part.shape.vertices = mesh->vertices;
+                        part.shape.triangles = mesh->triangles;
+                    } else {
+                        part.shape.type = ShapeType::ConvexHull;
+                        part.shape.points = mesh->vertices;
+                    }
+                    try {
+                        (void)buildShape(part.shape);  // a flat or degenerate mesh fails here, not in the world
+                        parts.push_back(std::move(part));
+                        continue;
+                    } catch (const Error& e) {
+                        why = e.what();
+                    }
+                }
+                what += "found at " + found->string() + " but not used (" + why + ")";
+            } else {
+                what += "not found";
+            }
             if (l.hasInertial && !boxFallbackUsed && !isStatic) {
                 parts.push_back(inertiaBox(l));
                 boxFallbackUsed = true;

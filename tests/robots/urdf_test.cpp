@@ -287,6 +287,36 @@ TEST(Urdf, VelocityDriveAndImu) {
     EXPECT_NEAR(h.specificForce.z, 9.81, 1e-4);
 }
 
+// Collision meshes in STL and OBJ: a dynamic link collides as the mesh's
+// convex hull, a static one as its triangles; package:// paths resolve
+// against the search path; a format it does not read is a warning.
+TEST(Urdf, CollisionMeshesFromStlAndObj) {
+    World world = zUpWorld();
+    std::vector<std::string> warnings;
+    UrdfOptions o;
+    o.fixedBase = true;
+    o.searchPath = {ownDir()};  // package://robots/meshes/... -> tests/robots/meshes/...
+    o.warn = [&](const std::string& w) { warnings.push_back(w); };
+    const std::string inertia = R"(<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>)";
+    const Robot r = loadUrdfFromString(
+        world,
+        R"(<robot name="m"><link name="floor"><collision><geometry><mesh filename="meshes/wedge.stl"/></geometry></collision></link>)"
+        R"(<link name="block">)" + inertia +
+            R"(<collision><geometry><mesh filename="package://robots/meshes/cube.obj" scale="2 1 1"/></geometry></collision></link>)"
+            R"(<link name="odd">)" + inertia +
+            R"(<collision><geometry><mesh filename="meshes/cube.dae"/></geometry></collision></link>)"
+            R"(<joint name="a" type="revolute"><parent link="floor"/><child link="block"/><origin xyz="0 0 1"/><limit lower="-1" upper="1"/></joint>)"
+            R"(<joint name="b" type="fixed"><parent link="block"/><child link="odd"/><origin xyz="1 0 0"/></joint></robot>)",
+        (ownDir() / "inline.urdf").string(), o);
+    EXPECT_EQ(world.shape(r.body("floor")).type(), ShapeType::Mesh);
+    const Shape& block = world.shape(r.body("block"));
+    ASSERT_EQ(block.type(), ShapeType::ConvexHull);
+    EXPECT_NEAR(block.localBounds().max.x, 0.2, 1e-6);  // scaled by 2 along x
+    EXPECT_NEAR(block.localBounds().max.y, 0.1, 1e-6);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("link 'odd', collision: mesh 'meshes/cube.dae' not found"), std::string::npos) << warnings[0];
+}
+
 std::string loadText(const std::string& xml) {
     World world = zUpWorld();
     return errorOf([&] { loadUrdfFromString(world, xml, "bad.urdf", quietOptions()); });
