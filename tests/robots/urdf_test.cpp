@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <chrono>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "fulcrum/urdf.hpp"
@@ -315,6 +318,41 @@ TEST(Urdf, CollisionMeshesFromStlAndObj) {
     EXPECT_NEAR(block.localBounds().max.y, 0.1, 1e-6);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("link 'odd', collision: mesh 'meshes/cube.dae' not found"), std::string::npos) << warnings[0];
+}
+
+// A binary STL (written here: a tetrahedron) beside a URDF given from memory.
+TEST(Urdf, BinaryStlMesh) {
+    // Its own folder (the Release and sanitizer suites may run at once).
+    const fs::path dir = fs::temp_directory_path() /
+                         ("fulcrum_urdf_stl_" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    fs::create_directories(dir);
+    {
+        std::ofstream out(dir / "tetra.stl", std::ios::binary);
+        const std::string header(80, ' ');
+        out.write(header.data(), 80);
+        const std::uint32_t count = 4;
+        out.write(reinterpret_cast<const char*>(&count), 4);
+        const float v[4][3] = {{0, 0, 0}, {0.3f, 0, 0}, {0, 0.3f, 0}, {0, 0, 0.3f}};
+        const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+        for (const auto& f : faces) {
+            const float normal[3] = {0, 0, 0};
+            out.write(reinterpret_cast<const char*>(normal), 12);
+            for (const int k : f) out.write(reinterpret_cast<const char*>(v[k]), 12);
+            const std::uint16_t attributes = 0;
+            out.write(reinterpret_cast<const char*>(&attributes), 2);
+        }
+    }
+    World world = zUpWorld();
+    UrdfOptions o = quietOptions();
+    const Robot r = loadUrdfFromString(world,
+                                       R"(<robot name="t"><link name="tip"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>)"
+                                       R"(<collision><geometry><mesh filename="tetra.stl"/></geometry></collision></link></robot>)",
+                                       (dir / "t.urdf").string(), o);
+    const Shape& tip = world.shape(r.body("tip"));
+    ASSERT_EQ(tip.type(), ShapeType::ConvexHull);
+    EXPECT_EQ(tip.hull().vertices.size(), 4u);
+    EXPECT_NEAR(tip.localBounds().max.z, 0.3, 1e-6);
+    fs::remove_all(dir);
 }
 
 std::string loadText(const std::string& xml) {
