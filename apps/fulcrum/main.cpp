@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     std::string steps, substeps, threads;  // whole numbers, converted by parseIntegerOption (it names the range)
     double dt = 0;
     std::string integrator;
-    run->add_option("scene", scene, "Scene file (JSON); omit for the built-in demo");
+    run->add_option("scene", scene, "Scene file (JSON) or URDF robot (.urdf); omit for the built-in demo");
     CLI::Option* stepsOpt = run->add_option("--steps", steps, "Number of steps (overrides world.steps)");
     CLI::Option* dtOpt = run->add_option("--dt", dt, "Time step in seconds (overrides world.dt)");
     CLI::Option* substepsOpt = run->add_option("--substeps", substeps, "Sub-steps per step (overrides world.substeps)");
@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
         run->add_option("--snapshot-at", snapshotAt, "Save the state after step N (0: before the first) to --snapshot FILE, and keep running");
     run->add_option("--snapshot", outputs.snapshotPath, "Snapshot file written by --snapshot-at (docs/snapshots.md)");
     run->add_flag("--profile", outputs.profile, "Report where the step time went: ms per step of each phase (summary table, or \"profile\" in --json)");
+    run->add_flag("--fixed-base", overrides.fixedBase, "With a URDF robot file: its root link static (docs/robots.md)");
     CLI::Option* resumeOpt = run->add_option("--resume", resume, "Continue the run saved in a snapshot FILE (instead of a scene); --steps counts the further steps");
 
     try {

@@ -36,6 +36,10 @@ struct BodyDef {
     Real density = 1000;
     // Optional inertia tensor about the centre of mass, in body axes, overriding the shape's.
     std::optional<Mat3> inertia;
+    // Optional centre of mass in the shape's frame, overriding the shape's
+    // centroid (dynamic bodies; a robot link's inertial origin). Give it with
+    // `mass` and `inertia`: the inertia is taken about this point as given.
+    std::optional<Vec3> centerOfMass;
 
     Vec3 position;                    // of the body origin (the shape's frame), world space
     Quat orientation;

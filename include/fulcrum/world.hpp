@@ -320,6 +320,15 @@ public:
     // Hinge angle and cone-twist twist (rad), slider translation (m), distance
     // length (m), measured from the pose at creation; 0 for ball and fixed joints.
     Real jointPosition(JointId id) const;
+    // Hinge: B's spin relative to A about the axis (rad/s); slider: the anchors'
+    // relative velocity along the axis (m/s); 0 for the other types.
+    Real jointVelocity(JointId id) const;
+    // Hinge and slider: the torque (N m) or force (N) the joint applied to B
+    // along its axis in the last step, i.e. jointReactionTorque along B's axis
+    // now (hinge) or jointReactionForce along A's (slider): its spring (drive),
+    // motor, friction and limits (what the actuator at a robot's joint
+    // delivers); 0 for the other types and before the first step.
+    Real jointEffort(JointId id) const;
     // A disabled joint is not solved and doesn't keep its bodies from colliding.
     void setJointEnabled(JointId id, bool enabled);    // re-enabling a broken joint mends it
     bool isJointEnabled(JointId id) const;

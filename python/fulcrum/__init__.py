@@ -37,6 +37,7 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     Plane,
     RayHit,
     Recorder,
+    Robot,
     SceneError,
     Shape,
     ShapeHit,
@@ -44,13 +45,15 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     Spring,
     World,
     load_snapshot,
+    load_urdf,
 )
 from .batch import Batch  # noqa: F401  (re-exported)
 
 __all__ = [
     "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error",
-    "HeightField", "Joint", "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "SceneError", "Shape", "ShapeHit",
-    "Sphere", "Spring", "World", "load_scene", "load_snapshot", "real_dtype",
+    "HeightField", "Joint", "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "Robot",
+    "SceneError", "Shape", "ShapeHit", "Sphere", "Spring", "World", "load_scene", "load_snapshot", "load_urdf",
+    "real_dtype",
 ]
 
 __version__ = "0.1.0"

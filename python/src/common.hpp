@@ -165,6 +165,7 @@ void bindParticles(py::module_& m);
 void bindQueries(py::module_& m);
 void bindIo(py::module_& m);
 void bindBatch(py::module_& m);
+void bindRobots(py::module_& m);
 
 // Shapes to scene-file descriptions (save_scene of a Python-built world), and
 // to the Python class of their kind.

@@ -93,6 +93,11 @@ void bindJoints(py::module_& m) {
                                "N m on body_b, last step.")
         .def_property_readonly("position", [](const J& j) { auto a = j.access("Joint"); return a.world.jointPosition(j.id); },
                                "Hinge / cone-twist twist angle (rad), slider translation (m), distance length (m); 0 for ball and fixed.")
+        .def_property_readonly("velocity", [](const J& j) { auto a = j.access("Joint"); return a.world.jointVelocity(j.id); },
+                               "Hinge: rad/s about the axis; slider: m/s along it; 0 for the other types.")
+        .def_property_readonly("effort", [](const J& j) { auto a = j.access("Joint"); return a.world.jointEffort(j.id); },
+                               "Hinge / slider: torque (N m) or force (N) of its spring, motor, friction and limits on "
+                               "body_b along the axis, last step (a robot's actuator effort).")
         .def_property(
             "enabled", [](const J& j) { auto a = j.access("Joint"); return a.world.isJointEnabled(j.id); },
             [](const J& j, bool on) { auto a = j.access("Joint"); a.world.setJointEnabled(j.id, on); },

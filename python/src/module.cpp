@@ -159,4 +159,5 @@ PYBIND11_MODULE(_fulcrum, m) {
     fp::bindQueries(m);
     fp::bindIo(m);
     fp::bindBatch(m);
+    fp::bindRobots(m);
 }

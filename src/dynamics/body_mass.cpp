@@ -20,6 +20,7 @@ BodyMass computeBodyMass(const BodyDef& def, const Subject& who) {
     requireFinite(who, "mass", def.mass);
     requireFinite(who, "density", def.density);
     if (def.inertia && !isFinite(*def.inertia)) fail(who, "inertia", "must be finite");
+    if (def.centerOfMass) requireFinite(who, "centerOfMass", *def.centerOfMass);
 
     BodyMass out;
     const bool hasVolume = !def.shape.staticOnly();
@@ -64,7 +65,7 @@ BodyMass computeBodyMass(const BodyDef& def, const Subject& who) {
     }
     out.mass = mp.mass;
     out.invMass = Real(1) / mp.mass;
-    out.localCenterOfMass = mp.centerOfMass;
+    out.localCenterOfMass = def.centerOfMass ? *def.centerOfMass : mp.centerOfMass;
     out.localInertia = mp.inertia;
     out.invLocalInertia = inverseSymmetric(mp.inertia);
     return out;

@@ -519,7 +519,14 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         const JointId id = result.handles.joints[i];
         // A broken joint is gone from the world; report it with a null error.
         ojson error = world.isValid(id) ? ojson(num(world.jointError(id))) : ojson(nullptr);
-        joints.push_back(ojson{{"name", jointName(scene, i)}, {"error", std::move(error)}});
+        ojson joint{{"name", jointName(scene, i)}, {"error", std::move(error)}};
+        // Along the joint's axis (docs/robots.md): rad or m, rad/s or m/s, N m or N.
+        if (world.isValid(id)) {
+            joint["position"] = num(world.jointPosition(id));
+            joint["velocity"] = num(world.jointVelocity(id));
+            joint["torque"] = num(world.jointEffort(id));
+        }
+        joints.push_back(std::move(joint));
     }
     j["joints"] = std::move(joints);
     // docs/cli.md: {"name", "particles", "centroid", "max_stretch", "mean_stretch", "max_penetration"}, ropes then cloths.
@@ -731,7 +738,14 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
             world.setThreadCount(scene.world.threads);
             result = runWorld(std::move(world), handles, scene, outputs, observer);
         } else {
-            scene = scenePath ? loadScene(*scenePath) : demoScene();
+            if (overrides.fixedBase && !(scenePath && isUrdfPath(*scenePath))) {
+                throw OptionError("--fixed-base: only for a URDF robot file (fulcrum run ROBOT.urdf --fixed-base)");
+            }
+            if (scenePath && isUrdfPath(*scenePath)) {
+                scene = urdfRunScene(*scenePath, overrides.fixedBase);
+            } else {
+                scene = scenePath ? loadScene(*scenePath) : demoScene();
+            }
             applyOverrides(scene, overrides);
             result = runScene(scene, outputs, observer);
         }

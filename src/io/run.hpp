@@ -33,6 +33,8 @@ struct RunOverrides {
     // scene (--steps then counts the further steps; default: the rest of the
     // original run).
     std::optional<std::string> resumePath;
+    // --fixed-base: a URDF file run directly gets its root link static.
+    bool fixedBase = false;
 };
 // Validates the overrides and applies them; throws OptionError.
 void applyOverrides(Scene& scene, const RunOverrides& overrides);
@@ -97,6 +99,12 @@ void addProfile(RunResult& result, const StepProfile& step);
 std::string profileSummary(const RunResult& result);
 // A short human summary of a run.
 std::string runSummary(const Scene& scene, const RunResult& result, const std::string& label);
+
+// `fulcrum run ROBOT.urdf` (docs/robots.md): whether a path names a URDF
+// file, and the scene run for one: the robot (z up, gravity -z), its lowest
+// collider 1 mm above a ground plane at z = 0, drives off.
+bool isUrdfPath(const std::string& path);
+Scene urdfRunScene(const std::string& path, bool fixedBase);
 
 // The built-in demo: a showcase of what the engine does (src/io/demo.cpp),
 // each part checked in the summary.

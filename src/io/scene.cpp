@@ -68,7 +68,7 @@ bool ShapeDesc::operator==(const ShapeDesc& o) const {
 bool SceneBody::operator==(const SceneBody& o) const {
     const BodyDef &a = def, &b = o.def;
     return shape == o.shape && a.name == b.name && a.type == b.type && a.mass == b.mass && a.density == b.density &&
-           sameInertia(a.inertia, b.inertia) && a.position == b.position && a.orientation == b.orientation &&
+           sameInertia(a.inertia, b.inertia) && a.centerOfMass == b.centerOfMass && a.position == b.position && a.orientation == b.orientation &&
            a.linearVelocity == b.linearVelocity && a.angularVelocity == b.angularVelocity && a.friction == b.friction &&
            a.restitution == b.restitution && a.rollingResistance == b.rollingResistance &&
            a.linearDamping == b.linearDamping && a.angularDamping == b.angularDamping && a.linearDrag == b.linearDrag &&

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fulcrum/scene.hpp"
+#include "fulcrum/urdf.hpp"
 #include "io/json_locator.hpp"
 #include "io/scene_detail.hpp"
 #include "world/input_file.hpp"
@@ -238,6 +239,11 @@ private:
     void parseSpring(const json& j, const std::string& path, const Scene& scene, SceneSpring& spring) const;
     void parseRope(const json& j, const std::string& path, const Scene& scene, SceneRope& rope) const;
     void parseCloth(const json& j, const std::string& path, SceneCloth& cloth) const;
+    // A "urdf" entry: the robot's links and joints appended to the scene (docs/robots.md).
+    struct UrdfEntry {
+        SceneLocation where;
+    };
+    void parseUrdf(const json& j, const std::string& path, const SceneLocation& where, Scene& scene) const;
     // A body reference: a name of the scene's bodies; null (or absent) when `allowNull`.
     std::string bodyRef(const json& v, const std::string& path, const Scene& scene, bool allowNull) const;
 
@@ -454,7 +460,7 @@ void Parser::parseBody(const json& j, const std::string& path, SceneBody& body) 
               {"name", "type", "shape", "mass", "density", "inertia", "position", "orientation", "linear_velocity",
                "angular_velocity", "friction", "restitution", "linear_damping", "angular_damping", "gravity_scale",
                "rolling_resistance", "linear_drag", "quadratic_drag", "filter", "is_sensor", "is_bullet", "allow_sleep",
-               "awake"},
+               "awake", "center_of_mass"},
               "a body");
     BodyDef& d = body.def;
     opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
@@ -519,6 +525,10 @@ void Parser::parseBody(const json& j, const std::string& path, SceneBody& body) 
             fail(p, "inertia violates the triangle inequality (each diagonal moment must not exceed the sum of the other two)");
         }
         d.inertia = m;
+    });
+    opt(j, path, "center_of_mass", [&](const json& v, const std::string& p) {
+        if (!dynamic) fail(p, "only dynamic bodies have a centre of mass of their own");
+        d.centerOfMass = vec3(v, p);
     });
     opt(j, path, "position", [&](const json& v, const std::string& p) { d.position = vec3(v, p); });
     opt(j, path, "orientation", [&](const json& v, const std::string& p) { d.orientation = quat(v, p); });
@@ -796,7 +806,7 @@ Scene Parser::parse() {
                                                  " (this build reads version " + std::to_string(detail::kSceneFormatVersion) + ")");
         }
     }
-    checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths"}, "a scene");
+    checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths", "urdf"}, "a scene");
     opt(doc, root, "description", [&](const json& v, const std::string& p) { scene.description = string(v, p); });
     opt(doc, root, "world", [&](const json& v, const std::string& p) { parseWorld(v, p, scene); });
     elements_.emplace(text_);
@@ -818,7 +828,80 @@ Scene Parser::parse() {
     section(doc, "cloths", scene.cloths, [&](const json& v, const std::string& p, SceneCloth& cloth, std::size_t) {
         parseCloth(v, p, cloth);
     });
+    // Robots last: their links and joints are appended to the bodies and
+    // joints (which therefore cannot refer to them).
+    std::vector<UrdfEntry> robots;
+    section(doc, "urdf", robots, [&](const json& v, const std::string& p, UrdfEntry& entry, std::size_t) {
+        parseUrdf(v, p, entry.where, scene);
+    });
     return scene;
+}
+
+void Parser::parseUrdf(const json& j, const std::string& path, const SceneLocation& where, Scene& scene) const {
+    requireObject(j, path);
+    checkKeys(j, path, {"file", "position", "orientation", "fixed_base", "self_collision", "search_path", "drives"}, "a urdf entry");
+    const json* file = member(j, "file");
+    if (file == nullptr) fail(path, "a urdf entry needs \"file\" (the URDF file, relative to the scene file)");
+    const std::filesystem::path folder = std::filesystem::path(source_).parent_path();
+    const std::filesystem::path urdfPath = folder / string(*file, childPath(path, "file"));
+    UrdfOptions options;
+    opt(j, path, "position", [&](const json& v, const std::string& p) { options.position = vec3(v, p); });
+    opt(j, path, "orientation", [&](const json& v, const std::string& p) { options.orientation = normalize(quat(v, p)); });
+    opt(j, path, "fixed_base", [&](const json& v, const std::string& p) { options.fixedBase = boolean(v, p); });
+    opt(j, path, "self_collision", [&](const json& v, const std::string& p) { options.selfCollision = boolean(v, p); });
+    opt(j, path, "search_path", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        for (std::size_t i = 0; i < v.size(); ++i) options.searchPath.push_back(folder / string(v[i], childPath(p, i)));
+    });
+    std::vector<std::pair<std::string, JointDrive>> drives;
+    opt(j, path, "drives", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        for (const auto& [name, d] : v.items()) {
+            const std::string q = childPath(p, name);
+            requireObject(d, q);
+            checkKeys(d, q, {"position", "stiffness", "damping", "velocity", "max_force"}, "a joint drive");
+            JointDrive drive;
+            opt(d, q, "position", [&](const json& x, const std::string& r) { drive.position = number(x, r); });
+            opt(d, q, "stiffness", [&](const json& x, const std::string& r) { drive.stiffness = nonNegative(x, r, "stiffness"); });
+            opt(d, q, "damping", [&](const json& x, const std::string& r) { drive.damping = nonNegative(x, r, "damping"); });
+            opt(d, q, "velocity", [&](const json& x, const std::string& r) {
+                drive.velocityDrive = true;
+                drive.velocity = number(x, r);
+            });
+            opt(d, q, "max_force", [&](const json& x, const std::string& r) { drive.maxForce = positive(x, r, "max_force"); });
+            drives.emplace_back(name, drive);
+        }
+    });
+    // Each robot its own negative collision group, below every group in the scene.
+    std::int32_t group = -static_cast<std::int32_t>(std::min<std::size_t>(scene.bodies.size() + 1, 1u << 30));
+    for (const SceneBody& b : scene.bodies) group = std::min(group, b.def.filter.group - 1);
+    options.collisionGroup = group;
+    UrdfSceneParts parts;
+    try {
+        parts = urdfSceneParts(readUrdfText(urdfPath), urdfPath.string(), options, drives);
+    } catch (const Error& e) {
+        fail(childPath(path, "file"), e.what());
+    }
+    std::unordered_map<std::string, std::size_t> taken;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) taken.emplace(scene.bodies[i].def.name, i);
+    for (SceneBody& b : parts.bodies) {
+        if (const auto it = taken.find(b.def.name); it != taken.end()) {
+            fail(childPath(path, "file"), "the robot's link '" + b.def.name + "' has the name of " + childPath("bodies", it->second) +
+                                              " (link names become body names and must be unique in the scene)");
+        }
+        b.where = where;
+    }
+    std::unordered_map<std::string, std::size_t> jointTaken;
+    for (std::size_t i = 0; i < scene.joints.size(); ++i) jointTaken.emplace(scene.joints[i].def.name, i);
+    for (SceneJoint& sj : parts.joints) {
+        if (const auto it = jointTaken.find(sj.def.name); it != jointTaken.end() && !sj.def.name.empty()) {
+            fail(childPath(path, "file"), "the robot's joint '" + sj.def.name + "' has the name of " + childPath("joints", it->second) +
+                                              " (joint names must be unique in the scene)");
+        }
+        sj.where = where;
+    }
+    for (SceneBody& b : parts.bodies) scene.bodies.push_back(std::move(b));
+    for (SceneJoint& sj : parts.joints) scene.joints.push_back(std::move(sj));
 }
 
 }  // namespace

@@ -99,6 +99,7 @@ ojson bodyJson(const SceneBody& body) {
             j["inertia"] = ojson::array({vec(m.row(0)), vec(m.row(1)), vec(m.row(2))});
         }
     }
+    if (d.centerOfMass) j["center_of_mass"] = vec(*d.centerOfMass);
     j["position"] = vec(d.position);
     if (d.orientation != defaults.orientation) j["orientation"] = quat(d.orientation);
     if (d.linearVelocity != defaults.linearVelocity) j["linear_velocity"] = vec(d.linearVelocity);

@@ -239,6 +239,44 @@ Real World::jointPosition(JointId id) const {
     return withJointType(j.def.type, [&](auto type) { return decltype(type)::position(pose); });
 }
 
+Real World::jointVelocity(JointId id) const {
+    const detail::JointData& j = impl_->resolveJoint(id, "World::jointVelocity");
+    if (j.def.type != JointType::Hinge && j.def.type != JointType::Slider) return 0;
+    const WorldImpl& w = *impl_;
+    const std::uint32_t a = w.denseOrNone(j.def.bodyA), b = w.denseOrNone(j.def.bodyB);
+    const Vec3 axis = a == kNoIndex ? j.localAxisA : rotate(w.motion[a].q, j.localAxisA);
+    const Vec3 wA = a == kNoIndex ? Vec3{} : w.motion[a].w;
+    if (j.def.type == JointType::Hinge) return dot(w.motion[b].w - wA, axis);
+    // The slider: the anchors' velocities (B's anchor is the point that moves along A's axis).
+    const Vec3 pB = w.anchorWorld(b, j.localAnchorB);
+    const Vec3 vB = w.motion[b].v + cross(w.motion[b].w, pB - w.motion[b].com);
+    const Vec3 vA = a == kNoIndex ? Vec3{} : w.motion[a].v + cross(wA, pB - w.motion[a].com);
+    return dot(vB - vA, axis);
+}
+
+Real World::jointEffort(JointId id) const {
+    const detail::JointData& j = impl_->resolveJoint(id, "World::jointEffort");
+    if (!j.enabled || (j.def.type != JointType::Hinge && j.def.type != JointType::Slider)) return 0;
+    // The reaction's component along the axis: the spring (drive), motor,
+    // friction and limits; the rows holding the other axes act across it.
+    // Not the free axis's impulses alone: those carry the held rows' share
+    // (solver/joints/coupled_row.hpp), which has a component along the axis
+    // (1-2 % of a KR5 arm's gravity torques).
+    // The hinge's axis is B's (a robot's joint frame moves with its child
+    // link, URDF's convention): the alignment rows carry the torques across
+    // the axis (tens of N m in an arm), so A's axis, off B's by the rows'
+    // small give, would mix a share of them in (1.3 % of a KR5's shoulder).
+    // The slider's is A's, the axis B slides along.
+    const WorldImpl& w = *impl_;
+    if (j.def.type == JointType::Hinge) {
+        const std::uint32_t b = w.denseOrNone(j.def.bodyB);
+        return dot(j.reactionTorque, rotate(w.motion[b].q, j.localAxisB));
+    }
+    const std::uint32_t a = w.denseOrNone(j.def.bodyA);
+    const Vec3 axis = a == kNoIndex ? j.localAxisA : rotate(w.motion[a].q, j.localAxisA);
+    return dot(j.reactionForce, axis);
+}
+
 namespace {
 
 // Wakes the joint's bodies: a changed joint acts on them at once.

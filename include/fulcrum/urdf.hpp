@@ -1,0 +1,166 @@
+#pragma once
+// Robot models from URDF files (docs/robots.md): links become bodies and
+// joints joints, named as in the file, and a Robot keeps their handles by
+// name, with bulk drive targets and read-outs for the whole robot. Part of
+// the fulcrum::io library (it parses XML with Debian's tinyxml2); the engine
+// core knows nothing of URDF.
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fulcrum/scene.hpp"
+#include "fulcrum/world.hpp"
+
+namespace fulcrum {
+
+// A drive on a hinge (revolute, continuous) or slider (prismatic) joint: an
+// implicit PD towards `position` (the joint's JointSpring: stiffness, damping),
+// and/or a velocity target held with at most `maxForce` (its JointMotor).
+struct JointDrive {
+    Real position = 0;   // rad or m, from the pose the model was built in (all joint positions 0)
+    Real stiffness = 0;  // N m/rad or N/m; 0 with damping 0: no position drive
+    Real damping = 0;    // N m s/rad or N s/m, added to the URDF's <dynamics damping>
+    bool velocityDrive = false;
+    Real velocity = 0;   // rad/s or m/s
+    Real maxForce = std::numeric_limits<Real>::infinity();  // N m or N (the velocity drive); inf: the URDF effort limit
+};
+
+struct UrdfOptions {
+    Vec3 position;        // of the root link's frame, world
+    Quat orientation;     // of the root link's frame
+    bool fixedBase = false;  // the root link static (also when it is named "world" and has no <inertial>); links fixed to a static link are static too
+    // Folders that `package://NAME/...` and relative mesh paths are looked up in
+    // (after the URDF file's own folder, for relative paths).
+    std::vector<std::filesystem::path> searchPath;
+    // false: no two links of the robot collide (a negative collision group,
+    // PyBullet's default); true: all pairs except joint-connected ones.
+    bool selfCollision = false;
+    // The collision group when selfCollision is false; 0: one below the lowest
+    // group of the bodies already in the world (or of the scene), so each robot has its own.
+    std::int32_t collisionGroup = 0;
+    // Links without <inertial>: this mass (kg), spread as a solid sphere of
+    // radius defaultRadius about the link origin.
+    Real defaultMass = Real(0.1);
+    Real defaultRadius = Real(0.05);
+    // Warnings (a missing mesh, an approximation); default: printed to stderr
+    // as "fulcrum: warning: ...". Every warning also lands in Robot::warnings.
+    std::function<void(const std::string&)> warn;
+};
+
+enum class UrdfJointType : std::uint8_t { Revolute, Continuous, Prismatic, Fixed, Floating, Planar };
+const char* toString(UrdfJointType type);
+
+struct RobotLink {
+    std::string name;
+    BodyId body;
+    Real mass = 0;                 // kg (0: static)
+    bool collides = false;         // has at least one collider
+};
+
+struct RobotJoint {
+    std::string name;
+    UrdfJointType type = UrdfJointType::Fixed;
+    std::string parent, child;     // link names
+    JointId joint;                 // null for a floating joint (the child is free) and a fixed one between static links
+    Vec3 axis{1, 0, 0};            // in the joint frame (the child link's)
+    Real lower = -std::numeric_limits<Real>::infinity(), upper = std::numeric_limits<Real>::infinity();
+    Real effortLimit = std::numeric_limits<Real>::infinity();    // N m or N (0 in the file: none)
+    Real velocityLimit = std::numeric_limits<Real>::infinity();  // rad/s or m/s (kept, not enforced)
+    Real damping = 0, friction = 0;  // <dynamics>
+    bool actuated() const {
+        return type == UrdfJointType::Revolute || type == UrdfJointType::Continuous || type == UrdfJointType::Prismatic;
+    }
+};
+
+// A specific-force IMU reading in the body's axes.
+struct ImuReading {
+    Vec3 specificForce;     // m/s^2: linear acceleration of the centre of mass minus gravity (at rest: -g, "up")
+    Vec3 angularVelocity;   // rad/s
+};
+
+// A loaded robot: handles by name, and bulk drives and read-outs over its
+// actuated joints (revolute, continuous, prismatic), in file order.
+class Robot {
+public:
+    std::string name;
+    std::vector<RobotLink> links;    // file order
+    std::vector<RobotJoint> joints;  // file order
+    std::vector<std::string> warnings;
+
+    BodyId body(std::string_view link) const;         // throws fulcrum::Error naming a missing link
+    JointId joint(std::string_view joint) const;      // throws for a missing or floating joint
+    const RobotJoint& jointInfo(std::string_view joint) const;
+    // The actuated joints, in the order of every bulk call below.
+    std::vector<std::size_t> actuatedJoints() const;
+    std::vector<std::string> actuatedJointNames() const;
+
+    // One joint's drive (validated as World::setJointSpring / setJointMotor).
+    void setDrive(World& world, std::string_view joint, const JointDrive& drive) const;
+    // Bulk, one value per actuated joint: position targets keep each drive's
+    // gains; gains set stiffness and damping; velocity targets turn the
+    // velocity drive on (maxForce: the effort limit, or unlimited).
+    void setPositionTargets(World& world, std::span<const Real> positions) const;
+    void setDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const;
+    void setVelocityTargets(World& world, std::span<const Real> velocities) const;
+    void disableDrives(World& world) const;  // springs and motors off (URDF damping and friction stay)
+
+    std::vector<Real> jointPositions(const World& world) const;
+    std::vector<Real> jointVelocities(const World& world) const;
+    std::vector<Real> jointEfforts(const World& world) const;  // World::jointEffort
+
+    // IMU readings of every link (file order). Call once after each step: the
+    // acceleration is the change of each link's velocity since the previous
+    // call over the time between them (the first call reads it as zero).
+    std::vector<ImuReading> sampleImu(const World& world);
+
+private:
+    std::vector<Vec3> lastVelocity_;
+    Real lastTime_ = 0;
+    bool sampled_ = false;
+};
+
+// One IMU on one body (see Robot::sampleImu): update() after each step.
+class Imu {
+public:
+    explicit Imu(BodyId body) : body_(body) {}
+    ImuReading update(const World& world);
+
+private:
+    BodyId body_;
+    Vec3 lastVelocity_;
+    Real lastTime_ = 0;
+    bool sampled_ = false;
+};
+
+// Loads a URDF file into the world. Throws fulcrum::Error naming the file
+// (and line and element) for malformed XML, a broken tree, bad inertia or
+// an unsupported joint (planar).
+Robot loadUrdf(World& world, const std::filesystem::path& file, const UrdfOptions& options = {});
+// The same from text in memory; `sourceName` names it in errors and its
+// folder resolves relative mesh paths (fuzzing, tests).
+Robot loadUrdfFromString(World& world, std::string_view xml, const std::string& sourceName,
+                         const UrdfOptions& options = {});
+
+// The robot as scene bodies and joints (what a scene file's "urdf" entry
+// adds): bodies and joints named as in the file, joint anchors in world
+// space, `drives` (by joint name) as the joints' springs. Robot::links and
+// joints are filled with names and types only (no handles yet).
+struct UrdfSceneParts {
+    std::vector<SceneBody> bodies;
+    std::vector<SceneJoint> joints;
+    std::vector<std::size_t> jointIndex;  // per scene joint: its index in robot.joints
+    Robot robot;
+};
+UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceName, const UrdfOptions& options,
+                              const std::vector<std::pair<std::string, JointDrive>>& drives = {});
+// The parts' bodies and joints created in the world (what loadUrdf does
+// after urdfSceneParts); the Robot with their handles.
+Robot createUrdfParts(World& world, const UrdfSceneParts& parts, const std::string& sourceName);
+std::string readUrdfText(const std::filesystem::path& file);
+
+}  // namespace fulcrum

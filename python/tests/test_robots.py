@@ -1,0 +1,115 @@
+"""Robots from URDF files in Python (docs/robots.md): load_urdf, bulk drives
+and read-outs as arrays, IMU samples, the scene entry and the command line.
+The public robot files are read from the shared folder beside the checkout
+(FULCRUM_ROBOTS_DIR overrides it); they are never copied into the project."""
+import json
+import math
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import fulcrum
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+
+
+def robots_dir():
+    if "FULCRUM_ROBOTS_DIR" in os.environ:
+        return pathlib.Path(os.environ["FULCRUM_ROBOTS_DIR"])
+    for up in (REPO.parent, REPO.parent.parent):
+        if (up / "shared" / "robots").is_dir():
+            return up / "shared" / "robots"
+    pytest.fail("the shared robot files are not beside the checkout (shared/robots); set FULCRUM_ROBOTS_DIR")
+
+
+def z_up_world():
+    world = fulcrum.World(gravity=(0, 0, -9.81))
+    world.create_body(shape=fulcrum.Plane((0, 0, 1), 0), type="static", name="ground")
+    return world
+
+
+def test_kr5_held_by_drives_reads_as_arrays():
+    world = fulcrum.World(gravity=(0, 0, -9.81))
+    with pytest.warns(UserWarning, match=r"link 'base_link', collision: mesh 'meshes/base_link.STL' not found"):
+        arm = fulcrum.load_urdf(world, robots_dir() / "kr5" / "kr5_sixx_r650.urdf", fixed_base=True)
+    assert len(arm.joint_names) == 6
+    n = len(arm.joint_names)
+    arm.set_drive_gains(np.full(n, 3000.0), np.full(n, 100.0))
+    target = np.array([0.2, 0.4, -0.3, 0.1, 0.3, 0.0])
+    arm.set_position_targets(target)
+    for _ in range(600):
+        world.step(1 / 60)
+    q, v, e = arm.joint_positions(), arm.joint_velocities(), arm.joint_efforts()
+    assert q.shape == v.shape == e.shape == (n,)
+    assert np.all(np.isfinite(q)) and np.all(np.isfinite(e))
+    assert np.allclose(v, 0, atol=1e-3)
+    # The stiff drives sag less than 0.02 rad under the arm's weight.
+    assert np.allclose(q, target, atol=0.02)
+    # The shoulder's pitch joint carries a real load; a joint handle reads the same.
+    assert abs(e[1]) > 1
+    assert arm.joint(arm.joint_names[1]).effort == pytest.approx(e[1])
+    assert arm.body("base_link").type == "static" or arm.body("world").type == "static"
+    f, w = arm.sample_imu()
+    assert f.shape == (len(arm.link_names), 3) and w.shape == f.shape
+
+
+def test_imu_of_a_free_fall_and_of_a_resting_link():
+    world = fulcrum.World(gravity=(0, 0, -9.81))
+    robot = fulcrum.load_urdf(world, REPO / "tests" / "robots" / "slider_load.urdf", fixed_base=True)
+    robot.set_drive("lift", position=0.0, stiffness=20000, damping=400)
+    for _ in range(300):
+        world.step(1 / 60)
+    robot.sample_imu()
+    world.step(1 / 60)
+    f, w = robot.sample_imu()
+    # Both links at rest: the accelerometer reads +g up.
+    assert f[:, 2] == pytest.approx([9.81, 9.81], abs=1e-2)
+    assert robot.joint_efforts()[0] == pytest.approx(2.5 * 9.81, rel=5e-3)
+
+
+def test_bad_files_raise_errors_naming_them(tmp_path):
+    world = z_up_world()
+    with pytest.raises(fulcrum.Error, match="invalid.urdf"):
+        fulcrum.load_urdf(world, robots_dir() / "dart-tests" / "invalid.urdf")
+    loop = tmp_path / "loop.urdf"
+    loop.write_text("""<robot name="r">
+      <link name="a"/><link name="b"/>
+      <joint name="ab" type="fixed"><parent link="a"/><child link="b"/></joint>
+      <joint name="ba" type="fixed"><parent link="b"/><child link="a"/></joint>
+    </robot>""")
+    with pytest.raises(fulcrum.Error, match=r"loop.urdf.*loop"):
+        fulcrum.load_urdf(world, loop)
+    with pytest.raises(fulcrum.Error, match="no link named 'nope'"):
+        fulcrum.load_urdf(world, REPO / "tests" / "robots" / "slider_load.urdf", fixed_base=True).body("nope")
+    robot = fulcrum.load_urdf(world, REPO / "tests" / "robots" / "double_pendulum.urdf", fixed_base=True,
+                              position=(5, 0, 0))
+    with pytest.raises(fulcrum.Error, match="3 position targets for 2 actuated joints"):
+        robot.set_position_targets([0, 0, 0])
+
+
+def test_scene_entry_with_drives_loads_and_holds():
+    world = fulcrum.load_scene(REPO / "scenes" / "robot_arm.json")
+    shoulder = next(j for j in world.joints() if j.name == "shoulder")
+    for _ in range(300):
+        world.step(1 / 60)
+    assert shoulder.position == pytest.approx(0.7, abs=0.02)
+    assert abs(shoulder.velocity) < 1e-2
+    assert math.isfinite(shoulder.effort) and abs(shoulder.effort) > 1
+
+
+def test_cli_runs_a_urdf_and_reports_joint_readouts(cli):
+    r = subprocess.run([str(cli), "run", str(robots_dir() / "r2d2" / "07-physics.urdf"), "--steps", "60", "--json"],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 0, r.stderr
+    report = json.loads(r.stdout)
+    joints = {j["name"]: j for j in report["joints"]}
+    assert "gripper_extension" in joints
+    for key in ("position", "velocity", "torque"):
+        assert key in joints["head_swivel"]
+    assert "package://pr2_description" in r.stderr  # the missing meshes are warned about
+    bad = subprocess.run([str(cli), "run", str(robots_dir() / "dart-tests" / "invalid.urdf")], capture_output=True, text=True,
+                         check=False)
+    assert bad.returncode == 2 and "invalid.urdf" in bad.stderr

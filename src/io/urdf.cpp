@@ -1,0 +1,728 @@
+// A parsed URDF model (urdf_parse.cpp) as scene bodies and joints, into a
+// world, and the Robot handle's drives and read-outs. docs/robots.md is the
+// mapping table (URDF -> Fulcrum) and lists every fallback made here.
+#include "fulcrum/urdf.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <locale>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+#include "dynamics/validation.hpp"
+#include "io/urdf_model.hpp"
+#include "world/input_file.hpp"
+
+namespace fulcrum {
+
+using detail::formatReal;
+using detail::UrdfGeometry;
+using detail::UrdfJoint;
+using detail::UrdfLink;
+using detail::UrdfModel;
+using detail::UrdfPose;
+
+const char* toString(UrdfJointType type) {
+    switch (type) {
+        case UrdfJointType::Revolute: return "revolute";
+        case UrdfJointType::Continuous: return "continuous";
+        case UrdfJointType::Prismatic: return "prismatic";
+        case UrdfJointType::Fixed: return "fixed";
+        case UrdfJointType::Floating: return "floating";
+        case UrdfJointType::Planar: return "planar";
+    }
+    return "?";
+}
+
+namespace {
+
+constexpr Real kPi = std::numbers::pi_v<Real>;
+
+UrdfPose compose(const UrdfPose& a, const UrdfPose& b) { return {a.p + rotate(a.q, b.p), normalize(a.q * b.q)}; }
+
+// Where a mesh file named in the model is: `package://NAME/rest` under each
+// search folder as NAME/rest (and as rest, for a folder that is the package
+// itself); a relative path beside the URDF file, then under each search folder.
+std::optional<std::filesystem::path> findMesh(const std::string& filename, const std::filesystem::path& urdfFolder,
+                                              const std::vector<std::filesystem::path>& searchPath) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const auto exists = [&](const fs::path& p) { return fs::is_regular_file(p, ec); };
+    const std::string_view pkg = "package://", file = "file://";
+    if (filename.rfind(pkg, 0) == 0) {
+        const std::string rest = filename.substr(pkg.size());
+        const std::size_t slash = rest.find('/');
+        const std::string inPackage = slash == std::string::npos ? rest : rest.substr(slash + 1);
+        for (const fs::path& dir : searchPath) {
+            if (exists(dir / rest)) return dir / rest;
+            if (exists(dir / inPackage)) return dir / inPackage;
+        }
+        return std::nullopt;
+    }
+    const fs::path p = filename.rfind(file, 0) == 0 ? fs::path(filename.substr(file.size())) : fs::path(filename);
+    if (p.is_absolute()) return exists(p) ? std::optional(p) : std::nullopt;
+    if (exists(urdfFolder / p)) return urdfFolder / p;
+    for (const fs::path& dir : searchPath) {
+        if (exists(dir / p)) return dir / p;
+    }
+    return std::nullopt;
+}
+
+// The vertices and triangles of an STL (binary or ASCII) or OBJ file, scaled;
+// nullopt with `why` set for another format or a file it cannot read.
+struct MeshData {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+std::optional<MeshData> readMesh(const std::filesystem::path& file, const Vec3& scale, std::string& why) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".stl" && ext != ".obj") {
+        why = "only STL and OBJ meshes are read";
+        return std::nullopt;
+    }
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+    if (!in && !in.eof()) {
+        why = "it cannot be read";
+        return std::nullopt;
+    }
+    MeshData m;
+    const auto add = [&](double x, double y, double z) {
+        m.vertices.push_back({static_cast<Real>(x) * scale.x, static_cast<Real>(y) * scale.y, static_cast<Real>(z) * scale.z});
+    };
+    const auto finite = [](double v) { return std::isfinite(v) && std::fabs(v) < 1e30; };
+    if (ext == ".stl" && text.size() >= 84 && text.rfind("solid", 0) != 0) {
+        // Binary: an 80-byte header, a triangle count, 50 bytes per triangle
+        // (normal, three vertices as little-endian float32, two attribute bytes).
+        std::uint32_t count = 0;
+        std::memcpy(&count, text.data() + 80, 4);
+        if (text.size() < 84 + std::size_t{count} * 50) {
+            why = "the binary STL is shorter than its triangle count says";
+            return std::nullopt;
+        }
+        for (std::uint32_t t = 0; t < count; ++t) {
+            const char* p = text.data() + 84 + std::size_t{t} * 50 + 12;
+            for (int k = 0; k < 3; ++k) {
+                float xyz[3];
+                std::memcpy(xyz, p + 12 * k, 12);
+                if (!finite(xyz[0]) || !finite(xyz[1]) || !finite(xyz[2])) {
+                    why = "it holds a non-finite vertex";
+                    return std::nullopt;
+                }
+                add(xyz[0], xyz[1], xyz[2]);
+            }
+            m.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+        }
+    } else {
+        std::istringstream lines(text);
+        lines.imbue(std::locale::classic());
+        std::string line;
+        std::vector<std::uint32_t> stlCorners;
+        while (std::getline(lines, line)) {
+            std::istringstream words(line);
+            words.imbue(std::locale::classic());
+            std::string key;
+            words >> key;
+            if (key == "v" || key == "vertex") {
+                double x = 0, y = 0, z = 0;
+                if (!(words >> x >> y >> z) || !finite(x) || !finite(y) || !finite(z)) {
+                    why = "a vertex line is not three finite numbers: '" + line + "'";
+                    return std::nullopt;
+                }
+                add(x, y, z);
+                if (key == "vertex") {
+                    stlCorners.push_back(static_cast<std::uint32_t>(m.vertices.size() - 1));
+                    if (stlCorners.size() == 3) {
+                        m.triangles.push_back({stlCorners[0], stlCorners[1], stlCorners[2]});
+                        stlCorners.clear();
+                    }
+                }
+            } else if (key == "f") {
+                // "f a b c ...", each "i", "i/t", "i//n" or "i/t/n"; negative: from the end. A fan.
+                std::vector<std::uint32_t> face;
+                std::string corner;
+                while (words >> corner) {
+                    long long i = 0;
+                    const auto [end, ec] = std::from_chars(corner.data(), corner.data() + corner.size(), i);
+                    (void)end;
+                    const long long n = static_cast<long long>(m.vertices.size());
+                    if (ec != std::errc() || i == 0 || i > n || i < -n) {
+                        why = "a face names a vertex that does not exist: '" + line + "'";
+                        return std::nullopt;
+                    }
+                    face.push_back(static_cast<std::uint32_t>(i > 0 ? i - 1 : n + i));
+                }
+                for (std::size_t k = 2; k < face.size(); ++k) m.triangles.push_back({face[0], face[k - 1], face[k]});
+            }
+        }
+    }
+    if (m.vertices.size() < 4) {
+        why = "it has fewer than 4 vertices";
+        return std::nullopt;
+    }
+    return m;
+}
+
+// A primitive URDF geometry as a shape in the link frame. URDF cylinders and
+// capsules lie along z, Fulcrum's along y.
+ShapeDesc::Child primitive(const detail::UrdfGeometryElement& g) {
+    ShapeDesc::Child c;
+    c.position = g.origin.p;
+    c.orientation = g.origin.q;
+    const Quat yToZ = Quat::fromAxisAngle({1, 0, 0}, kPi / 2);
+    switch (g.geometry.kind) {
+        case UrdfGeometry::Kind::Box:
+            c.shape.type = ShapeType::Box;
+            c.shape.halfExtents = g.geometry.size * Real(0.5);
+            break;
+        case UrdfGeometry::Kind::Sphere:
+            c.shape.type = ShapeType::Sphere;
+            c.shape.radius = g.geometry.radius;
+            break;
+        case UrdfGeometry::Kind::Cylinder:
+        case UrdfGeometry::Kind::Capsule:
+            c.shape.type = g.geometry.kind == UrdfGeometry::Kind::Cylinder ? ShapeType::Cylinder : ShapeType::Capsule;
+            c.shape.radius = g.geometry.radius;
+            c.shape.halfHeight = g.geometry.length * Real(0.5);
+            c.orientation = normalize(g.origin.q * yToZ);
+            break;
+        case UrdfGeometry::Kind::Mesh: break;  // not a primitive (the caller handles meshes)
+    }
+    return c;
+}
+
+// The box with a link's mass and inertia (the missing-mesh fallback): for a
+// solid box, I_xx = m (b^2 + c^2) / 3 with half extents a, b, c, so
+// a^2 = 3 (I_yy + I_zz - I_xx) / (2 m). The diagonal of the inertial frame's
+// tensor; each half extent at least 5 mm.
+ShapeDesc::Child inertiaBox(const UrdfLink& l) {
+    ShapeDesc::Child c;
+    c.position = l.inertialOrigin.p;
+    c.orientation = l.inertialOrigin.q;
+    c.shape.type = ShapeType::Box;
+    const Real ixx = l.inertia(0, 0), iyy = l.inertia(1, 1), izz = l.inertia(2, 2);
+    const auto half = [&](Real a, Real b, Real own) {
+        return std::max(Real(0.005), std::sqrt(std::max(Real(0), Real(3) * (a + b - own) / (2 * l.mass))));
+    };
+    c.shape.halfExtents = {half(iyy, izz, ixx), half(ixx, izz, iyy), half(ixx, iyy, izz)};
+    return c;
+}
+
+std::string lineOf(const UrdfModel& m, int line) { return m.source + ": line " + std::to_string(line); }
+
+}  // namespace
+
+std::string readUrdfText(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    if (const auto reason = detail::notARegularFile(file)) throw Error(name + ": " + *reason + " (expected a URDF file)");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error(name + ": cannot open the URDF file for reading");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw Error(name + ": error while reading the URDF file");
+    return text.str();
+}
+
+UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceName, const UrdfOptions& options,
+                              const std::vector<std::pair<std::string, JointDrive>>& drives) {
+    const UrdfModel m = detail::parseUrdf(xml, sourceName);
+    detail::requireFinite("urdf options", "position", options.position);
+    if (!(std::fabs(length(options.orientation) - 1) < Real(1e-3))) {
+        throw Error(sourceName + ": the robot's orientation must be a unit quaternion");
+    }
+    if (!(options.defaultMass > 0) || !(options.defaultRadius > 0)) {
+        throw Error(sourceName + ": defaultMass and defaultRadius must be positive");
+    }
+    UrdfSceneParts out;
+    Robot& robot = out.robot;
+    robot.name = m.name;
+    const auto warn = [&](const std::string& what) {
+        robot.warnings.push_back(what);
+        if (options.warn) {
+            options.warn(what);
+        } else {
+            std::cerr << "fulcrum: warning: " << what << "\n";
+        }
+    };
+    const std::filesystem::path folder = std::filesystem::path(sourceName).parent_path();
+
+    // World poses of the link frames with every joint at 0.
+    std::vector<UrdfPose> pose(m.links.size());
+    std::map<std::string, std::size_t, std::less<>> linkIndex;
+    for (std::size_t i = 0; i < m.links.size(); ++i) linkIndex.emplace(m.links[i].name, i);
+    for (const std::size_t i : m.order) {
+        if (i == m.root) {
+            pose[i] = {options.position, normalize(options.orientation)};
+        } else {
+            const UrdfJoint& j = m.joints[m.parentJoint[i]];
+            pose[i] = compose(pose[linkIndex.find(j.parent)->second], j.origin);
+        }
+    }
+
+    CollisionFilter filter;
+    if (!options.selfCollision) filter.group = options.collisionGroup != 0 ? options.collisionGroup : -1;
+
+    // Static links: the root of a fixed base (or a root named "world" without
+    // an inertial), and every link welded to a static link by fixed joints: a
+    // soft weld to the ground would let the whole robot sag and tilt under its
+    // weight (the KR5's base on its "world" link: 2 mm, its tool 3 cm).
+    std::vector<bool> staticLink(m.links.size(), false);
+    for (const std::size_t i : m.order) {
+        if (i == m.root) {
+            const UrdfLink& l = m.links[i];
+            staticLink[i] = options.fixedBase || (l.name == "world" && !l.hasInertial);
+        } else {
+            const UrdfJoint& j = m.joints[m.parentJoint[i]];
+            staticLink[i] = j.type == UrdfJointType::Fixed && staticLink[linkIndex.find(j.parent)->second];
+        }
+    }
+
+    for (std::size_t i = 0; i < m.links.size(); ++i) {
+        const UrdfLink& l = m.links[i];
+        const bool isStatic = staticLink[i];
+        SceneBody body;
+        BodyDef& d = body.def;
+        d.name = l.name;
+        d.type = isStatic ? BodyType::Static : BodyType::Dynamic;
+        d.position = pose[i].p;
+        d.orientation = pose[i].q;
+        d.filter = filter;
+        // A robot held by its drives often stands still: it must not fall asleep
+        // with a drive target about to change (a new target wakes it anyway).
+        d.allowSleep = false;
+
+        std::vector<ShapeDesc::Child> parts;
+        bool boxFallbackUsed = false;
+        for (const auto& c : l.collisions) {
+            if (c.geometry.kind != UrdfGeometry::Kind::Mesh) {
+                parts.push_back(primitive(c));
+                continue;
+            }
+            const auto found = findMesh(c.geometry.filename, folder, options.searchPath);
+            std::string what = lineOf(m, c.line) + ": link '" + l.name + "', collision: mesh '" + c.geometry.filename + "' ";
+            if (found) {
+                std::string why;
+                if (const auto mesh = readMesh(*found, c.geometry.scale, why)) {
+                    // Dynamic links collide as the mesh's convex hull, static ones as the triangles.
+                    ShapeDesc::Child part;
+                    part.position = c.origin.p;
+                    part.orientation = c.origin.q;
+                    if (isStatic) {
+                        part.shape.type = ShapeType::Mesh;
+                        part.shape.vertices = mesh->vertices;
+                        part.shape.triangles = mesh->triangles;
+                    } else {
+                        part.shape.type = ShapeType::ConvexHull;
+                        part.shape.points = mesh->vertices;
+                    }
+                    try {
+                        (void)buildShape(part.shape);  // a flat or degenerate mesh fails here, not in the world
+                        parts.push_back(std::move(part));
+                        continue;
+                    } catch (const Error& e) {
+                        why = e.what();
+                    }
+                }
+                what += "found at " + found->string() + " but not used (" + why + ")";
+            } else {
+                what += "not found";
+            }
+            if (l.hasInertial && !boxFallbackUsed && !isStatic) {
+                parts.push_back(inertiaBox(l));
+                boxFallbackUsed = true;
+                warn(what + "; the link collides as the box of its inertia instead");
+            } else {
+                warn(what + "; this collision element is left out");
+            }
+        }
+        for (const auto& v : l.visuals) {
+            if (v.geometry.kind != UrdfGeometry::Kind::Mesh) continue;
+            if (!findMesh(v.geometry.filename, folder, options.searchPath)) {
+                warn(lineOf(m, v.line) + ": link '" + l.name + "', visual: mesh '" + v.geometry.filename +
+                     "' not found (visuals are not drawn yet; nothing else changes)");
+            }
+        }
+        RobotLink rl;
+        rl.name = l.name;
+        rl.collides = !parts.empty();
+        if (parts.empty()) {
+            // No collider: a small sphere that collides with nothing carries the mass.
+            body.shape.type = ShapeType::Sphere;
+            body.shape.radius = options.defaultRadius;
+            d.filter = CollisionFilter{0, 0, 0};
+        } else if (parts.size() == 1 && parts[0].position == Vec3{} && parts[0].orientation == Quat{}) {
+            body.shape = parts[0].shape;
+        } else {
+            body.shape.type = ShapeType::Compound;
+            body.shape.children = std::move(parts);
+        }
+        if (!isStatic) {
+            if (l.hasInertial) {
+                d.mass = l.mass;
+                const Mat3 R = toMat3(l.inertialOrigin.q);
+                const Mat3 I = R * l.inertia * transpose(R);
+                d.inertia = (I + transpose(I)) * Real(0.5);  // symmetric to the last bit (scene files check it)
+                d.centerOfMass = l.inertialOrigin.p;
+            } else {
+                d.mass = options.defaultMass;
+                d.inertia = Mat3::diagonal(Real(0.4) * options.defaultMass * options.defaultRadius * options.defaultRadius);
+                d.centerOfMass = Vec3{};
+                warn(lineOf(m, l.line) + ": link '" + l.name + "' has no <inertial>: given " + formatReal(options.defaultMass) +
+                     " kg as a solid sphere of radius " + formatReal(options.defaultRadius) + " m at its origin");
+            }
+            rl.mass = d.mass;
+        }
+        robot.links.push_back(rl);
+        out.bodies.push_back(std::move(body));
+    }
+
+    std::map<std::string, JointDrive, std::less<>> driveOf;
+    for (const auto& [name, drive] : drives) {
+        const auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == name; });
+        if (it == m.joints.end()) throw Error(sourceName + ": a drive names joint '" + name + "', which the robot does not have");
+        if (it->type != UrdfJointType::Revolute && it->type != UrdfJointType::Continuous && it->type != UrdfJointType::Prismatic) {
+            throw Error(sourceName + ": a drive names joint '" + name + "', a " + toString(it->type) +
+                        " joint (only revolute, continuous and prismatic joints have drives)");
+        }
+        driveOf[name] = drive;
+    }
+
+    for (const UrdfJoint& j : m.joints) {
+        const std::size_t child = linkIndex.find(j.child)->second;
+        RobotJoint rj;
+        rj.name = j.name;
+        rj.type = j.type;
+        rj.parent = j.parent;
+        rj.child = j.child;
+        rj.axis = j.axis;
+        rj.damping = j.damping;
+        rj.friction = j.friction;
+        if (j.hasLimit && j.effort > 0) rj.effortLimit = j.effort;
+        if (j.hasLimit && j.velocity > 0) rj.velocityLimit = j.velocity;
+        const std::string where = lineOf(m, j.line) + ": joint '" + j.name + "'";
+        if (j.type == UrdfJointType::Planar) {
+            throw Error(where + ": planar joints are not supported yet (Fulcrum has no joint with two free translations "
+                                "and one free rotation); make it floating or fixed");
+        }
+        if (j.type == UrdfJointType::Floating || staticLink[child]) {
+            // No joint: the child moves freely, or is static itself (welded to a static link).
+            robot.joints.push_back(rj);
+            continue;
+        }
+        out.jointIndex.push_back(robot.joints.size());
+        SceneJoint sj;
+        JointDef& d = sj.def;
+        d.name = j.name;
+        sj.bodyA = j.parent;
+        sj.bodyB = j.child;
+        d.anchor = pose[child].p;
+        d.axis = normalize(rotate(pose[child].q, j.axis));
+        d.collideConnected = false;  // adjacent links never collide
+        switch (j.type) {
+            case UrdfJointType::Fixed: d.type = JointType::Fixed; break;
+            case UrdfJointType::Prismatic: d.type = JointType::Slider; break;
+            default: d.type = JointType::Hinge; break;
+        }
+        const bool rangeGiven = j.hasLower || j.hasUpper;
+        if (j.type == UrdfJointType::Revolute) {
+            if (!rangeGiven) {
+                // <limit> without lower and upper reads as the range [0, 0] in the
+                // URDF defaults, a welded joint no author means (minitaur's knees): free instead.
+                warn(where + ": a revolute joint without lower and upper limits is left unlimited");
+            } else if (j.upper - j.lower >= 2 * kPi) {
+                // A range of a full turn or more limits nothing a hinge angle in (-pi, pi] can show.
+            } else {
+                d.hasLimits = true;
+                d.lowerLimit = std::max(j.lower, -kPi);
+                d.upperLimit = std::min(j.upper, kPi);
+                if (d.lowerLimit != j.lower || d.upperLimit != j.upper) {
+                    warn(where + ": limits [" + formatReal(j.lower) + ", " + formatReal(j.upper) + "] clamped to [-pi, pi]");
+                }
+                if (d.lowerLimit > d.upperLimit) {
+                    throw Error(where + ": limits [" + formatReal(j.lower) + ", " + formatReal(j.upper) +
+                                "] lie outside (-pi, pi], which a hinge angle cannot reach");
+                }
+            }
+        } else if (j.type == UrdfJointType::Prismatic && rangeGiven) {
+            d.hasLimits = true;
+            d.lowerLimit = j.lower;
+            d.upperLimit = j.upper;
+        }
+        if (d.hasLimits) {
+            rj.lower = d.lowerLimit;
+            rj.upper = d.upperLimit;
+        } else if (rangeGiven && j.type == UrdfJointType::Revolute) {
+            rj.lower = j.lower;  // as written, though a full turn limits nothing
+            rj.upper = j.upper;
+        }
+        if (rj.actuated()) {
+            d.spring.enabled = j.damping > 0;
+            d.spring.damping = j.damping;
+            if (j.friction > 0) {
+                if (j.type == UrdfJointType::Prismatic) {
+                    warn(where + ": <dynamics friction> on a prismatic joint is not modelled (sliders have no friction yet)");
+                } else {
+                    d.frictionTorque = j.friction;
+                }
+            }
+            if (const auto it = driveOf.find(j.name); it != driveOf.end()) {
+                const JointDrive& drive = it->second;
+                d.spring.target = drive.position;
+                d.spring.stiffness = drive.stiffness;
+                d.spring.damping = j.damping + drive.damping;
+                d.spring.enabled = d.spring.stiffness > 0 || d.spring.damping > 0;
+                if (drive.velocityDrive) {
+                    d.motor.enabled = true;
+                    d.motor.speed = drive.velocity;
+                    d.motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : rj.effortLimit;
+                    if (!std::isfinite(d.motor.maxForce)) d.motor.maxForce = Real(1e9);
+                }
+            }
+        }
+        robot.joints.push_back(rj);
+        out.joints.push_back(std::move(sj));
+    }
+    return out;
+}
+
+namespace {
+
+std::int32_t freshGroup(const World& world) {
+    // Below every group a robot loaded before took (each robot its own).
+    return -static_cast<std::int32_t>(std::min<std::size_t>(world.bodyCount() + 1, 1u << 30));
+}
+
+Robot build(World& world, std::string_view xml, const std::string& sourceName, UrdfOptions options) {
+    if (options.collisionGroup == 0) options.collisionGroup = freshGroup(world);
+    return createUrdfParts(world, urdfSceneParts(xml, sourceName, options), sourceName);
+}
+
+}  // namespace
+
+Robot createUrdfParts(World& world, const UrdfSceneParts& parts, const std::string& sourceName) {
+    Robot robot = parts.robot;
+    std::map<std::string, BodyId, std::less<>> ids;
+    std::vector<BodyId> created;
+    std::vector<JointId> joints;
+    try {
+        for (std::size_t i = 0; i < parts.bodies.size(); ++i) {
+            BodyDef def = parts.bodies[i].def;
+            def.shape = buildShape(parts.bodies[i].shape);
+            const BodyId id = world.createBody(def);
+            created.push_back(id);
+            ids[def.name] = id;
+            robot.links[i].body = id;
+        }
+        for (std::size_t k = 0; k < parts.joints.size(); ++k) {
+            RobotJoint& rj = robot.joints[parts.jointIndex[k]];
+            JointDef def = parts.joints[k].def;
+            def.bodyA = ids.at(rj.parent);
+            def.bodyB = ids.at(rj.child);
+            rj.joint = world.createJoint(def);
+            joints.push_back(rj.joint);
+        }
+    } catch (const Error& e) {
+        // Nothing half-built stays in the world.
+        for (const JointId j : joints) world.destroyJoint(j);
+        for (const BodyId b : created) world.destroyBody(b);
+        throw Error(sourceName + ": " + e.what());
+    }
+    return robot;
+}
+
+Robot loadUrdf(World& world, const std::filesystem::path& file, const UrdfOptions& options) {
+    return build(world, readUrdfText(file), file.string(), options);
+}
+
+Robot loadUrdfFromString(World& world, std::string_view xml, const std::string& sourceName, const UrdfOptions& options) {
+    return build(world, xml, sourceName, options);
+}
+
+// ---- Robot
+
+BodyId Robot::body(std::string_view link) const {
+    for (const RobotLink& l : links) {
+        if (l.name == link) return l.body;
+    }
+    throw Error("robot '" + name + "': no link named '" + std::string(link) + "'");
+}
+
+const RobotJoint& Robot::jointInfo(std::string_view joint) const {
+    for (const RobotJoint& j : joints) {
+        if (j.name == joint) return j;
+    }
+    throw Error("robot '" + name + "': no joint named '" + std::string(joint) + "'");
+}
+
+JointId Robot::joint(std::string_view joint) const {
+    const RobotJoint& j = jointInfo(joint);
+    if (j.joint.isNull()) {
+        throw Error("robot '" + name + "': joint '" + j.name + "' is " +
+                    (j.type == UrdfJointType::Floating ? "floating" : "fixed to a static link (both static)") +
+                    ": no Fulcrum joint stands for it");
+    }
+    return j.joint;
+}
+
+std::vector<std::size_t> Robot::actuatedJoints() const {
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+        if (joints[i].actuated()) out.push_back(i);
+    }
+    return out;
+}
+
+std::vector<std::string> Robot::actuatedJointNames() const {
+    std::vector<std::string> out;
+    for (const std::size_t i : actuatedJoints()) out.push_back(joints[i].name);
+    return out;
+}
+
+void Robot::setDrive(World& world, std::string_view jointName, const JointDrive& drive) const {
+    const RobotJoint& j = jointInfo(jointName);
+    if (!j.actuated()) {
+        throw Error("robot '" + name + "': joint '" + j.name + "' is " + toString(j.type) +
+                    ": only revolute, continuous and prismatic joints have drives");
+    }
+    JointSpring spring;
+    spring.target = drive.position;
+    spring.stiffness = drive.stiffness;
+    spring.damping = j.damping + drive.damping;
+    spring.enabled = spring.stiffness > 0 || spring.damping > 0;
+    world.setJointSpring(j.joint, spring);
+    JointMotor motor;
+    if (drive.velocityDrive) {
+        motor.enabled = true;
+        motor.speed = drive.velocity;
+        motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : (std::isfinite(j.effortLimit) ? j.effortLimit : Real(1e9));
+    }
+    world.setJointMotor(j.joint, motor);
+}
+
+namespace {
+
+void requireCount(const Robot& r, std::size_t given, std::size_t wanted, const char* what) {
+    if (given != wanted) {
+        throw Error("robot '" + r.name + "': " + std::to_string(given) + " " + what + " for " + std::to_string(wanted) +
+                    " actuated joints (give one per revolute, continuous or prismatic joint, in file order)");
+    }
+}
+
+}  // namespace
+
+void Robot::setPositionTargets(World& world, std::span<const Real> positions) const {
+    const auto act = actuatedJoints();
+    requireCount(*this, positions.size(), act.size(), "position targets");
+    for (std::size_t k = 0; k < act.size(); ++k) {
+        const JointId id = joints[act[k]].joint;
+        JointSpring s = world.jointDef(id).spring;
+        s.target = positions[k];
+        s.enabled = s.stiffness > 0 || s.damping > 0;
+        world.setJointSpring(id, s);
+    }
+}
+
+void Robot::setDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const {
+    const auto act = actuatedJoints();
+    requireCount(*this, stiffness.size(), act.size(), "stiffnesses");
+    requireCount(*this, damping.size(), act.size(), "dampings");
+    for (std::size_t k = 0; k < act.size(); ++k) {
+        const RobotJoint& j = joints[act[k]];
+        JointSpring s = world.jointDef(j.joint).spring;
+        s.stiffness = stiffness[k];
+        s.damping = j.damping + damping[k];
+        s.enabled = s.stiffness > 0 || s.damping > 0;
+        world.setJointSpring(j.joint, s);
+    }
+}
+
+void Robot::setVelocityTargets(World& world, std::span<const Real> velocities) const {
+    const auto act = actuatedJoints();
+    requireCount(*this, velocities.size(), act.size(), "velocity targets");
+    for (std::size_t k = 0; k < act.size(); ++k) {
+        const RobotJoint& j = joints[act[k]];
+        JointMotor m;
+        m.enabled = true;
+        m.speed = velocities[k];
+        m.maxForce = std::isfinite(j.effortLimit) ? j.effortLimit : Real(1e9);
+        world.setJointMotor(j.joint, m);
+    }
+}
+
+void Robot::disableDrives(World& world) const {
+    for (const std::size_t i : actuatedJoints()) {
+        const RobotJoint& j = joints[i];
+        JointSpring s;
+        s.damping = j.damping;
+        s.enabled = j.damping > 0;
+        world.setJointSpring(j.joint, s);
+        world.setJointMotor(j.joint, JointMotor{});
+    }
+}
+
+std::vector<Real> Robot::jointPositions(const World& world) const {
+    std::vector<Real> out;
+    for (const std::size_t i : actuatedJoints()) out.push_back(world.jointPosition(joints[i].joint));
+    return out;
+}
+
+std::vector<Real> Robot::jointVelocities(const World& world) const {
+    std::vector<Real> out;
+    for (const std::size_t i : actuatedJoints()) out.push_back(world.jointVelocity(joints[i].joint));
+    return out;
+}
+
+std::vector<Real> Robot::jointEfforts(const World& world) const {
+    std::vector<Real> out;
+    for (const std::size_t i : actuatedJoints()) out.push_back(world.jointEffort(joints[i].joint));
+    return out;
+}
+
+namespace {
+
+// One body's reading; `elapsed` the time since `lastVelocity` was read (0:
+// none yet, the acceleration reads zero). Keeps the velocity for the next.
+ImuReading imuReading(const World& world, BodyId body, Vec3& lastVelocity, Real elapsed) {
+    const Vec3 v = world.linearVelocity(body);
+    const Vec3 a = elapsed > 0 ? (v - lastVelocity) / elapsed : Vec3{};
+    lastVelocity = v;
+    const Quat q = world.orientation(body);
+    // An accelerometer reads everything but gravity.
+    return {inverseRotate(q, a - world.settings().gravity), inverseRotate(q, world.angularVelocity(body))};
+}
+
+}  // namespace
+
+ImuReading Imu::update(const World& world) {
+    const Real t = world.time();
+    const ImuReading r = imuReading(world, body_, lastVelocity_, sampled_ ? t - lastTime_ : Real(0));
+    lastTime_ = t;
+    sampled_ = true;
+    return r;
+}
+
+std::vector<ImuReading> Robot::sampleImu(const World& world) {
+    const Real t = world.time();
+    const Real elapsed = sampled_ ? t - lastTime_ : Real(0);
+    lastVelocity_.resize(links.size());
+    std::vector<ImuReading> out;
+    out.reserve(links.size());
+    for (std::size_t i = 0; i < links.size(); ++i) out.push_back(imuReading(world, links[i].body, lastVelocity_[i], elapsed));
+    lastTime_ = t;
+    sampled_ = true;
+    return out;
+}
+
+}  // namespace fulcrum
