@@ -54,6 +54,7 @@
 #include "threads/staged_parallel.hpp"
 #include "world/particle_coupling.hpp"
 #include "world/stray_bodies.hpp"
+#include "character/character_system.hpp"
 
 namespace fulcrum {
 
@@ -104,6 +105,9 @@ struct WorldImpl : detail::BodyStore {
 
     // ---- particle systems: ropes and cloths (src/world/particle_coupling.hpp)
     detail::WorldParticles particles;
+
+    // ---- characters (src/character/character_system.hpp): moved after each step
+    detail::CharacterSystem characters;
 
     // ---- world queries (src/world/world_queries.cpp): bodies that have left
     // their broad-phase proxy since it was last moved. Rebuilt lazily per step;
