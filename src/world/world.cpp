@@ -529,6 +529,7 @@ void World::step(Real dt) {
     }
     try {
         const double t0 = w.time;
+        if (!w.vehicles.empty()) w.vehicles.update(*this, t0, dt);  // forces for this step (vehicle_system.hpp)
         w.step(dt);
         if (!w.characters.empty()) w.characters.update(*this, t0, dt);  // after the bodies (character_system.hpp)
     } catch (const NumericalError&) {
