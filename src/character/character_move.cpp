@@ -199,6 +199,7 @@ struct Mover {
         c.ground = n.y >= cosMaxSlope ? GroundState::OnGround : GroundState::OnSteepGround;
         c.groundNormal = n;
         c.groundBody = hit->body;
+        c.groundPoint = hit->point;
         if (world.bodyType(hit->body) != BodyType::Static) c.groundVelocity = world.velocityAtPoint(hit->body, pos);
     }
 };
@@ -277,6 +278,10 @@ void CharacterSystem::update(World& world, double t0, Real dt) {
         }
         if (c.ground != GroundState::InAir && world.isValid(c.groundBody)) {
             c.groundLocal = inverseTransformPoint(world.transform(c.groundBody), pos);
+            // Standing on a dynamic body, the character weighs on it over the next step.
+            if (c.ground == GroundState::OnGround && world.bodyType(c.groundBody) == BodyType::Dynamic) {
+                world.applyForce(c.groundBody, gravity * c.def.mass, c.groundPoint);
+            }
         }
         c.position = pos;
         c.reportedVelocity = (pos - before) / dt;

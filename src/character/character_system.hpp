@@ -36,6 +36,7 @@ struct CharacterData : PoolSlot {
     Vec3 groundVelocity;
     BodyId groundBody;
     Vec3 groundLocal;          // the centre in the ground body's frame at the end of the last move
+    Vec3 groundPoint;          // where it touches the ground (world)
     Vec3 inputVelocity;        // held input
     bool inputJump = false;
     std::uint32_t nextInput = 0;  // the script's next entry to apply

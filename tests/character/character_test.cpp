@@ -125,6 +125,38 @@ TEST(Character, RidesMovingRotatingPlatformWithoutDrift) {
     EXPECT_LT(length(s.groundVelocity - expected), Real(1e-4));
 }
 
+TEST(Character, RidesDynamicPlatformAndWeighsOnIt) {
+    // A 200 kg slab sliding at 2 m/s and spinning at 0.5 rad/s on ice (no
+    // friction): the character rides it within 1 cm, and the slab carries its
+    // weight to the ground.
+    World world;
+    BodyDef ice;
+    ice.type = BodyType::Static;
+    ice.shape = Shape::plane({0, 1, 0}, 0);
+    ice.friction = 0;
+    world.createBody(ice);
+    BodyDef slab;
+    slab.shape = Shape::box({3, Real(0.2), 3});
+    slab.mass = 200;
+    slab.friction = 0;
+    slab.position = {0, Real(0.2), 0};
+    slab.linearVelocity = {2, 0, 0};
+    slab.angularVelocity = {0, Real(0.5), 0};
+    slab.allowSleep = false;
+    const BodyId p = world.createBody(slab);
+    const CharacterId c = world.createCharacter(standing("rider", Real(1.2), Real(0.7), Real(0.4)));
+    for (int i = 0; i < 10; ++i) world.step(kDt);
+    ASSERT_EQ(world.characterState(c).groundBody, p);
+    const Vec3 spot = inverseTransformPoint(world.transform(p), world.characterState(c).position);
+    for (int i = 0; i < 300; ++i) world.step(kDt);
+    const Vec3 now = inverseTransformPoint(world.transform(p), world.characterState(c).position);
+    EXPECT_LT(length(now - spot), Real(0.01));
+    EXPECT_GT(world.position(p).x, Real(9));
+    Real normal = 0;
+    for (const ContactReport& r : world.contacts()) normal += r.normalImpulse;
+    EXPECT_NEAR(normal / kDt, (200 + 80) * Real(9.81), Real(0.02) * (200 + 80) * Real(9.81));
+}
+
 Real pushedDistance(Real boxMass) {
     World world;
     addStatic(world, Shape::plane({0, 1, 0}, 0), {});
