@@ -218,7 +218,7 @@ void CharacterSystem::update(World& world, double t0, Real dt) {
             ++c.nextInput;
         }
         const Shape& capsule = world.shape(c.body);
-        Mover mv{world, c, capsule, QueryFilter{}, std::cos(c.def.maxSlope), capsule.halfHeight()};
+        Mover mv{world, c, capsule, QueryFilter{}, c.cosMaxSlope, capsule.halfHeight()};
         mv.filter.excludeBody = c.body;
         const Vec3 before = c.position;
         Vec3 pos = c.position;

@@ -26,6 +26,7 @@ namespace fulcrum::detail {
 
 struct CharacterData : PoolSlot {
     CharacterDef def;
+    Real cosMaxSlope = 0;      // cos(def.maxSlope), at creation: no libm call in the step
     BodyId body;               // the capsule body (kinematic, kCharacterCategory)
     Vec3 position;             // capsule centre
     Vec3 velocity;             // own velocity (relative to the ground), vertical included

@@ -99,6 +99,7 @@ CharacterId World::createCharacter(const CharacterDef& def) {
     c.alive = true;
     c.generation = generation;
     c.def = def;
+    c.cosMaxSlope = std::cos(def.maxSlope);
     c.body = bodyId;
     c.position = def.position;
     w.characters.order.push_back(slot);

@@ -428,7 +428,7 @@ void io(A& a, CharacterDef& d) {
 }
 template <typename A>
 void io(A& a, CharacterData& c) {
-    io(a, c.alive), io(a, c.generation), io(a, c.def), io(a, c.body), io(a, c.position), io(a, c.velocity),
+    io(a, c.alive), io(a, c.generation), io(a, c.def), io(a, c.cosMaxSlope), io(a, c.body), io(a, c.position), io(a, c.velocity),
         io(a, c.airVelocity), io(a, c.reportedVelocity);
     a.enumeration(c.ground, GroundState::InAir);
     io(a, c.groundNormal), io(a, c.groundVelocity), io(a, c.groundBody), io(a, c.groundLocal), io(a, c.groundPoint),
