@@ -1,6 +1,7 @@
 #pragma once
 // Fulcrum: a 3D rigid-body physics engine. Include this for the whole public API.
 #include "fulcrum/body.hpp"
+#include "fulcrum/character.hpp"
 #include "fulcrum/error.hpp"
 #include "fulcrum/joint.hpp"
 #include "fulcrum/math.hpp"

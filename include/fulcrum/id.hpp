@@ -26,6 +26,7 @@ using BodyId = Id<struct BodyTag>;
 using JointId = Id<struct JointTag>;
 using SpringId = Id<struct SpringTag>;
 using ParticleSystemId = Id<struct ParticleSystemTag>;
+using CharacterId = Id<struct CharacterTag>;
 
 }  // namespace fulcrum
 

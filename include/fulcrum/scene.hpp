@@ -25,6 +25,7 @@
 #include "fulcrum/joint.hpp"
 #include "fulcrum/particles.hpp"
 #include "fulcrum/spring.hpp"
+#include "fulcrum/vehicle.hpp"
 #include "fulcrum/world.hpp"
 
 namespace fulcrum {
@@ -122,6 +123,21 @@ struct SceneCloth {
     bool operator==(const SceneCloth& o) const;
 };
 
+// A character (fulcrum/character.hpp): the "characters" section.
+struct SceneCharacter {
+    CharacterDef def;
+    SceneLocation where;
+    bool operator==(const SceneCharacter& o) const;
+};
+
+// A vehicle (fulcrum/vehicle.hpp): the "vehicles" section.
+struct SceneVehicle {
+    VehicleDef def;       // def.chassis is filled by buildWorld
+    std::string chassis;  // the chassis body's name
+    SceneLocation where;
+    bool operator==(const SceneVehicle& o) const;
+};
+
 inline constexpr Real kSceneDefaultDt = Real(1) / Real(60);
 inline constexpr int kSceneDefaultSteps = 600;
 // Scene-file default of `bend_compliance` (ropes and cloths) when the key is
@@ -149,6 +165,8 @@ struct Scene {
     std::vector<SceneSpring> springs;
     std::vector<SceneRope> ropes;
     std::vector<SceneCloth> cloths;
+    std::vector<SceneCharacter> characters;
+    std::vector<SceneVehicle> vehicles;
     bool operator==(const Scene& o) const;  // compares the description, not sourceName or locations
 };
 
@@ -171,6 +189,8 @@ struct SceneHandles {
     std::vector<SpringId> springs;
     std::vector<ParticleSystemId> ropes;   // index-aligned with Scene::ropes
     std::vector<ParticleSystemId> cloths;  // index-aligned with Scene::cloths
+    std::vector<CharacterId> characters;   // index-aligned with Scene::characters
+    std::vector<VehicleId> vehicles;       // index-aligned with Scene::vehicles
 };
 
 // Builds the Shape a ShapeDesc describes (throws fulcrum::Error from the factories).

@@ -41,8 +41,9 @@ namespace fulcrum {
 // are refused. 2: joint solver runtime state; 3: joint friction
 // (JointDef::frictionTorque and its impulse) and the WorldDef joint solver
 // settings; 4: WorldDef::maxContactPairs; 5: contact forces (the last step's
-// impulses per point and manifold, the report's forces) and WorldDef::hitEventThreshold.
-inline constexpr std::uint32_t kSnapshotVersion = 5;
+// impulses per point and manifold, the report's forces) and WorldDef::hitEventThreshold;
+// 6: characters and vehicles (their definitions, inputs and state).
+inline constexpr std::uint32_t kSnapshotVersion = 6;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

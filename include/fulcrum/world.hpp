@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fulcrum/body.hpp"
+#include "fulcrum/character.hpp"
 #include "fulcrum/error.hpp"
 #include "fulcrum/joint.hpp"
 #include "fulcrum/particles.hpp"
@@ -356,6 +357,26 @@ public:
     std::span<const Vec3> particlePositions(ParticleSystemId id) const;  // valid until the next step or change
     Vec3 particleVelocity(ParticleSystemId id, std::size_t particle) const;  // over the last particle sub-step
     ParticleReport particleReport(ParticleSystemId id) const;
+
+    // ---- characters (fulcrum/character.hpp, docs/characters.md)
+    // Each character owns a kinematic capsule body (characterBody; category
+    // kCharacterCategory) and moves at the end of every step, after the
+    // bodies, in creation order, on the calling thread: it sees the poses the
+    // step made, so it rides a moving platform without lagging a step behind.
+    CharacterId createCharacter(const CharacterDef& def);
+    void destroyCharacter(CharacterId id);               // and its capsule body
+    bool isValid(CharacterId id) const;
+    std::vector<CharacterId> characters() const;         // live characters in creation order
+    const std::string& name(CharacterId id) const;
+    const CharacterDef& characterDef(CharacterId id) const;  // as created
+    BodyId characterBody(CharacterId id) const;
+    CharacterState characterState(CharacterId id) const;
+    // The held input from now on (until the script's next entry, if any):
+    // desired velocity (m/s, horizontal part used; relative to the ground it
+    // stands on) and whether to jump. Finite, else fulcrum::Error.
+    void setCharacterInput(CharacterId id, const Vec3& velocity, bool jump);
+    // Teleports the character (no collision on the way); it keeps its velocity.
+    void setCharacterPosition(CharacterId id, const Vec3& position);
 
     // ---- simulation
     void step(Real dt);                                // throws NumericalError if the state goes NaN

@@ -24,6 +24,7 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     BodyKinematics,
     Box,
     Capsule,
+    Character,
     ParticleSystem,
     Compound,
     Contact,
@@ -43,6 +44,7 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
     ShapeHit,
     Sphere,
     Spring,
+    Vehicle,
     World,
     load_snapshot,
     load_urdf,
@@ -50,10 +52,10 @@ from ._fulcrum import (  # noqa: F401  (re-exported)
 from .batch import Batch  # noqa: F401  (re-exported)
 
 __all__ = [
-    "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Compound", "Contact", "ConvexHull", "Cylinder", "Error",
-    "HeightField", "Joint", "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit", "Recorder", "Robot",
-    "SceneError", "Shape", "ShapeHit", "Sphere", "Spring", "World", "load_scene", "load_snapshot", "load_urdf",
-    "real_dtype",
+    "Batch", "Body", "BodyKinematics", "Box", "Capsule", "Character", "Compound", "Contact", "ConvexHull",
+    "Cylinder", "Error", "HeightField", "Joint", "Mesh", "NumericalError", "ParticleSystem", "Plane", "RayHit",
+    "Recorder", "Robot", "SceneError", "Shape", "ShapeHit", "Sphere", "Spring", "Vehicle", "World", "load_scene",
+    "load_snapshot", "load_urdf", "real_dtype",
 ]
 
 __version__ = "0.1.0"
@@ -137,8 +139,8 @@ def _name_bad_arguments(cls, method: str):
 # Wrong Python types get a TypeError naming the argument (pybind11's own message
 # lists the signatures). Not on the per-step calls (step, the arrays), whose
 # overhead is measured (docs/benchmarks.md).
-for _cls in (World, Body, Joint, Spring, ParticleSystem, Recorder, Sphere, Box, Capsule, Cylinder, ConvexHull, Plane,
-             Mesh, Compound, HeightField):
+for _cls in (World, Body, Joint, Spring, ParticleSystem, Character, Vehicle, Recorder, Sphere, Box, Capsule, Cylinder,
+             ConvexHull, Plane, Mesh, Compound, HeightField):
     for _method in list(vars(_cls)):
         if _method == "__init__" or _method.startswith(("create_", "overlap_", "ray_cast", "shape_cast", "set_",
                                                          "apply_", "destroy_", "find_", "mass_properties")):

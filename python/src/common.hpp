@@ -162,6 +162,8 @@ void bindWorld(py::module_& m);
 void bindBodies(py::module_& m);
 void bindJoints(py::module_& m);
 void bindParticles(py::module_& m);
+void bindCharacters(py::module_& m);
+void bindVehicles(py::module_& m);
 void bindQueries(py::module_& m);
 void bindIo(py::module_& m);
 void bindBatch(py::module_& m);

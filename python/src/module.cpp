@@ -156,6 +156,8 @@ PYBIND11_MODULE(_fulcrum, m) {
     fp::bindBodies(m);
     fp::bindJoints(m);
     fp::bindParticles(m);
+    fp::bindCharacters(m);
+    fp::bindVehicles(m);
     fp::bindQueries(m);
     fp::bindIo(m);
     fp::bindBatch(m);

@@ -544,6 +544,42 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
         }
     }
     j["particle_systems"] = std::move(systems);
+    // docs/cli.md: {"name", "position", "on_ground", "ground_normal"} (plus the
+    // ground state and velocity), only when the scene has characters.
+    if (!result.handles.characters.empty()) {
+        ojson characters = ojson::array();
+        for (const CharacterId id : result.handles.characters) {
+            const CharacterState s = world.characterState(id);
+            characters.push_back(ojson{{"name", world.name(id)},
+                                       {"position", vec(s.position)},
+                                       {"on_ground", s.ground == GroundState::OnGround},
+                                       {"ground_normal", vec(s.groundNormal)},
+                                       {"ground", toString(s.ground)},
+                                       {"velocity", vec(s.velocity)}});
+        }
+        j["characters"] = std::move(characters);
+    }
+    // docs/cli.md: {"name", "position", "speed", "wheels": [{"in_contact",
+    // "suspension_length"}]} (plus the gear and wheel spin), only when the scene has vehicles.
+    if (!result.handles.vehicles.empty()) {
+        ojson vehicles = ojson::array();
+        for (const VehicleId id : result.handles.vehicles) {
+            const VehicleState s = vehicleState(world, id);
+            ojson wheels = ojson::array();
+            for (const WheelState& w : s.wheels) {
+                wheels.push_back(ojson{{"in_contact", w.inContact},
+                                       {"suspension_length", num(w.suspensionLength)},
+                                       {"angular_velocity", num(w.angularVelocity)},
+                                       {"steer_angle", num(w.steerAngle)}});
+            }
+            vehicles.push_back(ojson{{"name", vehicleDef(world, id).name},
+                                     {"position", vec(s.position)},
+                                     {"speed", num(s.speed)},
+                                     {"gear", s.gear},
+                                     {"wheels", std::move(wheels)}});
+        }
+        j["vehicles"] = std::move(vehicles);
+    }
     // Only when the world warned (an extension: the object is unchanged otherwise).
     if (!world.warnings().empty()) {
         ojson warnings = ojson::array();

@@ -104,6 +104,52 @@ bool SceneRope::operator==(const SceneRope& o) const {
            a.bendCompliance == b.bendCompliance;
 }
 
+bool SceneCharacter::operator==(const SceneCharacter& o) const {
+    const CharacterDef &a = def, &b = o.def;
+    if (a.inputs.size() != b.inputs.size()) return false;
+    for (std::size_t i = 0; i < a.inputs.size(); ++i) {
+        const CharacterInput &x = a.inputs[i], &y = b.inputs[i];
+        if (x.time != y.time || x.velocity != y.velocity || x.jump != y.jump) return false;
+    }
+    return a.name == b.name && a.position == b.position && a.radius == b.radius && a.height == b.height &&
+           a.mass == b.mass && a.maxSlope == b.maxSlope && a.stepHeight == b.stepHeight && a.jumpSpeed == b.jumpSpeed &&
+           a.maxPushForce == b.maxPushForce && a.stickDistance == b.stickDistance;
+}
+
+bool SceneVehicle::operator==(const SceneVehicle& o) const {
+    const VehicleDef &a = def, &b = o.def;
+    if (chassis != o.chassis || a.name != b.name || a.wheels.size() != b.wheels.size() || a.inputs.size() != b.inputs.size() ||
+        a.antiRollBars.size() != b.antiRollBars.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < a.wheels.size(); ++i) {
+        const WheelDef &x = a.wheels[i], &y = b.wheels[i];
+        if (x.position != y.position || x.radius != y.radius || x.width != y.width ||
+            x.suspension.restLength != y.suspension.restLength || x.suspension.stiffness != y.suspension.stiffness ||
+            x.suspension.damping != y.suspension.damping || x.steering != y.steering || x.driven != y.driven ||
+            x.handBrake != y.handBrake || x.friction != y.friction || x.inertia != y.inertia) {
+            return false;
+        }
+    }
+    for (std::size_t i = 0; i < a.inputs.size(); ++i) {
+        const VehicleInput &x = a.inputs[i], &y = b.inputs[i];
+        if (x.time != y.time || x.throttle != y.throttle || x.brake != y.brake || x.steering != y.steering ||
+            x.handBrake != y.handBrake) {
+            return false;
+        }
+    }
+    for (std::size_t i = 0; i < a.antiRollBars.size(); ++i) {
+        const AntiRollBar &x = a.antiRollBars[i], &y = b.antiRollBars[i];
+        if (x.left != y.left || x.right != y.right || x.stiffness != y.stiffness) return false;
+    }
+    return a.engine.maxTorque == b.engine.maxTorque && a.engine.maxRpm == b.engine.maxRpm &&
+           a.engine.minRpm == b.engine.minRpm && a.engine.torqueCurve == b.engine.torqueCurve &&
+           a.gearbox.ratios == b.gearbox.ratios && a.gearbox.differentialRatio == b.gearbox.differentialRatio &&
+           a.gearbox.shiftUpRpm == b.gearbox.shiftUpRpm && a.gearbox.shiftDownRpm == b.gearbox.shiftDownRpm &&
+           a.maxBrakeTorque == b.maxBrakeTorque && a.maxHandBrakeTorque == b.maxHandBrakeTorque &&
+           a.maxSteeringAngle == b.maxSteeringAngle;
+}
+
 bool SceneCloth::operator==(const SceneCloth& o) const {
     const ClothDef &a = def, &b = o.def;
     return a.name == b.name && a.origin == b.origin && a.uAxis == b.uAxis && a.vAxis == b.vAxis && a.size == b.size &&
@@ -118,7 +164,8 @@ bool Scene::operator==(const Scene& o) const {
            a.threads == b.threads && a.jointHertz == b.jointHertz && a.jointDampingRatio == b.jointDampingRatio &&
            a.jointProjectionSlop == b.jointProjectionSlop && a.maxRotationPerSubstep == b.maxRotationPerSubstep && a.jointDirectSolve == b.jointDirectSolve &&
            a.maxContactPairs == b.maxContactPairs && a.hitEventThreshold == b.hitEventThreshold && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
-           springs == o.springs && ropes == o.ropes && cloths == o.cloths;
+           springs == o.springs && ropes == o.ropes && cloths == o.cloths &&
+           characters == o.characters && vehicles == o.vehicles;
 }
 
 std::string sceneBodyName(const Scene& scene, std::size_t index) {

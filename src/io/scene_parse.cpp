@@ -244,6 +244,8 @@ private:
         SceneLocation where;
     };
     void parseUrdf(const json& j, const std::string& path, const SceneLocation& where, Scene& scene) const;
+    void parseCharacter(const json& j, const std::string& path, SceneCharacter& character) const;
+    void parseVehicle(const json& j, const std::string& path, const Scene& scene, SceneVehicle& vehicle) const;
     // A body reference: a name of the scene's bodies; null (or absent) when `allowNull`.
     std::string bodyRef(const json& v, const std::string& path, const Scene& scene, bool allowNull) const;
 
@@ -755,6 +757,164 @@ void Parser::parseCloth(const json& j, const std::string& path, SceneCloth& clot
     opt(j, path, "bend_compliance", [&](const json& v, const std::string& p) { d.bendCompliance = nonNegative(v, p, "bend_compliance"); });
 }
 
+void Parser::parseCharacter(const json& j, const std::string& path, SceneCharacter& character) const {
+    requireObject(j, path);
+    checkKeys(j, path,
+              {"name", "position", "radius", "height", "mass", "max_slope", "step_height", "jump_speed", "max_push_force",
+               "stick_distance", "inputs"},
+              "a character");
+    CharacterDef& d = character.def;
+    opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
+    d.position = vec3(required(j, path, "position"), childPath(path, "position"));
+    opt(j, path, "radius", [&](const json& v, const std::string& p) { d.radius = positive(v, p, "radius"); });
+    opt(j, path, "height", [&](const json& v, const std::string& p) { d.height = positive(v, p, "height"); });
+    if (d.height < 2 * d.radius) {
+        fail(childPath(path, "height"), "height must be at least twice the radius (" + detail::formatNumber(2 * d.radius) +
+                                            "), got " + detail::formatNumber(d.height));
+    }
+    opt(j, path, "mass", [&](const json& v, const std::string& p) { d.mass = positive(v, p, "mass"); });
+    opt(j, path, "max_slope", [&](const json& v, const std::string& p) {
+        d.maxSlope = positive(v, p, "max_slope");
+        if (!(d.maxSlope < kPi / 2)) fail(p, "max_slope must be below pi/2 radians, got " + detail::formatNumber(d.maxSlope));
+    });
+    opt(j, path, "step_height", [&](const json& v, const std::string& p) { d.stepHeight = nonNegative(v, p, "step_height"); });
+    opt(j, path, "jump_speed", [&](const json& v, const std::string& p) { d.jumpSpeed = nonNegative(v, p, "jump_speed"); });
+    opt(j, path, "max_push_force", [&](const json& v, const std::string& p) { d.maxPushForce = nonNegative(v, p, "max_push_force"); });
+    opt(j, path, "stick_distance", [&](const json& v, const std::string& p) { d.stickDistance = nonNegative(v, p, "stick_distance"); });
+    opt(j, path, "inputs", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string q = childPath(p, i);
+            requireObject(v[i], q);
+            checkKeys(v[i], q, {"time", "velocity", "jump"}, "a character input");
+            CharacterInput in;
+            in.time = nonNegative(required(v[i], q, "time"), childPath(q, "time"), "time");
+            if (!d.inputs.empty() && in.time < d.inputs.back().time) {
+                fail(childPath(q, "time"), "inputs must be in time order, got " + detail::formatNumber(in.time) + " after " +
+                                               detail::formatNumber(d.inputs.back().time));
+            }
+            opt(v[i], q, "velocity", [&](const json& x, const std::string& r) { in.velocity = vec3(x, r); });
+            opt(v[i], q, "jump", [&](const json& x, const std::string& r) { in.jump = boolean(x, r); });
+            d.inputs.push_back(in);
+        }
+    });
+}
+
+void Parser::parseVehicle(const json& j, const std::string& path, const Scene& scene, SceneVehicle& vehicle) const {
+    requireObject(j, path);
+    checkKeys(j, path,
+              {"name", "chassis", "wheels", "engine", "gearbox", "max_brake_torque", "max_hand_brake_torque",
+               "max_steering_angle", "anti_roll_bars", "inputs"},
+              "a vehicle");
+    VehicleDef& d = vehicle.def;
+    opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
+    vehicle.chassis = bodyRef(required(j, path, "chassis"), childPath(path, "chassis"), scene, false);
+    const json& wheels = required(j, path, "wheels");
+    const std::string wp = childPath(path, "wheels");
+    requireArray(wheels, wp);
+    if (wheels.empty()) fail(wp, "a vehicle needs at least one wheel");
+    for (std::size_t i = 0; i < wheels.size(); ++i) {
+        const std::string q = childPath(wp, i);
+        const json& w = wheels[i];
+        requireObject(w, q);
+        checkKeys(w, q, {"position", "radius", "width", "suspension", "steering", "driven", "hand_brake", "friction", "inertia"},
+                  "a wheel");
+        WheelDef wd;
+        wd.position = vec3(required(w, q, "position"), childPath(q, "position"));
+        opt(w, q, "radius", [&](const json& v, const std::string& p) { wd.radius = positive(v, p, "radius"); });
+        opt(w, q, "width", [&](const json& v, const std::string& p) { wd.width = positive(v, p, "width"); });
+        opt(w, q, "suspension", [&](const json& v, const std::string& p) {
+            requireObject(v, p);
+            checkKeys(v, p, {"rest_length", "stiffness", "damping"}, "a suspension");
+            opt(v, p, "rest_length", [&](const json& x, const std::string& r) { wd.suspension.restLength = positive(x, r, "rest_length"); });
+            opt(v, p, "stiffness", [&](const json& x, const std::string& r) { wd.suspension.stiffness = positive(x, r, "stiffness"); });
+            opt(v, p, "damping", [&](const json& x, const std::string& r) { wd.suspension.damping = nonNegative(x, r, "damping"); });
+        });
+        opt(w, q, "steering", [&](const json& v, const std::string& p) { wd.steering = boolean(v, p); });
+        opt(w, q, "driven", [&](const json& v, const std::string& p) { wd.driven = boolean(v, p); });
+        wd.handBrake = !wd.steering;  // the scene default: the unsteered wheels
+        opt(w, q, "hand_brake", [&](const json& v, const std::string& p) { wd.handBrake = boolean(v, p); });
+        opt(w, q, "friction", [&](const json& v, const std::string& p) { wd.friction = positive(v, p, "friction"); });
+        opt(w, q, "inertia", [&](const json& v, const std::string& p) { wd.inertia = positive(v, p, "inertia"); });
+        d.wheels.push_back(wd);
+    }
+    opt(j, path, "engine", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        checkKeys(v, p, {"max_torque", "max_rpm", "min_rpm", "torque_curve"}, "an engine");
+        opt(v, p, "max_torque", [&](const json& x, const std::string& r) { d.engine.maxTorque = nonNegative(x, r, "max_torque"); });
+        opt(v, p, "max_rpm", [&](const json& x, const std::string& r) { d.engine.maxRpm = positive(x, r, "max_rpm"); });
+        opt(v, p, "min_rpm", [&](const json& x, const std::string& r) { d.engine.minRpm = positive(x, r, "min_rpm"); });
+        opt(v, p, "torque_curve", [&](const json& x, const std::string& r) {
+            requireArray(x, r);
+            d.engine.torqueCurve.clear();
+            for (std::size_t i = 0; i < x.size(); ++i) {
+                const std::string q = childPath(r, i);
+                if (!x[i].is_array() || x[i].size() != 2) fail(q, "expected [rpm / max_rpm, torque / max_torque], got " + describe(x[i]));
+                d.engine.torqueCurve.push_back({nonNegative(x[i][0], childPath(q, 0), "rpm fraction"),
+                                                nonNegative(x[i][1], childPath(q, 1), "torque fraction")});
+            }
+        });
+    });
+    opt(j, path, "gearbox", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        checkKeys(v, p, {"ratios", "differential_ratio", "shift_up_rpm", "shift_down_rpm"}, "a gearbox");
+        opt(v, p, "ratios", [&](const json& x, const std::string& r) {
+            requireArray(x, r);
+            d.gearbox.ratios.clear();
+            for (std::size_t i = 0; i < x.size(); ++i) d.gearbox.ratios.push_back(positive(x[i], childPath(r, i), "ratio"));
+        });
+        opt(v, p, "differential_ratio", [&](const json& x, const std::string& r) { d.gearbox.differentialRatio = positive(x, r, "differential_ratio"); });
+        opt(v, p, "shift_up_rpm", [&](const json& x, const std::string& r) { d.gearbox.shiftUpRpm = positive(x, r, "shift_up_rpm"); });
+        opt(v, p, "shift_down_rpm", [&](const json& x, const std::string& r) { d.gearbox.shiftDownRpm = nonNegative(x, r, "shift_down_rpm"); });
+    });
+    opt(j, path, "max_brake_torque", [&](const json& v, const std::string& p) { d.maxBrakeTorque = nonNegative(v, p, "max_brake_torque"); });
+    opt(j, path, "max_hand_brake_torque", [&](const json& v, const std::string& p) {
+        d.maxHandBrakeTorque = nonNegative(v, p, "max_hand_brake_torque");
+    });
+    opt(j, path, "max_steering_angle", [&](const json& v, const std::string& p) {
+        d.maxSteeringAngle = nonNegative(v, p, "max_steering_angle");
+    });
+    opt(j, path, "anti_roll_bars", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string q = childPath(p, i);
+            requireObject(v[i], q);
+            checkKeys(v[i], q, {"left", "right", "stiffness"}, "an anti-roll bar");
+            AntiRollBar bar;
+            const long long last = static_cast<long long>(d.wheels.size()) - 1;
+            bar.left = static_cast<std::uint32_t>(integer(required(v[i], q, "left"), childPath(q, "left"), 0, last, "left"));
+            bar.right = static_cast<std::uint32_t>(integer(required(v[i], q, "right"), childPath(q, "right"), 0, last, "right"));
+            opt(v[i], q, "stiffness", [&](const json& x, const std::string& r) { bar.stiffness = nonNegative(x, r, "stiffness"); });
+            d.antiRollBars.push_back(bar);
+        }
+    });
+    opt(j, path, "inputs", [&](const json& v, const std::string& p) {
+        requireArray(v, p);
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string q = childPath(p, i);
+            requireObject(v[i], q);
+            checkKeys(v[i], q, {"time", "throttle", "brake", "steering", "hand_brake"}, "a vehicle input");
+            VehicleInput in;
+            in.time = nonNegative(required(v[i], q, "time"), childPath(q, "time"), "time");
+            if (!d.inputs.empty() && in.time < d.inputs.back().time) {
+                fail(childPath(q, "time"), "inputs must be in time order, got " + detail::formatNumber(in.time) + " after " +
+                                               detail::formatNumber(d.inputs.back().time));
+            }
+            const auto unit = [&](const char* key, Real lo, Real& out) {
+                opt(v[i], q, key, [&](const json& x, const std::string& r) {
+                    out = number(x, r);
+                    if (!(out >= lo && out <= 1)) fail(r, std::string(key) + " must be in [" + detail::formatNumber(lo) + ", 1], got " + detail::formatNumber(out));
+                });
+            };
+            unit("throttle", 0, in.throttle);
+            unit("brake", 0, in.brake);
+            unit("steering", -1, in.steering);
+            opt(v[i], q, "hand_brake", [&](const json& x, const std::string& r) { in.handBrake = boolean(x, r); });
+            d.inputs.push_back(in);
+        }
+    });
+}
+
 Scene Parser::parse() {
     // JSON text has no raw NUL (not even in strings); a file with one is binary
     // or damaged, and what follows it must not be silently dropped.
@@ -806,7 +966,9 @@ Scene Parser::parse() {
                                                  " (this build reads version " + std::to_string(detail::kSceneFormatVersion) + ")");
         }
     }
-    checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths", "urdf"}, "a scene");
+    checkKeys(doc, root, {"version", "description", "world", "bodies", "joints", "springs", "ropes", "cloths", "characters", "vehicles",
+                          "urdf"},
+              "a scene");
     opt(doc, root, "description", [&](const json& v, const std::string& p) { scene.description = string(v, p); });
     opt(doc, root, "world", [&](const json& v, const std::string& p) { parseWorld(v, p, scene); });
     elements_.emplace(text_);
@@ -827,6 +989,16 @@ Scene Parser::parse() {
     });
     section(doc, "cloths", scene.cloths, [&](const json& v, const std::string& p, SceneCloth& cloth, std::size_t) {
         parseCloth(v, p, cloth);
+    });
+    NameIndex characterNames;
+    section(doc, "characters", scene.characters, [&](const json& v, const std::string& p, SceneCharacter& c, std::size_t i) {
+        parseCharacter(v, p, c);
+        registerName(characterNames, c.def.name, i, p, "character", "characters");
+    });
+    NameIndex vehicleNames;
+    section(doc, "vehicles", scene.vehicles, [&](const json& v, const std::string& p, SceneVehicle& vehicle, std::size_t i) {
+        parseVehicle(v, p, scene, vehicle);
+        registerName(vehicleNames, vehicle.def.name, i, p, "vehicle", "vehicles");
     });
     // Robots last: their links and joints are appended to the bodies and
     // joints (which therefore cannot refer to them).

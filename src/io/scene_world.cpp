@@ -58,6 +58,7 @@ World buildWorld(const Scene& scene, SceneHandles* handles) {
     for (const SceneSpring& s : scene.springs) byName.insert({{s.bodyA, {}}, {s.bodyB, {}}});
     for (const SceneJoint& j : scene.joints) byName.insert({{j.bodyA, {}}, {j.bodyB, {}}});
     for (const SceneRope& r : scene.ropes) byName.insert({{r.attachStart, {}}, {r.attachEnd, {}}});
+    for (const SceneVehicle& v : scene.vehicles) byName.insert({v.chassis, {}});
     byName.erase("");
     const auto findNamed = [&](const std::string& name) -> std::optional<BodyId> {
         if (name.empty()) return kWorldBody;
@@ -143,6 +144,29 @@ World buildWorld(const Scene& scene, SceneHandles* handles) {
             throw SceneError(scene.sourceName, systemPath(cloth.where, "cloths", i), cloth.where.line, cloth.where.column, e.what());
         }
     }
+    for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+        const SceneCharacter& c = scene.characters[i];
+        try {
+            h.characters.push_back(world.createCharacter(c.def));
+        } catch (const Error& e) {
+            throw SceneError(scene.sourceName, systemPath(c.where, "characters", i), c.where.line, c.where.column, e.what());
+        }
+    }
+    for (std::size_t i = 0; i < scene.vehicles.size(); ++i) {
+        const SceneVehicle& v = scene.vehicles[i];
+        const std::string path = systemPath(v.where, "vehicles", i);
+        VehicleDef def = v.def;
+        const auto chassis = findNamed(v.chassis);
+        if (!chassis || chassis->isNull()) {
+            throw SceneError(scene.sourceName, path + ".chassis", v.where.line, v.where.column, "unknown body '" + v.chassis + "'");
+        }
+        def.chassis = *chassis;
+        try {
+            h.vehicles.push_back(createVehicle(world, def));
+        } catch (const Error& e) {
+            throw SceneError(scene.sourceName, path, v.where.line, v.where.column, e.what());
+        }
+    }
     return world;
 }
 
@@ -185,6 +209,11 @@ Scene captureScene(const World& world, const Scene& base, const SceneHandles& ha
     for (SceneSpring& spring : scene.springs) {
         carry(spring.bodyA, spring.def.anchorA, nullptr);
         carry(spring.bodyB, spring.def.anchorB, nullptr);
+    }
+    // Characters: where they are now (their velocity, ground and script
+    // progress are not in the format; the script's times are world times).
+    for (std::size_t i = 0; i < scene.characters.size() && i < handles.characters.size(); ++i) {
+        if (world.isValid(handles.characters[i])) scene.characters[i].def.position = world.characterState(handles.characters[i]).position;
     }
     return scene;
 }

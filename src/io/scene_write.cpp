@@ -202,6 +202,89 @@ ojson ropeJson(const SceneRope& rope) {
     return j;
 }
 
+ojson characterJson(const SceneCharacter& character) {
+    const CharacterDef& d = character.def;
+    ojson j;
+    if (!d.name.empty()) j["name"] = d.name;
+    j["position"] = vec(d.position);
+    j["radius"] = num(d.radius);
+    j["height"] = num(d.height);
+    j["mass"] = num(d.mass);
+    j["max_slope"] = num(d.maxSlope);
+    j["step_height"] = num(d.stepHeight);
+    j["jump_speed"] = num(d.jumpSpeed);
+    j["max_push_force"] = num(d.maxPushForce);
+    j["stick_distance"] = num(d.stickDistance);
+    if (!d.inputs.empty()) {
+        ojson inputs = ojson::array();
+        for (const CharacterInput& in : d.inputs) {
+            ojson e;
+            e["time"] = num(in.time);
+            e["velocity"] = vec(in.velocity);
+            e["jump"] = in.jump;
+            inputs.push_back(std::move(e));
+        }
+        j["inputs"] = std::move(inputs);
+    }
+    return j;
+}
+
+ojson vehicleJson(const SceneVehicle& vehicle) {
+    const VehicleDef& d = vehicle.def;
+    ojson j;
+    if (!d.name.empty()) j["name"] = d.name;
+    j["chassis"] = vehicle.chassis;
+    ojson wheels = ojson::array();
+    for (const WheelDef& w : d.wheels) {
+        ojson e;
+        e["position"] = vec(w.position);
+        e["radius"] = num(w.radius);
+        e["width"] = num(w.width);
+        e["suspension"] = ojson{{"rest_length", num(w.suspension.restLength)},
+                                {"stiffness", num(w.suspension.stiffness)},
+                                {"damping", num(w.suspension.damping)}};
+        e["steering"] = w.steering;
+        e["driven"] = w.driven;
+        e["hand_brake"] = w.handBrake;
+        e["friction"] = num(w.friction);
+        e["inertia"] = num(w.inertia);
+        wheels.push_back(std::move(e));
+    }
+    j["wheels"] = std::move(wheels);
+    ojson curve = ojson::array();
+    for (const auto& p : d.engine.torqueCurve) curve.push_back(ojson::array({num(p[0]), num(p[1])}));
+    j["engine"] = ojson{{"max_torque", num(d.engine.maxTorque)},
+                        {"max_rpm", num(d.engine.maxRpm)},
+                        {"min_rpm", num(d.engine.minRpm)},
+                        {"torque_curve", std::move(curve)}};
+    ojson ratios = ojson::array();
+    for (const Real r : d.gearbox.ratios) ratios.push_back(num(r));
+    j["gearbox"] = ojson{{"ratios", std::move(ratios)},
+                         {"differential_ratio", num(d.gearbox.differentialRatio)},
+                         {"shift_up_rpm", num(d.gearbox.shiftUpRpm)},
+                         {"shift_down_rpm", num(d.gearbox.shiftDownRpm)}};
+    j["max_brake_torque"] = num(d.maxBrakeTorque);
+    j["max_hand_brake_torque"] = num(d.maxHandBrakeTorque);
+    j["max_steering_angle"] = num(d.maxSteeringAngle);
+    if (!d.antiRollBars.empty()) {
+        ojson bars = ojson::array();
+        for (const AntiRollBar& b : d.antiRollBars) bars.push_back(ojson{{"left", b.left}, {"right", b.right}, {"stiffness", num(b.stiffness)}});
+        j["anti_roll_bars"] = std::move(bars);
+    }
+    if (!d.inputs.empty()) {
+        ojson inputs = ojson::array();
+        for (const VehicleInput& in : d.inputs) {
+            inputs.push_back(ojson{{"time", num(in.time)},
+                                   {"throttle", num(in.throttle)},
+                                   {"brake", num(in.brake)},
+                                   {"steering", num(in.steering)},
+                                   {"hand_brake", in.handBrake}});
+        }
+        j["inputs"] = std::move(inputs);
+    }
+    return j;
+}
+
 ojson clothJson(const SceneCloth& cloth) {
     const ClothDef& d = cloth.def;
     ojson j;
@@ -273,6 +356,16 @@ std::string sceneToJson(const Scene& scene) {
         ojson cloths = ojson::array();
         for (const SceneCloth& c : scene.cloths) cloths.push_back(clothJson(c));
         doc["cloths"] = std::move(cloths);
+    }
+    if (!scene.characters.empty()) {
+        ojson characters = ojson::array();
+        for (const SceneCharacter& c : scene.characters) characters.push_back(characterJson(c));
+        doc["characters"] = std::move(characters);
+    }
+    if (!scene.vehicles.empty()) {
+        ojson vehicles = ojson::array();
+        for (const SceneVehicle& v : scene.vehicles) vehicles.push_back(vehicleJson(v));
+        doc["vehicles"] = std::move(vehicles);
     }
     return doc.dump(2) + "\n";
 }

@@ -416,6 +416,62 @@ void io(A& a, ParticleSystem& s) {
     io(a, s.selfCollision), io(a, s.selfCollisionExclusion), io(a, s.previousSubstep);
 }
 
+// ---- characters and vehicles (version 6)
+template <typename A>
+void io(A& a, CharacterInput& in) {
+    io(a, in.time), io(a, in.velocity), io(a, in.jump);
+}
+template <typename A>
+void io(A& a, CharacterDef& d) {
+    io(a, d.name), io(a, d.position), io(a, d.radius), io(a, d.height), io(a, d.mass), io(a, d.maxSlope),
+        io(a, d.stepHeight), io(a, d.jumpSpeed), io(a, d.maxPushForce), io(a, d.stickDistance), io(a, d.inputs);
+}
+template <typename A>
+void io(A& a, CharacterData& c) {
+    io(a, c.alive), io(a, c.generation), io(a, c.def), io(a, c.cosMaxSlope), io(a, c.body), io(a, c.position), io(a, c.velocity),
+        io(a, c.airVelocity), io(a, c.reportedVelocity);
+    a.enumeration(c.ground, GroundState::InAir);
+    io(a, c.groundNormal), io(a, c.groundVelocity), io(a, c.groundBody), io(a, c.groundLocal), io(a, c.groundPoint),
+        io(a, c.inputVelocity), io(a, c.inputJump), io(a, c.nextInput);
+}
+template <typename A>
+void io(A& a, WheelDef& d) {
+    io(a, d.position), io(a, d.radius), io(a, d.width), io(a, d.suspension.restLength), io(a, d.suspension.stiffness),
+        io(a, d.suspension.damping), io(a, d.steering), io(a, d.driven), io(a, d.handBrake), io(a, d.friction),
+        io(a, d.inertia);
+}
+template <typename A>
+void io(A& a, VehicleInput& in) {
+    io(a, in.time), io(a, in.throttle), io(a, in.brake), io(a, in.steering), io(a, in.handBrake);
+}
+template <typename A>
+void io(A& a, AntiRollBar& b) {
+    io(a, b.left), io(a, b.right), io(a, b.stiffness);
+}
+template <typename A>
+void io(A& a, VehicleDef& d) {
+    io(a, d.name), io(a, d.chassis), io(a, d.wheels), io(a, d.engine.maxTorque), io(a, d.engine.maxRpm),
+        io(a, d.engine.minRpm), io(a, d.engine.torqueCurve), io(a, d.gearbox.ratios), io(a, d.gearbox.differentialRatio),
+        io(a, d.gearbox.shiftUpRpm), io(a, d.gearbox.shiftDownRpm), io(a, d.maxBrakeTorque), io(a, d.maxHandBrakeTorque),
+        io(a, d.maxSteeringAngle), io(a, d.antiRollBars), io(a, d.inputs);
+}
+template <typename A>
+void io(A& a, WheelState& s) {
+    io(a, s.inContact), io(a, s.suspensionLength), io(a, s.suspensionForce), io(a, s.angularVelocity), io(a, s.rotation),
+        io(a, s.steerAngle), io(a, s.longitudinalSlip), io(a, s.lateralSlip), io(a, s.contactPoint), io(a, s.contactNormal),
+        io(a, s.contactBody);
+}
+template <typename A>
+void io(A& a, WheelData& wh) {
+    // The tyre solve's scratch is rebuilt every step; only what carries over is kept.
+    io(a, wh.mountLocal), io(a, wh.state), io(a, wh.sinSteer), io(a, wh.cosSteer);
+}
+template <typename A>
+void io(A& a, VehicleData& v) {
+    io(a, v.alive), io(a, v.generation), io(a, v.def), io(a, v.wheels), io(a, v.input), io(a, v.nextInput), io(a, v.gear),
+        io(a, v.engineRpm);
+}
+
 }  // namespace
 }  // namespace fulcrum::detail
 
@@ -696,6 +752,16 @@ void worldState(A& a, WorldImpl& w, std::string& userData) {
     SnapshotAccess::particles(a, w.particles.world);
     a.at("particle systems");
     io(a, w.particles.live);
+
+    // Version 6: characters and vehicles (docs/characters.md, docs/vehicles.md).
+    if (a.version >= 6) {
+        a.at("characters");
+        io(a, w.characters.pool.slots()), io(a, w.characters.pool.freeSlots()), io(a, w.characters.order);
+        a.at("vehicles");
+        io(a, w.vehicles.pool.slots()), io(a, w.vehicles.pool.freeSlots()), io(a, w.vehicles.order);
+    } else if (!w.characters.empty() || !w.vehicles.empty()) {
+        a.fail("characters and vehicles need format version 6 or later");
+    }
 }
 
 // ---------------------------------------------------------------- checks after loading
@@ -734,6 +800,34 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         if (j.alive && (!bodyOk(j.def.bodyA) || !bodyOk(j.def.bodyB))) fail("joints[" + std::to_string(i) + "] body handle");
     }
     if (!w.joints.consistent()) fail("free joint slot list");
+    if (!w.characters.pool.consistent()) fail("free character slot list");
+    for (const std::uint32_t slot : w.characters.order) {
+        if (slot >= w.characters.pool.size() || !w.characters.pool[slot].alive) fail("character order");
+        const CharacterData& c = w.characters.pool[slot];
+        if (!w.isLive(c.body) || w.params[w.resolveBody(c.body, "snapshot")].type != BodyType::Kinematic ||
+            w.cold[w.resolveBody(c.body, "snapshot")].shape.type() != ShapeType::Capsule) {
+            fail("characters[" + std::to_string(slot) + "] capsule body");
+        }
+        if (!bodyOk(c.groundBody)) fail("characters[" + std::to_string(slot) + "] ground body");
+    }
+    if (w.characters.order.size() != w.characters.pool.liveCount()) fail("character count");
+    if (!w.vehicles.pool.consistent()) fail("free vehicle slot list");
+    for (const std::uint32_t slot : w.vehicles.order) {
+        if (slot >= w.vehicles.pool.size() || !w.vehicles.pool[slot].alive) fail("vehicle order");
+        const VehicleData& v = w.vehicles.pool[slot];
+        if (!bodyOk(v.def.chassis) || v.wheels.size() != v.def.wheels.size() || v.def.wheels.empty() ||
+            v.def.gearbox.ratios.empty() || v.def.engine.torqueCurve.empty() || v.gear < 1 ||
+            v.gear > static_cast<int>(v.def.gearbox.ratios.size())) {
+            fail("vehicles[" + std::to_string(slot) + "] definition");
+        }
+        for (const AntiRollBar& b : v.def.antiRollBars) {
+            if (b.left >= v.wheels.size() || b.right >= v.wheels.size()) fail("vehicles[" + std::to_string(slot) + "] anti-roll bar");
+        }
+        for (const WheelData& wh : v.wheels) {
+            if (!bodyOk(wh.state.contactBody)) fail("vehicles[" + std::to_string(slot) + "] wheel contact body");
+        }
+    }
+    if (w.vehicles.order.size() != w.vehicles.pool.liveCount()) fail("vehicle count");
 
     // Broad phase: the trees' and records' own invariants, then the links to bodies.
     if (const std::string why = SnapshotAccess::validateBroadPhase(w.contactManager); !why.empty()) fail("broad phase: " + why);

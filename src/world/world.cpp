@@ -221,6 +221,11 @@ BodyId World::createBody(const BodyDef& def) {
 void World::destroyBody(BodyId id) {
     WorldImpl& w = *impl_;
     const std::uint32_t dense = w.resolveBody(id, "World::destroyBody");
+    for (const std::uint32_t slot : w.characters.order) {
+        if (w.characters.pool[slot].body == id) {
+            fail(subjectOf(w, dense), "body", "is a character's capsule: destroy the character (World::destroyCharacter) instead");
+        }
+    }
 
     // Springs and joints attached to the body go with it, so they never hold a stale handle.
     for (std::uint32_t i = 0; i < w.springs.size(); ++i) {
@@ -523,7 +528,10 @@ void World::step(Real dt) {
                     " and may be inconsistent since; restore a snapshot or build it again");
     }
     try {
+        const double t0 = w.time;
+        if (!w.vehicles.empty()) w.vehicles.update(*this, t0, dt);  // forces for this step (vehicle_system.hpp)
         w.step(dt);
+        if (!w.characters.empty()) w.characters.update(*this, t0, dt);  // after the bodies (character_system.hpp)
     } catch (const NumericalError&) {
         w.nonFiniteSinceStep = w.stepCount;
         throw;

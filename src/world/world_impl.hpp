@@ -54,6 +54,8 @@
 #include "threads/staged_parallel.hpp"
 #include "world/particle_coupling.hpp"
 #include "world/stray_bodies.hpp"
+#include "character/character_system.hpp"
+#include "vehicle/vehicle_system.hpp"
 
 namespace fulcrum {
 
@@ -104,6 +106,11 @@ struct WorldImpl : detail::BodyStore {
 
     // ---- particle systems: ropes and cloths (src/world/particle_coupling.hpp)
     detail::WorldParticles particles;
+
+    // ---- characters (src/character/character_system.hpp): moved after each step
+    detail::CharacterSystem characters;
+    // ---- vehicles (src/vehicle/vehicle_system.hpp): forces applied before each step
+    detail::VehicleSystem vehicles;
 
     // ---- world queries (src/world/world_queries.cpp): bodies that have left
     // their broad-phase proxy since it was last moved. Rebuilt lazily per step;

@@ -56,7 +56,10 @@ TEST(ExampleScenes, EveryOneBuildsAWorld) {
         const Scene scene = loadScene(file);
         SceneHandles handles;
         const World world = buildWorld(scene, &handles);
-        EXPECT_EQ(world.bodyCount(), scene.bodies.size());
+        // Each character brings its capsule body (docs/characters.md).
+        EXPECT_EQ(world.bodyCount(), scene.bodies.size() + scene.characters.size());
+        EXPECT_EQ(handles.characters.size(), scene.characters.size());
+        EXPECT_EQ(handles.vehicles.size(), scene.vehicles.size());
         EXPECT_EQ(handles.joints.size(), scene.joints.size());
         EXPECT_EQ(handles.springs.size(), scene.springs.size());
         EXPECT_EQ(world.springCount(), scene.springs.size());

@@ -117,7 +117,7 @@ TEST(Snapshot, FileRoundTrip) {
 TEST(Snapshot, UnknownVersionIsRefused) {
     auto bytes = saveSnapshotToMemory(steppedMixed(1));
     bytes[8] = 7;
-    EXPECT_EQ(errorOf(bytes), "snap.bin: unsupported snapshot version 7 (this build reads versions 2 to 5)");
+    EXPECT_EQ(errorOf(bytes), "snap.bin: unsupported snapshot version 7 (this build reads versions 2 to 6)");
 }
 
 TEST(Snapshot, ForeignFileIsRefused) {
@@ -154,10 +154,10 @@ TEST(Snapshot, TruncationNamesTheByteAndThePart) {
     // A cut inside the body records names the body.
     const std::string mid = errorOf({good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 8)});
     EXPECT_NE(mid.find("bodies["), std::string::npos) << mid;
-    // The file ends with the live particle systems' handles (two 4-byte
-    // integers each): cut 3 bytes off and the last integer is the one cut.
-    EXPECT_EQ(errorOf({good.begin(), good.end() - 3}),
-              prefix + std::to_string(good.size() - 4) + " (particle systems)");
+    // The file ends with the vehicles' section (version 6): without vehicles,
+    // the 8-byte counts of their slots, free slots and order. Cut 3 bytes off
+    // and the last count is the one cut.
+    EXPECT_EQ(errorOf({good.begin(), good.end() - 3}), prefix + std::to_string(good.size() - 8) + " (vehicles)");
 }
 
 TEST(Snapshot, InconsistentContentIsRefused) {
