@@ -692,6 +692,25 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         if (slot >= w.bodySlots.size() || w.bodySlots[slot].dense != d) fail("bodies[" + std::to_string(d) + "] slot table");
         const Shape& s = w.cold[d].shape;
         if (w.params[d].type != BodyType::Static && s.staticOnly()) fail("bodies[" + std::to_string(d) + "] moving body with a static-only shape");
+        // The state the step reads without checking (found by
+        // fuzz/snapshot_fuzz.cpp: a NaN pose reached the broad phase's
+        // assertion on the box it moves to).
+        const BodyMotion& m = w.motion[d];
+        const Real qq = dot(m.q, m.q);
+        if (!isFinite(m.com) || !isFinite(m.q) || !isFinite(m.v) || !isFinite(m.w) || !std::isfinite(m.invMass) ||
+            !isFinite(m.invInertiaWorld) || !isFinite(w.forces[d].force) || !isFinite(w.forces[d].torque) ||
+            !(std::fabs(qq - 1) < Real(1e-3))) {
+            fail("bodies[" + std::to_string(d) + "] pose, velocity or force not finite (or orientation not unit)");
+        }
+        const BodyParams& bp = w.params[d];
+        const Real numbers[] = {bp.mass, bp.linearDamping, bp.angularDamping, bp.linearDrag, bp.quadraticDrag, bp.gravityScale,
+                                bp.friction, bp.restitution, bp.rollingResistance, bp.extent, bp.sleepTime};
+        bool finiteNumbers = isFinite(bp.localCom) && isFinite(bp.localInertia) && isFinite(bp.invLocalInertia) &&
+                             isFinite(w.applied[d].force) && isFinite(w.applied[d].torque);
+        for (const Real x : numbers) finiteNumbers = finiteNumbers && std::isfinite(x);
+        if (!finiteNumbers) fail("bodies[" + std::to_string(d) + "] mass, material or damping not finite");
+        const AABB box = s.bounds(Transform{m.com, m.q});
+        if (!isFinite(box.min) || !isFinite(box.max) || box.isEmpty()) fail("bodies[" + std::to_string(d) + "] shape bounds not finite");
     }
     std::size_t liveSlots = 0;
     for (const BodySlot& s : w.bodySlots) {

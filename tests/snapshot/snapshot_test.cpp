@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "determinism/state_hash.hpp"
@@ -174,3 +175,22 @@ TEST(Snapshot, InconsistentContentIsRefused) {
 
 }  // namespace
 }  // namespace fulcrum
+
+// Found by fuzz/snapshot_fuzz.cpp (the file is its reproducer, checksum
+// right): a body's centre of mass in its shape's frame was NaN, the load
+// accepted it and the first step's broad phase got a NaN box. Every number
+// the step reads without checking is now checked when loading.
+TEST(Snapshot, NonFiniteBodyStateIsRefusedWhenLoading) {
+    const std::string file = std::string(FULCRUM_SOURCE_DIR) + "/fuzz/corpus/snapshot/nan_local_com.snap";
+    std::ifstream in(file, std::ios::binary);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 32u);
+    try {
+        (void)fulcrum::loadSnapshotFromMemory(bytes, nullptr, "nan.snap");
+        FAIL() << "a NaN centre of mass loaded";
+    } catch (const fulcrum::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("nan.snap: inconsistent snapshot: bodies[2] mass, material or damping not finite"),
+                  std::string::npos)
+            << e.what();
+    }
+}
