@@ -771,14 +771,29 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
             s.inverseMass.size() != np || s.radius.size() != np) {
             fail("particle system '" + s.name + "' array lengths");
         }
+        // Numbers the particle step reads unchecked (found by
+        // fuzz/snapshot_fuzz.cpp: a bad position sent the self-collision
+        // grid's cell index out of its table).
+        bool finiteNumbers = std::isfinite(s.damping) && std::isfinite(s.linearDrag) && std::isfinite(s.friction) &&
+                             std::isfinite(s.dragCoefficient) && std::isfinite(s.liftCoefficient) &&
+                             std::isfinite(s.selfCollisionExclusion) && std::isfinite(s.previousSubstep);
+        for (std::size_t i = 0; i < np && finiteNumbers; ++i) {
+            finiteNumbers = isFinite(s.position[i]) && isFinite(s.displacement[i]) && isFinite(s.restPosition[i]) &&
+                            isFinite(s.force[i]) && std::isfinite(s.inverseMass[i]) && s.inverseMass[i] >= 0 &&
+                            std::isfinite(s.radius[i]) && s.radius[i] > 0;
+        }
+        if (!finiteNumbers) fail("particle system '" + s.name + "' positions, masses, radii or material not finite");
         for (const DistanceConstraintGroup* g : {&s.stretch, &s.shear, &s.bend, &s.tethers}) {
             if (g->lambda.size() != g->constraints.size()) fail("particle system '" + s.name + "' multipliers");
+            if (!std::isfinite(g->compliance) || g->compliance < 0) fail("particle system '" + s.name + "' compliance");
             for (const DistanceConstraint& c : g->constraints) {
                 if (c.a >= np || c.b >= np) fail("particle system '" + s.name + "' constraint index");
+                if (!std::isfinite(c.restLength) || c.restLength < 0) fail("particle system '" + s.name + "' rest length");
             }
         }
         for (const ParticlePin& p : s.pins) {
             if (p.particle >= np) fail("particle system '" + s.name + "' pin index");
+            if (!isFinite(p.target)) fail("particle system '" + s.name + "' pin target");
         }
         for (const ParticleAttachment& at : s.attachments) {
             if (at.particle >= np || at.body >= slotCount || w.bodySlots[at.body].dense == kNoIndex) {
