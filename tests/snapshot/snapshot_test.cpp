@@ -208,4 +208,8 @@ TEST(Snapshot, NonFiniteBodyStateIsRefusedWhenLoading) {
 TEST(Snapshot, NonFiniteParticleStateIsRefusedWhenLoading) {
     EXPECT_EQ(loadErrorOf("bad_particle.snap"),
               "bad_particle.snap: inconsistent snapshot: particle system 'c1' positions, masses, radii or material not finite");
+    // A particle radius of 0 made the grid's cell size 0, and the search for
+    // a cell size that fits the table never ended (a hang, not a crash).
+    EXPECT_EQ(loadErrorOf("zero_particle_radius.snap"),
+              "zero_particle_radius.snap: inconsistent snapshot: particle system 'c1' positions, masses, radii or material not finite");
 }
