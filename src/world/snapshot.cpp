@@ -761,8 +761,21 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         }
     }
 
-    // Particles: array lengths and indices.
+    // Particles: the particle world's settings (its sub-steps and sweeps
+    // too: found by fuzz/snapshot_fuzz.cpp, a count of 2e9 ran for ever),
+    // then array lengths and indices.
     const ParticleWorld& pw = w.particles.world;
+    try {
+        ParticleWorld check;
+        check.setSettings(pw.settings());
+    } catch (const Error& e) {
+        fail(std::string("particle settings: ") + e.what());
+    }
+    if (pw.settings().substeps > kMaxSubsteps || pw.settings().iterations > kMaxSolverIterations) {
+        fail("particle settings: substeps " + std::to_string(pw.settings().substeps) + " and iterations " +
+             std::to_string(pw.settings().iterations) + " must be at most " + std::to_string(kMaxSubsteps) + " and " +
+             std::to_string(kMaxSolverIterations));
+    }
     for (const ParticleSystemId id : w.particles.live) {
         if (!pw.isValid(id)) fail("live particle system handle");
         const ParticleSystem& s = pw.system(id);

@@ -213,3 +213,11 @@ TEST(Snapshot, NonFiniteParticleStateIsRefusedWhenLoading) {
     EXPECT_EQ(loadErrorOf("zero_particle_radius.snap"),
               "zero_particle_radius.snap: inconsistent snapshot: particle system 'c1' positions, masses, radii or material not finite");
 }
+
+// The particle world's own sub-steps and sweeps, which no World changes, came
+// from the file unchecked: 4e7 x 6e6 ran for ever (found by fuzz/snapshot_fuzz.cpp).
+TEST(Snapshot, ParticleSettingsOutsideTheLimitsAreRefusedWhenLoading) {
+    EXPECT_EQ(loadErrorOf("huge_particle_substeps.snap"),
+              "huge_particle_substeps.snap: inconsistent snapshot: particle settings: substeps 39657488 and iterations "
+              "6316032 must be at most 1000 and 1000");
+}
