@@ -10,12 +10,13 @@
 # finds go to build/fuzz/corpus/TARGET/, never into the repository's corpus
 # (merge the useful ones by hand: docs/reliability.md, "Fuzzing").
 # More libFuzzer flags may follow SECONDS (e.g. -jobs=2, -seed=1).
+# FUZZ_BUILD_DIR builds elsewhere (e.g. a cold build to time it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 targets() { sed -n 's/^fulcrum_fuzz_target(\([a-z_0-9]*\).*/\1/p' fuzz/CMakeLists.txt; }
 
-build_dir=${FUZZ_BUILD_DIR:-build/fuzz}  # another folder for a cold build, e.g. to time one
+build_dir=${FUZZ_BUILD_DIR:-build/fuzz}
 build() {
   local cc=clang cxx=clang++ launcher=()
   command -v "$cxx" >/dev/null || { echo "fuzz.sh: clang++ not found: run scripts/install-deps.sh" >&2; exit 2; }
@@ -35,7 +36,7 @@ build() {
 case "${1:-}" in
   --list) targets; exit 0 ;;
   --build) build; exit 0 ;;
-  ""|-h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+  ""|-h|--help) sed -n '2,/^set /p' "$0" | sed -n 's/^# \{0,1\}//p'; exit 2 ;;
 esac
 target=$1
 seconds=${2:?"usage: scripts/fuzz.sh TARGET SECONDS (scripts/fuzz.sh --list names the targets)"}
