@@ -760,6 +760,13 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
             if (m.pointCount > 4) fail("contacts[" + std::to_string(i) + "] manifold point count");
         }
     }
+    // The free list: in range, dead entries only, no cycle (found by
+    // fuzz/snapshot_fuzz.cpp: a head past the end made the next new contact
+    // write outside the table).
+    std::size_t freeSteps = 0;
+    for (std::uint32_t f = w.contactManager.firstFreeContact(); f != UINT32_MAX; f = contacts[f].nextFree) {
+        if (f >= contactCount || contacts[f].alive || ++freeSteps > contactCount) fail("free contact list");
+    }
 
     // Particles: the particle world's settings (its sub-steps and sweeps
     // too: found by fuzz/snapshot_fuzz.cpp, a count of 2e9 ran for ever),

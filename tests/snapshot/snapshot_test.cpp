@@ -221,3 +221,10 @@ TEST(Snapshot, ParticleSettingsOutsideTheLimitsAreRefusedWhenLoading) {
               "huge_particle_substeps.snap: inconsistent snapshot: particle settings: substeps 39657488 and iterations "
               "6316032 must be at most 1000 and 1000");
 }
+
+// The contact free list came from the file unchecked: a head past the end
+// made the first new contact write outside the table (a SEGV; found by
+// fuzz/snapshot_fuzz.cpp).
+TEST(Snapshot, ABadContactFreeListIsRefusedWhenLoading) {
+    EXPECT_EQ(loadErrorOf("bad_free_contact.snap"), "bad_free_contact.snap: inconsistent snapshot: free contact list");
+}
