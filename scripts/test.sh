@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs every test: a Release build with warnings as errors, then an
 # AddressSanitizer + UndefinedBehaviorSanitizer build.
-# Usage: scripts/test.sh [--quick]   (--quick: the Release pass only)
+# Usage: scripts/test.sh [--quick]   (--quick: the Release pass only; the full run
+# adds the sanitizer pass and a bounded run of every fuzz target)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -37,4 +38,24 @@ if [ $quick -eq 0 ]; then
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     run_suite "ASan+UBSan" build/sanitize "$sanitize_ctest_args" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFULCRUM_SANITIZE=ON \
       -DFULCRUM_VALIDATE=ON "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+fi
+if [ $quick -eq 0 ]; then
+  # Fuzzing (docs/reliability.md, "Fuzzing"): every libFuzzer target of fuzz/
+  # for FUZZ_SECONDS (default 40) from its corpus, so that a change that
+  # crashes a loader cannot land. Its own build (build/fuzz: clang, the engine
+  # and the targets only). A finding fails the run and names the input.
+  echo "== Fuzz build"
+  scripts/fuzz.sh --build
+  mkdir -p build/fuzz/logs
+  for target in $(scripts/fuzz.sh --list); do
+    log=build/fuzz/logs/$target.log
+    if scripts/fuzz.sh "$target" "${FUZZ_SECONDS:-40}" >"$log" 2>&1; then
+      echo "== Fuzz $target: $(sed -n 's/^stat::number_of_executed_units: //p' "$log") inputs, no finding"
+    else
+      tail -n 60 "$log"
+      echo "test.sh: the fuzz target $target found a problem (log: $log; the input: build/fuzz/artifacts/$target/;" \
+           "reproduce: build/fuzz/fuzz/fuzz_$target FILE)"
+      exit 1
+    fi
+  done
 fi

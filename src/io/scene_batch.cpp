@@ -29,6 +29,13 @@ std::vector<Segment> parsePath(std::string_view source, const SceneOverride& o) 
     std::vector<Segment> segments;
     std::size_t i = 0;
     if (p.empty()) refuse(source, o, "empty override path");
+    // Its keys become the document's keys, which must be UTF-8 to be written
+    // (found by fuzz/overrides_fuzz.cpp: nlohmann's type_error escaped).
+    try {
+        (void)json(p).dump();
+    } catch (const json::exception&) {
+        refuse(source, o, "the path is not UTF-8 text");
+    }
     while (i < p.size()) {
         const std::size_t keyEnd = p.find_first_of(".[]", i);
         const std::string key = p.substr(i, keyEnd == std::string::npos ? std::string::npos : keyEnd - i);

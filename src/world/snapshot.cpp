@@ -777,6 +777,25 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         if (slot >= w.bodySlots.size() || w.bodySlots[slot].dense != d) fail("bodies[" + std::to_string(d) + "] slot table");
         const Shape& s = w.cold[d].shape;
         if (w.params[d].type != BodyType::Static && s.staticOnly()) fail("bodies[" + std::to_string(d) + "] moving body with a static-only shape");
+        // The state the step reads without checking (found by
+        // fuzz/snapshot_fuzz.cpp: a NaN pose reached the broad phase's
+        // assertion on the box it moves to).
+        const BodyMotion& m = w.motion[d];
+        const Real qq = dot(m.q, m.q);
+        if (!isFinite(m.com) || !isFinite(m.q) || !isFinite(m.v) || !isFinite(m.w) || !std::isfinite(m.invMass) ||
+            !isFinite(m.invInertiaWorld) || !isFinite(w.forces[d].force) || !isFinite(w.forces[d].torque) ||
+            !(std::fabs(qq - 1) < Real(1e-3))) {
+            fail("bodies[" + std::to_string(d) + "] pose, velocity or force not finite (or orientation not unit)");
+        }
+        const BodyParams& bp = w.params[d];
+        const Real numbers[] = {bp.mass, bp.linearDamping, bp.angularDamping, bp.linearDrag, bp.quadraticDrag, bp.gravityScale,
+                                bp.friction, bp.restitution, bp.rollingResistance, bp.extent, bp.sleepTime};
+        bool finiteNumbers = isFinite(bp.localCom) && isFinite(bp.localInertia) && isFinite(bp.invLocalInertia) &&
+                             isFinite(w.applied[d].force) && isFinite(w.applied[d].torque);
+        for (const Real x : numbers) finiteNumbers = finiteNumbers && std::isfinite(x);
+        if (!finiteNumbers) fail("bodies[" + std::to_string(d) + "] mass, material or damping not finite");
+        const AABB box = s.bounds(Transform{m.com, m.q});
+        if (!isFinite(box.min) || !isFinite(box.max) || box.isEmpty()) fail("bodies[" + std::to_string(d) + "] shape bounds not finite");
     }
     std::size_t liveSlots = 0;
     for (const BodySlot& s : w.bodySlots) {
@@ -854,9 +873,29 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
             if (m.pointCount > 4) fail("contacts[" + std::to_string(i) + "] manifold point count");
         }
     }
+    // The free list: in range, dead entries only, no cycle (found by
+    // fuzz/snapshot_fuzz.cpp: a head past the end made the next new contact
+    // write outside the table).
+    std::size_t freeSteps = 0;
+    for (std::uint32_t f = w.contactManager.firstFreeContact(); f != UINT32_MAX; f = contacts[f].nextFree) {
+        if (f >= contactCount || contacts[f].alive || ++freeSteps > contactCount) fail("free contact list");
+    }
 
-    // Particles: array lengths and indices.
+    // Particles: the particle world's settings (its sub-steps and sweeps
+    // too: found by fuzz/snapshot_fuzz.cpp, a count of 2e9 ran for ever),
+    // then array lengths and indices.
     const ParticleWorld& pw = w.particles.world;
+    try {
+        ParticleWorld check;
+        check.setSettings(pw.settings());
+    } catch (const Error& e) {
+        fail(std::string("particle settings: ") + e.what());
+    }
+    if (pw.settings().substeps > kMaxSubsteps || pw.settings().iterations > kMaxSolverIterations) {
+        fail("particle settings: substeps " + std::to_string(pw.settings().substeps) + " and iterations " +
+             std::to_string(pw.settings().iterations) + " must be at most " + std::to_string(kMaxSubsteps) + " and " +
+             std::to_string(kMaxSolverIterations));
+    }
     for (const ParticleSystemId id : w.particles.live) {
         if (!pw.isValid(id)) fail("live particle system handle");
         const ParticleSystem& s = pw.system(id);
@@ -865,14 +904,29 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
             s.inverseMass.size() != np || s.radius.size() != np) {
             fail("particle system '" + s.name + "' array lengths");
         }
+        // Numbers the particle step reads unchecked (found by
+        // fuzz/snapshot_fuzz.cpp: a bad position sent the self-collision
+        // grid's cell index out of its table).
+        bool finiteNumbers = std::isfinite(s.damping) && std::isfinite(s.linearDrag) && std::isfinite(s.friction) &&
+                             std::isfinite(s.dragCoefficient) && std::isfinite(s.liftCoefficient) &&
+                             std::isfinite(s.selfCollisionExclusion) && std::isfinite(s.previousSubstep);
+        for (std::size_t i = 0; i < np && finiteNumbers; ++i) {
+            finiteNumbers = isFinite(s.position[i]) && isFinite(s.displacement[i]) && isFinite(s.restPosition[i]) &&
+                            isFinite(s.force[i]) && std::isfinite(s.inverseMass[i]) && s.inverseMass[i] >= 0 &&
+                            std::isfinite(s.radius[i]) && s.radius[i] > 0;
+        }
+        if (!finiteNumbers) fail("particle system '" + s.name + "' positions, masses, radii or material not finite");
         for (const DistanceConstraintGroup* g : {&s.stretch, &s.shear, &s.bend, &s.tethers}) {
             if (g->lambda.size() != g->constraints.size()) fail("particle system '" + s.name + "' multipliers");
+            if (!std::isfinite(g->compliance) || g->compliance < 0) fail("particle system '" + s.name + "' compliance");
             for (const DistanceConstraint& c : g->constraints) {
                 if (c.a >= np || c.b >= np) fail("particle system '" + s.name + "' constraint index");
+                if (!std::isfinite(c.restLength) || c.restLength < 0) fail("particle system '" + s.name + "' rest length");
             }
         }
         for (const ParticlePin& p : s.pins) {
             if (p.particle >= np) fail("particle system '" + s.name + "' pin index");
+            if (!isFinite(p.target)) fail("particle system '" + s.name + "' pin target");
         }
         for (const ParticleAttachment& at : s.attachments) {
             if (at.particle >= np || at.body >= slotCount || w.bodySlots[at.body].dense == kNoIndex) {

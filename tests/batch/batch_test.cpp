@@ -218,6 +218,9 @@ TEST(Batch, BadInputIsAnErrorNamingIt) {
               std::string::npos);
     EXPECT_NE(overrideError("bodies[ball].restitution", "0.3x").find("value is not valid JSON: 0.3x"), std::string::npos);
     EXPECT_NE(overrideError("bodies[ball", "1").find("malformed path"), std::string::npos);
+    // Found by fuzz/overrides_fuzz.cpp: a path that is not UTF-8 (its key
+    // went into the document, and writing that threw nlohmann's type_error).
+    EXPECT_NE(overrideError("bodies[1].shape\xf0" "9.radius", "0.5").find("the path is not UTF-8 text"), std::string::npos);
     EXPECT_NE(overrideError("world.gravity.x", "1").find("'gravity' is an array, not an object"), std::string::npos);
     // Checked before any world is built: world 2 of 3 is wrong.
     std::vector<SceneOverrides> sets = overridesOfBatch(3);

@@ -116,3 +116,30 @@ TEST(Sat, BoxBoxDepthAlongEachFaceAxis) {
         for (const ContactPoint& c : out[0].contacts()) EXPECT_NEAR(c.depth, 0.05f, 1e-5f);
     }
 }
+
+// Found by fuzz/narrowphase_fuzz.cpp (its reproducer is in
+// fuzz/corpus/narrowphase/): for concentric shapes GJK's first segment runs
+// through the origin and the closest point then stays ~1e-6 m from it; GJK
+// called that "separated", EPA trusted it, and two cylinders 4.8 m deep in
+// each other got a depth of -2e-6 (the fuzz build) or the radial 6.35 m
+// instead of the axial 4.83 m (Release).
+TEST(Gjk, ConcentricShapesOverlapInsteadOfTouchingWithinFloatNoise) {
+    const Quat q{Real(0.5), Real(0.5), Real(0.5), Real(0.5)};
+    const Transform at{{10, 10, 10}, q};
+    const Shape small = Shape::cylinder(Real(2.3528), Real(0.829118)), big = Shape::cylinder(4, 4);
+    const detail::GjkResult g = detail::gjkDistance(detail::makeConvex(small, at), detail::makeConvex(big, at), true);
+    EXPECT_TRUE(g.overlap);
+    ManifoldBuffer ab, ba;
+    collide(small, at, big, at, Real(0.1), ab);
+    collide(big, at, small, at, Real(0.1), ba);
+    ASSERT_EQ(ab.size(), 1u);
+    ASSERT_EQ(ba.size(), 1u);
+    // The least push-out is along the common axis: half-heights 0.829 + 4.
+    EXPECT_NEAR(ab[0].maxDepth(), Real(4.829118), Real(1e-3));
+    EXPECT_NEAR(ba[0].maxDepth(), Real(4.829118), Real(1e-3));
+    // A small sphere at a cylinder's centre is inside it, not 1e-6 m away.
+    const detail::GjkResult s =
+        detail::gjkDistance(detail::makeConvex(Shape::cylinder(Real(2.3528), Real(0.836891)), at),
+                            detail::makeConvex(Shape::sphere(Real(0.02)), at), true);
+    EXPECT_TRUE(s.overlap);
+}

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "determinism/state_hash.hpp"
@@ -174,3 +175,56 @@ TEST(Snapshot, InconsistentContentIsRefused) {
 
 }  // namespace
 }  // namespace fulcrum
+
+// Found by fuzz/snapshot_fuzz.cpp (the file is its reproducer, checksum
+// right): a body's centre of mass in its shape's frame was NaN, the load
+// accepted it and the first step's broad phase got a NaN box. Every number
+// the step reads without checking is now checked when loading.
+namespace {
+
+std::string loadErrorOf(const char* corpusFile) {
+    const std::string file = std::string(FULCRUM_SOURCE_DIR) + "/fuzz/corpus/snapshot/" + corpusFile;
+    std::ifstream in(file, std::ios::binary);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (bytes.size() <= 32) return "missing " + file;
+    try {
+        (void)fulcrum::loadSnapshotFromMemory(bytes, nullptr, corpusFile);
+    } catch (const fulcrum::Error& e) {
+        return e.what();
+    }
+    return "loaded";
+}
+
+}  // namespace
+
+TEST(Snapshot, NonFiniteBodyStateIsRefusedWhenLoading) {
+    EXPECT_EQ(loadErrorOf("nan_local_com.snap"),
+              "nan_local_com.snap: inconsistent snapshot: bodies[2] mass, material or damping not finite");
+}
+
+// Also found by fuzz/snapshot_fuzz.cpp: a cloth with a non-finite particle
+// loaded, and its first step's self-collision grid indexed past its table
+// (a heap overflow under AddressSanitizer).
+TEST(Snapshot, NonFiniteParticleStateIsRefusedWhenLoading) {
+    EXPECT_EQ(loadErrorOf("bad_particle.snap"),
+              "bad_particle.snap: inconsistent snapshot: particle system 'c1' positions, masses, radii or material not finite");
+    // A particle radius of 0 made the grid's cell size 0, and the search for
+    // a cell size that fits the table never ended (a hang, not a crash).
+    EXPECT_EQ(loadErrorOf("zero_particle_radius.snap"),
+              "zero_particle_radius.snap: inconsistent snapshot: particle system 'c1' positions, masses, radii or material not finite");
+}
+
+// The particle world's own sub-steps and sweeps, which no World changes, came
+// from the file unchecked: 4e7 x 6e6 ran for ever (found by fuzz/snapshot_fuzz.cpp).
+TEST(Snapshot, ParticleSettingsOutsideTheLimitsAreRefusedWhenLoading) {
+    EXPECT_EQ(loadErrorOf("huge_particle_substeps.snap"),
+              "huge_particle_substeps.snap: inconsistent snapshot: particle settings: substeps 39657488 and iterations "
+              "6316032 must be at most 1000 and 1000");
+}
+
+// The contact free list came from the file unchecked: a head past the end
+// made the first new contact write outside the table (a SEGV; found by
+// fuzz/snapshot_fuzz.cpp).
+TEST(Snapshot, ABadContactFreeListIsRefusedWhenLoading) {
+    EXPECT_EQ(loadErrorOf("bad_free_contact.snap"), "bad_free_contact.snap: inconsistent snapshot: free contact list");
+}
