@@ -59,9 +59,20 @@ void SelfCollision::findPairs(const ParticleSystem& s, const ParticleSoA& p, Tas
     // size >= reach: touching pairs are in the same or adjacent cells. A
     // scattered system gets coarser cells rather than a huge table.
     Vec3 lo = p.position(0), hi = lo;
-    for (std::size_t i = 1; i < n; ++i) {
-        lo = min(lo, p.position(i));
-        hi = max(hi, p.position(i));
+    bool finite = true;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 x = p.position(i);
+        finite = finite && std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z);
+        lo = min(lo, x);
+        hi = max(hi, x);
+    }
+    // A system gone non-finite (a loaded snapshot that blows up in its first
+    // sub-step; found by fuzz/snapshot_fuzz.cpp) has no grid: min/max skip
+    // NaNs, so its cell coordinates would fall outside the table. No pairs;
+    // the step's check after the sub-steps reports the NaN.
+    if (!finite) {
+        valid_ = false;
+        return;
     }
     Real cell = reach;
     std::size_t gx = 0, gy = 0, gz = 0;

@@ -228,3 +228,30 @@ TEST(Snapshot, ParticleSettingsOutsideTheLimitsAreRefusedWhenLoading) {
 TEST(Snapshot, ABadContactFreeListIsRefusedWhenLoading) {
     EXPECT_EQ(loadErrorOf("bad_free_contact.snap"), "bad_free_contact.snap: inconsistent snapshot: free contact list");
 }
+
+// Found by fuzz/snapshot_fuzz.cpp: a snapshot that loads, every number
+// finite, whose first step's self-collision grid computed a negative cell
+// coordinate and converted it to an unsigned index (undefined behaviour,
+// UBSan's report; the sanitizer pass of the test command runs this). The
+// file is the reproducer (its checksum corrected here, as the target does).
+TEST(Snapshot, SelfCollisionGridOfALoadedClothStaysInItsTable) {
+    const std::filesystem::path file =
+        std::filesystem::path(FULCRUM_SOURCE_DIR) / "fuzz" / "corpus" / "snapshot" / "self_collision_cell_index.snap";
+    std::ifstream in(file, std::ios::binary);
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 32u) << "missing " << file.string();
+    std::uint64_t h = 14695981039346656037ull;  // the format's checksum (FNV-1a of the payload)
+    for (std::size_t i = 32; i < bytes.size(); ++i) {
+        h ^= bytes[i];
+        h *= 1099511628211ull;
+    }
+    for (std::size_t i = 0; i < 8; ++i) bytes[24 + i] = static_cast<std::uint8_t>(h >> (8 * i));
+    try {
+        fulcrum::World world = fulcrum::loadSnapshotFromMemory(bytes, nullptr, "self_collision_cell_index.snap");
+        world.setThreadCount(1);
+        for (int i = 0; i < 3; ++i) world.step(fulcrum::Real(1) / fulcrum::Real(60));
+        SUCCEED() << "loaded and stepped";
+    } catch (const fulcrum::Error& e) {
+        SUCCEED() << "refused: " << e.what();
+    }
+}
