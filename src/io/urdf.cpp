@@ -389,7 +389,9 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
     }
 
     std::map<std::string, JointDrive, std::less<>> driveOf;
-    for (const auto& [name, drive] : drives) {
+    for (const auto& entry : drives) {
+        const std::string& name = entry.first;  // not a structured binding: clang 14 can't capture those in a lambda
+        const JointDrive& drive = entry.second;
         const auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == name; });
         if (it == m.joints.end()) throw Error(sourceName + ": a drive names joint '" + name + "', which the robot does not have");
         if (it->type != UrdfJointType::Revolute && it->type != UrdfJointType::Continuous && it->type != UrdfJointType::Prismatic) {
