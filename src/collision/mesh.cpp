@@ -127,7 +127,7 @@ Shape Shape::mesh(std::span<const Vec3> vertices, std::span<const std::array<std
             const Vec3 c = vertices[far] - a;
             const Real x = -dot(c, cross(n, e));  // cross(n, e) points into this triangle
             const Real y = dot(c, n);
-            const Real phi = std::atan2(y, x);
+            const Real phi = dmath::atan2(y, x);
             if (phi < -kFlatAngle || std::fabs(phi) > std::numbers::pi_v<Real> - kFlatAngle) {
                 mask = static_cast<std::uint8_t>(mask | (1u << k));
             }
