@@ -70,7 +70,12 @@ inline double cosKernel(double r) {
 }
 
 // r = x - k pi/2 with k the nearest integer to x 2/pi; quadrant = k mod 4.
+// An infinite or NaN x gives r = NaN (and no conversion of NaN to int).
 inline double reduceHalfPi(double x, int& quadrant) {
+    if (!std::isfinite(x)) {
+        quadrant = 0;
+        return x - x;
+    }
     const double k = std::floor(x * kTwoOverPi + 0.5);
     const double k4 = k - 4.0 * std::floor(k * 0.25);  // exact: integers, k mod 4 in [0, 4)
     quadrant = static_cast<int>(k4);
