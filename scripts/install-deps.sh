@@ -6,7 +6,9 @@ set -euo pipefail
 packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev zlib1g-dev libtinyxml2-dev
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-setuptools python3-venv python3-pip
           python3-dask python3-distributed
-          clang libclang-rt-dev ccache "$@")  # the fuzz build (scripts/fuzz.sh): clang and libFuzzer, cached
+          # The second compiler (the sanitizer pass of scripts/test.sh, docs/determinism.md)
+          # and the fuzz build (scripts/fuzz.sh): clang and libFuzzer, cached
+          clang libclang-rt-dev ccache "$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "collision/mesh_bvh.hpp"
+#include "fulcrum/math/deterministic_math.hpp"
 #include "fulcrum/shape.hpp"
 
 namespace fulcrum {
@@ -46,7 +47,7 @@ bool isConvexEdge(const Vec3& faceNormal, const Vec3& edgeStart, const Vec3& edg
     const Vec3 c = farVertex - edgeStart;
     const Real x = -dot(c, cross(faceNormal, e));  // cross(n, e) points into this triangle
     const Real y = dot(c, faceNormal);
-    const Real phi = std::atan2(y, x);
+    const Real phi = dmath::atan2(y, x);
     return phi < -kFlatAngle || std::fabs(phi) > std::numbers::pi_v<Real> - kFlatAngle;
 }
 

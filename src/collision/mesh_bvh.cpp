@@ -12,7 +12,7 @@ constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
 
 class BvhBuilder {
 public:
-    BvhBuilder(const TriangleMesh& mesh, MeshBvh& bvh) : mesh_(mesh), bvh_(bvh) {
+    BvhBuilder(const TriangleMesh& mesh, MeshBvh& bvh) : bvh_(bvh) {
         const std::size_t n = mesh.triangles.size();
         centroids_.resize(n);
         bounds_.resize(n);
@@ -126,7 +126,6 @@ private:
         return static_cast<std::uint32_t>(std::clamp<std::int64_t>(b, 0, MeshBvh::kSahBins - 1));
     }
 
-    const TriangleMesh& mesh_;
     MeshBvh& bvh_;
     std::vector<Vec3> centroids_;
     std::vector<AABB> bounds_;
@@ -169,7 +168,7 @@ MeshBvh buildMeshBvh(const TriangleMesh& mesh) {
             const Vec3& v = mesh.vertices[tri[k]];
             const Vec3 e1 = normalize(mesh.vertices[tri[(k + 1) % 3]] - v);
             const Vec3 e2 = normalize(mesh.vertices[tri[(k + 2) % 3]] - v);
-            const Real angle = std::acos(std::clamp(dot(e1, e2), Real(-1), Real(1)));
+            const Real angle = dmath::acos(std::clamp(dot(e1, e2), Real(-1), Real(1)));
             bvh.vertexNormals[tri[k]] += n * angle;
         }
     }

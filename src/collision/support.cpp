@@ -246,7 +246,7 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
                 const Vec3 capCenter = s.xf.p + axis * (sign * s.halfHeight);
                 for (std::uint32_t i = 0; i < kCylinderCapPoints; ++i) {
                     const Real ang = Real(2 * 3.14159265358979) * static_cast<Real>(i) / static_cast<Real>(kCylinderCapPoints);
-                    out.points[i] = capCenter + (t1 * std::cos(ang) + t2 * std::sin(ang)) * s.cylinderRadius;
+                    out.points[i] = capCenter + (t1 * dmath::cos(ang) + t2 * dmath::sin(ang)) * s.cylinderRadius;
                 }
                 out.count = kCylinderCapPoints;
                 out.id = sign > 0 ? 0u : 1u;

@@ -32,7 +32,7 @@ constexpr Real kMatchDistance = Real(0.02);
 // Recycling thresholds: 1 mm and 0.1 degree of relative motion since the last
 // collide() (a 0.5 m lever moves 1 mm per 0.1 degree).
 constexpr Real kRecycleDistance = Real(0.001);
-const Real kRecycleCosHalfAngle = std::cos(Real(0.5) * Real(0.1) * Real(3.14159265) / 180);
+const Real kRecycleCosHalfAngle = dmath::cos(Real(0.5) * Real(0.1) * Real(3.14159265) / 180);
 
 bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 

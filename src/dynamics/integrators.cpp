@@ -64,13 +64,12 @@ void seriesSinCos(const T& x, T& s, T& c) {
 // half-angles within pi/8 (the precession rate |L| / I_t and the spin rate
 // are each at most |w|), where the Taylor series to x^13 and x^14 are exact to
 // double rounding (the next terms are below 2.3e-17 for |x| <= 0.5); beyond
-// 0.5 (the limit off) the library's. The library's sincos was 3.8 % of the
+// 0.5 (the limit off) Fulcrum's own (deterministic_math.hpp). The library's sincos was 3.8 % of the
 // chain benchmark's instructions (two calls per link and sub-step, ~70
 // instructions each); these are ~30 for both.
 void halfAngleSinCos(double x, double& s, double& c) {
     if (!(std::fabs(x) <= 0.5)) {
-        s = std::sin(x);
-        c = std::cos(x);
+        dmath::sinCos(x, s, c);
         return;
     }
     seriesSinCos(x, s, c);
@@ -135,10 +134,9 @@ struct D3 {
 using Double2 = double __attribute__((vector_size(16)));
 using Double4 = double __attribute__((vector_size(32)));
 // Double4 values cross only internal (anonymous-namespace, inlined) functions,
-// so the AVX calling-convention note does not concern any interface.
-#if !defined(__clang__)
+// so the AVX calling-convention note does not concern any interface (GCC
+// and Clang both give it).
 #pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 constexpr bool kPairedDrift = true;
 Double2 sqrtOf(Double2 x) { return __builtin_ia32_sqrtpd(x); }
 Double4 sqrtOf(Double4 x) {

@@ -123,7 +123,7 @@ void ThreadPool::parallelFor(std::uint32_t count, std::uint32_t minRange, RangeF
     doneChunks_.store(0, std::memory_order_relaxed);
     cancelled_.store(false, std::memory_order_relaxed);
     generation_ = (generation_ + 1) & kGenerationMask;
-    const auto chunks = static_cast<std::uint64_t>(chunkCount_), workers = spans_.size();
+    const std::uint64_t chunks = static_cast<std::uint64_t>(chunkCount_), workers = spans_.size();
     for (std::size_t w = 0; w < workers; ++w) {
         spans_[w].word.store(spanWord(generation_, chunks * (w + 1) / workers, chunks * w / workers),
                              std::memory_order_release);

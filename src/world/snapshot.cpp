@@ -967,7 +967,7 @@ std::vector<std::uint8_t> detail::saveSnapshotAsVersion(const World& world, std:
     detail::worldState(w, const_cast<WorldImpl&>(detail::implOf(world)), data);
 
     const std::uint64_t payload = w.out.size() - detail::kHeaderSize;
-    const std::uint64_t checksum = detail::fnv1a(w.out.data() + detail::kHeaderSize, payload);
+    const std::uint64_t checksum = detail::fnv1a(w.out.data() + detail::kHeaderSize, w.out.size() - detail::kHeaderSize);
     detail::Writer header;
     for (char c : detail::kMagic) header.put(static_cast<std::uint8_t>(c), 1);
     header.put(version, 4);

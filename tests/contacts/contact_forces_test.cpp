@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "contacts/helpers.hpp"
@@ -176,7 +177,7 @@ TEST(HitEvents, SlowTouchMakesNone) {
     bad.hitEventThreshold = -1;
     EXPECT_THROW(World{bad}, Error);
     World world;
-    EXPECT_THROW(world.setHitEventThreshold(std::nan("")), Error);
+    EXPECT_THROW(world.setHitEventThreshold(std::numeric_limits<Real>::quiet_NaN()), Error);
     world.setHitEventThreshold(Real(0.5));
     EXPECT_EQ(world.settings().hitEventThreshold, Real(0.5));
 }
@@ -240,7 +241,7 @@ TEST(KinematicTargets, BadInputNamesTheBodyAndField) {
         }
         return std::string();
     };
-    const Real nan = std::nan("");
+    const Real nan = std::numeric_limits<Real>::quiet_NaN();
     EXPECT_THAT(message(lift, {{nan, 0, 0}, {}}, kDt), AllOf(HasSubstr("body 'lift'"), HasSubstr("target position")));
     EXPECT_THAT(message(lift, {{}, {nan, 0, 0, 0}}, kDt), AllOf(HasSubstr("body 'lift'"), HasSubstr("target orientation")));
     EXPECT_THAT(message(lift, {}, 0), AllOf(HasSubstr("body 'lift'"), HasSubstr("dt")));

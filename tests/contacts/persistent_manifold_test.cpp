@@ -99,7 +99,10 @@ World buildPile(Mix mix, int layers) {
                 d.friction = Real(spec.friction);
                 d.position = {Real(3.6) * static_cast<Real>(i - 1) + Real(0.4) * unit(rng), Real(2.2) + Real(4) * static_cast<Real>(layer),
                               Real(3.6) * static_cast<Real>(k - 1) + Real(0.4) * unit(rng)};
-                d.orientation = normalize(Quat(unit(rng), unit(rng), unit(rng), unit(rng)));
+                // Drawn last component first, as GCC evaluated the former
+                // constructor call: the same pile with every compiler.
+                const Real qz = unit(rng), qy = unit(rng), qx = unit(rng), qw = unit(rng);
+                d.orientation = normalize(Quat(qw, qx, qy, qz));
                 d.angularVelocity = {unit(rng), unit(rng), unit(rng)};
                 world.createBody(d);
             }

@@ -18,7 +18,8 @@ void expectNear(const Vec3& a, const Vec3& b, Real tol = kTol) {
 
 Quat randomRotation(std::mt19937& rng) {
     std::normal_distribution<Real> n(0, 1);
-    return normalize(Quat(n(rng), n(rng), n(rng), n(rng)));
+    const Real z = n(rng), y = n(rng), x = n(rng), w = n(rng);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
+    return normalize(Quat(w, x, y, z));
 }
 }  // namespace
 

@@ -23,7 +23,10 @@ inline void expectVecNear(const Vec3& a, const Vec3& b, Real tol) {
 
 inline Quat randomRotation(std::mt19937& rng) {
     std::normal_distribution<Real> n(0, 1);
-    return normalize(Quat(n(rng), n(rng), n(rng), n(rng)));
+    // Drawn in an explicit order (the last component first, as GCC evaluated
+    // the former constructor's arguments): the same cases with every compiler.
+    const Real z = n(rng), y = n(rng), x = n(rng), w = n(rng);
+    return normalize(Quat(w, x, y, z));
 }
 
 // A box as a ConvexHull: 8 vertices, 6 quads counter-clockwise from outside, 12 edges.

@@ -41,7 +41,8 @@ Truth fromDepth(Real depth) {  // depth > 0: overlap
 
 Quat randomOrientation(std::mt19937& rng) {
     std::normal_distribution<float> g(0, 1);
-    return normalize(Quat(g(rng), g(rng), g(rng), g(rng)));
+    const float z = g(rng), y = g(rng), x = g(rng), w = g(rng);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
+    return normalize(Quat(w, x, y, z));
 }
 
 Shape randomShape(std::mt19937& rng, int kind) {
@@ -49,8 +50,14 @@ Shape randomShape(std::mt19937& rng, int kind) {
     switch (kind % 6) {
         case 0: return Shape::sphere(size(rng));
         case 1: return Shape::box({size(rng), size(rng), size(rng)});
-        case 2: return Shape::capsule(size(rng) * Real(0.5), size(rng));
-        case 3: return Shape::cylinder(size(rng), size(rng));
+        case 2: {
+            const float halfHeight = size(rng), radius = size(rng) * Real(0.5);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
+            return Shape::capsule(radius, halfHeight);
+        }
+        case 3: {
+            const float halfHeight = size(rng), radius = size(rng);
+            return Shape::cylinder(radius, halfHeight);
+        }
         case 4: {
             std::uniform_real_distribution<float> u(-1, 1);
             std::vector<Vec3> pts;

@@ -33,7 +33,10 @@ std::vector<Edge> pileLikeGraph(std::uint32_t n, std::uint32_t seed) {
     for (std::uint32_t i = 0; i + 1 < n; ++i) {
         if (percent(rng) < 70) edges.emplace_back(i + 1, i);  // either order: the link picks the smaller root
     }
-    for (std::uint32_t k = 0; k < n / 50; ++k) edges.emplace_back(any(rng), any(rng));
+    for (std::uint32_t k = 0; k < n / 50; ++k) {
+        const std::uint32_t b = any(rng), a = any(rng);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
+        edges.emplace_back(a, b);
+    }
     std::shuffle(edges.begin(), edges.end(), rng);
     return edges;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Quat: unit quaternion for orientation, stored and read as [w, x, y, z]
 // (the scene-file order). Rotations compose as q = q2 * q1 (q1 first).
+#include "fulcrum/math/deterministic_math.hpp"
 #include "fulcrum/math/mat3.hpp"
 
 namespace fulcrum {
@@ -17,8 +18,9 @@ struct Quat {
     // Rotation by `angle` radians about `axis` (normalised here; a zero axis gives identity).
     static Quat fromAxisAngle(const Vec3& axis, Real angle) {
         const Vec3 n = normalize(axis);
-        const Real s = std::sin(Real(0.5) * angle);
-        return {std::cos(Real(0.5) * angle), n.x * s, n.y * s, n.z * s};
+        Real s = 0, c = 1;
+        dmath::sinCos(Real(0.5) * angle, s, c);  // not the C library's: the same bits everywhere
+        return {c, n.x * s, n.y * s, n.z * s};
     }
     // The shortest rotation taking unit vector `from` to unit vector `to`.
     static Quat fromTo(const Vec3& from, const Vec3& to);
@@ -79,16 +81,16 @@ inline Vec3 toRotationVector(const Quat& q) {
     const Quat p = q.w < 0 ? -q : q;  // shortest arc
     const Real s = length(p.vec());
     if (s < Real(1e-7)) return p.vec() * Real(2);
-    return p.vec() * (Real(2) * std::atan2(s, p.w) / s);
+    return p.vec() * (Real(2) * dmath::atan2(s, p.w) / s);
 }
 
 inline Quat slerp(const Quat& a, Quat b, Real t) {
     Real c = dot(a, b);
     if (c < 0) { b = -b; c = -c; }
     if (c > Real(0.9995)) return normalize(a * (1 - t) + b * t);
-    const Real theta = std::acos(c);
-    const Real s = std::sin(theta);
-    return a * (std::sin((1 - t) * theta) / s) + b * (std::sin(t * theta) / s);
+    const Real theta = dmath::acos(c);
+    const Real s = dmath::sin(theta);
+    return a * (dmath::sin((1 - t) * theta) / s) + b * (dmath::sin(t * theta) / s);
 }
 
 inline Quat Quat::fromTo(const Vec3& from, const Vec3& to) {

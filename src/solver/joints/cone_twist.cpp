@@ -29,7 +29,7 @@ ConeGeometry coneGeometry(const JointConstraint& j, const JointFrame& f) {
     const Vec3 axisB = rotate(f.qB, j.localAxisB);
     const Vec3 c = cross(axisA, axisB);
     const Real s = length(c);
-    g.swing = std::atan2(s, dot(axisA, axisB));
+    g.swing = dmath::atan2(s, dot(axisA, axisB));
     if (s > Real(1e-6)) {
         g.hasSwing = true;
         g.swingAxis = c * (1 / s);

@@ -330,8 +330,9 @@ inline Quat deltaRotation(const SolverBody& b) {
     const Real half = Real(0.5) * angle;
     if (!(half <= Real(0.5))) {
         const Vec3 n = b.dtheta / angle;
-        const Real s = std::sin(half);
-        return {std::cos(half), n.x * s, n.y * s, n.z * s};
+        Real s = 0, c = 1;
+        dmath::sinCos(half, s, c);
+        return {c, n.x * s, n.y * s, n.z * s};
     }
     const double x = static_cast<double>(half), z = x * x;
     // sin(x) / (2 x) = sin(half) / angle, and cos(x).
@@ -382,7 +383,7 @@ inline Vec3 angularError(const JointConstraint& j, const Quat& qA, const Quat& q
 inline Real twistAngle(const Quat& relative0, const Quat& qA, const Quat& qB, const Vec3& localAxis) {
     Quat r = conjugate(qA) * qB * conjugate(relative0);
     if (r.w < 0) r = -r;
-    return 2 * std::atan2(dot(r.vec(), localAxis), r.w);
+    return 2 * dmath::atan2(dot(r.vec(), localAxis), r.w);
 }
 
 // ---- prepare (JointSolver::prepare): rows a joint does not use this step start at zero

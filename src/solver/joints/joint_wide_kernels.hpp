@@ -22,7 +22,6 @@
 
 #include <array>
 #include <cmath>
-#include <math.h>
 #include <cstring>
 #include <numbers>
 #include <type_traits>
@@ -108,14 +107,14 @@ FULCRUM_JOINT_WIDE_INLINE QuatW gatherRotation(const Quat* rotations, const std:
     return {q[0], q[1], q[2], q[3]};
 }
 
-// atan2f per lane (lanes [0, laneCount); the rest 0): no SIMD arctangent
-// has libm's bits, so the lanes call the same function the scalar code does
-// (std::atan2 on floats is ::atan2f), outside any inline copy.
+// atan2 per lane (lanes [0, laneCount); the rest 0): the lanes call the same
+// function the scalar code does (dmath::atan2 on floats), so both paths
+// round alike.
 FULCRUM_JOINT_WIDE_INLINE FloatW atan2Lanes(const FloatW& y, const FloatW& x, std::uint32_t laneCount) {
     alignas(32) float ys[kLanes], xs[kLanes], out[kLanes] = {};
     y.store(ys);
     x.store(xs);
-    for (std::uint32_t l = 0; l < laneCount; ++l) out[l] = ::atan2f(ys[l], xs[l]);
+    for (std::uint32_t l = 0; l < laneCount; ++l) out[l] = dmath::atan2(ys[l], xs[l]);
     return FloatW::load(out);
 }
 

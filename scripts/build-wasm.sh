@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Builds the engine and the command-line tool for WebAssembly with Debian's
+# Emscripten (scripts/install-wasm-deps.sh installs it; no emsdk) into
+# build-wasm/: `node build-wasm/fulcrum.js run SCENE.json --json` takes the
+# native options and prints the native build's numbers bit for bit (those of
+# FULCRUM_SIMD=scalar; docs/determinism.md). Files are read and written
+# through Node's own file system (NODERAWFS).
+# Usage: scripts/build-wasm.sh [BUILD_DIR]   (default build-wasm)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-wasm-deps.sh
+dir=${1:-build-wasm}
+here=$(pwd)
+# Debian's emcc runs its JavaScript tools with the node on PATH; a node that
+# is not Debian's does not look in Debian's module folder for them (acorn).
+export NODE_PATH=/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+
+# The two libraries the native build takes from Debian, compiled first
+# (cmake/wasm/README.md): zlib's compress2 as stored blocks, and tinygltf.
+mkdir -p "$dir/wasm-libs/include"
+libs=$(cd "$dir/wasm-libs" && pwd)
+ln -sfn /usr/include/tiny_gltf.h "$libs/include/tiny_gltf.h"
+ln -sfn /usr/include/nlohmann "$libs/include/nlohmann"
+if [ ! -f "$libs/libz.a" ]; then
+  emcc -O2 -c cmake/wasm/zlib_stored/zlib_stored.c -o "$libs/zlib_stored.o"
+  emar rcs "$libs/libz.a" "$libs/zlib_stored.o"
+fi
+if [ ! -f "$libs/libtinygltf.a" ]; then
+  em++ -O2 -std=c++20 -isystem "$libs/include" -c cmake/wasm/TinyGLTF/tinygltf.cpp -o "$libs/tinygltf.o"
+  emar rcs "$libs/libtinygltf.a" "$libs/tinygltf.o"
+fi
+
+# -sWASM_ASYNC_COMPILATION=0: Emscripten 3.1.6 would fetch() the .wasm file,
+# which Node 18 and later have but cannot use on a path.
+link_flags="-sENVIRONMENT=node -sNODERAWFS=1 -sALLOW_MEMORY_GROWTH=1 -sWASM_ASYNC_COMPILATION=0 -sEXIT_RUNTIME=1"
+emcmake cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DFULCRUM_WARNINGS_AS_ERRORS=ON -DFULCRUM_BUILD_TESTS=OFF \
+  -DFULCRUM_BUILD_APPS=ON -DFULCRUM_BUILD_PYTHON=OFF "${launcher[@]}" \
+  -Dnlohmann_json_DIR="$here/cmake/wasm/nlohmann_json" -DCLI11_DIR="$here/cmake/wasm/CLI11" \
+  -DTinyGLTF_DIR="$here/cmake/wasm/TinyGLTF" -DTinyGLTF_LIBRARY="$libs/libtinygltf.a" \
+  -DZLIB_INCLUDE_DIR="$here/cmake/wasm/zlib_stored" -DZLIB_LIBRARY="$libs/libz.a" \
+  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp" "-DCMAKE_EXE_LINKER_FLAGS=$link_flags" >/dev/null
+cmake --build "$dir" -j "$(nproc)" --target fulcrum_cli
+# The tool as build-wasm/fulcrum.js (+ fulcrum.wasm beside it).
+cp "$dir/apps/fulcrum/fulcrum.js" "$dir/apps/fulcrum/fulcrum.wasm" "$dir/"
+echo "build-wasm: $dir/fulcrum.js (node $dir/fulcrum.js run SCENE.json --json)"
