@@ -6,6 +6,7 @@
 
 #include "character/character_system.hpp"
 #include "dynamics/validation.hpp"
+#include "fulcrum/math/deterministic_math.hpp"
 #include "world/world_access.hpp"
 #include "world/world_impl.hpp"
 
@@ -99,7 +100,7 @@ CharacterId World::createCharacter(const CharacterDef& def) {
     c.alive = true;
     c.generation = generation;
     c.def = def;
-    c.cosMaxSlope = std::cos(def.maxSlope);
+    c.cosMaxSlope = dmath::cos(def.maxSlope);
     c.body = bodyId;
     c.position = def.position;
     w.characters.order.push_back(slot);

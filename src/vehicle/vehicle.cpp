@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "dynamics/validation.hpp"
+#include "fulcrum/math/deterministic_math.hpp"
 #include "fulcrum/world.hpp"
 #include "vehicle/vehicle_system.hpp"
 #include "world/world_access.hpp"
@@ -193,8 +194,11 @@ void VehicleSystem::update(World& world, double t0, Real dt) {
         rearZ = rear > 0 ? rearZ / Real(rear) : 0;
         frontZ = front > 0 ? frontZ / Real(front) : 0;
         const Real wheelbase = frontZ - rearZ;
-        // The step's one transcendental call (the steering angle's tangent).
-        const Real tanSteer = std::tan(in.steering * def.maxSteeringAngle);
+        // The steering angle's tangent, from Fulcrum's own sine and cosine (the
+        // same bits on every compiler and platform: docs/determinism.md).
+        double sinSteer = 0, cosSteer = 1;
+        dmath::sinCos(static_cast<double>(in.steering * def.maxSteeringAngle), sinSteer, cosSteer);
+        const auto tanSteer = static_cast<Real>(sinSteer / cosSteer);
 
         // Suspension: cast, spring and damper, anti-roll bars.
         for (std::size_t i = 0; i < v.wheels.size(); ++i) {
@@ -431,7 +435,7 @@ VehicleState vehicleState(const World& world, VehicleId id) {
     s.engineRpm = v.engineRpm;
     for (const WheelData& wh : v.wheels) {
         s.wheels.push_back(wh.state);
-        s.wheels.back().steerAngle = std::atan2(wh.sinSteer, wh.cosSteer);
+        s.wheels.back().steerAngle = dmath::atan2(wh.sinSteer, wh.cosSteer);
     }
     return s;
 }

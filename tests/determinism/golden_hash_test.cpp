@@ -52,8 +52,11 @@ World buildBenchScene(const bench::SceneSpec& scene) {
     def.sleeping = scene.sleeping;
     def.threads = 1;
     def.gravity = vec(scene.gravity);
+    if (scene.substeps > 0) def.substeps = scene.substeps;
     World world(def);
     std::vector<BodyId> ids;
+    std::vector<Vec3> hullPoints;
+    for (const bench::V3& p : scene.hullPoints) hullPoints.push_back(vec(p));
     for (const bench::BodySpec& b : scene.bodies) {
         BodyDef d;
         d.type = b.isStatic ? BodyType::Static : BodyType::Dynamic;
@@ -61,7 +64,9 @@ World buildBenchScene(const bench::SceneSpec& scene) {
             case bench::BodySpec::Kind::Sphere: d.shape = Shape::sphere(real(b.half.x)); break;
             case bench::BodySpec::Kind::Capsule: d.shape = Shape::capsule(real(b.half.x), real(b.half.y)); break;
             case bench::BodySpec::Kind::Box: d.shape = Shape::box(vec(b.half)); break;
+            case bench::BodySpec::Kind::Hull: d.shape = Shape::convexHull(hullPoints); break;
         }
+        if (!scene.bodyCollisions) d.filter.group = -1;
         if (!b.isStatic) d.mass = real(b.mass);
         d.position = vec(b.position);
         d.orientation = {real(b.orientation.w), real(b.orientation.x), real(b.orientation.y), real(b.orientation.z)};
