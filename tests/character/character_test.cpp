@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -286,7 +287,7 @@ TEST(Character, BadInputNamesTheField) {
     d.radius = 0;
     expectError(d, "radius");
     d = def;
-    d.position.x = std::nan("");
+    d.position.x = std::numeric_limits<Real>::quiet_NaN();
     expectError(d, "position");
     d = def;
     d.height = Real(0.4);
@@ -298,17 +299,17 @@ TEST(Character, BadInputNamesTheField) {
     d.stepHeight = -1;
     expectError(d, "stepHeight");
     d = def;
-    d.mass = std::nan("");
+    d.mass = std::numeric_limits<Real>::quiet_NaN();
     expectError(d, "mass");
     d = def;
     d.inputs = {{1, {}, false}, {0, {}, false}};
     expectError(d, "inputs[1].time");
     d = def;
-    d.inputs = {{0, {std::nan(""), 0, 0}, false}};
+    d.inputs = {{0, {std::numeric_limits<Real>::quiet_NaN(), 0, 0}, false}};
     expectError(d, "inputs[0].velocity");
 
     const CharacterId c = world.createCharacter(def);
-    EXPECT_THROW(world.setCharacterInput(c, {0, std::nan(""), 0}, false), Error);
+    EXPECT_THROW(world.setCharacterInput(c, {0, std::numeric_limits<Real>::quiet_NaN(), 0}, false), Error);
     EXPECT_THROW(world.destroyBody(world.characterBody(c)), Error);
     world.destroyCharacter(c);
     EXPECT_FALSE(world.isValid(c));

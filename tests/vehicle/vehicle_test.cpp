@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <fulcrum/fulcrum.hpp>
@@ -246,16 +247,16 @@ TEST(Vehicle, BadInputNamesTheField) {
     }, "wheels[2].position");
     expectError([&] {
         VehicleDef d = def;
-        d.wheels[0].suspension.stiffness = std::nan("");
+        d.wheels[0].suspension.stiffness = std::numeric_limits<Real>::quiet_NaN();
         createVehicle(car.world, d);
     }, "wheels[0].suspension.stiffness");
     expectError([&] {
         VehicleDef d = def;
-        d.inputs = {{.time = 0, .throttle = std::nan("")}};
+        d.inputs = {{.time = 0, .throttle = std::numeric_limits<Real>::quiet_NaN()}};
         createVehicle(car.world, d);
     }, "inputs[0].throttle");
     expectError([&] { setVehicleInput(car.world, car.vehicle, {.steering = 2}); }, "steering");
-    expectError([&] { setVehicleInput(car.world, car.vehicle, {.brake = std::nan("")}); }, "brake");
+    expectError([&] { setVehicleInput(car.world, car.vehicle, {.brake = std::numeric_limits<Real>::quiet_NaN()}); }, "brake");
     destroyVehicle(car.world, car.vehicle);
     EXPECT_FALSE(isValid(car.world, car.vehicle));
     EXPECT_THROW(vehicleState(car.world, car.vehicle), Error);
