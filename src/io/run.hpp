@@ -62,6 +62,12 @@ struct RunSample {
     double angularMomentum = 0;  // |L| about the origin, kg m^2/s
 };
 
+// An impact of the run (World::contactHitEvents after each step), for --json.
+struct RunHit {
+    std::uint64_t step = 0;
+    ContactHitEvent event;
+};
+
 struct RunResult {
     World world;
     SceneHandles handles;
@@ -72,6 +78,11 @@ struct RunResult {
     std::uint64_t profiledSteps = 0;
     // Steps in which the contact pair limit held new pairs back (WorldDef::maxContactPairs), and the first.
     std::uint64_t stepsOverPairLimit = 0, firstStepOverPairLimit = 0;
+    // Every step's hit events (WorldDef::hitEventThreshold), the first
+    // kMaxReportedHits of them; the rest only counted.
+    static constexpr std::size_t kMaxReportedHits = 10000;
+    std::vector<RunHit> hits;
+    std::uint64_t hitsLeftOut = 0;
 };
 
 // Called after every step (and once before the first, with step 0).
