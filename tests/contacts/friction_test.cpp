@@ -26,28 +26,13 @@ Vec3 addIncline(World& world, Real theta, Real friction) {
     return rotate(q, {-1, 0, 0});  // rotating +y towards -x: the surface descends along -x
 }
 
-struct SlideResult {
-    Real distance;  // along the slope after `seconds`
-};
-
 Real slideDistance(Real thetaDeg, Real mu, Real seconds, int settleSteps = 0) {
     WorldDef def;
     def.sleeping = false;
     World world(def);
     const Real theta = thetaDeg * std::numbers::pi_v<Real> / 180;
     const Vec3 down = addIncline(world, theta, mu);
-    const Quat q = Quat::fromAxisAngle({0, 0, 1}, theta);
-    BodyDef d;
-    d.shape = Shape::box({Real(0.25), Real(0.25), Real(0.25)});
-    d.mass = 1;
-    d.friction = mu;
-    d.orientation = q;
-    d.position = rotate(q, {0, Real(0.25), 0});
-    const BodyId box = world.createBody(d);
-    run(world, settleSteps);
-    const Vec3 start = world.position(box);
-    run(world, static_cast<int>(std::lround(seconds * 60)));
-    return dot(world.position(box) - start, down);
+    return test::slideDistance(world, Quat::fromAxisAngle({0, 0, 1}, theta), down, mu, seconds, settleSteps);
 }
 
 }  // namespace

@@ -57,18 +57,7 @@ Real slideDistance(Real thetaDeg, Real mu, Real seconds, int settleSteps = 0) {
     addSlope(world, theta, mu);
     // The slope descends along +x: rotating +y about -z by theta tilts the box onto it.
     const Quat q = Quat::fromAxisAngle({0, 0, 1}, -theta);
-    const Vec3 down = rotate(q, {1, 0, 0});
-    BodyDef d;
-    d.shape = Shape::box(Vec3::splat(Real(0.25)));
-    d.mass = 1;
-    d.friction = mu;
-    d.orientation = q;
-    d.position = rotate(q, {0, Real(0.25), 0});
-    const BodyId box = world.createBody(d);
-    run(world, settleSteps);
-    const Vec3 start = world.position(box);
-    run(world, static_cast<int>(std::lround(seconds * 60)));
-    return dot(world.position(box) - start, down);
+    return test::slideDistance(world, q, rotate(q, {1, 0, 0}), mu, seconds, settleSteps);
 }
 
 }  // namespace

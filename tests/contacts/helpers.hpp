@@ -43,6 +43,25 @@ inline void run(World& world, int steps) {
     for (int i = 0; i < steps; ++i) world.step(kDt);
 }
 
+// A 0.5 m cube of 1 kg (friction mu) set on a slope in `world`: `onSlope` turns
+// +y onto the slope's normal and `down` is the unit down-slope direction.
+// Returns how far it slides along `down` in `seconds` after `settleSteps` steps.
+// Shared by the tilted-box and the heightfield slope tests, so both surfaces
+// are held to the same measurement.
+inline Real slideDistance(World& world, const Quat& onSlope, const Vec3& down, Real mu, Real seconds, int settleSteps) {
+    BodyDef d;
+    d.shape = Shape::box(Vec3::splat(Real(0.25)));
+    d.mass = 1;
+    d.friction = mu;
+    d.orientation = onSlope;
+    d.position = rotate(onSlope, {0, Real(0.25), 0});
+    const BodyId box = world.createBody(d);
+    run(world, settleSteps);
+    const Vec3 start = world.position(box);
+    run(world, static_cast<int>(std::lround(seconds / kDt)));
+    return dot(world.position(box) - start, down);
+}
+
 // pyramid20 of bench/scenes.hpp (base row n): returns the top box.
 inline BodyId buildPyramid(World& world, int base) {
     addGround(world);
