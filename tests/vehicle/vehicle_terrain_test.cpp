@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "car_fixture.hpp"
 
@@ -25,6 +26,7 @@ TEST(VehicleTerrain, StaticSagOnFlatHeightFieldEqualsThePlanes) {
         const Real sagPlane = kRest - a.wheels[i].suspensionLength, sagField = kRest - b.wheels[i].suspensionLength;
         EXPECT_GT(sagPlane, Real(0.05));
         EXPECT_NEAR(sagField, sagPlane, Real(0.01) * sagPlane) << "wheel " << i;
+        std::printf("wheel %zu: sag %.5f m on the plane, %.5f m on the heightfield\n", i, double(sagPlane), double(sagField));
     }
 }
 
@@ -40,6 +42,7 @@ TEST(VehicleTerrain, LockedWheelsOnHeightFieldStopInVSquaredOverTwoMuG) {
     const Real distance = car.world.position(car.chassis).z - z0;
     const Real expected = Real(20 * 20) / (2 * Real(0.8) * kG);
     EXPECT_NEAR(distance, expected, Real(0.05) * expected);
+    std::printf("stopped in %.3f m on the heightfield, v^2/(2 mu g) = %.3f m\n", double(distance), double(expected));
     for (const WheelState& w : vehicleState(car.world, car.vehicle).wheels) EXPECT_TRUE(w.inContact);
 }
 
@@ -58,6 +61,7 @@ TEST(VehicleReverse, ReverseTopSpeedWhereEngineForceEqualsDrag) {
     const Real expected = -std::sqrt(Real(400 * 3) / kRadius / 2);
     EXPECT_EQ(s.gear, -1);
     EXPECT_NEAR(s.speed, expected, Real(0.05) * std::abs(expected));
+    std::printf("reverse top speed %.3f m/s, -sqrt(F / c) = %.3f m/s\n", double(s.speed), double(expected));
 }
 
 TEST(VehicleReverse, NegativeThrottleBrakesFirstThenReverses) {
