@@ -9,7 +9,7 @@
 //               equilibrium), a box spinning about its intermediate axis
 //               (Dzhanibekov flips, angular momentum conserved), damped
 //               oscillator (analytic envelope).
-//   in front    the course of scenes/course.json (z = 4 to 43), included whole:
+//   behind      the course of scenes/course.json (z = -50 to -10), included whole:
 //               a car driving a scripted lap over heightfield terrain, a
 //               character walking up stairs onto a turntable and jumping.
 // The pile's round shapes have rolling resistance so they come to rest
@@ -139,7 +139,7 @@ Scene demoScene() {
         }
     }
     demo["world"]["steps"] = std::max(demo["world"]["steps"].get<int>(), course["world"]["steps"].get<int>());
-    demo["description"] = demo["description"].get<std::string>() + " In front: " + course["description"].get<std::string>();
+    demo["description"] = demo["description"].get<std::string>() + " Behind them: " + course["description"].get<std::string>();
     return parseScene(demo.dump(), "built-in demo");
 }
 
@@ -238,7 +238,7 @@ std::string DemoChecks::report(const Scene& scene, const RunResult& result) cons
         s << line;
     }
 
-    // ---- in front: the course
+    // ---- behind: the course
     for (const VehicleId id : vehicles(world)) {
         const VehicleState v = vehicleState(world, id);
         int down = 0;

@@ -10,6 +10,7 @@ import {
 } from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { createCameraChoice } from './camera.js';
+import { paintTerrain } from './terrain.js';
 import { createVehicles } from './vehicles.js';
 
 // ---- data -----------------------------------------------------------------
@@ -123,6 +124,7 @@ function start(rec) {
   });
   bodies.forEach((b, index) => b.meshes.forEach((m) => { m.userData.bodyIndex = index; }));
   const vehicleView = createVehicles(rec, bodies, srgb);  // wheels, on their chassis (vehicles.js)
+  paintTerrain(bodies);                                   // heightfields as grass (terrain.js)
 
   // ---- ropes and cloths: fixed topology, positions rewritten every frame
   const particleTracks = (rec.particles ?? []).map((track) => {
