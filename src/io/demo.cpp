@@ -246,7 +246,8 @@ std::string DemoChecks::report(const Scene& scene, const RunResult& result) cons
         std::snprintf(line, sizeof line,
                       "  car '%s': drove %.1f m around its lap over heightfield terrain, %d of %zu wheels on the ground, "
                       "speed %.2f m/s at the end (braked to a stop)\n",
-                      vehicleDef(world, id).name.c_str(), carDistance_, down, v.wheels.size(), double(v.speed));
+                      vehicleDef(world, id).name.c_str(), carDistance_, down, v.wheels.size(),
+                      std::abs(double(v.speed)) < 0.005 ? 0.0 : double(v.speed));  // no "-0.00"
         s << line;
     }
     for (const CharacterId id : world.characters()) {
