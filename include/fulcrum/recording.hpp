@@ -12,6 +12,11 @@
 //
 // The Recorder fills a Recording from a World through its public API only.
 //
+// Vehicles are recorded as their wheels (mounting point, radius, width) and,
+// per frame, each wheel's suspension length, steering angle and spin, which
+// the replay page draws on the chassis body; characters by the name and body
+// index of their capsule.
+//
 // Particle systems (ropes, cloth) are recorded as ParticleTrack values: a
 // fixed topology (line segments for ropes, triangles for cloth) and one
 // position per particle per frame. In glTF they become a mesh with one morph
@@ -23,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "fulcrum/vehicle.hpp"
 #include "fulcrum/world.hpp"
 
 namespace fulcrum::io {
@@ -70,6 +76,39 @@ struct ParticleTrack {
     std::vector<Vec3> positions;             // frame-major: [frame * particleCount + particle]
 };
 
+// A vehicle's wheel as drawn (docs/vehicles.md): mounted on the chassis at
+// `mount` (chassis frame, the suspension's top), its centre `suspension
+// length` below it along the chassis's up (local +y), turned about that axis
+// by the steering angle and spun about its axle (local x after steering).
+struct RecordedWheel {
+    Vec3 mount;              // chassis frame
+    Real radius = 0;         // m
+    Real width = 0;          // m
+    bool steering = false;
+    bool driven = false;
+};
+
+// A wheel's pose in one frame.
+struct RecordedWheelPose {
+    Real suspensionLength = 0;  // m, mount to wheel centre
+    Real steerAngle = 0;        // rad about the chassis's up, +: towards local +x (left)
+    Real spin = 0;              // rad about the axle, accumulated; +: rolling forwards (+z)
+};
+
+struct RecordedVehicle {
+    std::string name;
+    int chassis = -1;                        // index into Recording::bodies
+    std::vector<RecordedWheel> wheels;
+    std::vector<RecordedWheelPose> poses;    // frame-major: [frame * wheels.size() + wheel]
+};
+
+// A character: its capsule is a body of the recording (drawn as any body);
+// this names it for the replay page's camera choice.
+struct RecordedCharacter {
+    std::string name;
+    int body = -1;                           // index into Recording::bodies
+};
+
 struct Recording {
     std::string title = "Fulcrum recording";
     std::vector<RecordedBody> bodies;
@@ -88,6 +127,8 @@ struct Recording {
     std::vector<Vec3> linearMomentum;
 
     std::vector<ParticleTrack> particles;               // ropes and cloths, in the World's creation order
+    std::vector<RecordedVehicle> vehicles;              // in the World's creation order
+    std::vector<RecordedCharacter> characters;          // in the World's creation order
 
     std::size_t frameCount() const { return times.size(); }
     const Transform& transform(std::size_t frame, std::size_t body) const {
@@ -132,6 +173,7 @@ private:
     std::vector<BodyId> ids_;
     std::vector<JointId> jointIds_;
     std::vector<ParticleSystemId> particleIds_;
+    std::vector<VehicleId> vehicleIds_;
     Recording recording_;
 };
 

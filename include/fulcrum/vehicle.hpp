@@ -52,7 +52,7 @@ struct EngineDef {
 };
 
 struct GearboxDef {
-    std::vector<Real> ratios{Real(2.66), Real(1.78), Real(1.3), 1, Real(0.74)};  // forward gears, > 0
+    std::vector<Real> ratios{Real(2.66), Real(1.78), Real(1.3), 1, Real(0.74)};  // forward gears, > 0; reverse uses the first's
     Real differentialRatio = Real(3.42);  // > 0
     Real shiftUpRpm = 4000;    // automatic: up a gear above this engine speed
     Real shiftDownRpm = 2000;  // ... down a gear below it; < shiftUpRpm
@@ -66,7 +66,7 @@ struct AntiRollBar {
 // An input: from `time` on (scripts) or until changed (World code).
 struct VehicleInput {
     Real time = 0;
-    Real throttle = 0;   // 0..1
+    Real throttle = 0;   // -1..1; negative drives backwards (reverse gear once stopped; until then it brakes)
     Real brake = 0;      // 0..1
     Real steering = 0;   // -1..1; +1 turns left
     bool handBrake = false;
@@ -101,7 +101,7 @@ struct WheelState {
 struct VehicleState {
     Vec3 position;              // chassis origin
     Real speed = 0;             // m/s along the chassis's forward axis
-    int gear = 1;               // 1-based forward gear
+    int gear = 1;               // 1-based forward gear; -1 in reverse
     Real engineRpm = 0;
     std::vector<WheelState> wheels;
 };

@@ -90,7 +90,7 @@ void bindVehicles(py::module_& m) {
             in.handBrake = handBrake;
             setVehicleInput(a.world, v.id, in);
         }, py::kw_only(), py::arg("throttle") = 0, py::arg("brake") = 0, py::arg("steering") = 0, py::arg("hand_brake") = false,
-           "The held input: throttle and brake 0..1, steering -1..1 (+1 turns left).")
+           "The held input: throttle -1..1 (negative: backwards, reverse gear once stopped), brake 0..1, steering -1..1 (+1 turns left).")
         .def("__repr__", [](const V& v) {
             const WorldPtr s = v.owner.lock();
             if (!s || !isValid(s->world, v.id)) return std::string("<fulcrum.Vehicle (gone)>");

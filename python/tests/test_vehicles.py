@@ -29,6 +29,15 @@ def test_drives_and_brakes():
     assert w.vehicles() and car.name == "car"
 
 
+def test_negative_throttle_reverses_once_stopped():
+    w, chassis, wheels = car_world()
+    car = w.create_vehicle(chassis=chassis, wheels=wheels, name="car")
+    car.set_input(throttle=-0.5)
+    w.step(1 / 60, steps=180)
+    assert car.gear == -1
+    assert car.speed < -2
+
+
 def test_scene_vehicles_follow_their_script():
     w = fulcrum.load_scene(str(SCENES / "car_lap.json"))
     (car,) = w.vehicles()

@@ -9,8 +9,11 @@
 //               equilibrium), a box spinning about its intermediate axis
 //               (Dzhanibekov flips, angular momentum conserved), damped
 //               oscillator (analytic envelope).
+//   behind      the course of scenes/course.json (z = -50 to -10), included whole:
+//               a car driving a scripted lap over heightfield terrain, a
+//               character walking up stairs onto a turntable and jumping.
 // The pile's round shapes have rolling resistance so they come to rest
-// instead of rolling into their neighbours. It runs in well under a second.
+// instead of rolling into their neighbours. It runs in about a second.
 // Body names share a stem per set piece ("pyramid3", "pile_box1",
 // "spring_chain_mass2"): the replay page labels each group by its stem
 // (docs/recording.md, "HTML replay page").
@@ -20,6 +23,9 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "fulcrum/vehicle.hpp"
 #include "io/run.hpp"
 
 namespace fulcrum::detail {
@@ -115,7 +121,27 @@ double largestJointError(const World& world, const char* prefix) {
 
 }  // namespace
 
-Scene demoScene() { return parseScene(kDemoScene, "built-in demo"); }
+// scenes/course.json, embedded at build time (cmake/embed_text.cmake).
+std::string courseSceneText();
+
+Scene demoScene() {
+    // The demo's own pieces plus the course's: every array of the course
+    // appended to the demo's (a body both have, the ground, only once), the
+    // run long enough for the course's lap.
+    nlohmann::json demo = nlohmann::json::parse(kDemoScene);
+    const nlohmann::json course = nlohmann::json::parse(courseSceneText());
+    for (const auto& [key, value] : course.items()) {
+        if (!value.is_array()) continue;
+        for (const auto& item : value) {
+            const auto same = [&](const nlohmann::json& mine) { return mine == item; };
+            if (key == "bodies" && std::any_of(demo[key].begin(), demo[key].end(), same)) continue;
+            demo[key].push_back(item);
+        }
+    }
+    demo["world"]["steps"] = std::max(demo["world"]["steps"].get<int>(), course["world"]["steps"].get<int>());
+    demo["description"] = demo["description"].get<std::string>() + " Behind them: " + course["description"].get<std::string>();
+    return parseScene(demo.dump(), "built-in demo");
+}
 
 void DemoChecks::observe(const World& world, const SceneHandles&, std::uint64_t step) {
     if (step == 0) {
@@ -131,6 +157,12 @@ void DemoChecks::observe(const World& world, const SceneHandles&, std::uint64_t 
             projectileTime_ = static_cast<double>(world.time());
             projectileAt_ = world.position(p);
         }
+    }
+    // The course's car: the distance its chassis drives.
+    if (const BodyId car = world.findBody("car"); !car.isNull()) {
+        const Vec3 p = world.position(car);
+        if (step > 0) carDistance_ += static_cast<double>(length(p - carLast_));
+        carLast_ = p;
     }
     // The spinner's angular velocity in its own frame: its y component changes
     // sign at each flip (the angular momentum stays fixed in space while the
@@ -203,6 +235,27 @@ std::string DemoChecks::report(const Scene& scene, const RunResult& result) cons
                           "  cloth over a dome: centroid at y = %.3f m, deepest particle %.3f mm inside a shape (stretch max %.2f %%)\n",
                           double(r.centroid.y), 1000 * double(r.maxPenetration), 100 * double(r.maxStretch));
         }
+        s << line;
+    }
+
+    // ---- behind: the course
+    for (const VehicleId id : vehicles(world)) {
+        const VehicleState v = vehicleState(world, id);
+        int down = 0;
+        for (const WheelState& w : v.wheels) down += w.inContact ? 1 : 0;
+        std::snprintf(line, sizeof line,
+                      "  car '%s': drove %.1f m around its lap over heightfield terrain, %d of %zu wheels on the ground, "
+                      "speed %.2f m/s at the end (braked to a stop)\n",
+                      vehicleDef(world, id).name.c_str(), carDistance_, down, v.wheels.size(),
+                      std::abs(double(v.speed)) < 0.005 ? 0.0 : double(v.speed));  // no "-0.00"
+        s << line;
+    }
+    for (const CharacterId id : world.characters()) {
+        const CharacterState c = world.characterState(id);
+        const std::string ground = c.groundBody.isNull() ? std::string("nothing") : world.name(c.groundBody);
+        std::snprintf(line, sizeof line, "  character '%s': up the stairs, standing on %s (%s), feet at y = %.2f m\n",
+                      world.name(id).c_str(), ground.c_str(), toString(c.ground),
+                      double(c.position.y - world.characterDef(id).height / 2));
         s << line;
     }
 

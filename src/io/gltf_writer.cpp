@@ -32,6 +32,7 @@ public:
         buildAnimationTimes();
         for (std::size_t b = 0; b < rec_.bodies.size(); ++b) addBody(b, meshes[b]);
         for (std::size_t t = 0; t < rec_.particles.size(); ++t) addParticleTrack(t);
+        for (const RecordedVehicle& vehicle : rec_.vehicles) addWheels(vehicle);
         if (!animation_.channels.empty()) {
             animation_.name = "simulation";
             model_.animations.push_back(std::move(animation_));
@@ -201,6 +202,7 @@ private:
         node.children = children;
         const int nodeIndex = addNode(std::move(node));
         model_.scenes[0].nodes.push_back(nodeIndex);
+        bodyNodes_.push_back(nodeIndex);
 
         if (moves) {
             std::vector<float> translation, rotation;
@@ -302,7 +304,49 @@ private:
         addChannel(nodeIndex, "weights", addAccessor(weights, TINYGLTF_TYPE_SCALAR, 1, 0, false), "LINEAR");
     }
 
+    // A vehicle's wheels: a node per wheel, a child of the chassis's node,
+    // animated (translation: the mounting point less the suspension length
+    // along the chassis's +y; rotation: the steering angle about +y, then the
+    // spin about the axle, x), with a child carrying the tyre, a cylinder
+    // turned from y onto the axle.
+    void addWheels(const RecordedVehicle& vehicle) {
+        const std::size_t frames = rec_.frameCount(), n = vehicle.wheels.size();
+        const Quat axleFromY = Quat::fromAxisAngle({0, 0, 1}, Real(1.5707963267948966));
+        for (std::size_t i = 0; i < n; ++i) {
+            const RecordedWheel& wheel = vehicle.wheels[i];
+            const std::string name = vehicle.name + "_wheel" + std::to_string(i);
+            tinygltf::Node tyre;
+            tyre.name = name + "_tyre";
+            const std::vector<RenderPart> parts = tessellate(Shape::cylinder(wheel.radius, wheel.width / 2), TessellationOptions{});
+            tyre.mesh = addMesh(tyre.name, addGeometry(parts.front().mesh), material(Rgb{0.08f, 0.08f, 0.09f}, false));
+            setTransform(tyre, Transform{Vec3::zero(), axleFromY});
+            tinygltf::Node node;
+            node.name = name;
+            node.children = {addNode(std::move(tyre))};
+            std::vector<float> translation, rotation;
+            translation.reserve(frames * 3);
+            rotation.reserve(frames * 4);
+            Quat previous = Quat::identity();
+            for (std::size_t f = 0; f < frames; ++f) {
+                const RecordedWheelPose& pose = vehicle.poses[f * n + i];
+                Quat q = Quat::fromAxisAngle({0, 1, 0}, pose.steerAngle) * Quat::fromAxisAngle({1, 0, 0}, pose.spin);
+                if (dot(q, previous) < 0) q = -q;  // one hemisphere, as for the bodies
+                previous = q;
+                const Vec3 p = wheel.mount - Vec3{0, pose.suspensionLength, 0};
+                translation.insert(translation.end(), {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
+                rotation.insert(rotation.end(), {static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z),
+                                                 static_cast<float>(q.w)});
+            }
+            setTransform(node, Transform{wheel.mount - Vec3{0, vehicle.poses[i].suspensionLength, 0}, Quat::identity()});
+            const int nodeIndex = addNode(std::move(node));
+            model_.nodes[static_cast<std::size_t>(bodyNodes_[static_cast<std::size_t>(vehicle.chassis)])].children.push_back(nodeIndex);
+            addChannel(nodeIndex, "translation", addAccessor(translation, TINYGLTF_TYPE_VEC3, 3, 0, false), "LINEAR");
+            addChannel(nodeIndex, "rotation", addAccessor(rotation, TINYGLTF_TYPE_VEC4, 4, 0, false), "LINEAR");
+        }
+    }
+
     const Recording& rec_;
+    std::vector<int> bodyNodes_;  // each body's root node
     tinygltf::Model model_;
     tinygltf::Animation animation_;
     int timeAccessor_ = -1;

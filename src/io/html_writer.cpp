@@ -179,6 +179,30 @@ std::string recordingJson(const Recording& rec) {
     }
     doc["particles"] = std::move(particles);
 
+    // Vehicles' wheels: geometry, and poses float32 [F][wheels][3] (suspension
+    // length, steering angle, spin); characters: their capsule bodies.
+    json vehicles = json::array();
+    for (const RecordedVehicle& vehicle : rec.vehicles) {
+        json wheels = json::array();
+        for (const RecordedWheel& w : vehicle.wheels) {
+            wheels.push_back({{"mount", vec(w.mount)}, {"radius", w.radius}, {"width", w.width}, {"steering", w.steering},
+                              {"driven", w.driven}});
+        }
+        std::vector<float> poses;
+        poses.reserve(vehicle.poses.size() * 3);
+        for (const RecordedWheelPose& p : vehicle.poses) {
+            poses.insert(poses.end(), {static_cast<float>(p.suspensionLength), static_cast<float>(p.steerAngle), static_cast<float>(p.spin)});
+        }
+        vehicles.push_back({{"name", vehicle.name},
+                            {"chassis", vehicle.chassis},
+                            {"wheels", std::move(wheels)},
+                            {"poses", packed(poses, vehicle.wheels.size() * 3)}});
+    }
+    doc["vehicles"] = std::move(vehicles);
+    json characters = json::array();
+    for (const RecordedCharacter& c : rec.characters) characters.push_back({{"name", c.name}, {"body", c.body}});
+    doc["characters"] = std::move(characters);
+
     std::vector<float> transforms;
     transforms.reserve(rec.transforms.size() * 7);
     for (const Transform& t : rec.transforms) transforms.insert(transforms.end(), {t.p.x, t.p.y, t.p.z, t.q.x, t.q.y, t.q.z, t.q.w});

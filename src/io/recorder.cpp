@@ -71,6 +71,25 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
         recording_.particles.push_back(std::move(track));
         particleIds_.push_back(pid);
     }
+
+    // Vehicles: wheels in the chassis's frame now, their poses per frame.
+    for (VehicleId vid : vehicles(world)) {
+        const VehicleDef& def = vehicleDef(world, vid);
+        RecordedVehicle vehicle;
+        vehicle.name = def.name;
+        vehicle.chassis = indexOf(ids_, def.chassis);
+        if (vehicle.chassis < 0) continue;
+        const Transform chassis = world.transform(def.chassis);
+        for (const WheelDef& wd : def.wheels) {
+            vehicle.wheels.push_back({inverseTransformPoint(chassis, wd.position), wd.radius, wd.width, wd.steering, wd.driven});
+        }
+        recording_.vehicles.push_back(std::move(vehicle));
+        vehicleIds_.push_back(vid);
+    }
+    for (CharacterId cid : world.characters()) {
+        const int body = indexOf(ids_, world.characterBody(cid));
+        if (body >= 0) recording_.characters.push_back({world.name(cid), body});
+    }
 }
 
 void Recorder::capture(const World& world) {
@@ -119,6 +138,20 @@ void Recorder::capture(const World& world) {
             const std::size_t count = track.particleCount;
             for (std::size_t i = 0; i < count; ++i) {
                 track.positions.push_back(frame > 0 ? track.positions[(frame - 1) * count + i] : Vec3{});
+            }
+        }
+    }
+    for (std::size_t v = 0; v < vehicleIds_.size(); ++v) {
+        RecordedVehicle& vehicle = rec.vehicles[v];
+        const std::size_t wheels = vehicle.wheels.size();
+        if (isValid(world, vehicleIds_[v])) {
+            for (const WheelState& s : vehicleState(world, vehicleIds_[v]).wheels) {
+                vehicle.poses.push_back({s.suspensionLength, s.steerAngle, s.rotation});
+            }
+        } else {
+            // Destroyed since: hold the last poses (the array stays frame-major).
+            for (std::size_t i = 0; i < wheels; ++i) {
+                vehicle.poses.push_back(frame > 0 ? vehicle.poses[(frame - 1) * wheels + i] : RecordedWheelPose{});
             }
         }
     }

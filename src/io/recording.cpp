@@ -75,6 +75,22 @@ void Recording::validate() const {
             }
         }
     }
+    for (const RecordedVehicle& vehicle : vehicles) {
+        if (vehicle.chassis < 0 || vehicle.chassis >= static_cast<int>(n)) {
+            throw Error("recording: vehicle '" + vehicle.name + "' refers to a chassis body index out of range");
+        }
+        requireSize(vehicle.poses.size(), frames * vehicle.wheels.size(), "vehicles[].poses");
+        for (const RecordedWheelPose& pose : vehicle.poses) {
+            if (!std::isfinite(pose.suspensionLength) || !std::isfinite(pose.steerAngle) || !std::isfinite(pose.spin)) {
+                throw Error("recording: vehicle '" + vehicle.name + "' has a non-finite wheel pose");
+            }
+        }
+    }
+    for (const RecordedCharacter& character : characters) {
+        if (character.body < 0 || character.body >= static_cast<int>(n)) {
+            throw Error("recording: character '" + character.name + "' refers to a body index out of range");
+        }
+    }
 }
 
 bool isRecordingPath(const std::filesystem::path& path) {

@@ -136,6 +136,8 @@ private:
     std::vector<Vec3> pyramidStart_;  // the pyramid's boxes at step 0
     double projectileTime_ = -1;      // the projectile sampled in flight, at t = 1 s
     Vec3 projectileAt_;
+    double carDistance_ = 0;          // the course's car: metres driven
+    Vec3 carLast_;
 };
 
 // The whole `fulcrum run` command. Returns the exit status: 0 done, 2 bad

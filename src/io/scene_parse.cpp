@@ -906,7 +906,7 @@ void Parser::parseVehicle(const json& j, const std::string& path, const Scene& s
                     if (!(out >= lo && out <= 1)) fail(r, std::string(key) + " must be in [" + detail::formatNumber(lo) + ", 1], got " + detail::formatNumber(out));
                 });
             };
-            unit("throttle", 0, in.throttle);
+            unit("throttle", -1, in.throttle);  // negative: backwards (reverse)
             unit("brake", 0, in.brake);
             unit("steering", -1, in.steering);
             opt(v[i], q, "hand_brake", [&](const json& x, const std::string& r) { in.handBrake = boolean(x, r); });

@@ -23,6 +23,9 @@ namespace {
 const Vec3 kUpLocal{0, 1, 0}, kForwardLocal{0, 0, 1};
 constexpr int kTyreIterations = 8;
 constexpr Real kRpmPerRadPerSecond = Real(60 / (2 * 3.14159265358979323846));
+// Below this forward speed (m/s) a throttle against the motion shifts into reverse
+// (or back into first) instead of braking.
+constexpr Real kReverseShiftSpeed = Real(0.5);
 // Below this speed slips are measured against it, so that they stay finite at rest.
 constexpr Real kSlipSpeedFloor = 1;
 
@@ -70,7 +73,7 @@ void validateInput(const Subject& who, const std::string& field, const VehicleIn
         if (v < lo || v > 1) detail::fail(who, f, "must be in [" + detail::formatReal(lo) + ", 1], got " + detail::formatReal(v));
     };
     detail::requireFinite(who, field + "time", in.time);
-    unit("throttle", in.throttle, 0);
+    unit("throttle", in.throttle, -1);  // negative: backwards (reverse gear, docs/vehicles.md)
     unit("brake", in.brake, 0);
     unit("steering", in.steering, -1);
 }
@@ -257,14 +260,32 @@ void VehicleSystem::update(World& world, double t0, Real dt) {
         }
         drivenSpin = driven > 0 ? drivenSpin / Real(driven) : 0;
         const GearboxDef& gb = def.gearbox;
-        const auto rpmIn = [&](int gear) { return std::abs(drivenSpin) * gb.ratios[std::size_t(gear - 1)] * gb.differentialRatio * kRpmPerRadPerSecond; };
-        if (rpmIn(v.gear) > gb.shiftUpRpm && v.gear < int(gb.ratios.size()) && rpmIn(v.gear + 1) > gb.shiftDownRpm) ++v.gear;
-        else if (rpmIn(v.gear) < gb.shiftDownRpm && v.gear > 1 && rpmIn(v.gear - 1) < gb.shiftUpRpm) --v.gear;
-        const Real ratio = gb.ratios[std::size_t(v.gear - 1)] * gb.differentialRatio;
+        // Reverse (gear -1) uses the first gear's ratio, turning the other way.
+        const auto gearRatio = [&](int gear) { return gb.ratios[std::size_t(gear < 0 ? 0 : gear - 1)]; };
+        const auto rpmIn = [&](int gear) { return std::abs(drivenSpin) * gearRatio(gear) * gb.differentialRatio * kRpmPerRadPerSecond; };
+        // The throttle's sign is the direction asked for. Against the way the
+        // car still moves it brakes (by its size) instead of driving; once the
+        // car has (nearly) stopped, the gearbox engages reverse or first.
+        Real throttle = in.throttle, brake = in.brake;
+        const bool backwards = throttle < 0;
+        if (backwards == (v.gear > 0) && throttle != 0) {
+            const Real along = dot(w.motion[cd].v, rotate(xf.q, kForwardLocal));
+            if (backwards ? along > kReverseShiftSpeed : along < -kReverseShiftSpeed) {
+                brake = std::max(brake, std::abs(throttle));
+                throttle = 0;
+            } else {
+                v.gear = backwards ? -1 : 1;
+            }
+        }
+        if (v.gear > 0) {
+            if (rpmIn(v.gear) > gb.shiftUpRpm && v.gear < int(gb.ratios.size()) && rpmIn(v.gear + 1) > gb.shiftDownRpm) ++v.gear;
+            else if (rpmIn(v.gear) < gb.shiftDownRpm && v.gear > 1 && rpmIn(v.gear - 1) < gb.shiftUpRpm) --v.gear;
+        }
+        const Real ratio = gearRatio(v.gear) * gb.differentialRatio;
         v.engineRpm = std::max(rpmIn(v.gear), def.engine.minRpm);
         const Real engineTorque =
-            v.engineRpm >= def.engine.maxRpm ? 0 : in.throttle * def.engine.maxTorque * torqueFraction(def.engine, v.engineRpm);
-        const Real wheelDrive = driven > 0 ? engineTorque * ratio / Real(driven) : 0;
+            v.engineRpm >= def.engine.maxRpm ? 0 : std::abs(throttle) * def.engine.maxTorque * torqueFraction(def.engine, v.engineRpm);
+        const Real wheelDrive = driven > 0 ? (v.gear < 0 ? -engineTorque : engineTorque) * ratio / Real(driven) : 0;
 
         // Tyres: a small sequential-impulse solve over the wheels on the
         // ground (brake, rolling, side grip), on a copy of the chassis's
@@ -320,7 +341,7 @@ void VehicleSystem::update(World& world, double t0, Real dt) {
                 const WheelDef& wd = def.wheels[i];
                 WheelState& s = wh.state;
                 // Brakes: torque against the spin, at most the brake's over the step.
-                const Real brakeTorque = in.brake * def.maxBrakeTorque + (in.handBrake && wd.handBrake ? def.maxHandBrakeTorque : 0);
+                const Real brakeTorque = brake * def.maxBrakeTorque + (in.handBrake && wd.handBrake ? def.maxHandBrakeTorque : 0);
                 if (brakeTorque > 0) {
                     const Real maxB = brakeTorque * dt;
                     const Real want = -s.angularVelocity * wd.inertia;

@@ -835,7 +835,7 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         if (slot >= w.vehicles.pool.size() || !w.vehicles.pool[slot].alive) fail("vehicle order");
         const VehicleData& v = w.vehicles.pool[slot];
         if (!bodyOk(v.def.chassis) || v.wheels.size() != v.def.wheels.size() || v.def.wheels.empty() ||
-            v.def.gearbox.ratios.empty() || v.def.engine.torqueCurve.empty() || v.gear < 1 ||
+            v.def.gearbox.ratios.empty() || v.def.engine.torqueCurve.empty() || (v.gear < 1 && v.gear != -1) ||
             v.gear > static_cast<int>(v.def.gearbox.ratios.size())) {
             fail("vehicles[" + std::to_string(slot) + "] definition");
         }

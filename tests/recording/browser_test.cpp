@@ -2,8 +2,9 @@
 // driven by playwright-core runs viewer/test/browser-test.mjs, which checks the
 // first impression of the page: it renders a shaded picture, plays on load,
 // frames the moving bodies, shows no debug overlay by default, labels the
-// demo's set pieces, selects a clicked body and describes it, logs no console
-// error and fetches nothing. Skipped, with the reason, when node, Chromium or
+// demo's set pieces, selects a clicked body and describes it, draws a
+// vehicle's wheels turning and steering and follows it with the camera
+// choice, logs no console error and fetches nothing. Skipped, with the reason, when node, Chromium or
 // the node packages are missing (scripts/install-viewer-deps.sh installs them).
 // The screenshots are kept in the build tree: tests/artifacts/replay*.png.
 #include <gtest/gtest.h>
@@ -49,7 +50,9 @@ void checkInBrowser(const fs::path& page, const fs::path& screenshot, std::size_
 }
 
 // The built-in demo (`fulcrum run --record X.html`, scripts/run.sh): every set
-// piece labelled, the door picked by a click.
+// piece labelled, the door picked by a click, the course's car drawn with
+// wheels that spin and steer between t = 1 s and 5 s, and followed by the
+// camera choice.
 TEST(Browser, DemoReplayOpensPlayingFramedLabelledAndPickable) {
     if (const std::string missing = missingTool(); !missing.empty()) GTEST_SKIP() << missing;
     const fs::path page = artifacts() / "replay.html";
@@ -57,8 +60,8 @@ TEST(Browser, DemoReplayOpensPlayingFramedLabelledAndPickable) {
     outputs.recordPath = page.string();
     const fulcrum::detail::RunResult result = fulcrum::detail::runScene(fulcrum::detail::demoScene(), outputs);
     checkInBrowser(page, artifacts() / "replay.png", result.world.bodyCount(),
-                   "--labels " + quote("pyramid,pile,chain,door,slider,rope,cloth,projectile,spring chain,spinner,oscillator") +
-                       " --pick door");
+                   "--labels " + quote("pyramid,pile,chain,door,slider,rope,cloth,projectile,spring chain,spinner,oscillator,car,hero") +
+                       " --pick door --vehicle car --vehicle-times 1,5");
 }
 
 // A synthetic recording with every shape type, a compound, a static mesh and joints.

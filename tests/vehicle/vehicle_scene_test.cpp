@@ -27,7 +27,8 @@ const char* const kWheels = R"("wheels": [{"position": [0.8, 0.7, 1.3], "steerin
 TEST(VehicleScene, ReadsWritesAndBuilds) {
     const Scene scene = parseScene(carScene(std::string(R"({"name": "car", "chassis": "car", )") + kWheels +
                                             R"(, "engine": {"max_torque": 300}, "anti_roll_bars": [{"left": 0, "right": 1}],
-                                               "inputs": [{"time": 0, "throttle": 1}, {"time": 1, "brake": 1}]})"));
+                                               "inputs": [{"time": 0, "throttle": 1}, {"time": 1, "brake": 1},
+                                                          {"time": 3, "throttle": -0.5}]})"));
     ASSERT_EQ(scene.vehicles.size(), 1u);
     EXPECT_EQ(scene.vehicles[0].def.wheels.size(), 4u);
     EXPECT_TRUE(scene.vehicles[0].def.wheels[2].handBrake);
@@ -39,6 +40,10 @@ TEST(VehicleScene, ReadsWritesAndBuilds) {
     EXPECT_GT(vehicleState(world, handles.vehicles[0]).speed, Real(1));
     for (int i = 0; i < 120; ++i) world.step(Real(1) / 60);
     EXPECT_LT(std::abs(vehicleState(world, handles.vehicles[0]).speed), Real(0.05));
+    // Then backwards: the script's negative throttle engages reverse.
+    for (int i = 0; i < 120; ++i) world.step(Real(1) / 60);
+    EXPECT_EQ(vehicleState(world, handles.vehicles[0]).gear, -1);
+    EXPECT_LT(vehicleState(world, handles.vehicles[0]).speed, Real(-1));
 }
 
 TEST(VehicleScene, BadValuesNameThePath) {
@@ -56,6 +61,8 @@ TEST(VehicleScene, BadValuesNameThePath) {
     expectPath(R"({"name": "v", "chassis": "car", "wheels": []})", "vehicles[0].wheels");
     expectPath(R"({"name": "v", "chassis": "car", "wheels": [{"position": [5, 0.7, 0]}]})", "vehicles[0]", "wheels[0].position");
     expectPath(std::string(R"({"name": "v", "chassis": "car", )") + kWheels + R"(, "inputs": [{"time": 0, "throttle": 2}]})",
+               "vehicles[0].inputs[0].throttle");
+    expectPath(std::string(R"({"name": "v", "chassis": "car", )") + kWheels + R"(, "inputs": [{"time": 0, "throttle": -1.5}]})",
                "vehicles[0].inputs[0].throttle");
     expectPath(std::string(R"({"name": "v", "chassis": "car", )") + kWheels + R"(, "anti_roll_bars": [{"left": 0, "right": 9}]})",
                "vehicles[0].anti_roll_bars[0].right");

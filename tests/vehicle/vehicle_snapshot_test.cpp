@@ -37,4 +37,25 @@ TEST(VehicleSnapshot, MidDriveContinuesBitForBit) {
               restored.characterState(restored.characters()[0]).position);
 }
 
+TEST(VehicleSnapshot, MidReverseContinuesBitForBit) {
+    // Saved in reverse (gear -1, which a restored snapshot must accept).
+    const Scene scene = loadScene(std::string(FULCRUM_SOURCE_DIR) + "/scenes/course.json");
+    World original = buildWorld(scene);
+    const VehicleId car = vehicles(original)[0];
+    for (int i = 0; i < 600; ++i) original.step(scene.dt);  // the lap, braked to a stop: the script is done
+    setVehicleInput(original, car, {.throttle = -1});
+    for (int i = 0; i < 90; ++i) original.step(scene.dt);
+    ASSERT_EQ(vehicleState(original, car).gear, -1);
+    World restored = loadSnapshotFromMemory(saveSnapshotToMemory(original));
+    for (int i = 0; i < 120; ++i) {
+        original.step(scene.dt);
+        restored.step(scene.dt);
+    }
+    const VehicleState a = vehicleState(original, car), b = vehicleState(restored, vehicles(restored)[0]);
+    EXPECT_EQ(b.gear, -1);
+    EXPECT_LT(a.speed, -1);
+    EXPECT_EQ(a.position, b.position);
+    EXPECT_EQ(a.speed, b.speed);
+}
+
 }  // namespace

@@ -9,6 +9,9 @@ import {
   Raycaster, RepeatWrapping, SRGBColorSpace, Scene, SphereGeometry, Vector2, Vector3, WebGLRenderer,
 } from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { createCameraChoice } from './camera.js';
+import { paintTerrain } from './terrain.js';
+import { createVehicles } from './vehicles.js';
 
 // ---- data -----------------------------------------------------------------
 
@@ -47,6 +50,7 @@ async function decodeRecording(rec) {
   for (const key of ['times', 'transforms', 'awake', 'bounds', 'contactOffsets', 'contacts', 'jointErrors', 'energy', 'momentum']) decode(rec, key);
   for (const body of rec.bodies) for (const part of body.parts) for (const key of ['positions', 'normals', 'indices']) decode(part, key);
   for (const track of rec.particles ?? []) for (const key of ['indices', 'positions']) decode(track, key);
+  for (const vehicle of rec.vehicles ?? []) decode(vehicle, 'poses');
   await Promise.all(jobs);
   return rec;
 }
@@ -119,6 +123,8 @@ function start(rec) {
              sleepMaterial: body.parts.map((p) => material(body.sleepColor, p.doubleSided)), asleep: false };
   });
   bodies.forEach((b, index) => b.meshes.forEach((m) => { m.userData.bodyIndex = index; }));
+  const vehicleView = createVehicles(rec, bodies, srgb);  // wheels, on their chassis (vehicles.js)
+  paintTerrain(bodies);                                   // heightfields as grass (terrain.js)
 
   // ---- ropes and cloths: fixed topology, positions rewritten every frame
   const particleTracks = (rec.particles ?? []).map((track) => {
@@ -226,6 +232,7 @@ function start(rec) {
   controls.enableDamping = true;
   controls.dampingFactor = 0.12;
   const viewDirection = new Vector3(0.32, 0.42, 1).normalize();
+  const cameraChoice = createCameraChoice({ camera, controls, bodies, vehicles: vehicleView.list, characters: rec.characters ?? [] });
 
   function frameBox(box, direction = viewDirection, margin = 0.94) {
     const centre = box.getCenter(new Vector3());
@@ -495,6 +502,7 @@ function start(rec) {
         body.meshes.forEach((m, k) => { m.material = asleep ? body.sleepMaterial[k] : body.awakeMaterial[k]; });
       }
     }
+    vehicleView.update(frame, alpha);
     updateParticles(frame, alpha);
     // Contacts of the frame shown (not interpolated: they belong to a step).
     const c0 = contactOffsets[frame] ?? 0, c1 = contactOffsets[frame + 1] ?? 0;
@@ -743,6 +751,7 @@ function start(rec) {
       controls.target.lerpVectors(flight.from.target, flight.to.target, s);
       if (u >= 1) flight = null;
     }
+    cameraChoice.update(dt);
     controls.update();
     skyDome.position.copy(camera.position);
     placeLabels();
@@ -764,6 +773,8 @@ function start(rec) {
     meshCount: bodies.reduce((n, b) => n + b.meshes.length, 0),
     jointCount: rec.joints.length,
     particleSystemCount: particleTracks.length,
+    vehicles: vehicleView,
+    cameraChoice,
     frameCount,
     duration,
     camera,

@@ -1,6 +1,7 @@
 // Headless-browser check of a recorded replay page (run by the C++ test
 // tests/recording/browser_test.cpp, or by hand):
 //   node viewer/test/browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]
+//        [--vehicle NAME [--vehicle-times T1,T2]]
 // Opens the page from file:// in Debian's Chromium driven by playwright-core,
 // refuses every non-file request (the page must fetch nothing), and checks the
 // first impression: the viewer starts without errors or console errors, shows
@@ -9,9 +10,12 @@
 // box spans more than a quarter of the view's width or height, and most of
 // them are inside it), shows no debug overlay by default, labels the groups
 // named by --labels, and a click on the body --pick names selects it and the
-// readout shows its name. Saves SCREENSHOT.png (the first view, playing) and
-// SCREENSHOT-picked.png (after the click). Prints one JSON line; exit 0 =
-// pass, 1 = fail.
+// readout shows its name. With --vehicle: the vehicle's wheels are drawn,
+// spin and steer between the recording's times T1 and T2 (default 1 and 5 s),
+// and the camera drop-down's "vehicle: NAME" follows it (the camera moves with
+// the car and keeps it in view). Saves SCREENSHOT.png (the first view,
+// playing), SCREENSHOT-picked.png (after the click) and SCREENSHOT-follow.png
+// (following the vehicle). Prints one JSON line; exit 0 = pass, 1 = fail.
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
@@ -22,6 +26,8 @@ const args = process.argv.slice(2);
 const option = (name) => { const i = args.indexOf(name); return i >= 0 ? args.splice(i, 2)[1] : undefined; };
 const expectedLabels = option('--labels')?.split(',').filter(Boolean) ?? [];
 const pickName = option('--pick');
+const vehicleName = option('--vehicle');
+const vehicleTimes = (option('--vehicle-times') ?? '1,5').split(',').map(Number);
 const [pagePath, screenshotPath, expectedArg] = args;
 if (!pagePath || !screenshotPath || !expectedArg) {
   console.error('usage: browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]');
@@ -180,6 +186,52 @@ try {
             `the readout does not describe '${pickName}': ${JSON.stringify(picked.readout)}`);
       await page.screenshot({ path: screenshotPath.replace(/\.png$/, '-picked.png') });
     }
+  }
+
+  // Vehicles: wheels drawn, turning and steering; the follow camera.
+  if (vehicleName) {
+    const wheelsAt = (t) => page.evaluate(([name, time]) => {
+      window.fulcrumViewer.pause();
+      window.fulcrumViewer.seekTime(time);
+      return window.fulcrumViewer.vehicles.wheels().filter((w) => w.vehicle === name);
+    }, [vehicleName, t]);
+    const a = await wheelsAt(vehicleTimes[0]), b = await wheelsAt(vehicleTimes[1]);
+    const meshes = await page.evaluate((name) => {
+      let n = 0;
+      window.fulcrumViewer.scene.traverse((o) => { if (o.name.startsWith(`${name} wheel `)) n += 1; });
+      return n;
+    }, vehicleName);
+    const spun = a.map((w, i) => Math.abs(b[i].spin - w.spin));
+    const steered = a.map((w, i) => Math.abs(b[i].steer - w.steer));
+    report.wheels = { count: a.length, meshes, spun, steered };
+    check(a.length > 0 && meshes === a.length, `vehicle '${vehicleName}': ${a.length} wheels, ${meshes} wheel objects in the scene`);
+    check(spun.every((d) => d > 0.5), `vehicle '${vehicleName}': wheels did not turn between ${vehicleTimes}: ${spun}`);
+    check(steered.some((d) => d > 0.02), `vehicle '${vehicleName}': no wheel steered between ${vehicleTimes}: ${steered}`);
+
+    // Follow: choose it in the drop-down, then look at two times.
+    await page.selectOption('#camera', { label: `vehicle: ${vehicleName}` });
+    const settledAt = async (t) => {
+      const frames = await page.evaluate((time) => { window.fulcrumViewer.seekTime(time); return window.fulcrumViewer.framesRendered; }, t);
+      // A seek is a jump, which the camera follows at once: two frames suffice.
+      await page.waitForFunction((f) => window.fulcrumViewer.framesRendered >= f + 2, frames, { timeout: 20000 });
+      return page.evaluate(([name, project]) => {
+        const v = window.fulcrumViewer;
+        const chassis = v.bodies()[v.vehicles.list.find((x) => x.name === name).body];
+        return { camera: v.camera.position.toArray(), car: chassis.position, view: eval(project)([chassis.position])[0],  // eslint-disable-line no-eval
+                 choice: v.cameraChoice.choice };
+      }, [vehicleName, `(${projectInPage})`]);
+    };
+    const f1 = await settledAt(vehicleTimes[0]), f2 = await settledAt(vehicleTimes[1]);
+    const dist = (p, q) => Math.hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+    const carMoved = dist(f1.car, f2.car), cameraMoved = dist(f1.camera, f2.camera);
+    const range1 = dist(f1.camera, f1.car), range2 = dist(f2.camera, f2.car);
+    report.follow = { choice: f2.choice, carMoved, cameraMoved, range1, range2, inView: [f1.view.inside, f2.view.inside] };
+    check(f2.choice === `vehicle: ${vehicleName}`, `camera choice is '${f2.choice}'`);
+    check(carMoved > 3, `vehicle '${vehicleName}' moved only ${carMoved.toFixed(2)} m between ${vehicleTimes}`);
+    check(cameraMoved > 0.5 * carMoved, `the follow camera moved ${cameraMoved.toFixed(2)} m, the car ${carMoved.toFixed(2)} m`);
+    check(Math.abs(range2 - range1) < 0.25 * range1, `the follow camera's distance changed from ${range1.toFixed(2)} to ${range2.toFixed(2)} m`);
+    check(f1.view.inside && f2.view.inside, `vehicle '${vehicleName}' out of the followed view`);
+    await page.screenshot({ path: screenshotPath.replace(/\.png$/, '-follow.png') });
   }
 
   check(errors.length === 0, `page errors: ${errors.join(' | ')}`);
