@@ -54,11 +54,7 @@ if [ $quick -eq 0 ]; then
   echo "== Fuzz build"
   scripts/fuzz.sh --build
   mkdir -p build/fuzz/logs
-  # Not here: narrowphase, whose oracle (GJK's distance) still gives false
-  # answers for thin and parallel capsules and for cylinders (docs/reliability.md,
-  # open findings): its runs by hand find those in seconds, so in this stage it
-  # would fail every change. It comes back once they are fixed.
-  for target in $(scripts/fuzz.sh --list | grep -vx narrowphase); do
+  for target in $(scripts/fuzz.sh --list); do
     log=build/fuzz/logs/$target.log
     if scripts/fuzz.sh "$target" "${FUZZ_SECONDS:-40}" -seed="${FUZZ_SEED:-1}" >"$log" 2>&1; then
       echo "== Fuzz $target: $(sed -n 's/^stat::number_of_executed_units: //p' "$log") inputs, no finding"

@@ -37,7 +37,11 @@ std::uint32_t meshFeature(std::uint32_t triangle, std::uint32_t local) {
 // True when the contact at triangle point p (normal n from the triangle) is
 // allowed to keep a normal other than the face normal.
 bool edgeNormalAllowed(const Vec3 w[3], std::uint8_t convexMask, const Vec3& p, const Vec3& n, const Vec3& faceN) {
-    if (dot(n, faceN) <= 0) return false;
+    // In the triangle's plane is still on its front side: a shape beside a
+    // convex edge, level with the surface, is pushed away along the plane.
+    // (GJK's normal there used to carry a few 1e-6 of rounding upwards; exact,
+    // it was refused and rebuilt along the face normal.)
+    if (dot(n, faceN) < 0) return false;
     // Barycentric coordinates of p projected on the triangle.
     const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
     const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);

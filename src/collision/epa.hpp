@@ -16,8 +16,9 @@ struct PenetrationResult {
     Vec3 pointB;   // deepest point of B inside A (on B's surface)
 };
 
-// Penetration of the full (rounded) shapes. Runs GJK on the full shapes
-// itself; fixed-size storage, no allocation.
+// Penetration of the full (rounded) shapes. Runs GJK itself: when a shape has
+// a radius and the cores overlap, EPA expands the cores and adds the radii
+// (exact), else the full shapes; fixed-size storage, no allocation.
 PenetrationResult epaPenetration(const ConvexShape& a, const ConvexShape& b);
 
 }  // namespace fulcrum::detail

@@ -28,6 +28,33 @@ void keep(Simplex& s, std::initializer_list<std::uint32_t> idx, std::initializer
     s.count = n;
 }
 
+// The sub-simplex solver works in double precision, whatever Real is. Its
+// inputs are vertices of A - B metres from the origin, its answer a point
+// millimetres from it, and on the thin simplices GJK builds against parallel
+// faces and capsules (a triangle 10 m long and 0.3 mm wide) the single-
+// precision formulas cancel to nonsense: Ericson's va, vb, vc (differences of
+// products of dot products) left the closest point 0.15 mm from an origin
+// that lay in the triangle, so two capsules 3.5 cm deep in each other were
+// "apart" (fuzz/corpus/narrowphase/parallel_thin_capsules); a sliver's normal,
+// off by 2e-3 rad, gave weights of +-19000 and a distance of 1.6 cm for
+// capsules 3.3 cm apart; a nearly flat tetrahedron "held" an origin 12 cm
+// outside it. The vertices are exact in double, and these few products
+// cost next to nothing beside the support functions.
+struct D3 {
+    double x, y, z;
+};
+D3 toD(const Vec3& v) { return {v.x, v.y, v.z}; }
+D3 operator-(const D3& a, const D3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+D3 operator+(const D3& a, const D3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+D3 operator*(const D3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double dotD(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+D3 crossD(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec3 toReal(const D3& v) { return {static_cast<Real>(v.x), static_cast<Real>(v.y), static_cast<Real>(v.z)}; }
+// A vertex of A - B from its support points: exact in double, where the
+// single-precision w carries rounding of 1e-7 of the points' distance from
+// the origin (3e-7 m at 3 m, a tenth of a gap of a few micrometres).
+D3 wOf(const SimplexVertex& v) { return toD(v.a) - toD(v.b); }
+
 // Closest point to the origin on triangle (s.v[i0], s.v[i1], s.v[i2]) (RTCD 5.1.5),
 // written into `out` as (indices, weights).
 struct Sub {
@@ -38,36 +65,38 @@ struct Sub {
 };
 
 Sub closestTriangle(const Simplex& s, std::uint32_t ia, std::uint32_t ib, std::uint32_t ic) {
-    const Vec3 a = s.v[ia].w, b = s.v[ib].w, c = s.v[ic].w;
-    const Vec3 ab = b - a, ac = c - a, ap = -a;
-    const Real d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return {{ia}, {1}, 1, a};
-    const Vec3 bp = -b;
-    const Real d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return {{ib}, {1}, 1, b};
-    const Real vc = d1 * d4 - d3 * d2;
+    const D3 a = wOf(s.v[ia]), b = wOf(s.v[ib]), c = wOf(s.v[ic]);
+    const D3 ab = b - a, ac = c - a;
+    const double d1 = -dotD(ab, a), d2 = -dotD(ac, a);
+    if (d1 <= 0 && d2 <= 0) return {{ia}, {1}, 1, toReal(a)};
+    const double d3 = -dotD(ab, b), d4 = -dotD(ac, b);
+    if (d3 >= 0 && d4 <= d3) return {{ib}, {1}, 1, toReal(b)};
+    const double vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const Real v = d1 / (d1 - d3);
-        return {{ia, ib}, {1 - v, v}, 2, a + ab * v};
+        const double v = d1 / (d1 - d3);
+        return {{ia, ib}, {static_cast<Real>(1 - v), static_cast<Real>(v)}, 2, toReal(a + ab * v)};
     }
-    const Vec3 cp = -c;
-    const Real d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return {{ic}, {1}, 1, c};
-    const Real vb = d5 * d2 - d1 * d6;
+    const double d5 = -dotD(ab, c), d6 = -dotD(ac, c);
+    if (d6 >= 0 && d5 <= d6) return {{ic}, {1}, 1, toReal(c)};
+    const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const Real w = d2 / (d2 - d6);
-        return {{ia, ic}, {1 - w, w}, 2, a + ac * w};
+        const double w = d2 / (d2 - d6);
+        return {{ia, ic}, {static_cast<Real>(1 - w), static_cast<Real>(w)}, 2, toReal(a + ac * w)};
     }
-    const Real va = d3 * d6 - d5 * d4;
+    const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const Real w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return {{ib, ic}, {1 - w, w}, 2, b + (c - b) * w};
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {{ib, ic}, {static_cast<Real>(1 - w), static_cast<Real>(w)}, 2, toReal(b + (c - b) * w)};
     }
-    const Real denom = va + vb + vc;
-    if (!(std::fabs(denom) > Real(0))) return {{ia}, {1}, 1, a};  // degenerate (zero-area) triangle
-    const Real inv = 1 / denom;
-    const Real v = vb * inv, w = vc * inv;
-    return {{ia, ib, ic}, {1 - v - w, v, w}, 3, a + ab * v + ac * w};
+    // The origin projects inside: its projection on the plane, with the
+    // signed sub-triangle areas as weights.
+    const D3 n = crossD(ab, ac);
+    const double nn = dotD(n, n);
+    if (!(nn > 0)) return {{ia}, {1}, 1, toReal(a)};  // degenerate (zero-area) triangle
+    const D3 p = n * (dotD(n, a) / nn);
+    const double wa = dotD(crossD(b - p, c - p), n) / nn;
+    const double wb = dotD(crossD(c - p, a - p), n) / nn;
+    return {{ia, ib, ic}, {static_cast<Real>(wa), static_cast<Real>(wb), static_cast<Real>(1 - wa - wb)}, 3, toReal(p)};
 }
 
 void apply(Simplex& s, const Sub& sub) {
@@ -86,17 +115,17 @@ bool closestOnSimplex(Simplex& s, Vec3& closest) {
     switch (s.count) {
         case 1:
             s.bary[0] = 1;
-            closest = s.v[0].w;
+            closest = toReal(wOf(s.v[0]));
             return true;
         case 2: {
-            const Vec3 a = s.v[0].w, b = s.v[1].w, ab = b - a;
-            const Real denom = dot(ab, ab);
-            Real t = denom > 0 ? -dot(a, ab) / denom : 0;
-            if (t <= 0) { keep(s, {0}, {1}); closest = a; return true; }
-            if (t >= 1) { keep(s, {1}, {1}); closest = b; return true; }
-            s.bary[0] = 1 - t;
-            s.bary[1] = t;
-            closest = a + ab * t;
+            const D3 a = wOf(s.v[0]), b = wOf(s.v[1]), ab = b - a;
+            const double denom = dotD(ab, ab);
+            const double t = denom > 0 ? -dotD(a, ab) / denom : 0;
+            if (t <= 0) { closest = toReal(a); keep(s, {0}, {1}); return true; }
+            if (t >= 1) { closest = toReal(b); keep(s, {1}, {1}); return true; }
+            s.bary[0] = static_cast<Real>(1 - t);
+            s.bary[1] = static_cast<Real>(t);
+            closest = toReal(a + ab * t);
             return true;
         }
         case 3: {
@@ -112,9 +141,9 @@ bool closestOnSimplex(Simplex& s, Vec3& closest) {
             Sub best{};
             Real bestD2 = 0;
             for (const auto& f : faces) {
-                const Vec3 a = s.v[f[0]].w, b = s.v[f[1]].w, c = s.v[f[2]].w, d = s.v[f[3]].w;
-                const Vec3 n = cross(b - a, c - a);
-                const Real sideO = dot(-a, n), sideD = dot(d - a, n);
+                const D3 a = wOf(s.v[f[0]]), b = wOf(s.v[f[1]]), c = wOf(s.v[f[2]]), d = wOf(s.v[f[3]]);
+                const D3 n = crossD(b - a, c - a);
+                const double sideO = -dotD(a, n), sideD = dotD(d - a, n);
                 // Origin strictly on the other side of the face from d (with a
                 // small tolerance so a flat tetrahedron does not claim containment).
                 if (sideO * sideD < 0 || sideD == 0) {
@@ -174,7 +203,23 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
         const Simplex saved = s;
         s.v[s.count++] = nv;
         Vec3 closest;
-        if (!closestOnSimplex(s, closest)) { r.overlap = true; break; }
+        if (!closestOnSimplex(s, closest)) {
+            // A tetrahedron holding the origin means overlap, unless w's
+            // support plane already separates A - B from the origin: every
+            // point x of A - B has v.x >= v.w > 0. Then the tetrahedron is
+            // one GJK built almost flat (w lands between two earlier points
+            // on a curved rim) and rounding put the origin inside it (with
+            // single-precision side tests, a cylinder 12 cm from a thin
+            // plate "overlapped" it: fuzz/corpus/narrowphase/
+            // cylinder_near_thin_plate). The previous simplex and its
+            // distance stand, as at the no-progress stop.
+            if (dot(v, nv.w) > kRelTol * std::sqrt(vv * lengthSquared(nv.w))) {
+                s = saved;
+                break;
+            }
+            r.overlap = true;
+            break;
+        }
         const Real d2 = lengthSquared(closest);
         if (d2 >= prevD2 || d2 >= vv) {
             // Float noise made no progress: keep the previous, better simplex.
@@ -203,7 +248,13 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
     }
     r.pointA = pa;
     r.pointB = pb;
-    r.distance = r.overlap ? 0 : length(pa - pb);
+    // Distance and direction from v, the closest point of A - B worked out
+    // in double: pb - pa, a difference of two weighted sums of points metres
+    // from the origin, carries their rounding (1e-7 m at a few metres), which
+    // for hulls a few micrometres apart turned the normal by tens of degrees.
+    const Real vLength = length(v);
+    r.distance = r.overlap ? 0 : vLength;
+    r.normal = !r.overlap && vLength > 0 ? v * (-1 / vLength) : Vec3{};
     return r;
 }
 

@@ -25,6 +25,7 @@ struct GjkResult {
     bool overlap = false;   // the origin is inside (or within float noise of) A - B
     Real distance = 0;      // between the shapes GJK ran on (cores or full shapes)
     Vec3 pointA, pointB;    // closest points
+    Vec3 normal;            // unit, from A to B, when apart: the direction of pointB - pointA, but exact to rounding
     Simplex simplex;        // final simplex (for EPA when overlapping)
     std::uint32_t iterations = 0;
 };

@@ -38,7 +38,7 @@ Proximity proximity(const ConvexShape& a, const ConvexShape& b) {
     const GjkResult g = gjkDistance(a, b, false);
     const Real rs = a.radius + b.radius;
     if (!g.overlap && g.distance > Real(1e-6)) {
-        const Vec3 n = (g.pointB - g.pointA) / g.distance;
+        const Vec3 n = g.normal;
         const Vec3 pa = g.pointA + n * a.radius, pb = g.pointB - n * b.radius;
         return {g.distance - rs, n, (pa + pb) * Real(0.5)};
     }
