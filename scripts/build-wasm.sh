@@ -6,6 +6,8 @@
 # FULCRUM_SIMD=scalar; docs/determinism.md). Files are read and written
 # through Node's own file system (NODERAWFS).
 # Usage: scripts/build-wasm.sh [BUILD_DIR]   (default build-wasm)
+# WASM_EXTRA_CXX_FLAGS adds compiler flags, for experiments in another
+# BUILD_DIR (docs/benchmarks.md: -msimd128).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-wasm-deps.sh
@@ -37,7 +39,7 @@ emcmake cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DFULCRUM_WARNINGS_AS_ER
   -Dnlohmann_json_DIR="$here/cmake/wasm/nlohmann_json" -DCLI11_DIR="$here/cmake/wasm/CLI11" \
   -DTinyGLTF_DIR="$here/cmake/wasm/TinyGLTF" -DTinyGLTF_LIBRARY="$libs/libtinygltf.a" \
   -DZLIB_INCLUDE_DIR="$here/cmake/wasm/zlib_stored" -DZLIB_LIBRARY="$libs/libz.a" \
-  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp -fexceptions" -DCMAKE_EXE_LINKER_FLAGS=-fexceptions >/dev/null
+  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp -fexceptions ${WASM_EXTRA_CXX_FLAGS:-}" -DCMAKE_EXE_LINKER_FLAGS=-fexceptions >/dev/null
 # -fexceptions: Emscripten catches no C++ exception by default, so a bad scene
 # would end the tool with "exiting due to exception" instead of the engine's
 # message, and abort a page using the module; docs/benchmarks.md measures what

@@ -25,7 +25,8 @@ function pyramid20() {
 }
 
 const view = document.getElementById('view');
-const ui = Object.fromEntries(['scene', 'play', 'step', 'reset', 'speed', 'spawn', 'show-contacts', 'stats', 'status', 'file']
+const ui = Object.fromEntries(['scene', 'play', 'step', 'reset', 'speed', 'spawn', 'show-contacts', 'show-sleeping', 'stats', 'status',
+  'file']
   .map((id) => [id, document.getElementById(id)]));
 
 const renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -150,7 +151,7 @@ function placeBody(body, s, i) {
   const k = 8 * i;
   body.group.position.set(s[k], s[k + 1], s[k + 2]);
   body.group.quaternion.set(s[k + 3], s[k + 4], s[k + 5], s[k + 6]);
-  const asleep = body.rec.type === 'dynamic' && s[k + 7] === 0;
+  const asleep = ui['show-sleeping'].checked && body.rec.type === 'dynamic' && s[k + 7] === 0;
   if (asleep !== body.asleep) {
     body.asleep = asleep;
     body.meshes.forEach((m, j) => { m.material = asleep ? body.sleepMaterial[j] : body.awakeMaterial[j]; });
@@ -283,7 +284,7 @@ ui.step.addEventListener('click', () => { setPlaying(false); step(1); updateDraw
 ui.reset.addEventListener('click', () => load(live.title, live.text));
 ui.speed.addEventListener('change', () => { state.speed = Number(ui.speed.value); });
 ui.scene.addEventListener('change', () => load(ui.scene.value, scenes()[ui.scene.value]));
-ui['show-contacts'].addEventListener('change', () => updateDrawing());
+for (const box of [ui['show-contacts'], ui['show-sleeping']]) box.addEventListener('change', () => updateDrawing());
 ui.file.addEventListener('change', async () => {
   const file = ui.file.files[0];
   if (file) load(file.name, await file.text());
