@@ -6,7 +6,8 @@
 // it starts without page or console errors; the simulation advances by
 // itself; a scripted mouse drag moves the grabbed body towards the pointer;
 // SCENE.json stepped 300 times in the page has the state hash that the
-// native build's fulcrum_web_hash prints; the page reports its step time.
+// native build's fulcrum_web_hash prints; the page reports its step time;
+// a click on the ground spawns a body; every built-in scene loads and steps.
 // Screenshots go to OUT_DIR (sandbox.png, sandbox-drag.png). Prints one JSON
 // line; exit 0 = pass, 1 = fail, 77 = skipped (no page, browser or package).
 import { execFileSync } from 'node:child_process';
@@ -109,6 +110,22 @@ try {
   // Dragged up and to the right on screen: the box rises and moves along the camera's right.
   check(moved[1] > 0.5, `the dragged box did not rise: moved ${moved.map((v) => v.toFixed(2)).join(', ')} m`);
   check(Math.hypot(...moved) > 1, `the dragged box hardly moved: ${Math.hypot(...moved).toFixed(3)} m`);
+
+  // A click (no drag) on the ground spawns a body there.
+  const countBefore = await page.evaluate(() => window.fulcrumSandbox.bodies().length);
+  const ground = await page.evaluate(() => window.fulcrumSandbox.screenOf([4, 0, 3]));
+  await page.mouse.click(ground.x, ground.y);
+  const countAfter = await page.evaluate(() => window.fulcrumSandbox.bodies().length);
+  report.spawn = { before: countBefore, after: countAfter };
+  check(countAfter === countBefore + 1, `a click spawned ${countAfter - countBefore} bodies, expected 1`);
+
+  // Every built-in scene loads, draws and steps.
+  report.scenes = await page.evaluate(() => window.fulcrumSandbox.sceneNames.map((name) => {
+    const problem = window.fulcrumSandbox.load(name);
+    if (!problem) window.fulcrumSandbox.step(5);
+    return { name, problem, bodies: problem ? 0 : window.fulcrumSandbox.bodies().length };
+  }));
+  for (const s of report.scenes) check(!s.problem && s.bodies > 0, `built-in scene ${s.name}: ${s.problem || 'no bodies'}`);
 
   // The same bits as the native build: the scene stepped 300 times in the page.
   const pageHash = await page.evaluate(([text, n]) => {
