@@ -69,6 +69,7 @@ if [ -d viewer/node_modules/esbuild ] && [ -d viewer/node_modules/three ]; then
   ' scenes/*.json > "$dir/sandbox-scenes.js"
   echo "build-wasm: $dir/sandbox.html (the live sandbox)"
 else
+  rm -f "$dir/sandbox.html"  # never an old page tested as if it were this build's
   echo "build-wasm: no sandbox page (viewer/node_modules missing: scripts/install-viewer-deps.sh)"
 fi
 echo "build-wasm: $dir/fulcrum.js (node $dir/fulcrum.js run SCENE.json --json), $dir/fulcrum_web.js (docs/browser.md)"
