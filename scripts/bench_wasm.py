@@ -9,7 +9,7 @@ the fastest round's wall time per step is kept (this VM's noise only adds
 time). Also checks that the final reports agree bit for bit with the native
 scalar run.
 
-Usage: bench_wasm.py NATIVE_CLI WASM_JS [--rounds N] [--steps N]
+Usage: bench_wasm.py NATIVE_CLI WASM_JS [--rounds N] [--steps N] [--also LABEL=WASM_JS ...]
 """
 import argparse
 import json
@@ -54,6 +54,8 @@ def main():
     parser.add_argument("wasm")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--steps", type=int, default=300)
+    parser.add_argument("--also", action="append", default=[], metavar="LABEL=WASM_JS",
+                        help="another WebAssembly build in the same rounds (e.g. other compiler flags)")
     args = parser.parse_args()
     here = os.path.dirname(os.path.abspath(__file__))
     with tempfile.TemporaryDirectory() as tmp:
@@ -68,6 +70,9 @@ def main():
             "native default SIMD": ([args.native], dict(os.environ)),
             "wasm (Node)": (["node", args.wasm], dict(os.environ)),
         }
+        for extra in args.also:
+            label, path = extra.split("=", 1)
+            runners[f"wasm {label} (Node)"] = (["node", path], dict(os.environ))
         print("| scene | steps | " + " | ".join(f"{r} ms/step" for r in runners) + " | wasm / native scalar | same bits |")
         print("|---|---|" + "---|" * len(runners) + "---|---|")
         for name, path in scenes.items():
@@ -77,7 +82,7 @@ def main():
                 for r, (command, env) in runners.items():
                     ms, reports[r] = run(command, path, args.steps, env)
                     best[r] = min(best[r], ms)
-            same = reports["wasm (Node)"] == reports["native scalar"]
+            same = all(reports[r] == reports["native scalar"] for r in runners if r.startswith("wasm"))
             ratio = best["wasm (Node)"] / best["native scalar"]
             print(f"| {name} | {args.steps} | " + " | ".join(f"{best[r]:.3f}" for r in runners) +
                   f" | {ratio:.2f} | {'yes' if same else 'NO'} |")

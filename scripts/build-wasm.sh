@@ -6,6 +6,8 @@
 # FULCRUM_SIMD=scalar; docs/determinism.md). Files are read and written
 # through Node's own file system (NODERAWFS).
 # Usage: scripts/build-wasm.sh [BUILD_DIR]   (default build-wasm)
+# WASM_EXTRA_CXX_FLAGS adds compiler flags, for experiments in another
+# BUILD_DIR (docs/benchmarks.md: -msimd128).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-wasm-deps.sh
@@ -32,16 +34,42 @@ if [ ! -f "$libs/libtinygltf.a" ]; then
   emar rcs "$libs/libtinygltf.a" "$libs/tinygltf.o"
 fi
 
-# -sWASM_ASYNC_COMPILATION=0: Emscripten 3.1.6 would fetch() the .wasm file,
-# which Node 18 and later have but cannot use on a path.
-link_flags="-sENVIRONMENT=node -sNODERAWFS=1 -sALLOW_MEMORY_GROWTH=1 -sWASM_ASYNC_COMPILATION=0 -sEXIT_RUNTIME=1"
 emcmake cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DFULCRUM_WARNINGS_AS_ERRORS=ON -DFULCRUM_BUILD_TESTS=OFF \
   -DFULCRUM_BUILD_APPS=ON -DFULCRUM_BUILD_PYTHON=OFF "${launcher[@]}" \
   -Dnlohmann_json_DIR="$here/cmake/wasm/nlohmann_json" -DCLI11_DIR="$here/cmake/wasm/CLI11" \
   -DTinyGLTF_DIR="$here/cmake/wasm/TinyGLTF" -DTinyGLTF_LIBRARY="$libs/libtinygltf.a" \
   -DZLIB_INCLUDE_DIR="$here/cmake/wasm/zlib_stored" -DZLIB_LIBRARY="$libs/libz.a" \
-  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp" "-DCMAKE_EXE_LINKER_FLAGS=$link_flags" >/dev/null
-cmake --build "$dir" -j "$(nproc)" --target fulcrum_cli
-# The tool as build-wasm/fulcrum.js (+ fulcrum.wasm beside it).
-cp "$dir/apps/fulcrum/fulcrum.js" "$dir/apps/fulcrum/fulcrum.wasm" "$dir/"
-echo "build-wasm: $dir/fulcrum.js (node $dir/fulcrum.js run SCENE.json --json)"
+  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp -fexceptions ${WASM_EXTRA_CXX_FLAGS:-}" -DCMAKE_EXE_LINKER_FLAGS=-fexceptions >/dev/null
+# -fexceptions: Emscripten catches no C++ exception by default, so a bad scene
+# would end the tool with "exiting due to exception" instead of the engine's
+# message, and abort a page using the module; docs/benchmarks.md measures what
+# catching costs. Each target's link options are in its CMakeLists.txt
+# (apps/fulcrum, apps/web).
+cmake --build "$dir" -j "$(nproc)" --target fulcrum_cli fulcrum_web
+# The tool as build-wasm/fulcrum.js (+ fulcrum.wasm beside it); the module as
+# build-wasm/fulcrum_web.js (one file, the WebAssembly inside).
+cp "$dir/apps/fulcrum/fulcrum.js" "$dir/apps/fulcrum/fulcrum.wasm" "$dir/apps/web/fulcrum_web.js" "$dir/"
+
+# The JavaScript API beside the module (docs/browser.md), and the live sandbox
+# page (viewer/src/sandbox.html): its bundle (viewer/build-sandbox.mjs, with the
+# viewer's node packages: scripts/install-viewer-deps.sh) and the built-in
+# scenes (scenes/*.json but those that read URDF, which this build cannot).
+cp apps/web/fulcrum_api.js "$dir/fulcrum_api.mjs"
+if [ -d viewer/node_modules/esbuild ] && [ -d viewer/node_modules/three ]; then
+  (cd viewer && node build-sandbox.mjs "$here/$dir/sandbox.js" >/dev/null)
+  cp viewer/src/sandbox.html "$dir/sandbox.html"
+  node -e '
+    const fs = require("fs"), path = require("path");
+    const scenes = {};
+    for (const file of process.argv.slice(1).sort()) {
+      const text = fs.readFileSync(file, "utf8");
+      if (!/"urdf"\s*:/.test(text)) scenes[path.basename(file, ".json")] = text;
+    }
+    process.stdout.write(`window.FULCRUM_SCENES = ${JSON.stringify(scenes)};\n`);
+  ' scenes/*.json > "$dir/sandbox-scenes.js"
+  echo "build-wasm: $dir/sandbox.html (the live sandbox)"
+else
+  rm -f "$dir/sandbox.html"  # never an old page tested as if it were this build's
+  echo "build-wasm: no sandbox page (viewer/node_modules missing: scripts/install-viewer-deps.sh)"
+fi
+echo "build-wasm: $dir/fulcrum.js (node $dir/fulcrum.js run SCENE.json --json), $dir/fulcrum_web.js (docs/browser.md)"

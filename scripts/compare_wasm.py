@@ -6,7 +6,9 @@ Runs `fulcrum run SCENE --json` natively (FULCRUM_SIMD=scalar) and as
 two reports to be equal in every number, bit for bit (both print each number
 in its shortest round-trip form), except the wall-clock time.
 
-Usage: compare_wasm.py NATIVE_CLI WASM_JS SCENE.json [SCENE.json ...]
+Usage: compare_wasm.py NATIVE_CLI WASM_JS SCENE [SCENE ...]
+A SCENE is a scene file, or `pyramid20`: the benchmark scene (bench_wasm.py)
+written to a temporary file.
 Exit 77 (CTest: skipped) when WASM_JS does not exist: build it with
 scripts/build-wasm.sh.
 """
@@ -14,6 +16,11 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
+
+from bench_wasm import pyramid20
+
+GENERATED = {"pyramid20": lambda: dict(pyramid20(), world=dict(pyramid20()["world"], steps=300))}
 
 TIMING_KEYS = {"wall_seconds", "profile"}
 
@@ -51,7 +58,13 @@ def main():
         return 77
     env = dict(os.environ, FULCRUM_SIMD="scalar")
     failed = False
+    generated = tempfile.TemporaryDirectory()
     for scene in scenes:
+        if scene in GENERATED:
+            name = scene
+            scene = os.path.join(generated.name, scene + ".json")
+            with open(scene, "w") as f:
+                json.dump(GENERATED[name](), f)
         native = report([native_cli, "run", scene, "--json"], env)
         wasm = report(["node", wasm_js, "run", scene, "--json"], env)
         diffs = list(differences(native, wasm))

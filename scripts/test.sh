@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds and runs every test: a Release build (GCC) with warnings as errors,
+# Builds and runs every test: the WebAssembly build (scripts/build-wasm.sh),
+# a Release build (GCC) with warnings as errors,
 # then an AddressSanitizer + UndefinedBehaviorSanitizer build with Clang, so
 # the suite also runs under the second compiler: GoldenHash.* in both passes
 # holds each to the same recorded state bits (docs/determinism.md); then a
@@ -24,6 +25,25 @@ run_suite() {  # name, build dir, ctest args (one word), extra cmake args...
   ctest --test-dir "$dir" -j "$jobs" --output-on-failure --timeout 300 $ctest_args
 }
 
+# WebAssembly (docs/browser.md): the command-line tool and the JavaScript
+# module built with Debian's Emscripten (ccache as its compiler launcher)
+# before the Release pass, whose tests then hold them to the native bits:
+# Wasm.CliMatchesNative (node build-wasm/fulcrum.js against the native tool,
+# FULCRUM_SIMD=scalar, every number: pyramid20, the chain, the cloth, joints,
+# every shape) and Browser.SandboxLive (the live page in Chromium, its state
+# hash against the native build's). If Emscripten cannot be installed, the
+# old build is removed so that those tests report SKIPPED, never pass; a build
+# that fails fails the run. Cost on the 2-core machine: about 9 min cold
+# (3.3 min of CPU; the rest was waiting on other builds), 1 min 50 s for a new
+# build-wasm/ with ccache warm, 5 s when nothing changed; the three tests add
+# about 45 s.
+echo "== WebAssembly build"
+if scripts/install-wasm-deps.sh; then
+  scripts/build-wasm.sh build-wasm
+else
+  rm -f build-wasm/fulcrum.js build-wasm/fulcrum_web.js build-wasm/sandbox.html
+  echo "test.sh: Emscripten unavailable; the WebAssembly tests will be SKIPPED"
+fi
 run_suite "Release" build/release "" -DCMAKE_BUILD_TYPE=Release -DFULCRUM_BUILD_PYTHON=ON
 # The Python package (docs/python.md), with Debian's interpreter (the python3 on
 # PATH may lack NumPy); the Release pass only (an ASan extension needs LD_PRELOAD).
@@ -38,7 +58,7 @@ if [ $quick -eq 0 ]; then
   # internal invariants at each phase (docs/validation.md).
   # Clang (Debian's), in its own build folder (a folder's compiler is fixed
   # when it is first configured).
-  sanitize_ctest_args="-E ^Browser\."
+  sanitize_ctest_args="-E ^(Browser|Wasm)\."
   CC=clang CXX=clang++ ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     run_suite "ASan+UBSan (Clang)" build/sanitize-clang "$sanitize_ctest_args" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFULCRUM_SANITIZE=ON \
       -DFULCRUM_VALIDATE=ON "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"

@@ -3,13 +3,13 @@
 // writer; it reads the recording from <script id="fulcrum-recording">.
 // The data format and the controls are documented in docs/recording.md.
 import {
-  BackSide, Box3, BoxGeometry, BufferAttribute, BufferGeometry, CanvasTexture, Color, CylinderGeometry, DirectionalLight, DoubleSide,
-  EdgesGeometry, Fog, FrontSide, Group, HemisphereLight, InstancedMesh, LineBasicMaterial, LineSegments, Matrix4, Mesh,
-  MeshBasicMaterial, MeshStandardMaterial, PCFShadowMap, PerspectiveCamera, Points, PointsMaterial, Quaternion,
-  Raycaster, RepeatWrapping, SRGBColorSpace, Scene, SphereGeometry, Vector2, Vector3, WebGLRenderer,
+  Box3, BoxGeometry, BufferAttribute, BufferGeometry, Color, CylinderGeometry, DoubleSide, EdgesGeometry, Fog,
+  InstancedMesh, LineBasicMaterial, LineSegments, Matrix4, Mesh, MeshStandardMaterial, PCFShadowMap, PerspectiveCamera,
+  Points, Quaternion, Raycaster, Scene, Vector2, Vector3, WebGLRenderer,
 } from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { createCameraChoice } from './camera.js';
+import { addLights, buildBodies, checkerTexture, createSkyDome, drawAsGround, frameCamera, overlayLines, srgb } from './stage.js';
 import { paintTerrain } from './terrain.js';
 import { createVehicles } from './vehicles.js';
 
@@ -86,43 +86,10 @@ function start(rec) {
   renderer.shadowMap.type = PCFShadowMap;
   view.prepend(renderer.domElement);
 
-  const srgb = (rgb) => new Color().setRGB(rgb[0], rgb[1], rgb[2], SRGBColorSpace);
   const scene = new Scene();
 
-  // ---- bodies
-  function material(rgb, doubleSided) {
-    return new MeshStandardMaterial({ color: srgb(rgb), roughness: 0.55, metalness: 0.05,
-                                      side: doubleSided ? DoubleSide : FrontSide });
-  }
-  const bodies = rec.bodies.map((body) => {
-    const group = new Group();
-    group.name = body.name;
-    const meshes = [];
-    const local = new Box3();
-    for (const part of body.parts) {
-      const geometry = new BufferGeometry();
-      geometry.setAttribute('position', new BufferAttribute(part.positions, 3));
-      geometry.setAttribute('normal', new BufferAttribute(part.normals, 3));
-      geometry.setIndex(new BufferAttribute(part.indices, 1));
-      const mesh = new Mesh(geometry, material(body.color, part.doubleSided));
-      mesh.position.set(...part.position);
-      mesh.quaternion.set(...part.rotation);
-      mesh.castShadow = body.shape !== 'plane';
-      mesh.receiveShadow = true;
-      group.add(mesh);
-      meshes.push(mesh);
-      if (body.shape !== 'plane') {
-        mesh.updateMatrix();
-        geometry.computeBoundingBox();
-        local.union(geometry.boundingBox.clone().applyMatrix4(mesh.matrix));
-      }
-    }
-    scene.add(group);
-    const extent = local.isEmpty() ? 0 : local.getSize(new Vector3()).length() / 2;
-    return { rec: body, group, meshes, awakeMaterial: meshes.map((m) => m.material), local, extent,
-             sleepMaterial: body.parts.map((p) => material(body.sleepColor, p.doubleSided)), asleep: false };
-  });
-  bodies.forEach((b, index) => b.meshes.forEach((m) => { m.userData.bodyIndex = index; }));
+  // ---- bodies (stage.js)
+  const bodies = buildBodies(scene, rec.bodies);
   const vehicleView = createVehicles(rec, bodies, srgb);  // wheels, on their chassis (vehicles.js)
   paintTerrain(bodies);                                   // heightfields as grass (terrain.js)
 
@@ -235,23 +202,7 @@ function start(rec) {
   const cameraChoice = createCameraChoice({ camera, controls, bodies, vehicles: vehicleView.list, characters: rec.characters ?? [] });
 
   function frameBox(box, direction = viewDirection, margin = 0.94) {
-    const centre = box.getCenter(new Vector3());
-    const back = direction.clone().normalize();
-    const right = new Vector3(0, 1, 0).cross(back).normalize();
-    const up = back.clone().cross(right);
-    const ty = Math.tan((camera.fov * Math.PI) / 360) * margin, tx = ty * camera.aspect;
-    let distance = 0;
-    for (let c = 0; c < 8; c++) {
-      const corner = new Vector3(c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y, c & 4 ? box.max.z : box.min.z).sub(centre);
-      const depth = corner.dot(back);
-      distance = Math.max(distance, Math.abs(corner.dot(right)) / tx + depth, Math.abs(corner.dot(up)) / ty + depth);
-    }
-    distance = Math.max(distance, box.getSize(new Vector3()).length() * 0.6, 0.3);
-    camera.position.copy(centre).addScaledVector(back, distance);
-    controls.target.copy(centre);
-    camera.near = distance / 200;
-    camera.far = distance * 40 + focusRadius * 20;
-    camera.updateProjectionMatrix();
+    frameCamera(camera, controls, box, direction, margin, focusRadius);
     skyDome.scale.setScalar(camera.far * 0.5);
     skyDome.position.copy(camera.position);
     controls.update();
@@ -261,114 +212,22 @@ function start(rec) {
   // A sky dome around the camera: the fog's colour at and below the horizon
   // (where the ground fades into it), darkening towards the zenith.
   const horizon = new Color(0x8d9bb0), zenith = new Color(0x1f2836);
-  const skyDome = (() => {
-    const geometry = new SphereGeometry(1, 32, 16);
-    const p = geometry.attributes.position, colours = new Float32Array(p.count * 3), c = new Color();
-    for (let k = 0; k < p.count; k++) {
-      c.lerpColors(horizon, zenith, Math.max(0, p.getY(k)) ** 0.7).toArray(colours, 3 * k);
-    }
-    geometry.setAttribute('color', new BufferAttribute(colours, 3));
-    const dome = new Mesh(geometry, new MeshBasicMaterial({ vertexColors: true, side: BackSide, fog: false,
-                                                            depthWrite: false, depthTest: false }));
-    dome.renderOrder = -1;
-    dome.frustumCulled = false;
-    return dome;
-  })();
+  const skyDome = createSkyDome(horizon, zenith);
   scene.add(skyDome);
   scene.background = horizon;
   scene.fog = new Fog(horizon, focusRadius * 3, focusRadius * 9);
-  scene.add(new HemisphereLight(0xdde8ff, 0x4a4238, 1.1));
-  const sun = new DirectionalLight(0xfff4e6, 3.2);
-  const sunDirection = new Vector3(-0.45, 1, 0.6).normalize();
-  sun.position.copy(focusCenter).addScaledVector(sunDirection, focusRadius * 3);
-  sun.target.position.copy(focusCenter);
-  sun.castShadow = true;
-  sun.shadow.mapSize.set(2048, 2048);
-  {
-    // The shadow camera looks along the sun at the focus box: its bounds are
-    // the box's corners seen from the sun, a little grown.
-    const s = sun.shadow.camera;
-    sun.updateMatrixWorld();
-    sun.target.updateMatrixWorld();
-    s.position.copy(sun.position);
-    s.lookAt(sun.target.position);
-    s.updateMatrixWorld();
-    const inverse = s.matrixWorld.clone().invert();
-    const lightBox = new Box3();
-    const grown = focus.clone().expandByScalar(typicalSize * 2);
-    for (let c = 0; c < 8; c++) {
-      lightBox.expandByPoint(new Vector3(c & 1 ? grown.max.x : grown.min.x, c & 2 ? grown.max.y : grown.min.y,
-                                         c & 4 ? grown.max.z : grown.min.z).applyMatrix4(inverse));
-    }
-    s.left = lightBox.min.x; s.right = lightBox.max.x; s.bottom = lightBox.min.y; s.top = lightBox.max.y;
-    s.near = Math.max(0.01, -lightBox.max.z - focusRadius); s.far = -lightBox.min.z + focusRadius;
-    s.updateProjectionMatrix();
-    const texel = Math.max(s.right - s.left, s.top - s.bottom) / 2048;
-    sun.shadow.bias = -0.0004;
-    sun.shadow.normalBias = texel * 1.5;
-    sun.shadow.radius = 3;
-  }
-  scene.add(sun, sun.target);
+  addLights(scene, focus, focusRadius, typicalSize);
 
   // ---- a ground that reads as one: planes drawn as a large checkered floor
   // (tiles of a round number of metres) fading into the horizon.
   const tile = 10 ** Math.round(Math.log10(Math.max(typicalSize * 4, 0.05)));
-  const checker = (() => {
-    const canvas = document.createElement('canvas');
-    canvas.width = canvas.height = 128;
-    const g = canvas.getContext('2d');
-    g.fillStyle = '#a7afba'; g.fillRect(0, 0, 128, 128);
-    g.fillStyle = '#98a0ac'; g.fillRect(0, 0, 64, 64); g.fillRect(64, 64, 64, 64);
-    g.strokeStyle = 'rgba(70,78,92,0.35)'; g.lineWidth = 2; g.strokeRect(0, 0, 128, 128);
-    const texture = new CanvasTexture(canvas);
-    texture.wrapS = texture.wrapT = RepeatWrapping;
-    texture.colorSpace = SRGBColorSpace;
-    texture.anisotropy = 8;
-    return texture;
-  })();
-  bodies.forEach((body) => {
-    if (body.rec.shape !== 'plane') return;
-    for (const mesh of body.meshes) {
-      // The recorded quad, grown about its centre within its plane, with UVs in metres.
-      const p = mesh.geometry.attributes.position;
-      const corner = (k) => new Vector3(p.getX(k), p.getY(k), p.getZ(k));
-      const centre = new Vector3();
-      for (let k = 0; k < p.count; k++) centre.add(corner(k));
-      centre.divideScalar(p.count);
-      const u = corner(1).sub(corner(0)).normalize(), v = corner(p.count - 1).sub(corner(0)).normalize();
-      const grow = Math.max(1, (focusRadius * 12) / Math.max(corner(0).distanceTo(centre), 1e-6));
-      const uv = new Float32Array(p.count * 2);
-      for (let k = 0; k < p.count; k++) {
-        const q = corner(k).sub(centre).multiplyScalar(grow).add(centre);
-        p.setXYZ(k, q.x, q.y, q.z);
-        uv[2 * k] = q.dot(u) / (2 * tile); uv[2 * k + 1] = q.dot(v) / (2 * tile);
-      }
-      mesh.geometry.setAttribute('uv', new BufferAttribute(uv, 2));
-      mesh.geometry.computeBoundingSphere();
-      const ground = new MeshStandardMaterial({ map: checker, roughness: 0.95, metalness: 0, side: DoubleSide,
-                                                polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 });
-      mesh.material = ground;
-      body.awakeMaterial = body.sleepMaterial = body.meshes.map(() => ground);
-    }
-  });
+  const checker = checkerTexture();
+  bodies.forEach((body) => drawAsGround(body, focusRadius * 12, tile, checker));
 
   // ---- overlays: contacts and normals, joints, AABBs; buffers sized for the busiest frame
   let maxContacts = 0;
   for (let f = 0; f < frameCount; f++) maxContacts = Math.max(maxContacts, contactOffsets[f + 1] - contactOffsets[f]);
-  function dynamicLines(vertexCount, color, PointsOrLines, extra = {}) {
-    const geometry = new BufferGeometry();
-    geometry.setAttribute('position', new BufferAttribute(new Float32Array(Math.max(vertexCount, 1) * 3), 3));
-    geometry.setDrawRange(0, 0);
-    const mat = PointsOrLines === Points
-      ? new PointsMaterial({ color, size: 6, sizeAttenuation: false, depthTest: false, ...extra })
-      : new LineBasicMaterial({ color, depthTest: false, ...extra });
-    const object = new PointsOrLines(geometry, mat);
-    object.frustumCulled = false;
-    object.renderOrder = 10;
-    object.visible = false;
-    scene.add(object);
-    return object;
-  }
+  const dynamicLines = (vertexCount, color, PointsOrLines, extra) => overlayLines(scene, vertexCount, color, PointsOrLines, extra);
   const contactPoints = dynamicLines(maxContacts, 0xff4040, Points);
   const contactNormals = dynamicLines(maxContacts * 2, 0xffe066, LineSegments);
   const jointLines = dynamicLines(rec.joints.length * 2, 0x7cf0ff, LineSegments);
