@@ -42,7 +42,7 @@ def test_six_dof_axis_settings_and_errors():
 
 
 def test_cone_twist_drive_holds_a_lever_with_m_g_l():
-    world = fulcrum.World()
+    world = fulcrum.World(sleeping=False)  # a held lever would fall asleep, and a sleeping joint reports no reaction
     ball = world.create_body(shape=fulcrum.Sphere(0.05), mass=2, position=(0.8, 0, 0))
     joint = world.create_cone_twist_joint(None, ball, anchor=(0, 0, 0), axis=(1, 0, 0), swing_limit=math.pi,
                                           twist_limits=(-math.pi, math.pi))

@@ -63,7 +63,7 @@ TEST(SixDofScene, BadAxesNameThePath) {
     test::expectError(scene(R"("type": "six_dof", "axes": {"w": "free"})"), "joints[0].axes.w", "unknown key for the six-DOF axes");
     test::expectError(scene(R"("type": "six_dof", "axes": {"x": "loose"})"), "joints[0].axes.x", "unknown axis mode 'loose'");
     test::expectError(scene(R"("type": "six_dof", "axes": {"x": {"limits": [1, -1]}})"), "joints[0].axes.x.limits", "lower must not exceed upper");
-    test::expectError(scene(R"("type": "six_dof", "axes": {"x": "limited"}})"), "joints[0].axes.x", "needs its limits");
+    test::expectError(scene(R"("type": "six_dof", "axes": {"x": "limited"})"), "joints[0].axes.x", "needs its limits");
     test::expectError(scene(R"("type": "six_dof", "swing_limit": 1)"), "joints[0].swing_limit", "unknown key for a six_dof joint");
 }
 
