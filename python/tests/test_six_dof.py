@@ -85,3 +85,22 @@ def test_robot_contact_forces_and_planar_joint(tmp_path):
     assert forces.shape == (2, 3)
     assert forces[1][2] == pytest.approx(2 * 9.81, rel=0.005)
     assert world.joints()[0].type == "six_dof"
+
+
+def test_cli_json_reports_six_dof_axes(cli, tmp_path):
+    import json
+    import subprocess
+    scene = tmp_path / "six.json"
+    scene.write_text(json.dumps({
+        "world": {"gravity": [0, 0, 0]},
+        "bodies": [{"name": "box", "shape": {"type": "box", "half_extents": [0.1, 0.1, 0.1]}, "mass": 1,
+                    "position": [0, 0, 0]}],
+        "joints": [{"name": "six", "type": "six_dof", "body_b": "box", "anchor": [0, 0, 0], "axis": [1, 0, 0],
+                    "axes": {"x": {"motor": {"speed": 0.5, "max_force": 100}}, "rz": "free"}}]}))
+    r = subprocess.run([str(cli), "run", str(scene), "--steps", "60", "--json"], capture_output=True, text=True,
+                       check=False)
+    assert r.returncode == 0, r.stderr
+    joint = json.loads(r.stdout)["joints"][0]
+    assert len(joint["axis_positions"]) == 6 and len(joint["axis_efforts"]) == 6
+    assert joint["axis_velocities"][0] == pytest.approx(0.5, rel=0.01)
+    assert joint["axis_positions"][0] == pytest.approx(0.5, rel=0.05)
