@@ -100,7 +100,7 @@ struct JointDef {
     ConeTwistDrive coneDrive;       // cone-twist: a target orientation
 
     // Six-DOF: the joint frame's x axis is `axis`, its y axis `axisY` (made
-    // perpendicular to x; zero: any perpendicular), world space at creation;
+    // perpendicular to x; zero: world y, or world z when x is near y), world space at creation;
     // and the six axes' modes, limits, motors and springs.
     Vec3 axisY;
     SixDofAxes axes;
@@ -214,7 +214,7 @@ struct SixDofJointDef : JointDefBase {
     Quat localFrameA;   // the joint frame in A's body axes (B's: the same frame at creation)
     SixDofAxes axes;    // all locked by default
     // The frame from world axes now: x = axis, y = axisY made perpendicular
-    // (zero: any perpendicular).
+    // (zero: world y, or world z when x is near y).
     static SixDofJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis = {1, 0, 0},
                                     Vec3 axisY = {});
 };

@@ -361,7 +361,7 @@ void bindJoints(py::module_& m) {
         },
         py::arg("body_a"), py::arg("body_b"), py::kw_only(), py::arg("anchor"), py::arg("axis") = py::make_tuple(1, 0, 0),
         py::arg("axis_y") = py::make_tuple(0, 0, 0), py::arg("axes") = py::none(), FULCRUM_JOINT_COMMON_ARGS,
-        "Six degrees of freedom in a joint frame at `anchor` (x = axis, y = axis_y made perpendicular): axes maps "
+        "Six degrees of freedom in a joint frame at `anchor` (x = axis, y = axis_y made perpendicular; (0, 0, 0): world y, or world z when axis is near y): axes maps "
         "'x', 'y', 'z', 'rx', 'ry', 'rz' to 'free', 'locked' or {'limits': (lo, hi), 'motor': {'speed', 'max_force'}, "
         "'spring': {'target', 'stiffness', 'damping'}}; unnamed axes are locked. Angles: x-y-z Euler angles of body_b's "
         "frame against body_a's (docs/joints.md).");

@@ -222,13 +222,14 @@ SixDofJointDef SixDofJoint::fromJointDef(const JointDef& def, const JointEnds& e
     const Subject who{"joint", def.name};
     const Vec3 x = requireDirection(who, "axis", def.axis);
     requireFinite(who, "axisY", def.axisY);
+    // y: axisY made perpendicular to x; without one (or along x), world y
+    // (world z when x is near y), so the default frame is the world's.
     Vec3 y = def.axisY - x * dot(def.axisY, x);
-    if (length(y) > Real(1e-6)) {
-        y = normalize(y);
-    } else {
-        Vec3 t;
-        orthonormalBasis(x, y, t);
+    if (!(length(y) > Real(1e-6))) {
+        const Vec3 fallback = std::abs(x.y) < Real(0.9) ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+        y = fallback - x * dot(fallback, x);
     }
+    y = normalize(y);
     const Quat frame = Quat::fromMatrix(Mat3(x, y, cross(x, y)));
     d.localFrameA = ends.a.world ? frame : conjugate(ends.a.q) * frame;
     d.axes = def.axes;
