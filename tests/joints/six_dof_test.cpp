@@ -5,6 +5,7 @@
 
 #include "fulcrum/snapshot.hpp"
 #include "joints/joint_test_util.hpp"
+#include "solver/joints/six_dof.hpp"
 #include "world/snapshot_versions.hpp"
 
 using namespace fulcrum;
@@ -232,4 +233,41 @@ TEST(SixDof, SnapshotContinuesBitForBit) {
     EXPECT_EQ(p.z, q.z);
     // Version 6 has no six-DOF joint: writing one in it is refused, naming it.
     EXPECT_THAT(errorOf([&] { (void)detail::saveSnapshotAsVersion(world, 6); }), testing::HasSubstr("six-DOF"));
+}
+
+// The angles are intrinsic x-y-z Euler angles: a rotation built as
+// Rx(a) Ry(b) Rz(c) reads back as (a, b, c); each row's velocity is its
+// angle's rate (finite differences, 1e-3 relative); at the gimbal lock
+// (b = +-pi/2) the whole turn is read as a, and the rows stay finite.
+TEST(SixDof, EulerAnglesAndTheirRates) {
+    const auto rotation = [](double a, double b, double c) {
+        return Quat::fromAxisAngle({1, 0, 0}, Real(a)) * Quat::fromAxisAngle({0, 1, 0}, Real(b)) *
+               Quat::fromAxisAngle({0, 0, 1}, Real(c));
+    };
+    const Quat frame = normalize(Quat{1, Real(0.2), Real(-0.3), Real(0.1)});  // the joint frame in A
+    const Quat qA = normalize(Quat{Real(0.9), Real(0.1), Real(0.4), Real(-0.2)});
+    const double cases[][3] = {{0.3, -0.4, 1.1}, {-2.5, 1.2, -0.7}, {0.1, -1.4, 3.0}};
+    for (const auto& e : cases) {
+        // B's frame = A's frame turned by R (rest pose: identity).
+        const Quat qB = qA * frame * rotation(e[0], e[1], e[2]) * conjugate(frame);
+        const detail::SixDofGeometry g = detail::sixDofGeometry(qA, qB, Quat{}, frame, {});
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(double(g.angle[k]), e[k], 2e-5) << k;
+        // Spin B by w for a short time either side: each angle changes by dot(row, w) dt (central differences).
+        const Vec3 w{Real(0.3), Real(-0.5), Real(0.8)};
+        const Real dt = Real(2e-3);
+        const Quat half = Quat::fromAxisAngle(normalize(w), length(w) * dt / 2);
+        const detail::SixDofGeometry after = detail::sixDofGeometry(qA, normalize(half * qB), Quat{}, frame, {});
+        const detail::SixDofGeometry before = detail::sixDofGeometry(qA, normalize(conjugate(half) * qB), Quat{}, frame, {});
+        for (int k = 0; k < 3; ++k) {
+            const double rate = double(dot(g.angularRow[k], w));
+            EXPECT_NEAR(double(after.angle[k] - before.angle[k]) / double(dt), rate, 2e-3 * (1 + std::fabs(rate))) << k;
+        }
+    }
+    for (const double b : {kPi / 2, -kPi / 2}) {
+        const Quat qB = qA * frame * rotation(0.4, b, 0) * conjugate(frame);
+        const detail::SixDofGeometry g = detail::sixDofGeometry(qA, qB, Quat{}, frame, {});
+        EXPECT_NEAR(double(g.angle[0]), 0.4, 2e-3);
+        EXPECT_NEAR(double(g.angle[1]), b, 2e-3);
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(isFinite(g.angularRow[k])) << k;
+    }
 }

@@ -192,9 +192,11 @@ SixDofGeometry sixDofGeometry(const Quat& qA, const Quat& qB, const Quat& relati
         g.angle[0] = dmath::atan2(-m12, m22);
         g.angle[2] = dmath::atan2(-m01, m00);
     } else {
-        // Gimbal lock: a and c turn about the same axis; all of it is read as a.
+        // Gimbal lock: a and c turn about the same axis (m10, m11 are the sin
+        // and cos of a + c at b = pi/2, of c - a at -pi/2); all of it is read as a.
         const Real m10 = 2 * (r.x * r.y + r.w * r.z), m11 = 1 - 2 * (r.x * r.x + r.z * r.z);
-        g.angle[0] = dmath::atan2(m10, m11);
+        const Real turn = dmath::atan2(m10, m11);
+        g.angle[0] = m02 > 0 ? turn : -turn;
         g.angle[2] = 0;
     }
     const Vec3 xA = g.linearAxis[0];
