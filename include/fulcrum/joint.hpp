@@ -1,6 +1,7 @@
 #pragma once
 // Joints: constraints between two bodies (or a body and the static world),
 // solved by the same iterative solver as contacts.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -9,7 +10,7 @@
 
 namespace fulcrum {
 
-enum class JointType : std::uint8_t { Ball, Hinge, Slider, Distance, Fixed, ConeTwist };
+enum class JointType : std::uint8_t { Ball, Hinge, Slider, Distance, Fixed, ConeTwist, SixDof };
 const char* toString(JointType type);
 
 
@@ -25,6 +26,49 @@ struct JointSpring {
     Real target = 0;
     Real stiffness = 0;   // N m/rad or N/m
     Real damping = 0;
+};
+
+// ---- six-degree-of-freedom joint: its axes (docs/joints.md, "Six-DOF")
+//
+// The joint frame sits at the anchor; its three linear axes are x, y, z of
+// the frame fixed in body A, its three angles are B's frame turned against
+// A's as intrinsic x-y-z Euler angles (rx about A's x, then ry about the
+// turned y, then rz about B's z). Each axis is free, limited to [lower,
+// upper] or locked at 0 (its position at creation), and has a motor and a
+// spring like a hinge's or slider's.
+
+enum class AxisMode : std::uint8_t { Free, Limited, Locked };
+const char* toString(AxisMode mode);
+
+// Indices into the six axes: linear x, y, z, then angular x, y, z.
+enum SixDofAxisIndex : int { kAxisX = 0, kAxisY = 1, kAxisZ = 2, kAxisRotX = 3, kAxisRotY = 4, kAxisRotZ = 5 };
+inline constexpr int kSixDofAxes = 6;
+
+struct SixDofAxis {
+    AxisMode mode = AxisMode::Locked;
+    Real lower = 0, upper = 0;   // Limited: m (linear), rad (angular: rx, rz within [-pi, pi]; ry within (-pi/2, pi/2))
+    JointMotor motor;            // m/s and N, or rad/s and N m
+    JointSpring spring;          // target m or rad; N/m or N m/rad; N s/m or N m s/rad
+};
+using SixDofAxes = std::array<SixDofAxis, kSixDofAxes>;
+
+// Per-axis read-out of a six-DOF joint (World::sixDofReading), axes as above:
+// position m / rad, velocity m/s / rad/s, effort N / N m (the joint's reaction
+// on B along each axis; angular: about each Euler angle's own axis).
+struct SixDofReading {
+    std::array<Real, kSixDofAxes> position{}, velocity{}, effort{};
+};
+
+// Cone-twist drive: pulls B towards a target orientation relative to A, as a
+// spring-damper about the rotation between them (PD), or, with infinite
+// stiffness, holds the target as rigidly as the joint's other rows; either
+// way with a torque up to maxTorque.
+struct ConeTwistDrive {
+    bool enabled = false;
+    Quat target;              // B's rotation from its rest pose relative to A, in A's body axes (identity: the rest pose)
+    Real stiffness = 0;       // N m/rad, >= 0; +infinity: rigid
+    Real damping = 0;         // N m s/rad, >= 0
+    Real maxTorque = std::numeric_limits<Real>::infinity();  // N m, > 0
 };
 
 struct JointDef {
@@ -53,6 +97,13 @@ struct JointDef {
     Real swingLimit = Real(0.7853982);
     Real twistLower = Real(-0.7853982);
     Real twistUpper = Real(0.7853982);
+    ConeTwistDrive coneDrive;       // cone-twist: a target orientation
+
+    // Six-DOF: the joint frame's x axis is `axis`, its y axis `axisY` (made
+    // perpendicular to x; zero: world y, or world z when x is near y), world space at creation;
+    // and the six axes' modes, limits, motors and springs.
+    Vec3 axisY;
+    SixDofAxes axes;
 
     // Dry friction in the joint (N m): a torque up to this opposes the relative
     // spin of B against A. Ball and cone-twist: about any axis; hinge: about its
@@ -150,7 +201,22 @@ struct ConeTwistJointDef : JointDefBase {
     Real twistLower = Real(-0.7853982);  // rad, within [-pi, pi]
     Real twistUpper = Real(0.7853982);
     Real frictionTorque = 0;             // N m, >= 0
+    ConeTwistDrive drive;                // off by default
     static ConeTwistJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis);
+};
+
+// Six degrees of freedom: each linear and angular axis of the joint frame
+// free, limited or locked, with a motor and a spring (see SixDofAxis above).
+// Every axis locked is a fixed joint; all three linear axes locked, the
+// anchors meet and the tree solver may take the point rows.
+struct SixDofJointDef : JointDefBase {
+    Vec3 localAnchorA, localAnchorB;
+    Quat localFrameA;   // the joint frame in A's body axes (B's: the same frame at creation)
+    SixDofAxes axes;    // all locked by default
+    // The frame from world axes now: x = axis, y = axisY made perpendicular
+    // (zero: world y, or world z when x is near y).
+    static SixDofJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis = {1, 0, 0},
+                                    Vec3 axisY = {});
 };
 
 }  // namespace fulcrum

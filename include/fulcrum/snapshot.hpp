@@ -42,8 +42,9 @@ namespace fulcrum {
 // (JointDef::frictionTorque and its impulse) and the WorldDef joint solver
 // settings; 4: WorldDef::maxContactPairs; 5: contact forces (the last step's
 // impulses per point and manifold, the report's forces) and WorldDef::hitEventThreshold;
-// 6: characters and vehicles (their definitions, inputs and state).
-inline constexpr std::uint32_t kSnapshotVersion = 6;
+// 6: characters and vehicles (their definitions, inputs and state);
+// 7: the six-DOF joint (JointDef::axisY and axes, its frame and drive impulses).
+inline constexpr std::uint32_t kSnapshotVersion = 7;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

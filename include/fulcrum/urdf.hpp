@@ -66,7 +66,7 @@ struct RobotJoint {
     std::string name;
     UrdfJointType type = UrdfJointType::Fixed;
     std::string parent, child;     // link names
-    JointId joint;                 // null for a floating joint (the child is free) and a fixed one between static links
+    JointId joint;                 // null for a fixed joint between static links (floating and planar: six-DOF joints)
     Vec3 axis{1, 0, 0};            // in the joint frame (the child link's)
     Real lower = -std::numeric_limits<Real>::infinity(), upper = std::numeric_limits<Real>::infinity();
     Real effortLimit = std::numeric_limits<Real>::infinity();    // N m or N (0 in the file: none)
@@ -112,6 +112,9 @@ public:
     std::vector<Real> jointPositions(const World& world) const;
     std::vector<Real> jointVelocities(const World& world) const;
     std::vector<Real> jointEfforts(const World& world) const;  // World::jointEffort
+    // The contact force on every link over the last step (N, world, file
+    // order; World::contactForces), zero for a link without a body.
+    std::vector<Vec3> contactForces(const World& world) const;
 
     // IMU readings of every link (file order). Call once after each step: the
     // acceleration is the change of each link's velocity since the previous
@@ -138,8 +141,8 @@ private:
 };
 
 // Loads a URDF file into the world. Throws fulcrum::Error naming the file
-// (and line and element) for malformed XML, a broken tree, bad inertia or
-// an unsupported joint (planar).
+// (and line and element) for malformed XML, a broken tree or bad inertia.
+// Floating and planar joints become six-DOF joints (docs/robots.md).
 Robot loadUrdf(World& world, const std::filesystem::path& file, const UrdfOptions& options = {});
 // The same from text in memory; `sourceName` names it in errors and its
 // folder resolves relative mesh paths (fuzzing, tests).

@@ -308,6 +308,7 @@ public:
     JointId createJoint(const DistanceJointDef& def);
     JointId createJoint(const FixedJointDef& def);
     JointId createJoint(const ConeTwistJointDef& def);
+    JointId createJoint(const SixDofJointDef& def);
     void destroyJoint(JointId id);
     bool isValid(JointId id) const;
     std::vector<JointId> joints() const;
@@ -338,6 +339,14 @@ public:
     void setJointMotor(JointId id, const JointMotor& motor);
     void setJointLimits(JointId id, bool enabled, Real lower, Real upper);
     void setJointSpring(JointId id, const JointSpring& spring);
+    // Six-DOF joints: one axis's limits, motor and spring after creation
+    // (axis: SixDofAxisIndex; its mode stays the one it was created with:
+    // a different mode is an error), and every axis's position, velocity and
+    // effort now (efforts: the last step's reaction, as jointEffort).
+    void setSixDofAxis(JointId id, int axis, const SixDofAxis& settings);
+    // Cone-twist joints: the drive towards a target orientation (ConeTwistDrive).
+    void setConeTwistDrive(JointId id, const ConeTwistDrive& drive);
+    SixDofReading sixDofReading(JointId id) const;
 
     // ---- particle systems (Verlet ropes and cloths; docs/particles.md, "In the World")
     // They step inside step() after the rigid bodies, with the world's gravity,
@@ -397,6 +406,13 @@ public:
     // The touching manifolds of the last step, built when first read after it
     // (const, but not safe to call from two threads at once).
     std::vector<ContactReport> contacts() const;
+    // The sum of the contact forces on a body over the last step (N, world:
+    // the contacts() forces, on B as reported and their opposite on A), and
+    // the same for several bodies in one pass over the report (a robot's
+    // links; a body listed twice gets its sum twice). Reads the contact report
+    // (as contacts()); a stale handle is a fulcrum::Error.
+    Vec3 contactForce(BodyId body) const;
+    std::vector<Vec3> contactForces(std::span<const BodyId> bodies) const;
     // The touching pairs of the last step whose depth is more than `fraction`
     // of their `size` (DeepOverlap), deepest first. Resting contacts overlap
     // by millimetres; a pair listed here is one the solver did not hold apart,

@@ -68,6 +68,59 @@ void setSpring(JointDef& def, Real target, Real stiffness, Real damping) {
     def.spring = {true, target, stiffness, damping};
 }
 
+// Six-DOF axes by name or index, and one axis's settings from a dict in the
+// scene format's shape: "free" / "locked", or {"mode", "limits": (lo, hi),
+// "motor": {"speed", "max_force"}, "spring": {"target", "stiffness", "damping"}}.
+constexpr const char* kAxisNames[kSixDofAxes] = {"x", "y", "z", "rx", "ry", "rz"};
+int axisIndex(py::handle key) {
+    if (py::isinstance<py::str>(key)) {
+        const std::string name = key.cast<std::string>();
+        for (int k = 0; k < kSixDofAxes; ++k) {
+            if (name == kAxisNames[k]) return k;
+        }
+        fail("six-DOF axis '" + name + "' is not one of x, y, z, rx, ry, rz");
+    }
+    const int k = key.cast<int>();
+    if (k < 0 || k >= kSixDofAxes) fail("six-DOF axis " + std::to_string(k) + " is not in 0..5");
+    return k;
+}
+AxisMode axisMode(const std::string& name) {
+    if (name == "free") return AxisMode::Free;
+    if (name == "limited") return AxisMode::Limited;
+    if (name == "locked") return AxisMode::Locked;
+    fail("six-DOF axis mode '" + name + "' is not one of free, limited, locked");
+}
+SixDofAxis axisSettings(py::handle value) {
+    SixDofAxis s;
+    if (py::isinstance<py::str>(value)) {
+        s.mode = axisMode(value.cast<std::string>());
+        return s;
+    }
+    const py::dict d = py::reinterpret_borrow<py::dict>(value);
+    for (const auto& item : d) {
+        const std::string key = item.first.cast<std::string>();
+        if (key != "mode" && key != "limits" && key != "motor" && key != "spring") {
+            fail("six-DOF axis setting '" + key + "' is not one of mode, limits, motor, spring");
+        }
+    }
+    s.mode = AxisMode::Free;
+    if (d.contains("limits") && !d["limits"].is_none()) {
+        const auto [lo, hi] = pairOf(d["limits"], "limits");
+        s.mode = AxisMode::Limited, s.lower = lo, s.upper = hi;
+    }
+    if (d.contains("mode")) s.mode = axisMode(d["mode"].cast<std::string>());
+    if (d.contains("motor") && !d["motor"].is_none()) {
+        const py::dict m = d["motor"].cast<py::dict>();
+        s.motor = {true, m["speed"].cast<Real>(), m.contains("max_force") ? m["max_force"].cast<Real>() : Real(0)};
+    }
+    if (d.contains("spring") && !d["spring"].is_none()) {
+        const py::dict m = d["spring"].cast<py::dict>();
+        s.spring = {true, m.contains("target") ? m["target"].cast<Real>() : Real(0), m["stiffness"].cast<Real>(),
+                    m.contains("damping") ? m["damping"].cast<Real>() : Real(0)};
+    }
+    return s;
+}
+
 // The keywords every joint type takes, after its own.
 #define FULCRUM_JOINT_COMMON_ARGS                                                                                  \
     py::arg("name") = "", py::arg("collide_connected") = false, py::arg("break_force") = kInf,                     \
@@ -131,6 +184,39 @@ void bindJoints(py::module_& m) {
              },
              py::arg("target") = 0, py::arg("stiffness") = 0, py::arg("damping") = 0,
              "A spring towards a hinge angle or slider position; stiffness = damping = 0 removes it.")
+        .def("set_axis",
+             [](const J& j, py::object axis, py::object settings) {
+                 auto a = j.access("Joint");
+                 a.world.setSixDofAxis(j.id, axisIndex(axis), axisSettings(settings));
+             },
+             py::arg("axis"), py::arg("settings"),
+             "Six-DOF: one axis ('x', 'y', 'z', 'rx', 'ry', 'rz' or 0..5) as a dict {'limits': (lo, hi), 'motor': "
+             "{'speed', 'max_force'}, 'spring': {'target', 'stiffness', 'damping'}}; its mode stays as created.")
+        .def_property_readonly("axes",
+             [](const J& j) {
+                 auto a = j.access("Joint");
+                 const SixDofReading r = a.world.sixDofReading(j.id);
+                 const auto arr = [](const std::array<Real, kSixDofAxes>& v) {
+                     py::array_t<double> out(kSixDofAxes);
+                     for (int k = 0; k < kSixDofAxes; ++k) out.mutable_at(k) = double(v[static_cast<std::size_t>(k)]);
+                     return out;
+                 };
+                 return py::dict(py::arg("position") = arr(r.position), py::arg("velocity") = arr(r.velocity),
+                                 py::arg("effort") = arr(r.effort));
+             },
+             "Six-DOF: {'position', 'velocity', 'effort'}, arrays over x, y, z (m, m/s, N), rx, ry, rz (rad, rad/s, N m); "
+             "zeros for other types.")
+        .def("set_drive",
+             [](const J& j, py::object target, Real stiffness, Real damping, Real maxTorque) {
+                 auto a = j.access("Joint");
+                 ConeTwistDrive drive;
+                 if (!target.is_none()) drive = {true, toQuat(target, "target"), stiffness, damping, maxTorque};
+                 a.world.setConeTwistDrive(j.id, drive);
+             },
+             py::arg("target"), py::kw_only(), py::arg("stiffness") = kInf, py::arg("damping") = 0,
+             py::arg("max_torque") = kInf,
+             "Cone-twist: drive body_b to the orientation `target` (w, x, y, z) relative to its rest pose, as a "
+             "spring (stiffness N m/rad, damping N m s/rad; infinite stiffness: rigid) with up to max_torque; None: off.")
         .def("__eq__", [](const J& a, const J& b) { return a.sameAs(b); })
         .def("__hash__", [](const J& j) { return py::hash(py::make_tuple(reinterpret_cast<std::uintptr_t>(j.owner.lock().get()), j.id.index, j.id.generation)); })
         .def("__repr__", [](const J& j) {
@@ -257,6 +343,28 @@ void bindJoints(py::module_& m) {
         py::arg("friction_torque") = d.frictionTorque, FULCRUM_JOINT_COMMON_ARGS,
         "A ball joint whose swing of the twist axis stays in a cone of half-angle swing_limit (rad) and whose twist "
         "about it stays in twist_limits (rad): shoulders and hips.");
+    cls.def(
+        "create_six_dof_joint",
+        [](PyWorld& w, py::object a, py::object b, py::object anchor, py::object axis, py::object axisY, py::object axes,
+           const std::string& name, bool cc, Real bf, Real bt) {
+            JointDef def;
+            def.type = JointType::SixDof;
+            def.anchor = toVec3(anchor, "anchor");
+            def.axis = toVec3(axis, "axis");
+            def.axisY = toVec3(axisY, "axis_y");
+            if (!axes.is_none()) {
+                for (const auto& item : axes.cast<py::dict>()) {
+                    def.axes[static_cast<std::size_t>(axisIndex(item.first))] = axisSettings(item.second);
+                }
+            }
+            return create(w, def, {a, b, name, cc, bf, bt});
+        },
+        py::arg("body_a"), py::arg("body_b"), py::kw_only(), py::arg("anchor"), py::arg("axis") = py::make_tuple(1, 0, 0),
+        py::arg("axis_y") = py::make_tuple(0, 0, 0), py::arg("axes") = py::none(), FULCRUM_JOINT_COMMON_ARGS,
+        "Six degrees of freedom in a joint frame at `anchor` (x = axis, y = axis_y made perpendicular; (0, 0, 0): world y, or world z when axis is near y): axes maps "
+        "'x', 'y', 'z', 'rx', 'ry', 'rz' to 'free', 'locked' or {'limits': (lo, hi), 'motor': {'speed', 'max_force'}, "
+        "'spring': {'target', 'stiffness', 'damping'}}; unnamed axes are locked. Angles: x-y-z Euler angles of body_b's "
+        "frame against body_a's (docs/joints.md).");
     cls
         .def("destroy_joint",
              [](PyWorld& w, const JointHandle& j) {

@@ -190,6 +190,18 @@ void bindQueries(py::module_& m) {
         },
         "The touching contact manifolds of the last step, as Contact objects.");
     cls.def(
+        "contact_force",
+        [](const PyWorld& w, py::object body) { return fromVec3(w.world().contactForce(bodyIdOf(body, w.state, "body"))); },
+        py::arg("body"), "The sum of the contact forces on a body over the last step (N, world).");
+    cls.def(
+        "contact_forces",
+        [](const PyWorld& w, py::iterable bodies) {
+            std::vector<BodyId> ids;
+            for (py::handle b : bodies) ids.push_back(bodyIdOf(py::reinterpret_borrow<py::object>(b), w.state, "bodies"));
+            return fromVec3List(w.world().contactForces(ids));
+        },
+        py::arg("bodies"), "contact_force for several bodies in one pass, as an (n, 3) array.");
+    cls.def(
         "contact_hit_events",
         [](const PyWorld& w) {
             py::list out;

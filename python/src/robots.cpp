@@ -105,6 +105,8 @@ void bindRobots(py::module_& m) {
         .def("joint_velocities", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.jointVelocities(s->world)); })
         .def("joint_efforts", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.jointEfforts(s->world)); },
              "Each actuated joint's effort along its axis in the last step (N m or N).")
+        .def("contact_forces", [](const PyRobot& r) { const WorldPtr s = r.lock(); return fromVec3List(r.robot.contactForces(s->world)); },
+             "The contact force on every link over the last step (N, world), file order, as an (n_links, 3) array.")
         .def("sample_imu",
              [](PyRobot& r) {
                  const WorldPtr s = r.lock();

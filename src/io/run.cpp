@@ -545,6 +545,18 @@ std::string runReportJson(const Scene& scene, const RunResult& result, bool with
             joint["position"] = num(world.jointPosition(id));
             joint["velocity"] = num(world.jointVelocity(id));
             joint["torque"] = num(world.jointEffort(id));
+            // Six-DOF joints: per axis (x, y, z in m, m/s, N; then rx, ry, rz in rad, rad/s, N m).
+            if (world.jointDef(id).type == JointType::SixDof) {
+                const SixDofReading r = world.sixDofReading(id);
+                const auto six = [&](const std::array<Real, kSixDofAxes>& v) {
+                    ojson a = ojson::array();
+                    for (const Real x : v) a.push_back(num(x));
+                    return a;
+                };
+                joint["axis_positions"] = six(r.position);
+                joint["axis_velocities"] = six(r.velocity);
+                joint["axis_efforts"] = six(r.effort);
+            }
         }
         joints.push_back(std::move(joint));
     }

@@ -96,14 +96,14 @@ std::optional<BodyType> bodyTypeFromString(std::string_view name) {
 
 std::optional<JointType> jointTypeFromString(std::string_view name) {
     for (JointType t : {JointType::Ball, JointType::Hinge, JointType::Slider, JointType::Distance, JointType::Fixed,
-                        JointType::ConeTwist}) {
+                        JointType::ConeTwist, JointType::SixDof}) {
         if (name == toString(t)) return t;
     }
     return std::nullopt;
 }
 
 std::string shapeTypeList() { return "sphere, box, capsule, cylinder, convex_hull, plane, mesh, heightfield, compound"; }
-std::string jointTypeList() { return "ball, hinge, slider, distance, fixed, cone_twist"; }
+std::string jointTypeList() { return "ball, hinge, slider, distance, fixed, cone_twist, six_dof"; }
 std::string integratorList() { return "semi_implicit_euler, explicit_euler, verlet"; }
 
 bool isStaticOnly(const ShapeDesc& shape) {

@@ -614,8 +614,9 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
             checkKeys(j, path, {FULCRUM_JOINT_COMMON, "anchor_b", "min_length", "max_length", "stiffness", "damping"}, what);
             break;
         case JointType::ConeTwist:
-            checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "swing_limit", "twist_limits", "friction_torque"}, what);
+            checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "swing_limit", "twist_limits", "friction_torque", "drive"}, what);
             break;
+        case JointType::SixDof: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "axis_y", "axes"}, what); break;
     }
 #undef FULCRUM_JOINT_COMMON
     opt(j, path, "name", [&](const json& v, const std::string& p) { d.name = string(v, p); });
@@ -632,20 +633,77 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
         d.lowerLimit = r[0];
         d.upperLimit = r[1];
     });
-    opt(j, path, "motor", [&](const json& v, const std::string& p) {
+    const auto readMotor = [&](const json& v, const std::string& p, JointMotor& motor) {
         requireObject(v, p);
         checkKeys(v, p, {"speed", "max_force"}, "a motor");
-        d.motor.enabled = true;
-        d.motor.speed = number(required(v, p, "speed"), childPath(p, "speed"));
-        d.motor.maxForce = nonNegative(required(v, p, "max_force"), childPath(p, "max_force"), "max_force");
-    });
-    opt(j, path, "spring", [&](const json& v, const std::string& p) {
+        motor.enabled = true;
+        motor.speed = number(required(v, p, "speed"), childPath(p, "speed"));
+        motor.maxForce = nonNegative(required(v, p, "max_force"), childPath(p, "max_force"), "max_force");
+    };
+    const auto readSpring = [&](const json& v, const std::string& p, JointSpring& spring) {
         requireObject(v, p);
         checkKeys(v, p, {"target", "stiffness", "damping"}, "a joint spring");
-        d.spring.enabled = true;
-        opt(v, p, "target", [&](const json& x, const std::string& q) { d.spring.target = number(x, q); });
-        d.spring.stiffness = nonNegative(required(v, p, "stiffness"), childPath(p, "stiffness"), "stiffness");
-        opt(v, p, "damping", [&](const json& x, const std::string& q) { d.spring.damping = nonNegative(x, q, "damping"); });
+        spring.enabled = true;
+        opt(v, p, "target", [&](const json& x, const std::string& q) { spring.target = number(x, q); });
+        spring.stiffness = nonNegative(required(v, p, "stiffness"), childPath(p, "stiffness"), "stiffness");
+        opt(v, p, "damping", [&](const json& x, const std::string& q) { spring.damping = nonNegative(x, q, "damping"); });
+    };
+    opt(j, path, "motor", [&](const json& v, const std::string& p) { readMotor(v, p, d.motor); });
+    opt(j, path, "spring", [&](const json& v, const std::string& p) { readSpring(v, p, d.spring); });
+    // Cone-twist: the orientation drive (absent stiffness: rigid; JSON has no infinity).
+    opt(j, path, "drive", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        checkKeys(v, p, {"target", "stiffness", "damping", "max_torque"}, "a cone-twist drive");
+        ConeTwistDrive& drive = d.coneDrive;
+        drive.enabled = true;
+        drive.stiffness = std::numeric_limits<Real>::infinity();
+        opt(v, p, "target", [&](const json& x, const std::string& q) { drive.target = normalize(quat(x, q)); });
+        opt(v, p, "stiffness", [&](const json& x, const std::string& q) { drive.stiffness = nonNegative(x, q, "stiffness"); });
+        opt(v, p, "damping", [&](const json& x, const std::string& q) { drive.damping = nonNegative(x, q, "damping"); });
+        opt(v, p, "max_torque", [&](const json& x, const std::string& q) { drive.maxTorque = positive(x, q, "max_torque"); });
+    });
+    // Six-DOF: the frame's y axis, and its axes by name ("free", "locked", or
+    // an object: mode, limits, motor, spring; unnamed axes stay locked).
+    opt(j, path, "axis_y", [&](const json& v, const std::string& p) { d.axisY = nonZeroVec3(v, p, "axis_y"); });
+    opt(j, path, "axes", [&](const json& v, const std::string& p) {
+        requireObject(v, p);
+        static constexpr const char* kNames[kSixDofAxes] = {"x", "y", "z", "rx", "ry", "rz"};
+        checkKeys(v, p, {"x", "y", "z", "rx", "ry", "rz"}, "the six-DOF axes");
+        for (int k = 0; k < kSixDofAxes; ++k) {
+            SixDofAxis& axis = d.axes[static_cast<std::size_t>(k)];
+            opt(v, p, kNames[k], [&](const json& x, const std::string& q) {
+                const auto mode = [&](const json& m, const std::string& mp) {
+                    const std::string name = string(m, mp);
+                    if (name == "free") return AxisMode::Free;
+                    if (name == "locked") return AxisMode::Locked;
+                    if (name == "limited") return AxisMode::Limited;
+                    fail(mp, "unknown axis mode '" + name + "' (valid: free, limited, locked)");
+                };
+                if (x.is_string()) {
+                    axis.mode = mode(x, q);
+                    if (axis.mode == AxisMode::Limited) fail(q, "a limited axis needs its limits: {\"limits\": [lower, upper]}");
+                    return;
+                }
+                requireObject(x, q);
+                checkKeys(x, q, {"mode", "limits", "motor", "spring"}, "a six-DOF axis");
+                axis.mode = AxisMode::Free;
+                opt(x, q, "limits", [&](const json& r, const std::string& rp) {
+                    const auto lim = range(r, rp, "limits");
+                    axis.mode = AxisMode::Limited;
+                    axis.lower = lim[0];
+                    axis.upper = lim[1];
+                });
+                opt(x, q, "mode", [&](const json& m, const std::string& mp) {
+                    const AxisMode given = mode(m, mp);
+                    if ((given == AxisMode::Limited) != (axis.mode == AxisMode::Limited)) {
+                        fail(mp, given == AxisMode::Limited ? "a limited axis needs \"limits\"" : "\"limits\" make the axis limited");
+                    }
+                    axis.mode = given;
+                });
+                opt(x, q, "motor", [&](const json& m, const std::string& mp) { readMotor(m, mp, axis.motor); });
+                opt(x, q, "spring", [&](const json& m, const std::string& mp) { readSpring(m, mp, axis.spring); });
+            });
+        }
     });
     opt(j, path, "min_length", [&](const json& v, const std::string& p) { d.minLength = nonNegative(v, p, "min_length"); });
     opt(j, path, "max_length", [&](const json& v, const std::string& p) { d.maxLength = nonNegative(v, p, "max_length"); });

@@ -160,7 +160,37 @@ ojson jointJson(const SceneJoint& joint) {
             if (d.twistLower != defaults.twistLower || d.twistUpper != defaults.twistUpper) {
                 j["twist_limits"] = ojson::array({num(d.twistLower), num(d.twistUpper)});
             }
+            if (d.coneDrive.enabled) {
+                const ConeTwistDrive& c = d.coneDrive;
+                ojson drive{{"target", ojson::array({num(c.target.w), num(c.target.x), num(c.target.y), num(c.target.z)})},
+                            {"damping", num(c.damping)}};
+                if (std::isfinite(c.stiffness)) drive["stiffness"] = num(c.stiffness);
+                if (std::isfinite(c.maxTorque)) drive["max_torque"] = num(c.maxTorque);
+                j["drive"] = drive;
+            }
             break;
+        case JointType::SixDof: {
+            j["axis"] = vec(d.axis);
+            j["axis_y"] = vec(d.axisY);
+            static constexpr const char* kNames[kSixDofAxes] = {"x", "y", "z", "rx", "ry", "rz"};
+            ojson axes = ojson::object();
+            for (int k = 0; k < kSixDofAxes; ++k) {
+                const SixDofAxis& s = d.axes[static_cast<std::size_t>(k)];
+                if (s.mode == AxisMode::Locked) continue;  // the default
+                ojson a = ojson::object();
+                a["mode"] = toString(s.mode);
+                if (s.mode == AxisMode::Limited) a["limits"] = ojson::array({num(s.lower), num(s.upper)});
+                if (s.motor.enabled) a["motor"] = ojson{{"speed", num(s.motor.speed)}, {"max_force", num(s.motor.maxForce)}};
+                if (s.spring.enabled) {
+                    a["spring"] = ojson{{"target", num(s.spring.target)},
+                                        {"stiffness", num(s.spring.stiffness)},
+                                        {"damping", num(s.spring.damping)}};
+                }
+                axes[kNames[k]] = a;
+            }
+            if (!axes.empty()) j["axes"] = axes;
+            break;
+        }
         case JointType::Ball:
         case JointType::Fixed: break;
     }

@@ -414,12 +414,8 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
         if (j.hasLimit && j.effort > 0) rj.effortLimit = j.effort;
         if (j.hasLimit && j.velocity > 0) rj.velocityLimit = j.velocity;
         const std::string where = lineOf(m, j.line) + ": joint '" + j.name + "'";
-        if (j.type == UrdfJointType::Planar) {
-            throw Error(where + ": planar joints are not supported yet (Fulcrum has no joint with two free translations "
-                                "and one free rotation); make it floating or fixed");
-        }
-        if (j.type == UrdfJointType::Floating || staticLink[child]) {
-            // No joint: the child moves freely, or is static itself (welded to a static link).
+        if (staticLink[child]) {
+            // No joint: the child is static itself (welded to a static link).
             robot.joints.push_back(rj);
             continue;
         }
@@ -435,7 +431,25 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
         switch (j.type) {
             case UrdfJointType::Fixed: d.type = JointType::Fixed; break;
             case UrdfJointType::Prismatic: d.type = JointType::Slider; break;
+            case UrdfJointType::Floating:
+            case UrdfJointType::Planar: d.type = JointType::SixDof; break;
             default: d.type = JointType::Hinge; break;
+        }
+        if (d.type == JointType::SixDof) {
+            // Floating: every axis free (the joint only keeps the two links from
+            // colliding and reads out the child's pose). Planar: the axis is the
+            // plane's normal, the frame's z; x and y slide in the plane and the
+            // child turns about z; the rest is locked.
+            Vec3 x, y;
+            orthonormalBasis(d.axis, x, y);  // right-handed: x cross y = the normal
+            d.axis = x;
+            d.axisY = y;
+            for (SixDofAxis& a : d.axes) a.mode = j.type == UrdfJointType::Floating ? AxisMode::Free : AxisMode::Locked;
+            if (j.type == UrdfJointType::Planar) {
+                d.axes[kAxisX].mode = AxisMode::Free;
+                d.axes[kAxisY].mode = AxisMode::Free;
+                d.axes[kAxisRotZ].mode = AxisMode::Free;
+            }
         }
         const bool rangeGiven = j.hasLower || j.hasUpper;
         if (j.type == UrdfJointType::Revolute) {
@@ -572,7 +586,7 @@ JointId Robot::joint(std::string_view joint) const {
     const RobotJoint& j = jointInfo(joint);
     if (j.joint.isNull()) {
         throw Error("robot '" + name + "': joint '" + j.name + "' is " +
-                    (j.type == UrdfJointType::Floating ? "floating" : "fixed to a static link (both static)") +
+                    "fixed to a static link (both static)" +
                     ": no Fulcrum joint stands for it");
     }
     return j.joint;
@@ -683,6 +697,20 @@ std::vector<Real> Robot::jointPositions(const World& world) const {
 std::vector<Real> Robot::jointVelocities(const World& world) const {
     std::vector<Real> out;
     for (const std::size_t i : actuatedJoints()) out.push_back(world.jointVelocity(joints[i].joint));
+    return out;
+}
+
+std::vector<Vec3> Robot::contactForces(const World& world) const {
+    std::vector<BodyId> bodies;
+    std::vector<std::size_t> at;
+    for (std::size_t i = 0; i < links.size(); ++i) {
+        if (links[i].body.isNull()) continue;
+        bodies.push_back(links[i].body);
+        at.push_back(i);
+    }
+    const std::vector<Vec3> forces = world.contactForces(bodies);
+    std::vector<Vec3> out(links.size());
+    for (std::size_t k = 0; k < at.size(); ++k) out[at[k]] = forces[k];
     return out;
 }
 

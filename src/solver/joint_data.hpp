@@ -17,6 +17,7 @@ struct JointData : PoolSlot {  // alive, generation: WorldImpl::joints is a Slot
     Vec3 localAnchorA, localAnchorB; // from each body's centre of mass, body axes (world point for the world)
     Vec3 localAxisA, localAxisB;     // unit axis in each body's axes (world axis for the world)
     Real minLength = 0, maxLength = 0;  // distance joints, resolved (no negative "use creation" values)
+    Quat localFrameA;                // six-DOF: the joint frame in A's body axes (world axes for the world)
     // Joint solver runtime (src/solver/joint_solver.hpp).
     Quat relativeRotation;           // conj(qA) qB at creation: the rest pose angles are measured from
     Real restLength = 0;             // soft distance joints: the spring's rest length

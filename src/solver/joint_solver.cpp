@@ -130,6 +130,8 @@ void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const Jo
         j.relative0 = data.relativeRotation;
         j.localAxisA = data.localAxisA;
         j.localAxisB = data.localAxisB;
+        j.localFrameA = data.localFrameA;
+        j.record = &def;
         j.impulse = data.impulses;
         j.maxFrictionImpulse = h * def.frictionTorque;
         const StoredJoint stored{def, data.minLength, data.maxLength, data.restLength};
@@ -691,7 +693,7 @@ void JointSolver::store(BodyStore& w, std::vector<JointData>& joints) {
     }
 }
 
-void jointReaction(const JointConstraint& j, const SolverBody&, const SolverBody&, Real invH, Vec3& force, Vec3& torque) {
+void jointReaction(const JointConstraint& j, const SolverBody& a, const SolverBody& b, Real invH, Vec3& force, Vec3& torque) {
     // The point / perpendicular rows' impulse, then the type's own part:
     // friction (ball, cone-twist) and the free-axis rows (hinge, slider)
     // carry the share of the point / perpendicular / alignment rows that goes
@@ -700,7 +702,14 @@ void jointReaction(const JointConstraint& j, const SolverBody&, const SolverBody
     // anchor adds none.
     force = j.impulse.linear;
     torque = {};
-    withJointType(j.type, [&](auto type) { decltype(type)::addReaction(j, force, torque); });
+    withJointType(j.type, [&](auto type) {
+        using T = decltype(type);
+        if constexpr (requires { T::addReaction(j, a, b, force, torque); }) {
+            T::addReaction(j, a, b, force, torque);  // rows that need the bodies to be summed (six-DOF)
+        } else {
+            T::addReaction(j, force, torque);
+        }
+    });
     force *= invH;
     torque *= invH;
 }

@@ -108,6 +108,35 @@ std::vector<ContactReport> World::contacts() const {
     const auto first = impl_->contacts.begin();
     return {first, first + static_cast<std::ptrdiff_t>(impl_->contactReportCount)};
 }
+Vec3 World::contactForce(BodyId body) const {
+    const BodyId one[1] = {body};
+    return contactForces(one)[0];
+}
+std::vector<Vec3> World::contactForces(std::span<const BodyId> bodies) const {
+    for (const BodyId id : bodies) {
+        if (!isValid(id)) {
+            throw Error("World::contactForces: body (index " + std::to_string(id.index) + ", generation " +
+                        std::to_string(id.generation) + ") does not exist or was destroyed");
+        }
+    }
+    impl_->ensureContactReport();
+    std::vector<Vec3> out(bodies.size());
+    // Where each listed body sits, by body slot (the report names bodies by handle).
+    std::vector<std::uint32_t> order(bodies.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return bodies[x].index < bodies[y].index; });
+    const auto add = [&](BodyId id, const Vec3& f) {
+        auto it = std::lower_bound(order.begin(), order.end(), id.index,
+                                   [&](std::uint32_t k, std::uint32_t index) { return bodies[k].index < index; });
+        for (; it != order.end() && bodies[*it].index == id.index; ++it) out[*it] += f;
+    };
+    for (std::size_t i = 0; i < impl_->contactReportCount; ++i) {
+        const ContactReport& c = impl_->contacts[i];
+        add(c.bodyB, c.force);
+        if (!c.bodyA.isNull()) add(c.bodyA, -c.force);
+    }
+    return out;
+}
 std::vector<DeepOverlap> World::deepOverlaps(Real fraction) const {
     if (!std::isfinite(fraction) || !(fraction > 0)) {
         throw Error("World::deepOverlaps: fraction must be finite and > 0, got " + std::to_string(fraction));

@@ -40,6 +40,16 @@ const char* toString(JointType type) {
         case JointType::Distance: return "distance";
         case JointType::Fixed: return "fixed";
         case JointType::ConeTwist: return "cone_twist";
+        case JointType::SixDof: return "six_dof";
+    }
+    return "unknown";
+}
+
+const char* toString(AxisMode mode) {
+    switch (mode) {
+        case AxisMode::Free: return "free";
+        case AxisMode::Limited: return "limited";
+        case AxisMode::Locked: return "locked";
     }
     return "unknown";
 }

@@ -304,7 +304,10 @@ void io(A& a, SpringData& s) {
 template <typename A>
 void io(A& a, JointDef& d) {
     io(a, d.name);
-    a.enumeration(d.type, JointType::ConeTwist);
+    if constexpr (!A::kReading) {
+        if (a.version < 7 && d.type == JointType::SixDof) a.fail("six-DOF joints need format version 7 or later");
+    }
+    a.enumeration(d.type, a.version >= 7 ? JointType::SixDof : JointType::ConeTwist);
     io(a, d.bodyA), io(a, d.bodyB), io(a, d.anchor), io(a, d.anchorB), io(a, d.axis);
     io(a, d.hasLimits), io(a, d.lowerLimit), io(a, d.upperLimit);
     io(a, d.motor.enabled), io(a, d.motor.speed), io(a, d.motor.maxForce);
@@ -313,6 +316,17 @@ void io(A& a, JointDef& d) {
     io(a, d.swingLimit), io(a, d.twistLower), io(a, d.twistUpper);
     io(a, d.breakForce), io(a, d.breakTorque), io(a, d.collideConnected);
     if (a.version >= 3) io(a, d.frictionTorque);  // version 3 (version 2: frictionless, 0)
+    if (a.version >= 7) {  // version 7: the six-DOF joint's frame and axes, the cone-twist drive
+        io(a, d.coneDrive.enabled), io(a, d.coneDrive.target), io(a, d.coneDrive.stiffness), io(a, d.coneDrive.damping);
+        io(a, d.coneDrive.maxTorque);
+        io(a, d.axisY);
+        for (SixDofAxis& s : d.axes) {
+            a.enumeration(s.mode, AxisMode::Locked);
+            io(a, s.lower), io(a, s.upper);
+            io(a, s.motor.enabled), io(a, s.motor.speed), io(a, s.motor.maxForce);
+            io(a, s.spring.enabled), io(a, s.spring.target), io(a, s.spring.stiffness), io(a, s.spring.damping);
+        }
+    }
 }
 template <typename A>
 void io(A& a, JointData& j) {
@@ -332,6 +346,11 @@ void io(A& a, JointData& j) {
     // solver keeps nothing between steps: it finds the trees in every
     // prepare() and factors again every sub-step.
     if (a.version >= 3) io(a, j.impulses.friction);
+    if (a.version >= 7) {  // version 7: the six-DOF joint's frame and its axes' drive impulses
+        io(a, j.localFrameA);
+        io(a, j.impulses.axisMotorLinear), io(a, j.impulses.axisMotorAngular);
+        io(a, j.impulses.axisSpringLinear), io(a, j.impulses.axisSpringAngular), io(a, j.impulses.drive);
+    }
 }
 
 // ---- contacts

@@ -147,6 +147,7 @@ JointId createJointOf(WorldImpl& w, const typename T::Def& def, const JointDef* 
     j.minLength = setup.minLength;
     j.maxLength = setup.maxLength;
     j.restLength = setup.restLength;
+    j.localFrameA = setup.localFrameA;
     j.relativeRotation = conjugate(a == kNoIndex ? Quat{} : w.motion[a].q) * w.motion[b].q;
     j.enabled = true;
     j.broken = false;
@@ -180,6 +181,7 @@ JointId World::createJoint(const FixedJointDef& def) { return createJointOf<deta
 JointId World::createJoint(const ConeTwistJointDef& def) {
     return createJointOf<detail::ConeTwistJoint>(*impl_, def, nullptr);
 }
+JointId World::createJoint(const SixDofJointDef& def) { return createJointOf<detail::SixDofJoint>(*impl_, def, nullptr); }
 
 void World::destroyJoint(JointId id) {
     detail::JointData& j = impl_->resolveJoint(id, "World::destroyJoint");
@@ -212,7 +214,9 @@ detail::JointPose poseOf(const WorldImpl& w, const detail::JointData& j) {
             &j.localAxisA,
             &j.relativeRotation,
             &j.minLength,
-            &j.maxLength};
+            &j.maxLength,
+            &j.localFrameA,
+            &j.def.axes};
 }
 
 }  // namespace
@@ -341,6 +345,61 @@ void World::setJointSpring(JointId id, const JointSpring& spring) {
     validateSpring(who, spring);
     j.def.spring = spring;
     wakeJointBodies(*impl_, j);
+}
+
+void World::setSixDofAxis(JointId id, int axis, const SixDofAxis& settings) {
+    detail::JointData& j = impl_->resolveJoint(id, "World::setSixDofAxis");
+    const Subject who = subjectOf(j, id);
+    if (j.def.type != JointType::SixDof) {
+        fail(who, "axes", std::string("only six-DOF joints have six axes, not ") + toString(j.def.type));
+    }
+    if (axis < 0 || axis >= kSixDofAxes) fail(who, "axis", "must be 0..5 (x, y, z, rx, ry, rz), got " + std::to_string(axis));
+    detail::SixDofJoint::validateAxis(who, axis, settings);
+    SixDofAxis& current = j.def.axes[static_cast<std::size_t>(axis)];
+    // The mode decides the joint's rows and whether the tree solver may take
+    // it (all linear axes locked): fixed at creation.
+    if (settings.mode != current.mode) {
+        fail(who, "mode", std::string("is fixed at creation (") + toString(current.mode) + "), got " + toString(settings.mode));
+    }
+    current = settings;
+    wakeJointBodies(*impl_, j);
+}
+
+void World::setConeTwistDrive(JointId id, const ConeTwistDrive& drive) {
+    detail::JointData& j = impl_->resolveJoint(id, "World::setConeTwistDrive");
+    const Subject who = subjectOf(j, id);
+    if (j.def.type != JointType::ConeTwist) {
+        fail(who, "drive", std::string("only cone-twist joints have an orientation drive, not ") + toString(j.def.type));
+    }
+    detail::validateConeTwistDrive(who, drive);
+    j.def.coneDrive = drive;
+    wakeJointBodies(*impl_, j);
+}
+
+SixDofReading World::sixDofReading(JointId id) const {
+    const detail::JointData& j = impl_->resolveJoint(id, "World::sixDofReading");
+    SixDofReading r;
+    if (j.def.type != JointType::SixDof) return r;
+    const WorldImpl& w = *impl_;
+    const detail::JointPose pose = poseOf(w, j);
+    const detail::SixDofGeometry g =
+        detail::sixDofGeometry(pose.orientationA(), *pose.qB, j.relativeRotation, j.localFrameA, pose.d);
+    const std::uint32_t a = w.denseOrNone(j.def.bodyA), b = w.denseOrNone(j.def.bodyB);
+    const Vec3 pB = w.anchorWorld(b, j.localAnchorB);
+    const Vec3 wA = a == kNoIndex ? Vec3{} : w.motion[a].w;
+    const Vec3 vB = w.motion[b].v + cross(w.motion[b].w, pB - w.motion[b].com);
+    const Vec3 vA = a == kNoIndex ? Vec3{} : w.motion[a].v + cross(wA, pB - w.motion[a].com);
+    const Vec3 spin = w.motion[b].w - wA;
+    const Vec3 force = j.enabled ? j.reactionForce : Vec3{}, torque = j.enabled ? j.reactionTorque : Vec3{};
+    for (std::size_t k = 0; k < 3; ++k) {
+        r.position[k] = g.linear[k];
+        r.velocity[k] = dot(vB - vA, g.linearAxis[k]);
+        r.effort[k] = dot(force, g.linearAxis[k]);
+        r.position[3 + k] = g.angle[k];
+        r.velocity[3 + k] = dot(spin, g.angularRow[k]);
+        r.effort[3 + k] = dot(torque, g.gimbal[k]);
+    }
+    return r;
 }
 
 std::span<const JointBreakEvent> World::jointBreakEvents() const { return impl_->jointSolver.breakEvents(); }

@@ -42,6 +42,43 @@ ConeGeometry coneGeometry(const JointConstraint& j, const JointFrame& f) {
 
 bool swingLimited(const JointConstraint& j) { return j.swingLimit < std::numbers::pi_v<Real>; }
 
+// The drive: the rotation vector C from B's target orientation (qA target
+// rest) to B's, driven to zero by an implicit spring-damper on the relative
+// spin (Catto's soft constraint with the drive's own stiffness and damping;
+// infinite stiffness: the joint's equality softness), the accumulated torque
+// impulse clamped to h maxTorque. Like the joint friction, its torque comes
+// with the point rows' share and sees the spin as the joint allows it (the
+// Schur complement of the point block, cacheFriction): with the free body's
+// inertia alone a small ball on a long lever sagged 0.12 rad under a rigid drive.
+void solveDrive(const JointConstraint& j, const ConeTwistDrive& drive, SolverBody& a, SolverBody& b, const JointFrame& f,
+                Vec3& lambda, const JointContext& ctx) {
+    if (!j.frictionValid) return;
+    const Vec3 C = toRotationVector(f.qB * conjugate(f.qA * drive.target * j.relative0));
+    const Vec3 cdot = b.w - a.w;
+    Vec3 d;
+    if (std::isinf(drive.stiffness)) {
+        Vec3 bias;
+        Real massScale = 1, impulseScale = 0;
+        if (ctx.useBias) {
+            bias = C * ctx.soft.biasRate;
+            massScale = ctx.soft.massScale;
+            impulseScale = ctx.soft.impulseScale;
+        }
+        d = -(j.frictionMass * (cdot + bias)) * massScale - lambda * impulseScale;
+    } else {
+        Real bias = 0, gamma = 0;
+        springCoefficients(drive.stiffness, drive.damping, ctx.h, bias, gamma);
+        const Mat3 Ks = inverse(j.frictionMass) + Mat3::diagonal(gamma);
+        if (!(determinant(Ks) > 0)) return;
+        d = -(inverse(Ks) * (cdot + C * bias + lambda * gamma));
+    }
+    const Vec3 old = lambda;
+    lambda += d;
+    const Real maxImpulse = ctx.h * drive.maxTorque, len = length(lambda);
+    if (len > maxImpulse) lambda *= maxImpulse / len;
+    applyFriction(j, a, b, f.rA, f.rB, lambda - old);
+}
+
 }  // namespace
 
 // ---- definition
@@ -58,6 +95,7 @@ ConeTwistJointDef ConeTwistJoint::fromJointDef(const JointDef& def, const JointE
     d.twistLower = def.twistLower;
     d.twistUpper = def.twistUpper;
     d.frictionTorque = def.frictionTorque;
+    d.drive = def.coneDrive;
     return d;
 }
 
@@ -68,6 +106,7 @@ JointSetup ConeTwistJoint::setup(const Def& def, const Subject& who, const Joint
     requireUnitAxis(who, "localAxisB", def.localAxisB);
     validateConeTwistRanges(who, def.swingLimit, def.twistLower, def.twistUpper);
     validateFrictionTorque(who, def.frictionTorque);
+    validateConeTwistDrive(who, def.drive);
     JointSetup s;
     s.record = baseRecord(def, kType);
     setPointAnchors(s, ends, def.localAnchorA, def.localAnchorB);
@@ -76,6 +115,7 @@ JointSetup ConeTwistJoint::setup(const Def& def, const Subject& who, const Joint
     s.record.twistLower = def.twistLower;
     s.record.twistUpper = def.twistUpper;
     s.record.frictionTorque = def.frictionTorque;
+    s.record.coneDrive = def.drive;
     return s;
 }
 
@@ -90,11 +130,13 @@ void ConeTwistJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b,
     applyPoint(a, b, f.rA, f.rB, j.impulse.linear);
     a.w -= a.invI * T;
     b.w += b.invI * T;
-    cacheFriction(j, a, b, f.rA, f.rB);
+    const bool driven = j.record->coneDrive.enabled;
+    cacheFriction(j, a, b, f.rA, f.rB, driven);
     if (j.frictionValid) {
-        applyFriction(j, a, b, f.rA, f.rB, j.impulse.friction);
+        applyFriction(j, a, b, f.rA, f.rB, j.impulse.friction + j.impulse.drive);
     } else {
         j.impulse.friction = {};
+        j.impulse.drive = {};
     }
 }
 
@@ -102,7 +144,8 @@ void ConeTwistJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, con
     const JointFrame& f = currentFrame(j, a, b, ctx);
     const ConeGeometry g = coneGeometry(j, f);
     JointImpulses& i = j.impulse;
-    solveFrictionBlock(j, a, b, f.rA, f.rB);
+    if (j.maxFrictionImpulse > 0) solveFrictionBlock(j, a, b, f.rA, f.rB);
+    if (j.record->coneDrive.enabled) solveDrive(j, j.record->coneDrive, a, b, f, i.drive, ctx);
     if (swingLimited(j) && g.hasSwing) {
         const JointRow inward{Vec3{}, -g.swingAxis, -g.swingAxis};
         solveLimitRow(inward, a, b, j.swingLimit - g.swing, i.swing, ctx);

@@ -37,20 +37,24 @@ inline void ConeTwistJoint::prepare(JointConstraint& j, const StoredJoint& store
     j.lower = def.twistLower;
     j.upper = def.twistUpper;
     dropSpinFrictionIfOff(j);
+    if (!def.coneDrive.enabled) j.impulse.drive = {};
 }
 
-inline WideKind ConeTwistJoint::wideKind(const JointConstraint&) { return WideKind::ConeTwist; }
+// The drive's rows are scalar only (cone_twist.cpp): a driven cone-twist stays off the SIMD lanes.
+inline WideKind ConeTwistJoint::wideKind(const JointConstraint& j) {
+    return j.record != nullptr && j.record->coneDrive.enabled ? WideKind::NotWide : WideKind::ConeTwist;
+}
 
 inline void ConeTwistJoint::addReaction(const JointConstraint& j, Vec3& force, Vec3& torque) {
     const JointFrame& f = j.frame;
     const JointImpulses& i = j.impulse;
-    if (j.frictionValid) force += j.frictionCoupling * i.friction;
+    if (j.frictionValid) force += j.frictionCoupling * (i.friction + i.drive);
     const Vec3 axisA = rotate(f.qA, j.localAxisA), axisB = rotate(f.qB, j.localAxisB);
     const Vec3 c = cross(axisA, axisB);
     const Real s = length(c);
     const Vec3 mid = axisA + axisB;
     const Real m = length(mid);
-    torque += (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction;
+    torque += (m > Real(1e-6) ? mid * (1 / m) : axisA) * (i.lower - i.upper) + i.friction + i.drive;  // drive: about B's anchor, as friction
     if (s > Real(1e-6)) torque -= c * (i.swing / s);
 }
 

@@ -37,6 +37,13 @@ struct JointImpulses {
     Real lower = 0, upper = 0;      // limits (hinge, slider, distance min/max, cone-twist twist)
     Real swing = 0;                 // cone-twist swing cone
     Vec3 friction;                  // ball / cone-twist joint friction (angular, world, on B)
+    // Six-DOF (six_dof.hpp): each axis's motor and spring, components along
+    // the joint's axes (x, y, z). Its locks and limits use `linear` and
+    // `angular`: world vectors when all three axes of the kind are locked (the
+    // point block, the angular block), else per-axis components, signed
+    // (lower limit +, upper -).
+    Vec3 axisMotorLinear, axisMotorAngular, axisSpringLinear, axisSpringAngular;
+    Vec3 drive;                     // cone-twist drive (angular, world, on B)
 };
 
 // A scalar row: +linear and +angularB act on B, -linear and -angularA on A.
@@ -87,6 +94,9 @@ struct JointConstraint {
     Mat3 frictionMass = Mat3::zero(), frictionCoupling = Mat3::zero();
     Real maxFrictionImpulse = 0;      // h * frictionTorque (ball, cone-twist)
     CoupledRow axial;                 // hinge, slider: the free axis's rows (spring, motor, friction, limits)
+    Quat localFrameA;                 // six-DOF: the joint frame in A's body axes
+    const JointDef* record = nullptr; // the joint's definition (six-DOF axes, cone-twist drive): the world's record, alive through the step
+    bool pointLocked = false, rotationLocked = false;  // six-DOF: all linear / all angular axes locked
     JointImpulses impulse;
     // The geometry for the current deltas (dp, dtheta) of its bodies, and the
     // rotation refresh at which it was computed (currentFrame): the deltas
@@ -276,9 +286,12 @@ inline void solveAngularBlock(SolverBody& a, SolverBody& b, const Vec3& C, Vec3&
 // anchor) was not slowed at all, and the warm-started impulse spun it up by
 // 2,000 rad/s per sub-step until it blew up. Both are computed at the sub-step's
 // warm start (cacheFriction).
-inline void cacheFriction(JointConstraint& j, const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB) {
+// `always`: computed also without friction (the cone-twist drive's rows use
+// the same Schur complement and coupling: cone_twist.cpp).
+inline void cacheFriction(JointConstraint& j, const SolverBody& a, const SolverBody& b, const Vec3& rA, const Vec3& rB,
+                          bool always = false) {
     j.frictionValid = false;
-    if (j.maxFrictionImpulse <= 0) return;
+    if (j.maxFrictionImpulse <= 0 && !always) return;
     const Mat3 Kww = a.invI + b.invI;
     const Mat3 Kpp = pointInverseMass(a, b, rA, rB);
     if (!(determinant(Kpp) > 0)) return;

@@ -117,4 +117,17 @@ void validateConeTwistRanges(const Subject& who, Real swingLimit, Real twistLowe
     }
 }
 
+void validateConeTwistDrive(const Subject& who, const ConeTwistDrive& drive) {
+    requireFinite(who, "drive.target", drive.target);
+    const Real n = length(drive.target);
+    if (!(std::abs(n - 1) <= Real(1e-4))) fail(who, "drive.target", "must be a unit quaternion, got length " + formatReal(n));
+    if (std::isnan(drive.stiffness) || drive.stiffness < 0) {
+        fail(who, "drive.stiffness", "must not be negative (+infinity: rigid), got " + formatReal(drive.stiffness));
+    }
+    requireNonNegative(who, "drive.damping", drive.damping);
+    if (std::isnan(drive.maxTorque) || !(drive.maxTorque > 0)) {
+        fail(who, "drive.maxTorque", "must be positive (+infinity: unlimited), got " + formatReal(drive.maxTorque));
+    }
+}
+
 }  // namespace fulcrum::detail

@@ -44,6 +44,7 @@ struct JointSetup {
     Vec3 localAnchorA, localAnchorB;  // from each centre of mass, body axes (world point for the world)
     Vec3 localAxisA{0, 1, 0}, localAxisB{0, 1, 0};
     Real minLength = 0, maxLength = 0, restLength = 0;  // distance joints, resolved
+    Quat localFrameA;                 // six-DOF: the joint frame in A's body axes
 };
 
 // A joint whose anchors meet: both local anchors, and the record's world anchor (A's).
@@ -86,6 +87,8 @@ struct JointPose {
     const Quat* relativeRotation;  // the rest pose
     const Real* minLength;         // distance joints, resolved
     const Real* maxLength;
+    const Quat* localFrameA;       // six-DOF
+    const SixDofAxes* sixDofAxes;  // six-DOF
     Quat orientationA() const { return qA != nullptr ? *qA : Quat{}; }
     Vec3 axisA() const { return qA != nullptr ? rotate(*qA, *localAxisA) : *localAxisA; }
 };
@@ -131,6 +134,8 @@ void requireUnitAxis(const Subject& who, const char* field, const Vec3& v);
 void validateFrictionTorque(const Subject& who, Real frictionTorque);
 // Cone-twist ranges: swing in (0, pi], twist lower <= upper within [-pi, pi].
 void validateConeTwistRanges(const Subject& who, Real swingLimit, Real twistLower, Real twistUpper);
+// Cone-twist drive: a finite unit target, stiffness >= 0 (or +infinity), damping >= 0, maxTorque > 0.
+void validateConeTwistDrive(const Subject& who, const ConeTwistDrive& drive);
 
 template <class AxisDef>
 JointSetup setupAxisJoint(const AxisDef& def, const Subject& who, const JointEnds& ends, JointType type, bool angular) {

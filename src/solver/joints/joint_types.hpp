@@ -9,6 +9,7 @@
 //                       frameNeedsOrientations must agree, checked below)
 //   kHasFreeAxis        a hinge or slider: motor, limits and spring, also after creation
 //   kHasPointBlock      its anchors meet (a 3-row point block): the tree solver may take it
+//                       (a type whose joints differ also has pointBlock(j): the six-DOF)
 //   kProjected          JointSolver::projectPositions pulls its anchors together
 //   fromJointDef        the generic JointDef (world space) as its definition
 //   setup               validates its definition (errors name the joint and the
@@ -29,6 +30,7 @@
 #include "solver/joints/distance.hpp"
 #include "solver/joints/fixed.hpp"
 #include "solver/joints/hinge.hpp"
+#include "solver/joints/six_dof.hpp"
 #include "solver/joints/slider.hpp"
 
 namespace fulcrum::detail {
@@ -44,6 +46,7 @@ template <class F>
         case JointType::Distance: return f(DistanceJoint{});
         case JointType::Fixed: return f(FixedJoint{});
         case JointType::ConeTwist: return f(ConeTwistJoint{});
+        case JointType::SixDof: return f(SixDofJoint{});
     }
     return f(BallJoint{});  // not reached: a joint's type is checked at creation
 }
@@ -59,7 +62,7 @@ template <class... T>
 constexpr bool frameTestsAgree() {
     return ((frameNeedsOrientations(T::kType) == T::kReadsOrientations) && ...);
 }
-static_assert(frameTestsAgree<BallJoint, HingeJoint, SliderJoint, DistanceJoint, FixedJoint, ConeTwistJoint>(),
+static_assert(frameTestsAgree<BallJoint, HingeJoint, SliderJoint, DistanceJoint, FixedJoint, ConeTwistJoint, SixDofJoint>(),
               "frameNeedsOrientations (joint_common.hpp) must match each type's kReadsOrientations");
 
 // Whether `type` is one of the list (a JointDef's type is checked with it).
@@ -70,7 +73,8 @@ constexpr bool isJointType(JointType type) {
         case JointType::Slider:
         case JointType::Distance:
         case JointType::Fixed:
-        case JointType::ConeTwist: return true;
+        case JointType::ConeTwist:
+        case JointType::SixDof: return true;
     }
     return false;
 }

@@ -9,8 +9,15 @@ namespace fulcrum::detail {
 
 namespace {
 
-bool hasPointBlock(JointType t) {
-    return withJointType(t, [](auto type) { return decltype(type)::kHasPointBlock; });
+bool hasPointBlock(const JointConstraint& j) {
+    return withJointType(j.type, [&](auto type) {
+        using T = decltype(type);
+        if constexpr (requires { T::pointBlock(j); }) {
+            return T::pointBlock(j);  // per joint (a six-DOF's point rows: all three linear axes locked)
+        } else {
+            return T::kHasPointBlock;
+        }
+    });
 }
 
 // In-place Cholesky of the N x N symmetric matrix a (lower triangle used).
@@ -236,7 +243,7 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     const std::size_t nb = bodies.size(), nj = joints.size();
     const auto dynamic = [&](std::uint32_t i) { return i != 0 && bodies[i].invMass > 0; };
     const auto eligible = [&](const JointConstraint& j) {
-        return hasPointBlock(j.type) && (dynamic(j.bodyA) || dynamic(j.bodyB));
+        return hasPointBlock(j) && (dynamic(j.bodyA) || dynamic(j.bodyB));
     };
     bool any = false;
     for (JointConstraint& j : joints) {
