@@ -11,9 +11,14 @@
 // btAdjustInternalEdgeContacts and Jolt's active-edge flags, using
 // TriangleMesh::convexEdgeMask computed by the mesh builder).
 //
+// A contact along the triangle's face normal is kept only where it lies over
+// the triangle: a point beyond its edges was measured against the extended
+// plane, not the surface under it (the neighbouring triangle measures it).
+//
 // The contacts of all triangles are then grouped by normal (cosine > 0.999)
 // and each group is reduced to one manifold of at most four points, so a box
-// lying across many triangles gets one manifold, not one per triangle.
+// lying across many triangles gets one manifold, not one per triangle. Only
+// the points within kReductionBand of the group's deepest take part.
 // Heightfields (collide_heightfield.cpp) run the same two halves on the
 // triangles of their cells.
 #include "collision/collide_mesh.hpp"
@@ -29,6 +34,27 @@ namespace {
 constexpr Real kFaceNormalCos = Real(1) - Real(1e-4);
 constexpr Real kGroupCos = Real(0.999);
 constexpr Real kBaryTol = Real(1e-3);
+// The reduction keeps the group's deepest point and then the widest spread;
+// with every speculative point of the group (up to the margin, centimetres
+// away) in the choice, far speculative points displaced the touching ones, and
+// which touching point survived flipped with sub-millimetre depth changes: a
+// cylinder's cap or a hull across a curved field's seams then rocked between
+// supports and never came to rest (tests/contacts/heightfield_test.cpp,
+// EveryConvexShapeRestsOnBumpyField). Points further than this behind the
+// deepest one are left out; a falling body's group is led by its nearest point,
+// so its speculative contact stays.
+constexpr Real kReductionBand = Real(1e-3);
+
+// True when p, projected along the triangle's normal, falls on the triangle
+// (within kBaryTol of its edges).
+bool overTriangle(const Vec3 w[3], const Vec3& p) {
+    const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
+    const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);
+    const Real den = d00 * d11 - d01 * d01;
+    if (!(den > 0)) return false;
+    const Real bv = (d11 * d20 - d01 * d21) / den, bw = (d00 * d21 - d01 * d20) / den;
+    return bv >= -kBaryTol && bw >= -kBaryTol && bv + bw <= 1 + kBaryTol;
+}
 
 std::uint32_t meshFeature(std::uint32_t triangle, std::uint32_t local) {
     return (triangle * 0x9E3779B1u) ^ (local * 0x85EBCA77u);
@@ -92,6 +118,19 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
             if (tm.pointCount == 0) return false;
         }
     }
+    if (dot(tm.normal, faceN) >= kFaceNormalCos) {
+        // Along the face normal: only the points over this triangle. (A hull
+        // vertex beyond the edge, measured against the extended plane, came and
+        // went with its depth from step to step, the same feature id handed to
+        // two vertices 0.5 m apart, and the hull rocked between them.)
+        std::uint32_t kept = 0;
+        for (std::uint32_t i = 0; i < tm.pointCount; ++i) {
+            const Vec3 onTriangle = tm.points[i].position + tm.normal * (Real(0.5) * tm.points[i].depth);
+            if (overTriangle(w, onTriangle)) tm.points[kept++] = tm.points[i];
+        }
+        tm.pointCount = kept;
+        if (kept == 0) return false;
+    }
     for (std::uint32_t i = 0; i < tm.pointCount; ++i) {
         MeshContactCandidate c;
         c.contact = {tm.points[i].position, tm.points[i].depth, meshFeature(t, tm.points[i].featureId)};
@@ -114,6 +153,7 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
         }
         if (seed == scratch.size()) break;
         const Vec3 n = scratch[seed].normal;
+        const Real bandFloor = scratch[seed].contact.depth - kReductionBand;  // the seed is the group's deepest
         Manifold& m = out.push();
         m.normal = n;
         m.childA = scratch[seed].triangle;
@@ -122,7 +162,7 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
         std::uint32_t count = 0;
         for (std::size_t i = 0; i < scratch.size(); ++i) {
             if (scratch[i].contact.depth <= kUsed || dot(scratch[i].normal, n) < kGroupCos) continue;
-            batch[count++] = scratch[i].contact;
+            if (scratch[i].contact.depth >= bandFloor) batch[count++] = scratch[i].contact;
             scratch[i].contact.depth = kUsed;
             if (count == kBatch + Manifold::kMaxPoints) {
                 // Keep the batch bounded: reduce to 4 and continue.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -176,18 +177,6 @@ TEST(HeightFieldContacts, EveryConvexShapeRestsOnBumpyField) {
                                        Shape::capsule(Real(0.2), Real(0.3)), Shape::cylinder(Real(0.3), Real(0.2)),
                                        Shape::convexHull(cloud),           Shape::compound(parts)};
     for (const Shape& shape : shapes) {
-        // Open: the cylinder (on its cap) and the hull never come to rest on
-        // this curved field. Over steps 200 to 1200 they move faster than
-        // 0.05 m/s in about half of the steps (cylinder 56%, mean 0.061 m/s;
-        // hull 49%, mean 0.055 m/s) and rock at up to 0.5 rad/s, the same
-        // before and after the narrow-phase fixes of issue 26; this check
-        // passed because step 300 happened to fall in a quiet phase, and the
-        // fixes moved the phase. The cause seen: a cap corner near a seam is
-        // grouped (collide_mesh.cpp, groupTriangleContacts) with one triangle
-        // or the next as the seed changes, and its depth jumps by 6 mm.
-        // They are still held to lying on the surface; their velocity check
-        // waits for that fix.
-        const bool restsOpen = shape.type() == ShapeType::Cylinder || shape.type() == ShapeType::ConvexHull;
         World world;
         addField(world, 33, 33, Real(0.5), hills, {-8, 0, -8});
         BodyDef d;
@@ -206,10 +195,68 @@ TEST(HeightFieldContacts, EveryConvexShapeRestsOnBumpyField) {
         const Real surface = hills(p.x + 8, p.z + 8);
         EXPECT_GT(b.min.y, surface - Real(0.35)) << toString(shape.type());
         EXPECT_LT(b.min.y, surface + Real(0.35)) << toString(shape.type());
-        if (!restsOpen) {
-            EXPECT_LT(length(world.linearVelocity(body)), Real(0.05)) << toString(shape.type());
-        }
+        EXPECT_LT(length(world.linearVelocity(body)), Real(0.05)) << toString(shape.type());
         EXPECT_GT(p.y, -1) << toString(shape.type());
+    }
+}
+
+// The two that used to rock (issue 22): a cylinder on its cap and a hull
+// across the seams of the curved field, dropped at ten places, on the field
+// and on a mesh of the same triangles, come to rest and fall asleep within
+// 15 s. (They rocked between supports for good at two or three of these
+// places: far speculative points displaced the touching ones in the
+// reduction, and points beyond a triangle's edge were measured against its
+// extended plane; collide_mesh.cpp.)
+TEST(HeightFieldContacts, CylinderAndHullFallAsleepOnBumpyFieldAndMesh) {
+    const auto hills = [](Real x, Real z) { return Real(0.3) * std::sin(Real(0.7) * x) * std::cos(Real(0.5) * z); };
+    const std::vector<Vec3> cloud = {{-Real(0.3), 0, -Real(0.3)}, {Real(0.3), 0, -Real(0.3)}, {0, 0, Real(0.35)},
+                                     {0, Real(0.4), 0},           {0, -Real(0.3), 0}};
+    const Shape shapes[] = {Shape::cylinder(Real(0.3), Real(0.2)), Shape::convexHull(cloud)};
+    const Real drops[][2] = {{Real(0.7), Real(0.4)},   {Real(1.3), -Real(0.6)}, {-Real(2.1), Real(1.7)}, {Real(3.3), Real(2.2)},
+                             {-Real(0.4), -Real(3.1)}, {Real(2.6), -Real(2.4)}, {Real(0.2), Real(3.0)},  {-Real(3.0), -Real(1.0)},
+                             {Real(1.9), Real(1.1)},   {-Real(1.2), Real(0.3)}};
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    for (std::uint32_t r = 0; r < 33; ++r) {
+        for (std::uint32_t c = 0; c < 33; ++c) {
+            const Real x = static_cast<Real>(c) * Real(0.5), z = static_cast<Real>(r) * Real(0.5);
+            vertices.push_back({x, hills(x, z), z});
+        }
+    }
+    for (std::uint32_t r = 0; r < 32; ++r) {
+        for (std::uint32_t c = 0; c < 32; ++c) {
+            const std::uint32_t i = r * 33 + c;  // the field's two triangles of cell (r, c)
+            triangles.push_back({i, i + 33, i + 34});
+            triangles.push_back({i, i + 34, i + 1});
+        }
+    }
+    for (const bool mesh : {false, true}) {
+        for (const Shape& shape : shapes) {
+            for (const auto& drop : drops) {
+                World world;
+                if (mesh) {
+                    BodyDef g;
+                    g.type = BodyType::Static;
+                    g.shape = Shape::mesh(vertices, triangles);
+                    g.position = {-8, 0, -8};
+                    g.friction = Real(0.6);
+                    world.createBody(g);
+                } else {
+                    addField(world, 33, 33, Real(0.5), hills, {-8, 0, -8});
+                }
+                BodyDef d;
+                d.shape = shape;
+                d.density = 500;
+                d.position = {drop[0], 2, drop[1]};
+                d.linearDamping = Real(0.5);
+                d.angularDamping = Real(0.5);
+                d.rollingResistance = Real(0.5);
+                const BodyId body = world.createBody(d);
+                run(world, 900);
+                EXPECT_FALSE(world.isAwake(body)) << toString(shape.type()) << (mesh ? " on the mesh" : " on the field")
+                                                  << " dropped at " << drop[0] << ", " << drop[1];
+            }
+        }
     }
 }
 
