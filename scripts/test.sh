@@ -3,8 +3,9 @@
 # a Release build (GCC) with warnings as errors,
 # then an AddressSanitizer + UndefinedBehaviorSanitizer build with Clang, so
 # the suite also runs under the second compiler: GoldenHash.* in both passes
-# holds each to the same recorded state bits (docs/determinism.md); then a
-# bounded run of every fuzz target (scripts/fuzz.sh).
+# holds each to the same recorded state bits (docs/determinism.md); then the
+# double-precision build (docs/double-precision.md); then a bounded run of
+# every fuzz target (scripts/fuzz.sh).
 # Usage: scripts/test.sh [--quick]   (--quick: the Release pass only)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -62,6 +63,15 @@ if [ $quick -eq 0 ]; then
   CC=clang CXX=clang++ ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     run_suite "ASan+UBSan (Clang)" build/sanitize-clang "$sanitize_ctest_args" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFULCRUM_SANITIZE=ON \
       -DFULCRUM_VALIDATE=ON "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+fi
+if [ $quick -eq 0 ]; then
+  # The double-precision build (-DFULCRUM_DOUBLE=ON, docs/double-precision.md):
+  # Real = double everywhere, its own golden hashes
+  # (tests/determinism/golden_hashes_double.txt) and the large-world test at
+  # 10^6 m (tests/world/large_world_test.cpp). GCC Release in its own folder,
+  # without Python (the binding is the same source over Real) and without the
+  # browser test (the replay page is float32 in both builds).
+  run_suite "Double precision" build/double "-E ^Browser\." -DCMAKE_BUILD_TYPE=Release -DFULCRUM_DOUBLE=ON
 fi
 if [ $quick -eq 0 ]; then
   # Fuzzing (docs/reliability.md, "Fuzzing"): every libFuzzer target of fuzz/

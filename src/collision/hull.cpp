@@ -459,11 +459,13 @@ Shape Shape::convexHull(std::span<const Vec3> points) {
     // Unique hull vertices in order of first use.
     std::vector<std::uint32_t> vertexId(p.size(), kNone);
     std::vector<D3> verts;
+    std::vector<std::uint32_t> vertexSource;  // each one's index in points
     for (auto& poly : polygons) {
         for (std::uint32_t& v : poly) {
             if (vertexId[v] == kNone) {
                 vertexId[v] = static_cast<std::uint32_t>(verts.size());
                 verts.push_back(p[v]);
+                vertexSource.push_back(v);
             }
             v = vertexId[v];
         }
@@ -474,9 +476,10 @@ Shape Shape::convexHull(std::span<const Vec3> points) {
     }
 
     auto hull = std::make_shared<ConvexHull>();
-    for (const D3& v : verts) {
-        const D3 w = v + center;
-        hull->vertices.push_back({static_cast<Real>(w.x), static_cast<Real>(w.y), static_cast<Real>(w.z)});
+    // The input points themselves: un-centring (p + center) gives them back
+    // exactly only when Real is float; in the double build it may be off by an ulp.
+    for (const std::uint32_t v : vertexSource) {
+        hull->vertices.push_back(points[v]);
         hull->bounds.grow(hull->vertices.back());
     }
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;

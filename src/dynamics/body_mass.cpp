@@ -1,4 +1,5 @@
 #include "dynamics/body_mass.hpp"
+#include "math/real_bits.hpp"
 
 #include <algorithm>
 
@@ -53,7 +54,7 @@ BodyMass computeBodyMass(const BodyDef& def, const Subject& who) {
         // blame what the user wrote, not an inertia they never gave.
         const char* field = def.mass > 0 ? "mass" : "density";
         fail(who, field,
-             "is too small for single precision: the inertia it gives this shape underflows (diagonal " +
+             "is too small for " + std::string(kRealPrecision) + " numbers: the inertia it gives this shape underflows (diagonal " +
                  formatVec({mp.inertia(0, 0), mp.inertia(1, 1), mp.inertia(2, 2)}) + "), got " +
                  formatReal(def.mass > 0 ? def.mass : def.density));
     }

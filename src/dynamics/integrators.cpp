@@ -4,6 +4,8 @@
 #include <bit>
 #include <cstdint>
 
+#include "math/real_bits.hpp"
+
 namespace fulcrum::detail {
 
 namespace {
@@ -32,7 +34,6 @@ constexpr int kIsotropic = -1, kGeneral = -2;
 // The off-diagonal test ORs the six entries' bits without their signs (zero
 // for +0 and -0 only; a NaN stays non-zero, as for "!= 0"): one branch
 // instead of six (callgrind, chain: 20 -> ~10 instructions per body).
-std::uint32_t magnitudeBits(Real x) { return std::bit_cast<std::uint32_t>(x) & 0x7fffffffu; }
 int inertiaSymmetry(const Mat3& i) {
     if ((magnitudeBits(i.c0.y) | magnitudeBits(i.c0.z) | magnitudeBits(i.c1.x) | magnitudeBits(i.c1.z) |
          magnitudeBits(i.c2.x) | magnitudeBits(i.c2.y)) != 0) {

@@ -16,6 +16,10 @@ namespace fulcrum::io {
 
 namespace {
 
+// glTF's vertex and animation data are float32 (its only float component
+// type): Real is narrowed here, once per value, in the double build too.
+float f32(Real x) { return static_cast<float>(x); }
+
 class GlbBuilder {
 public:
     explicit GlbBuilder(const Recording& rec) : rec_(rec) {
@@ -101,8 +105,8 @@ private:
         std::vector<float> positions, normals;
         positions.reserve(mesh.positions.size() * 3);
         normals.reserve(mesh.normals.size() * 3);
-        for (const Vec3& p : mesh.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
-        for (const Vec3& n : mesh.normals) normals.insert(normals.end(), {n.x, n.y, n.z});
+        for (const Vec3& p : mesh.positions) positions.insert(positions.end(), {f32(p.x), f32(p.y), f32(p.z)});
+        for (const Vec3& n : mesh.normals) normals.insert(normals.end(), {f32(n.x), f32(n.y), f32(n.z)});
         const int pos = addAccessor(positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
         const int nrm = addAccessor(normals, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
         tinygltf::Accessor idx;
@@ -216,8 +220,8 @@ private:
                 Quat q = t.q;
                 if (dot(q, previous) < 0) q = -q;
                 previous = q;
-                translation.insert(translation.end(), {t.p.x, t.p.y, t.p.z});
-                rotation.insert(rotation.end(), {q.x, q.y, q.z, q.w});
+                translation.insert(translation.end(), {f32(t.p.x), f32(t.p.y), f32(t.p.z)});
+                rotation.insert(rotation.end(), {f32(q.x), f32(q.y), f32(q.z), f32(q.w)});
             }
             addChannel(nodeIndex, "translation", addAccessor(translation, TINYGLTF_TYPE_VEC3, 3, 0, false), "LINEAR");
             addChannel(nodeIndex, "rotation", addAccessor(rotation, TINYGLTF_TYPE_VEC4, 4, 0, false), "LINEAR");
@@ -257,7 +261,7 @@ private:
 
         std::vector<float> base;
         base.reserve(n * 3);
-        for (std::size_t i = 0; i < n; ++i) base.insert(base.end(), {track.positions[i].x, track.positions[i].y, track.positions[i].z});
+        for (std::size_t i = 0; i < n; ++i) base.insert(base.end(), {f32(track.positions[i].x), f32(track.positions[i].y), f32(track.positions[i].z)});
         tinygltf::Primitive prim;
         prim.attributes["POSITION"] = addAccessor(base, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
         tinygltf::Accessor idx;
@@ -274,9 +278,9 @@ private:
         for (std::size_t f = 1; f < frames; ++f) {
             for (std::size_t i = 0; i < n; ++i) {
                 const Vec3 d = track.positions[f * n + i] - track.positions[i];
-                delta[3 * i] = d.x;
-                delta[3 * i + 1] = d.y;
-                delta[3 * i + 2] = d.z;
+                delta[3 * i] = f32(d.x);
+                delta[3 * i + 1] = f32(d.y);
+                delta[3 * i + 2] = f32(d.z);
             }
             // Morph target POSITION accessors must carry min/max (glTF 2.0, 3.7.2.2).
             prim.targets.push_back({{"POSITION", addAccessor(delta, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true)}});

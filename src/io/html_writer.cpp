@@ -42,6 +42,11 @@ std::string base64(const void* data, std::size_t bytes) {
     return out;
 }
 
+// The page's geometry and motion arrays are float32 (what the viewer draws
+// with), so Real is narrowed here, once per value, in the double build too
+// (docs/double-precision.md).
+float f32(Real x) { return static_cast<float>(x); }
+
 // The element type as the page names it (a typed array's).
 template <typename T>
 constexpr const char* typeName() {
@@ -99,8 +104,8 @@ json renderParts(const std::vector<RenderPart>& parts) {
     json out = json::array();
     for (const RenderPart& part : parts) {
         std::vector<float> positions, normals;
-        for (const Vec3& p : part.mesh.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
-        for (const Vec3& n : part.mesh.normals) normals.insert(normals.end(), {n.x, n.y, n.z});
+        for (const Vec3& p : part.mesh.positions) positions.insert(positions.end(), {f32(p.x), f32(p.y), f32(p.z)});
+        for (const Vec3& n : part.mesh.normals) normals.insert(normals.end(), {f32(n.x), f32(n.y), f32(n.z)});
         const Quat& q = part.local.q;
         out.push_back({{"position", vec(part.local.p)},
                        {"rotation", json::array({q.x, q.y, q.z, q.w})},
@@ -169,7 +174,7 @@ std::string recordingJson(const Recording& rec) {
     for (const ParticleTrack& track : rec.particles) {
         std::vector<float> positions;
         positions.reserve(track.positions.size() * 3);
-        for (const Vec3& x : track.positions) positions.insert(positions.end(), {x.x, x.y, x.z});
+        for (const Vec3& x : track.positions) positions.insert(positions.end(), {f32(x.x), f32(x.y), f32(x.z)});
         particles.push_back({{"name", track.name},
                              {"kind", track.triangles ? "cloth" : "rope"},
                              {"count", track.particleCount},
@@ -205,14 +210,14 @@ std::string recordingJson(const Recording& rec) {
 
     std::vector<float> transforms;
     transforms.reserve(rec.transforms.size() * 7);
-    for (const Transform& t : rec.transforms) transforms.insert(transforms.end(), {t.p.x, t.p.y, t.p.z, t.q.x, t.q.y, t.q.z, t.q.w});
+    for (const Transform& t : rec.transforms) transforms.insert(transforms.end(), {f32(t.p.x), f32(t.p.y), f32(t.p.z), f32(t.q.x), f32(t.q.y), f32(t.q.z), f32(t.q.w)});
     std::vector<float> bounds;
     bounds.reserve(rec.bounds.size() * 6);
-    for (const AABB& box : rec.bounds) bounds.insert(bounds.end(), {box.min.x, box.min.y, box.min.z, box.max.x, box.max.y, box.max.z});
+    for (const AABB& box : rec.bounds) bounds.insert(bounds.end(), {f32(box.min.x), f32(box.min.y), f32(box.min.z), f32(box.max.x), f32(box.max.y), f32(box.max.z)});
     std::vector<float> contacts;
     contacts.reserve(rec.contactPoints.size() * 7);
     for (const RecordedContactPoint& c : rec.contactPoints) {
-        contacts.insert(contacts.end(), {c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z, c.depth});
+        contacts.insert(contacts.end(), {f32(c.point.x), f32(c.point.y), f32(c.point.z), f32(c.normal.x), f32(c.normal.y), f32(c.normal.z), f32(c.depth)});
     }
     std::vector<std::uint32_t> offsets = rec.contactOffsets;
     if (offsets.empty()) offsets.assign(frames + 1, 0);
@@ -220,7 +225,7 @@ std::string recordingJson(const Recording& rec) {
     energy.reserve(frames * 3);
     for (const EnergyReport& e : rec.energy) energy.insert(energy.end(), {e.kinetic, e.potential, e.total});
     std::vector<float> momentum;
-    for (const Vec3& p : rec.linearMomentum) momentum.insert(momentum.end(), {p.x, p.y, p.z});
+    for (const Vec3& p : rec.linearMomentum) momentum.insert(momentum.end(), {f32(p.x), f32(p.y), f32(p.z)});
 
     doc["times"] = packed(rec.times, 1);
     doc["transforms"] = packed(transforms, n * 7);

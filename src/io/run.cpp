@@ -23,6 +23,7 @@
 #include "fulcrum/snapshot.hpp"
 #include "fulcrum/recording.hpp"
 #include "io/scene_detail.hpp"
+#include "math/real_bits.hpp"
 #include "io/svg_plot.hpp"
 
 namespace fulcrum::detail {
@@ -236,7 +237,7 @@ void applyOverrides(Scene& scene, const RunOverrides& o) {
         if (static_cast<Real>(*o.dt) < std::numeric_limits<Real>::min()) {
             // It would round to 0 or a denormal in the engine's floats; say so here
             // rather than let the world blame the scene file for it.
-            throw OptionError("--dt: too small for the engine's single-precision numbers (at least " +
+            throw OptionError(std::string("--dt: too small for the engine's ") + fulcrum::detail::kRealPrecision + " numbers (at least " +
                               formatNumber(std::numeric_limits<Real>::min()) + " s), got " + formatNumber(*o.dt));
         }
         scene.dt = static_cast<Real>(*o.dt);

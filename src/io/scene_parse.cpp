@@ -23,6 +23,7 @@
 #include "fulcrum/urdf.hpp"
 #include "io/json_locator.hpp"
 #include "io/scene_detail.hpp"
+#include "math/real_bits.hpp"
 #include "world/input_file.hpp"
 
 namespace fulcrum {
@@ -115,7 +116,7 @@ private:
         const double d = v.get<double>();
         if (!std::isfinite(d)) fail(path, "must be a finite number, got " + detail::formatNumber(d));
         if (std::fabs(d) > static_cast<double>(std::numeric_limits<Real>::max())) {
-            fail(path, "out of range for the engine's single-precision numbers, got " + detail::formatNumber(d));
+            fail(path, "out of range for the engine's " + std::string(fulcrum::detail::kRealPrecision) + " numbers, got " + detail::formatNumber(d));
         }
         return static_cast<Real>(d);
     }
@@ -146,7 +147,7 @@ private:
     // names the limit, not a later complaint about something derived from it.
     void requireNormal(Real r, double written, const std::string& path, std::string_view field) const {
         if (r >= std::numeric_limits<Real>::min()) return;
-        fail(path, std::string(field) + " is too small for the engine's single-precision numbers (at least " +
+        fail(path, std::string(field) + " is too small for the engine's " + fulcrum::detail::kRealPrecision + " numbers (at least " +
                        detail::formatNumber(std::numeric_limits<Real>::min()) + "), got " + detail::formatNumber(written));
     }
     Real nonNegative(const json& v, const std::string& path, std::string_view field) const {

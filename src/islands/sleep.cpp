@@ -46,11 +46,11 @@ void uniteConcurrently(std::uint32_t* parent, std::uint32_t a, std::uint32_t b) 
     }
 }
 
-void SleepManager::lowerConcurrently(std::uint32_t& slotBits, Real value) {
-    static_assert(sizeof(Real) == sizeof(std::uint32_t), "the minimum works on the float's bits");
-    const auto mine = std::bit_cast<std::uint32_t>(value);
-    std::atomic_ref<std::uint32_t> bits(slotBits);
-    std::uint32_t seen = bits.load(std::memory_order_relaxed);
+void SleepManager::lowerConcurrently(RealBits& slotBits, Real value) {
+    // Timers are non-negative, so their bits order as their values.
+    const auto mine = std::bit_cast<RealBits>(value);
+    std::atomic_ref<RealBits> bits(slotBits);
+    RealBits seen = bits.load(std::memory_order_relaxed);
     while (mine < seen && !bits.compare_exchange_weak(seen, mine, std::memory_order_relaxed)) {
     }
 }
@@ -138,7 +138,7 @@ void SleepManager::update(BodyStore& w, const SleepSettings& s, const std::vecto
             bodyMass_[i] = w.params[d].mass;
             islandEnergy_[i] = 0;
             islandMass_[i] = 0;
-            islandMinTime_[i] = std::bit_cast<std::uint32_t>(Real(1e30));
+            islandMinTime_[i] = std::bit_cast<RealBits>(Real(1e30));
             islandTag_[i] = 0;
         }
     });

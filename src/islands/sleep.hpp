@@ -53,6 +53,7 @@
 #include "fulcrum/math.hpp"
 #include "fulcrum/task_system.hpp"
 #include "dynamics/body_store.hpp"
+#include "math/real_bits.hpp"
 #include "solver/contact_solver.hpp"
 
 namespace fulcrum {
@@ -106,9 +107,9 @@ private:
     friend struct fulcrum::SnapshotAccess;
     std::uint32_t find(std::uint32_t i);
     // slotBits = min(slot, value) for timers (>= +0), as the floats' bits.
-    static void lowerConcurrently(std::uint32_t& slotBits, Real value);
+    static void lowerConcurrently(RealBits& slotBits, Real value);
     std::vector<std::uint32_t> parent_;
-    std::vector<std::uint32_t> islandMinTime_;  // per island root: its bodies' smallest timer, as the float's bits
+    std::vector<RealBits> islandMinTime_;  // per island root: its bodies' smallest timer, as Real's bits
     std::vector<std::uint32_t> islandTag_;
     std::vector<Real> islandEnergy_;  // per island root: sum of m v^2
     std::vector<Real> islandMass_;    // per island root: sum of m

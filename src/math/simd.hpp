@@ -65,11 +65,14 @@
 
 #include "fulcrum/math/vec3.hpp"
 
-#if defined(__SSE2__) || defined(_M_X64)
+// The SSE2 and AVX2 policies hold float lanes; the double build
+// (FULCRUM_DOUBLE, docs/double-precision.md) runs every wide kernel on
+// PortablePolicy<4> over double, so the wide paths keep the scalar bits there too.
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
 #include <immintrin.h>
 #define FULCRUM_SIMD_HAS_SSE2 1
 #endif
-#if defined(__AVX2__)
+#if defined(__AVX2__) && !FULCRUM_DOUBLE
 #define FULCRUM_SIMD_HAS_AVX2 1
 #endif
 
@@ -86,7 +89,6 @@
 
 namespace fulcrum::simd {
 
-static_assert(sizeof(Real) == sizeof(float), "the wide types are float-only; a double build needs double policies");
 
 // ---- Policies -------------------------------------------------------------------
 
@@ -96,7 +98,7 @@ template <int N>
 struct PortablePolicy {
     static constexpr int kLanes = N;
     struct Reg {
-        float lane[N];
+        Real lane[N];
     };
     struct MaskReg {
         std::uint32_t lane[N];
@@ -115,9 +117,9 @@ struct PortablePolicy {
         return r;
     }
 
-    static Reg splat(float s) { return map([&](int) { return s; }); }
-    static Reg load(const float* p) { return map([&](int i) { return p[i]; }); }
-    static void store(float* p, Reg a) { std::memcpy(p, a.lane, sizeof(a.lane)); }
+    static Reg splat(Real s) { return map([&](int) { return s; }); }
+    static Reg load(const Real* p) { return map([&](int i) { return p[i]; }); }
+    static void store(Real* p, Reg a) { std::memcpy(p, a.lane, sizeof(a.lane)); }
     static Reg add(Reg a, Reg b) { return map([&](int i) { return a.lane[i] + b.lane[i]; }); }
     static Reg sub(Reg a, Reg b) { return map([&](int i) { return a.lane[i] - b.lane[i]; }); }
     static Reg mul(Reg a, Reg b) { return map([&](int i) { return a.lane[i] * b.lane[i]; }); }
@@ -128,7 +130,7 @@ struct PortablePolicy {
     static Reg abs(Reg a) { return map([&](int i) { return std::fabs(a.lane[i]); }); }
     static Reg neg(Reg a) { return map([&](int i) { return -a.lane[i]; }); }
     static Reg sqrt(Reg a) { return map([&](int i) { return std::sqrt(a.lane[i]); }); }
-    static Reg rcpApprox(Reg a) { return map([&](int i) { return 1.0f / a.lane[i]; }); }
+    static Reg rcpApprox(Reg a) { return map([&](int i) { return Real(1) / a.lane[i]; }); }
     static MaskReg lt(Reg a, Reg b) { return mapMask([&](int i) { return a.lane[i] < b.lane[i]; }); }
     static MaskReg le(Reg a, Reg b) { return mapMask([&](int i) { return a.lane[i] <= b.lane[i]; }); }
     static MaskReg eq(Reg a, Reg b) { return mapMask([&](int i) { return a.lane[i] == b.lane[i]; }); }
@@ -143,13 +145,13 @@ struct PortablePolicy {
         return r;
     }
     // out[j] lane i = rows[i][j] for j < 4 (a 4 x N transpose), and back.
-    FULCRUM_SIMD_ALWAYS_INLINE static void loadTransposed4(const float* const* rows, Reg* out) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void loadTransposed4(const Real* const* rows, Reg* out) {
         for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < N; ++i) std::memcpy(&out[j].lane[i], rows[i] + j, sizeof(float));
+            for (int i = 0; i < N; ++i) std::memcpy(&out[j].lane[i], rows[i] + j, sizeof(Real));
     }
-    FULCRUM_SIMD_ALWAYS_INLINE static void storeTransposed4(float* const* rows, const Reg* in) {
+    FULCRUM_SIMD_ALWAYS_INLINE static void storeTransposed4(Real* const* rows, const Reg* in) {
         for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < N; ++i) std::memcpy(rows[i] + j, &in[j].lane[i], sizeof(float));
+            for (int i = 0; i < N; ++i) std::memcpy(rows[i] + j, &in[j].lane[i], sizeof(Real));
     }
 };
 
@@ -316,34 +318,34 @@ public:
     static constexpr int kLanes = P::kLanes;
 
     FloatWide() = default;  // zero
-    FloatWide(float s) : r_(P::splat(s)) {}  // NOLINT(google-explicit-constructor): `2 * x` reads best
+    FloatWide(Real s) : r_(P::splat(s)) {}  // NOLINT(google-explicit-constructor): `2 * x` reads best
     explicit FloatWide(Reg r) : r_(r) {}
     Reg reg() const { return r_; }
 
-    static FloatWide load(const float* p) { return FloatWide(P::load(p)); }  // unaligned
-    void store(float* p) const { P::store(p, r_); }
-    float lane(int i) const {
-        float out[kLanes];
+    static FloatWide load(const Real* p) { return FloatWide(P::load(p)); }  // unaligned
+    void store(Real* p) const { P::store(p, r_); }
+    Real lane(int i) const {
+        Real out[kLanes];
         P::store(out, r_);
         return out[i];
     }
     // Lane i = f(i), for gathers from anything that is not a struct field.
     template <class F>
     static FloatWide fromLanes(F&& f) {
-        float in[kLanes];
+        Real in[kLanes];
         for (int i = 0; i < kLanes; ++i) in[i] = f(i);
         return load(in);
     }
 
     // Lane i = items[indices[i]].*field (0 for kEmptyLane).
     template <class S>
-    static FloatWide gather(const S* items, const std::uint32_t* indices, float S::*field) {
-        return fromLanes([&](int i) { return indices[i] == kEmptyLane ? 0.0f : items[indices[i]].*field; });
+    static FloatWide gather(const S* items, const std::uint32_t* indices, Real S::*field) {
+        return fromLanes([&](int i) { return indices[i] == kEmptyLane ? Real(0) : items[indices[i]].*field; });
     }
     // items[indices[i]].*field = lane i, except for kEmptyLane.
     template <class S>
-    void scatter(S* items, const std::uint32_t* indices, float S::*field) const {
-        float out[kLanes];
+    void scatter(S* items, const std::uint32_t* indices, Real S::*field) const {
+        Real out[kLanes];
         store(out);
         for (int i = 0; i < kLanes; ++i)
             if (indices[i] != kEmptyLane) items[indices[i]].*field = out[i];
@@ -358,15 +360,15 @@ public:
     // floats (or bit patterns copied through unchanged, like flags).
     template <int K, class S>
     static std::array<FloatWide, K> gatherTransposed(const S* items, const std::uint32_t* indices) {
-        static_assert(K % 4 == 0 && sizeof(S) >= K * sizeof(float) && std::is_trivially_copyable_v<S>);
-        alignas(64) static constexpr float kZeros[K] = {};
-        const float* rows[kLanes];
+        static_assert(K % 4 == 0 && sizeof(S) >= K * sizeof(Real) && std::is_trivially_copyable_v<S>);
+        alignas(64) static constexpr Real kZeros[K] = {};
+        const Real* rows[kLanes];
         for (int i = 0; i < kLanes; ++i)
-            rows[i] = indices[i] == kEmptyLane ? kZeros : reinterpret_cast<const float*>(items + indices[i]);
+            rows[i] = indices[i] == kEmptyLane ? kZeros : reinterpret_cast<const Real*>(items + indices[i]);
         std::array<FloatWide, K> columns;
         for (int j = 0; j < K; j += 4) {
             Reg regs[4];
-            const float* shifted[kLanes];
+            const Real* shifted[kLanes];
             for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + j;
             P::loadTransposed4(shifted, regs);
             for (int c = 0; c < 4; ++c) columns[j + c] = FloatWide(regs[c]);
@@ -376,14 +378,14 @@ public:
     // The inverse: writes all K floats of every lane's struct (skipping kEmptyLane).
     template <int K, class S>
     static void scatterTransposed(S* items, const std::uint32_t* indices, const std::array<FloatWide, K>& columns) {
-        static_assert(K % 4 == 0 && sizeof(S) >= K * sizeof(float) && std::is_trivially_copyable_v<S>);
-        float sink[K];  // empty lanes write here
-        float* rows[kLanes];
+        static_assert(K % 4 == 0 && sizeof(S) >= K * sizeof(Real) && std::is_trivially_copyable_v<S>);
+        Real sink[K];  // empty lanes write here
+        Real* rows[kLanes];
         for (int i = 0; i < kLanes; ++i)
-            rows[i] = indices[i] == kEmptyLane ? sink : reinterpret_cast<float*>(items + indices[i]);
+            rows[i] = indices[i] == kEmptyLane ? sink : reinterpret_cast<Real*>(items + indices[i]);
         for (int j = 0; j < K; j += 4) {
             const Reg regs[4] = {columns[j].r_, columns[j + 1].r_, columns[j + 2].r_, columns[j + 3].r_};
-            float* shifted[kLanes];
+            Real* shifted[kLanes];
             for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + j;
             P::storeTransposed4(shifted, regs);
         }
@@ -415,17 +417,17 @@ public:
     friend FloatWide mulAdd(FloatWide a, FloatWide b, FloatWide c) { return a * b + c; }
     // a * b + c with one rounding: bit-identical to std::fma (hardware FMA with -mfma).
     friend FloatWide fusedMulAdd(FloatWide a, FloatWide b, FloatWide c) { return FloatWide(P::fma(a.r_, b.r_, c.r_)); }
-    friend FloatWide reciprocal(FloatWide a) { return FloatWide(1.0f) / a; }
+    friend FloatWide reciprocal(FloatWide a) { return FloatWide(Real(1)) / a; }
     // Relative error < 2^-21; differs between CPU vendors (see the header comment).
     friend FloatWide reciprocalApprox(FloatWide a) { return FloatWide(P::rcpApprox(a.r_)); }
     // Lane-wise mask ? a : b.
     friend FloatWide select(Mask m, FloatWide a, FloatWide b) { return FloatWide(P::select(m.reg(), a.r_, b.r_)); }
 
     // Sum of the lanes, in lane order (deterministic for a given width).
-    float sumLanes() const {
-        float out[kLanes];
+    Real sumLanes() const {
+        Real out[kLanes];
         store(out);
-        float s = out[0];
+        Real s = out[0];
         for (int i = 1; i < kLanes; ++i) s += out[i];
         return s;
     }
@@ -464,7 +466,7 @@ struct Vec3Wide {
     // items[indices[i]].*field = lane i, except for kEmptyLane.
     template <class S>
     void scatter(S* items, const std::uint32_t* indices, Vec3 S::*field) const {
-        float xs[kLanes], ys[kLanes], zs[kLanes];
+        Real xs[kLanes], ys[kLanes], zs[kLanes];
         x.store(xs), y.store(ys), z.store(zs);
         for (int i = 0; i < kLanes; ++i)
             if (indices[i] != kEmptyLane) items[indices[i]].*field = Vec3{xs[i], ys[i], zs[i]};
@@ -502,10 +504,10 @@ struct Vec3Wide {
 // trip per lane cost 8 % of pyramid20's instructions in packing alone.
 
 template <class P>
-void setLane(FloatWide<P>& w, int lane, float value) {
-    static_assert(sizeof(FloatWide<P>) == P::kLanes * sizeof(float) && std::is_trivially_copyable_v<FloatWide<P>>);
-    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float), &value,
-                sizeof(float));
+void setLane(FloatWide<P>& w, int lane, Real value) {
+    static_assert(sizeof(FloatWide<P>) == P::kLanes * sizeof(Real) && std::is_trivially_copyable_v<FloatWide<P>>);
+    std::memcpy(reinterpret_cast<unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(Real), &value,
+                sizeof(Real));
 }
 template <class P>
 void setLane(Vec3Wide<P>& w, int lane, const Vec3& value) {
@@ -514,11 +516,11 @@ void setLane(Vec3Wide<P>& w, int lane, const Vec3& value) {
     setLane(w.z, lane, value.z);
 }
 template <class P>
-float getLane(const FloatWide<P>& w, int lane) {
-    static_assert(sizeof(FloatWide<P>) == P::kLanes * sizeof(float) && std::is_trivially_copyable_v<FloatWide<P>>);
-    float value;
-    std::memcpy(&value, reinterpret_cast<const unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(float),
-                sizeof(float));
+Real getLane(const FloatWide<P>& w, int lane) {
+    static_assert(sizeof(FloatWide<P>) == P::kLanes * sizeof(Real) && std::is_trivially_copyable_v<FloatWide<P>>);
+    Real value;
+    std::memcpy(&value, reinterpret_cast<const unsigned char*>(&w) + static_cast<std::size_t>(lane) * sizeof(Real),
+                sizeof(Real));
     return value;
 }
 

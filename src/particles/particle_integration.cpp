@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__SSE2__) || defined(_M_X64)
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE  // float lanes: the double build runs the scalar loop
 #include <emmintrin.h>
 #endif
 
@@ -118,7 +118,7 @@ void predictAxisGravity(std::size_t n, Real* x, Real* q, Real* d, const Real* w,
                         const Real* reference, Real& lo, Real& hi) {
     const auto none = [](std::size_t) { return Real(0); };
     std::size_t i = 0;
-#if defined(__SSE2__) || defined(_M_X64)
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE  // float lanes: the double build runs the scalar loop
     const Real gh2 = (g + Real(0)) * h2;  // the scalar loop's (g + a) h^2 with a = 0
     const __m128 vKeep = _mm_set1_ps(keep), vGh2 = _mm_set1_ps(gh2), zero = _mm_setzero_ps();
     __m128 vLo = _mm_set1_ps(lo), vHi = _mm_set1_ps(hi);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
-#if defined(__SSE2__) || defined(_M_X64)
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE  // float lanes: the double build runs the scalar loop
 #include <immintrin.h>
 #define FULCRUM_PARTICLES_SSE2 1
 #else

@@ -53,7 +53,16 @@ bool avx2Available() {
 #endif
 }
 
-SimdPath bestSimdPath() { return avx2Available() ? SimdPath::Avx2 : SimdPath::Sse2; }
+SimdPath bestSimdPath() {
+#if FULCRUM_DOUBLE
+    // The double build's lanes are PortablePolicy<4> (simd.hpp): plain arrays
+    // that cost pyramid20 1.7x the scalar solver's instructions (callgrind,
+    // docs/double-precision.md), so the scalar solver is its fastest path.
+    return SimdPath::Scalar;
+#else
+    return avx2Available() ? SimdPath::Avx2 : SimdPath::Sse2;
+#endif
+}
 
 SimdPath simdPathFromSetting(const char* text) {
     if (text == nullptr || *text == 0) return bestSimdPath();

@@ -94,7 +94,7 @@ struct WideContactBlock {
     const WidePoint& point(std::uint32_t i) const { return i == 0 ? point0 : extra->points[i - 1]; }
 };
 
-static_assert(sizeof(SolverBody) == 24 * sizeof(float) && std::is_trivially_copyable_v<SolverBody>,
+static_assert(sizeof(SolverBody) == 24 * sizeof(Real) && std::is_trivially_copyable_v<SolverBody>,
               "the wide kernels read a solver body as 24 floats: v, invMass, w, dp, dtheta, invI, padding");
 
 // Float offsets in SolverBody (checked by the static_assert above and the field order).
@@ -179,16 +179,16 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     }
     if (k.pointCount == 0) k.point0 = WidePoint{};  // not produced by the narrow phase; kept safe
     // The per-lane inputs, lane by lane (zero in empty lanes).
-    alignas(32) float nx[kWideLanes] = {}, ny[kWideLanes] = {}, nz[kWideLanes] = {}, sign[kWideLanes] = {};
-    alignas(32) float count[kWideLanes] = {}, friction[kWideLanes] = {}, restitution[kWideLanes] = {};
-    alignas(32) float rolling[kWideLanes] = {}, biasRate[kWideLanes] = {}, massScale[kWideLanes] = {};
-    alignas(32) float impulseScale[kWideLanes] = {}, twistImpulse[kWideLanes] = {}, active[kWideLanes] = {};
-    alignas(32) float minusPushMax[kWideLanes] = {};
-    alignas(32) float fx[kWideLanes] = {}, fy[kWideLanes] = {}, fz[kWideLanes] = {};
-    alignas(32) float cax[kWideLanes] = {}, cay[kWideLanes] = {}, caz[kWideLanes] = {};
-    alignas(32) float cbx[kWideLanes] = {}, cby[kWideLanes] = {}, cbz[kWideLanes] = {};
-    alignas(32) float px[4][kWideLanes] = {}, py[4][kWideLanes] = {}, pz[4][kWideLanes] = {};
-    alignas(32) float depth[4][kWideLanes] = {}, impulse[4][kWideLanes] = {};
+    alignas(32) Real nx[kWideLanes] = {}, ny[kWideLanes] = {}, nz[kWideLanes] = {}, sign[kWideLanes] = {};
+    alignas(32) Real count[kWideLanes] = {}, friction[kWideLanes] = {}, restitution[kWideLanes] = {};
+    alignas(32) Real rolling[kWideLanes] = {}, biasRate[kWideLanes] = {}, massScale[kWideLanes] = {};
+    alignas(32) Real impulseScale[kWideLanes] = {}, twistImpulse[kWideLanes] = {}, active[kWideLanes] = {};
+    alignas(32) Real minusPushMax[kWideLanes] = {};
+    alignas(32) Real fx[kWideLanes] = {}, fy[kWideLanes] = {}, fz[kWideLanes] = {};
+    alignas(32) Real cax[kWideLanes] = {}, cay[kWideLanes] = {}, caz[kWideLanes] = {};
+    alignas(32) Real cbx[kWideLanes] = {}, cby[kWideLanes] = {}, cbz[kWideLanes] = {};
+    alignas(32) Real px[4][kWideLanes] = {}, py[4][kWideLanes] = {}, pz[4][kWideLanes] = {};
+    alignas(32) Real depth[4][kWideLanes] = {}, impulse[4][kWideLanes] = {};
     for (int l = 0; l < laneCount; ++l) {
         const LaneSource& src = lanes[l];
         const LaneSource& m = src;
@@ -278,7 +278,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     MaskW pointActive[4];
     Vec3W centre{zero, zero, zero};
     for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-        const MaskW on = pointCount > FloatW(static_cast<float>(i));
+        const MaskW on = pointCount > FloatW(static_cast<Real>(i));
         pointActive[i] = on;
         const Vec3W p{FloatW::load(px[i]), FloatW::load(py[i]), FloatW::load(pz[i])};
         position[i] = p;
@@ -555,8 +555,8 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
         const WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
         const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
         const Vec3W dp = b.dp - a.dp;
-        alignas(32) float impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
-        alignas(32) float stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];
+        alignas(32) Real impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
+        alignas(32) Real stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
             const WidePoint& cp = k.point(i);
             const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));

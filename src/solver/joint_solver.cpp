@@ -18,7 +18,7 @@ namespace fulcrum::detail {
 namespace {
 // A world end for the projection's check in lanes: centre 0 and the identity
 // rotation (com x y z, q w x y z).
-alignas(16) constexpr float kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
+alignas(16) constexpr Real kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
 }  // namespace
 
 void JointSolver::reserve(std::size_t jointCount) {
@@ -508,7 +508,7 @@ void JointSolver::projectPositions(BodyStore& w) const {
 }
 
 bool JointSolver::anyBeyondSlop(const BodyStore& w, Real slop) const {
-#if defined(__GNUC__) && defined(__SSE2__)
+#if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE  // float lanes; the double build checks one by one
     const std::size_t n = projection_.size();
     for (std::size_t first = 0; first < n; first += 4) {
         const std::size_t count = std::min<std::size_t>(4, n - first);
@@ -529,7 +529,7 @@ bool JointSolver::anyBeyondSlop(const BodyStore& w, Real slop) const {
 #endif
 }
 
-#if defined(__GNUC__) && defined(__SSE2__)
+#if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE
 void JointSolver::squaredSeparations4(const BodyStore& w, std::size_t first, std::size_t count, float* e2) const {
     // Four joints per round, structure of arrays: per lane exactly the
     // scalar steps of projectionPass (rotate(q, v) = (v + t q.w) + u x t with
@@ -600,7 +600,7 @@ bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
     bool moved = false;
     const std::size_t joints = projection_.size();
     for (std::size_t i = 0; i < joints; ++i) {  // sliders left out
-#if defined(__GNUC__) && defined(__SSE2__)
+#if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE
         // Most joints are within the slop (grid, callgrind: 6.6 % of the
         // joints a pass visits move a body): the next four are checked in
         // lanes (squaredSeparations4, the steps below lane by lane, so the

@@ -177,8 +177,8 @@ private:
         // Each end's com x y z, q w x y z (7 floats) for the check in lanes:
         // an awake end's pose in the awake set, a static end's record, or a
         // world end's constants (set in prepare, valid for the step).
-        const float* poseA = nullptr;
-        const float* poseB = nullptr;
+        const Real* poseA = nullptr;
+        const Real* poseB = nullptr;
     };
     std::vector<ProjectionJoint> projection_;
     std::vector<std::uint32_t> rowJoints_;  // constraints with Gauss-Seidel rows, in solve (colour) order

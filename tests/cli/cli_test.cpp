@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fulcrum/math/vec3.hpp"  // Real: the limits the CLI checks are its
 #include "support/svg_points.hpp"
 
 namespace {
@@ -363,18 +364,23 @@ TEST(Cli, OutOfRangeValuesNameTheirLimit) {
     const fs::path steps = writeTemp("steps.json", R"({"world": {"steps": 1e20}, "bodies": []})");
     expectBadInput("run '" + steps.string() + "'", {"world.steps", "between 0 and 2147483647", "1e+20"});
     // A command-line value is the option's fault, not the scene file's.
-    const Result dt = fulcrum("run scenes/projectile.json --dt 1e-50");
+    // Below Real's normal range (float's from 1.2e-38, double's from 2.2e-308), so each build's own values.
+    constexpr bool kFloat = sizeof(fulcrum::Real) == sizeof(float);
+    const std::string tinyDt = kFloat ? "1e-50" : "1e-320", tinyMass = kFloat ? "1e-45" : "5e-324";
+    const std::string smallMassText = kFloat ? "1e-37" : "1e-307";
+    const Result dt = fulcrum("run scenes/projectile.json --dt " + tinyDt);
     EXPECT_EQ(dt.status, 2);
     EXPECT_EQ(dt.err.rfind("fulcrum: --dt: too small", 0), 0u) << dt.err;
     EXPECT_EQ(dt.err.find("projectile.json"), std::string::npos) << dt.err;
-    const fs::path sceneDt = writeTemp("dt.json", R"({"world": {"dt": 1e-50}, "bodies": []})");
-    expectBadInput("run '" + sceneDt.string() + "'", {"world.dt", "too small", "1e-50"});
+    const fs::path sceneDt = writeTemp("dt.json", R"({"world": {"dt": )" + tinyDt + R"(}, "bodies": []})");
+    expectBadInput("run '" + sceneDt.string() + "'", {"world.dt", "too small", tinyDt.c_str()});
     // A denormal mass is the mass's fault, not the inertia's.
-    const fs::path mass = writeTemp("tiny_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 1e-45}]})");
-    expectBadInput("run '" + mass.string() + "'", {"bodies[0].mass", "too small", "1e-45"});
+    const fs::path mass = writeTemp("tiny_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": )" + tinyMass + "}]}");
+    expectBadInput("run '" + mass.string() + "'", {"bodies[0].mass", "too small", tinyMass.c_str()});
     const Result massErr = fulcrum("run '" + mass.string() + "'");
     EXPECT_EQ(massErr.err.find("inertia"), std::string::npos) << massErr.err;
-    const fs::path smallMass = writeTemp("small_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 0.1}, "mass": 1e-37}]})");
+    const fs::path smallMass =
+        writeTemp("small_mass.json", R"({"bodies": [{"shape": {"type": "sphere", "radius": 0.1}, "mass": )" + smallMassText + "}]}");
     expectBadInput("run '" + smallMass.string() + "'", {"bodies[0]", "mass", "too small"});
     // Work without end: sub-steps and cloth sizes have documented limits.
     const fs::path substeps = writeTemp("substeps.json", R"({"world": {"substeps": 1000000000}, "bodies": []})");
@@ -419,8 +425,10 @@ TEST(Cli, DeeplyNestedErrorPathIsShortened) {
 // 3e38 m from the origin, falling) printed "angular": [0, 0, null] with exit 0.
 // The run stops with status 3, naming the body, the step and the time.
 TEST(Cli, OverflowingMomentumStopsWith3AndNamesTheBody) {
+    // Real's overflow: 3e38 m in the float build, 1.5e308 m in the double build.
+    const std::string farX = sizeof(fulcrum::Real) == sizeof(float) ? "3e38" : "1.5e308";
     const fs::path far = writeTemp("far.json", R"({"world": {"steps": 10},
-      "bodies": [{"name": "far", "shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [3e38, 2, 0]}]})");
+      "bodies": [{"name": "far", "shape": {"type": "sphere", "radius": 0.5}, "mass": 1, "position": [)" + farX + ", 2, 0]}]}");
     const Result r = fulcrum("run '" + far.string() + "' --json");
     EXPECT_EQ(r.status, 3) << r.out;
     EXPECT_EQ(lineCount(r.err), 1u) << r.err;

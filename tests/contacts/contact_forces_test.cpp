@@ -9,6 +9,7 @@
 
 #include "contacts/helpers.hpp"
 #include "world/world_access.hpp"
+#include "support/real_eq.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -71,7 +72,7 @@ TEST(ContactForces, RestingBoxCarriesItsWeight) {
             EXPECT_GE(p, 0);
             sum += p;
         }
-        EXPECT_FLOAT_EQ(sum, c.normalImpulse);
+        EXPECT_REAL_EQ(sum, c.normalImpulse);
         const Vec3 expected = (c.normal * c.normalImpulse + c.frictionImpulse) * (Real(1) / kDt);
         EXPECT_NEAR(c.force.y, expected.y, Real(1e-4) * std::abs(expected.y) + Real(1e-6));
     }

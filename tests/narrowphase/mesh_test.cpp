@@ -57,9 +57,12 @@ TEST(Mesh, GhostNormalsWouldAppearWithoutEdgeFlags) {
     const detail::ConvexShape box = detail::makeConvex(Shape::box({0.5f, 0.25f, 0.5f}), {{0.02f, 0.24f, 0.3f}, {}});
     bool sideways = false;
     ManifoldBuffer out;
-    for (int i = 0; i < 20; ++i) {
+    // Every 5 mm: some positions reach past a seam by less than the box's 1 cm
+    // depth, where a sideways (edge) axis overlaps least. The 10 cm steps this
+    // used to take found one in the float build but none in the double build.
+    for (int i = 0; i < 400; ++i) {
         detail::ConvexShape b = box;
-        b.xf.p.x = Real(-1.02) + Real(0.1) * static_cast<Real>(i);
+        b.xf.p.x = Real(-1.02) + Real(0.005) * static_cast<Real>(i);
         out.clear();
         detail::collideMeshConvex(m, {}, b, Shape::box({0.5f, 0.25f, 0.5f}).bounds(b.xf), kMargin, out);
         for (const Manifold& mf : out) sideways = sideways || mf.normal.y < Real(0.999);

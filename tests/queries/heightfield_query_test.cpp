@@ -111,7 +111,9 @@ TEST(HeightFieldShape, BadInputNamesTheField) {
     EXPECT_THAT(message([&] { Shape::heightField(4, 1, 1, 1, four); }), HasSubstr("heightfield: columns must be between 2"));
     EXPECT_THAT(message([&] { Shape::heightField(100000, 100000, 1, 1, four); }), HasSubstr("rows must be between 2 and 4097"));
     EXPECT_THAT(message([&] { Shape::heightField(2, 2, Real(1e38), 1, std::vector<Real>(4, 0)); }), HasSubstr("no error"));
-    EXPECT_THAT(message([&] { Shape::heightField(2, 3, Real(3e38), 1, std::vector<Real>(6, 0)); }), HasSubstr("overflows"));
+    // The extent (spacing x (columns - 1)) overflows Real: 3e38 x 2 in float, 1.5e308 x 2 in double.
+    const Real hugeSpacing = sizeof(Real) == sizeof(float) ? Real(3e38) : Real(1.5e308);
+    EXPECT_THAT(message([&] { Shape::heightField(2, 3, hugeSpacing, 1, std::vector<Real>(6, 0)); }), HasSubstr("overflows"));
     const std::uint32_t badHole[] = {1};
     EXPECT_THAT(message([&] { Shape::heightField(2, 2, 1, 1, four, badHole); }),
                 HasSubstr("heightfield: holes[0] = 1 is not a cell index (the field has 1 cells)"));

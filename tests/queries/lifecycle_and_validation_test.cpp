@@ -110,7 +110,9 @@ TEST_F(BadInput, Rays) {
     expectError([&] { (void)world.castRay({{0, 0, 0}, {1, 0, 0}, Real(1.5)}); }, {"ray.maxFraction", "[0, 1]", "1.5"});
     expectError([&] { (void)world.castRay({{0, 0, 0}, {1, 0, 0}, Real(-0.1)}); }, {"ray.maxFraction", "[0, 1]"});
     expectError([&] { (void)world.castRay({{0, 0, 0}, {1, 0, 0}, kNaN}); }, {"ray.maxFraction", "finite"});
-    expectError([&] { (void)world.castRay({{3e38f, 0, 0}, {3e38f, 0, 0}}); }, {"ray.translation", "float range"});
+    // An end point past Real's range: 3e38 + 3e38 in float, 1.5e308 + 1.5e308 in double.
+    const Real huge = sizeof(Real) == sizeof(float) ? Real(3e38f) : Real(1.5e308);
+    expectError([&] { (void)world.castRay({{huge, 0, 0}, {huge, 0, 0}}); }, {"ray.translation", "float range"});
 }
 
 TEST_F(BadInput, Filters) {

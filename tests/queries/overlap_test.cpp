@@ -40,26 +40,26 @@ Truth fromDepth(Real depth) {  // depth > 0: overlap
 }
 
 Quat randomOrientation(std::mt19937& rng) {
-    std::normal_distribution<float> g(0, 1);
-    const float z = g(rng), y = g(rng), x = g(rng), w = g(rng);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
+    std::normal_distribution<Real> g(0, 1);
+    const Real z = g(rng), y = g(rng), x = g(rng), w = g(rng);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
     return normalize(Quat(w, x, y, z));
 }
 
 Shape randomShape(std::mt19937& rng, int kind) {
-    std::uniform_real_distribution<float> size(Real(0.2), Real(1.2));
+    std::uniform_real_distribution<Real> size(Real(0.2), Real(1.2));
     switch (kind % 6) {
         case 0: return Shape::sphere(size(rng));
         case 1: return Shape::box({size(rng), size(rng), size(rng)});
         case 2: {
-            const float halfHeight = size(rng), radius = size(rng) * Real(0.5);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
+            const Real halfHeight = size(rng), radius = size(rng) * Real(0.5);  // drawn last argument first, as GCC evaluated the call: the same cases with every compiler
             return Shape::capsule(radius, halfHeight);
         }
         case 3: {
-            const float halfHeight = size(rng), radius = size(rng);
+            const Real halfHeight = size(rng), radius = size(rng);
             return Shape::cylinder(radius, halfHeight);
         }
         case 4: {
-            std::uniform_real_distribution<float> u(-1, 1);
+            std::uniform_real_distribution<Real> u(-1, 1);
             std::vector<Vec3> pts;
             for (int i = 0; i < 12; ++i) pts.push_back(Vec3{u(rng), u(rng), u(rng)} * size(rng));
             return Shape::convexHull(pts);
@@ -77,7 +77,7 @@ Shape randomShape(std::mt19937& rng, int kind) {
 World randomWorld(unsigned seed) {
     World world{WorldDef{.gravity = {0, Real(-9.81), 0}}};
     std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> pos(-8, 8);
+    std::uniform_real_distribution<Real> pos(-8, 8);
     BodyDef floor;
     floor.type = BodyType::Static;
     floor.shape = Shape::plane(normalize(Vec3{Real(0.1), 1, 0}), -9);
@@ -144,8 +144,8 @@ protected:
     }
     World world = randomWorld(7);
     std::mt19937 rng{12345};
-    std::uniform_real_distribution<float> pos{-9, 9};
-    std::uniform_real_distribution<float> size{Real(0.1), Real(3)};
+    std::uniform_real_distribution<Real> pos{-9, 9};
+    std::uniform_real_distribution<Real> size{Real(0.1), Real(3)};
 };
 
 TEST_P(RandomWorld, SphereMatchesClosestPoint) {

@@ -9,6 +9,7 @@
 #include "fulcrum/scene.hpp"
 #include "fulcrum/urdf.hpp"
 #include "io/run.hpp"
+#include "support/real_eq.hpp"
 
 namespace {
 
@@ -41,8 +42,8 @@ TEST(UrdfScene, EntryAddsLinksJointsAndDrives) {
     const JointDef& lift = scene.joints[0].def;
     EXPECT_EQ(lift.type, JointType::Slider);
     EXPECT_TRUE(lift.spring.enabled);
-    EXPECT_FLOAT_EQ(lift.spring.target, Real(0.1));
-    EXPECT_FLOAT_EQ(lift.spring.stiffness, 20000);
+    EXPECT_REAL_EQ(lift.spring.target, Real(0.1));
+    EXPECT_REAL_EQ(lift.spring.stiffness, 20000);
     // Saved and read back: the same scene (the robot as plain bodies and joints).
     EXPECT_TRUE(parseScene(sceneToJson(scene), "saved") == scene);
 

@@ -14,6 +14,7 @@
 
 #include "fulcrum/urdf.hpp"
 #include "fulcrum/world.hpp"
+#include "support/real_eq.hpp"
 
 namespace {
 
@@ -125,8 +126,8 @@ TEST(Urdf, ModelsAreReadAsWritten) {
     EXPECT_EQ(r2d2.joints.size(), 15u);
     const RobotJoint& grip = r2d2.jointInfo("gripper_extension");
     EXPECT_EQ(grip.type, UrdfJointType::Prismatic);
-    EXPECT_FLOAT_EQ(grip.lower, Real(-0.38));
-    EXPECT_FLOAT_EQ(grip.upper, 0);
+    EXPECT_REAL_EQ(grip.lower, Real(-0.38));
+    EXPECT_REAL_EQ(grip.upper, 0);
     EXPECT_EQ(world.jointDef(grip.joint).type, JointType::Slider);
     EXPECT_EQ(world.jointDef(r2d2.joint("head_swivel")).type, JointType::Hinge);
     // The two missing gripper meshes used for collision are named with their link.
@@ -139,13 +140,13 @@ TEST(Urdf, ModelsAreReadAsWritten) {
 
     Robot props = loadUrdf(world, robotsDir() / "dart-tests/joint_properties.urdf", quietOptions());
     const RobotJoint& j01 = props.jointInfo("0_to_1");
-    EXPECT_FLOAT_EQ(j01.lower, Real(-3.14159265359));
-    EXPECT_FLOAT_EQ(j01.effortLimit, Real(2.5));
-    EXPECT_FLOAT_EQ(j01.velocityLimit, Real(3.00545697193));
-    EXPECT_FLOAT_EQ(j01.damping, Real(1.2));
-    EXPECT_FLOAT_EQ(j01.friction, Real(2.3));
-    EXPECT_FLOAT_EQ(world.jointDef(j01.joint).frictionTorque, Real(2.3));
-    EXPECT_FLOAT_EQ(world.jointDef(j01.joint).spring.damping, Real(1.2));
+    EXPECT_REAL_EQ(j01.lower, Real(-3.14159265359));
+    EXPECT_REAL_EQ(j01.effortLimit, Real(2.5));
+    EXPECT_REAL_EQ(j01.velocityLimit, Real(3.00545697193));
+    EXPECT_REAL_EQ(j01.damping, Real(1.2));
+    EXPECT_REAL_EQ(j01.friction, Real(2.3));
+    EXPECT_REAL_EQ(world.jointDef(j01.joint).frictionTorque, Real(2.3));
+    EXPECT_REAL_EQ(world.jointDef(j01.joint).spring.damping, Real(1.2));
 
     // The KR5's full inertia tensor and its centre of mass off the link origin.
     Robot kr5 = loadUrdf(world, robotsDir() / "kr5/kr5_sixx_r650.urdf", quietOptions());

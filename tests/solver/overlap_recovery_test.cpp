@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "contacts/helpers.hpp"
+#include "support/real_eq.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -80,7 +81,7 @@ TEST(DeepOverlaps, ListsThePairsTheSolverDidNotHoldApart) {
     ASSERT_FALSE(deep.empty());
     EXPECT_TRUE((deep[0].bodyA == light && deep[0].bodyB == heavy) || (deep[0].bodyA == heavy && deep[0].bodyB == light));
     EXPECT_GT(deep[0].depth, Real(0.1));
-    EXPECT_FLOAT_EQ(deep[0].size, 1);
+    EXPECT_REAL_EQ(deep[0].size, 1);
     for (std::size_t i = 1; i < deep.size(); ++i) EXPECT_GE(deep[i - 1].depth, deep[i].depth);
 
     World resting(WorldDef{});

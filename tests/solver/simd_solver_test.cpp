@@ -206,7 +206,9 @@ TEST(WideSolver, ParallelColoursGiveIdenticalResultsForAnyThreadCount) {
         poolDef.threads = threads;
         const std::unique_ptr<TaskSystem> pool = makeThreadPool(poolDef);
         World world(awakeWorld());
-        detail::implOf(world).contactSolver.setWide(true);  // whatever FULCRUM_SIMD says
+        // A wide path whatever FULCRUM_SIMD says (the double build's best path is scalar: 4 portable lanes there).
+        const detail::SimdPath best = detail::bestSimdPath();
+        detail::implOf(world).contactSolver.setSimdPath(best == detail::SimdPath::Scalar ? detail::SimdPath::Sse2 : best);
         detail::implOf(world).contactSolver.setTaskSystem(pool.get());
         addGround(world);
         std::vector<BodyId> ids;

@@ -14,6 +14,7 @@
 #include "fulcrum/task_system.hpp"
 #include "reverse_scheduler.hpp"
 #include "world/world_access.hpp"
+#include "math/real_bits.hpp"
 
 using namespace fulcrum;
 
@@ -65,12 +66,12 @@ std::uint64_t hashParticles(const World& world) {
     std::uint64_t h = 14695981039346656037ull;
     for (const ParticleSystemId id : world.particleSystems()) {
         for (const Vec3& x : world.particlePositions(id)) {
-            for (const Real v : {x.x, x.y, x.z}) h = (h ^ std::bit_cast<std::uint32_t>(v)) * 1099511628211ull;
+            for (const Real v : {x.x, x.y, x.z}) h = (h ^ std::bit_cast<fulcrum::detail::RealBits>(v)) * 1099511628211ull;
         }
     }
     for (const BodyId b : world.bodies()) {
         const Vec3 p = world.position(b);
-        for (const Real v : {p.x, p.y, p.z}) h = (h ^ std::bit_cast<std::uint32_t>(v)) * 1099511628211ull;
+        for (const Real v : {p.x, p.y, p.z}) h = (h ^ std::bit_cast<fulcrum::detail::RealBits>(v)) * 1099511628211ull;
     }
     return h;
 }

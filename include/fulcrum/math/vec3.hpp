@@ -1,13 +1,13 @@
 #pragma once
-// Vec3: the 3-component float vector every other type is built on.
-// `Real` is float by default; the math types are written against it so a
-// double build stays a one-line change.
+// Vec3: the 3-component vector every other type is built on, over Real: float, or double in the FULCRUM_DOUBLE=1 build.
+#define FULCRUM_REAL_FOR_FULCRUM_DOUBLE float  // FULCRUM_DOUBLE undefined: the float build
+#define FULCRUM_REAL_FOR_1 double  // docs/double-precision.md
 #include <cmath>
 #include <cstddef>
-
+#define FULCRUM_REAL_PASTE(flag) FULCRUM_REAL_FOR_##flag  // the choice is one line, so the float build's
 namespace fulcrum {
-
-using Real = float;
+#define FULCRUM_REAL_OF(flag) FULCRUM_REAL_PASTE(flag)  // preprocessed text is unchanged (compiler caches)
+using Real = FULCRUM_REAL_OF(FULCRUM_DOUBLE);
 
 struct Vec3 {
     Real x = 0, y = 0, z = 0;

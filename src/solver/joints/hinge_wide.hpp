@@ -164,16 +164,16 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
     const auto coupling = [&](int r, int s) {
         return m * dot(rows[r].linear, rows[s].linear) + dot(rows[r].angularA, massA[s]) + dot(rows[r].angularB, massB[s]);
     };
-    alignas(32) float K[5][5][kLanes];  // K_oo's lower triangle
+    alignas(32) Real K[5][5][kLanes];  // K_oo's lower triangle
     for (int i = 0; i < 5; ++i) {
         for (int j = 0; j <= i; ++j) coupling(i, j).store(K[i][j]);
     }
-    alignas(32) float rowMass[kLanes];
+    alignas(32) Real rowMass[kLanes];
     coupling(5, 5).store(rowMass);  // rowInverseMass(measure) = K_aa in float
     // rhs_i = -K_ia, with K_ia = coupling(held_i, measure): its own products.
-    alignas(32) float Kia[5][kLanes];
+    alignas(32) Real Kia[5][kLanes];
     for (int i = 0; i < 5; ++i) coupling(i, 5).store(Kia[i]);
-    alignas(32) float c[5][kLanes] = {}, invMass[kLanes], coupled[kLanes] = {};
+    alignas(32) Real c[5][kLanes] = {}, invMass[kLanes], coupled[kLanes] = {};
     for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
         const int l = static_cast<int>(lane);
         invMass[lane] = rowMass[lane];

@@ -44,11 +44,11 @@ constexpr int kLanes = Policy::kLanes;
 
 #define FULCRUM_JOINT_WIDE_INLINE inline __attribute__((always_inline))
 
-static_assert(sizeof(SolverBody) == 24 * sizeof(float) && std::is_trivially_copyable_v<SolverBody>,
+static_assert(sizeof(SolverBody) == 24 * sizeof(Real) && std::is_trivially_copyable_v<SolverBody>,
               "the kernels read a solver body as 24 floats: v, invMass, w, dp, dtheta, invI, padding");
-static_assert(sizeof(Quat) == 4 * sizeof(float) && std::is_trivially_copyable_v<Quat>,
+static_assert(sizeof(Quat) == 4 * sizeof(Real) && std::is_trivially_copyable_v<Quat>,
               "the kernels read a rotation as 4 floats: w, x, y, z");
-static_assert(sizeof(FloatW) == kLanes * sizeof(float) && std::is_trivially_copyable_v<FloatW>);
+static_assert(sizeof(FloatW) == kLanes * sizeof(Real) && std::is_trivially_copyable_v<FloatW>);
 
 // Column-major like Mat3 (c0, c1, c2), so its products are Mat3's, term for term.
 struct Mat3W {
@@ -111,7 +111,7 @@ FULCRUM_JOINT_WIDE_INLINE QuatW gatherRotation(const Quat* rotations, const std:
 // function the scalar code does (dmath::atan2 on floats), so both paths
 // round alike.
 FULCRUM_JOINT_WIDE_INLINE FloatW atan2Lanes(const FloatW& y, const FloatW& x, std::uint32_t laneCount) {
-    alignas(32) float ys[kLanes], xs[kLanes], out[kLanes] = {};
+    alignas(32) Real ys[kLanes], xs[kLanes], out[kLanes] = {};
     y.store(ys);
     x.store(xs);
     for (std::uint32_t l = 0; l < laneCount; ++l) out[l] = dmath::atan2(ys[l], xs[l]);
@@ -149,9 +149,9 @@ struct BodyW {
 // not a lambda: a lambda would not be always-inline, and when the kernels
 // grew GCC made it a call per group: the grid's ball joints +11 % of the
 // instructions, callgrind, ninth session).
-FULCRUM_JOINT_WIDE_INLINE void gatherGroup(const float* const* rows, std::size_t first, BodyW& b) {
+FULCRUM_JOINT_WIDE_INLINE void gatherGroup(const Real* const* rows, std::size_t first, BodyW& b) {
     typename Policy::Reg regs[4];
-    const float* shifted[kLanes];
+    const Real* shifted[kLanes];
     for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + first;
     Policy::loadTransposed4(shifted, regs);
     for (std::size_t c = 0; c < 4; ++c) b.row[first + c] = FloatW(regs[c]);
@@ -160,8 +160,8 @@ FULCRUM_JOINT_WIDE_INLINE void gatherGroup(const float* const* rows, std::size_t
 // `index` holds a solver body in every lane (empty lanes: body 0, never kEmptyLane).
 template <bool deltas>
 FULCRUM_JOINT_WIDE_INLINE BodyW gatherBody(const SolverBody* bodies, const std::uint32_t* index) {
-    const float* rows[kLanes];
-    for (int i = 0; i < kLanes; ++i) rows[i] = reinterpret_cast<const float*>(bodies + index[i]);
+    const Real* rows[kLanes];
+    for (int i = 0; i < kLanes; ++i) rows[i] = reinterpret_cast<const Real*>(bodies + index[i]);
     BodyW b;
     gatherGroup(rows, 0, b);
     gatherGroup(rows, 4, b);
