@@ -70,8 +70,9 @@ if [ $quick -eq 0 ]; then
   # (tests/determinism/golden_hashes_double.txt) and the large-world test at
   # 10^6 m (tests/world/large_world_test.cpp). GCC Release in its own folder,
   # without Python (the binding is the same source over Real) and without the
-  # browser test (the replay page is float32 in both builds).
-  run_suite "Double precision" build/double "-E ^Browser\." -DCMAKE_BUILD_TYPE=Release -DFULCRUM_DOUBLE=ON
+  # browser and WebAssembly tests (the replay page is float32 in both builds;
+  # the WebAssembly build is float and compared with the float native build).
+  run_suite "Double precision" build/double "-E ^(Browser|Wasm)\." -DCMAKE_BUILD_TYPE=Release -DFULCRUM_DOUBLE=ON
 fi
 if [ $quick -eq 0 ]; then
   # Fuzzing (docs/reliability.md, "Fuzzing"): every libFuzzer target of fuzz/
