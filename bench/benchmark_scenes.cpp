@@ -28,6 +28,7 @@
 #include "fulcrum/fulcrum.hpp"
 #include "peers/peers.hpp"
 #include "box3d_scenes.hpp"
+#include "fulcrum_world.hpp"
 #include "scenes.hpp"
 #include "memory_sizes.hpp"
 
@@ -36,7 +37,6 @@ namespace {
 using namespace bench;
 
 // ---- Fulcrum as one more Engine ------------------------------------------------
-fulcrum::Vec3 fv(V3 v) { return {static_cast<fulcrum::Real>(v.x), static_cast<fulcrum::Real>(v.y), static_cast<fulcrum::Real>(v.z)}; }
 V3 bv(fulcrum::Vec3 v) { return {v.x, v.y, v.z}; }
 
 class FulcrumEngine final : public Engine {
@@ -59,63 +59,10 @@ public:
 
     bool build(const SceneSpec& scene, std::string&) override {
         scene_ = &scene;
-        fulcrum::WorldDef def;
-        def.sleeping = scene.sleeping;
-        def.threads = threads_;
-        def.gravity = fv(scene.gravity);
-        if (scene.substeps > 0) def.substeps = scene.substeps;
-        world_ = std::make_unique<fulcrum::World>(def);
-        const fulcrum::Shape unitBox = fulcrum::Shape::box({0.5f, 0.5f, 0.5f});
-        const fulcrum::Shape unitSphere = fulcrum::Shape::sphere(0.5f);
-        fulcrum::Shape hull;
-        if (!scene.hullPoints.empty()) {
-            std::vector<fulcrum::Vec3> points;
-            for (const V3& p : scene.hullPoints) points.push_back(fv(p));
-            hull = fulcrum::Shape::convexHull(points);
-        }
-        for (const BodySpec& b : scene.bodies) {
-            fulcrum::BodyDef d;
-            d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
-            const auto hx = static_cast<fulcrum::Real>(b.half.x);
-            switch (b.kind) {
-                case BodySpec::Kind::Sphere: d.shape = hx == 0.5f ? unitSphere : fulcrum::Shape::sphere(hx); break;
-                case BodySpec::Kind::Capsule: d.shape = fulcrum::Shape::capsule(hx, static_cast<fulcrum::Real>(b.half.y)); break;
-                case BodySpec::Kind::Box:
-                    d.shape = (b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) ? unitBox : fulcrum::Shape::box(fv(b.half));
-                    break;
-                case BodySpec::Kind::Hull: d.shape = hull; break;
-            }
-            if (!scene.bodyCollisions) d.filter.group = -1;  // a shared negative group never collides
-            if (!b.isStatic) d.mass = static_cast<fulcrum::Real>(b.mass);
-            d.position = fv(b.position);
-            d.orientation = {static_cast<fulcrum::Real>(b.orientation.w), static_cast<fulcrum::Real>(b.orientation.x),
-                             static_cast<fulcrum::Real>(b.orientation.y), static_cast<fulcrum::Real>(b.orientation.z)};
-            d.linearVelocity = fv(b.linearVelocity);
-            d.angularVelocity = fv(b.angularVelocity);
-            d.friction = static_cast<fulcrum::Real>(scene.friction);  // geometric mean of equal values: the pair value
-            ids_.push_back(world_->createBody(d));
-        }
-        for (const JointSpec& j : scene.joints) {
-            fulcrum::JointDef d;
-            d.type = fulcrum::JointType::Ball;
-            d.bodyA = j.a < 0 ? fulcrum::kWorldBody : ids_[static_cast<std::size_t>(j.a)];
-            d.bodyB = ids_[static_cast<std::size_t>(j.b)];
-            d.anchor = fv(j.anchor);
-            world_->createJoint(d);
-        }
-        if (scene.cloth.n > 0) {
-            const ClothSpec& c = scene.cloth;
-            fulcrum::ClothDef d;
-            d.name = "cloth";
-            d.size = {c.n, c.n};
-            d.spacing = static_cast<fulcrum::Real>(c.spacing);
-            d.particleMass = static_cast<fulcrum::Real>(c.particleMass);
-            d.radius = 0.02f;
-            const double half = 0.5 * c.spacing * (c.n - 1);
-            d.origin = fv({-half, c.height, -half});
-            d.bendCompliance = 0.1f;  // m/N: drapes (0 would make a stiff plate); as bench/cloth.cpp
-            cloth_ = world_->createCloth(d);
-        }
+        FulcrumWorld built = buildFulcrumWorld(scene, threads_);
+        world_ = std::move(built.world);
+        ids_ = std::move(built.bodies);
+        cloth_ = built.cloth;
         return true;
     }
     void step() override { world_->step(static_cast<fulcrum::Real>(scene_->dt)); }

@@ -12,55 +12,9 @@
 #include <vector>
 
 #include "fulcrum/fulcrum.hpp"
-#include "scenes.hpp"
+#include "fulcrum_world.hpp"
 
 using namespace fulcrum;
-
-namespace {
-
-// The rigid-body part of a benchmark scene (boxes, spheres, capsules, hulls,
-// ball joints), built as bench/benchmark_scenes.cpp builds it for Fulcrum.
-World build(const bench::SceneSpec& scene, std::vector<BodyId>& ids) {
-    const auto real = [](double v) { return static_cast<Real>(v); };
-    const auto vec = [&](bench::V3 v) { return Vec3{real(v.x), real(v.y), real(v.z)}; };
-    WorldDef def;
-    def.sleeping = scene.sleeping;
-    def.threads = 1;
-    def.gravity = vec(scene.gravity);
-    if (scene.substeps > 0) def.substeps = scene.substeps;
-    World world(def);
-    std::vector<Vec3> hullPoints;
-    for (const bench::V3& p : scene.hullPoints) hullPoints.push_back(vec(p));
-    for (const bench::BodySpec& b : scene.bodies) {
-        BodyDef d;
-        d.type = b.isStatic ? BodyType::Static : BodyType::Dynamic;
-        switch (b.kind) {
-            case bench::BodySpec::Kind::Sphere: d.shape = Shape::sphere(real(b.half.x)); break;
-            case bench::BodySpec::Kind::Capsule: d.shape = Shape::capsule(real(b.half.x), real(b.half.y)); break;
-            case bench::BodySpec::Kind::Box: d.shape = Shape::box(vec(b.half)); break;
-            case bench::BodySpec::Kind::Hull: d.shape = Shape::convexHull(hullPoints); break;
-        }
-        if (!scene.bodyCollisions) d.filter.group = -1;
-        if (!b.isStatic) d.mass = real(b.mass);
-        d.position = vec(b.position);
-        d.orientation = {real(b.orientation.w), real(b.orientation.x), real(b.orientation.y), real(b.orientation.z)};
-        d.linearVelocity = vec(b.linearVelocity);
-        d.angularVelocity = vec(b.angularVelocity);
-        d.friction = real(scene.friction);
-        ids.push_back(world.createBody(d));
-    }
-    for (const bench::JointSpec& j : scene.joints) {
-        JointDef d;
-        d.type = JointType::Ball;
-        d.bodyA = j.a < 0 ? kWorldBody : ids[static_cast<std::size_t>(j.a)];
-        d.bodyB = ids[static_cast<std::size_t>(j.b)];
-        d.anchor = vec(j.anchor);
-        world.createJoint(d);
-    }
-    return world;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     if (argc != 3) {
@@ -71,8 +25,9 @@ int main(int argc, char** argv) {
     const int steps = std::atoi(argv[2]);
     for (const bench::SceneSpec& scene : bench::allScenes(true)) {
         if (scene.name != name) continue;
-        std::vector<BodyId> ids;
-        World world = build(scene, ids);
+        const bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
+        World& world = *built.world;
+        const std::vector<BodyId>& ids = built.bodies;
         for (int i = 0; i < steps; ++i) world.step(static_cast<Real>(scene.dt));
         double checksum = 0;
         for (const BodyId id : ids) {

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "../../bench/scenes.hpp"
+#include "../../bench/fulcrum_world.hpp"
 #include "determinism/state_hash.hpp"
 #include "fulcrum/scene.hpp"
 #include "solver/contact_wide.hpp"
@@ -48,61 +48,6 @@ std::filesystem::path goldenFile() {
     return std::filesystem::path(FULCRUM_SOURCE_DIR) / "tests" / "determinism" / name;
 }
 
-// A benchmark scene as bench/benchmark_scenes.cpp builds it for Fulcrum.
-World buildBenchScene(const bench::SceneSpec& scene) {
-    const auto real = [](double v) { return static_cast<Real>(v); };
-    const auto vec = [&](bench::V3 v) { return Vec3{real(v.x), real(v.y), real(v.z)}; };
-    WorldDef def;
-    def.sleeping = scene.sleeping;
-    def.threads = 1;
-    def.gravity = vec(scene.gravity);
-    if (scene.substeps > 0) def.substeps = scene.substeps;
-    World world(def);
-    std::vector<BodyId> ids;
-    std::vector<Vec3> hullPoints;
-    for (const bench::V3& p : scene.hullPoints) hullPoints.push_back(vec(p));
-    for (const bench::BodySpec& b : scene.bodies) {
-        BodyDef d;
-        d.type = b.isStatic ? BodyType::Static : BodyType::Dynamic;
-        switch (b.kind) {
-            case bench::BodySpec::Kind::Sphere: d.shape = Shape::sphere(real(b.half.x)); break;
-            case bench::BodySpec::Kind::Capsule: d.shape = Shape::capsule(real(b.half.x), real(b.half.y)); break;
-            case bench::BodySpec::Kind::Box: d.shape = Shape::box(vec(b.half)); break;
-            case bench::BodySpec::Kind::Hull: d.shape = Shape::convexHull(hullPoints); break;
-        }
-        if (!scene.bodyCollisions) d.filter.group = -1;
-        if (!b.isStatic) d.mass = real(b.mass);
-        d.position = vec(b.position);
-        d.orientation = {real(b.orientation.w), real(b.orientation.x), real(b.orientation.y), real(b.orientation.z)};
-        d.linearVelocity = vec(b.linearVelocity);
-        d.angularVelocity = vec(b.angularVelocity);
-        d.friction = real(scene.friction);
-        ids.push_back(world.createBody(d));
-    }
-    for (const bench::JointSpec& j : scene.joints) {
-        JointDef d;
-        d.type = JointType::Ball;
-        d.bodyA = j.a < 0 ? kWorldBody : ids[static_cast<std::size_t>(j.a)];
-        d.bodyB = ids[static_cast<std::size_t>(j.b)];
-        d.anchor = vec(j.anchor);
-        world.createJoint(d);
-    }
-    if (scene.cloth.n > 0) {
-        const bench::ClothSpec& c = scene.cloth;
-        ClothDef d;
-        d.name = "cloth";
-        d.size = {c.n, c.n};
-        d.spacing = real(c.spacing);
-        d.particleMass = real(c.particleMass);
-        d.radius = real(0.02);
-        const double half = 0.5 * c.spacing * (c.n - 1);
-        d.origin = vec({-half, c.height, -half});
-        d.bendCompliance = real(0.1);
-        world.createCloth(d);
-    }
-    return world;
-}
-
 struct NamedScene {
     std::string name;
     Real dt;
@@ -112,7 +57,7 @@ struct NamedScene {
 std::vector<NamedScene> allScenes() {
     std::vector<NamedScene> scenes;
     for (const bench::SceneSpec& s : bench::allScenes(true)) {
-        scenes.push_back({"bench/" + s.name, static_cast<Real>(s.dt), [s] { return buildBenchScene(s); }});
+        scenes.push_back({"bench/" + s.name, static_cast<Real>(s.dt), [s] { return std::move(*bench::buildFulcrumWorld(s, 1).world); }});
     }
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(FULCRUM_SOURCE_DIR) / "scenes")) {
