@@ -250,13 +250,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (d < margin - tol && ab.empty()) {
             fail("no manifold for shapes closer than the margin", d, margin);
         }
-        if (d > margin + tol && !ab.empty()) fail("a manifold for shapes farther apart than the margin", d, margin);
+        // With a box, the gap may be taken along a box face's normal
+        // when that separates nearly as well (SAT for box-box, the face
+        // test of collide_convex.cpp otherwise): a lower bound of d. Such a
+        // speculative manifold is conservative (the solver lets the bodies
+        // close the gap it reports, never more), and it exists whenever that
+        // gap is within the margin, even where d is not: two aligned cubes
+        // corner to corner along their diagonal, 0.099 m apart on each face
+        // axis, are 0.171 m apart in truth (fuzz/corpus/narrowphase/
+        // aligned_cubes_corner_to_corner).
+        const bool withBox = ta == ShapeType::Box || tb == ShapeType::Box;
+        const Real reported = withBox && !ab.empty() ? std::min(d, gap) : d;
+        if (reported > margin + tol && !ab.empty()) fail("a manifold for shapes farther apart than the margin", d, margin);
         if (!ab.empty()) {
             if (gap > d + tol) fail("the manifold's gap exceeds the GJK distance", gap, d);
-            // With a box, the gap may be taken along a box face's normal
-            // when that separates nearly as well (SAT for box-box, the face
-            // test of collide_convex.cpp otherwise): a lower bound of d.
-            const bool withBox = ta == ShapeType::Box || tb == ShapeType::Box;
             if (!withBox && d > 0 && gap < d - tol) fail("the manifold's gap is below the GJK distance", gap, d);
         }
     } else if ((ta == ShapeType::Plane) != (tb == ShapeType::Plane) && (isConvex(ta) || isConvex(tb))) {

@@ -79,15 +79,18 @@ if [ $quick -eq 0 ]; then
   # for FUZZ_SECONDS (default 40) from its corpus, so that a change that
   # crashes a loader cannot land. Its own build (build/fuzz: clang, the engine
   # and the targets only). A finding fails the run and names the input.
-  # A fixed seed (FUZZ_SEED, default 1): every run of the test command
-  # mutates the same way from the same corpus, so a finding here comes back on
-  # a second run; exploring is for the long runs by hand (scripts/fuzz.sh).
+  # A fixed seed (FUZZ_SEED, default 1) and a fixed number of inputs
+  # (FUZZ_RUNS, default 150,000, with FUZZ_SECONDS as a cap): every run of the
+  # test command mutates the same way from the same corpus and tries the same
+  # inputs, however fast the machine (a time bound alone let a faster machine
+  # reach inputs a slower one never tried), so a finding here comes back on a
+  # second run; exploring is for the long runs by hand (scripts/fuzz.sh).
   echo "== Fuzz build"
   scripts/fuzz.sh --build
   mkdir -p build/fuzz/logs
   for target in $(scripts/fuzz.sh --list); do
     log=build/fuzz/logs/$target.log
-    if scripts/fuzz.sh "$target" "${FUZZ_SECONDS:-40}" -seed="${FUZZ_SEED:-1}" >"$log" 2>&1; then
+    if scripts/fuzz.sh "$target" "${FUZZ_SECONDS:-40}" -seed="${FUZZ_SEED:-1}" -runs="${FUZZ_RUNS:-150000}" >"$log" 2>&1; then
       echo "== Fuzz $target: $(sed -n 's/^stat::number_of_executed_units: //p' "$log") inputs, no finding"
     else
       tail -n 60 "$log"
