@@ -34,12 +34,19 @@ if [ ! -f "$libs/libtinygltf.a" ]; then
   emar rcs "$libs/libtinygltf.a" "$libs/tinygltf.o"
 fi
 
+# The engine's own SSE2 kernels (the native build's default path, which has
+# the scalar path's bits) on WebAssembly's 128-bit SIMD through Emscripten's
+# SSE2 headers: pyramid20 steps 3-4x faster than the scalar path, with the
+# same bits (docs/browser.md). LLVM's own loop and SLP vectorizers stay off:
+# with them -msimd128 changed the bits of four scenes (docs/benchmarks.md).
+# Every browser since 2021-2023 and Node 16.4+ run SIMD128.
+simd="-msimd128 -msse2 -fno-vectorize -fno-slp-vectorize"
 emcmake cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DFULCRUM_WARNINGS_AS_ERRORS=ON -DFULCRUM_BUILD_TESTS=OFF \
   -DFULCRUM_BUILD_APPS=ON -DFULCRUM_BUILD_PYTHON=OFF "${launcher[@]}" \
   -Dnlohmann_json_DIR="$here/cmake/wasm/nlohmann_json" -DCLI11_DIR="$here/cmake/wasm/CLI11" \
   -DTinyGLTF_DIR="$here/cmake/wasm/TinyGLTF" -DTinyGLTF_LIBRARY="$libs/libtinygltf.a" \
   -DZLIB_INCLUDE_DIR="$here/cmake/wasm/zlib_stored" -DZLIB_LIBRARY="$libs/libz.a" \
-  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp -fexceptions ${WASM_EXTRA_CXX_FLAGS:-}" -DCMAKE_EXE_LINKER_FLAGS=-fexceptions >/dev/null
+  "-DCMAKE_CXX_FLAGS=-include $here/cmake/wasm/libcxx_compat.hpp -fexceptions $simd ${WASM_EXTRA_CXX_FLAGS:-}" -DCMAKE_EXE_LINKER_FLAGS=-fexceptions >/dev/null
 # -fexceptions: Emscripten catches no C++ exception by default, so a bad scene
 # would end the tool with "exiting due to exception" instead of the engine's
 # message, and abort a page using the module; docs/benchmarks.md measures what

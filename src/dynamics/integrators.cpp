@@ -132,6 +132,7 @@ struct D3 {
 // sqrtpd (correctly rounded, as std::sqrt; std::sqrt per lane also paid the
 // errno check).
 #if defined(__GNUC__) && defined(__SSE2__)
+#include <emmintrin.h>  // _mm_sqrt_pd: sqrtpd natively, f64x2.sqrt under Emscripten's SSE2 (-msimd128 -msse2)
 using Double2 = double __attribute__((vector_size(16)));
 using Double4 = double __attribute__((vector_size(32)));
 // Double4 values cross only internal (anonymous-namespace, inlined) functions,
@@ -139,9 +140,9 @@ using Double4 = double __attribute__((vector_size(32)));
 // and Clang both give it).
 #pragma GCC diagnostic ignored "-Wpsabi"
 constexpr bool kPairedDrift = true;
-Double2 sqrtOf(Double2 x) { return __builtin_ia32_sqrtpd(x); }
+Double2 sqrtOf(Double2 x) { return _mm_sqrt_pd(x); }
 Double4 sqrtOf(Double4 x) {
-    const Double2 lo = __builtin_ia32_sqrtpd(Double2{x[0], x[1]}), hi = __builtin_ia32_sqrtpd(Double2{x[2], x[3]});
+    const Double2 lo = _mm_sqrt_pd(Double2{x[0], x[1]}), hi = _mm_sqrt_pd(Double2{x[2], x[3]});
     return Double4{lo[0], lo[1], hi[0], hi[1]};
 }
 template <class V>
