@@ -16,11 +16,8 @@
 // the car and keeps it in view). Saves SCREENSHOT.png (the first view,
 // playing), SCREENSHOT-picked.png (after the click) and SCREENSHOT-follow.png
 // (following the vehicle). Prints one JSON line; exit 0 = pass, 1 = fail.
-import { mkdtempSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { join, resolve } from 'node:path';
-import { pathToFileURL } from 'node:url';
 import { chromium } from 'playwright-core';
+import { openOfflinePage } from './offline-page.mjs';
 
 const args = process.argv.slice(2);
 const option = (name) => { const i = args.indexOf(name); return i >= 0 ? args.splice(i, 2)[1] : undefined; };
@@ -34,8 +31,6 @@ if (!pagePath || !screenshotPath || !expectedArg) {
   process.exit(2);
 }
 const expectedObjects = Number(expectedArg);
-const executablePath = process.env.FULCRUM_CHROMIUM ?? '/usr/bin/chromium';
-const userDataDir = mkdtempSync(join(tmpdir(), 'fulcrum-chromium-'));
 const failures = [];
 const report = { page: pagePath, screenshot: screenshotPath };
 const check = (ok, message) => { if (!ok) failures.push(message); };
@@ -56,42 +51,10 @@ function projectInPage(points) {
   });
 }
 
-let context;
+let session;
 try {
-  // Chromium's cold start can take tens of seconds on a loaded 2-core CI
-  // machine (CI once timed out at 15 s while ctest ran other tests beside it),
-  // so launch with a generous timeout and retry once before reporting failure.
-  const launchOptions = {
-    executablePath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           // WebGL on the CPU: recent Chromium only falls back to SwiftShader when asked to.
-           '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-    timeout: 60000,
-  };
-  for (let attempt = 1; !context; ++attempt) {
-    try {
-      context = await chromium.launchPersistentContext(userDataDir, launchOptions);
-    } catch (e) {
-      if (attempt >= 2) throw e;
-      report.launchRetries = attempt;
-    }
-  }
-  const page = context.pages()[0] ?? await context.newPage();
-  const external = [];
-  await context.route('**/*', (route) => {
-    const url = route.request().url();
-    if (url.startsWith('file:') || url.startsWith('data:') || url.startsWith('blob:')) return route.continue();
-    external.push(url);
-    return route.abort();
-  });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-
-  await page.goto(pathToFileURL(resolve(pagePath)).href, { waitUntil: 'load', timeout: 30000 });
+  session = await openOfflinePage(chromium, pagePath, report);
+  const { page, external, errors } = session;
   await page.waitForFunction(() => window.fulcrumViewer?.ready && window.fulcrumViewer.framesRendered > 2,
                              null, { timeout: 30000 });
 
@@ -239,8 +202,7 @@ try {
 } catch (e) {
   failures.push(String(e?.message ?? e));
 } finally {
-  if (context) await context.close().catch(() => {});
-  rmSync(userDataDir, { recursive: true, force: true });
+  await session?.close();
 }
 report.failures = failures;
 console.log(JSON.stringify(report));

@@ -4,23 +4,16 @@
 // steps it STEPS times per round and keeps the fastest round's time per step
 // (this machine's noise only adds time); prints one JSON line per scene with
 // the state hash after the first round, to compare with the native build.
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { basename, join, resolve } from 'node:path';
-import { pathToFileURL } from 'node:url';
+import { readFileSync } from 'node:fs';
+import { basename } from 'node:path';
 import { chromium } from 'playwright-core';
+import { openOfflinePage } from './offline-page.mjs';
 
 const [pagePath, stepsArg, roundsArg, ...scenes] = process.argv.slice(2);
 const steps = Number(stepsArg), rounds = Number(roundsArg);
-const userDataDir = mkdtempSync(join(tmpdir(), 'fulcrum-chromium-'));
-const context = await chromium.launchPersistentContext(userDataDir, {
-  executablePath: process.env.FULCRUM_CHROMIUM ?? '/usr/bin/chromium', headless: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  timeout: 60000,
-});
+const session = await openOfflinePage(chromium, pagePath);
 try {
-  const page = context.pages()[0] ?? await context.newPage();
-  await page.goto(pathToFileURL(resolve(pagePath)).href);
+  const { page } = session;
   await page.waitForFunction(() => window.fulcrumSandbox?.ready, null, { timeout: 60000 });
   for (const scene of scenes) {
     const result = await page.evaluate(([text, n, r]) => {
@@ -41,6 +34,5 @@ try {
     console.log(JSON.stringify({ scene: basename(scene), steps, ...result }));
   }
 } finally {
-  await context.close();
-  rmSync(userDataDir, { recursive: true, force: true });
+  await session.close();
 }

@@ -11,10 +11,10 @@
 // Screenshots go to OUT_DIR (sandbox.png, sandbox-drag.png). Prints one JSON
 // line; exit 0 = pass, 1 = fail, 77 = skipped (no page, browser or package).
 import { execFileSync } from 'node:child_process';
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
+import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath, pathToFileURL } from 'node:url';
+import { fileURLToPath } from 'node:url';
+import { chromiumPath, openOfflinePage } from './offline-page.mjs';
 
 const [pagePath, hashTool, scenePath, outDir] = process.argv.slice(2);
 if (!pagePath || !hashTool || !scenePath || !outDir) {
@@ -22,57 +22,27 @@ if (!pagePath || !hashTool || !scenePath || !outDir) {
   process.exit(2);
 }
 const skip = (why) => { console.log(JSON.stringify({ skipped: why })); process.exit(77); };
-const executablePath = process.env.FULCRUM_CHROMIUM ?? '/usr/bin/chromium';
 if (!existsSync(pagePath)) skip(`${pagePath} not built (scripts/build-wasm.sh)`);
-if (!existsSync(executablePath)) skip(`${executablePath} not found (scripts/install-viewer-deps.sh)`);
+if (!existsSync(chromiumPath)) skip(`${chromiumPath} not found (scripts/install-viewer-deps.sh)`);
 const viewerDir = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 if (!existsSync(join(viewerDir, 'node_modules', 'playwright-core'))) skip('viewer/node_modules/playwright-core missing (scripts/install-viewer-deps.sh)');
 const { chromium } = await import('playwright-core');
 
 mkdirSync(outDir, { recursive: true });
-const userDataDir = mkdtempSync(join(tmpdir(), 'fulcrum-chromium-'));
 const failures = [];
 const report = { page: pagePath };
 const check = (ok, message) => { if (!ok) failures.push(message); };
 const steps = 300;
 
-let context;
+let session;
 try {
   const sceneText = readFileSync(scenePath, 'utf8');
   const nativeHash = execFileSync(hashTool, [scenePath, String(steps)], { env: { ...process.env, FULCRUM_SIMD: 'scalar' } })
     .toString().trim();
   report.nativeHash = nativeHash;
 
-  const launchOptions = {
-    executablePath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-    timeout: 60000,
-  };
-  for (let attempt = 1; !context; ++attempt) {  // Chromium's cold start on a loaded machine: one retry
-    try {
-      context = await chromium.launchPersistentContext(userDataDir, launchOptions);
-    } catch (e) {
-      if (attempt >= 2) throw e;
-      report.launchRetries = attempt;
-    }
-  }
-  const page = context.pages()[0] ?? await context.newPage();
-  const external = [];
-  await context.route('**/*', (route) => {
-    const url = route.request().url();
-    if (url.startsWith('file:') || url.startsWith('data:') || url.startsWith('blob:')) return route.continue();
-    external.push(url);
-    return route.abort();
-  });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-
-  await page.goto(pathToFileURL(resolve(pagePath)).href, { waitUntil: 'load', timeout: 30000 });
+  session = await openOfflinePage(chromium, pagePath, report);
+  const { page, external, errors } = session;
   await page.waitForFunction(() => window.fulcrumSandbox?.ready && window.fulcrumSandbox.framesRendered > 2, null, { timeout: 60000 });
 
   // It simulates by itself.
@@ -145,8 +115,7 @@ try {
 } catch (e) {
   failures.push(String(e?.message ?? e));
 } finally {
-  if (context) await context.close().catch(() => {});
-  rmSync(userDataDir, { recursive: true, force: true });
+  await session?.close();
 }
 report.failures = failures;
 console.log(JSON.stringify(report));
