@@ -76,7 +76,7 @@ std::vector<Real> Robot::inverseDynamics(const World& world, std::span<const Rea
     struct State {
         Vec3 origin;
         Quat frame;
-        Vec3 w, alpha, a, v;
+        Vec3 w, alpha, a;
         Vec3 axis;
         Vec3 force, torque;  // Newton-Euler, then summed over the subtree (torque about the origin)
     };
@@ -106,9 +106,8 @@ std::vector<Real> Robot::inverseDynamics(const World& world, std::span<const Rea
         x.frame = revolute ? jointFrame * Quat::fromAxisAngle(axisChild, qi) : jointFrame;
         const Vec3 r = rotate(p.frame, offset) + (prismatic ? x.axis * qi : Vec3{});
         x.origin = p.origin + r;
-        // The origin's velocity and acceleration through the parent (rigid
-        // lever r) and, for a slider, its own motion along the axis.
-        x.v = p.v + cross(p.w, r);
+        // The origin's acceleration through the parent (rigid lever r) and,
+        // for a slider, its own motion along the axis (with its Coriolis term).
         x.a = p.a + cross(p.alpha, r) + cross(p.w, cross(p.w, r));
         x.w = p.w;
         x.alpha = p.alpha;
@@ -116,7 +115,6 @@ std::vector<Real> Robot::inverseDynamics(const World& world, std::span<const Rea
             x.w = p.w + x.axis * qdi;
             x.alpha = p.alpha + x.axis * qddi + cross(p.w, x.axis * qdi);
         } else if (prismatic) {
-            x.v += x.axis * qdi;
             x.a += x.axis * qddi + cross(p.w, x.axis * qdi) * 2;
         }
     }
