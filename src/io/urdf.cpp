@@ -46,6 +46,24 @@ namespace {
 
 constexpr Real kPi = std::numbers::pi_v<Real>;
 
+// A six-DOF axis's name in drive names ("joint/x" ... "joint/rz"), by SixDofAxisIndex.
+constexpr std::array<const char*, kSixDofAxes> kAxisNames{"x", "y", "z", "rx", "ry", "rz"};
+
+int axisIndex(std::string_view name) {
+    for (int k = 0; k < kSixDofAxes; ++k) {
+        if (name == kAxisNames[static_cast<std::size_t>(k)]) return k;
+    }
+    return -1;
+}
+
+// The axes a URDF six-DOF joint leaves free (urdfSceneParts): all of a
+// floating joint's; a planar joint's x, y (in the plane) and rz (about the normal).
+bool urdfAxisFree(UrdfJointType type, int axis) {
+    return type == UrdfJointType::Floating || axis == kAxisX || axis == kAxisY || axis == kAxisRotZ;
+}
+
+bool isSixDof(UrdfJointType type) { return type == UrdfJointType::Floating || type == UrdfJointType::Planar; }
+
 UrdfPose compose(const UrdfPose& a, const UrdfPose& b) { return {a.p + rotate(a.q, b.p), normalize(a.q * b.q)}; }
 
 // Where a mesh file named in the model is: `package://NAME/rest` under each
@@ -389,14 +407,30 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
     }
 
     std::map<std::string, JointDrive, std::less<>> driveOf;
+    std::map<std::pair<std::string, int>, JointDrive> axisDriveOf;  // six-DOF axes: "joint/x" ... "joint/rz"
     for (const auto& entry : drives) {
         const std::string& name = entry.first;  // not a structured binding: clang 14 can't capture those in a lambda
         const JointDrive& drive = entry.second;
-        const auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == name; });
+        auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == name; });
+        const std::size_t slash = name.rfind('/');
+        if (it == m.joints.end() && slash != std::string::npos) {
+            const std::string jointName = name.substr(0, slash);
+            const int axis = axisIndex(std::string_view(name).substr(slash + 1));
+            it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == jointName; });
+            if (it != m.joints.end() && isSixDof(it->type) && axis >= 0 && urdfAxisFree(it->type, axis)) {
+                axisDriveOf[{jointName, axis}] = drive;
+                continue;
+            }
+            if (it != m.joints.end()) {
+                throw Error(sourceName + ": a drive names '" + name + "', which is no free axis of a floating or planar joint " +
+                            "(axes x, y, z, rx, ry, rz; a planar joint's x, y, rz)");
+            }
+        }
         if (it == m.joints.end()) throw Error(sourceName + ": a drive names joint '" + name + "', which the robot does not have");
         if (it->type != UrdfJointType::Revolute && it->type != UrdfJointType::Continuous && it->type != UrdfJointType::Prismatic) {
             throw Error(sourceName + ": a drive names joint '" + name + "', a " + toString(it->type) +
-                        " joint (only revolute, continuous and prismatic joints have drives)");
+                        " joint (only revolute, continuous and prismatic joints, and the axes of floating and planar ones " +
+                        "named 'joint/x' ... 'joint/rz', have drives)");
         }
         driveOf[name] = drive;
     }
@@ -457,6 +491,21 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
                 d.axes[kAxisX].mode = AxisMode::Free;
                 d.axes[kAxisY].mode = AxisMode::Free;
                 d.axes[kAxisRotZ].mode = AxisMode::Free;
+            }
+            for (int k = 0; k < kSixDofAxes; ++k) {
+                const auto it = axisDriveOf.find({j.name, k});
+                if (it == axisDriveOf.end()) continue;
+                SixDofAxis& a = d.axes[static_cast<std::size_t>(k)];
+                const JointDrive& drive = it->second;
+                a.spring.target = drive.position;
+                a.spring.stiffness = drive.stiffness;
+                a.spring.damping = j.damping + drive.damping;
+                a.spring.enabled = a.spring.stiffness > 0 || a.spring.damping > 0;
+                if (drive.velocityDrive) {
+                    a.motor.enabled = true;
+                    a.motor.speed = drive.velocity;
+                    a.motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : Real(1e9);
+                }
             }
         }
         const bool rangeGiven = j.hasLower || j.hasUpper;
@@ -614,16 +663,6 @@ std::vector<std::string> Robot::actuatedJointNames() const {
 
 namespace {
 
-constexpr std::array<const char*, kSixDofAxes> kAxisNames{"x", "y", "z", "rx", "ry", "rz"};
-
-bool isSixDof(const RobotJoint& j) { return j.type == UrdfJointType::Floating || j.type == UrdfJointType::Planar; }
-
-// The axes a URDF six-DOF joint leaves free (urdfSceneParts): all of a
-// floating joint's; a planar joint's x, y (in the plane) and rz (about the normal).
-bool axisFree(const RobotJoint& j, int axis) {
-    return j.type == UrdfJointType::Floating || axis == kAxisX || axis == kAxisY || axis == kAxisRotZ;
-}
-
 JointSpring springOf(const World& world, JointId id, int axis) {
     return axis < 0 ? world.jointDef(id).spring : world.jointDef(id).axes[static_cast<std::size_t>(axis)].spring;
 }
@@ -671,11 +710,8 @@ void Robot::setDrive(World& world, std::string_view jointName, const JointDrive&
     if (found == nullptr && slash != std::string_view::npos) {
         // "joint/x" ... "joint/rz": one axis of a six-DOF joint.
         const RobotJoint& j = jointInfo(jointName.substr(0, slash));
-        const std::string_view axisName = jointName.substr(slash + 1);
-        for (int k = 0; k < kSixDofAxes; ++k) {
-            if (axisName == kAxisNames[static_cast<std::size_t>(k)]) axis = k;
-        }
-        if (!isSixDof(j) || axis < 0 || !axisFree(j, axis) || j.joint.isNull()) {
+        axis = axisIndex(jointName.substr(slash + 1));
+        if (!isSixDof(j.type) || axis < 0 || !urdfAxisFree(j.type, axis) || j.joint.isNull()) {
             throw Error("robot '" + name + "': '" + std::string(jointName) + "' names no free axis of a floating or planar joint " +
                         "(axes x, y, z, rx, ry, rz; a planar joint's x, y, rz)");
         }
@@ -758,9 +794,9 @@ std::vector<RobotDof> Robot::dofs() const {
         const RobotJoint& j = joints[i];
         if (j.actuated()) {
             out.push_back({i, -1});
-        } else if (isSixDof(j) && !j.joint.isNull()) {
+        } else if (isSixDof(j.type) && !j.joint.isNull()) {
             for (int k = 0; k < kSixDofAxes; ++k) {
-                if (axisFree(j, k)) out.push_back({i, k});
+                if (urdfAxisFree(j.type, k)) out.push_back({i, k});
             }
         }
     }
