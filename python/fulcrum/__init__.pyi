@@ -399,7 +399,7 @@ class World:
     def create_slider_joint(self, body_a: Optional[Body], body_b: Body, *, anchor: Vec3Like, axis: Vec3Like = (1, 0, 0),
                             limits: Optional[Tuple[float, float]] = None, motor_speed: Optional[float] = None,
                             max_motor_force: float = 0, spring_target: float = 0, spring_stiffness: float = 0,
-                            spring_damping: float = 0, name: str = "", collide_connected: bool = False,
+                            spring_damping: float = 0, friction_force: float = 0, name: str = "", collide_connected: bool = False,
                             break_force: float = ..., break_torque: float = ...) -> Joint: ...
     def create_distance_joint(self, body_a: Optional[Body], body_b: Body, *, anchor_a: Vec3Like, anchor_b: Vec3Like,
                               min_length: float = -1, max_length: float = -1, stiffness: float = 0,

@@ -156,3 +156,19 @@ def test_inverse_dynamics_holds_the_double_pendulum():
     m11, m12, m22 = 2 / 12 + 2.5, 1 / 12 + 0.75, 1 / 12 + 0.25
     expected = np.array([-19.62 + m11 * 1.0 + m12 * -2.0, -4.905 + m12 * 1.0 + m22 * -2.0])
     assert robot.inverse_dynamics([0, 0], [0, 0], qdd) == pytest.approx(expected, rel=1e-5)
+
+
+def test_slider_friction_decelerates_a_sliding_body():
+    # No gravity: a 2 kg body sliding at 3 m/s along a slider with 4 N of
+    # friction slows at F / m = 2 m/s^2 and stops after 1.5 s.
+    world = fulcrum.World(gravity=(0, 0, 0))
+    body = world.create_body(shape=fulcrum.Sphere(0.1), mass=2.0)
+    world.create_slider_joint(None, body, anchor=(0, 0, 0), axis=(1, 0, 0), friction_force=4.0)
+    body.linear_velocity = (3.0, 0, 0)
+    for _ in range(120):
+        world.step(1 / 240)
+    assert body.linear_velocity[0] == pytest.approx(3.0 - 2.0 * 0.5, rel=1e-2)
+    for _ in range(360):
+        world.step(1 / 240)
+    assert abs(body.linear_velocity[0]) < 1e-4
+    assert body.position[0] == pytest.approx(3.0 ** 2 / (2 * 2.0), rel=1e-2)
