@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Fulcrum beside DART (Debian's python3-dartpy) on the same URDF robots
 (docs/robots.md, "Beside DART"): free fall from the zero pose for 1 s with the
-drives and joint limits off, and the joint efforts that hold a pose.
+drives and joint limits off, the joint efforts that hold a pose, and inverse
+dynamics along a sine trajectory. scripts/bench_dart.py times both engines.
 
 Usage: PYTHONPATH=build/release/python scripts/compare_dart.py ROBOTS_DIR [--plot DIR]
 ROBOTS_DIR holds kr5/kr5_sixx_r650.urdf (the public robot files); the double
@@ -95,6 +96,41 @@ def holding_efforts(path, pose):
     return robot.joint_names, robot.joint_efforts(), gravity
 
 
+def inverse_dynamics(path, samples=41, seconds=2.0):
+    """Both engines' inverse dynamics (Fulcrum's Robot.inverse_dynamics, DART's
+    Skeleton.computeInverseDynamics) along a sine trajectory of every joint:
+    the worst difference per joint and the largest effort."""
+    skel = dart_skeleton(path)
+    world = dart.simulation.World()
+    world.setGravity([0, 0, -9.81])
+    world.addSkeleton(skel)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fw = fulcrum.World(gravity=(0, 0, -9.81))
+        robot = fulcrum.load_urdf(fw, path, fixed_base=True)
+    names = robot.joint_names
+    n = len(names)
+    idx = dart_dofs(skel, names)
+    amp, freq, phase = np.linspace(0.4, 0.9, n), np.linspace(1.0, 3.0, n), np.linspace(0.0, 1.5, n)
+    worst, largest = np.zeros(n), np.zeros(n)
+    for t in np.linspace(0.0, seconds, samples):
+        q = amp * np.sin(freq * t + phase)
+        qd = amp * freq * np.cos(freq * t + phase)
+        qdd = -amp * freq ** 2 * np.sin(freq * t + phase)
+        full = [np.zeros(skel.getNumDofs()) for _ in range(3)]
+        for values, full_values in zip((q, qd, qdd), full):
+            full_values[idx] = values
+        skel.setPositions(full[0])
+        skel.setVelocities(full[1])
+        skel.setAccelerations(full[2])
+        skel.computeInverseDynamics(False, False, False)
+        d = np.array(skel.getForces())[idx]
+        f = robot.inverse_dynamics(q, qd, qdd)
+        worst = np.maximum(worst, np.abs(f - d))
+        largest = np.maximum(largest, np.abs(d))
+    return names, worst, largest
+
+
 def without_meshes(path, folder):
     """A copy of the URDF without its visual and collision elements (the KR5's
     meshes are not in the public copy, and DART refuses a missing mesh)."""
@@ -131,6 +167,12 @@ def main():
             rel = abs(a - b) / max(abs(b), 1e-9)
             print(f"  {n:16s} Fulcrum {a:10.4f}   DART {b:10.4f}   difference {100 * rel:7.3f} %  "
                   f"({100 * abs(a - b) / largest:.4f} % of the largest)")
+        names, worst, largest = inverse_dynamics(path)
+        print(f"{label}: inverse dynamics along a sine trajectory of every joint (41 samples over 2 s): "
+              f"worst difference, and the largest effort (N m)")
+        for n, w, big in zip(names, worst, largest):
+            print(f"  {n:16s} worst difference {w:.2e}   largest effort {big:9.4f}   "
+                  f"(relative to it {w / max(big, 1e-12):.1e}; to the robot's largest {w / largest.max():.1e})")
         if args.plot:
             import matplotlib
             matplotlib.use("Agg")

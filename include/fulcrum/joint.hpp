@@ -108,7 +108,8 @@ struct JointDef {
     // Dry friction in the joint (N m): a torque up to this opposes the relative
     // spin of B against A. Ball and cone-twist: about any axis; hinge: about its
     // axis when the motor is off (a motor at speed 0 does the same). Ragdolls
-    // use it so limbs stop instead of swinging for ever. >= 0; 0: frictionless.
+    // use it so limbs stop instead of swinging for ever. Slider: a force (N)
+    // along its axis when the motor is off. >= 0; 0: frictionless.
     Real frictionTorque = 0;
 
     Real breakForce = std::numeric_limits<Real>::infinity();   // N; the joint breaks above it
@@ -169,6 +170,7 @@ struct SliderJointDef : JointDefBase {
     Real lowerLimit = 0, upperLimit = 0;  // m
     JointMotor motor;                     // m/s, N
     JointSpring spring;                   // target m, N/m, N s/m
+    Real frictionForce = 0;               // N, >= 0: dry friction along the axis while the motor is off (JointDef::frictionTorque)
     static SliderJointDef fromWorld(const World& world, BodyId a, BodyId b, Vec3 anchor, Vec3 axis);
 };
 

@@ -77,11 +77,21 @@ struct RobotJoint {
     }
 };
 
+// One degree of freedom of the robot's "dof" bulk calls: an actuated joint's
+// axis (axis -1), or one free or limited axis of a six-DOF joint (a URDF
+// floating or planar joint; axis: SixDofAxisIndex, in its joint frame).
+struct RobotDof {
+    std::size_t joint = 0;  // index into Robot::joints
+    int axis = -1;
+};
+
 // A specific-force IMU reading in the body's axes.
 struct ImuReading {
     Vec3 specificForce;     // m/s^2: linear acceleration of the centre of mass minus gravity (at rest: -g, "up")
     Vec3 angularVelocity;   // rad/s
 };
+
+struct UrdfSceneParts;
 
 // A loaded robot: handles by name, and bulk drives and read-outs over its
 // actuated joints (revolute, continuous, prismatic), in file order.
@@ -99,7 +109,8 @@ public:
     std::vector<std::size_t> actuatedJoints() const;
     std::vector<std::string> actuatedJointNames() const;
 
-    // One joint's drive (validated as World::setJointSpring / setJointMotor).
+    // One joint's drive (validated as World::setJointSpring / setJointMotor),
+    // or one six-DOF axis's, named "joint/x" ... "joint/rz" (as dofNames).
     void setDrive(World& world, std::string_view joint, const JointDrive& drive) const;
     // Bulk, one value per actuated joint: position targets keep each drive's
     // gains; gains set stiffness and damping; velocity targets turn the
@@ -107,7 +118,23 @@ public:
     void setPositionTargets(World& world, std::span<const Real> positions) const;
     void setDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const;
     void setVelocityTargets(World& world, std::span<const Real> velocities) const;
-    void disableDrives(World& world) const;  // springs and motors off (URDF damping and friction stay)
+    void disableDrives(World& world) const;  // springs and motors off (URDF damping and friction stay), six-DOF axes' too
+
+    // Every degree of freedom (docs/robots.md, "Six-DOF drives"): the actuated
+    // joints and the free or limited axes of floating and planar joints, in
+    // file order (a six-DOF joint's axes x, y, z, rx, ry, rz in turn). Named
+    // as the joint, a six-DOF axis as "joint/x" ... "joint/rz" (setDrive
+    // takes these names too). The dof calls below take and give one value
+    // per entry; on a robot without floating or planar joints they are the
+    // joint calls. Six-DOF velocity targets are unlimited (maxForce 1e9).
+    std::vector<RobotDof> dofs() const;
+    std::vector<std::string> dofNames() const;
+    void setDofPositionTargets(World& world, std::span<const Real> positions) const;
+    void setDofDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const;
+    void setDofVelocityTargets(World& world, std::span<const Real> velocities) const;
+    std::vector<Real> dofPositions(const World& world) const;
+    std::vector<Real> dofVelocities(const World& world) const;
+    std::vector<Real> dofEfforts(const World& world) const;  // six-DOF axes: World::sixDofReading's efforts
 
     std::vector<Real> jointPositions(const World& world) const;
     std::vector<Real> jointVelocities(const World& world) const;
@@ -121,7 +148,28 @@ public:
     // call over the time between them (the first call reads it as zero).
     std::vector<ImuReading> sampleImu(const World& world);
 
+    // Inverse dynamics of a fixed-base tree (recursive Newton-Euler, as
+    // Featherstone's "Rigid Body Dynamics Algorithms", ch. 5): the effort at
+    // each actuated joint (N m or N, the order of jointPositions) that moves
+    // the robot through positions q, velocities qd and accelerations qdd under
+    // the world's gravity, from the links' mass, centre of mass and inertia
+    // and the model's geometry (the pose it was loaded in is q = 0). With qd
+    // and qdd zero: the gravity-holding efforts. Throws for a robot whose root
+    // is not static, or with floating or planar joints.
+    std::vector<Real> inverseDynamics(const World& world, std::span<const Real> q, std::span<const Real> qd,
+                                      std::span<const Real> qdd) const;
+
 private:
+    friend Robot createUrdfParts(World& world, const UrdfSceneParts& parts, const std::string& sourceName);
+    // Each link's frame as loaded (q = 0) and inertia in it (inverseDynamics).
+    struct LinkModel {
+        Vec3 origin;
+        Quat frame;
+        Vec3 centerOfMass;  // link frame
+        Mat3 inertia;       // about the centre of mass, link axes
+        Real mass = 0;      // 0: static
+    };
+    std::vector<LinkModel> model_;
     std::vector<Vec3> lastVelocity_;
     Real lastTime_ = 0;
     bool sampled_ = false;

@@ -280,7 +280,7 @@ void bindJoints(py::module_& m) {
         "create_slider_joint",
         [](PyWorld& w, py::object a, py::object b, py::object anchor, py::object axis, py::object limits,
            py::object motorSpeed, Real maxMotorForce, Real springTarget, Real springStiffness, Real springDamping,
-           const std::string& name, bool cc, Real bf, Real bt) {
+           Real frictionForce, const std::string& name, bool cc, Real bf, Real bt) {
             JointDef def;
             def.type = JointType::Slider;
             def.anchor = toVec3(anchor, "anchor");
@@ -288,13 +288,15 @@ void bindJoints(py::module_& m) {
             setLimits(def, limits);
             setMotor(def, motorSpeed, maxMotorForce);
             setSpring(def, springTarget, springStiffness, springDamping);
+            def.frictionTorque = frictionForce;  // JointDef's friction field: a force along a slider's axis
             return create(w, def, {a, b, name, cc, bf, bt});
         },
         py::arg("body_a"), py::arg("body_b"), py::kw_only(), py::arg("anchor"), py::arg("axis") = py::make_tuple(1, 0, 0),
         py::arg("limits") = py::none(), py::arg("motor_speed") = py::none(), py::arg("max_motor_force") = 0,
         py::arg("spring_target") = 0, py::arg("spring_stiffness") = 0, py::arg("spring_damping") = 0,
-        FULCRUM_JOINT_COMMON_ARGS,
-        "A prismatic joint along a world axis: limits in m, motor in m/s and N, spring in N/m.");
+        py::arg("friction_force") = 0, FULCRUM_JOINT_COMMON_ARGS,
+        "A prismatic joint along a world axis: limits in m, motor in m/s and N, spring in N/m, dry friction "
+        "friction_force in N (while the motor is off).");
     cls.def(
         "create_distance_joint",
         [](PyWorld& w, py::object a, py::object b, py::object anchorA, py::object anchorB, Real minLength,

@@ -23,7 +23,7 @@ std::vector<Real> reals(py::handle value, const char* argument) {
     const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
     if (!a || a.ndim() != 1) {
         PyErr_Clear();
-        throw py::type_error(std::string("argument '") + argument + "': expected a sequence of numbers (one per actuated joint)");
+        throw py::type_error(std::string("argument '") + argument + "': expected a sequence of numbers (one per actuated joint or dof)");
     }
     std::vector<Real> out(static_cast<std::size_t>(a.shape(0)));
     for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<Real>(a.data()[i]);
@@ -101,10 +101,42 @@ void bindRobots(py::module_& m) {
              [](const PyRobot& r, py::handle v) { const WorldPtr s = r.lock(); r.robot.setVelocityTargets(s->world, reals(v, "velocities")); },
              py::arg("velocities"), "Velocity drives on (max force: each joint's effort limit, or unlimited).")
         .def("disable_drives", [](const PyRobot& r) { const WorldPtr s = r.lock(); r.robot.disableDrives(s->world); })
+        .def_property_readonly("dof_names", [](const PyRobot& r) { return r.robot.dofNames(); },
+                               "Every degree of freedom: the actuated joints and the free axes of floating and planar "
+                               "joints ('joint/x' ... 'joint/rz'), in file order: the order of every dof_ array.")
+        .def("set_dof_position_targets",
+             [](const PyRobot& r, py::handle q) { const WorldPtr s = r.lock(); r.robot.setDofPositionTargets(s->world, reals(q, "positions")); },
+             py::arg("positions"), "One target per dof (dof_names; rad or m); the drives keep their gains.")
+        .def("set_dof_drive_gains",
+             [](const PyRobot& r, py::handle kp, py::handle kd) {
+                 const WorldPtr s = r.lock();
+                 r.robot.setDofDriveGains(s->world, reals(kp, "stiffness"), reals(kd, "damping"));
+             },
+             py::arg("stiffness"), py::arg("damping"))
+        .def("set_dof_velocity_targets",
+             [](const PyRobot& r, py::handle v) { const WorldPtr s = r.lock(); r.robot.setDofVelocityTargets(s->world, reals(v, "velocities")); },
+             py::arg("velocities"), "Velocity drives on every dof (max force: the effort limit, or unlimited).")
+        .def("dof_positions", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.dofPositions(s->world)); })
+        .def("dof_velocities", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.dofVelocities(s->world)); })
+        .def("dof_efforts", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.dofEfforts(s->world)); },
+             "Each dof's effort along its axis in the last step (N m or N).")
         .def("joint_positions", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.jointPositions(s->world)); })
         .def("joint_velocities", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.jointVelocities(s->world)); })
         .def("joint_efforts", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.jointEfforts(s->world)); },
              "Each actuated joint's effort along its axis in the last step (N m or N).")
+        .def("inverse_dynamics",
+             [](const PyRobot& r, py::handle q, py::handle qd, py::handle qdd) {
+                 const WorldPtr s = r.lock();
+                 const std::vector<Real> pos = q.is_none() ? r.robot.jointPositions(s->world) : reals(q, "positions");
+                 const std::vector<Real> zero(pos.size(), 0);
+                 const std::vector<Real> vel = qd.is_none() ? zero : reals(qd, "velocities");
+                 const std::vector<Real> acc = qdd.is_none() ? zero : reals(qdd, "accelerations");
+                 return array(r.robot.inverseDynamics(s->world, pos, vel, acc));
+             },
+             py::arg("positions") = py::none(), py::arg("velocities") = py::none(), py::arg("accelerations") = py::none(),
+             "The effort at each actuated joint (joint_names order; N m or N) that moves a fixed-base robot through "
+             "positions, velocities and accelerations under the world's gravity (recursive Newton-Euler). Defaults: "
+             "the current positions, zero velocities and accelerations, i.e. gravity compensation.")
         .def("contact_forces", [](const PyRobot& r) { const WorldPtr s = r.lock(); return fromVec3List(r.robot.contactForces(s->world)); },
              "The contact force on every link over the last step (N, world), file order, as an (n_links, 3) array.")
         .def("sample_imu",

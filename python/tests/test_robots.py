@@ -113,3 +113,62 @@ def test_cli_runs_a_urdf_and_reports_joint_readouts(cli):
     bad = subprocess.run([str(cli), "run", str(robots_dir() / "dart-tests" / "invalid.urdf")], capture_output=True, text=True,
                          check=False)
     assert bad.returncode == 2 and "invalid.urdf" in bad.stderr
+
+
+def test_floating_joint_axes_are_driven_in_bulk(tmp_path):
+    # A 2 kg box on a floating joint: every axis a dof, driven to a target;
+    # the vertical one sags m g / k, and its effort reads m g (0.5 %).
+    urdf = tmp_path / "floating.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="base"/>'
+        '<link name="box"><inertial><mass value="2"/><inertia ixx="0.02" iyy="0.03" izz="0.04"/></inertial></link>'
+        '<joint name="j" type="floating"><parent link="base"/><child link="box"/><origin xyz="0 0 1"/></joint></robot>')
+    world = fulcrum.World(gravity=(0, 0, -9.81))
+    robot = fulcrum.load_urdf(world, urdf, fixed_base=True)
+    assert robot.joint_names == []
+    assert robot.dof_names == ["j/x", "j/y", "j/z", "j/rx", "j/ry", "j/rz"]
+    k = 20000.0
+    robot.set_dof_drive_gains([k, k, k, 40, 40, 40], [400, 400, 400, 2.2, 2.2, 2.2])
+    target = np.array([0.1, -0.2, 0.3, 0.2, -0.15, 0.3])
+    robot.set_dof_position_targets(target)
+    for _ in range(720):
+        world.step(1 / 240)
+    sag = 2 * 9.81 / k
+    q = robot.dof_positions()
+    assert q == pytest.approx(target - np.array([0, 0, sag, 0, 0, 0]), abs=1e-4)
+    assert robot.dof_velocities() == pytest.approx(np.zeros(6), abs=1e-3)
+    assert robot.dof_efforts()[2] == pytest.approx(2 * 9.81, rel=5e-3)
+    with pytest.raises(fulcrum.Error, match="5 position targets for 6 degrees of freedom"):
+        robot.set_dof_position_targets(np.zeros(5))
+
+
+def test_inverse_dynamics_holds_the_double_pendulum():
+    # Horizontal and still: the shoulder carries both rods (1 kg at 0.5 m and
+    # at 1.5 m), the elbow the outer one; the default is gravity compensation
+    # at the current pose.
+    world = fulcrum.World(gravity=(0, 0, -9.81))
+    robot = fulcrum.load_urdf(world, REPO / "tests" / "robots" / "double_pendulum.urdf", fixed_base=True)
+    tau = robot.inverse_dynamics()
+    assert tau == pytest.approx([-9.81 * 2.0, -9.81 * 0.5], rel=1e-5)
+    # Swinging through the horizontal at rest with both joints accelerating:
+    # M(0) qdd on top (M11 = 2/12 + 0.25 + 1 + 0.25 + 1, M12 = 1/12 + 0.25 + 0.5, M22 = 1/12 + 0.25).
+    qdd = np.array([1.0, -2.0])
+    m11, m12, m22 = 2 / 12 + 2.5, 1 / 12 + 0.75, 1 / 12 + 0.25
+    expected = np.array([-19.62 + m11 * 1.0 + m12 * -2.0, -4.905 + m12 * 1.0 + m22 * -2.0])
+    assert robot.inverse_dynamics([0, 0], [0, 0], qdd) == pytest.approx(expected, rel=1e-5)
+
+
+def test_slider_friction_decelerates_a_sliding_body():
+    # No gravity: a 2 kg body sliding at 3 m/s along a slider with 4 N of
+    # friction slows at F / m = 2 m/s^2 and stops after 1.5 s.
+    world = fulcrum.World(gravity=(0, 0, 0))
+    body = world.create_body(shape=fulcrum.Sphere(0.1), mass=2.0)
+    world.create_slider_joint(None, body, anchor=(0, 0, 0), axis=(1, 0, 0), friction_force=4.0)
+    body.linear_velocity = (3.0, 0, 0)
+    for _ in range(120):
+        world.step(1 / 240)
+    assert body.linear_velocity[0] == pytest.approx(3.0 - 2.0 * 0.5, rel=1e-2)
+    for _ in range(360):
+        world.step(1 / 240)
+    assert abs(body.linear_velocity[0]) < 1e-4
+    assert body.position[0] == pytest.approx(3.0 ** 2 / (2 * 2.0), rel=1e-2)

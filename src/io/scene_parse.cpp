@@ -597,11 +597,14 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
     if (!type) fail(typePath, "unknown joint type '" + typeName + "' (valid: " + detail::jointTypeList() + ")");
     d.type = *type;
     const std::string what = "a " + typeName + " joint";
-    // Joint friction exists for the rotational joints only (the solver ignores
-    // it on the others), so elsewhere the key is a mistake worth naming.
-    const bool hasFriction = d.type == JointType::Ball || d.type == JointType::Hinge || d.type == JointType::ConeTwist;
+    // Joint friction exists for the rotational joints and the slider (a force
+    // along its axis, N) only (the solver ignores it on the others), so
+    // elsewhere the key is a mistake worth naming.
+    const bool hasFriction = d.type == JointType::Ball || d.type == JointType::Hinge || d.type == JointType::ConeTwist ||
+                             d.type == JointType::Slider;
     if (!hasFriction && member(j, "friction_torque") != nullptr) {
-        fail(childPath(path, "friction_torque"), "friction_torque applies only to ball, hinge and cone_twist joints, not to " + what);
+        fail(childPath(path, "friction_torque"),
+             "friction_torque applies only to ball, hinge, slider and cone_twist joints, not to " + what);
     }
 #define FULCRUM_JOINT_COMMON "name", "type", "body_a", "body_b", "anchor", "break_force", "break_torque", "collide_connected"
     switch (d.type) {
@@ -610,7 +613,7 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
         case JointType::Hinge:
             checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "limits", "motor", "spring", "friction_torque"}, what);
             break;
-        case JointType::Slider: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "limits", "motor", "spring"}, what); break;
+        case JointType::Slider: checkKeys(j, path, {FULCRUM_JOINT_COMMON, "axis", "limits", "motor", "spring", "friction_torque"}, what); break;
         case JointType::Distance:
             checkKeys(j, path, {FULCRUM_JOINT_COMMON, "anchor_b", "min_length", "max_length", "stiffness", "damping"}, what);
             break;

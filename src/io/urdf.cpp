@@ -46,6 +46,24 @@ namespace {
 
 constexpr Real kPi = std::numbers::pi_v<Real>;
 
+// A six-DOF axis's name in drive names ("joint/x" ... "joint/rz"), by SixDofAxisIndex.
+constexpr std::array<const char*, kSixDofAxes> kAxisNames{"x", "y", "z", "rx", "ry", "rz"};
+
+int axisIndex(std::string_view name) {
+    for (int k = 0; k < kSixDofAxes; ++k) {
+        if (name == kAxisNames[static_cast<std::size_t>(k)]) return k;
+    }
+    return -1;
+}
+
+// The axes a URDF six-DOF joint leaves free (urdfSceneParts): all of a
+// floating joint's; a planar joint's x, y (in the plane) and rz (about the normal).
+bool urdfAxisFree(UrdfJointType type, int axis) {
+    return type == UrdfJointType::Floating || axis == kAxisX || axis == kAxisY || axis == kAxisRotZ;
+}
+
+bool isSixDof(UrdfJointType type) { return type == UrdfJointType::Floating || type == UrdfJointType::Planar; }
+
 UrdfPose compose(const UrdfPose& a, const UrdfPose& b) { return {a.p + rotate(a.q, b.p), normalize(a.q * b.q)}; }
 
 // Where a mesh file named in the model is: `package://NAME/rest` under each
@@ -389,14 +407,30 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
     }
 
     std::map<std::string, JointDrive, std::less<>> driveOf;
+    std::map<std::pair<std::string, int>, JointDrive> axisDriveOf;  // six-DOF axes: "joint/x" ... "joint/rz"
     for (const auto& entry : drives) {
         const std::string& name = entry.first;  // not a structured binding: clang 14 can't capture those in a lambda
         const JointDrive& drive = entry.second;
-        const auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == name; });
+        auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == name; });
+        const std::size_t slash = name.rfind('/');
+        if (it == m.joints.end() && slash != std::string::npos) {
+            const std::string jointName = name.substr(0, slash);
+            const int axis = axisIndex(std::string_view(name).substr(slash + 1));
+            it = std::find_if(m.joints.begin(), m.joints.end(), [&](const UrdfJoint& j) { return j.name == jointName; });
+            if (it != m.joints.end() && isSixDof(it->type) && axis >= 0 && urdfAxisFree(it->type, axis)) {
+                axisDriveOf[{jointName, axis}] = drive;
+                continue;
+            }
+            if (it != m.joints.end()) {
+                throw Error(sourceName + ": a drive names '" + name + "', which is no free axis of a floating or planar joint " +
+                            "(axes x, y, z, rx, ry, rz; a planar joint's x, y, rz)");
+            }
+        }
         if (it == m.joints.end()) throw Error(sourceName + ": a drive names joint '" + name + "', which the robot does not have");
         if (it->type != UrdfJointType::Revolute && it->type != UrdfJointType::Continuous && it->type != UrdfJointType::Prismatic) {
             throw Error(sourceName + ": a drive names joint '" + name + "', a " + toString(it->type) +
-                        " joint (only revolute, continuous and prismatic joints have drives)");
+                        " joint (only revolute, continuous and prismatic joints, and the axes of floating and planar ones " +
+                        "named 'joint/x' ... 'joint/rz', have drives)");
         }
         driveOf[name] = drive;
     }
@@ -440,8 +474,16 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
             // colliding and reads out the child's pose). Planar: the axis is the
             // plane's normal, the frame's z; x and y slide in the plane and the
             // child turns about z; the rest is locked.
+            // A floating joint has no axis in URDF: its frame is the joint
+            // origin's (the child link's axes at load), so its linear axes are
+            // that frame's x, y, z, as a user driving them expects.
             Vec3 x, y;
-            orthonormalBasis(d.axis, x, y);  // right-handed: x cross y = the normal
+            if (j.type == UrdfJointType::Floating) {
+                x = rotate(pose[child].q, Vec3{1, 0, 0});
+                y = rotate(pose[child].q, Vec3{0, 1, 0});
+            } else {
+                orthonormalBasis(d.axis, x, y);  // right-handed: x cross y = the normal
+            }
             d.axis = x;
             d.axisY = y;
             for (SixDofAxis& a : d.axes) a.mode = j.type == UrdfJointType::Floating ? AxisMode::Free : AxisMode::Locked;
@@ -449,6 +491,21 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
                 d.axes[kAxisX].mode = AxisMode::Free;
                 d.axes[kAxisY].mode = AxisMode::Free;
                 d.axes[kAxisRotZ].mode = AxisMode::Free;
+            }
+            for (int k = 0; k < kSixDofAxes; ++k) {
+                const auto it = axisDriveOf.find({j.name, k});
+                if (it == axisDriveOf.end()) continue;
+                SixDofAxis& a = d.axes[static_cast<std::size_t>(k)];
+                const JointDrive& drive = it->second;
+                a.spring.target = drive.position;
+                a.spring.stiffness = drive.stiffness;
+                a.spring.damping = j.damping + drive.damping;
+                a.spring.enabled = a.spring.stiffness > 0 || a.spring.damping > 0;
+                if (drive.velocityDrive) {
+                    a.motor.enabled = true;
+                    a.motor.speed = drive.velocity;
+                    a.motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : Real(1e9);
+                }
             }
         }
         const bool rangeGiven = j.hasLower || j.hasUpper;
@@ -486,13 +543,7 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
         if (rj.actuated()) {
             d.spring.enabled = j.damping > 0;
             d.spring.damping = j.damping;
-            if (j.friction > 0) {
-                if (j.type == UrdfJointType::Prismatic) {
-                    warn(where + ": <dynamics friction> on a prismatic joint is not modelled (sliders have no friction yet)");
-                } else {
-                    d.frictionTorque = j.friction;
-                }
-            }
+            d.frictionTorque = j.friction;  // N m on a hinge, N along a slider
             if (const auto it = driveOf.find(j.name); it != driveOf.end()) {
                 const JointDrive& drive = it->second;
                 d.spring.target = drive.position;
@@ -540,6 +591,10 @@ Robot createUrdfParts(World& world, const UrdfSceneParts& parts, const std::stri
             created.push_back(id);
             ids[def.name] = id;
             robot.links[i].body = id;
+            const bool dynamic = def.type == BodyType::Dynamic;
+            robot.model_.push_back({def.position, def.orientation, def.centerOfMass.value_or(Vec3{}),
+                                    dynamic ? def.inertia.value_or(world.localInertia(id)) : Mat3{},
+                                    dynamic ? world.mass(id) : Real(0)});
         }
         for (std::size_t k = 0; k < parts.joints.size(); ++k) {
             RobotJoint& rj = robot.joints[parts.jointIndex[k]];
@@ -606,28 +661,28 @@ std::vector<std::string> Robot::actuatedJointNames() const {
     return out;
 }
 
-void Robot::setDrive(World& world, std::string_view jointName, const JointDrive& drive) const {
-    const RobotJoint& j = jointInfo(jointName);
-    if (!j.actuated()) {
-        throw Error("robot '" + name + "': joint '" + j.name + "' is " + toString(j.type) +
-                    ": only revolute, continuous and prismatic joints have drives");
-    }
-    JointSpring spring;
-    spring.target = drive.position;
-    spring.stiffness = drive.stiffness;
-    spring.damping = j.damping + drive.damping;
-    spring.enabled = spring.stiffness > 0 || spring.damping > 0;
-    world.setJointSpring(j.joint, spring);
-    JointMotor motor;
-    if (drive.velocityDrive) {
-        motor.enabled = true;
-        motor.speed = drive.velocity;
-        motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : (std::isfinite(j.effortLimit) ? j.effortLimit : Real(1e9));
-    }
-    world.setJointMotor(j.joint, motor);
+namespace {
+
+JointSpring springOf(const World& world, JointId id, int axis) {
+    return axis < 0 ? world.jointDef(id).spring : world.jointDef(id).axes[static_cast<std::size_t>(axis)].spring;
 }
 
-namespace {
+void setSpring(World& world, JointId id, int axis, const JointSpring& spring) {
+    if (axis < 0) return world.setJointSpring(id, spring);
+    SixDofAxis a = world.jointDef(id).axes[static_cast<std::size_t>(axis)];
+    a.spring = spring;
+    world.setSixDofAxis(id, axis, a);
+}
+
+void setMotor(World& world, JointId id, int axis, const JointMotor& motor) {
+    if (axis < 0) return world.setJointMotor(id, motor);
+    SixDofAxis a = world.jointDef(id).axes[static_cast<std::size_t>(axis)];
+    a.motor = motor;
+    world.setSixDofAxis(id, axis, a);
+}
+
+// A velocity drive's force limit: the URDF effort limit, else (practically) none.
+Real motorLimit(const RobotJoint& j) { return std::isfinite(j.effortLimit) ? j.effortLimit : Real(1e9); }
 
 void requireCount(const Robot& r, std::size_t given, std::size_t wanted, const char* what) {
     if (given != wanted) {
@@ -636,7 +691,52 @@ void requireCount(const Robot& r, std::size_t given, std::size_t wanted, const c
     }
 }
 
+void requireDofCount(const Robot& r, std::size_t given, std::size_t wanted, const char* what) {
+    if (given != wanted) {
+        throw Error("robot '" + r.name + "': " + std::to_string(given) + " " + what + " for " + std::to_string(wanted) +
+                    " degrees of freedom (give one per entry of dofNames: actuated joints and free six-DOF axes, in file order)");
+    }
+}
+
 }  // namespace
+
+void Robot::setDrive(World& world, std::string_view jointName, const JointDrive& drive) const {
+    const RobotJoint* found = nullptr;
+    int axis = -1;
+    for (const RobotJoint& j : joints) {
+        if (j.name == jointName) found = &j;
+    }
+    const std::size_t slash = jointName.rfind('/');
+    if (found == nullptr && slash != std::string_view::npos) {
+        // "joint/x" ... "joint/rz": one axis of a six-DOF joint.
+        const RobotJoint& j = jointInfo(jointName.substr(0, slash));
+        axis = axisIndex(jointName.substr(slash + 1));
+        if (!isSixDof(j.type) || axis < 0 || !urdfAxisFree(j.type, axis) || j.joint.isNull()) {
+            throw Error("robot '" + name + "': '" + std::string(jointName) + "' names no free axis of a floating or planar joint " +
+                        "(axes x, y, z, rx, ry, rz; a planar joint's x, y, rz)");
+        }
+        found = &j;
+    }
+    const RobotJoint& j = found != nullptr ? *found : jointInfo(jointName);
+    if (!j.actuated() && axis < 0) {
+        throw Error("robot '" + name + "': joint '" + j.name + "' is " + toString(j.type) +
+                    ": only revolute, continuous and prismatic joints, and the axes of floating and planar ones "
+                    "(named 'joint/x' ... 'joint/rz'), have drives");
+    }
+    JointSpring spring;
+    spring.target = drive.position;
+    spring.stiffness = drive.stiffness;
+    spring.damping = j.damping + drive.damping;
+    spring.enabled = spring.stiffness > 0 || spring.damping > 0;
+    setSpring(world, j.joint, axis, spring);
+    JointMotor motor;
+    if (drive.velocityDrive) {
+        motor.enabled = true;
+        motor.speed = drive.velocity;
+        motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : motorLimit(j);
+    }
+    setMotor(world, j.joint, axis, motor);
+}
 
 void Robot::setPositionTargets(World& world, std::span<const Real> positions) const {
     const auto act = actuatedJoints();
@@ -672,20 +772,123 @@ void Robot::setVelocityTargets(World& world, std::span<const Real> velocities) c
         JointMotor m;
         m.enabled = true;
         m.speed = velocities[k];
-        m.maxForce = std::isfinite(j.effortLimit) ? j.effortLimit : Real(1e9);
+        m.maxForce = motorLimit(j);
         world.setJointMotor(j.joint, m);
     }
 }
 
 void Robot::disableDrives(World& world) const {
-    for (const std::size_t i : actuatedJoints()) {
-        const RobotJoint& j = joints[i];
+    for (const RobotDof& d : dofs()) {
+        const RobotJoint& j = joints[d.joint];
         JointSpring s;
         s.damping = j.damping;
         s.enabled = j.damping > 0;
-        world.setJointSpring(j.joint, s);
-        world.setJointMotor(j.joint, JointMotor{});
+        setSpring(world, j.joint, d.axis, s);
+        setMotor(world, j.joint, d.axis, JointMotor{});
     }
+}
+
+std::vector<RobotDof> Robot::dofs() const {
+    std::vector<RobotDof> out;
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+        const RobotJoint& j = joints[i];
+        if (j.actuated()) {
+            out.push_back({i, -1});
+        } else if (isSixDof(j.type) && !j.joint.isNull()) {
+            for (int k = 0; k < kSixDofAxes; ++k) {
+                if (urdfAxisFree(j.type, k)) out.push_back({i, k});
+            }
+        }
+    }
+    return out;
+}
+
+std::vector<std::string> Robot::dofNames() const {
+    std::vector<std::string> out;
+    for (const RobotDof& d : dofs()) {
+        out.push_back(d.axis < 0 ? joints[d.joint].name : joints[d.joint].name + "/" + kAxisNames[static_cast<std::size_t>(d.axis)]);
+    }
+    return out;
+}
+
+void Robot::setDofPositionTargets(World& world, std::span<const Real> positions) const {
+    const auto all = dofs();
+    requireDofCount(*this, positions.size(), all.size(), "position targets");
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        const JointId id = joints[all[k].joint].joint;
+        JointSpring s = springOf(world, id, all[k].axis);
+        s.target = positions[k];
+        s.enabled = s.stiffness > 0 || s.damping > 0;
+        setSpring(world, id, all[k].axis, s);
+    }
+}
+
+void Robot::setDofDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const {
+    const auto all = dofs();
+    requireDofCount(*this, stiffness.size(), all.size(), "stiffnesses");
+    requireDofCount(*this, damping.size(), all.size(), "dampings");
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        const RobotJoint& j = joints[all[k].joint];
+        JointSpring s = springOf(world, j.joint, all[k].axis);
+        s.stiffness = stiffness[k];
+        s.damping = j.damping + damping[k];
+        s.enabled = s.stiffness > 0 || s.damping > 0;
+        setSpring(world, j.joint, all[k].axis, s);
+    }
+}
+
+void Robot::setDofVelocityTargets(World& world, std::span<const Real> velocities) const {
+    const auto all = dofs();
+    requireDofCount(*this, velocities.size(), all.size(), "velocity targets");
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        const RobotJoint& j = joints[all[k].joint];
+        JointMotor m;
+        m.enabled = true;
+        m.speed = velocities[k];
+        m.maxForce = motorLimit(j);
+        setMotor(world, j.joint, all[k].axis, m);
+    }
+}
+
+namespace {
+
+// One reading per dof: `single` for an actuated joint, `axes` picks from a
+// six-DOF joint's reading (read once per joint).
+template <class Single, class Axes>
+std::vector<Real> readDofs(const Robot& r, const World& world, Single single, Axes axes) {
+    std::vector<Real> out;
+    std::size_t readJoint = r.joints.size();
+    SixDofReading reading;
+    for (const RobotDof& d : r.dofs()) {
+        const JointId id = r.joints[d.joint].joint;
+        if (d.axis < 0) {
+            out.push_back(single(id));
+            continue;
+        }
+        if (readJoint != d.joint) {
+            reading = world.sixDofReading(id);
+            readJoint = d.joint;
+        }
+        out.push_back(axes(reading)[static_cast<std::size_t>(d.axis)]);
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<Real> Robot::dofPositions(const World& world) const {
+    return readDofs(*this, world, [&](JointId id) { return world.jointPosition(id); },
+                    [](const SixDofReading& s) { return s.position; });
+}
+
+std::vector<Real> Robot::dofVelocities(const World& world) const {
+    return readDofs(*this, world, [&](JointId id) { return world.jointVelocity(id); },
+                    [](const SixDofReading& s) { return s.velocity; });
+}
+
+std::vector<Real> Robot::dofEfforts(const World& world) const {
+    return readDofs(*this, world, [&](JointId id) { return world.jointEffort(id); },
+                    [](const SixDofReading& s) { return s.effort; });
 }
 
 std::vector<Real> Robot::jointPositions(const World& world) const {

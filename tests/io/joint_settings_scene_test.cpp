@@ -58,6 +58,12 @@ TEST(JointSettingsScene, ReadIntoWorldDefAndJointDef) {
                                    "kinds.json");
     EXPECT_EQ(kinds.joints[0].def.frictionTorque, Real(0.5));
     EXPECT_EQ(kinds.joints[1].def.frictionTorque, Real(0));
+    // A slider's is a force along its axis (N; a URDF prismatic joint's <dynamics friction>), and round-trips.
+    const Scene slider = parseScene(R"({"bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1}],
+      "joints": [{"type": "slider", "body_b": "a", "anchor": [0, 0, 0], "axis": [1, 0, 0], "friction_torque": 7}]})",
+                                    "slider.json");
+    EXPECT_EQ(slider.joints[0].def.frictionTorque, Real(7));
+    EXPECT_TRUE(parseScene(sceneToJson(slider), "saved.json") == slider);
 }
 
 TEST(JointSettingsScene, RoundTripAndDefaultsAreNotWritten) {
@@ -108,13 +114,13 @@ TEST(JointSettingsScene, InvalidValuesNameThePathAndLine) {
     const std::string beyondReal = sizeof(Real) == sizeof(float) ? "1e300" : "1e999";
     expectError(leverScene("", R"(, "friction_torque": )" + beyondReal), "joints[0].friction_torque", "out of range", 3);
     expectError(leverScene("", R"(, "friction_torque": "high")"), "joints[0].friction_torque", "expected a number, got a string");
-    // Only ball, hinge and cone-twist joints have friction.
-    for (const char* type : {"slider", "fixed"}) {
+    // Only ball, hinge, slider and cone-twist joints have friction.
+    for (const char* type : {"fixed"}) {
         expectError(std::string(R"({"bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1}],
   "joints": [{"type": ")") + type + R"(", "body_b": "a", "anchor": [0, 0, 0],
               "friction_torque": 1}]})",
                     "joints[0].friction_torque",
-                    std::string("friction_torque applies only to ball, hinge and cone_twist joints, not to a ") + type + " joint", 3);
+                    std::string("friction_torque applies only to ball, hinge, slider and cone_twist joints, not to a ") + type + " joint", 3);
     }
     expectError(R"({"bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1}],
   "joints": [{"type": "distance", "body_b": "a", "anchor": [0, 0, 0], "anchor_b": [0, -1, 0], "friction_torque": 1}]})",

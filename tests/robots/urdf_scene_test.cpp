@@ -53,6 +53,37 @@ TEST(UrdfScene, EntryAddsLinksJointsAndDrives) {
     EXPECT_NEAR(world.jointEffort(handles.joints[0]), Real(2.5 * 9.81), Real(0.005 * 2.5 * 9.81));
 }
 
+// A floating joint's axes driven from the scene file ("joint/z"): the box
+// hangs m g / k below its target, and the vertical effort reads m g (0.5 %).
+TEST(UrdfScene, DrivesNameSixDofAxes) {
+    const Scene scene = parseScene(R"({
+      "world": {"gravity": [0, 0, -9.81]},
+      "urdf": [{"file": "floating_box.urdf", "fixed_base": true,
+                "drives": {"float/x": {"position": 0.1, "stiffness": 20000, "damping": 400},
+                           "float/y": {"stiffness": 20000, "damping": 400},
+                           "float/z": {"position": 0.3, "stiffness": 20000, "damping": 400},
+                           "float/rx": {"stiffness": 40, "damping": 2.2}, "float/ry": {"stiffness": 40, "damping": 2.2},
+                           "float/rz": {"position": 0.2, "stiffness": 40, "damping": 2.2}}}]})",
+                                   sceneIn("tests/robots"));
+    ASSERT_EQ(scene.joints.size(), 1u);
+    const JointDef& j = scene.joints[0].def;
+    EXPECT_EQ(j.type, JointType::SixDof);
+    EXPECT_REAL_EQ(j.axes[kAxisZ].spring.target, Real(0.3));
+    EXPECT_TRUE(parseScene(sceneToJson(scene), "saved") == scene);
+    SceneHandles handles;
+    World world = buildWorld(scene, &handles);
+    for (int i = 0; i < 3 * 240; ++i) world.step(Real(1) / 240);
+    const SixDofReading r = world.sixDofReading(handles.joints[0]);
+    const double mg = 2 * 9.81;
+    EXPECT_NEAR(double(r.position[kAxisX]), 0.1, 1e-5);
+    EXPECT_NEAR(double(r.position[kAxisZ]), 0.3 - mg / 20000, 0.01 * mg / 20000);
+    EXPECT_NEAR(double(r.position[kAxisRotZ]), 0.2, 1e-5);
+    EXPECT_NEAR(double(r.effort[kAxisZ]), mg, 0.005 * mg);
+
+    const std::string e = sceneError(R"({"bodies": [], "urdf": [{"file": "floating_box.urdf", "drives": {"float/q": {"stiffness": 1}}}]})");
+    EXPECT_NE(e.find("'float/q', which is no free axis of a floating or planar joint"), std::string::npos) << e;
+}
+
 TEST(UrdfScene, BadEntriesNameThePath) {
     std::string e = sceneError(R"({"bodies": [], "urdf": [{"file": "nowhere.urdf"}]})");
     EXPECT_NE(e.find("urdf[0].file"), std::string::npos) << e;

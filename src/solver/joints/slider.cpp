@@ -58,6 +58,7 @@ void solvePerpendicular(SolverBody& a, SolverBody& b, const Vec3& axis, const Ve
 
 SliderJointDef SliderJoint::fromJointDef(const JointDef& def, const JointEnds& ends) {
     SliderJointDef d = axisDefFromJointDef<SliderJointDef>(def, ends);
+    d.frictionForce = def.frictionTorque;  // JointDef's one friction field: a force along a slider's axis
     return d;
 }
 
@@ -66,7 +67,10 @@ void SliderJoint::validateLimits(const Subject& who, bool enabled, Real lower, R
 }
 
 JointSetup SliderJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {
-    return setupAxisJoint(def, who, ends, kType, false);
+    JointSetup s = setupAxisJoint(def, who, ends, kType, false);
+    validateFrictionTorque(who, def.frictionForce);
+    s.record.frictionTorque = def.frictionForce;
+    return s;
 }
 
 // ---- solver

@@ -35,6 +35,12 @@ struct SliderJoint {
 
 inline void SliderJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
     prepareFreeAxis(j, stored.def, h);
+    // Friction along a slider is a motor at speed 0 (only while the motor is off), as a hinge's.
+    if (!j.motor && stored.def.frictionTorque > 0) {
+        j.motor = true;
+        j.motorSpeed = 0;
+        j.maxMotorImpulse = j.maxFrictionImpulse;
+    }
     dropLimitImpulsesIfOff(j);
     dropSpinFriction(j);
 }
