@@ -5,25 +5,30 @@
 //   valgrind --tool=callgrind --toggle-collect='fulcrum::World::step(*)'
 //       build/release/bench/bench_step_count pyramid20 60
 // Prints the scene, the steps and a checksum of the final positions (so the
-// two builds' runs can be told apart from a broken one).
+// two builds' runs can be told apart from a broken one). Box3D's scenes
+// (bench/box3d_scenes.hpp) run at their full sizes, e.g. joint_grid.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fulcrum/fulcrum.hpp"
+#include "box3d_scenes.hpp"
 #include "fulcrum_world.hpp"
 
 using namespace fulcrum;
 
 int main(int argc, char** argv) {
     if (argc != 3) {
-        std::fprintf(stderr, "usage: %s SCENE STEPS   (SCENE: a name from bench/scenes.hpp, quick sizes)\n", argv[0]);
+        std::fprintf(stderr, "usage: %s SCENE STEPS   (SCENE: a name from bench/scenes.hpp, quick sizes, or bench/box3d_scenes.hpp)\n", argv[0]);
         return 2;
     }
     const std::string name = argv[1];
     const int steps = std::atoi(argv[2]);
-    for (const bench::SceneSpec& scene : bench::allScenes(true)) {
+    std::vector<bench::SceneSpec> scenes = bench::allScenes(true);
+    for (bench::SceneSpec& scene : bench::box3dScenes(false)) scenes.push_back(std::move(scene));
+    for (const bench::SceneSpec& scene : scenes) {
         if (scene.name != name) continue;
         const bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
         World& world = *built.world;

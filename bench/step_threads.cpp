@@ -85,6 +85,12 @@ fulcrum::World build(const bench::SceneSpec& scene, int threads) {
                 d.shape = fulcrum::Shape::capsule(real(b.half.x), real(b.half.y));
                 break;
             case bench::BodySpec::Kind::Box: d.shape = fulcrum::Shape::box(vec(b.half)); break;
+            case bench::BodySpec::Kind::Hull: {
+                std::vector<fulcrum::Vec3> points;
+                for (const bench::V3& p : scene.hullPoints) points.push_back(vec(p));
+                d.shape = fulcrum::Shape::convexHull(points);
+                break;
+            }
         }
         if (!b.isStatic) d.mass = real(b.mass);
         d.position = vec(b.position);

@@ -19,6 +19,14 @@ namespace {
 // A world end for the projection's check in lanes: centre 0 and the identity
 // rotation (com x y z, q w x y z).
 alignas(16) constexpr Real kWorldEnd[8] = {0, 0, 0, 1, 0, 0, 0, 0};
+// Grain of prepare()'s record building: a record is ~500 instructions.
+constexpr std::uint32_t kJointsPerBuildTask = 256;
+// The projection check's groups of four joints per range (~450 instructions each).
+constexpr std::uint32_t kProjectionGroupsPerTask = 16;
+// refreshRotations' bodies per range (~60 instructions each where unchanged).
+constexpr std::uint32_t kBodiesPerRotationTask = 512;
+// store()'s joints per range (a ball joint's reaction ~200 instructions).
+constexpr std::uint32_t kJointsPerStoreTask = 256;
 }  // namespace
 
 void JointSolver::reserve(std::size_t jointCount) {
@@ -27,6 +35,8 @@ void JointSolver::reserve(std::size_t jointCount) {
     if (rowJoints_.capacity() < jointCount) rowJoints_.reserve(2 * jointCount);
     if (structure_.capacity() < jointCount) structure_.reserve(2 * jointCount);
     if (projection_.capacity() < jointCount) projection_.reserve(2 * jointCount);
+    if (overBreakLimit_.capacity() < jointCount) overBreakLimit_.reserve(2 * jointCount);
+    if (groupBeyond_.capacity() < jointCount / 4 + 1) groupBeyond_.reserve(2 * (jointCount / 4 + 1));
     if (active_.capacity() < jointCount) active_.reserve(2 * jointCount);
     if (placeOf_.capacity() < jointCount) placeOf_.reserve(2 * jointCount);
     if (nextStructure_.capacity() < jointCount) nextStructure_.reserve(2 * jointCount);
@@ -78,6 +88,7 @@ void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const Jo
     // copied into colour order, the records were written twice and read once
     // more per step (perf, grid: colour() 6 % of the step, with the joint rows in lanes).
     active_.clear();
+    std::uint32_t projectedCount = 0;
     for (std::uint32_t slot = 0; slot < joints.size(); ++slot) {
         JointData& data = joints[slot];
         if (!data.alive || !data.enabled) continue;
@@ -95,7 +106,9 @@ void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const Jo
             continue;
         }
         if (bodies_[ia].invMass == 0 && bodies_[ib].invMass == 0) continue;  // nothing can move
-        active_.push_back({slot, ia, ib, dA, dB});
+        // Its place in the projection's list (creation order), so the records can be built in any order.
+        const bool projected = withJointType(def.type, [](auto type) { return decltype(type)::kProjected; });
+        active_.push_back({slot, ia, ib, dA, dB, projected ? projectedCount++ : kNoIndex});
     }
     // The colouring and the joint trees depend only on which joints join which
     // solver bodies (sameStructureAsLastStep): in a scene whose joints and
@@ -105,55 +118,19 @@ void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const Jo
     const bool same = sameStructureAsLastStep(joints, w.state, settings.directSolve);
     colour(w.state, same);  // colourOf_, colourStart_, placeOf_
     constraints_.resize(active_.size());
-    projection_.clear();
-    for (std::size_t i = 0; i < active_.size(); ++i) {
-        const ActiveJoint& e = active_[i];
-        const std::uint32_t slot = e.slot, dA = e.denseA, dB = e.denseB;
-        const JointData& data = joints[slot];
-        const JointDef& def = data.def;
-        JointConstraint& j = constraints_[placeOf_[i]];
-        j = JointConstraint{};
-        j.slot = slot;
-        j.bodyA = e.bodyA;
-        j.bodyB = e.bodyB;
-        j.denseA = dA;
-        j.denseB = dB;
-        j.localAnchorA = data.localAnchorA;
-        j.localAnchorB = data.localAnchorB;
-        j.type = def.type;
-        const Vec3 comA = dA == kNoIndex ? Vec3{} : w.motion[dA].com;
-        j.qA0 = dA == kNoIndex ? Quat{} : w.motion[dA].q;
-        j.qB0 = w.motion[dB].q;
-        j.rA0 = rotate(j.qA0, data.localAnchorA);
-        j.rB0 = rotate(j.qB0, data.localAnchorB);
-        j.centreDelta = w.motion[dB].com - comA;
-        j.relative0 = data.relativeRotation;
-        j.localAxisA = data.localAxisA;
-        j.localAxisB = data.localAxisB;
-        j.localFrameA = data.localFrameA;
-        j.record = &def;
-        j.impulse = data.impulses;
-        j.maxFrictionImpulse = h * def.frictionTorque;
-        const StoredJoint stored{def, data.minLength, data.maxLength, data.restLength};
-        // The type's own fields; it also sets to zero the impulses of rows it
-        // does not have this step (a limit switched off, no friction).
-        const bool projected = withJointType(def.type, [&](auto type) {
-            using T = decltype(type);
-            T::prepare(j, stored, h);
-            return T::kProjected;
-        });
-        // Unused rows start at zero (a motor disabled, no spring).
-        if (!j.motor) j.impulse.motor = 0;
-        if (!j.spring) j.impulse.spring = 0;
-        // The projection's packed copy, in creation order (sliders have none).
-        if (projected) {
-            // An awake end's pose is in the awake set, a static end's in its record.
-            const auto pose = [&](std::uint32_t body, std::uint32_t dense) {
-                return dense == kNoIndex ? kWorldEnd : body != 0 ? &w.pose[body].com.x : &w.motion[dense].com.x;
-            };
-            projection_.push_back({j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type,
-                                   pose(j.bodyA, dA), pose(j.bodyB, dB)});
-        }
+    projection_.resize(projectedCount);
+    groupBeyond_.resize((projection_.size() + 3) / 4);  // checkProjection's, one byte per group of four
+    // Each joint's record and projection entry depend on that joint alone:
+    // built in ranges across the task system (the same bits for any thread
+    // count). joint_grid, 19,701 joints: this loop was ~9 M instructions of
+    // serial time per step (docs/benchmarks.md).
+    const auto build = [&](std::uint32_t begin, std::uint32_t end) { buildConstraints(w, joints, begin, end, h); };
+    const auto activeCount = static_cast<std::uint32_t>(active_.size());
+    if (tasks.workerCount() > 1 && activeCount >= 2 * kJointsPerBuildTask) {
+        tasks.parallelFor(activeCount, kJointsPerBuildTask,
+                          [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { build(begin, end); });
+    } else {
+        build(0, activeCount);
     }
     if (!settings.directSolve) {
         for (JointConstraint& j : constraints_) j.direct = false;
@@ -187,6 +164,55 @@ void JointSolver::prepare(BodyStore& w, std::vector<JointData>& joints, const Jo
         rowColourStart_[c] = static_cast<std::uint32_t>(row);
     }
     buildWide();
+}
+
+void JointSolver::buildConstraints(BodyStore& w, const std::vector<JointData>& joints, std::uint32_t begin,
+                                   std::uint32_t end, Real h) {
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const ActiveJoint& e = active_[i];
+        const std::uint32_t slot = e.slot, dA = e.denseA, dB = e.denseB;
+        const JointData& data = joints[slot];
+        const JointDef& def = data.def;
+        JointConstraint& j = constraints_[placeOf_[i]];
+        j = JointConstraint{};
+        j.slot = slot;
+        j.bodyA = e.bodyA;
+        j.bodyB = e.bodyB;
+        j.denseA = dA;
+        j.denseB = dB;
+        j.localAnchorA = data.localAnchorA;
+        j.localAnchorB = data.localAnchorB;
+        j.type = def.type;
+        const Vec3 comA = dA == kNoIndex ? Vec3{} : w.motion[dA].com;
+        j.qA0 = dA == kNoIndex ? Quat{} : w.motion[dA].q;
+        j.qB0 = w.motion[dB].q;
+        j.rA0 = rotate(j.qA0, data.localAnchorA);
+        j.rB0 = rotate(j.qB0, data.localAnchorB);
+        j.centreDelta = w.motion[dB].com - comA;
+        j.relative0 = data.relativeRotation;
+        j.localAxisA = data.localAxisA;
+        j.localAxisB = data.localAxisB;
+        j.localFrameA = data.localFrameA;
+        j.record = &def;
+        j.impulse = data.impulses;
+        j.maxFrictionImpulse = h * def.frictionTorque;
+        const StoredJoint stored{def, data.minLength, data.maxLength, data.restLength};
+        // The type's own fields; it also sets to zero the impulses of rows it
+        // does not have this step (a limit switched off, no friction).
+        withJointType(def.type, [&](auto type) { decltype(type)::prepare(j, stored, h); });
+        // Unused rows start at zero (a motor disabled, no spring).
+        if (!j.motor) j.impulse.motor = 0;
+        if (!j.spring) j.impulse.spring = 0;
+        // The projection's packed copy, in creation order (sliders have none).
+        if (e.projection != kNoIndex) {
+            // An awake end's pose is in the awake set, a static end's in its record.
+            const auto pose = [&](std::uint32_t body, std::uint32_t dense) {
+                return dense == kNoIndex ? kWorldEnd : body != 0 ? &w.pose[body].com.x : &w.motion[dense].com.x;
+            };
+            projection_[e.projection] = {j.localAnchorA, dA, j.localAnchorB, dB, j.bodyA, j.bodyB, placeOf_[i], j.type,
+                                         pose(j.bodyA, dA), pose(j.bodyB, dB)};
+        }
+    }
 }
 
 void JointSolver::buildWide() {
@@ -256,18 +282,29 @@ void JointSolver::buildWide() {
 
 bool JointSolver::sameStructureAsLastStep(const std::vector<JointData>& joints, const std::vector<SolverBody>& bodies,
                                           bool directSolve) {
-    nextStructure_.clear();
-    for (const ActiveJoint& j : active_) {
-        std::uint32_t flags = static_cast<std::uint32_t>(joints[j.slot].def.type) << 4;
-        const auto endFlags = [&](std::uint32_t i, std::uint32_t shift) {
-            const SolverBody& b = bodies[i];
-            if (!(b.invMass > 0)) return;
-            flags |= 1u << shift;
-            if (determinant(b.invI) > 0) flags |= 2u << shift;
-        };
-        endFlags(j.bodyA, 0);
-        endFlags(j.bodyB, 2);
-        nextStructure_.push_back({j.slot, j.bodyA, j.bodyB, flags});
+    // Each joint's key on its own: in ranges across the task system.
+    nextStructure_.resize(active_.size());
+    const auto keys = [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t k = begin; k < end; ++k) {
+            const ActiveJoint& j = active_[k];
+            std::uint32_t flags = static_cast<std::uint32_t>(joints[j.slot].def.type) << 4;
+            const auto endFlags = [&](std::uint32_t i, std::uint32_t shift) {
+                const SolverBody& b = bodies[i];
+                if (!(b.invMass > 0)) return;
+                flags |= 1u << shift;
+                if (determinant(b.invI) > 0) flags |= 2u << shift;
+            };
+            endFlags(j.bodyA, 0);
+            endFlags(j.bodyB, 2);
+            nextStructure_[k] = {j.slot, j.bodyA, j.bodyB, flags};
+        }
+    };
+    const auto count = static_cast<std::uint32_t>(active_.size());
+    if (tasks_ != nullptr && tasks_->workerCount() > 1 && count >= 2 * kJointsPerBuildTask) {
+        tasks_->parallelFor(count, kJointsPerBuildTask,
+                            [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { keys(begin, end); });
+    } else {
+        keys(0, count);
     }
     const bool same = structureValid_ && structureDirect_ == directSolve && structureBodies_ == bodies.size() &&
                       structure_ == nextStructure_;
@@ -331,14 +368,25 @@ void JointSolver::refreshRotations() {
     rotations_.resize(n);
     changedAt_.resize(n);
     ++generation_;
-    for (std::size_t i = 0; i < n; ++i) {
-        const SolverBody& b = all[i];
-        BodyDeltas& kept = frameDeltas_[i];
-        if (!framesStale_ && sameDeltas(b, kept.dp, kept.dtheta)) continue;
-        kept.dp = b.dp;
-        kept.dtheta = b.dtheta;
-        rotations_[i] = deltaRotation(b);
-        changedAt_[i] = generation_;
+    // Body by body, each on its own entries: in ranges across the task
+    // system when there are many (the same bits for any thread count).
+    const auto refresh = [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const SolverBody& b = all[i];
+            BodyDeltas& kept = frameDeltas_[i];
+            if (!framesStale_ && sameDeltas(b, kept.dp, kept.dtheta)) continue;
+            kept.dp = b.dp;
+            kept.dtheta = b.dtheta;
+            rotations_[i] = deltaRotation(b);
+            changedAt_[i] = generation_;
+        }
+    };
+    const auto count = static_cast<std::uint32_t>(n);
+    if (tasks_ != nullptr && tasks_->workerCount() > 1 && count >= 2 * kBodiesPerRotationTask) {
+        tasks_->parallelFor(count, kBodiesPerRotationTask,
+                            [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { refresh(begin, end); });
+    } else {
+        refresh(0, count);
     }
     framesStale_ = false;
     ctx_.rotations = rotations_.data();
@@ -480,7 +528,7 @@ void shiftBody(BodyPose& m, const SolverBody& s, const Vec3& r, const Vec3& P) {
 
 }  // namespace
 
-void JointSolver::projectPositions(BodyStore& w) const {
+void JointSolver::projectPositions(BodyStore& w) {
     const Real slop = projectionSlop_;
     if (!(slop < std::numeric_limits<Real>::infinity())) return;
     // In creation order, not colour order: chains are usually made from their
@@ -501,32 +549,74 @@ void JointSolver::projectPositions(BodyStore& w) const {
     // of them in SIMD lanes then stands for the first pass, which would move
     // nothing (anyBeyondSlop: the same operations per lane as the pass's, so
     // the same decisions and the same bits).
+    const std::uint32_t groups = projectionGroupCount();
+    if (tasks_ != nullptr && tasks_->workerCount() > 1 && groups >= 2 * kProjectionGroupsPerTask) {
+        tasks_->parallelFor(groups, kProjectionGroupsPerTask,
+                            [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { checkProjection(w, begin, end); });
+        projectCheckedPositions(w);
+        return;
+    }
     if (!anyBeyondSlop(w, slop)) return;
+    runProjectionPasses(w);
+}
+
+void JointSolver::runProjectionPasses(BodyStore& w) const {
     for (int pass = 0; pass < JointTuning::kMaxProjectionPasses; ++pass) {
-        if (!projectionPass(w, slop)) break;
+        if (!projectionPass(w, projectionSlop_)) break;
     }
 }
 
-bool JointSolver::anyBeyondSlop(const BodyStore& w, Real slop) const {
+std::uint32_t JointSolver::projectionGroupCount() const {
+    if (!(projectionSlop_ < std::numeric_limits<Real>::infinity())) return 0;  // no projection
+    return static_cast<std::uint32_t>((projection_.size() + 3) / 4);
+}
+
+void JointSolver::checkProjection(const BodyStore& w, std::uint32_t beginGroup, std::uint32_t endGroup) {
+    // Sized on the caller's thread before the ranges run (the stage list is
+    // built after prepare(), the first range may be any thread's): each
+    // range writes only its own groups' bytes.
+    for (std::uint32_t g = beginGroup; g < endGroup; ++g) groupBeyond_[g] = groupBeyondSlop(w, g, projectionSlop_) ? 1 : 0;
+}
+
+void JointSolver::projectCheckedPositions(BodyStore& w) const {
+    // The check ran in groups across the threads (checkProjection): what
+    // anyBeyondSlop would have found, without its serial sweep over every
+    // joint each sub-step (joint_grid: 7 % of the step's instructions, all
+    // of it on one thread; docs/benchmarks.md).
+    const std::uint32_t groups = projectionGroupCount();
+    if (groups == 0) return;
+    const auto* first = groupBeyond_.data();
+    if (std::find(first, first + groups, std::uint8_t{1}) == first + groups) return;
+    runProjectionPasses(w);
+}
+
+bool JointSolver::groupBeyondSlop(const BodyStore& w, std::size_t group, Real slop) const {
 #if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE  // float lanes; the double build checks one by one
-    const std::size_t n = projection_.size();
-    for (std::size_t first = 0; first < n; first += 4) {
-        const std::size_t count = std::min<std::size_t>(4, n - first);
-        for (std::size_t k = 0; k < count; ++k) {
-            if (projection_[first + k].type == JointType::Distance) return true;  // its own rule: the pass decides
-        }
-        float e2[4];
-        squaredSeparations4(w, first, count, e2);
-        for (std::size_t k = 0; k < count; ++k) {
-            if (!(std::sqrt(e2[k]) <= slop)) return true;
-        }
+    const std::size_t first = 4 * group;
+    const std::size_t count = std::min<std::size_t>(4, projection_.size() - first);
+    for (std::size_t k = 0; k < count; ++k) {
+        if (projection_[first + k].type == JointType::Distance) return true;  // its own rule: the pass decides
+    }
+    float e2[4];
+    squaredSeparations4(w, first, count, e2);
+    for (std::size_t k = 0; k < count; ++k) {
+        if (!(std::sqrt(e2[k]) <= slop)) return true;
     }
     return false;
 #else
     (void)w;
+    (void)group;
     (void)slop;
     return true;
 #endif
+}
+
+bool JointSolver::anyBeyondSlop(const BodyStore& w, Real slop) const {
+    const std::size_t groups = (projection_.size() + 3) / 4;
+    for (std::size_t g = 0; g < groups; ++g) {
+        if (groupBeyondSlop(w, g, slop)) return true;
+    }
+    return false;
 }
 
 #if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE
@@ -673,15 +763,35 @@ void JointSolver::store(BodyStore& w, std::vector<JointData>& joints) {
     // pass (nothing is recomputed unless the deltas changed since).
     if (framesStale_ || !refreshedSincePositions_) refreshRotations();
     if (wideActive()) wide_->store(constraints_.data());  // the lanes' impulses back into their joints
-    for (JointConstraint& j : constraints_) {
+    // Each joint's impulses and reaction go to its own record: in ranges
+    // across the task system (joint_grid: ~2.5 M instructions a step, which
+    // ran on one thread); whether it breaks is decided after, in order, so
+    // the events come in the same order for any thread count.
+    overBreakLimit_.resize(constraints_.size());
+    const auto react = [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t k = begin; k < end; ++k) {
+            JointConstraint& j = constraints_[k];
+            JointData& data = joints[j.slot];
+            data.impulses = j.impulse;
+            // A ball joint's reaction reads no frame (jointReaction): not
+            // recomputed for the joints the wide path kept no AoS frame for.
+            if (j.type != JointType::Ball) currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
+            jointReaction(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_.invH, data.reactionForce, data.reactionTorque);
+            const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
+            overBreakLimit_[k] = force <= data.def.breakForce && torque <= data.def.breakTorque ? 0 : 1;
+        }
+    };
+    const auto count = static_cast<std::uint32_t>(constraints_.size());
+    if (tasks_ != nullptr && tasks_->workerCount() > 1 && count >= 2 * kJointsPerStoreTask) {
+        tasks_->parallelFor(count, kJointsPerStoreTask,
+                            [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) { react(begin, end); });
+    } else {
+        react(0, count);
+    }
+    for (std::uint32_t k = 0; k < count; ++k) {
+        if (!overBreakLimit_[k]) continue;
+        const JointConstraint& j = constraints_[k];
         JointData& data = joints[j.slot];
-        data.impulses = j.impulse;
-        // A ball joint's reaction reads no frame (jointReaction): not
-        // recomputed for the joints the wide path kept no AoS frame for.
-        if (j.type != JointType::Ball) currentFrame(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_);
-        jointReaction(j, bodies_[j.bodyA], bodies_[j.bodyB], ctx_.invH, data.reactionForce, data.reactionTorque);
-        const Real force = length(data.reactionForce), torque = length(data.reactionTorque);
-        if (force <= data.def.breakForce && torque <= data.def.breakTorque) continue;
         // Broken: disabled from the next step on, reported once. Its bodies may
         // collide again: the world re-examines their pairs (breakEvents()).
         data.enabled = false;

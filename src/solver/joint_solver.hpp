@@ -85,7 +85,16 @@ public:
     // After the sub-step's position integration: moves the joined bodies so the
     // anchors meet again (one nonlinear Gauss-Seidel pass, no velocity change),
     // in the awake set. The step computes the pose changes (dp, dtheta) after it.
-    void projectPositions(BodyStore& w) const;
+    // Its check runs across the task system of the last prepare().
+    void projectPositions(BodyStore& w);
+    // projectPositions in two stages, for the step's stage list: the check
+    // of every point joint against the slop (read-only) in groups of four,
+    // [beginGroup, endGroup) of projectionGroupCount(), on any threads; then,
+    // once all are checked, the passes (one thread), which run only if a
+    // group found a joint beyond the slop: the same decisions, the same bits.
+    std::uint32_t projectionGroupCount() const;
+    void checkProjection(const BodyStore& w, std::uint32_t beginGroup, std::uint32_t endGroup);
+    void projectCheckedPositions(BodyStore& w) const;
     // Impulses back into the joints, reaction forces, breaking (events; the
     // broken joints' bodies are woken through the store's wake queue).
     void store(BodyStore& w, std::vector<JointData>& joints);
@@ -118,6 +127,11 @@ private:
     // anchor separation, four joints at a time in SIMD lanes (false: all
     // within the slop, the pass would move nothing).
     bool anyBeyondSlop(const BodyStore& w, Real slop) const;
+    // Whether the point joints projection_[4 first, 4 first + 4) hold one beyond the slop.
+    bool groupBeyondSlop(const BodyStore& w, std::size_t group, Real slop) const;
+    void runProjectionPasses(BodyStore& w) const;
+    std::vector<std::uint8_t> groupBeyond_;  // checkProjection's verdict per group of four
+    std::vector<std::uint8_t> overBreakLimit_;  // store(): per constraint, its reaction exceeds a break threshold
     // |pB - pA|^2 of the point joints projection_[first, first + count)
     // (count <= 4) into e2[0 .. count), four lanes at once with the pass's
     // float steps (x86-64 builds; elsewhere the check is not made).
@@ -158,7 +172,11 @@ private:
     // each one's place in colour order (colour()).
     struct ActiveJoint {
         std::uint32_t slot, bodyA, bodyB, denseA, denseB;  // solver bodies (0: static), dense (kNoIndex: the world)
+        std::uint32_t projection;  // its entry in projection_ (kNoIndex: none, a slider or six-DOF)
     };
+    // The constraint records and projection entries of active_[begin, end)
+    // (prepare(), in ranges across the task system).
+    void buildConstraints(BodyStore& w, const std::vector<JointData>& joints, std::uint32_t begin, std::uint32_t end, Real h);
     std::vector<ActiveJoint> active_;
     std::vector<std::uint32_t> placeOf_;
     std::vector<std::uint32_t> colourOf_, colourStart_;

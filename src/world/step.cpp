@@ -137,6 +137,9 @@ private:
 // pool). Was 256: box_pile's ~950 still-awake bodies (steps 160-250) then
 // made 3 ranges, and 2 threads were no faster than one there.
 constexpr std::uint32_t kBodiesPerRange = 64;
+// The joint projection's check (JointSolver::checkProjection): a group of
+// four joints is ~450 instructions, so 16 groups a range.
+constexpr std::uint32_t kProjectionGroupsPerRange = 16;
 
 // FULCRUM_STAGED=0 turns the staged sub-steps off (staged_parallel.hpp).
 std::atomic<bool> gStagedSubSteps{[] {
@@ -199,6 +202,7 @@ enum StageKind : std::uint32_t {
     kJointPass,         // caller stage: the joint solver's pass `arg` (ContactSolver::Pass)
     kContactPass,       // the contact solver's stages (ContactSolver::addPassStages)
     kPositions,         // per body: stage 4 and (arg 1: the step has constraints) the pose change since the step's start
+    kProjectionCheck,   // per group of four joints: whether the projection has anything to do (4b)
     kProjection,        // one unit: the joints' position projection (4b)
     kDeltas,            // per body: the pose change since the step's start (after the projection)
     kVerletPredict,     // per body: stage 5's predictor velocities
@@ -431,6 +435,7 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         // joints after their projection, which moves bodies again.
         subSteps.add(kPositions, hasContacts && !hasJoints ? 1 : 0, 0, bodies, kBodiesPerRange);
         if (hasJoints) {
+            subSteps.add(kProjectionCheck, 0, 0, jointSolver.projectionGroupCount(), kProjectionGroupsPerRange);
             subSteps.add(kProjection, 0, 0, 1, 1);
             subSteps.add(kDeltas, 0, 0, bodies, kBodiesPerRange);
         }
@@ -471,7 +476,8 @@ void WorldImpl::runSubSteps(TaskSystem& tasks, double t0, Real h, double hd) {
                 break;
             case kContactPass: contactSolver.runPassStage(stage.arg, begin, end); break;
             case kPositions: detail::integratePositions(*this, method, h, maxTurn, stage.arg != 0, begin, end); break;
-            case kProjection: jointSolver.projectPositions(*this); break;
+            case kProjectionCheck: jointSolver.checkProjection(*this, begin, end); break;
+            case kProjection: jointSolver.projectCheckedPositions(*this); break;
             case kDeltas: updateDeltas(begin, end); break;
             case kVerletPredict: detail::verletPredict(*this, h, begin, end); break;
             default: detail::verletKick(*this, h, begin, end); break;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -268,4 +269,99 @@ TEST(JointColours, SixDofJointsGiveTheSameBitsOnAnyScheduler) {
     expectSameBitsForAnyScheduler(build, 30, [](const World& world) {
         for (const JointId j : world.joints()) ASSERT_LT(world.jointError(j), Real(0.02)) << "a joint opened";
     });
+}
+
+// A sheet like Box3D's joint_grid (spheres 1 m apart, each tied by ball
+// joints to the one above and the one beside, the top row static), large
+// enough that every per-joint loop of the joint solver runs in ranges: the
+// records' build and the structure keys (prepare), the rotation refresh, the
+// projection's check (a stage of its own), and the reactions of store().
+// The vertical joints of every third column break at 12 spheres' weight, so
+// the upper ones break at once and their columns fall, swinging on the
+// horizontal joints (the projection's passes then run): the same bits and
+// the same break events, in the same order, on every scheduler.
+TEST(JointColours, BreakingSheetGivesTheSameBitsAndEventsOnAnyScheduler) {
+    const int side = 40;
+    const auto build = [&] {
+        World world(everyStepInParallel());
+        std::vector<BodyId> ids(static_cast<std::size_t>(side * side));
+        for (int k = 0; k < side; ++k) {
+            for (int i = 0; i < side; ++i) {
+                BodyDef d;
+                d.type = i == 0 ? BodyType::Static : BodyType::Dynamic;
+                d.shape = Shape::sphere(Real(0.4));
+                d.mass = 1;
+                d.position = {static_cast<Real>(k), -static_cast<Real>(i), 0};
+                d.filter.group = -1;  // nothing collides
+                ids[static_cast<std::size_t>(k * side + i)] = world.createBody(d);
+            }
+        }
+        const auto link = [&](int a, int b, Vec3 anchor, Real breakForce) {
+            JointDef j;
+            j.type = JointType::Ball;
+            j.bodyA = ids[static_cast<std::size_t>(a)];
+            j.bodyB = ids[static_cast<std::size_t>(b)];
+            j.anchor = anchor;
+            j.breakForce = breakForce;
+            world.createJoint(j);
+        };
+        const Real weight12 = 12 * Real(9.81);
+        for (int k = 0; k < side; ++k) {
+            for (int i = 1; i < side; ++i) {
+                const int index = k * side + i;
+                const auto x = static_cast<Real>(k), y = -static_cast<Real>(i);
+                const Real vertical = k % 3 == 1 ? weight12 : std::numeric_limits<Real>::infinity();
+                link(index - 1, index, {x, y + Real(0.5), 0}, vertical);
+                if (k > 0) link(index - side, index, {x - Real(0.5), y, 0}, std::numeric_limits<Real>::infinity());
+            }
+        }
+        return world;
+    };
+    test::ReverseScheduler reverse;
+    struct Config {
+        const char* name;
+        int threads;
+        TaskSystem* user;
+    };
+    const Config configs[] = {{"threads=1", 1, nullptr},
+                              {"pool threads=2", 2, nullptr},
+                              {"pool threads=3", 3, nullptr},
+                              {"user ReverseScheduler", 1, &reverse}};
+    const int steps = 30;
+    std::vector<std::uint64_t> reference;
+    std::vector<std::uint32_t> referenceEvents;  // (step, joint) pairs, flattened
+    for (const Config& config : configs) {
+        World world = build();
+        world.setThreadCount(config.threads);
+        world.setTaskSystem(config.user);
+        std::vector<std::uint32_t> events;
+        for (int s = 0; s < steps; ++s) {
+            world.step(Real(1) / 60);
+            for (const JointBreakEvent& e : world.jointBreakEvents()) {
+                events.push_back(static_cast<std::uint32_t>(s));
+                events.push_back(e.joint.index);
+            }
+            const std::uint64_t hash = test::stateHash(world);
+            if (reference.size() < static_cast<std::size_t>(steps)) {
+                reference.push_back(hash);
+                continue;
+            }
+            ASSERT_EQ(hash, reference[static_cast<std::size_t>(s)]) << config.name << ": state differs at step " << s + 1;
+        }
+        if (referenceEvents.empty()) {
+            referenceEvents = events;
+        } else {
+            EXPECT_EQ(events, referenceEvents) << config.name << ": other break events";
+        }
+        // Physics check: joints broke, but only vertical ones of the weak
+        // columns loaded beyond 12 spheres' weight (the upper rows): each
+        // breaking column keeps its lower part, so fewer than side - 12 of
+        // its joints break, and at least its top one does.
+        const std::size_t broken = events.size() / 2;
+        const std::size_t weakColumns = side / 3;
+        EXPECT_GE(broken, weakColumns);
+        EXPECT_LE(broken, weakColumns * static_cast<std::size_t>(side - 12));
+        for (const BodyId id : world.bodies()) ASSERT_TRUE(std::isfinite(world.position(id).y));
+    }
+    EXPECT_GT(reverse.calls, 0u);
 }

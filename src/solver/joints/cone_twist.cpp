@@ -57,14 +57,7 @@ void solveDrive(const JointConstraint& j, const ConeTwistDrive& drive, SolverBod
     const Vec3 cdot = b.w - a.w;
     Vec3 d;
     if (std::isinf(drive.stiffness)) {
-        Vec3 bias;
-        Real massScale = 1, impulseScale = 0;
-        if (ctx.useBias) {
-            bias = C * ctx.soft.biasRate;
-            massScale = ctx.soft.massScale;
-            impulseScale = ctx.soft.impulseScale;
-        }
-        d = -(j.frictionMass * (cdot + bias)) * massScale - lambda * impulseScale;
+        d = softBlockImpulse(j.frictionMass, cdot, C, lambda, ctx);  // rigid: the point block's soft step
     } else {
         Real bias = 0, gamma = 0;
         springCoefficients(drive.stiffness, drive.damping, ctx.h, bias, gamma);

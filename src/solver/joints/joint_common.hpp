@@ -229,13 +229,11 @@ inline void applyPoint(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3&
     b.w += b.invI * cross(rB, P);
 }
 
-// Point-to-point: pB - pA = C -> 0 (3 rows as one block). `invK` is the
-// block's effective mass, computed once per sub-step (cachePointMass): the
-// anchors turn little within a sub-step, and recomputing the 3x3 inverse in
-// every pass cost the ball-joint grid a third of its time.
-inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& C, Vec3& lambda,
-                            const JointContext& ctx, const Mat3& invK) {
-    const Vec3 cdot = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
+// The impulse of a soft 3-row block with effective mass `invK`, velocity
+// error `cdot` and position error C (biased pass) on top of the accumulated
+// `lambda`: rigid in the relax pass, soft in the biased one. One place for
+// the point block, the angular lock and the cone-twist's rigid drive.
+inline Vec3 softBlockImpulse(const Mat3& invK, const Vec3& cdot, const Vec3& C, const Vec3& lambda, const JointContext& ctx) {
     Vec3 bias;
     Real massScale = 1, impulseScale = 0;
     if (ctx.useBias) {
@@ -243,7 +241,17 @@ inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const 
         massScale = ctx.soft.massScale;
         impulseScale = ctx.soft.impulseScale;
     }
-    const Vec3 d = -(invK * (cdot + bias)) * massScale - lambda * impulseScale;
+    return -(invK * (cdot + bias)) * massScale - lambda * impulseScale;
+}
+
+// Point-to-point: pB - pA = C -> 0 (3 rows as one block). `invK` is the
+// block's effective mass, computed once per sub-step (cachePointMass): the
+// anchors turn little within a sub-step, and recomputing the 3x3 inverse in
+// every pass cost the ball-joint grid a third of its time.
+inline void solvePointBlock(SolverBody& a, SolverBody& b, const Vec3& rA, const Vec3& rB, const Vec3& C, Vec3& lambda,
+                            const JointContext& ctx, const Mat3& invK) {
+    const Vec3 cdot = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
+    const Vec3 d = softBlockImpulse(invK, cdot, C, lambda, ctx);
     lambda += d;
     applyPoint(a, b, rA, rB, d);
 }
@@ -259,15 +267,7 @@ inline void solveAngularBlock(SolverBody& a, SolverBody& b, const Vec3& C, Vec3&
     const Mat3 K = a.invI + b.invI;
     const Real det = determinant(K);
     if (!(det > 0)) return;
-    const Vec3 cdot = b.w - a.w;
-    Vec3 bias;
-    Real massScale = 1, impulseScale = 0;
-    if (ctx.useBias) {
-        bias = C * ctx.soft.biasRate;
-        massScale = ctx.soft.massScale;
-        impulseScale = ctx.soft.impulseScale;
-    }
-    const Vec3 d = -(inverse(K) * (cdot + bias)) * massScale - lambda * impulseScale;
+    const Vec3 d = softBlockImpulse(inverse(K), b.w - a.w, C, lambda, ctx);
     lambda += d;
     a.w -= a.invI * d;
     b.w += b.invI * d;
