@@ -9,7 +9,7 @@
 //   exact without ever building the cut solid: the vertices of (solid ∩ B)
 //   are the mesh triangles clipped to B (which include mesh vertices in B,
 //   mesh edges crossing B's faces and B's edges crossing triangles) and B's
-//   corners inside the solid (generalised winding number).
+//   corners inside the solid (oriented crossings of a vertical ray).
 // - How much solid a piece holds is estimated from a grid of vertical
 //   columns: each column's inside intervals along y, found once by crossing
 //   every triangle, are exact; across x and z the column stands for its cell.
@@ -21,10 +21,10 @@
 //   maxConcavity x the mesh volume, no cut helps, or maxHulls is reached.
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
+#include "collision/mesh_bvh.hpp"
 #include "fulcrum/shape.hpp"
 
 namespace fulcrum {
@@ -36,6 +36,30 @@ using Triangle = std::array<std::uint32_t, 3>;
 struct Box {
     Vec3 min, max;
 };
+
+// Where the vertical line through (x, z) crosses triangle a, b, c: the
+// height, and +1 entering the solid going up (the front faces down), -1
+// leaving, 0 for a miss. A point on an edge belongs to one side only (a
+// half-open rule on the edge's direction), so a line through an edge shared
+// by two triangles crosses the surface once; a vertical triangle is grazed.
+struct Crossing {
+    double y = 0;
+    int sign = 0;
+};
+Crossing verticalCrossing(const Vec3& pa, const Vec3& pb, const Vec3& pc, double px, double pz) {
+    double ax = pa.x, az = pa.z, bx = pb.x, bz = pb.z, cx = pc.x, cz = pc.z;
+    const double area2 = (bx - ax) * (cz - az) - (bz - az) * (cx - ax);  // > 0: the normal's y < 0
+    if (area2 == 0) return {};
+    double ay = pa.y, by = pb.y, cy = pc.y;
+    if (area2 < 0) std::swap(bx, cx), std::swap(bz, cz), std::swap(by, cy);
+    const auto includes = [](double e, double dx, double dz) { return e > 0 || (e == 0 && (dz > 0 || (dz == 0 && dx > 0))); };
+    // Edge functions of the counter-clockwise (in x-z) triangle a, b, c: the barycentric weights times the area.
+    const double ea = (cx - bx) * (pz - bz) - (cz - bz) * (px - bx);
+    const double eb = (ax - cx) * (pz - cz) - (az - cz) * (px - cx);
+    const double ec = (bx - ax) * (pz - az) - (bz - az) * (px - ax);
+    if (!includes(ea, cx - bx, cz - bz) || !includes(eb, ax - cx, az - cz) || !includes(ec, bx - ax, bz - az)) return {};
+    return {(ea * ay + eb * by + ec * cy) / std::fabs(area2), area2 > 0 ? 1 : -1};
+}
 
 // The inside intervals of the vertical lines through the grid's cell centres.
 class Columns {
@@ -93,34 +117,18 @@ public:
 private:
     static double overlap(double a0, double a1, double b0, double b1) { return std::max(0.0, std::min(a1, b1) - std::max(a0, b0)); }
 
-    // Adds the triangle's crossing of every column line it covers: entering
-    // (+1, the normal points down) or leaving (-1). Points on an edge belong
-    // to one side only (a half-open rule on the edge's direction), so a line
-    // through an edge shared by two triangles crosses the surface once.
+    // Adds the triangle's crossing of every column line it covers.
     void cross(const Vec3& pa, const Vec3& pb, const Vec3& pc, std::vector<std::vector<std::pair<double, int>>>& out) const {
-        double ax = pa.x, az = pa.z, bx = pb.x, bz = pb.z, cxp = pc.x, czp = pc.z;
-        const double area2 = (bx - ax) * (czp - az) - (bz - az) * (cxp - ax);
-        if (area2 == 0) return;  // vertical: the lines graze it
-        const int sign = area2 > 0 ? 1 : -1;  // area2 > 0: normal.y < 0, a line going up enters here
-        double ay = pa.y, by = pb.y, cy = pc.y;
-        if (area2 < 0) std::swap(bx, cxp), std::swap(bz, czp), std::swap(by, cy);
-        const double area = std::fabs(area2);
-        const auto includes = [](double e, double dx, double dz) { return e > 0 || (e == 0 && (dz > 0 || (dz == 0 && dx > 0))); };
-        const int i0 = std::max(0, static_cast<int>(std::floor((std::min({ax, bx, cxp}) - x0_) / cx_ - 0.5)));
-        const int i1 = std::min(nx_ - 1, static_cast<int>(std::ceil((std::max({ax, bx, cxp}) - x0_) / cx_ - 0.5)));
-        const int k0 = std::max(0, static_cast<int>(std::floor((std::min({az, bz, czp}) - z0_) / cz_ - 0.5)));
-        const int k1 = std::min(nz_ - 1, static_cast<int>(std::ceil((std::max({az, bz, czp}) - z0_) / cz_ - 0.5)));
+        const double lox = std::min({pa.x, pb.x, pc.x}), hix = std::max({pa.x, pb.x, pc.x});
+        const double loz = std::min({pa.z, pb.z, pc.z}), hiz = std::max({pa.z, pb.z, pc.z});
+        const int i0 = std::max(0, static_cast<int>(std::floor((lox - x0_) / cx_ - 0.5)));
+        const int i1 = std::min(nx_ - 1, static_cast<int>(std::ceil((hix - x0_) / cx_ - 0.5)));
+        const int k0 = std::max(0, static_cast<int>(std::floor((loz - z0_) / cz_ - 0.5)));
+        const int k1 = std::min(nz_ - 1, static_cast<int>(std::ceil((hiz - z0_) / cz_ - 0.5)));
         for (int i = i0; i <= i1; ++i) {
-            const double px = x0_ + (i + 0.5) * cx_;
             for (int k = k0; k <= k1; ++k) {
-                const double pz = z0_ + (k + 0.5) * cz_;
-                // Edge functions of the counter-clockwise (in x-z) triangle a, b, c.
-                const double ea = (cxp - bx) * (pz - bz) - (czp - bz) * (px - bx);  // edge b -> c, weight of a
-                const double eb = (ax - cxp) * (pz - czp) - (az - czp) * (px - cxp);  // edge c -> a, weight of b
-                const double ec = (bx - ax) * (pz - az) - (bz - az) * (px - ax);  // edge a -> b, weight of c
-                if (!includes(ea, cxp - bx, czp - bz) || !includes(eb, ax - cxp, az - czp) || !includes(ec, bx - ax, bz - az)) continue;
-                const double y = (ea * ay + eb * by + ec * cy) / area;
-                out[std::size_t(i) * nz_ + k].push_back({y, sign});
+                const Crossing c = verticalCrossing(pa, pb, pc, x0_ + (i + 0.5) * cx_, z0_ + (k + 0.5) * cz_);
+                if (c.sign != 0) out[std::size_t(i) * nz_ + k].push_back({c.y, c.sign});
             }
         }
     }
@@ -131,22 +139,17 @@ private:
     std::vector<std::size_t> offsets_;
 };
 
-// Generalised winding number of a closed mesh at p (1 inside, 0 outside):
-// the solid angles of the triangles seen from p (Van Oosterom & Strackee 1983) over 4 pi.
-double windingNumber(std::span<const Vec3> v, std::span<const Triangle> tris, const Vec3& p) {
-    double total = 0;
-    for (const Triangle& t : tris) {
-        const double ax = v[t[0]].x - p.x, ay = v[t[0]].y - p.y, az = v[t[0]].z - p.z;
-        const double bx = v[t[1]].x - p.x, by = v[t[1]].y - p.y, bz = v[t[1]].z - p.z;
-        const double cx = v[t[2]].x - p.x, cy = v[t[2]].y - p.y, cz = v[t[2]].z - p.z;
-        const double la = std::sqrt(ax * ax + ay * ay + az * az), lb = std::sqrt(bx * bx + by * by + bz * bz),
-                     lc = std::sqrt(cx * cx + cy * cy + cz * cz);
-        const double det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-        const double den = la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la +
-                           (cx * ax + cy * ay + cz * az) * lb;
-        total += 2 * std::atan2(det, den);
-    }
-    return total / (4 * std::numbers::pi);
+// Whether p is inside the closed mesh: the crossings of the vertical ray up
+// from p, with their orientation (leaving minus entering), found through the BVH.
+bool insideSolid(const TriangleMesh& mesh, const Vec3& p) {
+    int winding = 0;
+    const AABB ray{p, {p.x, mesh.bounds.max.y, p.z}};
+    queryTriangles(mesh, ray, [&](std::uint32_t t) {
+        const auto& tri = mesh.triangles[t];
+        const Crossing c = verticalCrossing(mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]], p.x, p.z);
+        if (c.sign != 0 && c.y > p.y) winding -= c.sign;
+    });
+    return winding > 0;
 }
 
 // The vertices of the piece: the closure of (interior of the solid ∩
@@ -155,18 +158,19 @@ double windingNumber(std::span<const Vec3> v, std::span<const Triangle> tris, co
 // common: it belongs to the piece only if the solid is inside b behind it,
 // and a triangle that only touches b (along an edge or at a vertex) adds
 // nothing, as a corner of b on the surface adds nothing.
-std::vector<Vec3> pieceVertices(std::span<const Vec3> v, std::span<const Triangle> tris, const Box& b) {
+std::vector<Vec3> pieceVertices(const TriangleMesh& mesh, const Box& b) {
     std::vector<Vec3> points, poly, next;
-    for (const Triangle& t : tris) {
+    const std::vector<Vec3>& v = mesh.vertices;
+    queryTriangles(mesh, AABB{b.min, b.max}, [&](std::uint32_t index) {
+        const Triangle& t = mesh.triangles[index];
         const Vec3 lo = min(min(v[t[0]], v[t[1]]), v[t[2]]), hi = max(max(v[t[0]], v[t[1]]), v[t[2]]);
-        if (lo.x > b.max.x || lo.y > b.max.y || lo.z > b.max.z || hi.x < b.min.x || hi.y < b.min.y || hi.z < b.min.z) continue;
         const Vec3 normal = cross(v[t[1]] - v[t[0]], v[t[2]] - v[t[0]]);
         bool outside = false;
         for (std::size_t axis = 0; axis < 3; ++axis) {
             if (lo[axis] == hi[axis] && lo[axis] == b.min[axis]) outside = outside || normal[axis] > 0;
             if (lo[axis] == hi[axis] && lo[axis] == b.max[axis]) outside = outside || normal[axis] < 0;
         }
-        if (outside) continue;
+        if (outside) return;
         poly.assign({v[t[0]], v[t[1]], v[t[2]]});
         // Sutherland-Hodgman against the six faces; points on a face stay.
         for (std::size_t axis = 0; axis < 3 && !poly.empty(); ++axis) {
@@ -187,20 +191,19 @@ std::vector<Vec3> pieceVertices(std::span<const Vec3> v, std::span<const Triangl
                 poly.swap(next);
             }
         }
-        if (poly.size() < 3) continue;
+        if (poly.size() < 3) return;
         Vec3 area2;  // Newell: twice the polygon's vector area
         for (std::size_t i = 0; i < poly.size(); ++i) area2 += cross(poly[i], poly[(i + 1) % poly.size()]);
-        if (length(area2) <= Real(1e-6) * length(normal)) continue;  // only touches b
+        if (length(area2) <= Real(1e-6) * length(normal)) return;  // only touches b
         points.insert(points.end(), poly.begin(), poly.end());
-    }
+    });
     // A corner is in the piece when the solid fills b's octant there: tested
-    // a little way inside b, where the winding number is 0 or 1, not the
-    // fraction it takes on the surface.
+    // a little way inside b, off the surface the corner may lie on.
     const Vec3 step = (b.max - b.min) * Real(1e-5);
     for (int k = 0; k < 8; ++k) {
         const Vec3 corner{(k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z};
         const Vec3 inward{(k & 1) ? -step.x : step.x, (k & 2) ? -step.y : step.y, (k & 4) ? -step.z : step.z};
-        if (windingNumber(v, tris, corner + inward) > 0.5) points.push_back(corner);
+        if (insideSolid(mesh, corner + inward)) points.push_back(corner);
     }
     const auto less = [](const Vec3& a, const Vec3& c) { return a.x != c.x ? a.x < c.x : (a.y != c.y ? a.y < c.y : a.z < c.z); };
     std::sort(points.begin(), points.end(), less);
@@ -219,14 +222,14 @@ struct Piece {
 
 class Decomposer {
 public:
-    Decomposer(std::span<const Vec3> v, std::span<const Triangle> t, const Columns& columns, double volume, double solidScale)
-        : v_(v), t_(t), columns_(columns), volume_(volume), solidScale_(solidScale) {}
+    Decomposer(const TriangleMesh& mesh, const Columns& columns, double volume, double solidScale)
+        : mesh_(mesh), columns_(columns), volume_(volume), solidScale_(solidScale) {}
 
     Piece piece(const Box& b) const {
         Piece p;
         p.box = b;
         p.solidVolume = columns_.volumeIn(b) * solidScale_;
-        const std::vector<Vec3> points = pieceVertices(v_, t_, b);
+        const std::vector<Vec3> points = pieceVertices(mesh_, b);
         if (points.size() >= 4) {
             try {
                 p.hull = Shape::convexHull(points);
@@ -245,8 +248,7 @@ public:
     }
 
 private:
-    std::span<const Vec3> v_;
-    std::span<const Triangle> t_;
+    const TriangleMesh& mesh_;
     const Columns& columns_;
     double volume_;
     double solidScale_;
@@ -305,7 +307,7 @@ Shape Shape::convexDecomposition(std::span<const Vec3> vertices, std::span<const
     const Columns columns(mesh.vertices, mesh.triangles, mesh.bounds, options.resolution);
     const Box whole{mesh.bounds.min, mesh.bounds.max};
     const double estimate = columns.volumeIn(whole);
-    const Decomposer decomposer(mesh.vertices, mesh.triangles, columns, volume, estimate > 0 ? volume / estimate : 1);
+    const Decomposer decomposer(mesh, columns, volume, estimate > 0 ? volume / estimate : 1);
     const double enough = double(options.maxConcavity) * volume;
 
     std::vector<Piece> pieces{decomposer.piece(whole)};
