@@ -77,6 +77,12 @@ struct ShapeDesc {
     std::vector<std::uint32_t> holes;                 // heightfield: cell indices without collision
     struct Child;
     std::vector<Child> children;                      // compound
+    // Scaled shapes (docs/shapes.md): "scale" on any shape, applied by
+    // buildShape with Shape::scaled; kept apart so a saved file keeps it.
+    Vec3 scale{1, 1, 1};
+    // Convex decomposition: "decompose": true on a mesh builds it as
+    // Shape::convexDecomposition (a compound of hulls a dynamic body may have).
+    bool decompose = false;
     bool operator==(const ShapeDesc&) const;
 };
 struct ShapeDesc::Child {

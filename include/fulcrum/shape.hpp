@@ -121,6 +121,20 @@ inline constexpr std::uint32_t kMaxHeightFieldSamples = 4097;
 
 struct CompoundChild;
 
+// Convex decomposition (docs/shapes.md, "Convex decomposition";
+// src/collision/convex_decomposition.cpp): how finely Shape::convexDecomposition
+// cuts a closed mesh into convex hulls.
+struct ConvexDecompositionOptions {
+    // At most this many hulls (1 .. 1024).
+    int maxHulls = 32;
+    // A piece is kept whole once its hull exceeds the solid inside it by at
+    // most this fraction of the whole mesh's volume (0 .. 1).
+    Real maxConcavity = Real(0.01);
+    // Columns along the mesh's longer horizontal (x or z) side of the grid
+    // that estimates how much solid lies in a piece (4 .. 512).
+    int resolution = 64;
+};
+
 struct SnapshotAccess;  // src/world/snapshot.cpp: saves and restores private state
 
 class Shape {
@@ -146,6 +160,27 @@ public:
     // Several shapes rigidly joined; at least one child, no planes or meshes inside a dynamic compound;
     // compounds inside compounds at most kMaxCompoundLevels deep.
     static Shape compound(std::span<const CompoundChild> children);
+
+    // Scaled shapes (docs/shapes.md, "Scaled shapes"; src/collision/shape_scale.cpp):
+    // a new shape whose geometry is `shape`'s scaled by diag(scale) about the
+    // shape's origin, baked into the result (a scaled box is a box, a scaled
+    // hull a hull of the scaled points), so collision and mass properties are
+    // exact and cost nothing at run time. A negative component mirrors. Each
+    // component must be finite and nonzero. Spheres need a uniform |scale|,
+    // capsules too, cylinders |sx| == |sz|; a compound child rotated against
+    // a non-uniform scale becomes a convex hull (boxes, hulls), a mesh
+    // (meshes), or is an error (spheres, capsules, cylinders, heightfields).
+    static Shape scaled(const Shape& shape, const Vec3& scale);
+    static Shape scaled(const Shape& shape, Real scale) { return scaled(shape, Vec3::splat(scale)); }
+
+    // Convex decomposition: a compound of convex hulls (in the mesh's frame,
+    // children at the identity) approximating the solid a closed,
+    // consistently wound (counter-clockwise seen from outside) triangle mesh
+    // bounds, for dynamic concave bodies, which a mesh cannot be. Recursive
+    // axis-aligned cuts chosen to reduce concavity; deterministic.
+    static Shape convexDecomposition(std::span<const Vec3> vertices,
+                                     std::span<const std::array<std::uint32_t, 3>> triangles,
+                                     const ConvexDecompositionOptions& options = {});
 
     Shape();  // a unit sphere, so a default-constructed BodyDef is valid
 

@@ -139,7 +139,19 @@ void bindShapes(py::module_& m) {
                 return py::make_tuple(fromVec3(b.min), fromVec3(b.max));
             },
             "(min, max) corners of the bounds in the shape's frame.")
-        .def("__repr__", [](const Shape& s) { return "fulcrum." + describe(s); });
+        .def("__repr__", [](const Shape& s) { return "fulcrum." + describe(s); })
+        // Scaled shapes (docs/shapes.md): a new shape of the kind the scale leaves.
+        .def(
+            "scaled",
+            [](const Shape& s, py::object scale) {
+                const Vec3 v = py::isinstance<py::float_>(scale) || py::isinstance<py::int_>(scale)
+                                   ? Vec3::splat(scale.cast<Real>())
+                                   : toVec3(scale, "scale");
+                return shapeToPython(Shape::scaled(s, v));
+            },
+            py::arg("scale"),
+            "This shape scaled about its origin by a number or (sx, sy, sz) (negative mirrors), baked into a new shape: "
+            "a box stays a box, a hull a hull; spheres and capsules need a uniform scale, cylinders sx == sz.");
 
     py::class_<SphereShape, Shape>(m, "Sphere", "A sphere of a radius (m), centred on the body origin.")
         .def(py::init([](Real radius) { return as<SphereShape>(Shape::sphere(radius)); }), py::arg("radius"))
@@ -271,6 +283,20 @@ void bindShapes(py::module_& m) {
                  return as<CompoundShape>(Shape::compound(list));
              }),
              py::arg("children"))
+        // Convex decomposition (docs/shapes.md): a closed mesh as a compound of hulls.
+        .def_static(
+            "from_mesh",
+            [](py::object vertices, py::object triangles, int maxHulls, Real maxConcavity, int resolution) {
+                const std::vector<Vec3> v = toVec3List(vertices, "vertices");
+                const auto t = toTriangles(triangles);
+                ConvexDecompositionOptions o;
+                o.maxHulls = maxHulls, o.maxConcavity = maxConcavity, o.resolution = resolution;
+                return as<CompoundShape>(Shape::convexDecomposition(v, t, o));
+            },
+            py::arg("vertices"), py::arg("triangles"), py::arg("max_hulls") = 32, py::arg("max_concavity") = 0.01,
+            py::arg("resolution") = 64,
+            "A compound of convex hulls approximating the solid a closed triangle mesh bounds (counter-clockwise "
+            "seen from outside), for a concave dynamic body: Shape::convexDecomposition, docs/shapes.md.")
         .def_property_readonly("children", [](const Shape& s) {
             py::list out;
             for (const CompoundChild& c : s.children())

@@ -49,6 +49,7 @@ SceneError::SceneError(std::string file, std::string path, int line, int column,
 
 bool ShapeDesc::operator==(const ShapeDesc& o) const {
     if (type != o.type) return false;
+    if (scale != o.scale || decompose != o.decompose) return false;
     switch (type) {
         case ShapeType::Sphere: return radius == o.radius;
         case ShapeType::Box: return halfExtents == o.halfExtents;

@@ -107,6 +107,7 @@ std::string jointTypeList() { return "ball, hinge, slider, distance, fixed, cone
 std::string integratorList() { return "semi_implicit_euler, explicit_euler, verlet"; }
 
 bool isStaticOnly(const ShapeDesc& shape) {
+    if (shape.type == ShapeType::Mesh && shape.decompose) return false;  // a compound of hulls
     if (shape.type == ShapeType::Plane || shape.type == ShapeType::Mesh || shape.type == ShapeType::HeightField) return true;
     return std::any_of(shape.children.begin(), shape.children.end(), [](const ShapeDesc::Child& c) { return isStaticOnly(c.shape); });
 }
@@ -118,6 +119,11 @@ bool containsHullOrMesh(const ShapeDesc& shape) {
 }
 
 Shape buildPrimitiveShape(const ShapeDesc& s) {
+    if (s.scale != Vec3{1, 1, 1}) {  // scaled shapes: build the shape as given, then scale it
+        ShapeDesc unscaled = s;
+        unscaled.scale = {1, 1, 1};
+        return Shape::scaled(buildPrimitiveShape(unscaled), s.scale);
+    }
     switch (s.type) {
         case ShapeType::Sphere: return Shape::sphere(s.radius);
         case ShapeType::Box: return Shape::box(s.halfExtents);

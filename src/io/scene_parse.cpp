@@ -180,6 +180,15 @@ private:
         if (!v.is_array() || v.size() != 3) fail(path, "expected an array of 3 numbers [x, y, z], got " + describe(v));
         return {number(v[0], childPath(path, 0)), number(v[1], childPath(path, 1)), number(v[2], childPath(path, 2))};
     }
+    // A shape's "scale": one number (uniform) or [sx, sy, sz]; each finite and
+    // nonzero (negative mirrors); Shape::scaled judges the rest per shape.
+    Vec3 shapeScale(const json& v, const std::string& path) const {
+        const Vec3 s = v.is_number() ? Vec3::splat(number(v, path)) : vec3(v, path);
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (s[i] == 0) fail(v.is_number() ? path : childPath(path, i), "scale must not be zero (negative mirrors)");
+        }
+        return s;
+    }
     Vec3 nonZeroVec3(const json& v, const std::string& path, std::string_view field) const {
         const Vec3 r = vec3(v, path);
         if (!(length(r) > Real(1e-6))) fail(path, std::string(field) + " must not be the zero vector");
@@ -320,8 +329,20 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     });
 }
 
-ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) const {
-    requireObject(j, path);
+ShapeDesc Parser::parseShape(const json& given, const std::string& path, int depth) const {
+    requireObject(given, path);
+    // Scaled shapes (docs/shapes.md): "scale" belongs to every type, so it is
+    // read here and each type below checks only the keys of its own; so is a
+    // mesh's "decompose" (convex decomposition).
+    const json* scaleJson = member(given, "scale");
+    const json* decomposeJson = member(given, "decompose");
+    json unscaled;
+    if (scaleJson || decomposeJson) {
+        unscaled = given;
+        unscaled.erase("scale");
+        unscaled.erase("decompose");
+    }
+    const json& j = scaleJson || decomposeJson ? unscaled : given;
     const std::string typePath = childPath(path, "type");
     const std::string typeName = string(required(j, path, "type"), typePath);
     ShapeDesc s;
@@ -443,6 +464,12 @@ ShapeDesc Parser::parseShape(const json& j, const std::string& path, int depth) 
             break;
         }
     }
+    if (scaleJson) s.scale = shapeScale(*scaleJson, childPath(path, "scale"));
+    if (decomposeJson) {
+        const std::string p = childPath(path, "decompose");
+        s.decompose = boolean(*decomposeJson, p);
+        if (s.type != ShapeType::Mesh) fail(p, "only a mesh can be decomposed into convex hulls, this is a " + typeName);
+    }
     // The engine's own rules, as the last word (hulls and meshes are built,
     // and checked geometrically, by buildWorld).
     if (s.type != ShapeType::ConvexHull && s.type != ShapeType::Mesh && !detail::containsHullOrMesh(s)) {
@@ -479,7 +506,11 @@ void Parser::parseBody(const json& j, const std::string& path, SceneBody& body) 
     if (d.type != BodyType::Static && detail::isStaticOnly(body.shape)) {
         fail(childPath(shapePath, "type"), std::string("a ") + toString(body.shape.type) +
                                                 " shape can only belong to a static body, but this body is " +
-                                                toString(d.type));
+                                                toString(d.type) +
+                                                (body.shape.type == ShapeType::Mesh
+                                                     ? " (a closed mesh can be a dynamic body's shape as convex hulls: add "
+                                                       "\"decompose\": true)"
+                                                     : ""));
     }
 
     const json* mass = member(j, "mass");

@@ -30,9 +30,16 @@ Vec3 carryVector(const Transform& creation, const Transform& now, const Vec3& v)
 }  // namespace
 
 Shape buildShape(const ShapeDesc& s) {
+    if (s.scale != Vec3{1, 1, 1}) {  // scaled shapes: build the shape as given, then scale it
+        ShapeDesc unscaled = s;
+        unscaled.scale = {1, 1, 1};
+        return Shape::scaled(buildShape(unscaled), s.scale);
+    }
     switch (s.type) {
         case ShapeType::ConvexHull: return Shape::convexHull(s.points);
-        case ShapeType::Mesh: return Shape::mesh(s.vertices, s.triangles);
+        case ShapeType::Mesh:
+            if (s.decompose) return Shape::convexDecomposition(s.vertices, s.triangles);
+            return Shape::mesh(s.vertices, s.triangles);
         case ShapeType::HeightField: return Shape::heightField(s.rows, s.columns, s.spacingX, s.spacingZ, s.heights, s.holes);
         case ShapeType::Compound: {
             if (!detail::containsHullOrMesh(s)) return detail::buildPrimitiveShape(s);

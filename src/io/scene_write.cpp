@@ -76,6 +76,11 @@ ojson shapeJson(const ShapeDesc& s) {
             break;
         }
     }
+    if (s.decompose) j["decompose"] = true;
+    // Scaled shapes: a uniform scale as one number, as it is usually written.
+    if (s.scale != Vec3{1, 1, 1}) {
+        j["scale"] = s.scale.x == s.scale.y && s.scale.y == s.scale.z ? ojson(num(s.scale.x)) : vec(s.scale);
+    }
     return j;
 }
 

@@ -134,7 +134,11 @@ BodyId World::createBody(const BodyDef& def) {
     }
     if (def.type != BodyType::Static && def.shape.staticOnly()) {
         fail(who, "shape", std::string("is a ") + toString(def.shape.type()) +
-                               " (or holds one), which only static bodies may have; this body is " + toString(def.type));
+                               " (or holds one), which only static bodies may have; this body is " + toString(def.type) +
+                               (def.shape.type() == ShapeType::Mesh
+                                    ? " (for a concave dynamic body, make a closed mesh a compound of convex hulls with "
+                                      "Shape::convexDecomposition; Python: fulcrum.Compound.from_mesh)"
+                                    : ""));
     }
     requireFinite(who, "position", def.position);
     const Quat q = detail::requireOrientation(who, "orientation", def.orientation);
