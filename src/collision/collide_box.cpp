@@ -19,6 +19,7 @@
 // tolerance. Without that bias, two boxes resting face to face flip between
 // reference faces from one frame to the next as float noise changes which
 // separation is larger, and the contact points and feature ids flicker.
+#include <algorithm>
 #include <cmath>
 
 #include "collision/collide_pairs.hpp"
@@ -63,7 +64,13 @@ struct Touch {
     std::uint32_t id = 0;
 };
 
-Touch firstTouchAlong(const ConvexShape& a, const ConvexShape& b, const Mat3& ra, const Mat3& rb, const Vec3& n) {
+//
+// The caller only needs the touch when it comes before `enough`: the search
+// stops at the first axis that reaches it (then no points are made). The six
+// face axes go first, since they need no square root and in the common case
+// (B's face meeting A's edge) one of them is the answer.
+Touch firstTouchAlong(const ConvexShape& a, const ConvexShape& b, const Mat3& ra, const Mat3& rb, const Vec3& n,
+                      Real enough) {
     constexpr Real kMinCosine = Real(0.01);
     const Vec3 ea = a.halfExtents, eb = b.halfExtents, d = b.xf.p - a.xf.p;
     const auto projection = [](const Mat3& r, const Vec3& e, const Vec3& u) {
@@ -95,6 +102,7 @@ Touch firstTouchAlong(const ConvexShape& a, const ConvexShape& b, const Mat3& ra
             best.distance = t;
             bestAxis = k;
             bestU = u;
+            if (t >= enough) return best;
         }
     }
     // The touching features: a face of one box against the other's
@@ -208,11 +216,14 @@ bool collideBoxBox(const ConvexShape& a, const ConvexShape& b, Real margin, Mani
     // The clipped points' nearest is never nearer than the face axis's
     // separation (each is a real path along n onto the reference face); when
     // it lies farther, the nearest part of B was clipped away and the bodies
-    // may touch before any of the points reaches the face.
+    // may touch before any of the points reaches the face. Only a positive
+    // gap is a promise to the solver (a speculative contact); pairs whose
+    // clipped points overlap, as in a resting pile, skip the measurement.
     constexpr Real kTouchTolerance = Real(1e-4);  // metres
-    if (m.pointCount > 0 && -m.maxDepth() > faceSep + kTouchTolerance) {
-        const Touch touch = firstTouchAlong(a, b, ra, rb, n);
-        if (-m.maxDepth() > touch.distance + kTouchTolerance) {
+    const Real clippedGap = -m.maxDepth();
+    if (m.pointCount > 0 && clippedGap > std::max(faceSep, Real(0)) + kTouchTolerance) {
+        const Touch touch = firstTouchAlong(a, b, ra, rb, n, clippedGap - kTouchTolerance);
+        if (clippedGap > touch.distance + kTouchTolerance) {
             // Into a free slot, else in place of the point with the largest
             // gap (the one that constrains the bodies least).
             std::uint32_t slot = m.pointCount;
