@@ -64,7 +64,6 @@ struct Touch {
     std::uint32_t id = 0;
 };
 
-//
 // The caller only needs the touch when it comes before `enough`: the search
 // stops at the first axis that reaches it (then no points are made). The six
 // face axes go first, since they need no square root and in the common case
@@ -104,6 +103,12 @@ Touch firstTouchAlong(const ConvexShape& a, const ConvexShape& b, const Mat3& ra
             bestU = u;
             if (t >= enough) return best;
         }
+    }
+    // n is itself one of the axes (a face normal), so one always counts;
+    // should rounding say otherwise, the clipped points stand.
+    if (bestAxis < 0) {
+        best.distance = enough;
+        return best;
     }
     // The touching features: a face of one box against the other's
     // supporting vertex, or A's supporting edge along u against B's along -u.
