@@ -513,3 +513,29 @@ TEST(FuzzFindings, BoxFaceGapNeverExceedsACylinderRimsDistance) {
         EXPECT_GE(-out[0].maxDepth(), faceSeparation - 1e-5) << (swapped ? "(disk, box)" : "(box, disk)");
     }
 }
+
+// fuzz/corpus/narrowphase/box_box_orders_take_their_own_faces (the run that
+// checked the fixes above, seed 2): two boxes 0.238 m apart. collide(a, b)
+// takes a face of A as the normal and collide(b, a) one of B, 23 degrees
+// apart, with gaps of 0.2565 m and 0.2453 m: the target wanted one gap for
+// both orders, but each is exactly the travel along its own normal.
+TEST(FuzzFindings, BoxPairOrdersApartEachGiveTheTravelAlongTheirNormal) {
+    const Shape a = Shape::box({Real(0x1.48c3a6p+0), Real(0x1.48c3a6p+0), Real(0x1.48c3a6p+0)});
+    const Shape b = Shape::box({Real(0x1.48c3a6p+0), Real(0x1.483c54p+0), Real(0x1.c977dep-1)});
+    const Transform xa{{Real(-0x1.941414p+2), Real(-0x1.1c139cp+2), Real(-0x1.941414p+2)},
+                       quat(-0x1.f4f034p-2, -0x1.f521cap-2, -0x1.df8bb6p-3, -0x1.5da5a8p-1)};
+    const Transform xb{{Real(-0x1.d2d2d4p+1), Real(-0x1.d2d2d4p+1), Real(-0x1.d2d2d4p+1)},
+                       quat(0x1.2114f6p-2, 0x1.2114f6p-2, -0x1.b89a26p-1, -0x1.43e934p-2)};
+    const Real margin = Real(0x1.535354p-2);
+    ManifoldBuffer ab, ba;
+    collide(a, xa, b, xb, margin, ab);
+    collide(b, xb, a, xa, margin, ba);
+    ASSERT_EQ(ab.size(), 1u);
+    ASSERT_EQ(ba.size(), 1u);
+    EXPECT_NEAR(exactSeparation(a, xa, b, xb), 0.2378, 1e-4);
+    EXPECT_NEAR(-ab[0].maxDepth(), boxTravelAlong(a, xa, b, xb, ab[0].normal), 1e-4);
+    EXPECT_NEAR(-ba[0].maxDepth(), boxTravelAlong(b, xb, a, xa, ba[0].normal), 1e-4);
+    const Real alignment = dot(ab[0].normal, ba[0].normal);  // -1: mirrored
+    EXPECT_GT(alignment, Real(-0.95));  // 23 degrees apart
+    EXPECT_LT(alignment, Real(-0.9));
+}
