@@ -88,11 +88,7 @@ if [ $quick -eq 0 ]; then
   echo "== Fuzz build"
   scripts/fuzz.sh --build
   mkdir -p build/fuzz/logs
-  # Not here: narrowphase. Its findings of last time are fixed (docs/reliability.md),
-  # but a fresh corpus still reaches, within 10,000 inputs, a box pair whose
-  # speculative gap exceeds GJK's distance by 1.8 cm (fuzz/open/, "Known open
-  # problems"); it comes back once that is fixed.
-  for target in $(scripts/fuzz.sh --list | grep -vx narrowphase); do
+  for target in $(scripts/fuzz.sh --list); do
     log=build/fuzz/logs/$target.log
     if scripts/fuzz.sh "$target" "${FUZZ_SECONDS:-40}" -seed="${FUZZ_SEED:-1}" -runs="${FUZZ_RUNS:-150000}" >"$log" 2>&1; then
       echo "== Fuzz $target: $(sed -n 's/^stat::number_of_executed_units: //p' "$log") inputs, no finding"

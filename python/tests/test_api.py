@@ -47,7 +47,7 @@ def test_world_keywords_default_to_the_cpp_defaults():
     s = fulcrum.World().settings()
     assert s["substeps"] == 5 and s["solver_iterations"] == 1 and s["threads"] == 1 and s["sleeping"] is True
     assert s["integrator"] == "semi_implicit_euler" and s["parallel_min_bodies"] == 512
-    np.testing.assert_array_equal(s["gravity"], np.float32([0, -9.81, 0]))
+    np.testing.assert_array_equal(s["gravity"], np.array([0, -9.81, 0], dtype=fulcrum.real_dtype))
     w = fulcrum.World(contact_hertz=30, time_to_sleep=1.0, continuous_collision=False)
     assert w.settings()["contact_hertz"] == 30 and w.settings()["continuous_collision"] is False
 
@@ -90,7 +90,7 @@ def test_bulk_setters_round_trip_and_match_per_body_calls():
     a, b = pile(10), pile(10)
     v = np.arange(33, dtype=np.float64).reshape(11, 3) * 0.1
     a.set_linear_velocities(v)
-    np.testing.assert_array_equal(a.linear_velocities()[1:], v[1:].astype(np.float32))   # static bodies keep 0
+    np.testing.assert_array_equal(a.linear_velocities()[1:], v[1:].astype(fulcrum.real_dtype))   # static bodies keep 0
     for body, row in zip(b.bodies(), v):
         body.linear_velocity = row
     idx = np.array([2, 5, 7])
@@ -105,7 +105,7 @@ def test_bulk_setters_round_trip_and_match_per_body_calls():
     b.step(DT, steps=20)
     np.testing.assert_array_equal(a.positions(), b.positions())
     np.testing.assert_array_equal(a.angular_velocities(), b.angular_velocities())
-    # Positions round trip exactly (float32 values in float64).
+    # Positions round trip exactly (values of the engine's Real in float64).
     p = a.positions()
     a.set_positions(p)
     np.testing.assert_array_equal(a.positions(), p)

@@ -28,7 +28,9 @@ def test_world_counts_have_upper_limits():
 def test_scene_dt_and_steps_are_checked_when_set():
     # A NaN dt used to be kept and written by save_scene; run() failed later.
     w = fulcrum.World()
-    for bad in (float("nan"), float("inf"), 0.0, -1.0, 1e-300):
+    # 1e-310: below the smallest normal number of either build's Real (0 in
+    # float32, subnormal in float64).
+    for bad in (float("nan"), float("inf"), 0.0, -1.0, 1e-310):
         with pytest.raises(fulcrum.Error, match=r"World.scene_dt: must be a positive finite time step"):
             w.scene_dt = bad
     with pytest.raises(fulcrum.Error, match=r"World.scene_steps: must not be negative, got -5"):

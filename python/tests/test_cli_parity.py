@@ -18,10 +18,11 @@ def run_cli(cli, scene, steps, *extra):
     return json.loads(out)
 
 
-def as_f32(values):
-    # The JSON holds the engine's float32 numbers in their shortest decimal form:
-    # parsed and rounded to float32 they are those bits again.
-    return np.asarray(values, dtype=np.float64).astype(np.float32)
+def as_real(values):
+    # The JSON holds the engine's numbers (fulcrum.real_dtype: float32, or
+    # float64 in a FULCRUM_DOUBLE build) in their shortest decimal form:
+    # parsed and rounded to that type they are those bits again.
+    return np.asarray(values, dtype=np.float64).astype(fulcrum.real_dtype)
 
 
 @pytest.mark.parametrize("scene", SCENES)
@@ -35,10 +36,10 @@ def test_python_equals_cli_bit_for_bit(repo, cli, scene):
     assert len(bodies) == w.body_count
     for key, ours in [("position", w.positions()), ("orientation", w.orientations()),
                       ("linear_velocity", w.linear_velocities()), ("angular_velocity", w.angular_velocities())]:
-        theirs = as_f32([b[key] for b in bodies])
-        np.testing.assert_array_equal(ours.astype(np.float32), theirs, err_msg=f"{scene}: {key}")
-        # Widening float32 to float64 is exact: the arrays hold exactly those numbers.
-        np.testing.assert_array_equal(ours, ours.astype(np.float32).astype(np.float64))
+        theirs = as_real([b[key] for b in bodies])
+        np.testing.assert_array_equal(ours.astype(fulcrum.real_dtype), theirs, err_msg=f"{scene}: {key}")
+        # Widening the engine's Real to float64 is exact: the arrays hold exactly those numbers.
+        np.testing.assert_array_equal(ours, ours.astype(fulcrum.real_dtype).astype(np.float64))
 
 
 def test_threads_and_run_give_the_same_bits(repo, cli):
@@ -50,4 +51,4 @@ def test_threads_and_run_give_the_same_bits(repo, cli):
     four.run(steps=90)
     np.testing.assert_array_equal(one, four.positions())
     report = run_cli(cli, path, 90, "--threads", "4")
-    np.testing.assert_array_equal(one.astype(np.float32), as_f32([b["position"] for b in report["bodies"]]))
+    np.testing.assert_array_equal(one.astype(fulcrum.real_dtype), as_real([b["position"] for b in report["bodies"]]))

@@ -2,12 +2,24 @@
 // each box, 9 edge-edge cross products), then face clipping for face contacts
 // or the closest points of the two edges for edge contacts.
 //
+// A face manifold's gaps are measured along the normal from the reference
+// face to the clipped incident face, so each is the distance that point can
+// travel along the normal before it meets the reference face. When the part
+// of B nearest A lies outside the reference face's prism (clipped away), B
+// can meet A first elsewhere: at A's face edge, with a side face of B or one
+// of its edges. The manifold's smallest gap then over-states how far the
+// bodies can close along the normal, and a speculative contact that does so
+// lets them overlap for a step. firstTouchAlong measures that distance exactly
+// and the manifold gets the touching point when clipping missed it
+// (docs/reliability.md, "Fuzzing").
+//
 // Axis choice follows Gregorius ("The Separating Axis Test", GDC 2013; "Robust
 // Contact Creation for Physics Simulations", GDC 2015): a face of A wins over a
 // face of B, and faces win over edges, unless the other is better by a
 // tolerance. Without that bias, two boxes resting face to face flip between
 // reference faces from one frame to the next as float noise changes which
 // separation is larger, and the contact points and feature ids flicker.
+#include <algorithm>
 #include <cmath>
 
 #include "collision/collide_pairs.hpp"
@@ -21,6 +33,104 @@ constexpr Real kRelTol = Real(0.05);
 
 bool clearlyBetter(Real candidate, Real incumbent) {
     return candidate > incumbent + kAbsTol + kRelTol * std::fabs(incumbent);
+}
+
+// The centre of the box's edge along its axis `skip` that lies furthest along
+// `dir`, and which sign each other axis took (bit k set: +).
+Vec3 supportingEdgeCentre(const ConvexShape& box, const Mat3& r, int skip, const Vec3& dir, std::uint32_t& signs) {
+    Vec3 c = box.xf.p;
+    signs = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (k == skip) continue;
+        const Real s = dot(dir, r.col(k)) >= 0 ? Real(1) : Real(-1);
+        c += r.col(k) * (s * box.halfExtents[static_cast<std::size_t>(k)]);
+        signs |= (s > 0 ? 1u : 0u) << k;
+    }
+    return c;
+}
+
+// How far B, moved along -n (unit, A to B), travels before it touches A
+// (negative: how far it must move along +n to come out), with the touching
+// points on A and B. The Minkowski difference B - A of two boxes is the
+// intersection of the slabs along the 15 SAT axes (its facets are spanned by
+// pairs of the six edge directions), so B touches A at the t where the ray
+// t n enters it: the largest of (separation along u) / (u . n) over the axes
+// u turned towards n. Every such ratio is a lower bound of that t, so
+// skipping an axis too close to perpendicular to n (its ratio is rounding)
+// can only under-state the distance.
+struct Touch {
+    Real distance = -1e30f;
+    Vec3 pointA, pointB;
+    std::uint32_t id = 0;
+};
+
+// The caller only needs the touch when it comes before `enough`: the search
+// stops at the first axis that reaches it (then no points are made). The six
+// face axes go first, since they need no square root and in the common case
+// (B's face meeting A's edge) one of them is the answer.
+Touch firstTouchAlong(const ConvexShape& a, const ConvexShape& b, const Mat3& ra, const Mat3& rb, const Vec3& n,
+                      Real enough) {
+    constexpr Real kMinCosine = Real(0.01);
+    const Vec3 ea = a.halfExtents, eb = b.halfExtents, d = b.xf.p - a.xf.p;
+    const auto projection = [](const Mat3& r, const Vec3& e, const Vec3& u) {
+        return e.x * std::fabs(dot(r.col(0), u)) + e.y * std::fabs(dot(r.col(1), u)) + e.z * std::fabs(dot(r.col(2), u));
+    };
+    Touch best;
+    int bestAxis = -1;
+    Vec3 bestU;
+    for (int k = 0; k < 15; ++k) {
+        Vec3 u;
+        if (k < 3) {
+            u = ra.col(k);
+        } else if (k < 6) {
+            u = rb.col(k - 3);
+        } else {
+            u = cross(ra.col((k - 6) / 3), rb.col((k - 6) % 3));
+            const Real len = length(u);
+            if (len < Real(1e-5)) continue;
+            u = u / len;
+        }
+        Real cosine = dot(u, n);
+        if (cosine < 0) {
+            u = -u;
+            cosine = -cosine;
+        }
+        if (cosine < kMinCosine) continue;
+        const Real t = (dot(d, u) - projection(ra, ea, u) - projection(rb, eb, u)) / cosine;
+        if (t > best.distance) {
+            best.distance = t;
+            bestAxis = k;
+            bestU = u;
+            if (t >= enough) return best;
+        }
+    }
+    // n is itself one of the axes (a face normal), so one always counts;
+    // should rounding say otherwise, the clipped points stand.
+    if (bestAxis < 0) {
+        best.distance = enough;
+        return best;
+    }
+    // The touching features: a face of one box against the other's
+    // supporting vertex, or A's supporting edge along u against B's along -u.
+    const Vec3 shift = n * best.distance;
+    best.id = 0x80008000u | static_cast<std::uint32_t>(bestAxis);
+    if (bestAxis < 3) {
+        best.pointB = b.support(-bestU);
+        best.pointA = best.pointB - shift;
+    } else if (bestAxis < 6) {
+        best.pointA = a.support(bestU);
+        best.pointB = best.pointA + shift;
+    } else {
+        const int i = (bestAxis - 6) / 3, j = (bestAxis - 6) % 3;
+        std::uint32_t signsA, signsB;
+        const Vec3 ca = supportingEdgeCentre(a, ra, i, bestU, signsA), cb = supportingEdgeCentre(b, rb, j, -bestU, signsB) - shift;
+        const Vec3 da = ra.col(i) * ea[static_cast<std::size_t>(i)], db = rb.col(j) * eb[static_cast<std::size_t>(j)];
+        Real s, t;
+        closestSegmentSegment(ca - da, ca + da, cb - db, cb + db, s, t);
+        best.pointA = ca - da + da * (2 * s);
+        best.pointB = cb - db + db * (2 * t) + shift;
+    }
+    return best;
 }
 
 }  // namespace
@@ -87,21 +197,8 @@ bool collideBoxBox(const ConvexShape& a, const ConvexShape& b, Real margin, Mani
         Vec3 n = edgeAxis;
         if (dot(n, d) < 0) n = -n;
         // Supporting edges: A's along n, B's along -n.
-        Vec3 ca = a.xf.p, cb = b.xf.p;
-        std::uint32_t signsA = 0, signsB = 0;
-        for (int k = 0; k < 3; ++k) {
-            const std::size_t uk = static_cast<std::size_t>(k);
-            if (k != edgeI) {
-                const Real s = dot(n, ra.col(k)) >= 0 ? Real(1) : Real(-1);
-                ca += ra.col(k) * (s * ea[uk]);
-                signsA |= (s > 0 ? 1u : 0u) << k;
-            }
-            if (k != edgeJ) {
-                const Real s = dot(n, rb.col(k)) <= 0 ? Real(1) : Real(-1);
-                cb += rb.col(k) * (s * eb[uk]);
-                signsB |= (s > 0 ? 1u : 0u) << k;
-            }
-        }
+        std::uint32_t signsA, signsB;
+        const Vec3 ca = supportingEdgeCentre(a, ra, edgeI, n, signsA), cb = supportingEdgeCentre(b, rb, edgeJ, -n, signsB);
         const Vec3 da = ra.col(edgeI) * ea[static_cast<std::size_t>(edgeI)];
         const Vec3 db = rb.col(edgeJ) * eb[static_cast<std::size_t>(edgeJ)];
         Real s, t;
@@ -121,6 +218,34 @@ bool collideBoxBox(const ConvexShape& a, const ConvexShape& b, Real margin, Mani
         n = ra.col(axisA) * (dA[static_cast<std::size_t>(axisA)] >= 0 ? Real(1) : Real(-1));
     }
     buildFaceManifold(a, b, n, a.support(n), b.support(-n), margin, m, useB ? 2 : 1);
+    // The clipped points' nearest is never nearer than the face axis's
+    // separation (each is a real path along n onto the reference face); when
+    // it lies farther, the nearest part of B was clipped away and the bodies
+    // may touch before any of the points reaches the face. Only a positive
+    // gap is a promise to the solver (a speculative contact); pairs whose
+    // clipped points overlap, as in a resting pile, skip the measurement.
+    constexpr Real kTouchTolerance = Real(1e-4);  // metres
+    const Real clippedGap = -m.maxDepth();
+    if (m.pointCount > 0 && clippedGap > std::max(faceSep, Real(0)) + kTouchTolerance) {
+        const Touch touch = firstTouchAlong(a, b, ra, rb, n, clippedGap - kTouchTolerance);
+        if (clippedGap > touch.distance + kTouchTolerance) {
+            // Into a free slot, else in place of the point with the largest
+            // gap (the one that constrains the bodies least).
+            std::uint32_t slot = m.pointCount;
+            if (slot == Manifold::kMaxPoints) {
+                slot = 0;
+                for (std::uint32_t k = 1; k < m.pointCount; ++k) {
+                    if (m.points[k].depth < m.points[slot].depth) slot = k;
+                }
+            } else {
+                ++m.pointCount;
+            }
+            ContactPoint& point = m.points[slot];
+            point.position = (touch.pointA + touch.pointB) * Real(0.5);
+            point.depth = -touch.distance;
+            point.featureId = touch.id;
+        }
+    }
     return m.pointCount > 0;
 }
 

@@ -368,7 +368,8 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     const ConvexShape& b = boxB && !boxA ? box.nearPart : shapeB;
     const GjkResult g = gjkDistance(a, b, false);
     Vec3 n, pa, pb;
-    if (!g.overlap && g.distance > kCoreTouch) {
+    const bool separated = !g.overlap && g.distance > kCoreTouch;
+    if (separated) {
         if (g.distance - a.radius - b.radius > margin) return false;
         n = g.normal;
         pa = g.pointA + n * a.radius;
@@ -402,6 +403,7 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     }
     int reference = 0;
     bool deepestKnown = true;  // pa, pb: GJK/EPA's closest or deepest points along n
+    const Vec3 closestA = pa, closestB = pb;
     if ((boxA || boxB) && box.faceSeparation >= separationAlong(a, b, n) - kFaceAxisTolerance) {
         n = box.faceNormal;
         reference = boxA ? 1 : 2;
@@ -418,6 +420,20 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
         const Vec3 local = abs(inverseTransformPoint(boxShape.xf, onFace));
         const Vec3 h = boxShape.halfExtents * Real(1.0001);
         deepestKnown = local.x <= h.x && local.y <= h.y && local.z <= h.z;
+        if (!deepestKnown && separated) {
+            // The other shape's nearest part along the face normal lies
+            // beyond the face, so the clipped points, over the face, may all
+            // be farther than the distance the shapes can close along the
+            // normal before they touch (a cylinder's rim just past a face
+            // edge, its cap clipped as a square: 9 cm too far; a speculative
+            // contact that over-states it lets them overlap for a step).
+            // GJK's closest points join them: their gap along the face
+            // normal lies between the face axis's separation and their
+            // distance, and that distance never exceeds the travel.
+            pa = closestA;
+            pb = closestB;
+            deepestKnown = true;
+        }
     }
     if (reference == 0 && (a.kind == ConvexKind::Hull || b.kind == ConvexKind::Hull)) {
         const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n));

@@ -347,3 +347,195 @@ TEST(FuzzFindings, ParallelCapsulesSharingTheirCentreOverlapByTheirRadii) {
     EXPECT_NEAR(-exactSeparation(a, xa, b, xb), depth, 1e-6);
     expectDepthBothOrders(a, xa, b, xb, Real(0x1.dddddep-3), depth, 1e-5);
 }
+
+namespace {
+
+// How far box B, moved along -n (unit, from A to B), travels before it
+// touches box A, in double: the first contact of two boxes under translation
+// is a corner of one entering the other (a ray against the other box's three
+// slabs) or an edge of each crossing (a 3 x 3 system in the two edge
+// parameters and the travel). Infinity when B passes A by.
+struct BoxD {
+    Dir centre, axis[3];
+    double half[3];
+};
+
+BoxD boxD(const Shape& s, const Transform& xf) {
+    BoxD b{{xf.p.x, xf.p.y, xf.p.z}, {}, {s.halfExtents().x, s.halfExtents().y, s.halfExtents().z}};
+    for (int j = 0; j < 3; ++j) {
+        // The box's axes are the columns of its rotation R; toLocal gives
+        // R^T e_j, row j of R: component j of each axis.
+        const Dir row = toLocal(xf.q, {j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0});
+        (j == 0 ? b.axis[0].x : j == 1 ? b.axis[0].y : b.axis[0].z) = row.x;
+        (j == 0 ? b.axis[1].x : j == 1 ? b.axis[1].y : b.axis[1].z) = row.y;
+        (j == 0 ? b.axis[2].x : j == 1 ? b.axis[2].y : b.axis[2].z) = row.z;
+    }
+    return b;
+}
+
+Dir plus(const Dir& a, const Dir& b, double s = 1) { return {a.x + s * b.x, a.y + s * b.y, a.z + s * b.z}; }
+Dir crossD(const Dir& a, const Dir& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+
+Dir cornerOf(const BoxD& b, int k) {
+    Dir c = b.centre;
+    for (int i = 0; i < 3; ++i) c = plus(c, b.axis[i], (k >> i & 1) ? b.half[i] : -b.half[i]);
+    return c;
+}
+
+double rayIntoBox(const Dir& origin, const Dir& dir, const BoxD& b) {
+    double lo = 0, hi = 1e300;
+    const Dir r = plus(origin, b.centre, -1);
+    for (int i = 0; i < 3; ++i) {
+        const double s = dotD(r, b.axis[i]), v = dotD(dir, b.axis[i]);
+        if (std::fabs(v) < 1e-15) {
+            if (std::fabs(s) > b.half[i]) return 1e300;
+            continue;
+        }
+        const double t0 = (-b.half[i] - s) / v, t1 = (b.half[i] - s) / v;
+        lo = std::max(lo, std::min(t0, t1));
+        hi = std::min(hi, std::max(t0, t1));
+        if (lo > hi) return 1e300;
+    }
+    return lo;
+}
+
+double boxTravelAlong(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, const Vec3& normal) {
+    const BoxD A = boxD(a, xa), B = boxD(b, xb);
+    const Dir n{normal.x, normal.y, normal.z}, back{-n.x, -n.y, -n.z};
+    double best = 1e300;
+    for (int k = 0; k < 8; ++k) {
+        best = std::min(best, rayIntoBox(cornerOf(B, k), back, A));
+        best = std::min(best, rayIntoBox(cornerOf(A, k), n, B));
+    }
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const Dir ea = plus({0, 0, 0}, A.axis[i], 2 * A.half[i]), eb = plus({0, 0, 0}, B.axis[j], -2 * B.half[j]);
+            const double det = dotD(ea, crossD(eb, n));
+            if (std::fabs(det) < 1e-12) continue;
+            for (int ka = 0; ka < 8; ++ka) {
+                for (int kb = 0; kb < 8; ++kb) {
+                    if ((ka >> i & 1) || (kb >> j & 1)) continue;
+                    // s ea + u (-edge of B) + t n = B's edge start - A's edge start (Cramer).
+                    const Dir r = plus(cornerOf(B, kb), cornerOf(A, ka), -1);
+                    const double s = dotD(r, crossD(eb, n)) / det, u = dotD(ea, crossD(r, n)) / det,
+                                 t = dotD(ea, crossD(eb, r)) / det;
+                    if (s >= 0 && s <= 1 && u >= 0 && u <= 1 && t >= 0) best = std::min(best, t);
+                }
+            }
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+// fuzz/corpus/narrowphase/box_box_gap_exceeds_distance (docs/reliability.md):
+// two boxes 0.4484 m apart get a speculative point 0.4668 m from A's face.
+// The part of B nearest A lies outside that face, so the gap along the
+// normal exceeds the distance; but B, moved along the normal, first touches
+// A after exactly that gap. The speculative contact is right, and so the
+// fuzz target checks the gap against this travel, not the distance.
+TEST(FuzzFindings, BoxGapAlongAFaceNormalIsTheTravelBeforeTouching) {
+    const Shape a = Shape::box({Real(0x1.aaff04p+1), Real(0x1.427cfap-1), Real(0x1.89adcp+1)});
+    const Shape b = Shape::box({Real(0x1.4c6e4cp+1), Real(0x1.04773cp+0), Real(0x1.9b2756p+1)});
+    const Transform xa{{Real(-0x1.4p+3), Real(-0x1.3ffd8p+3), Real(-0x1.8b9a0cp+2)},
+                       quat(-0x1.06e63cp-2, 0x1.eea5a8p-2, 0x1.131f44p-3, 0x1.a70afcp-1)};
+    const Transform xb{{Real(-0x1.12fe92p+2), Real(-0x1.159796p+2), Real(-0x1.a66126p+2)},
+                       quat(0x1.3e241ap-1, -0x1.f68544p-3, -0x1.a3351p-2, 0x1.3e241ap-1)};
+    ManifoldBuffer out;
+    collide(a, xa, b, xb, Real(0.5), out);
+    ASSERT_EQ(out.size(), 1u);
+    const double travel = boxTravelAlong(a, xa, b, xb, out[0].normal);
+    EXPECT_NEAR(travel, 0.4668, 1e-4);
+    EXPECT_NEAR(-out[0].maxDepth(), travel, 1e-4);
+    EXPECT_NEAR(exactSeparation(a, xa, b, xb), 0.4484, 1e-4);
+}
+
+// Found while measuring the one above (random box pairs against
+// boxTravelAlong): a thin plate whose corner lies beyond the edge of A's
+// reference face. Clipping kept only points of B's face over A's face, 0.465 m
+// along the normal, while the plate's corner meets A's edge after 0.142 m:
+// the solver would have let the plate 0.32 m into A in one step. The manifold
+// now carries the first touch (collide_box.cpp, firstTouchAlong).
+TEST(FuzzFindings, BoxGapNeverExceedsTheTravelBeforeTouching) {
+    const Shape a = Shape::box({Real(0x1.c6ab3ap+0), Real(0x1.3e09d8p-1), Real(0x1.de919p+1)});
+    const Shape b = Shape::box({Real(0x1.f5799ep-2), Real(0x1.7292e2p+0), Real(0x1.c4ad7cp-3)});
+    const Transform xa{{Real(0x1.fee1bep+1), Real(-0x1.249338p-1), Real(0x1.21ec78p+1)},
+                       quat(-0x1.e681bp-2, 0x1.2deb34p-2, 0x1.92f856p-1, -0x1.0ad1fcp-2)};
+    const Transform xb{{Real(0x1.6011acp+1), Real(0x1.444f88p+1), Real(0x1.4c30ap+1)},
+                       quat(0x1.d20ad4p-2, 0x1.529588p-2, 0x1.89db84p-1, -0x1.363c6ep-2)};
+    for (const bool swapped : {false, true}) {
+        ManifoldBuffer out;
+        if (swapped) {
+            collide(b, xb, a, xa, Real(0.5), out);
+        } else {
+            collide(a, xa, b, xb, Real(0.5), out);
+        }
+        ASSERT_EQ(out.size(), 1u);
+        const double travel = swapped ? boxTravelAlong(b, xb, a, xa, out[0].normal) : boxTravelAlong(a, xa, b, xb, out[0].normal);
+        EXPECT_NEAR(-out[0].maxDepth(), travel, 1e-4) << (swapped ? "(b, a)" : "(a, b)");
+    }
+    ManifoldBuffer out;
+    collide(a, xa, b, xb, Real(0.5), out);
+    EXPECT_NEAR(boxTravelAlong(a, xa, b, xb, out[0].normal), 0.1424, 1e-4);
+    EXPECT_NEAR(exactSeparation(a, xa, b, xb), 0.0792, 1e-4);
+}
+
+// Found the same way (random box-cylinder pairs, the fuzz target's rule): a
+// thin disk whose rim comes nearest a box just beyond the edge of the box's
+// face. The face normal was the contact normal (it separates as well as
+// GJK's), the rim's nearest point was not over the face, and the clipped cap
+// (a square) was 0.305 m from the face where the shapes are 0.2868 m apart
+// and meet after that along the face normal (its curved rim just inside the
+// edge): GJK's closest points now join the clipped ones
+// (collide_convex.cpp). The gap is at most the exact distance (itself at most
+// the travel) and at least the face axis's separation.
+TEST(FuzzFindings, BoxFaceGapNeverExceedsACylinderRimsDistance) {
+    const Shape box = Shape::box({Real(0x1.40e5e6p+1), Real(0x1.959788p+0), Real(0x1.947914p+0)});
+    const Shape disk = Shape::cylinder(Real(0x1.67493ep+0), Real(0x1.a0825cp-4));
+    const Transform xa{{Real(0x1.ecdcp-3), Real(0x1.f60bp-3), Real(0x1.6a86f4p+1)},
+                       quat(0x1.684688p-2, -0x1.298672p-1, 0x1.b90c32p-4, -0x1.73a9dcp-1)};
+    const Transform xb{{Real(0x1.ca553p+0), Real(-0x1.5b2688p+1), Real(0x1.2043fp+1)},
+                       quat(-0x1.e0028ep-1, -0x1.bdfa26p-6, 0x1.769f6cp-4, -0x1.569f24p-2)};
+    const double exact = exactSeparation(box, xa, disk, xb);
+    EXPECT_NEAR(exact, 0.2868, 1e-4);
+    for (const bool swapped : {false, true}) {
+        ManifoldBuffer out;
+        if (swapped) {
+            collide(disk, xb, box, xa, Real(0.5), out);
+        } else {
+            collide(box, xa, disk, xb, Real(0.5), out);
+        }
+        ASSERT_EQ(out.size(), 1u);
+        const Vec3 n = swapped ? -out[0].normal : out[0].normal;
+        const double faceSeparation = gapAlong(box, xa, disk, xb, {n.x, n.y, n.z});
+        EXPECT_LE(-out[0].maxDepth(), exact + 1e-3) << (swapped ? "(disk, box)" : "(box, disk)");
+        EXPECT_GE(-out[0].maxDepth(), faceSeparation - 1e-5) << (swapped ? "(disk, box)" : "(box, disk)");
+    }
+}
+
+// fuzz/corpus/narrowphase/box_box_orders_take_their_own_faces (the run that
+// checked the fixes above, seed 2): two boxes 0.238 m apart. collide(a, b)
+// takes a face of A as the normal and collide(b, a) one of B, 23 degrees
+// apart, with gaps of 0.2565 m and 0.2453 m: the target wanted one gap for
+// both orders, but each is exactly the travel along its own normal.
+TEST(FuzzFindings, BoxPairOrdersApartEachGiveTheTravelAlongTheirNormal) {
+    const Shape a = Shape::box({Real(0x1.48c3a6p+0), Real(0x1.48c3a6p+0), Real(0x1.48c3a6p+0)});
+    const Shape b = Shape::box({Real(0x1.48c3a6p+0), Real(0x1.483c54p+0), Real(0x1.c977dep-1)});
+    const Transform xa{{Real(-0x1.941414p+2), Real(-0x1.1c139cp+2), Real(-0x1.941414p+2)},
+                       quat(-0x1.f4f034p-2, -0x1.f521cap-2, -0x1.df8bb6p-3, -0x1.5da5a8p-1)};
+    const Transform xb{{Real(-0x1.d2d2d4p+1), Real(-0x1.d2d2d4p+1), Real(-0x1.d2d2d4p+1)},
+                       quat(0x1.2114f6p-2, 0x1.2114f6p-2, -0x1.b89a26p-1, -0x1.43e934p-2)};
+    const Real margin = Real(0x1.535354p-2);
+    ManifoldBuffer ab, ba;
+    collide(a, xa, b, xb, margin, ab);
+    collide(b, xb, a, xa, margin, ba);
+    ASSERT_EQ(ab.size(), 1u);
+    ASSERT_EQ(ba.size(), 1u);
+    EXPECT_NEAR(exactSeparation(a, xa, b, xb), 0.2378, 1e-4);
+    EXPECT_NEAR(-ab[0].maxDepth(), boxTravelAlong(a, xa, b, xb, ab[0].normal), 1e-4);
+    EXPECT_NEAR(-ba[0].maxDepth(), boxTravelAlong(b, xb, a, xa, ba[0].normal), 1e-4);
+    const Real alignment = dot(ab[0].normal, ba[0].normal);  // -1: mirrored
+    EXPECT_GT(alignment, Real(-0.95));  // 23 degrees apart
+    EXPECT_LT(alignment, Real(-0.9));
+}
