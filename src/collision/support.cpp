@@ -84,6 +84,11 @@ void ConvexShape::extent(const Vec3& d, Real& lo, Real& hi) const {
     const Real offset = dot(d, xf.p);
     lo = low + offset;
     hi = high + offset;
+    if (radius > 0) {  // a rounded hull
+        const Real grow = radius * length(d);
+        lo -= grow;
+        hi += grow;
+    }
 }
 
 Vec3 ConvexShape::center() const {
@@ -96,13 +101,13 @@ Real ConvexShape::boundingRadius() const {
     switch (kind) {
         case ConvexKind::Point: return radius;
         case ConvexKind::Segment: return halfHeight + radius;
-        case ConvexKind::Box: return length(halfExtents);
+        case ConvexKind::Box: return length(halfExtents) + radius;
         case ConvexKind::Hull: {
             Real r2 = 0;
             for (const Vec3& v : hull->vertices) r2 = std::max(r2, lengthSquared(v));
-            return std::sqrt(r2);
+            return std::sqrt(r2) + radius;
         }
-        case ConvexKind::Cylinder: return std::sqrt(cylinderRadius * cylinderRadius + halfHeight * halfHeight);
+        case ConvexKind::Cylinder: return std::sqrt(cylinderRadius * cylinderRadius + halfHeight * halfHeight) + radius;
         case ConvexKind::Triangle: {
             const Vec3 c = center();
             return std::sqrt(std::max({lengthSquared(triangle[0] - c), lengthSquared(triangle[1] - c), lengthSquared(triangle[2] - c)}));
@@ -139,6 +144,23 @@ ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
             break;
         default: break;  // planes, meshes and compounds never reach here (dispatcher)
     }
+    // Rounded shapes: the core is the outer size minus the convex radius
+    // (a hull's points are already its core), and the radius is added back
+    // like a sphere's or capsule's.
+    if (const Real r = shape.convexRadius(); r > 0) {
+        s.radius = r;
+        if (s.kind == ConvexKind::Box) s.halfExtents = shape.halfExtents() - Vec3::splat(r);
+        if (s.kind == ConvexKind::Cylinder) {
+            s.cylinderRadius = shape.radius() - r;
+            s.halfHeight = shape.halfHeight() - r;
+        }
+    }
+    return s;
+}
+
+ConvexShape makeConvexCore(const Shape& shape, const Transform& xf) {
+    ConvexShape s = makeConvex(shape, xf);
+    if (shape.convexRadius() > 0) s.radius = 0;
     return s;
 }
 
@@ -151,7 +173,24 @@ ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return s;
 }
 
+namespace {
+void supportingCoreFace(const ConvexShape& s, const Vec3& n, SupportFace& out);
+}  // namespace
+
 void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
+    supportingCoreFace(s, n, out);
+    // A rounded box, hull or cylinder (the narrow phase hands its cores, with
+    // radius 0, so this is for other callers): the core's feature moved out
+    // by the radius. Points and segments add their radius themselves.
+    if (s.radius > 0 && (s.kind == ConvexKind::Box || s.kind == ConvexKind::Hull || s.kind == ConvexKind::Cylinder) &&
+        out.count > 1) {
+        const Vec3 off = n * s.radius;
+        for (std::uint32_t i = 0; i < out.count; ++i) out.points[i] += off;
+    }
+}
+
+namespace {
+void supportingCoreFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
     out.count = 0;
     out.id = 0;
     out.normal = n;
@@ -283,5 +322,7 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
         }
     }
 }
+
+}  // namespace
 
 }  // namespace fulcrum::detail
