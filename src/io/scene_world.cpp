@@ -31,7 +31,8 @@ Vec3 carryVector(const Transform& creation, const Transform& now, const Vec3& v)
 
 Shape buildShape(const ShapeDesc& s) {
     switch (s.type) {
-        case ShapeType::ConvexHull: return Shape::convexHull(s.points);
+        case ShapeType::ConvexHull:
+            return s.convexRadius > 0 ? Shape::roundedConvexHull(s.points, s.convexRadius) : Shape::convexHull(s.points);
         case ShapeType::Mesh: return Shape::mesh(s.vertices, s.triangles);
         case ShapeType::HeightField: return Shape::heightField(s.rows, s.columns, s.spacingX, s.spacingZ, s.heights, s.holes);
         case ShapeType::Compound: {

@@ -76,6 +76,7 @@ ojson shapeJson(const ShapeDesc& s) {
             break;
         }
     }
+    if (s.convexRadius > 0) j["convex_radius"] = num(s.convexRadius);  // rounded shapes
     return j;
 }
 

@@ -183,6 +183,12 @@ double tiltAfter(bool rounded, double slopeDegrees, Real& slid) {
 
 TEST(RoundedContacts, RoundedCubeTipsOnASlopeWhereTheSharpCubeHolds) {
     Real slid = 0;
+    // Each cube on both sides of its predicted angle, half a degree off.
+    const double roundedTip = std::atan(0.8) * 180 / kPi, sharpTip = 45;
+    EXPECT_LT(tiltAfter(true, roundedTip - 0.5, slid), 1.0);
+    EXPECT_GT(tiltAfter(true, roundedTip + 0.5, slid), 45.0);
+    EXPECT_LT(tiltAfter(false, sharpTip - 0.5, slid), 1.0);
+    EXPECT_GT(tiltAfter(false, sharpTip + 0.5, slid), 45.0);
     // 42 degrees: past the rounded cube's 38.7, short of the sharp cube's 45.
     EXPECT_LT(tiltAfter(false, 42, slid), 1.0);
     EXPECT_LT(slid, Real(0.01));

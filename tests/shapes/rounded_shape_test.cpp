@@ -131,6 +131,15 @@ TEST(RoundedShapes, HullMassApproximationIsWithinItsStatedError) {
     EXPECT_NEAR(h.mass, b.mass, 0.005 * b.mass);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(h.inertia(i, i), b.inertia(i, i), 0.005 * b.inertia(i, i));
     EXPECT_NEAR(length(h.centerOfMass), 0, 1e-3);
+    // A rounded regular tetrahedron (edge a = 2 sqrt 2): Steiner's formula gives the exact volume,
+    // V + A r + M r^2 + 4/3 pi r^3 (A the area, M the sum over edges of length x exterior angle / 2).
+    const std::vector<Vec3> tet{{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}};
+    const double edge = 2 * std::sqrt(2.0), exterior = kPi - std::acos(1.0 / 3);
+    const double v0 = edge * edge * edge / (6 * std::sqrt(2.0)), area = std::sqrt(3.0) * edge * edge, mean = 6 * edge * exterior / 2;
+    for (const double rt : {0.1, 0.5, 2.0}) {
+        const double steiner = v0 + area * rt + mean * rt * rt + 4.0 / 3 * kPi * rt * rt * rt;
+        EXPECT_NEAR(Shape::roundedConvexHull(tet, Real(rt)).volume(), steiner, 0.005 * steiner);
+    }
     // Bounds: the core's grown by the radius.
     const AABB lb = hull.localBounds();
     EXPECT_NEAR(lb.max.x, core.x + r, 1e-6);
