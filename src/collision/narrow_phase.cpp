@@ -30,8 +30,11 @@ bool isConvex(ShapeType t) {
            t == ShapeType::ConvexHull;
 }
 
-void collideConvexPair(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                       ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB) {
+// Inlined into collideLeaf, as it was into collideRecursive before rounded
+// shapes split the leaf out (GCC stopped inlining it on its own).
+[[gnu::always_inline]] inline void collideConvexPair(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb,
+                                                     Real margin, ManifoldBuffer& out, std::uint32_t childA,
+                                                     std::uint32_t childB) {
     const ConvexShape ca = makeConvexCore(a, xa), cb = makeConvexCore(b, xb);
     const std::size_t ka = static_cast<std::size_t>(ca.kind), kb = static_cast<std::size_t>(cb.kind);
     Manifold& m = out.push();
@@ -56,69 +59,10 @@ void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const
     if (!collidePlaneConvex(n, offset, makeConvexCore(b, xb), margin, m)) out.pop();
 }
 
-void collideLeaf(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                 ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB);
-void collideRounded(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                    ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB);
-
-void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                      ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB, int depthA, int depthB) {
-    const ShapeType ta = a.type(), tb = b.type();
-    if (ta == ShapeType::Compound) {
-        const AABB bb = b.bounds(xb).fattened(margin);
-        const auto children = a.children();
-        for (std::size_t i = 0; i < children.size(); ++i) {
-            const Transform xc = xa * children[i].transform;
-            if (!overlaps(children[i].shape.bounds(xc), bb)) continue;
-            collideRecursive(children[i].shape, xc, b, xb, margin, out, depthA == 0 ? static_cast<std::uint32_t>(i) : childA,
-                             childB, depthA + 1, depthB);
-        }
-        return;
-    }
-    if (tb == ShapeType::Compound) {
-        const AABB ba = a.bounds(xa).fattened(margin);
-        const auto children = b.children();
-        for (std::size_t i = 0; i < children.size(); ++i) {
-            const Transform xc = xb * children[i].transform;
-            if (!overlaps(children[i].shape.bounds(xc), ba)) continue;
-            collideRecursive(a, xa, children[i].shape, xc, margin, out, childA,
-                             depthB == 0 ? static_cast<std::uint32_t>(i) : childB, depthA, depthB + 1);
-        }
-        return;
-    }
-    if (a.convexRadius() > 0 || b.convexRadius() > 0) {
-        collideRounded(a, xa, b, xb, margin, out, childA, childB);
-        return;
-    }
-    collideLeaf(a, xa, b, xb, margin, out, childA, childB);
-}
-
-// Rounded shapes (docs/narrow-phase.md, "Rounded shapes"): the manifold of
-// the cores, found with the margin grown by both convex radii, then each
-// point's surface points moved out by the radii along the normal: A's by r_a
-// along n, B's by r_b against it. The depth grows by r_a + r_b, the midpoint
-// moves by (r_a - r_b) / 2, so a core point within margin + r_a + r_b is a
-// rounded point within the margin. Exact wherever the core manifold is: the
-// rounded surfaces' closest points are the cores' closest points moved along
-// the normal. Plain shapes never come here.
-void collideRounded(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                    ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB) {
-    const Real ra = a.convexRadius(), rb = b.convexRadius();
-    const std::size_t first = out.size();
-    collideLeaf(a, xa, b, xb, margin + ra + rb, out, childA, childB);
-    const Real shift = Real(0.5) * (ra - rb);
-    for (std::size_t i = first; i < out.size(); ++i) {
-        Manifold& m = out[i];
-        for (std::uint32_t k = 0; k < m.pointCount; ++k) {
-            m.points[k].position += m.normal * shift;
-            m.points[k].depth += ra + rb;
-        }
-    }
-}
-
-// Two shapes that are not compounds, rounded shapes as their cores.
-void collideLeaf(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                 ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB) {
+// Two shapes that are not compounds, rounded shapes as their cores. Inlined
+// into collideRecursive: a call there cost 0.2 % of box_pile(500)'s step.
+[[gnu::always_inline]] inline void collideLeaf(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb,
+                                               Real margin, ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB) {
     const ShapeType ta = a.type(), tb = b.type();
     const bool staticA = ta == ShapeType::Plane || ta == ShapeType::Mesh || ta == ShapeType::HeightField;
     const bool staticB = tb == ShapeType::Plane || tb == ShapeType::Mesh || tb == ShapeType::HeightField;
@@ -162,6 +106,61 @@ void collideLeaf(const Shape& a, const Transform& xa, const Shape& b, const Tran
         return;
     }
     if (isConvex(ta) && isConvex(tb)) collideConvexPair(a, xa, b, xb, margin, out, childA, childB);
+}
+
+// Rounded shapes (docs/narrow-phase.md, "Rounded shapes"): the manifold of
+// the cores, found with the margin grown by both convex radii, then each
+// point's surface points moved out by the radii along the normal: A's by r_a
+// along n, B's by r_b against it. The depth grows by r_a + r_b, the midpoint
+// moves by (r_a - r_b) / 2, so a core point within margin + r_a + r_b is a
+// rounded point within the margin. Exact wherever the core manifold is: the
+// rounded surfaces' closest points are the cores' closest points moved along
+// the normal. Plain shapes never come here.
+[[gnu::noinline]] void collideRounded(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb,
+                                      Real margin, ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB) {
+    const Real ra = a.convexRadius(), rb = b.convexRadius();
+    const std::size_t first = out.size();
+    collideLeaf(a, xa, b, xb, margin + ra + rb, out, childA, childB);
+    const Real shift = Real(0.5) * (ra - rb);
+    for (std::size_t i = first; i < out.size(); ++i) {
+        Manifold& m = out[i];
+        for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+            m.points[k].position += m.normal * shift;
+            m.points[k].depth += ra + rb;
+        }
+    }
+}
+
+void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
+                      ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB, int depthA, int depthB) {
+    const ShapeType ta = a.type(), tb = b.type();
+    if (ta == ShapeType::Compound) {
+        const AABB bb = b.bounds(xb).fattened(margin);
+        const auto children = a.children();
+        for (std::size_t i = 0; i < children.size(); ++i) {
+            const Transform xc = xa * children[i].transform;
+            if (!overlaps(children[i].shape.bounds(xc), bb)) continue;
+            collideRecursive(children[i].shape, xc, b, xb, margin, out, depthA == 0 ? static_cast<std::uint32_t>(i) : childA,
+                             childB, depthA + 1, depthB);
+        }
+        return;
+    }
+    if (tb == ShapeType::Compound) {
+        const AABB ba = a.bounds(xa).fattened(margin);
+        const auto children = b.children();
+        for (std::size_t i = 0; i < children.size(); ++i) {
+            const Transform xc = xb * children[i].transform;
+            if (!overlaps(children[i].shape.bounds(xc), ba)) continue;
+            collideRecursive(a, xa, children[i].shape, xc, margin, out, childA,
+                             depthB == 0 ? static_cast<std::uint32_t>(i) : childB, depthA, depthB + 1);
+        }
+        return;
+    }
+    if (a.convexRadius() > 0 || b.convexRadius() > 0) {
+        collideRounded(a, xa, b, xb, margin, out, childA, childB);
+        return;
+    }
+    collideLeaf(a, xa, b, xb, margin, out, childA, childB);
 }
 
 }  // namespace

@@ -247,13 +247,12 @@ MassProperties Shape::massProperties(Real density) const {
 }
 
 AABB Shape::localBounds() const {
-    if (convexRadius_ > 0 && type_ == ShapeType::ConvexHull) return hull_->bounds.fattened(convexRadius_);
     switch (type_) {
         case ShapeType::Sphere: return AABB::fromCenterHalf(Vec3::zero(), Vec3::splat(radius_));
         case ShapeType::Box: return AABB::fromCenterHalf(Vec3::zero(), halfExtents_);
         case ShapeType::Capsule: return AABB::fromCenterHalf(Vec3::zero(), {radius_, halfHeight_ + radius_, radius_});
         case ShapeType::Cylinder: return AABB::fromCenterHalf(Vec3::zero(), {radius_, halfHeight_, radius_});
-        case ShapeType::ConvexHull: return hull_->bounds;
+        case ShapeType::ConvexHull: return convexRadius_ > 0 ? hull_->bounds.fattened(convexRadius_) : hull_->bounds;
         case ShapeType::Mesh: return mesh_->bounds;
         case ShapeType::HeightField: return heightField_->bounds;
         case ShapeType::Plane: {
@@ -276,7 +275,6 @@ AABB Shape::localBounds() const {
 }
 
 AABB Shape::bounds(const Transform& xf) const {
-    if (convexRadius_ > 0) return roundedBounds(xf);
     switch (type_) {
         case ShapeType::Sphere: return AABB::fromCenterHalf(xf.p, Vec3::splat(radius_));
         case ShapeType::Capsule: {
@@ -294,7 +292,7 @@ AABB Shape::bounds(const Transform& xf) const {
             for (const CompoundChild& c : *children_) b.grow(c.shape.bounds(xf * c.transform));
             return b;
         }
-        default: return transformBounds(xf, localBounds());
+        default: return convexRadius_ > 0 ? roundedBounds(xf) : transformBounds(xf, localBounds());
     }
 }
 

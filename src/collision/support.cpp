@@ -116,7 +116,7 @@ Real ConvexShape::boundingRadius() const {
     return 0;
 }
 
-ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
+ConvexShape makeConvexCore(const Shape& shape, const Transform& xf) {
     ConvexShape s;
     s.xf = xf;
     switch (shape.type()) {
@@ -132,35 +132,31 @@ ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
         case ShapeType::Box:
             s.kind = ConvexKind::Box;
             s.halfExtents = shape.halfExtents();
+            // Rounded: the core is the outer size minus the convex radius.
+            if (const Real r = shape.convexRadius(); r > 0) s.halfExtents -= Vec3::splat(r);
             break;
         case ShapeType::Cylinder:
             s.kind = ConvexKind::Cylinder;
             s.cylinderRadius = shape.radius();
             s.halfHeight = shape.halfHeight();
+            if (const Real r = shape.convexRadius(); r > 0) {
+                s.cylinderRadius -= r;
+                s.halfHeight -= r;
+            }
             break;
-        case ShapeType::ConvexHull:
+        case ShapeType::ConvexHull:  // a rounded hull's points are already its core
             s.kind = ConvexKind::Hull;
             s.hull = &shape.hull();
             break;
         default: break;  // planes, meshes and compounds never reach here (dispatcher)
     }
-    // Rounded shapes: the core is the outer size minus the convex radius
-    // (a hull's points are already its core), and the radius is added back
-    // like a sphere's or capsule's.
-    if (const Real r = shape.convexRadius(); r > 0) {
-        s.radius = r;
-        if (s.kind == ConvexKind::Box) s.halfExtents = shape.halfExtents() - Vec3::splat(r);
-        if (s.kind == ConvexKind::Cylinder) {
-            s.cylinderRadius = shape.radius() - r;
-            s.halfHeight = shape.halfHeight() - r;
-        }
-    }
     return s;
 }
 
-ConvexShape makeConvexCore(const Shape& shape, const Transform& xf) {
-    ConvexShape s = makeConvex(shape, xf);
-    if (shape.convexRadius() > 0) s.radius = 0;
+ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
+    ConvexShape s = makeConvexCore(shape, xf);
+    // A rounded shape's radius is added back like a sphere's or capsule's.
+    if (const Real r = shape.convexRadius(); r > 0) s.radius = r;
     return s;
 }
 
@@ -173,24 +169,7 @@ ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return s;
 }
 
-namespace {
-void supportingCoreFace(const ConvexShape& s, const Vec3& n, SupportFace& out);
-}  // namespace
-
 void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
-    supportingCoreFace(s, n, out);
-    // A rounded box, hull or cylinder (the narrow phase hands its cores, with
-    // radius 0, so this is for other callers): the core's feature moved out
-    // by the radius. Points and segments add their radius themselves.
-    if (s.radius > 0 && (s.kind == ConvexKind::Box || s.kind == ConvexKind::Hull || s.kind == ConvexKind::Cylinder) &&
-        out.count > 1) {
-        const Vec3 off = n * s.radius;
-        for (std::uint32_t i = 0; i < out.count; ++i) out.points[i] += off;
-    }
-}
-
-namespace {
-void supportingCoreFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
     out.count = 0;
     out.id = 0;
     out.normal = n;
@@ -322,7 +301,5 @@ void supportingCoreFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
         }
     }
 }
-
-}  // namespace
 
 }  // namespace fulcrum::detail

@@ -53,6 +53,8 @@ ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c);
 // kCylinderCapPoints rim points) when n is near its axis or else the side line,
 // a capsule's two end points when n is near perpendicular to its axis, or the
 // single support point. Polygons wind counter-clockwise seen from outside.
+// A rounded box, hull or cylinder's feature is its core's (the radius is not
+// added): the narrow phase hands only cores (makeConvexCore) to it.
 // `id` numbers the feature (face index) for feature ids.
 inline constexpr std::uint32_t kMaxFacePoints = 32;
 // Four rim points: the cap is a square inscribed in the rim, aligned with the
