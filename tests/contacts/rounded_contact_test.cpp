@@ -158,6 +158,29 @@ TEST(RoundedContacts, RoundedBoxRestsAtItsOuterHalfHeightWithoutJitter) {
     }
 }
 
+// With sleeping on, a rounded box and a rounded cylinder on its side settle
+// and fall asleep (a rocking rounded edge would keep them awake) at their
+// outer half height.
+TEST(RoundedContacts, RestingRoundedShapesFallAsleep) {
+    World world;
+    addGround(world);
+    BodyDef box;
+    box.shape = Shape::roundedBox({Real(0.5), Real(0.25), Real(0.4)}, Real(0.1));
+    box.mass = 2;
+    box.position = {0, Real(0.4), 0};
+    BodyDef cyl;
+    cyl.shape = Shape::roundedCylinder(Real(0.3), Real(0.5), Real(0.05));
+    cyl.mass = 1;
+    cyl.position = {3, Real(0.4), 0};
+    cyl.orientation = about({1, 0, 0}, 90);  // lying on its side, rolling along x would need a push
+    const BodyId b = world.createBody(box), c = world.createBody(cyl);
+    run(world, 300);
+    EXPECT_FALSE(world.isAwake(b));
+    EXPECT_FALSE(world.isAwake(c));
+    EXPECT_NEAR(world.position(b).y, 0.25, 1e-3);
+    EXPECT_NEAR(world.position(c).y, 0.3, 1e-3);
+}
+
 // A cube of half extent a on a slope with friction enough not to slide
 // (mu = 1.2 > tan of the angles here) tips once the line of its weight leaves
 // the flat part of its face: tan(theta) > (a - r) / a. The sharp cube tips
