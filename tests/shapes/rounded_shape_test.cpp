@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/shape_cast.hpp"
 #include "collision/shape_queries.hpp"
 #include "collision/support.hpp"
 #include "fulcrum/shape.hpp"
@@ -216,6 +217,29 @@ TEST(RoundedShapes, RayCastHitsTheRoundedSurfaceAtTheAnalyticDistance) {
         ASSERT_TRUE(hit);
         EXPECT_NEAR(hit->fraction, std::sqrt(3.0) * 2 - 0.2, 2e-5);
     }
+}
+
+// Shape casts see core + radius: a sphere (radius 0.2) cast onto the rounded
+// cube's face and, along the diagonal, onto its rounded edge; and a rounded
+// box inside a compound cast onto a plane stops at its rounded corner.
+TEST(RoundedShapes, ShapeCastStopsAtTheRoundedSurface) {
+    const Shape box = Shape::roundedBox(Vec3::splat(Real(0.5)), Real(0.1));
+    const Shape ball = Shape::sphere(Real(0.2));
+    const Transform id = Transform::identity();
+    const ShapeCastResult face = shapeCast(ball, Transform({0, 3, 0}, {}), {0, -5, 0}, box, id);
+    ASSERT_TRUE(face.hit);
+    EXPECT_NEAR(face.fraction * 5, 3 - 0.7, 2e-4);
+    // Edge: the centre stops 0.3 from the core's edge line (0.4, 0.4, z).
+    const ShapeCastResult edge = shapeCast(ball, Transform({2, 2, 0}, {}), {-4, -4, 0}, box, id);
+    ASSERT_TRUE(edge.hit);
+    EXPECT_NEAR(edge.fraction, (2 - 0.4 - 0.3 / std::sqrt(2.0)) / 4, 1e-4);
+    // A compound holding the rounded cube turned 45 degrees about z, dropped on the plane y = 0:
+    // its lowest point is 0.4 sqrt 2 + 0.1 below its centre.
+    const CompoundChild child{box, Transform({0, 0, 0}, Quat::fromAxisAngle({0, 0, 1}, Real(kPi / 4)))};
+    const Shape compound = Shape::compound({&child, 1});
+    const ShapeCastResult drop = shapeCast(compound, Transform({0, 2, 0}, {}), {0, -2, 0}, Shape::plane({0, 1, 0}, 0), id);
+    ASSERT_TRUE(drop.hit);
+    EXPECT_NEAR(2 - drop.fraction * 2, 0.4 * std::sqrt(2.0) + 0.1, 2e-4);
 }
 
 TEST(RoundedShapes, ClosestPointIsTheCoresMovedOutByTheRadius) {
