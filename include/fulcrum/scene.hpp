@@ -75,6 +75,7 @@ struct ShapeDesc {
     Real spacingX = 1, spacingZ = 1;                  // heightfield: "spacing": [dx, dz]
     std::vector<Real> heights;                        // heightfield: rows * columns, row by row
     std::vector<std::uint32_t> holes;                 // heightfield: cell indices without collision
+    Real convexRadius = 0;                            // box, cylinder, convex_hull: rounding (docs/shapes.md)
     struct Child;
     std::vector<Child> children;                      // compound
     // Scaled shapes (docs/shapes.md): "scale" on any shape, applied by

@@ -181,6 +181,19 @@ public:
     static Shape convexDecomposition(std::span<const Vec3> vertices,
                                      std::span<const std::array<std::uint32_t, 3>> triangles,
                                      const ConvexDecompositionOptions& options = {});
+    // ---- Rounded shapes (docs/shapes.md, "Rounded shapes"): a box, cylinder
+    // or hull whose surface is its core swept by a sphere of `convexRadius`,
+    // as a capsule is a segment swept by its radius. Box and cylinder take
+    // their OUTER size: the core is the outer size minus the radius, so
+    // 0 <= convexRadius <= the smallest half extent (box) or min(radius,
+    // halfHeight) (cylinder). A hull's points are its CORE: the rounded hull
+    // reaches convexRadius beyond them. A radius of 0 is the plain shape.
+    static Shape roundedBox(const Vec3& halfExtents, Real convexRadius);
+    static Shape roundedCylinder(Real radius, Real halfHeight, Real convexRadius);
+    static Shape roundedConvexHull(std::span<const Vec3> points, Real convexRadius);
+    // The rounding radius (0 for plain shapes; spheres' and capsules' own radius is radius()).
+    Real convexRadius() const { return convexRadius_; }
+    // ---- end of rounded shapes
 
     Shape();  // a unit sphere, so a default-constructed BodyDef is valid
 
@@ -214,7 +227,21 @@ private:
     std::shared_ptr<const TriangleMesh> mesh_;
     std::shared_ptr<const HeightField> heightField_;
     std::shared_ptr<const std::vector<CompoundChild>> children_;
+    // ---- Rounded shapes: the rounding radius, and for a rounded hull the
+    // polyhedron its mass properties (and drawings) come from (shape.cpp,
+    // roundedHullApproximation).
+    Real convexRadius_ = 0;
+    std::shared_ptr<const ConvexHull> roundedHull_;
+    friend const ConvexHull* roundedHullOf(const Shape& s);
+    Real roundedVolume() const;
+    MassProperties roundedMassProperties(Real density) const;
+    AABB roundedBounds(const Transform& xf) const;
+    static std::shared_ptr<const ConvexHull> roundedHullFor(const ConvexHull& core, Real convexRadius);
 };
+
+// The polyhedral stand-in of a rounded hull (its core grown by a polytope close
+// to the ball of its convex radius, docs/shapes.md), or null for any other shape.
+const ConvexHull* roundedHullOf(const Shape& s);
 
 // The deepest nesting of compounds (a compound of leaves is 1 level): the
 // shape code walks compounds recursively, so a depth the stack cannot hold is

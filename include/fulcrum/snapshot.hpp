@@ -43,8 +43,9 @@ namespace fulcrum {
 // settings; 4: WorldDef::maxContactPairs; 5: contact forces (the last step's
 // impulses per point and manifold, the report's forces) and WorldDef::hitEventThreshold;
 // 6: characters and vehicles (their definitions, inputs and state);
-// 7: the six-DOF joint (JointDef::axisY and axes, its frame and drive impulses).
-inline constexpr std::uint32_t kSnapshotVersion = 7;
+// 7: the six-DOF joint (JointDef::axisY and axes, its frame and drive impulses);
+// 8: rounded shapes' convex radius (Shape::convexRadius).
+inline constexpr std::uint32_t kSnapshotVersion = 8;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -33,7 +33,16 @@ std::string number(double v) {
     return text;
 }
 
+std::string describeKind(const Shape& s);
+
+// Rounded shapes add their convex radius to the repr.
 std::string describe(const Shape& s) {
+    std::string text = describeKind(s);
+    if (s.convexRadius() > 0) text.insert(text.size() - 1, ", convex_radius=" + number(s.convexRadius()));
+    return text;
+}
+
+std::string describeKind(const Shape& s) {
     switch (s.type()) {
         case ShapeType::Sphere: return "Sphere(" + number(s.radius()) + ")";
         case ShapeType::Box: return "Box(" + reprVec3(s.halfExtents()) + ")";
@@ -75,6 +84,7 @@ std::vector<std::array<std::uint32_t, 3>> toTriangles(py::handle value) {
 ShapeDesc describeShape(const Shape& s) {
     ShapeDesc d;
     d.type = s.type();
+    d.convexRadius = s.convexRadius();
     switch (s.type()) {
         case ShapeType::Sphere: d.radius = s.radius(); break;
         case ShapeType::Box: d.halfExtents = s.halfExtents(); break;
@@ -140,6 +150,9 @@ void bindShapes(py::module_& m) {
             },
             "(min, max) corners of the bounds in the shape's frame.")
         .def("__repr__", [](const Shape& s) { return "fulcrum." + describe(s); })
+        .def_property_readonly("convex_radius", &Shape::convexRadius,
+                               "The rounding radius of a rounded box, cylinder or hull (m; 0 for plain shapes): the "
+                               "shape is its core swept by a sphere of this radius (docs/shapes.md).")
         // Scaled shapes (docs/shapes.md): a new shape of the kind the scale leaves.
         .def(
             "scaled",
@@ -157,8 +170,10 @@ void bindShapes(py::module_& m) {
         .def(py::init([](Real radius) { return as<SphereShape>(Shape::sphere(radius)); }), py::arg("radius"))
         .def_property_readonly("radius", &Shape::radius);
     py::class_<BoxShape, Shape>(m, "Box", "A box of half extents (x, y, z) in metres, centred on the body origin.")
-        .def(py::init([](py::object half) { return as<BoxShape>(Shape::box(toVec3(half, "half_extents"))); }),
-             py::arg("half_extents"))
+        .def(py::init([](py::object half, Real convexRadius) {
+                 return as<BoxShape>(Shape::roundedBox(toVec3(half, "half_extents"), convexRadius));
+             }),
+             py::arg("half_extents"), py::arg("convex_radius") = 0)
         .def_property_readonly("half_extents", [](const Shape& s) { return fromVec3(s.halfExtents()); });
     py::class_<CapsuleShape, Shape>(m, "Capsule",
                                     "A capsule along local y: the segment from -half_height to +half_height swept by a sphere of radius.")
@@ -167,17 +182,19 @@ void bindShapes(py::module_& m) {
         .def_property_readonly("radius", &Shape::radius)
         .def_property_readonly("half_height", &Shape::halfHeight);
     py::class_<CylinderShape, Shape>(m, "Cylinder", "A cylinder along local y, from -half_height to +half_height.")
-        .def(py::init([](Real radius, Real halfHeight) { return as<CylinderShape>(Shape::cylinder(radius, halfHeight)); }),
-             py::arg("radius"), py::arg("half_height"))
+        .def(py::init([](Real radius, Real halfHeight, Real convexRadius) {
+                 return as<CylinderShape>(Shape::roundedCylinder(radius, halfHeight, convexRadius));
+             }),
+             py::arg("radius"), py::arg("half_height"), py::arg("convex_radius") = 0)
         .def_property_readonly("radius", &Shape::radius)
         .def_property_readonly("half_height", &Shape::halfHeight);
     py::class_<HullShape, Shape>(m, "ConvexHull",
                                  "The convex hull of a point cloud ((n, 3), at least 4 points not all in a plane).")
-        .def(py::init([](py::object points) {
+        .def(py::init([](py::object points, Real convexRadius) {
                  const std::vector<Vec3> p = toVec3List(points, "points");
-                 return as<HullShape>(Shape::convexHull(p));
+                 return as<HullShape>(Shape::roundedConvexHull(p, convexRadius));
              }),
-             py::arg("points"))
+             py::arg("points"), py::arg("convex_radius") = 0)
         .def_property_readonly("vertices", [](const Shape& s) { return fromVec3List(s.hull().vertices); },
                                "The hull's vertices, (k, 3).");
     py::class_<PlaneShape, Shape>(m, "Plane",

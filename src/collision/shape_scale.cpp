@@ -32,6 +32,11 @@ bool nearlyEqual(Real a, Real b) { return std::fabs(a - b) <= kScaleTolerance * 
 
 Shape scaleDiagonal(const Shape& s, const Vec3& d);
 
+std::string roundedNeedsUniform(const Shape& s) {
+    return std::string("a rounded ") + toString(s.type()) + " (convex_radius " + num(s.convexRadius()) +
+           ") only takes a uniform scale (|x| == |y| == |z|): an unevenly scaled ball is an ellipsoid";
+}
+
 // A shape whose geometry is `linear` applied to the points of another, in
 // the same frame up to `rotation`: rotate(rotation, shape) == linear(original).
 struct Placed {
@@ -97,7 +102,9 @@ Placed placeLinear(const Shape& s, const Mat3& linear) {
         }
         return {scaleDiagonal(s, d), normalize(Quat::fromMatrix(q))};
     }
-    // A shear: only shapes given by points (or planes) survive it.
+    // A shear: only shapes given by points (or planes) survive it; a rounded
+    // shape's ball would become an ellipsoid.
+    if (s.convexRadius() > 0) throw Error(roundedNeedsUniform(s));
     switch (s.type()) {
         case ShapeType::Box: {
             const Vec3 h = s.halfExtents();
@@ -121,6 +128,23 @@ Placed placeLinear(const Shape& s, const Mat3& linear) {
 
 Shape scaleDiagonal(const Shape& s, const Vec3& d) {
     const Vec3 a = abs(d);
+    if (s.convexRadius() > 0) {
+        // Rounded shapes (core + ball): a uniform scale scales the core and
+        // the radius alike; any other scale turns the ball into an ellipsoid.
+        if (!nearlyEqual(a.x, a.y) || !nearlyEqual(a.y, a.z)) throw Error(roundedNeedsUniform(s) + ", got " + text(d));
+        const Real u = (a.x + a.y + a.z) / 3;
+        const Real r = s.convexRadius() * u;
+        switch (s.type()) {
+            case ShapeType::Box: return Shape::roundedBox(s.halfExtents() * u, r);
+            case ShapeType::Cylinder: return Shape::roundedCylinder(s.radius() * u, s.halfHeight() * u, r);
+            case ShapeType::ConvexHull: {
+                std::vector<Vec3> core;
+                for (const Vec3& v : s.hull().vertices) core.push_back(mul(v, d));
+                return Shape::roundedConvexHull(core, r);
+            }
+            default: break;
+        }
+    }
     switch (s.type()) {
         case ShapeType::Sphere:
         case ShapeType::Capsule:

@@ -84,6 +84,11 @@ void ConvexShape::extent(const Vec3& d, Real& lo, Real& hi) const {
     const Real offset = dot(d, xf.p);
     lo = low + offset;
     hi = high + offset;
+    if (radius > 0) {  // a rounded hull
+        const Real grow = radius * length(d);
+        lo -= grow;
+        hi += grow;
+    }
 }
 
 Vec3 ConvexShape::center() const {
@@ -96,13 +101,13 @@ Real ConvexShape::boundingRadius() const {
     switch (kind) {
         case ConvexKind::Point: return radius;
         case ConvexKind::Segment: return halfHeight + radius;
-        case ConvexKind::Box: return length(halfExtents);
+        case ConvexKind::Box: return length(halfExtents) + radius;
         case ConvexKind::Hull: {
             Real r2 = 0;
             for (const Vec3& v : hull->vertices) r2 = std::max(r2, lengthSquared(v));
-            return std::sqrt(r2);
+            return std::sqrt(r2) + radius;
         }
-        case ConvexKind::Cylinder: return std::sqrt(cylinderRadius * cylinderRadius + halfHeight * halfHeight);
+        case ConvexKind::Cylinder: return std::sqrt(cylinderRadius * cylinderRadius + halfHeight * halfHeight) + radius;
         case ConvexKind::Triangle: {
             const Vec3 c = center();
             return std::sqrt(std::max({lengthSquared(triangle[0] - c), lengthSquared(triangle[1] - c), lengthSquared(triangle[2] - c)}));
@@ -111,7 +116,7 @@ Real ConvexShape::boundingRadius() const {
     return 0;
 }
 
-ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
+ConvexShape makeConvexCore(const Shape& shape, const Transform& xf) {
     ConvexShape s;
     s.xf = xf;
     switch (shape.type()) {
@@ -127,18 +132,31 @@ ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
         case ShapeType::Box:
             s.kind = ConvexKind::Box;
             s.halfExtents = shape.halfExtents();
+            // Rounded: the core is the outer size minus the convex radius.
+            if (const Real r = shape.convexRadius(); r > 0) s.halfExtents -= Vec3::splat(r);
             break;
         case ShapeType::Cylinder:
             s.kind = ConvexKind::Cylinder;
             s.cylinderRadius = shape.radius();
             s.halfHeight = shape.halfHeight();
+            if (const Real r = shape.convexRadius(); r > 0) {
+                s.cylinderRadius -= r;
+                s.halfHeight -= r;
+            }
             break;
-        case ShapeType::ConvexHull:
+        case ShapeType::ConvexHull:  // a rounded hull's points are already its core
             s.kind = ConvexKind::Hull;
             s.hull = &shape.hull();
             break;
         default: break;  // planes, meshes and compounds never reach here (dispatcher)
     }
+    return s;
+}
+
+ConvexShape makeConvex(const Shape& shape, const Transform& xf) {
+    ConvexShape s = makeConvexCore(shape, xf);
+    // A rounded shape's radius is added back like a sphere's or capsule's.
+    if (const Real r = shape.convexRadius(); r > 0) s.radius = r;
     return s;
 }
 

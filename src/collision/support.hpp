@@ -4,7 +4,8 @@
 //
 // A convex shape is split into a *core* and a *radius* (van den Bergen's
 // "core shapes"): a sphere is a point core with radius r, a capsule a segment
-// core with radius r; boxes, hulls, cylinders and triangles have radius 0.
+// core with radius r; a rounded box, hull or cylinder its core with its convex
+// radius; plain boxes, hulls, cylinders and triangles have radius 0.
 // GJK runs on the cores, which is exact and fast for the rounded shapes and
 // keeps GJK away from the badly conditioned curved surfaces; the radius is
 // added back afterwards.
@@ -42,6 +43,9 @@ struct ConvexShape {
 
 // The convex shape of `shape` placed at `xf`; `shape` must not be a plane, mesh or compound.
 ConvexShape makeConvex(const Shape& shape, const Transform& xf);
+// The same without a rounded shape's convex radius (box, cylinder, hull): the
+// core the narrow phase collides (a sphere's or capsule's radius stays).
+ConvexShape makeConvexCore(const Shape& shape, const Transform& xf);
 ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // The supporting feature of the full shape in world direction `n` (unit): the
@@ -49,6 +53,8 @@ ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c);
 // kCylinderCapPoints rim points) when n is near its axis or else the side line,
 // a capsule's two end points when n is near perpendicular to its axis, or the
 // single support point. Polygons wind counter-clockwise seen from outside.
+// A rounded box, hull or cylinder's feature is its core's (the radius is not
+// added): the narrow phase hands only cores (makeConvexCore) to it.
 // `id` numbers the feature (face index) for feature ids.
 inline constexpr std::uint32_t kMaxFacePoints = 32;
 // Four rim points: the cap is a square inscribed in the rim, aligned with the

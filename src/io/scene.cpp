@@ -48,7 +48,7 @@ SceneError::SceneError(std::string file, std::string path, int line, int column,
       reason_(std::move(reason)) {}
 
 bool ShapeDesc::operator==(const ShapeDesc& o) const {
-    if (type != o.type) return false;
+    if (type != o.type || convexRadius != o.convexRadius) return false;
     if (scale != o.scale || decompose != o.decompose) return false;
     switch (type) {
         case ShapeType::Sphere: return radius == o.radius;

@@ -126,9 +126,11 @@ Shape buildPrimitiveShape(const ShapeDesc& s) {
     }
     switch (s.type) {
         case ShapeType::Sphere: return Shape::sphere(s.radius);
-        case ShapeType::Box: return Shape::box(s.halfExtents);
+        case ShapeType::Box: return s.convexRadius > 0 ? Shape::roundedBox(s.halfExtents, s.convexRadius) : Shape::box(s.halfExtents);
         case ShapeType::Capsule: return Shape::capsule(s.radius, s.halfHeight);
-        case ShapeType::Cylinder: return Shape::cylinder(s.radius, s.halfHeight);
+        case ShapeType::Cylinder:
+            return s.convexRadius > 0 ? Shape::roundedCylinder(s.radius, s.halfHeight, s.convexRadius)
+                                      : Shape::cylinder(s.radius, s.halfHeight);
         case ShapeType::Plane: return Shape::plane(s.normal, s.offset);
         case ShapeType::Compound: {
             std::vector<CompoundChild> children;

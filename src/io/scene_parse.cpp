@@ -359,7 +359,7 @@ ShapeDesc Parser::parseShape(const json& given, const std::string& path, int dep
             s.radius = positiveField("radius");
             break;
         case ShapeType::Box: {
-            checkKeys(j, path, {"type", "half_extents"}, what);
+            checkKeys(j, path, {"type", "half_extents", "convex_radius"}, what);
             const std::string p = childPath(path, "half_extents");
             s.halfExtents = vec3(required(j, path, "half_extents"), p);
             for (std::size_t i = 0; i < 3; ++i) {
@@ -371,12 +371,16 @@ ShapeDesc Parser::parseShape(const json& given, const std::string& path, int dep
         }
         case ShapeType::Capsule:
         case ShapeType::Cylinder:
-            checkKeys(j, path, {"type", "radius", "half_height"}, what);
+            if (s.type == ShapeType::Cylinder) {
+                checkKeys(j, path, {"type", "radius", "half_height", "convex_radius"}, what);
+            } else {
+                checkKeys(j, path, {"type", "radius", "half_height"}, what);
+            }
             s.radius = positiveField("radius");
             s.halfHeight = positiveField("half_height");
             break;
         case ShapeType::ConvexHull: {
-            checkKeys(j, path, {"type", "points"}, what);
+            checkKeys(j, path, {"type", "points", "convex_radius"}, what);
             const std::string p = childPath(path, "points");
             const json& pts = requireArray(required(j, path, "points"), p);
             if (pts.size() < 4) fail(p, "a convex hull needs at least 4 points, got " + std::to_string(pts.size()));
@@ -470,6 +474,19 @@ ShapeDesc Parser::parseShape(const json& given, const std::string& path, int dep
         s.decompose = boolean(*decomposeJson, p);
         if (s.type != ShapeType::Mesh) fail(p, "only a mesh can be decomposed into convex hulls, this is a " + typeName);
     }
+    // Rounded shapes: the optional convex radius of a box, cylinder or hull
+    // (checkKeys above refuses it on any other shape).
+    opt(j, path, "convex_radius", [&](const json& v, const std::string& p) {
+        s.convexRadius = number(v, p);
+        Real limit = std::numeric_limits<Real>::infinity();
+        std::string limitName = "infinity";
+        if (s.type == ShapeType::Box) limit = minComponent(s.halfExtents), limitName = "the smallest half extent";
+        if (s.type == ShapeType::Cylinder) limit = std::min(s.radius, s.halfHeight), limitName = "min(radius, half_height)";
+        if (!std::isfinite(s.convexRadius) || s.convexRadius < 0 || s.convexRadius > limit) {
+            fail(p, "convex_radius must be in [0, " + limitName + " = " + detail::formatNumber(limit) + "], got " +
+                        detail::formatNumber(s.convexRadius));
+        }
+    });
     // The engine's own rules, as the last word (hulls and meshes are built,
     // and checked geometrically, by buildWorld).
     if (s.type != ShapeType::ConvexHull && s.type != ShapeType::Mesh && !detail::containsHullOrMesh(s)) {

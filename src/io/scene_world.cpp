@@ -36,7 +36,8 @@ Shape buildShape(const ShapeDesc& s) {
         return Shape::scaled(buildShape(unscaled), s.scale);
     }
     switch (s.type) {
-        case ShapeType::ConvexHull: return Shape::convexHull(s.points);
+        case ShapeType::ConvexHull:
+            return s.convexRadius > 0 ? Shape::roundedConvexHull(s.points, s.convexRadius) : Shape::convexHull(s.points);
         case ShapeType::Mesh:
             if (s.decompose) return Shape::convexDecomposition(s.vertices, s.triangles);
             return Shape::mesh(s.vertices, s.triangles);

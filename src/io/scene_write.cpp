@@ -81,6 +81,7 @@ ojson shapeJson(const ShapeDesc& s) {
     if (s.scale != Vec3{1, 1, 1}) {
         j["scale"] = s.scale.x == s.scale.y && s.scale.y == s.scale.z ? ojson(num(s.scale.x)) : vec(s.scale);
     }
+    if (s.convexRadius > 0) j["convex_radius"] = num(s.convexRadius);  // rounded shapes
     return j;
 }
 

@@ -66,6 +66,28 @@ void appendQuad(RenderMesh& out, const Vec3 corners[4], const Vec3& normal) {
 
 int atLeast(int v, int lo) { return v < lo ? lo : v; }
 
+// A rounded box, cylinder or hull as the polyhedron its mass comes from (a
+// hull's stand-in, docs/shapes.md): the box's core corners or a ring of 24
+// points on each of the cylinder core's rims, swept by the radius. A flat
+// core (a radius at its limit) is drawn 0.1 mm thick, as a hull needs volume.
+RenderMesh tessellateRounded(const Shape& shape) {
+    const Real r = shape.convexRadius();
+    if (shape.type() == ShapeType::ConvexHull) return tessellateHull(*roundedHullOf(shape));
+    std::vector<Vec3> core;
+    if (shape.type() == ShapeType::Box) {
+        const Vec3 c = max(shape.halfExtents() - Vec3::splat(r), Vec3::splat(Real(1e-4)));
+        for (int i = 0; i < 8; ++i) core.push_back({(i & 1) ? c.x : -c.x, (i & 2) ? c.y : -c.y, (i & 4) ? c.z : -c.z});
+    } else {
+        const Real p = std::max(shape.radius() - r, Real(1e-4)), h = std::max(shape.halfHeight() - r, Real(1e-4));
+        for (int i = 0; i < 24; ++i) {
+            const Real a = Real(2) * std::numbers::pi_v<Real> * static_cast<Real>(i) / 24;
+            core.push_back({p * std::cos(a), h, p * std::sin(a)});
+            core.push_back({p * std::cos(a), -h, p * std::sin(a)});
+        }
+    }
+    return tessellateHull(*roundedHullOf(Shape::roundedConvexHull(core, r)));
+}
+
 void flatten(const Shape& shape, const Transform& frame, const TessellationOptions& options,
              std::vector<RenderPart>& parts) {
     if (shape.type() == ShapeType::Compound) {
@@ -77,6 +99,11 @@ void flatten(const Shape& shape, const Transform& frame, const TessellationOptio
     local.planeCenter = inverseTransformPoint(frame, options.planeCenter);
     RenderPart part;
     part.local = frame;
+    if (shape.convexRadius() > 0) {  // rounded shapes: drawn as their polyhedral stand-in
+        part.mesh = tessellateRounded(shape);
+        parts.push_back(std::move(part));
+        return;
+    }
     switch (shape.type()) {
         case ShapeType::Sphere: part.mesh = tessellateSphere(shape.radius(), local); break;
         case ShapeType::Box: part.mesh = tessellateBox(shape.halfExtents()); break;

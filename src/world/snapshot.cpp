@@ -509,6 +509,19 @@ struct SnapshotAccess {
         if (depth > kMaxCompoundLevels) a.fail("compound shapes nested deeper than " + std::to_string(kMaxCompoundLevels));
         a.enumeration(s.type_, ShapeType::HeightField);
         io(a, s.radius_), io(a, s.halfHeight_), io(a, s.halfExtents_);
+        // Version 8: rounded shapes' convex radius (older files: plain shapes).
+        if constexpr (!A::kReading) {
+            if (a.version < 8 && s.convexRadius_ > 0) a.fail("rounded shapes need format version 8 or later");
+        }
+        if (a.version >= 8) io(a, s.convexRadius_);
+        if constexpr (A::kReading) {
+            const Real r = s.convexRadius_;
+            const bool roundable = s.type_ == ShapeType::Box || s.type_ == ShapeType::Cylinder || s.type_ == ShapeType::ConvexHull;
+            Real limit = r;  // hulls: any finite radius
+            if (s.type_ == ShapeType::Box) limit = minComponent(s.halfExtents_);
+            if (s.type_ == ShapeType::Cylinder) limit = std::min(s.radius_, s.halfHeight_);
+            if (!std::isfinite(r) || r < 0 || (r > 0 && !roundable) || r > limit) a.fail("invalid convex radius");
+        }
         switch (s.type_) {
             case ShapeType::ConvexHull: {
                 ConvexHull h = A::kReading ? ConvexHull{} : *s.hull_;
@@ -531,6 +544,13 @@ struct SnapshotAccess {
                         if (e[0] >= h.vertices.size() || e[1] >= h.vertices.size()) a.fail("hull edge out of range");
                     }
                     s.hull_ = std::make_shared<const ConvexHull>(std::move(h));
+                    if (s.convexRadius_ > 0) {  // the rounded hull's stand-in is derived, not saved
+                        try {
+                            s.roundedHull_ = Shape::roundedHullFor(*s.hull_, s.convexRadius_);
+                        } catch (const Error& e) {
+                            a.fail(std::string("invalid rounded hull: ") + e.what());
+                        }
+                    }
                 }
                 break;
             }
