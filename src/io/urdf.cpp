@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -239,6 +240,23 @@ ShapeDesc::Child inertiaBox(const UrdfLink& l) {
 }
 
 std::string lineOf(const UrdfModel& m, int line) { return m.source + ": line " + std::to_string(line); }
+
+// A drive given to the importer (position spring and/or velocity motor) on a
+// joint axis whose URDF <dynamics damping> is `damping`: the spring carries
+// both dampings; a velocity drive without its own force limit takes
+// `defaultMaxForce` (the joint's effort limit), or a large finite one.
+void applyDrive(const JointDrive& drive, Real damping, Real defaultMaxForce, JointSpring& spring, JointMotor& motor) {
+    spring.target = drive.position;
+    spring.stiffness = drive.stiffness;
+    spring.damping = damping + drive.damping;
+    spring.enabled = spring.stiffness > 0 || spring.damping > 0;
+    if (drive.velocityDrive) {
+        motor.enabled = true;
+        motor.speed = drive.velocity;
+        motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : defaultMaxForce;
+        if (!std::isfinite(motor.maxForce)) motor.maxForce = Real(1e9);
+    }
+}
 
 }  // namespace
 
@@ -496,16 +514,7 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
                 const auto it = axisDriveOf.find({j.name, k});
                 if (it == axisDriveOf.end()) continue;
                 SixDofAxis& a = d.axes[static_cast<std::size_t>(k)];
-                const JointDrive& drive = it->second;
-                a.spring.target = drive.position;
-                a.spring.stiffness = drive.stiffness;
-                a.spring.damping = j.damping + drive.damping;
-                a.spring.enabled = a.spring.stiffness > 0 || a.spring.damping > 0;
-                if (drive.velocityDrive) {
-                    a.motor.enabled = true;
-                    a.motor.speed = drive.velocity;
-                    a.motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : Real(1e9);
-                }
+                applyDrive(it->second, j.damping, std::numeric_limits<Real>::infinity(), a.spring, a.motor);
             }
         }
         const bool rangeGiven = j.hasLower || j.hasUpper;
@@ -545,17 +554,7 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
             d.spring.damping = j.damping;
             d.frictionTorque = j.friction;  // N m on a hinge, N along a slider
             if (const auto it = driveOf.find(j.name); it != driveOf.end()) {
-                const JointDrive& drive = it->second;
-                d.spring.target = drive.position;
-                d.spring.stiffness = drive.stiffness;
-                d.spring.damping = j.damping + drive.damping;
-                d.spring.enabled = d.spring.stiffness > 0 || d.spring.damping > 0;
-                if (drive.velocityDrive) {
-                    d.motor.enabled = true;
-                    d.motor.speed = drive.velocity;
-                    d.motor.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : rj.effortLimit;
-                    if (!std::isfinite(d.motor.maxForce)) d.motor.maxForce = Real(1e9);
-                }
+                applyDrive(it->second, j.damping, rj.effortLimit, d.spring, d.motor);
             }
         }
         robot.joints.push_back(rj);
