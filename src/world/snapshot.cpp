@@ -935,8 +935,17 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
              std::to_string(pw.settings().iterations) + " must be at most " + std::to_string(kMaxSubsteps) + " and " +
              std::to_string(kMaxSolverIterations));
     }
+    // The checks below walk the live list; the particle step walks every
+    // live slot. So the list must name each live slot exactly once (found by
+    // fuzz/snapshot_fuzz.cpp: a live system missing from the list went
+    // unchecked, and its constraint indices ran past its particles).
+    if (w.particles.live.size() != pw.systemCount()) fail("live particle system list");
+    std::vector<bool> listedSystem;
     for (const ParticleSystemId id : w.particles.live) {
         if (!pw.isValid(id)) fail("live particle system handle");
+        if (id.index >= listedSystem.size()) listedSystem.resize(id.index + std::size_t{1}, false);
+        if (listedSystem[id.index]) fail("live particle system listed twice");
+        listedSystem[id.index] = true;
         const ParticleSystem& s = pw.system(id);
         const std::size_t np = s.position.size();
         if (s.displacement.size() != np || s.restPosition.size() != np || s.force.size() != np ||
