@@ -161,7 +161,11 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
         ContactCandidate batch[kBatch + Manifold::kMaxPoints];
         std::uint32_t count = 0;
         for (std::size_t i = 0; i < scratch.size(); ++i) {
-            if (scratch[i].contact.depth <= kUsed || dot(scratch[i].normal, n) < kGroupCos) continue;
+            // The seed always joins its own group, so every pass consumes at
+            // least one candidate: a seed whose normal lost its unit length
+            // (a body 1e13 m across, found by fuzz/snapshot_fuzz.cpp) failed
+            // its own test, stayed unused and was picked again for ever.
+            if (i != seed && (scratch[i].contact.depth <= kUsed || dot(scratch[i].normal, n) < kGroupCos)) continue;
             if (scratch[i].contact.depth >= bandFloor) batch[count++] = scratch[i].contact;
             scratch[i].contact.depth = kUsed;
             if (count == kBatch + Manifold::kMaxPoints) {

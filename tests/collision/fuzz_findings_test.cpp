@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "collision/collide_mesh.hpp"
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
 #include "collision/narrow_phase.hpp"
@@ -538,4 +539,26 @@ TEST(FuzzFindings, BoxPairOrdersApartEachGiveTheTravelAlongTheirNormal) {
     const Real alignment = dot(ab[0].normal, ba[0].normal);  // -1: mirrored
     EXPECT_GT(alignment, Real(-0.95));  // 23 degrees apart
     EXPECT_LT(alignment, Real(-0.9));
+}
+
+// Found by a 10^6-input run of fuzz/snapshot_fuzz.cpp: a compound body 1e13 m
+// across over a two-triangle mesh gave a mesh contact candidate whose normal
+// had lost its unit length. Grouping picked it as the seed of a group, it
+// failed its own "same normal" test (n . n < 0.999), stayed unused and was
+// picked again for ever (the step hung). Grouping now always takes the seed,
+// so each candidate is used once: two candidates, one with a normal 0.5 long,
+// give two manifolds (the normals differ), each with its own point.
+TEST(FuzzFindings, MeshContactGroupingEndsWhenANormalIsNotUnit) {
+    std::vector<detail::MeshContactCandidate> scratch(2);
+    scratch[0].contact = {{0, 0, 0}, Real(0.01), 1};
+    scratch[0].normal = {0, Real(0.5), 0};  // not unit: the seed (deepest)
+    scratch[1].contact = {{1, 0, 0}, Real(0.005), 2};
+    scratch[1].normal = {0, 1, 0};
+    ManifoldBuffer out;
+    detail::groupTriangleContacts(scratch, Real(0.02), out);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_EQ(out[0].pointCount, 1u);
+    EXPECT_NEAR(out[0].points[0].depth, 0.01, 1e-7);
+    EXPECT_EQ(out[1].pointCount, 1u);
+    EXPECT_NEAR(out[1].points[0].depth, 0.005, 1e-7);
 }
