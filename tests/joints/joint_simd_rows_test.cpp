@@ -3,10 +3,10 @@
 // kernels: the scalar path, 4 lanes (SSE2) and 8 lanes (AVX2), on 1 and 3
 // threads, give the same positions, orientations and velocities after every
 // step on a scene that runs every row and branch: hinges with limits (hit),
-// motors, springs (some force-limited and saturated) and friction (a motor at speed 0), cone-twists with swing
-// and twist limits (hit), unlimited cones and friction, ball joints with
-// friction (in the cone-twist blocks), in loops (Gauss-
-// Seidel point blocks) and in joint trees (ragdolls, chains: the tree solver
+// motors, springs (some force-limited and saturated) and friction (a motor
+// at speed 0), cone-twists with swing and twist limits (hit), unlimited cones
+// and friction, ball joints with friction (in the cone-twist blocks), in
+// loops (Gauss-Seidel point blocks) and in joint trees (ragdolls, chains: the tree solver
 // has the point rows), to static and kinematic ends, with contacts. Then the
 // physics on the wide path: a hinge pendulum's period, a limit holding a
 // load, friction holding a load below its torque and not above.
