@@ -20,12 +20,15 @@ struct JointMotor {
     Real maxForce = 0;    // hinge: N m; slider: N
 };
 
-// Spring towards a target angle (hinge) or position along the axis (slider).
+// Spring towards a target angle (hinge) or position along the axis (slider):
+// the position drive. Its force is clamped to maxForce (as the motor's), so a
+// stiff spring is "a target held with at most maxForce" (docs/joints.md).
 struct JointSpring {
     bool enabled = false;
     Real target = 0;
     Real stiffness = 0;   // N m/rad or N/m
     Real damping = 0;
+    Real maxForce = std::numeric_limits<Real>::infinity();  // N m or N, >= 0; +infinity: unlimited
 };
 
 // ---- six-degree-of-freedom joint: its axes (docs/joints.md, "Six-DOF")

@@ -45,7 +45,8 @@ namespace fulcrum {
 // 6: characters and vehicles (their definitions, inputs and state);
 // 7: the six-DOF joint (JointDef::axisY and axes, its frame and drive impulses);
 // 8: rounded shapes' convex radius (Shape::convexRadius).
-inline constexpr std::uint32_t kSnapshotVersion = 8;
+// 9: the position drives' force limits (JointSpring::maxForce).
+inline constexpr std::uint32_t kSnapshotVersion = 9;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -20,14 +20,18 @@ namespace fulcrum {
 
 // A drive on a hinge (revolute, continuous) or slider (prismatic) joint: an
 // implicit PD towards `position` (the joint's JointSpring: stiffness, damping),
-// and/or a velocity target held with at most `maxForce` (its JointMotor).
+// and/or a velocity target (its JointMotor), each with at most `maxForce`
+// (PyBullet's `force`; default: the URDF effort limit).
 struct JointDrive {
     Real position = 0;   // rad or m, from the pose the model was built in (all joint positions 0)
     Real stiffness = 0;  // N m/rad or N/m; 0 with damping 0: no position drive
     Real damping = 0;    // N m s/rad or N s/m, added to the URDF's <dynamics damping>
     bool velocityDrive = false;
     Real velocity = 0;   // rad/s or m/s
-    Real maxForce = std::numeric_limits<Real>::infinity();  // N m or N (the velocity drive); inf: the URDF effort limit
+    // N m or N, > 0: caps the position drive (JointSpring::maxForce) and the
+    // velocity drive (JointMotor::maxForce), each row on its own; inf: the URDF
+    // effort limit (none: the position drive unlimited, the velocity drive 1e9).
+    Real maxForce = std::numeric_limits<Real>::infinity();
 };
 
 struct UrdfOptions {
@@ -85,6 +89,36 @@ struct RobotDof {
     int axis = -1;
 };
 
+// What Robot::inverseDynamics adds to the rigid tree's efforts.
+struct InverseDynamicsOptions {
+    bool damping = true;   // d qd, d the URDF <dynamics damping>
+    // f sgn(qd), f the URDF <dynamics friction> (Coulomb); at qd = 0 the
+    // friction opposes the acceleration, f sgn(qdd) (the joint breaks away),
+    // and is 0 with qdd = 0 too (holding relies on no static friction).
+    bool friction = true;
+};
+
+// The root link's state for floating-base inverse dynamics (world frame);
+// Robot::baseState reads it from the world.
+struct RobotBaseState {
+    Vec3 position;          // the root link's frame origin, m
+    Quat orientation;       // the root link's frame
+    Vec3 angularVelocity;   // rad/s (its linear velocity does not enter the efforts)
+};
+
+// Floating-base inverse dynamics' answer (Robot::freeBaseInverseDynamics,
+// prescribedBaseInverseDynamics).
+struct FloatingBaseDynamics {
+    std::vector<Real> efforts;         // per actuated joint (N m or N), the order of jointPositions
+    // The root link's frame origin's linear acceleration (m/s^2, world) and
+    // its angular acceleration (rad/s^2): free base, what the tree takes;
+    // prescribed base, as given.
+    Vec3 linearAcceleration, angularAcceleration;
+    // The wrench on the root link, besides gravity, that the motion needs
+    // (N, and N m about the root link's frame origin; world): zero for a free base.
+    Vec3 force, torque;
+};
+
 // A specific-force IMU reading in the body's axes.
 struct ImuReading {
     Vec3 specificForce;     // m/s^2: linear acceleration of the centre of mass minus gravity (at rest: -g, "up")
@@ -118,6 +152,10 @@ public:
     void setPositionTargets(World& world, std::span<const Real> positions) const;
     void setDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const;
     void setVelocityTargets(World& world, std::span<const Real> velocities) const;
+    // The position drives' force limits (N m or N, >= 0; +infinity: none),
+    // kept by the calls above and by disableDrives. Loading sets them to the
+    // URDF effort limits (docs/robots.md, "Drives").
+    void setDriveMaxForces(World& world, std::span<const Real> maxForces) const;
     void disableDrives(World& world) const;  // springs and motors off (URDF damping and friction stay), six-DOF axes' too
 
     // Every degree of freedom (docs/robots.md, "Six-DOF drives"): the actuated
@@ -132,6 +170,7 @@ public:
     void setDofPositionTargets(World& world, std::span<const Real> positions) const;
     void setDofDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const;
     void setDofVelocityTargets(World& world, std::span<const Real> velocities) const;
+    void setDofDriveMaxForces(World& world, std::span<const Real> maxForces) const;  // as setDriveMaxForces
     std::vector<Real> dofPositions(const World& world) const;
     std::vector<Real> dofVelocities(const World& world) const;
     std::vector<Real> dofEfforts(const World& world) const;  // six-DOF axes: World::sixDofReading's efforts
@@ -153,11 +192,29 @@ public:
     // each actuated joint (N m or N, the order of jointPositions) that moves
     // the robot through positions q, velocities qd and accelerations qdd under
     // the world's gravity, from the links' mass, centre of mass and inertia
-    // and the model's geometry (the pose it was loaded in is q = 0). With qd
-    // and qdd zero: the gravity-holding efforts. Throws for a robot whose root
-    // is not static, or with floating or planar joints.
+    // and the model's geometry (the pose it was loaded in is q = 0), plus the
+    // URDF damping and friction (options). With qd and qdd zero: the
+    // gravity-holding efforts. Joint limits are not part of it. Throws for a
+    // robot whose root is not static, or with floating or planar joints.
     std::vector<Real> inverseDynamics(const World& world, std::span<const Real> q, std::span<const Real> qd,
-                                      std::span<const Real> qdd) const;
+                                      std::span<const Real> qdd, const InverseDynamicsOptions& options = {}) const;
+    // Floating base (a root link that is not static; Featherstone ch. 9.5):
+    // the free tree, no wrench on its root but gravity, moving its joints
+    // through q, qd, qdd from the base state: the base's acceleration and the
+    // joint efforts. Throws for a static root, or floating or planar joints.
+    FloatingBaseDynamics freeBaseInverseDynamics(const World& world, const RobotBaseState& base, std::span<const Real> q,
+                                                 std::span<const Real> qd, std::span<const Real> qdd,
+                                                 const InverseDynamicsOptions& options = {}) const;
+    // The same with the base's accelerations given (its frame origin's linear
+    // one and the angular one, world): the wrench on the base and the joint
+    // efforts that make that motion (the base as a sixth actuated joint).
+    FloatingBaseDynamics prescribedBaseInverseDynamics(const World& world, const RobotBaseState& base,
+                                                       const Vec3& linearAcceleration, const Vec3& angularAcceleration,
+                                                       std::span<const Real> q, std::span<const Real> qd,
+                                                       std::span<const Real> qdd,
+                                                       const InverseDynamicsOptions& options = {}) const;
+    // The root link's pose and angular velocity now (its body's).
+    RobotBaseState baseState(const World& world) const;
 
 private:
     friend Robot createUrdfParts(World& world, const UrdfSceneParts& parts, const std::string& sourceName);
@@ -170,6 +227,7 @@ private:
         Real mass = 0;      // 0: static
     };
     std::vector<LinkModel> model_;
+    struct Dynamics;  // the recursive Newton-Euler passes (urdf_dynamics.cpp)
     std::vector<Vec3> lastVelocity_;
     Real lastTime_ = 0;
     bool sampled_ = false;

@@ -63,14 +63,14 @@ void setLimits(JointDef& def, const py::object& limits) {
     const auto [lo, hi] = pairOf(limits, "limits");
     def.hasLimits = true, def.lowerLimit = lo, def.upperLimit = hi;
 }
-void setSpring(JointDef& def, Real target, Real stiffness, Real damping) {
+void setSpring(JointDef& def, Real target, Real stiffness, Real damping, Real maxForce) {
     if (stiffness == 0 && damping == 0) return;
-    def.spring = {true, target, stiffness, damping};
+    def.spring = {true, target, stiffness, damping, maxForce};
 }
 
 // Six-DOF axes by name or index, and one axis's settings from a dict in the
 // scene format's shape: "free" / "locked", or {"mode", "limits": (lo, hi),
-// "motor": {"speed", "max_force"}, "spring": {"target", "stiffness", "damping"}}.
+// "motor": {"speed", "max_force"}, "spring": {"target", "stiffness", "damping", "max_force"}}.
 constexpr const char* kAxisNames[kSixDofAxes] = {"x", "y", "z", "rx", "ry", "rz"};
 int axisIndex(py::handle key) {
     if (py::isinstance<py::str>(key)) {
@@ -116,7 +116,8 @@ SixDofAxis axisSettings(py::handle value) {
     if (d.contains("spring") && !d["spring"].is_none()) {
         const py::dict m = d["spring"].cast<py::dict>();
         s.spring = {true, m.contains("target") ? m["target"].cast<Real>() : Real(0), m["stiffness"].cast<Real>(),
-                    m.contains("damping") ? m["damping"].cast<Real>() : Real(0)};
+                    m.contains("damping") ? m["damping"].cast<Real>() : Real(0),
+                    m.contains("max_force") ? m["max_force"].cast<Real>() : kInf};
     }
     return s;
 }
@@ -178,12 +179,13 @@ void bindJoints(py::module_& m) {
              },
              py::arg("limits"), "(lower, upper): rad for hinges, m for sliders; None removes them.")
         .def("set_spring",
-             [](const J& j, Real target, Real stiffness, Real damping) {
+             [](const J& j, Real target, Real stiffness, Real damping, Real maxForce) {
                  auto a = j.access("Joint");
-                 a.world.setJointSpring(j.id, {stiffness != 0 || damping != 0, target, stiffness, damping});
+                 a.world.setJointSpring(j.id, {stiffness != 0 || damping != 0, target, stiffness, damping, maxForce});
              },
-             py::arg("target") = 0, py::arg("stiffness") = 0, py::arg("damping") = 0,
-             "A spring towards a hinge angle or slider position; stiffness = damping = 0 removes it.")
+             py::arg("target") = 0, py::arg("stiffness") = 0, py::arg("damping") = 0, py::arg("max_force") = kInf,
+             "A spring (position drive) towards a hinge angle or slider position, its torque or force at most "
+             "max_force (N m or N; default unlimited); stiffness = damping = 0 removes it.")
         .def("set_axis",
              [](const J& j, py::object axis, py::object settings) {
                  auto a = j.access("Joint");
@@ -191,7 +193,7 @@ void bindJoints(py::module_& m) {
              },
              py::arg("axis"), py::arg("settings"),
              "Six-DOF: one axis ('x', 'y', 'z', 'rx', 'ry', 'rz' or 0..5) as a dict {'limits': (lo, hi), 'motor': "
-             "{'speed', 'max_force'}, 'spring': {'target', 'stiffness', 'damping'}}; its mode stays as created.")
+             "{'speed', 'max_force'}, 'spring': {'target', 'stiffness', 'damping', 'max_force'}}; its mode stays as created.")
         .def_property_readonly("axes",
              [](const J& j) {
                  auto a = j.access("Joint");
@@ -258,45 +260,45 @@ void bindJoints(py::module_& m) {
         "create_hinge_joint",
         [](PyWorld& w, py::object a, py::object b, py::object anchor, py::object axis, py::object limits,
            py::object motorSpeed, Real maxMotorForce, Real springTarget, Real springStiffness, Real springDamping,
-           Real frictionTorque, const std::string& name, bool cc, Real bf, Real bt) {
+           Real springMaxForce, Real frictionTorque, const std::string& name, bool cc, Real bf, Real bt) {
             JointDef def;
             def.type = JointType::Hinge;
             def.anchor = toVec3(anchor, "anchor");
             def.axis = toVec3(axis, "axis");
             setLimits(def, limits);
             setMotor(def, motorSpeed, maxMotorForce);
-            setSpring(def, springTarget, springStiffness, springDamping);
+            setSpring(def, springTarget, springStiffness, springDamping, springMaxForce);
             def.frictionTorque = frictionTorque;
             return create(w, def, {a, b, name, cc, bf, bt});
         },
         py::arg("body_a"), py::arg("body_b"), py::kw_only(), py::arg("anchor"), py::arg("axis") = py::make_tuple(0, 1, 0),
         py::arg("limits") = py::none(), py::arg("motor_speed") = py::none(), py::arg("max_motor_force") = 0,
         py::arg("spring_target") = 0, py::arg("spring_stiffness") = 0, py::arg("spring_damping") = 0,
-        py::arg("friction_torque") = d.frictionTorque, FULCRUM_JOINT_COMMON_ARGS,
+        py::arg("spring_max_force") = kInf, py::arg("friction_torque") = d.frictionTorque, FULCRUM_JOINT_COMMON_ARGS,
         "A hinge about a world axis through a world anchor. limits: (lower, upper) angle in rad from the pose at "
         "creation; motor_speed (rad/s) with max_motor_force (N m) turns the motor on; spring_stiffness (N m/rad) / "
-        "spring_damping pull towards spring_target.");
+        "spring_damping pull towards spring_target with at most spring_max_force (N m; default unlimited).");
     cls.def(
         "create_slider_joint",
         [](PyWorld& w, py::object a, py::object b, py::object anchor, py::object axis, py::object limits,
            py::object motorSpeed, Real maxMotorForce, Real springTarget, Real springStiffness, Real springDamping,
-           Real frictionForce, const std::string& name, bool cc, Real bf, Real bt) {
+           Real springMaxForce, Real frictionForce, const std::string& name, bool cc, Real bf, Real bt) {
             JointDef def;
             def.type = JointType::Slider;
             def.anchor = toVec3(anchor, "anchor");
             def.axis = toVec3(axis, "axis");
             setLimits(def, limits);
             setMotor(def, motorSpeed, maxMotorForce);
-            setSpring(def, springTarget, springStiffness, springDamping);
+            setSpring(def, springTarget, springStiffness, springDamping, springMaxForce);
             def.frictionTorque = frictionForce;  // JointDef's friction field: a force along a slider's axis
             return create(w, def, {a, b, name, cc, bf, bt});
         },
         py::arg("body_a"), py::arg("body_b"), py::kw_only(), py::arg("anchor"), py::arg("axis") = py::make_tuple(1, 0, 0),
         py::arg("limits") = py::none(), py::arg("motor_speed") = py::none(), py::arg("max_motor_force") = 0,
         py::arg("spring_target") = 0, py::arg("spring_stiffness") = 0, py::arg("spring_damping") = 0,
-        py::arg("friction_force") = 0, FULCRUM_JOINT_COMMON_ARGS,
-        "A prismatic joint along a world axis: limits in m, motor in m/s and N, spring in N/m, dry friction "
-        "friction_force in N (while the motor is off).");
+        py::arg("spring_max_force") = kInf, py::arg("friction_force") = 0, FULCRUM_JOINT_COMMON_ARGS,
+        "A prismatic joint along a world axis: limits in m, motor in m/s and N, spring in N/m (at most "
+        "spring_max_force N), dry friction friction_force in N (while the motor is off).");
     cls.def(
         "create_distance_joint",
         [](PyWorld& w, py::object a, py::object b, py::object anchorA, py::object anchorB, Real minLength,

@@ -86,8 +86,8 @@ void bindRobots(py::module_& m) {
              },
              py::arg("joint"), py::arg("position") = 0, py::arg("stiffness") = 0, py::arg("damping") = 0,
              py::arg("velocity") = py::none(), py::arg("max_force") = std::numeric_limits<Real>::infinity(),
-             "One joint's drive: an implicit PD towards position (stiffness, damping) and/or a velocity target "
-             "held with at most max_force (default: the URDF effort limit).")
+             "One joint's drive: an implicit PD towards position (stiffness, damping) and/or a velocity target, "
+             "each with at most max_force (N m or N; default: the URDF effort limit).")
         .def("set_position_targets",
              [](const PyRobot& r, py::handle q) { const WorldPtr s = r.lock(); r.robot.setPositionTargets(s->world, reals(q, "positions")); },
              py::arg("positions"), "One target per actuated joint (rad or m); the drives keep their gains.")
@@ -100,6 +100,11 @@ void bindRobots(py::module_& m) {
         .def("set_velocity_targets",
              [](const PyRobot& r, py::handle v) { const WorldPtr s = r.lock(); r.robot.setVelocityTargets(s->world, reals(v, "velocities")); },
              py::arg("velocities"), "Velocity drives on (max force: each joint's effort limit, or unlimited).")
+        .def("set_drive_max_forces",
+             [](const PyRobot& r, py::handle f) { const WorldPtr s = r.lock(); r.robot.setDriveMaxForces(s->world, reals(f, "max forces")); },
+             py::arg("max_forces"),
+             "The position drives' force limits, one per actuated joint (N m or N; inf: none); the other calls keep "
+             "them. Loading sets them to the URDF effort limits.")
         .def("disable_drives", [](const PyRobot& r) { const WorldPtr s = r.lock(); r.robot.disableDrives(s->world); })
         .def_property_readonly("dof_names", [](const PyRobot& r) { return r.robot.dofNames(); },
                                "Every degree of freedom: the actuated joints and the free axes of floating and planar "
@@ -116,6 +121,9 @@ void bindRobots(py::module_& m) {
         .def("set_dof_velocity_targets",
              [](const PyRobot& r, py::handle v) { const WorldPtr s = r.lock(); r.robot.setDofVelocityTargets(s->world, reals(v, "velocities")); },
              py::arg("velocities"), "Velocity drives on every dof (max force: the effort limit, or unlimited).")
+        .def("set_dof_drive_max_forces",
+             [](const PyRobot& r, py::handle f) { const WorldPtr s = r.lock(); r.robot.setDofDriveMaxForces(s->world, reals(f, "max forces")); },
+             py::arg("max_forces"), "The position drives' force limits, one per dof (N m or N; inf: none).")
         .def("dof_positions", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.dofPositions(s->world)); })
         .def("dof_velocities", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.dofVelocities(s->world)); })
         .def("dof_efforts", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.dofEfforts(s->world)); },
@@ -125,18 +133,57 @@ void bindRobots(py::module_& m) {
         .def("joint_efforts", [](const PyRobot& r) { const WorldPtr s = r.lock(); return array(r.robot.jointEfforts(s->world)); },
              "Each actuated joint's effort along its axis in the last step (N m or N).")
         .def("inverse_dynamics",
-             [](const PyRobot& r, py::handle q, py::handle qd, py::handle qdd) {
+             [](const PyRobot& r, py::handle q, py::handle qd, py::handle qdd, bool damping, bool friction) {
                  const WorldPtr s = r.lock();
                  const std::vector<Real> pos = q.is_none() ? r.robot.jointPositions(s->world) : reals(q, "positions");
                  const std::vector<Real> zero(pos.size(), 0);
                  const std::vector<Real> vel = qd.is_none() ? zero : reals(qd, "velocities");
                  const std::vector<Real> acc = qdd.is_none() ? zero : reals(qdd, "accelerations");
-                 return array(r.robot.inverseDynamics(s->world, pos, vel, acc));
+                 return array(r.robot.inverseDynamics(s->world, pos, vel, acc, {damping, friction}));
              },
              py::arg("positions") = py::none(), py::arg("velocities") = py::none(), py::arg("accelerations") = py::none(),
+             py::kw_only(), py::arg("damping") = true, py::arg("friction") = true,
              "The effort at each actuated joint (joint_names order; N m or N) that moves a fixed-base robot through "
-             "positions, velocities and accelerations under the world's gravity (recursive Newton-Euler). Defaults: "
-             "the current positions, zero velocities and accelerations, i.e. gravity compensation.")
+             "positions, velocities and accelerations under the world's gravity (recursive Newton-Euler), with the "
+             "URDF damping (d qd) and Coulomb friction (f sgn(qd); at qd = 0, f sgn(qdd)) unless turned off. "
+             "Defaults: the current positions, zero velocities and accelerations, i.e. gravity compensation.")
+        .def("floating_base_inverse_dynamics",
+             [](const PyRobot& r, py::handle q, py::handle qd, py::handle qdd, py::handle basePosition,
+                py::handle baseOrientation, py::handle baseAngularVelocity, py::handle baseLinearAcceleration,
+                py::handle baseAngularAcceleration, bool damping, bool friction) {
+                 const WorldPtr s = r.lock();
+                 const std::vector<Real> pos = q.is_none() ? r.robot.jointPositions(s->world) : reals(q, "positions");
+                 const std::vector<Real> zero(pos.size(), 0);
+                 const std::vector<Real> vel = qd.is_none() ? r.robot.jointVelocities(s->world) : reals(qd, "velocities");
+                 const std::vector<Real> acc = qdd.is_none() ? zero : reals(qdd, "accelerations");
+                 RobotBaseState base = r.robot.baseState(s->world);
+                 if (!basePosition.is_none()) base.position = toVec3(basePosition, "base_position");
+                 if (!baseOrientation.is_none()) base.orientation = toQuat(baseOrientation, "base_orientation");
+                 if (!baseAngularVelocity.is_none()) base.angularVelocity = toVec3(baseAngularVelocity, "base_angular_velocity");
+                 const InverseDynamicsOptions options{damping, friction};
+                 const bool prescribed = !baseLinearAcceleration.is_none() || !baseAngularAcceleration.is_none();
+                 const FloatingBaseDynamics d =
+                     prescribed ? r.robot.prescribedBaseInverseDynamics(
+                                      s->world, base,
+                                      baseLinearAcceleration.is_none() ? Vec3{} : toVec3(baseLinearAcceleration, "base_linear_acceleration"),
+                                      baseAngularAcceleration.is_none() ? Vec3{} : toVec3(baseAngularAcceleration, "base_angular_acceleration"),
+                                      pos, vel, acc, options)
+                                : r.robot.freeBaseInverseDynamics(s->world, base, pos, vel, acc, options);
+                 return py::dict(py::arg("efforts") = array(d.efforts), py::arg("linear_acceleration") = fromVec3(d.linearAcceleration),
+                                 py::arg("angular_acceleration") = fromVec3(d.angularAcceleration),
+                                 py::arg("force") = fromVec3(d.force), py::arg("torque") = fromVec3(d.torque));
+             },
+             py::arg("positions") = py::none(), py::arg("velocities") = py::none(), py::arg("accelerations") = py::none(),
+             py::kw_only(), py::arg("base_position") = py::none(), py::arg("base_orientation") = py::none(),
+             py::arg("base_angular_velocity") = py::none(), py::arg("base_linear_acceleration") = py::none(),
+             py::arg("base_angular_acceleration") = py::none(), py::arg("damping") = true, py::arg("friction") = true,
+             "Inverse dynamics of a robot with a floating base (root link not static). Without base accelerations: the "
+             "free tree (no wrench on the base but gravity); returns the base's linear_acceleration (its frame origin's) "
+             "and angular_acceleration and the joint efforts. With base_linear_acceleration and/or "
+             "base_angular_acceleration: the base wrench (force, torque about its frame origin, world) and efforts "
+             "that make that motion. The base's pose and angular velocity default to its body's now; positions and "
+             "velocities to the joints' now, accelerations to zero. Returns a dict of efforts, linear_acceleration, "
+             "angular_acceleration, force, torque.")
         .def("contact_forces", [](const PyRobot& r) { const WorldPtr s = r.lock(); return fromVec3List(r.robot.contactForces(s->world)); },
              "The contact force on every link over the last step (N, world), file order, as an (n_links, 3) array.")
         .def("sample_imu",

@@ -172,3 +172,84 @@ def test_slider_friction_decelerates_a_sliding_body():
         world.step(1 / 240)
     assert abs(body.linear_velocity[0]) < 1e-4
     assert body.position[0] == pytest.approx(3.0 ** 2 / (2 * 2.0), rel=1e-2)
+
+
+TWO_BODIES = """<robot name="two"><link name="base"><inertial><mass value="2"/>
+<inertia ixx="0.03" iyy="0.04" izz="0.05"/></inertial></link>
+<link name="arm"><inertial><origin xyz="0.4 0 0"/><mass value="1"/>
+<inertia ixx="0.002" iyy="0.01" izz="0.01"/></inertial></link>
+<joint name="j" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+<dynamics damping="0.3" friction="0.7"/></joint></robot>"""
+
+
+def test_inverse_dynamics_damping_friction_and_floating_base(tmp_path):
+    path = tmp_path / "two.urdf"
+    path.write_text(TWO_BODIES)
+    world = fulcrum.World(gravity=(0, 0, -9.81))
+    fixed = fulcrum.load_urdf(world, path, fixed_base=True)
+    rigid = fixed.inverse_dynamics([0.2], [1.5], [2.0], damping=False, friction=False)
+    assert rigid[0] == pytest.approx((0.01 + 0.16) * 2.0, rel=1e-5)
+    assert fixed.inverse_dynamics([0.2], [1.5], [2.0])[0] - rigid[0] == pytest.approx(0.3 * 1.5 + 0.7, rel=1e-5)
+    # Floating: the closed form of two bodies about a common axis (tests/robots/inverse_dynamics_test.cpp).
+    world2 = fulcrum.World(gravity=(0, 0, -9.81))
+    free = fulcrum.load_urdf(world2, path)
+    m1, m2, i1, i2, L = 2.0, 1.0, 0.05, 0.01, 0.4
+    J = i2 + m1 * m2 / (m1 + m2) * L * L
+    d = free.floating_base_inverse_dynamics([0.3], [0.0], [2.0], base_angular_velocity=(0, 0, 0),
+                                            damping=False, friction=False)
+    assert d["efforts"][0] == pytest.approx(J * i1 * 2.0 / (i1 + J), rel=1e-5)
+    assert d["angular_acceleration"][2] == pytest.approx(-J * 2.0 / (i1 + J), rel=1e-5)
+    assert d["linear_acceleration"][2] == pytest.approx(-9.81, rel=1e-6)
+    held = free.floating_base_inverse_dynamics([0.3], [0.0], [2.0], base_angular_velocity=(0, 0, 0),
+                                               base_linear_acceleration=(0, 0, 0), damping=False, friction=False)
+    assert held["torque"][2] == pytest.approx((i2 + m2 * L * L) * 2.0, rel=1e-5)
+    assert held["force"][2] == pytest.approx((m1 + m2) * 9.81, rel=1e-5)
+
+
+ARM = """<robot name="arm"><link name="base"/>
+<link name="arm"><inertial><origin xyz="0.5 0 0"/><mass value="2"/>
+<inertia ixx="0.001" iyy="0.001" izz="0.001"/></inertial></link>
+<joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 1"/>
+<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="6" velocity="5"/></joint></robot>"""
+
+
+def test_effort_limit_caps_the_position_drive(tmp_path):
+    # m g l = 9.81 N m against an effort limit of 6: a stiff drive holding
+    # the arm level gives way with (m g l - 6) / I; the bulk limit 20 holds it.
+    path = tmp_path / "arm.urdf"
+    path.write_text(ARM)
+    inertia = 0.001 + 2 * 0.25
+    for limit, held in ((None, False), (20.0, True)):
+        world = fulcrum.World(gravity=(0, 0, -9.81))
+        robot = fulcrum.load_urdf(world, path, fixed_base=True)
+        robot.set_drive_gains([20000.0], [200.0])
+        if limit is not None:
+            robot.set_drive_max_forces([limit])
+        # Measured from 0.05 s to 0.1 s, after the soft joint rows' first transient.
+        for _ in range(12):
+            world.step(1 / 240)
+        w0 = robot.body("arm").angular_velocity[1]
+        for _ in range(6):
+            world.step(1 / 240)
+        angle = robot.joint_positions()[0]
+        for _ in range(6):
+            world.step(1 / 240)
+        if held:
+            assert abs(robot.joint_positions()[0]) < 2e-3
+        else:
+            alpha = (robot.body("arm").angular_velocity[1] - w0) / 0.05
+            assert alpha == pytest.approx((9.81 * math.cos(angle) - 6) / inertia, rel=0.01)
+            assert abs(robot.joint_efforts()[0]) <= 6 * (1 + 1e-5)
+
+
+def test_joint_spring_max_force():
+    world = fulcrum.World(gravity=(0, -9.81, 0))
+    box = world.create_body(shape=fulcrum.Box((0.1, 0.1, 0.1)), mass=3.0, position=(0, 0, 0))
+    j = world.create_slider_joint(None, box, anchor=(0, 0, 0), axis=(0, 1, 0), spring_stiffness=1e5,
+                                  spring_damping=500, spring_max_force=0.5 * 3 * 9.81)
+    for _ in range(12):
+        world.step(1 / 60)
+    assert -box.linear_velocity[1] / 0.2 == pytest.approx(9.81 / 2, rel=0.01)
+    j.set_spring(0, 1e5, 500, max_force=2 * 3 * 9.81)
+    with pytest.raises(fulcrum.Error, match="spring.maxForce"):
+        j.set_spring(0, 1e5, 500, max_force=-1)

@@ -85,7 +85,7 @@ bool SceneJoint::operator==(const SceneJoint& o) const {
            a.upperLimit == b.upperLimit && a.motor.enabled == b.motor.enabled && a.motor.speed == b.motor.speed &&
            a.motor.maxForce == b.motor.maxForce && a.spring.enabled == b.spring.enabled &&
            a.spring.target == b.spring.target && a.spring.stiffness == b.spring.stiffness &&
-           a.spring.damping == b.spring.damping && a.minLength == b.minLength && a.maxLength == b.maxLength &&
+           a.spring.damping == b.spring.damping && a.spring.maxForce == b.spring.maxForce && a.minLength == b.minLength && a.maxLength == b.maxLength &&
            a.stiffness == b.stiffness && a.damping == b.damping && a.swingLimit == b.swingLimit &&
            a.twistLower == b.twistLower && a.twistUpper == b.twistUpper && a.breakForce == b.breakForce &&
            a.breakTorque == b.breakTorque && a.collideConnected == b.collideConnected && a.frictionTorque == b.frictionTorque;

@@ -694,11 +694,13 @@ void Parser::parseJoint(const json& j, const std::string& path, const Scene& sce
     };
     const auto readSpring = [&](const json& v, const std::string& p, JointSpring& spring) {
         requireObject(v, p);
-        checkKeys(v, p, {"target", "stiffness", "damping"}, "a joint spring");
+        checkKeys(v, p, {"target", "stiffness", "damping", "max_force"}, "a joint spring");
         spring.enabled = true;
         opt(v, p, "target", [&](const json& x, const std::string& q) { spring.target = number(x, q); });
         spring.stiffness = nonNegative(required(v, p, "stiffness"), childPath(p, "stiffness"), "stiffness");
         opt(v, p, "damping", [&](const json& x, const std::string& q) { spring.damping = nonNegative(x, q, "damping"); });
+        // The position drive's force limit (absent: unlimited; JSON has no infinity).
+        opt(v, p, "max_force", [&](const json& x, const std::string& q) { spring.maxForce = nonNegative(x, q, "max_force"); });
     };
     opt(j, path, "motor", [&](const json& v, const std::string& p) { readMotor(v, p, d.motor); });
     opt(j, path, "spring", [&](const json& v, const std::string& p) { readSpring(v, p, d.spring); });

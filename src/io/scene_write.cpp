@@ -151,6 +151,7 @@ ojson jointJson(const SceneJoint& joint) {
                 j["spring"] = ojson{{"target", num(d.spring.target)},
                                     {"stiffness", num(d.spring.stiffness)},
                                     {"damping", num(d.spring.damping)}};
+                if (std::isfinite(d.spring.maxForce)) j["spring"]["max_force"] = num(d.spring.maxForce);
             }
             break;
         case JointType::Distance:
@@ -177,7 +178,7 @@ ojson jointJson(const SceneJoint& joint) {
             break;
         case JointType::SixDof: {
             j["axis"] = vec(d.axis);
-            j["axis_y"] = vec(d.axisY);
+            if (!(d.axisY == Vec3{})) j["axis_y"] = vec(d.axisY);  // zero: absent (world y or z), which the reader refuses as a value
             static constexpr const char* kNames[kSixDofAxes] = {"x", "y", "z", "rx", "ry", "rz"};
             ojson axes = ojson::object();
             for (int k = 0; k < kSixDofAxes; ++k) {
@@ -191,6 +192,7 @@ ojson jointJson(const SceneJoint& joint) {
                     a["spring"] = ojson{{"target", num(s.spring.target)},
                                         {"stiffness", num(s.spring.stiffness)},
                                         {"damping", num(s.spring.damping)}};
+                    if (std::isfinite(s.spring.maxForce)) a["spring"]["max_force"] = num(s.spring.maxForce);
                 }
                 axes[kNames[k]] = a;
             }

@@ -243,13 +243,15 @@ std::string lineOf(const UrdfModel& m, int line) { return m.source + ": line " +
 
 // A drive given to the importer (position spring and/or velocity motor) on a
 // joint axis whose URDF <dynamics damping> is `damping`: the spring carries
-// both dampings; a velocity drive without its own force limit takes
-// `defaultMaxForce` (the joint's effort limit), or a large finite one.
+// both dampings; a drive without its own force limit takes `defaultMaxForce`
+// (the joint's effort limit: infinite for none) for its position drive, and
+// for its velocity drive that or a large finite one.
 void applyDrive(const JointDrive& drive, Real damping, Real defaultMaxForce, JointSpring& spring, JointMotor& motor) {
     spring.target = drive.position;
     spring.stiffness = drive.stiffness;
     spring.damping = damping + drive.damping;
     spring.enabled = spring.stiffness > 0 || spring.damping > 0;
+    spring.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : defaultMaxForce;
     if (drive.velocityDrive) {
         motor.enabled = true;
         motor.speed = drive.velocity;
@@ -552,6 +554,9 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
         if (rj.actuated()) {
             d.spring.enabled = j.damping > 0;
             d.spring.damping = j.damping;
+            // The effort limit caps the position drive (the spring row, which
+            // also carries the URDF damping), as MuJoCo's actuator force range.
+            d.spring.maxForce = rj.effortLimit;
             d.frictionTorque = j.friction;  // N m on a hinge, N along a slider
             if (const auto it = driveOf.find(j.name); it != driveOf.end()) {
                 applyDrive(it->second, j.damping, rj.effortLimit, d.spring, d.motor);
@@ -727,6 +732,7 @@ void Robot::setDrive(World& world, std::string_view jointName, const JointDrive&
     spring.stiffness = drive.stiffness;
     spring.damping = j.damping + drive.damping;
     spring.enabled = spring.stiffness > 0 || spring.damping > 0;
+    spring.maxForce = std::isfinite(drive.maxForce) ? drive.maxForce : j.effortLimit;
     setSpring(world, j.joint, axis, spring);
     JointMotor motor;
     if (drive.velocityDrive) {
@@ -763,6 +769,17 @@ void Robot::setDriveGains(World& world, std::span<const Real> stiffness, std::sp
     }
 }
 
+void Robot::setDriveMaxForces(World& world, std::span<const Real> maxForces) const {
+    const auto act = actuatedJoints();
+    requireCount(*this, maxForces.size(), act.size(), "force limits");
+    for (std::size_t k = 0; k < act.size(); ++k) {
+        const JointId id = joints[act[k]].joint;
+        JointSpring s = world.jointDef(id).spring;
+        s.maxForce = maxForces[k];
+        world.setJointSpring(id, s);
+    }
+}
+
 void Robot::setVelocityTargets(World& world, std::span<const Real> velocities) const {
     const auto act = actuatedJoints();
     requireCount(*this, velocities.size(), act.size(), "velocity targets");
@@ -782,6 +799,7 @@ void Robot::disableDrives(World& world) const {
         JointSpring s;
         s.damping = j.damping;
         s.enabled = j.damping > 0;
+        s.maxForce = springOf(world, j.joint, d.axis).maxForce;  // kept for the drive's next gains
         setSpring(world, j.joint, d.axis, s);
         setMotor(world, j.joint, d.axis, JointMotor{});
     }
@@ -833,6 +851,17 @@ void Robot::setDofDriveGains(World& world, std::span<const Real> stiffness, std:
         s.damping = j.damping + damping[k];
         s.enabled = s.stiffness > 0 || s.damping > 0;
         setSpring(world, j.joint, all[k].axis, s);
+    }
+}
+
+void Robot::setDofDriveMaxForces(World& world, std::span<const Real> maxForces) const {
+    const auto all = dofs();
+    requireDofCount(*this, maxForces.size(), all.size(), "force limits");
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        const JointId id = joints[all[k].joint].joint;
+        JointSpring s = springOf(world, id, all[k].axis);
+        s.maxForce = maxForces[k];
+        setSpring(world, id, all[k].axis, s);
     }
 }
 

@@ -203,6 +203,9 @@ void JointSolver::buildConstraints(BodyStore& w, const std::vector<JointData>& j
         // Unused rows start at zero (a motor disabled, no spring).
         if (!j.motor) j.impulse.motor = 0;
         if (!j.spring) j.impulse.spring = 0;
+        // A position drive's limit lowered since the last step: its warm start stays within it.
+        if (j.impulse.spring > j.maxSpringImpulse) j.impulse.spring = j.maxSpringImpulse;
+        if (j.impulse.spring < -j.maxSpringImpulse) j.impulse.spring = -j.maxSpringImpulse;
         // The projection's packed copy, in creation order (sliders have none).
         if (e.projection != kNoIndex) {
             // An awake end's pose is in the awake set, a static end's in its record.

@@ -327,6 +327,10 @@ void io(A& a, JointDef& d) {
             io(a, s.spring.enabled), io(a, s.spring.target), io(a, s.spring.stiffness), io(a, s.spring.damping);
         }
     }
+    if (a.version >= 9) {  // version 9: the position drives' force limits (older: unlimited)
+        io(a, d.spring.maxForce);
+        for (SixDofAxis& s : d.axes) io(a, s.spring.maxForce);
+    }
 }
 template <typename A>
 void io(A& a, JointData& j) {

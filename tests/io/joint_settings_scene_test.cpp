@@ -163,6 +163,37 @@ TEST(JointSettingsScene, FrictionTorqueFromTheFileHoldsOrSlipsAtMgL) {
 // max_rotation_per_substep (WorldDef::maxRotationPerSubstep, the spin limit):
 // read, "off" for no limit, written only when not the default, round-trips,
 // built into the world; bad values name the path.
+// A joint spring's max_force (the position drive's force limit): read,
+// absent = unlimited and not written, round-tripped, on six-DOF axes too;
+// negative is an error naming the path. The lever (m g L = 4.905 N m) under
+// a stiff drive with max_force 2 falls, with 8 it is held.
+TEST(JointSettingsScene, SpringMaxForce) {
+    const Scene s = parseScene(leverScene("", R"(, "spring": {"stiffness": 5000, "damping": 50, "max_force": 2})"), "lever.json");
+    EXPECT_EQ(s.joints[0].def.spring.maxForce, Real(2));
+    EXPECT_TRUE(parseScene(sceneToJson(s), "saved.json") == s);
+    const Scene plain = parseScene(leverScene("", R"(, "spring": {"stiffness": 5000})"), "plain.json");
+    EXPECT_TRUE(std::isinf(plain.joints[0].def.spring.maxForce));
+    EXPECT_EQ(sceneToJson(plain).find("max_force"), std::string::npos);
+    const Scene six = parseScene(R"({"bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1}],
+      "joints": [{"type": "six_dof", "body_b": "a", "anchor": [0, 0, 0],
+                  "axes": {"y": {"spring": {"stiffness": 100, "max_force": 3}}}}]})",
+                                 "six.json");
+    EXPECT_EQ(six.joints[0].def.axes[kAxisY].spring.maxForce, Real(3));
+    EXPECT_EQ(parseScene(sceneToJson(six), "saved.json").joints[0].def.axes[kAxisY].spring.maxForce, Real(3));
+    expectError(leverScene("", R"(, "spring": {"stiffness": 5000, "max_force": -1})"), "joints[0].spring.max_force", "must not be negative");
+    for (const double limit : {2.0, 8.0}) {
+        World w = buildWorld(parseScene(
+            leverScene("", R"(, "spring": {"stiffness": 5000, "damping": 50, "max_force": )" + std::to_string(limit) + "}"), "lever.json"));
+        for (int i = 0; i < 60; ++i) w.step(Real(1) / 60);
+        const double drop = 1 - double(w.position(w.findBody("ball")).y);
+        if (limit < 4.905) {
+            EXPECT_GT(drop, 0.1) << limit;
+        } else {
+            EXPECT_LT(drop, 0.01) << limit;
+        }
+    }
+}
+
 TEST(JointSettingsScene, SpinLimitKey) {
     const Scene s = parseScene(leverScene(R"(, "max_rotation_per_substep": 0.5)", ""), "spin.json");
     EXPECT_EQ(s.world.maxRotationPerSubstep, Real(0.5));

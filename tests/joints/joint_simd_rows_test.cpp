@@ -3,10 +3,10 @@
 // kernels: the scalar path, 4 lanes (SSE2) and 8 lanes (AVX2), on 1 and 3
 // threads, give the same positions, orientations and velocities after every
 // step on a scene that runs every row and branch: hinges with limits (hit),
-// motors, springs and friction (a motor at speed 0), cone-twists with swing
-// and twist limits (hit), unlimited cones and friction, ball joints with
-// friction (in the cone-twist blocks), in loops (Gauss-
-// Seidel point blocks) and in joint trees (ragdolls, chains: the tree solver
+// motors, springs (some force-limited and saturated) and friction (a motor
+// at speed 0), cone-twists with swing and twist limits (hit), unlimited cones
+// and friction, ball joints with friction (in the cone-twist blocks), in
+// loops (Gauss-Seidel point blocks) and in joint trees (ragdolls, chains: the tree solver
 // has the point rows), to static and kinematic ends, with contacts. Then the
 // physics on the wide path: a hinge pendulum's period, a limit holding a
 // load, friction holding a load below its torque and not above.
@@ -125,6 +125,8 @@ std::vector<BodyId> buildRowScene(World& world) {
                     j.spring.stiffness = 40;
                     j.spring.damping = Real(0.5);
                     j.spring.target = Real(0.2);
+                    // Every other spring with a force limit it reaches (the drive saturated).
+                    if (h % 2 == 1) j.spring.maxForce = Real(1.5);
                 }
                 if (h % 3 == 2) j.frictionTorque = Real(0.4);  // a motor at speed 0
                 break;
@@ -191,6 +193,7 @@ std::vector<BodyId> buildRowScene(World& world) {
             j.spring.enabled = i % 2 == 0;
             j.spring.stiffness = 20;
             j.spring.damping = Real(0.2);
+            if (i == 2) j.spring.maxForce = Real(0.8);  // a force-limited drive in a tree
             j.swingLimit = Real(0.3);
             j.frictionTorque = chain == 1 ? Real(0.2) : 0;
             world.createJoint(j);

@@ -3,7 +3,9 @@
 // equations of motion along a sine trajectory; the KR5's gravity-holding
 // efforts against the efforts its drives are measured to deliver holding
 // the same pose, and against the sum of m g x lever of the links beyond each
-// joint; a slider's load against m g.
+// joint; a slider's load against m g; the URDF damping and friction against
+// their definition and a simulated spin-down; a floating two-body system
+// against its closed form (momentum and angular momentum balance).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -163,6 +165,145 @@ TEST(InverseDynamics, SliderLoadAndBadInput) {
         ADD_FAILURE() << "no error";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("is not static"), std::string::npos) << e.what();
+    }
+}
+
+// A URDF of a base and one link on a revolute joint about z through the
+// base's centre of mass (the base's origin): the link's centre L = 0.4 m out
+// along its x. Diagonal inertias, so z is principal for both: the motion
+// about z is planar.
+std::string twoBodies(const char* dynamics = "") {
+    return std::string(R"(<robot name="two"><link name="base"><inertial><mass value="2"/>)"
+                       R"(<inertia ixx="0.03" iyy="0.04" izz="0.05"/></inertial></link>)"
+                       R"(<link name="arm"><inertial><origin xyz="0.4 0 0"/><mass value="1"/>)"
+                       R"(<inertia ixx="0.002" iyy="0.01" izz="0.01"/></inertial></link>)"
+                       R"(<joint name="j" type="continuous"><parent link="base"/><child link="arm"/>)"
+                       R"(<axis xyz="0 0 1"/>)") +
+           dynamics + R"(</joint></robot>)";
+}
+
+UrdfOptions floatingBase() {
+    UrdfOptions o;
+    o.warn = [](const std::string&) {};
+    return o;
+}
+
+// The URDF damping d and Coulomb friction f add d qd + f sgn(qd) (at qd = 0:
+// f sgn(qdd), and 0 at rest) to the rigid tree's efforts; options leave them out.
+TEST(InverseDynamics, DampingAndFriction) {
+    World world = zUpWorld();
+    const Robot r = loadUrdfFromString(world, twoBodies(R"(<dynamics damping="0.3" friction="0.7"/>)"), "two.urdf", fixedBase());
+    const auto tau = [&](Real qd, Real qdd, InverseDynamicsOptions o = {}) {
+        return double(r.inverseDynamics(world, std::vector<Real>{Real(0.2)}, std::vector<Real>{qd}, std::vector<Real>{qdd}, o)[0]);
+    };
+    const InverseDynamicsOptions none{false, false};
+    const double rigid = tau(Real(1.5), 2, none);
+    EXPECT_NEAR(rigid, (0.01 + 1 * 0.4 * 0.4) * 2, 1e-5);  // (I_cm + m L^2) qdd about the static base
+    EXPECT_NEAR(tau(Real(1.5), 2) - rigid, 0.3 * 1.5 + 0.7, 1e-5);
+    EXPECT_NEAR(tau(Real(-1.5), 2) - rigid, -0.3 * 1.5 - 0.7, 1e-5);
+    EXPECT_NEAR(tau(Real(1.5), 2, {true, false}) - rigid, 0.3 * 1.5, 1e-5);
+    EXPECT_NEAR(tau(0, 2) - tau(0, 2, none), 0.7, 1e-5);    // breaking away forwards
+    EXPECT_NEAR(tau(0, -2) - tau(0, -2, none), -0.7, 1e-5);  // and backwards
+    EXPECT_NEAR(tau(0, 0), 0, 1e-6);                         // at rest: no friction, no load (z is vertical)
+}
+
+// The same joint spinning down in the simulation (drives off: the URDF
+// damping and friction act), its axis vertical so gravity exerts no torque:
+// the inverse dynamics of its measured motion is the effort of no actuator,
+// 0 within 2 % of the losses d qd + f.
+TEST(InverseDynamics, LossesMatchTheSimulatedSpinDown) {
+    WorldDef def;
+    def.gravity = {0, 0, Real(-kG)};
+    def.substeps = 8;
+    World world(def);
+    Robot r = loadUrdfFromString(world, twoBodies(R"(<dynamics damping="0.3" friction="0.7"/>)"), "two.urdf", fixedBase());
+    const BodyId arm = r.body("arm");
+    const Vec3 spin{0, 0, 6};
+    world.setAngularVelocity(arm, spin);
+    world.setLinearVelocity(arm, cross(spin, world.centerOfMass(arm)));
+    const Real dt = Real(1) / 480;
+    for (int i = 0; i < 48; ++i) world.step(dt);
+    const Real q0 = r.jointPositions(world)[0], v0 = r.jointVelocities(world)[0];
+    world.step(dt);
+    const Real v1 = r.jointVelocities(world)[0];
+    const Real qdd = (v1 - v0) / dt, qd = (v0 + v1) / 2;
+    const double losses = 0.3 * double(qd) + 0.7;
+    const double tau = double(r.inverseDynamics(world, std::vector<Real>{q0}, std::vector<Real>{qd}, std::vector<Real>{qdd})[0]);
+    EXPECT_GT(double(qd), 3);
+    EXPECT_NEAR(tau, 0, 0.02 * losses) << "qd " << qd << " qdd " << qdd;
+}
+
+// The two-body system floating (Featherstone's floating-base inverse
+// dynamics) against its closed form. The hinge is at the base's centre P, so
+// the arm's centre is c = P + L e_r(phi), phi = theta0 + q. The hinge force
+// on the arm is mu a_rel (mu = m1 m2 / (m1 + m2), a_rel = L phi'' e_t -
+// L phi'^2 e_r: linear momentum has rate (m1 + m2) g); about the arm's centre
+// it has the moment -mu L^2 phi'', so tau = (I2 + mu L^2) phi'' = J phi'',
+// and the base turns with theta0'' = -tau / I1: tau = J I1 q'' / (I1 + J),
+// theta0'' = -J q'' / (I1 + J), a_P = g - (m2 / (m1 + m2)) a_rel.
+TEST(InverseDynamics, FloatingTwoBodiesMatchClosedForm) {
+    World world = zUpWorld();
+    const Robot r = loadUrdfFromString(world, twoBodies(), "two.urdf", floatingBase());
+    const double m1 = 2, m2 = 1, I1 = 0.05, I2 = 0.01, L = 0.4, mu = m1 * m2 / (m1 + m2), J = I2 + mu * L * L;
+    const double q = 0.3, qd = -0.7, qdd = 2, w0 = 1.5;
+    RobotBaseState base;
+    base.position = {1, 2, 3};
+    base.angularVelocity = {0, 0, Real(w0)};
+    const std::vector<Real> Q{Real(q)}, Qd{Real(qd)}, Qdd{Real(qdd)};
+    const FloatingBaseDynamics d = r.freeBaseInverseDynamics(world, base, Q, Qd, Qdd);
+    const double tau = J * I1 * qdd / (I1 + J), theta0dd = -J * qdd / (I1 + J);
+    const double phi = q, phid = w0 + qd, phidd = theta0dd + qdd;
+    const double er[2] = {std::cos(phi), std::sin(phi)}, et[2] = {-std::sin(phi), std::cos(phi)};
+    const double arel[2] = {L * phidd * et[0] - L * phid * phid * er[0], L * phidd * et[1] - L * phid * phid * er[1]};
+    const double k = m2 / (m1 + m2);
+    ASSERT_EQ(d.efforts.size(), 1u);
+    EXPECT_NEAR(double(d.efforts[0]), tau, 1e-5);
+    EXPECT_NEAR(double(d.angularAcceleration.z), theta0dd, 1e-5);
+    EXPECT_NEAR(double(d.angularAcceleration.x), 0, 1e-5);
+    EXPECT_NEAR(double(d.angularAcceleration.y), 0, 1e-5);
+    EXPECT_NEAR(double(d.linearAcceleration.x), -k * arel[0], 1e-5);
+    EXPECT_NEAR(double(d.linearAcceleration.y), -k * arel[1], 1e-5);
+    EXPECT_NEAR(double(d.linearAcceleration.z), -kG, 1e-5);
+    EXPECT_EQ(d.force, Vec3{});
+    // The prescribed-base form with that acceleration needs no wrench, and the same effort.
+    const FloatingBaseDynamics p =
+        r.prescribedBaseInverseDynamics(world, base, d.linearAcceleration, d.angularAcceleration, Q, Qd, Qdd);
+    EXPECT_NEAR(double(length(p.force)), 0, 1e-4);
+    EXPECT_NEAR(double(length(p.torque)), 0, 1e-5);
+    EXPECT_NEAR(double(p.efforts[0]), tau, 1e-5);
+    // Holding the base still instead (the arm starting from rest) takes the
+    // arm's m2 L q'' e_t and the weight (m1 + m2) g as force, and
+    // (I2 + m2 L^2) q'' about z as torque; the effort is that torque.
+    base.angularVelocity = {};
+    const FloatingBaseDynamics held = r.prescribedBaseInverseDynamics(world, base, {}, {}, Q, std::vector<Real>{0}, Qdd);
+    EXPECT_NEAR(double(held.force.x), m2 * L * qdd * et[0], 1e-5);
+    EXPECT_NEAR(double(held.force.y), m2 * L * qdd * et[1], 1e-5);
+    EXPECT_NEAR(double(held.force.z), (m1 + m2) * kG, 1e-4);  // and the weight
+    EXPECT_NEAR(double(held.torque.z), (I2 + m2 * L * L) * qdd, 1e-5);
+    EXPECT_NEAR(double(held.efforts[0]), (I2 + m2 * L * L) * qdd, 1e-5);
+}
+
+// A free tree at rest, joints still: it falls with g and needs no effort;
+// the base state read from the world is the root link's; a static root or a
+// fixed-base call on a floating robot is an error.
+TEST(InverseDynamics, FloatingTreeFallsFreely) {
+    World world = zUpWorld();
+    const Robot r = loadUrdfFromString(world, twoBodies(), "two.urdf", floatingBase());
+    const RobotBaseState base = r.baseState(world);
+    EXPECT_EQ(base.position, world.position(r.body("base")));
+    const std::vector<Real> z{0};
+    const FloatingBaseDynamics d = r.freeBaseInverseDynamics(world, base, z, z, z);
+    EXPECT_NEAR(double(d.linearAcceleration.z), -kG, 1e-5);
+    EXPECT_NEAR(double(length(d.angularAcceleration)), 0, 1e-5);  // float rounding of the 6x6 solve
+    EXPECT_NEAR(double(d.efforts[0]), 0, 1e-6);
+    EXPECT_THROW((void)r.inverseDynamics(world, z, z, z), Error);
+    World fixedWorld = zUpWorld();
+    const Robot fixed = loadUrdfFromString(fixedWorld, twoBodies(), "two.urdf", fixedBase());
+    try {
+        (void)fixed.freeBaseInverseDynamics(fixedWorld, base, z, z, z);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is static"), std::string::npos) << e.what();
     }
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -176,3 +177,109 @@ TEST(RobotDrive, SliderFrictionHoldsOrSlides) {
 }
 
 }  // namespace
+
+namespace {
+
+// A 2 kg point-like ball on a massless-looking 0.5 m arm (a thin box) on a
+// revolute joint about y, the arm horizontal along x: gravity's moment
+// m g l about the joint, with <limit effort> `effort` (0: none).
+std::string armWithEffort(const char* effort) {
+    return std::string(R"(<robot name="arm"><link name="base"/>)"
+                       R"(<link name="arm"><inertial><origin xyz="0.5 0 0"/><mass value="2"/>)"
+                       R"(<inertia ixx="0.001" iyy="0.001" izz="0.001"/></inertial></link>)"
+                       R"(<joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/>)"
+                       R"(<origin xyz="0 0 1"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort=")") +
+           effort + R"(" velocity="5"/></joint></robot>)";
+}
+
+constexpr double kArm = 0.5, kArmInertia = 0.001 + kMass * kArm * kArm;  // about the joint
+
+// The arm's angular acceleration from 0.05 s to 0.1 s after it starts from
+// rest, held at 0 by a stiff position drive (the sign: falling is positive):
+// the soft joint rows' first transient (the arm's centre settling onto the
+// hinge) is over by then. `angle`: its angle at the window's middle (gravity's
+// moment is m g l cos angle).
+double fallAcceleration(World& world, const Robot& r, double& angle) {
+    const BodyId arm = r.body("arm");
+    for (int i = 0; i < 12; ++i) world.step(Real(1) / 240);
+    const double w0 = double(world.angularVelocity(arm).y);
+    for (int i = 0; i < 6; ++i) world.step(Real(1) / 240);
+    angle = double(r.jointPositions(world)[0]);
+    for (int i = 0; i < 6; ++i) world.step(Real(1) / 240);
+    return (double(world.angularVelocity(arm).y) - w0) / 0.05;
+}
+
+}  // namespace
+
+// The URDF effort limit caps the position drive (as MuJoCo's actuator force
+// range): with effort 6 N m < m g l = 9.81 N m, a stiff drive holding the arm
+// level lets it fall with (m g l - 6) / I (1 %), its effort never above 6;
+// a drive's own max_force overrides it; without an effort limit, or with a
+// bulk limit above m g l, the drive holds the arm.
+TEST(RobotDrive, EffortLimitCapsThePositionDrive) {
+    const double mgl = kMass * kG * kArm;
+    {
+        World world = zUpWorld();
+        Robot r = loadUrdfFromString(world, armWithEffort("6"), "arm.urdf", fixedBaseOptions());
+        EXPECT_EQ(world.jointDef(r.joint("shoulder")).spring.maxForce, Real(6));
+        r.setDriveGains(world, std::vector<Real>{20000}, std::vector<Real>{200});
+        EXPECT_EQ(world.jointDef(r.joint("shoulder")).spring.maxForce, Real(6));  // kept by the bulk calls
+        double angle = 0;
+        const double alpha = fallAcceleration(world, r, angle);
+        const double expected = (mgl * std::cos(angle) - 6) / kArmInertia;
+        EXPECT_NEAR(alpha, expected, 0.01 * expected) << "angle " << angle;
+        EXPECT_NEAR(std::fabs(double(r.jointEfforts(world)[0])), 6, 1e-4 * 6);
+    }
+    {
+        // setDrive's maxForce overrides the effort limit (4 N m).
+        World world = zUpWorld();
+        Robot r = loadUrdfFromString(world, armWithEffort("6"), "arm.urdf", fixedBaseOptions());
+        r.setDrive(world, "shoulder", {.position = 0, .stiffness = 20000, .damping = 200, .maxForce = 4});
+        double angle = 0;
+        const double alpha = fallAcceleration(world, r, angle);
+        const double expected = (mgl * std::cos(angle) - 4) / kArmInertia;
+        EXPECT_NEAR(alpha, expected, 0.01 * expected);
+        EXPECT_LE(std::fabs(double(r.jointEfforts(world)[0])), 4 * (1 + 1e-5));
+    }
+    for (const char* effort : {"0", "20"}) {
+        World world = zUpWorld();
+        Robot r = loadUrdfFromString(world, armWithEffort(effort), "arm.urdf", fixedBaseOptions());
+        r.setDriveGains(world, std::vector<Real>{20000}, std::vector<Real>{200});
+        for (int i = 0; i < 240; ++i) world.step(Real(1) / 240);
+        EXPECT_NEAR(double(r.jointPositions(world)[0]), 0, 2e-3) << "effort " << effort;
+        EXPECT_NEAR(std::fabs(double(r.jointEfforts(world)[0])), mgl, 0.01 * mgl) << "effort " << effort;
+    }
+    {
+        // The bulk limit (and disableDrives keeps it for the next gains).
+        World world = zUpWorld();
+        Robot r = loadUrdfFromString(world, armWithEffort("0"), "arm.urdf", fixedBaseOptions());
+        r.setDriveMaxForces(world, std::vector<Real>{5});
+        r.disableDrives(world);
+        r.setDriveGains(world, std::vector<Real>{20000}, std::vector<Real>{200});
+        double angle = 0;
+        const double alpha = fallAcceleration(world, r, angle);
+        const double expected = (mgl * std::cos(angle) - 5) / kArmInertia;
+        EXPECT_NEAR(alpha, expected, 0.01 * expected);
+        EXPECT_THROW(r.setDriveMaxForces(world, std::vector<Real>{-1}), Error);
+        EXPECT_THROW(r.setDriveMaxForces(world, std::vector<Real>{1, 2}), Error);
+    }
+}
+
+// A floating box's vertical axis driven with a force limit below its weight
+// (dof bulk call): it sinks with g - F / m.
+TEST(RobotDrive, DofForceLimitLetsTheLoadSink) {
+    World world = zUpWorld();
+    Robot r = loadUrdfFromString(world, boxOn("floating", "1 0 0"), "floating.urdf", fixedBaseOptions());
+    const std::vector<Real> kp(6, Real(20000)), kd(6, Real(400));
+    std::vector<Real> limit(6, std::numeric_limits<Real>::infinity());
+    limit[2] = Real(0.5 * kMass * kG);  // z
+    r.setDofDriveGains(world, kp, kd);
+    r.setDofDriveMaxForces(world, limit);
+    // From 0.05 s to 0.1 s (the soft rows' first transient over, as above).
+    for (int i = 0; i < 12; ++i) world.step(Real(1) / 240);
+    const double v0 = double(world.linearVelocity(r.body("box")).z);
+    for (int i = 0; i < 12; ++i) world.step(Real(1) / 240);
+    const double a = kG - 0.5 * kG;
+    EXPECT_NEAR(-(double(world.linearVelocity(r.body("box")).z) - v0) / 0.05, a, 0.01 * a);
+    EXPECT_LE(std::fabs(double(r.dofEfforts(world)[2])), 0.5 * kMass * kG * (1 + 1e-5));
+}

@@ -181,7 +181,7 @@ TEST(JointFrictionSnapshot, OtherVersionsAreRefused) {
         (void)loadSnapshotFromMemory(bytes, nullptr, "old.snap");
         FAIL() << "version 1 must be refused";
     } catch (const Error& e) {
-        EXPECT_STREQ(e.what(), "old.snap: unsupported snapshot version 1 (this build reads versions 2 to 8)");
+        EXPECT_STREQ(e.what(), "old.snap: unsupported snapshot version 1 (this build reads versions 2 to 9)");
     }
     EXPECT_THROW((void)detail::saveSnapshotAsVersion(w, kSnapshotVersion + 1), Error);
 }

@@ -85,11 +85,19 @@ void solveCoupledMotor(const CoupledRow& r, SolverBody& a, SolverBody& b, Real s
     lambda = next;
 }
 
-void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma, Real& lambda) {
+void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma,
+                        Real maxImpulse, Real& lambda) {
     const Real k = r.invMass;
     if (!(k + gamma > 0)) return;
-    const Real d = -(rowVelocity(r.measure, a, b) + biasRate * C + gamma * lambda) / (k + gamma);
-    lambda += d;
+    Real d = -(rowVelocity(r.measure, a, b) + biasRate * C + gamma * lambda) / (k + gamma);
+    Real next = lambda + d;
+    // Saturated: the drive's force limit. Only then is d recomputed, so an
+    // unlimited (or unsaturated) spring keeps its bits.
+    if (next > maxImpulse || next < -maxImpulse) {
+        next = next > maxImpulse ? maxImpulse : -maxImpulse;
+        d = next - lambda;
+    }
+    lambda = next;
     applyCoupled(r, 1, a, b, d);
 }
 

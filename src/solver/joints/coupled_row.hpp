@@ -91,7 +91,11 @@ void coupleSliderRow(const SolverBody& a, const SolverBody& b, const Vec3& lever
 void solveCoupledLimit(const CoupledRow& r, Real sign, SolverBody& a, SolverBody& b, Real C, Real& lambda,
                        const JointContext& ctx);
 void solveCoupledMotor(const CoupledRow& r, SolverBody& a, SolverBody& b, Real speed, Real maxImpulse, Real& lambda);
-void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma, Real& lambda);
+// The spring's accumulated impulse is clamped to +-maxImpulse (h maxForce, the
+// position drive's limit); unclamped, the update is the plain `lambda += d`
+// (the same bits as before the limit existed).
+void solveCoupledSpring(const CoupledRow& r, SolverBody& a, SolverBody& b, Real C, Real biasRate, Real gamma,
+                        Real maxImpulse, Real& lambda);
 
 // JointSolver::prepare for a hinge or slider: the free axis's limits, motor
 // and spring from its definition's record (h: the sub-step).
@@ -105,6 +109,7 @@ inline void prepareFreeAxis(JointConstraint& j, const JointDef& def, Real h) {
     j.spring = def.spring.enabled && (def.spring.stiffness > 0 || def.spring.damping > 0);
     j.springTarget = def.spring.target;
     springCoefficients(def.spring.stiffness, def.spring.damping, h, j.springBias, j.springGamma);
+    j.maxSpringImpulse = h * def.spring.maxForce;
 }
 
 // The reaction of the free axis's rows with the held rows' share (not in

@@ -95,7 +95,9 @@ void HingeJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const J
         CoupledRow row = j.axial;
         row.measure = angularRow(axisA);
         const Real angle = j.spring || j.limit ? twistAngle(j.relative0, f.qA, f.qB, j.localAxisA) : Real(0);
-        if (j.spring) solveCoupledSpring(row, a, b, angle - j.springTarget, j.springBias, j.springGamma, i.spring);
+        if (j.spring) {
+            solveCoupledSpring(row, a, b, angle - j.springTarget, j.springBias, j.springGamma, j.maxSpringImpulse, i.spring);
+        }
         if (j.motor) solveCoupledMotor(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
         if (j.limit) {
             solveCoupledLimit(row, 1, a, b, angle - j.lower, i.lower, ctx);

@@ -35,7 +35,7 @@ struct HingeBlock : FramedLanes {
     // The joint's constants.
     FloatW direct;                      // 1 where the tree solver has the point rows
     FloatW spring, motor, limit;        // 1 where the row is on
-    FloatW springTarget, springBias, springGamma, motorSpeed, maxMotorImpulse, lower, upper;
+    FloatW springTarget, springBias, springGamma, maxSpringImpulse, motorSpeed, maxMotorImpulse, lower, upper;
     // Per rotation refresh: the frame, the axes, the alignment rows' basis,
     // block and error, the angle.
     Vec3W rA, rB, d;
@@ -78,6 +78,7 @@ void buildHingeBlock(HingeBlock& k, const JointConstraint* constraints, const st
         setLane(k.springTarget, l, j.springTarget);
         setLane(k.springBias, l, j.springBias);
         setLane(k.springGamma, l, j.springGamma);
+        setLane(k.maxSpringImpulse, l, j.maxSpringImpulse);
         setLane(k.motorSpeed, l, j.motorSpeed);
         setLane(k.maxMotorImpulse, l, j.maxMotorImpulse);
         setLane(k.lower, l, j.lower);
@@ -250,12 +251,21 @@ void solveHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies,
         const RowW measure = angularRow(k.axisA);
         const FloatW kAxial = k.axialInvMass;
         if (k.anySpring) {
-            // solveCoupledSpring: d = -(v + bias C + gamma lambda) / (k + gamma).
+            // solveCoupledSpring: d = -(v + bias C + gamma lambda) / (k + gamma),
+            // the sum clamped to +-max; d recomputed only where it saturates.
             const FloatW kg = kAxial + k.springGamma;
             const MaskW on = (k.spring > zero) & (kg > zero);
             const FloatW C = k.angle - k.springTarget;
-            const FloatW d = -(rowVelocity(measure, e) + k.springBias * C + k.springGamma * k.springImpulse) / kg;
-            k.springImpulse = select(on, k.springImpulse + d, k.springImpulse);
+            FloatW d = -(rowVelocity(measure, e) + k.springBias * C + k.springGamma * k.springImpulse) / kg;
+            FloatW next = k.springImpulse + d;
+            const FloatW max = k.maxSpringImpulse, negMax = -k.maxSpringImpulse;
+            const MaskW over = next > max, under = next < negMax;
+            const MaskW saturated = (over | under) & on;
+            if (saturated.any()) {
+                next = select(over, max, select(under, negMax, next));
+                d = select(saturated, next - k.springImpulse, d);
+            }
+            k.springImpulse = select(on, next, k.springImpulse);
             applyRow(k.apply, e, d, on);
         }
         if (k.anyMotor) {

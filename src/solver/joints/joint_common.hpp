@@ -21,6 +21,7 @@
 // soft step requires for joints (docs/joints.md; contacts keep the step's anchors).
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "fulcrum/joint.hpp"
 #include "solver/contact_solver.hpp"
@@ -84,6 +85,7 @@ struct JointConstraint {
     Real swingLimit = 0;              // cone-twist, rad
     Real motorSpeed = 0, maxMotorImpulse = 0;
     Real springTarget = 0, springBias = 0, springGamma = 0;  // implicit spring row (see springCoefficients)
+    Real maxSpringImpulse = std::numeric_limits<Real>::infinity();  // h * spring.maxForce (hinge, slider)
     Real restLength = 0;              // distance joints
     bool rigidDistance = false;       // rod: min == max and no spring
     bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here

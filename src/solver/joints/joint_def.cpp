@@ -87,6 +87,11 @@ void validateSpring(const Subject& who, const JointSpring& s) {
     requireFinite(who, "spring.target", s.target);
     requireNonNegative(who, "spring.stiffness", s.stiffness);
     requireNonNegative(who, "spring.damping", s.damping);
+    requireForceLimit(who, "spring.maxForce", s.maxForce);
+}
+
+void requireForceLimit(const Subject& who, const std::string& field, Real v) {
+    if (std::isnan(v) || v < 0) fail(who, field, "must be >= 0 (+infinity: unlimited), got " + formatReal(v));
 }
 
 void requireUnitAxis(const Subject& who, const char* field, const Vec3& v) {

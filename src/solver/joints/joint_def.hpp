@@ -129,6 +129,8 @@ void requireBreakThreshold(const Subject& who, const char* field, Real v);
 void validateLimits(const Subject& who, bool enabled, Real lower, Real upper, bool angle);
 void validateMotor(const Subject& who, const JointMotor& m);
 void validateSpring(const Subject& who, const JointSpring& s);
+// A position drive's force limit: >= 0, +infinity: none (`field` names it).
+void requireForceLimit(const Subject& who, const std::string& field, Real v);
 // A finite unit vector (length within 1e-4 of 1: a local axis is used as given).
 void requireUnitAxis(const Subject& who, const char* field, const Vec3& v);
 void validateFrictionTorque(const Subject& who, Real frictionTorque);

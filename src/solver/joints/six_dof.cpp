@@ -130,7 +130,7 @@ void solveAxis(const SixDofAxis& s, const CoupledRow& row, SolverBody& a, Solver
     if (s.spring.enabled && (s.spring.stiffness > 0 || s.spring.damping > 0)) {
         Real bias = 0, gamma = 0;
         springCoefficients(s.spring.stiffness, s.spring.damping, ctx.h, bias, gamma);
-        solveCoupledSpring(row, a, b, x - s.spring.target, bias, gamma, spring);
+        solveCoupledSpring(row, a, b, x - s.spring.target, bias, gamma, ctx.h * s.spring.maxForce, spring);
     }
     if (s.motor.enabled) solveCoupledMotor(row, a, b, s.motor.speed, ctx.h * s.motor.maxForce, motor);
     if (s.mode == AxisMode::Limited) solveAxisLimit(row, a, b, x, s.lower, s.upper, limit, ctx);
@@ -262,6 +262,7 @@ void SixDofJoint::validateAxis(const Subject& who, int axis, const SixDofAxis& s
     requireFinite(who, axisField(axis, "spring.target"), s.spring.target);
     requireNonNegative(who, axisField(axis, "spring.stiffness"), s.spring.stiffness);
     requireNonNegative(who, axisField(axis, "spring.damping"), s.spring.damping);
+    requireForceLimit(who, axisField(axis, "spring.maxForce"), s.spring.maxForce);
 }
 
 JointSetup SixDofJoint::setup(const Def& def, const Subject& who, const JointEnds& ends) {

@@ -50,7 +50,7 @@ inline bool allLocked(const SixDofAxes& axes, int first) {
            axes[first + 2].mode == AxisMode::Locked;
 }
 
-inline void SixDofJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real) {
+inline void SixDofJoint::prepare(JointConstraint& j, const StoredJoint& stored, Real h) {
     const SixDofAxes& axes = stored.def.axes;
     j.pointLocked = allLocked(axes, kAxisX);
     j.rotationLocked = allLocked(axes, kAxisRotX);
@@ -65,6 +65,10 @@ inline void SixDofJoint::prepare(JointConstraint& j, const StoredJoint& stored, 
         const bool driven = s.mode != AxisMode::Locked;
         if (!(driven && s.motor.enabled)) motor[c] = 0;
         if (!(driven && s.spring.enabled)) spring[c] = 0;
+        // A position drive's limit lowered since the last step: its warm start stays within it.
+        const Real maxSpring = h * s.spring.maxForce;
+        if (spring[c] > maxSpring) spring[c] = maxSpring;
+        if (spring[c] < -maxSpring) spring[c] = -maxSpring;
         const bool blockOfKind = k < 3 ? j.pointLocked : j.rotationLocked;
         if (!blockOfKind && s.mode == AxisMode::Free) (k < 3 ? i.linear : i.angular)[c] = 0;
     }

@@ -99,7 +99,9 @@ void SliderJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const 
     if (j.spring || j.motor || j.limit) {
         CoupledRow row = j.axial;
         row.measure = linearRow(axis, leverA, f.rB);
-        if (j.spring) solveCoupledSpring(row, a, b, x - j.springTarget, j.springBias, j.springGamma, i.spring);
+        if (j.spring) {
+            solveCoupledSpring(row, a, b, x - j.springTarget, j.springBias, j.springGamma, j.maxSpringImpulse, i.spring);
+        }
         if (j.motor) solveCoupledMotor(row, a, b, j.motorSpeed, j.maxMotorImpulse, i.motor);
         if (j.limit) {
             solveCoupledLimit(row, 1, a, b, x - j.lower, i.lower, ctx);
