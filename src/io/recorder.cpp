@@ -7,6 +7,7 @@
 #include "io/gltf_writer.hpp"
 #include "io/html_writer.hpp"
 #include "fulcrum/recording.hpp"
+#include "io/recording_display.hpp"
 
 namespace fulcrum::io {
 
@@ -28,7 +29,7 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
     recording_.title = options_.title;
     ids_ = world.bodies();
     recording_.bodies.reserve(ids_.size());
-    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id), world.mass(id)});
+    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id), world.mass(id), {}});
 
     // Joint anchors are world space at creation; with the bodies' current
     // transforms they become body-local, which is exact when the recorder is
@@ -89,6 +90,19 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
     for (CharacterId cid : world.characters()) {
         const int body = indexOf(ids_, world.characterBody(cid));
         if (body >= 0) recording_.characters.push_back({world.name(cid), body});
+    }
+}
+
+void Recorder::setVisuals(BodyId body, std::vector<BodyVisual> visuals) {
+    const int index = indexOf(ids_, body);
+    if (index < 0) throw Error("recorder: setVisuals names a body that is not recorded (created after the recorder, or null)");
+    RecordedBody& recorded = recording_.bodies[static_cast<std::size_t>(index)];
+    recorded.visuals = std::move(visuals);
+    try {
+        checkVisuals(recorded);
+    } catch (const Error&) {
+        recorded.visuals.clear();
+        throw;
     }
 }
 

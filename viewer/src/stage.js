@@ -16,9 +16,26 @@ function material(rgb, doubleSided) {
                                     side: doubleSided ? DoubleSide : FrontSide });
 }
 
+function visualMaterial(rgba, doubleSided) {
+  const alpha = rgba[3] ?? 1;
+  return new MeshStandardMaterial({ color: srgb(rgba), roughness: 0.55, metalness: 0.05, transparent: alpha < 1,
+                                    opacity: alpha, side: doubleSided ? DoubleSide : FrontSide });
+}
+
+function meshGeometry(arrays) {
+  const geometry = new BufferGeometry();
+  geometry.setAttribute('position', new BufferAttribute(arrays.positions, 3));
+  geometry.setAttribute('normal', new BufferAttribute(arrays.normals, 3));
+  geometry.setIndex(new BufferAttribute(arrays.indices, 1));
+  return geometry;
+}
+
 // One group of meshes per body, added to the scene; each mesh knows its
-// body's index (userData.bodyIndex, counted from `firstIndex`).
-export function buildBodies(scene, recBodies, firstIndex = 0) {
+// body's index (userData.bodyIndex, counted from `firstIndex`). A body with
+// visuals (a robot link's, docs/recording.md) is drawn as them, its collision
+// meshes hidden; `visualMeshes` are the recording's shared geometries.
+export function buildBodies(scene, recBodies, firstIndex = 0, visualMeshes = []) {
+  const visualGeometries = visualMeshes.map(meshGeometry);  // each once, however many visuals show it
   const bodies = recBodies.map((body) => {
     const group = new Group();
     group.name = body.name;
@@ -42,12 +59,27 @@ export function buildBodies(scene, recBodies, firstIndex = 0) {
         local.union(geometry.boundingBox.clone().applyMatrix4(mesh.matrix));
       }
     }
+    const visuals = [];
+    for (const v of body.visuals ?? []) {
+      const geometry = visualGeometries[v.mesh];
+      const mesh = new Mesh(geometry, visualMaterial(v.color, visualMeshes[v.mesh].doubleSided));
+      mesh.position.set(...v.position);
+      mesh.quaternion.set(...v.rotation);
+      mesh.scale.set(...v.scale);
+      mesh.castShadow = mesh.receiveShadow = true;
+      group.add(mesh);
+      visuals.push(mesh);
+      mesh.updateMatrix();
+      if (!geometry.boundingBox) geometry.computeBoundingBox();
+      local.union(geometry.boundingBox.clone().applyMatrix4(mesh.matrix));
+    }
+    meshes.forEach((m) => { m.visible = visuals.length === 0; });
     scene.add(group);
     const extent = local.isEmpty() ? 0 : local.getSize(new Vector3()).length() / 2;
-    return { rec: body, group, meshes, awakeMaterial: meshes.map((m) => m.material), local, extent,
+    return { rec: body, group, meshes, awakeMaterial: meshes.map((m) => m.material), local, extent, visuals,
              sleepMaterial: body.parts.map((p) => material(body.sleepColor, p.doubleSided)), asleep: false };
   });
-  bodies.forEach((b, index) => b.meshes.forEach((m) => { m.userData.bodyIndex = firstIndex + index; }));
+  bodies.forEach((b, index) => b.meshes.concat(b.visuals).forEach((m) => { m.userData.bodyIndex = firstIndex + index; }));
   return bodies;
 }
 
