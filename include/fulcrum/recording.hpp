@@ -117,6 +117,10 @@ struct RecordedCharacter {
 
 struct Recording {
     std::string title = "Fulcrum recording";
+    // The world's up: the axis most against gravity (the Recorder's choice;
+    // +y without gravity). The page's camera, sky and sun stand on it, and
+    // the GLB turns a z-up recording to glTF's y up with a root node.
+    Vec3 up{0, 1, 0};
     std::vector<RecordedBody> bodies;
     std::vector<RecordedJoint> joints;
 

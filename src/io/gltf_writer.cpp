@@ -6,6 +6,7 @@
 #include <tiny_gltf.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -19,6 +20,17 @@ namespace {
 // glTF's vertex and animation data are float32 (its only float component
 // type): Real is narrowed here, once per value, in the double build too.
 float f32(Real x) { return static_cast<float>(x); }
+
+// The shortest rotation taking unit vector a onto unit vector b.
+Quat rotationBetween(const Vec3& a, const Vec3& b) {
+    const Real c = dot(a, b);
+    if (c < Real(-0.999999)) {  // opposite: half a turn about any axis across a
+        const Vec3 across = std::fabs(a.x) < Real(0.9) ? cross(a, Vec3{1, 0, 0}) : cross(a, Vec3{0, 1, 0});
+        return Quat::fromAxisAngle(across, Real(3.14159265358979323846));
+    }
+    const Vec3 axis = cross(a, b);
+    return normalize(Quat{1 + c, axis.x, axis.y, axis.z});
+}
 
 class GlbBuilder {
 public:
@@ -38,6 +50,16 @@ public:
         for (std::size_t b = 0; b < rec_.bodies.size(); ++b) addBody(b, meshes[b]);
         for (std::size_t t = 0; t < rec_.particles.size(); ++t) addParticleTrack(t);
         for (const RecordedVehicle& vehicle : rec_.vehicles) addWheels(vehicle);
+        // glTF is y up: a recording with another up hangs under one root node
+        // that turns its up onto y (a URDF robot's z-up world stands up in Blender).
+        const Vec3 up = normalize(rec_.up);
+        if (length(up - Vec3{0, 1, 0}) > Real(1e-6)) {
+            tinygltf::Node root;
+            root.name = "up_to_y";
+            setTransform(root, Transform{Vec3::zero(), rotationBetween(up, Vec3{0, 1, 0})});
+            root.children = model_.scenes[0].nodes;
+            model_.scenes[0].nodes = {addNode(std::move(root))};
+        }
         if (!animation_.channels.empty()) {
             animation_.name = "simulation";
             model_.animations.push_back(std::move(animation_));

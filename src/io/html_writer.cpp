@@ -160,6 +160,7 @@ std::string recordingJson(const Recording& rec) {
     doc["format"] = "fulcrum-recording";
     doc["version"] = 2;
     doc["title"] = rec.title;
+    doc["up"] = vec(rec.up);
     doc["frames"] = frames;
     // The camera frames the first frame (what the run starts from); "scene" spans every frame.
     const AABB start = sceneBounds(rec, 0, 1);

@@ -1,6 +1,7 @@
 // Recorder: fills a Recording from a World through its public API only.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <span>
 #include <string>
 
@@ -27,6 +28,12 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
                     std::to_string(options_.captureInterval));
     }
     recording_.title = options_.title;
+    // Up: the axis most against gravity (a URDF robot's world is z-up).
+    const Vec3 g = world.settings().gravity;
+    const Vec3 a{std::fabs(g.x), std::fabs(g.y), std::fabs(g.z)};
+    if (a.z > a.y && a.z > a.x) recording_.up = {0, 0, g.z < 0 ? Real(1) : Real(-1)};
+    else if (a.x > a.y) recording_.up = {g.x < 0 ? Real(1) : Real(-1), 0, 0};
+    else if (a.y > 0 && g.y > 0) recording_.up = {0, -1, 0};
     ids_ = world.bodies();
     recording_.bodies.reserve(ids_.size());
     for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id), world.mass(id), {}});

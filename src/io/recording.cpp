@@ -61,6 +61,7 @@ void Recording::validate() const {
         }
     }
     for (const RecordedBody& body : bodies) checkVisuals(body);
+    if (!isFinite(up) || !(length(up) > Real(0.5))) throw Error("recording: up must be a finite, non-zero direction");
     for (std::size_t i = 0; i < transforms.size(); ++i) {
         if (!isFinite(transforms[i].p) || !isFinite(transforms[i].q)) {
             throw Error("recording: body '" + bodies[i % n].name + "' has a non-finite transform in frame " +

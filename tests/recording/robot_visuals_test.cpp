@@ -186,6 +186,8 @@ TEST(RobotVisuals, ReplayDataDrawsEachVisualOnItsBodyMeshesStoredOnce) {
     const io::Rgb own = io::bodyColor(BodyType::Dynamic, 0, false);
     EXPECT_NEAR(body[2]["color"][0].get<double>(), own.r, 1e-6);
     EXPECT_NEAR(body[2]["color"][3].get<double>(), 1, 1e-7);
+    // URDF is z-up: the page's camera stands on z.
+    EXPECT_EQ(doc["up"], nlohmann::json::array({0, 0, 1}));
     // Collision parts are still there, for the page's "collision shapes" toggle.
     EXPECT_EQ(doc["bodies"][0]["parts"].size(), 1u);
 }
@@ -224,6 +226,14 @@ TEST(RobotVisuals, GlbDrawsTheVisualsWithSharedGeometry) {
     ASSERT_EQ(nodes.at("body_visual4")->scale.size(), 3u);
     EXPECT_NEAR(nodes.at("body_visual4")->scale[0], 2, 1e-7);
     EXPECT_NEAR(nodes.at("arm_visual1")->scale[2], 2, 1e-7);
+    // The z-up world hangs under one root turned -90 degrees about x (z onto glTF's y).
+    ASSERT_EQ(model.scenes[0].nodes.size(), 1u);
+    const tinygltf::Node& root = model.nodes.at(static_cast<std::size_t>(model.scenes[0].nodes[0]));
+    EXPECT_EQ(root.name, "up_to_y");
+    ASSERT_EQ(root.rotation.size(), 4u);
+    EXPECT_NEAR(root.rotation[0], -std::sqrt(0.5), 1e-6);
+    EXPECT_NEAR(root.rotation[3], std::sqrt(0.5), 1e-6);
+    EXPECT_EQ(root.children.size(), l.world.bodyCount());
     // The tetrahedron's geometry is stored once: both nodes draw the same mesh.
     EXPECT_EQ(nodes.at("body_visual3")->mesh, nodes.at("arm_visual1")->mesh);
     std::set<int> positions;

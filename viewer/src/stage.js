@@ -6,7 +6,7 @@
 import {
   BackSide, Box3, BufferAttribute, BufferGeometry, CanvasTexture, Color, DirectionalLight, DoubleSide, FrontSide, Group,
   HemisphereLight, LineBasicMaterial, Mesh, MeshBasicMaterial, MeshStandardMaterial, Points, PointsMaterial, RepeatWrapping,
-  SRGBColorSpace, SphereGeometry, Vector3,
+  Quaternion, SRGBColorSpace, SphereGeometry, Vector3,
 } from 'three';
 
 export const srgb = (rgb) => new Color().setRGB(rgb[0], rgb[1], rgb[2], SRGBColorSpace);
@@ -88,7 +88,7 @@ export function buildBodies(scene, recBodies, firstIndex = 0, visualMeshes = [])
 export function frameCamera(camera, controls, box, direction, margin, focusRadius) {
   const centre = box.getCenter(new Vector3());
   const back = direction.clone().normalize();
-  const right = new Vector3(0, 1, 0).cross(back).normalize();
+  const right = camera.up.clone().cross(back).normalize();
   const up = back.clone().cross(right);
   const ty = Math.tan((camera.fov * Math.PI) / 360) * margin, tx = ty * camera.aspect;
   let distance = 0;
@@ -122,11 +122,14 @@ export function createSkyDome(horizon, zenith) {
 }
 
 // A sky/ground fill and a sun whose shadow map covers the focus box.
-export function addLights(scene, focus, focusRadius, typicalSize) {
+// `turn` takes y up to the world's up (identity for a y-up world).
+export function addLights(scene, focus, focusRadius, typicalSize, turn = new Quaternion()) {
   const focusCenter = focus.getCenter(new Vector3());
-  scene.add(new HemisphereLight(0xdde8ff, 0x4a4238, 1.1));
+  const sky = new HemisphereLight(0xdde8ff, 0x4a4238, 1.1);
+  sky.position.set(0, 1, 0).applyQuaternion(turn);
+  scene.add(sky);
   const sun = new DirectionalLight(0xfff4e6, 3.2);
-  const sunDirection = new Vector3(-0.45, 1, 0.6).normalize();
+  const sunDirection = new Vector3(-0.45, 1, 0.6).applyQuaternion(turn).normalize();
   sun.position.copy(focusCenter).addScaledVector(sunDirection, focusRadius * 3);
   sun.target.position.copy(focusCenter);
   sun.castShadow = true;

@@ -79,6 +79,10 @@ function start(rec) {
   const t0 = frameCount > 0 ? times[0] : 0;
   const duration = frameCount > 0 ? times[frameCount - 1] - t0 : 0;
   const isMoving = (body) => body.type !== 'static';
+  // The world's up (against gravity; docs/recording.md): y, or z for a z-up
+  // world such as a URDF robot's. The camera, the sky and the sun turn with it.
+  const worldUp = new Vector3(...(rec.up ?? [0, 1, 0])).normalize();
+  const upTurn = new Quaternion().setFromUnitVectors(new Vector3(0, 1, 0), worldUp);
 
   const view = document.getElementById('view');
   const renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -197,10 +201,11 @@ function start(rec) {
   // ---- camera: from the front, a little to the right and above, at the
   // distance where every corner of the focus box is inside the view.
   const camera = new PerspectiveCamera(40, 1, focusRadius / 500, focusRadius * 60);
+  camera.up.copy(worldUp);  // before the controls, which orbit about it
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.enableDamping = true;
   controls.dampingFactor = 0.12;
-  const viewDirection = new Vector3(0.32, 0.42, 1).normalize();
+  const viewDirection = new Vector3(0.32, 0.42, 1).applyQuaternion(upTurn).normalize();
   const cameraChoice = createCameraChoice({ camera, controls, bodies, vehicles: vehicleView.list, characters: rec.characters ?? [] });
 
   function frameBox(box, direction = viewDirection, margin = 0.94) {
@@ -215,10 +220,11 @@ function start(rec) {
   // (where the ground fades into it), darkening towards the zenith.
   const horizon = new Color(0x8d9bb0), zenith = new Color(0x1f2836);
   const skyDome = createSkyDome(horizon, zenith);
+  skyDome.quaternion.copy(upTurn);
   scene.add(skyDome);
   scene.background = horizon;
   scene.fog = new Fog(horizon, focusRadius * 3, focusRadius * 9);
-  addLights(scene, focus, focusRadius, typicalSize);
+  addLights(scene, focus, focusRadius, typicalSize, upTurn);
 
   // ---- a ground that reads as one: planes drawn as a large checkered floor
   // (tiles of a round number of metres) fading into the horizon.
@@ -275,13 +281,17 @@ function start(rec) {
     for (const track of g.tracks) g.box.union(track.box);
     return g.box;
   }
-  const projected = new Vector3();
+  const projected = new Vector3(), labelSize = new Vector3();
+  const upAbs = new Vector3(Math.abs(worldUp.x), Math.abs(worldUp.y), Math.abs(worldUp.z));
   function placeLabels() {
     const w = view.clientWidth, h = view.clientHeight;
     for (const g of labels) {
       const box = groupBox(g);
       if (box.isEmpty() || !ui.labels.checked) { g.element.style.display = 'none'; continue; }
-      projected.set((box.min.x + box.max.x) / 2, box.max.y, (box.min.z + box.max.z) / 2).project(camera);
+      // Above the group's box: its centre moved along up to the box's top.
+      box.getCenter(projected);
+      box.getSize(labelSize);
+      projected.addScaledVector(worldUp, 0.5 * labelSize.dot(upAbs)).project(camera);
       const visible = projected.z < 1 && Math.abs(projected.x) < 1.1 && Math.abs(projected.y) < 1.1;
       g.element.style.display = visible ? '' : 'none';
       if (visible) {
@@ -645,6 +655,7 @@ function start(rec) {
   window.fulcrumViewer = {
     objectCount: bodyCount,
     meshCount: bodies.reduce((n, b) => n + b.meshes.length, 0),
+    up: worldUp.toArray(),
     visualCount: bodies.reduce((n, b) => n + b.visuals.length, 0),
     visualMeshCount: (rec.visualMeshes ?? []).length,
     // Every visual as drawn now: its body, whether shown, its colour (hex,

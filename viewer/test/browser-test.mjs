@@ -1,7 +1,7 @@
 // Headless-browser check of a recorded replay page (run by the C++ test
 // tests/recording/browser_test.cpp, or by hand):
 //   node viewer/test/browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]
-//        [--vehicle NAME [--vehicle-times T1,T2]] [--visuals N [--visual-colors HEX,HEX,...]]
+//        [--vehicle NAME [--vehicle-times T1,T2]] [--visuals N [--visual-colors HEX,HEX,...]] [--up X,Y,Z]
 // Opens the page from file:// in Debian's Chromium driven by playwright-core,
 // refuses every non-file request (the page must fetch nothing), and checks the
 // first impression: the viewer starts without errors or console errors, shows
@@ -27,6 +27,7 @@ const vehicleName = option('--vehicle');
 const vehicleTimes = (option('--vehicle-times') ?? '1,5').split(',').map(Number);
 const expectedVisuals = option('--visuals');
 const expectedVisualColors = option('--visual-colors')?.split(',').filter(Boolean) ?? [];
+const expectedUp = option('--up')?.split(',').map(Number);
 const [pagePath, screenshotPath, expectedArg] = args;
 if (!pagePath || !screenshotPath || !expectedArg) {
   console.error('usage: browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]');
@@ -65,6 +66,13 @@ try {
     return { objectCount: v.objectCount, meshCount: v.meshCount, frameCount: v.frameCount, duration: v.duration };
   });
   Object.assign(report, info);
+  // The world's up (a z-up robot's page): the camera stands on it.
+  if (expectedUp) {
+    const up = await page.evaluate(() => ({ world: window.fulcrumViewer.up, camera: window.fulcrumViewer.camera.up.toArray() }));
+    report.up = up;
+    const same = (a) => a.every((x, k) => Math.abs(x - expectedUp[k]) < 1e-6);
+    check(same(up.world) && same(up.camera), `up ${JSON.stringify(up)}, expected ${expectedUp}`);
+  }
   check(info.objectCount === expectedObjects, `objectCount ${info.objectCount}, expected ${expectedObjects}`);
 
   // It plays on load: time and frame advance with no click.
