@@ -3,7 +3,7 @@
 # Idempotent: a second run installs nothing. Usage: scripts/install-deps.sh [extra-package ...]
 set -euo pipefail
 
-packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev zlib1g-dev libtinyxml2-dev
+packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev zlib1g-dev libtinyxml2-dev libassimp-dev
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-setuptools python3-venv python3-pip
           python3-dask python3-distributed
           # The second compiler (the sanitizer pass of scripts/test.sh, docs/determinism.md)

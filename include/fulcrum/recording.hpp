@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "fulcrum/vehicle.hpp"
+#include "fulcrum/visual.hpp"
 #include "fulcrum/world.hpp"
 
 namespace fulcrum::io {
@@ -47,6 +48,11 @@ struct RecordedBody {
     BodyType type = BodyType::Dynamic;
     Shape shape;
     Real mass = 0;           // kg; 0 for static and kinematic bodies (World::mass)
+    // How it is drawn (a URDF link's visuals; Recorder::setVisuals): empty,
+    // its collision shape. The writers draw these instead of the shape (the
+    // replay page can show the shape as well); a mesh shared by several
+    // visuals is stored once.
+    std::vector<BodyVisual> visuals{};
 };
 
 // A joint as drawn: a segment between its two anchors, stored body-local so
@@ -111,6 +117,10 @@ struct RecordedCharacter {
 
 struct Recording {
     std::string title = "Fulcrum recording";
+    // The world's up: the axis most against gravity (the Recorder's choice;
+    // +y without gravity). The page's camera, sky and sun stand on it, and
+    // the GLB turns a z-up recording to glTF's y up with a root node.
+    Vec3 up{0, 1, 0};
     std::vector<RecordedBody> bodies;
     std::vector<RecordedJoint> joints;
 
@@ -159,6 +169,11 @@ public:
     // one (always for the first). Throws fulcrum::Error if the world's time
     // went backwards.
     void capture(const World& world);
+
+    // How body `body` is drawn instead of its collision shape (a URDF link's
+    // RobotLink::visuals), in its frame. Throws fulcrum::Error for a body
+    // that is not recorded, or a visual that is not finite or lacks its mesh.
+    void setVisuals(BodyId body, std::vector<BodyVisual> visuals);
 
     const Recording& recording() const { return recording_; }
     std::size_t frameCount() const { return recording_.frameCount(); }

@@ -26,6 +26,7 @@
 #include "fulcrum/particles.hpp"
 #include "fulcrum/spring.hpp"
 #include "fulcrum/vehicle.hpp"
+#include "fulcrum/visual.hpp"
 #include "fulcrum/world.hpp"
 
 namespace fulcrum {
@@ -97,6 +98,9 @@ struct SceneBody {
     BodyDef def;          // def.shape is filled by buildWorld from `shape`
     ShapeDesc shape;
     SceneLocation where;
+    // How the body is drawn in recordings (a URDF link's visuals): display
+    // data only, not written to scene files and not compared by ==.
+    std::vector<BodyVisual> visuals{};
     bool operator==(const SceneBody& o) const;
 };
 

@@ -64,6 +64,9 @@ struct RobotLink {
     BodyId body;
     Real mass = 0;                 // kg (0: static)
     bool collides = false;         // has at least one collider
+    // Its <visual> elements, in the link frame (docs/robots.md), for a
+    // recording: Recorder::setVisuals(link.body, link.visuals).
+    std::vector<BodyVisual> visuals{};
 };
 
 struct RobotJoint {

@@ -170,12 +170,21 @@ void bindIo(py::module_& m) {
                            "Records a run for replay outside the engine (docs/recording.md): capture() after each step, "
                            "then write('run.glb') (animated glTF) or write('run.html') (a self-contained replay page).")
         .def(py::init([](const PyWorld& w, double interval, bool contacts, bool bounds, const std::string& title) {
-                 return PyRecorder{w.state, io::Recorder(w.world(), io::RecordOptions{interval, contacts, bounds, title})};
+                 PyRecorder r{w.state, io::Recorder(w.world(), io::RecordOptions{interval, contacts, bounds, title})};
+                 // Robot links (load_urdf, a scene's "urdf") are drawn as their URDF visuals (docs/robots.md).
+                 const Scene& scene = w.state->scene;
+                 const std::vector<BodyId>& ids = w.state->handles.bodies;
+                 for (std::size_t i = 0; i < scene.bodies.size() && i < ids.size(); ++i) {
+                     if (!scene.bodies[i].visuals.empty() && w.world().isValid(ids[i])) {
+                         r.recorder.setVisuals(ids[i], scene.bodies[i].visuals);
+                     }
+                 }
+                 return r;
              }),
              py::arg("world"), py::kw_only(), py::arg("capture_interval") = 0.0, py::arg("contacts") = true,
              py::arg("bounds") = true, py::arg("title") = "Fulcrum recording",
-             "Starts recording the bodies, joints, ropes and cloths the world has now. capture_interval: seconds of "
-             "simulated time between frames (0: every capture()).")
+             "Starts recording the bodies, joints, ropes and cloths the world has now; robot links are drawn as their "
+             "URDF visuals. capture_interval: seconds of simulated time between frames (0: every capture()).")
         .def("capture",
              [](PyRecorder& r) {
                  const WorldPtr s = lockWorld(r.owner, "Recorder");

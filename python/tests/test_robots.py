@@ -253,3 +253,28 @@ def test_joint_spring_max_force():
     j.set_spring(0, 1e5, 500, max_force=2 * 3 * 9.81)
     with pytest.raises(fulcrum.Error, match="spring.maxForce"):
         j.set_spring(0, 1e5, 500, max_force=-1)
+
+
+def glb_json(path):
+    data = pathlib.Path(path).read_bytes()
+    length = int.from_bytes(data[12:16], "little")
+    return json.loads(data[20:20 + length])
+
+
+def test_recordings_draw_robot_visuals(tmp_path, cli):
+    # load_urdf's links are drawn as their URDF visuals (docs/robots.md, "Visuals").
+    world = z_up_world()
+    fulcrum.load_urdf(world, REPO / "scenes" / "quadruped.urdf", position=(0, 0, 0.4))
+    recorder = fulcrum.Recorder(world)
+    for _ in range(3):
+        world.step(1 / 60)
+        recorder.capture()
+    recorder.write(tmp_path / "quadruped.glb")
+    names = [n.get("name", "") for n in glb_json(tmp_path / "quadruped.glb")["nodes"]]
+    assert sum("_visual" in n for n in names) == 14
+    # And the command line's: R2D2's page carries its visuals.
+    page = tmp_path / "r2d2.html"
+    r = subprocess.run([str(cli), "run", str(robots_dir() / "r2d2" / "07-physics.urdf"), "--steps", "10", "--record", str(page)],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 0, r.stderr
+    assert '"visuals":[{"color"' in page.read_text()

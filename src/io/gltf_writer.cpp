@@ -6,6 +6,7 @@
 #include <tiny_gltf.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -20,6 +21,17 @@ namespace {
 // type): Real is narrowed here, once per value, in the double build too.
 float f32(Real x) { return static_cast<float>(x); }
 
+// The shortest rotation taking unit vector a onto unit vector b.
+Quat rotationBetween(const Vec3& a, const Vec3& b) {
+    const Real c = dot(a, b);
+    if (c < Real(-0.999999)) {  // opposite: half a turn about any axis across a
+        const Vec3 across = std::fabs(a.x) < Real(0.9) ? cross(a, Vec3{1, 0, 0}) : cross(a, Vec3{0, 1, 0});
+        return Quat::fromAxisAngle(across, Real(3.14159265358979323846));
+    }
+    const Vec3 axis = cross(a, b);
+    return normalize(Quat{1 + c, axis.x, axis.y, axis.z});
+}
+
 class GlbBuilder {
 public:
     explicit GlbBuilder(const Recording& rec) : rec_(rec) {
@@ -33,10 +45,21 @@ public:
 
     tinygltf::Model build() {
         const auto meshes = tessellateBodies(rec_);
+        visuals_ = tessellateVisuals(rec_);
         buildAnimationTimes();
         for (std::size_t b = 0; b < rec_.bodies.size(); ++b) addBody(b, meshes[b]);
         for (std::size_t t = 0; t < rec_.particles.size(); ++t) addParticleTrack(t);
         for (const RecordedVehicle& vehicle : rec_.vehicles) addWheels(vehicle);
+        // glTF is y up: a recording with another up hangs under one root node
+        // that turns its up onto y (a URDF robot's z-up world stands up in Blender).
+        const Vec3 up = normalize(rec_.up);
+        if (length(up - Vec3{0, 1, 0}) > Real(1e-6)) {
+            tinygltf::Node root;
+            root.name = "up_to_y";
+            setTransform(root, Transform{Vec3::zero(), rotationBetween(up, Vec3{0, 1, 0})});
+            root.children = model_.scenes[0].nodes;
+            model_.scenes[0].nodes = {addNode(std::move(root))};
+        }
         if (!animation_.channels.empty()) {
             animation_.name = "simulation";
             model_.animations.push_back(std::move(animation_));
@@ -85,12 +108,13 @@ private:
         timeAccessor_ = addAccessor(times, TINYGLTF_TYPE_SCALAR, 1, 0, true);  // sampler inputs need min/max
     }
 
-    int material(const Rgb& c, bool doubleSided) {
-        const auto key = std::make_tuple(c.r, c.g, c.b, doubleSided);
+    int material(const Rgb& c, bool doubleSided, float alpha = 1.0f) {
+        const auto key = std::make_tuple(c.r, c.g, c.b, alpha, doubleSided);
         if (const auto it = materials_.find(key); it != materials_.end()) return it->second;
         tinygltf::Material m;
         m.name = "material_" + std::to_string(model_.materials.size());
-        m.pbrMetallicRoughness.baseColorFactor = {c.r, c.g, c.b, 1.0};
+        m.pbrMetallicRoughness.baseColorFactor = {c.r, c.g, c.b, alpha};
+        if (alpha < 1) m.alphaMode = "BLEND";
         m.pbrMetallicRoughness.metallicFactor = 0.0;
         m.pbrMetallicRoughness.roughnessFactor = 0.6;
         m.doubleSided = doubleSided;
@@ -178,8 +202,14 @@ private:
         const Rgb sleepColor = bodyColor(body.type, b, true);
         std::vector<int> children;
         std::vector<int> awakeNodes, sleepNodes;
+        if (!body.visuals.empty()) {
+            // Drawn as its visuals instead of its collision shape, in their own
+            // colours (not darkened while asleep).
+            addVisuals(b, node.name, awakeColor, children);
+            sleeps = false;
+        }
         const bool direct = parts.size() == 1 && parts[0].local == Transform::identity() && !sleeps;
-        for (std::size_t p = 0; p < parts.size(); ++p) {
+        for (std::size_t p = 0; p < (body.visuals.empty() ? parts.size() : 0); ++p) {
             const RenderPart& part = parts[p];
             const auto geometry = addGeometry(part.mesh);
             const std::string meshName = node.name + (parts.size() > 1 ? "_part" + std::to_string(p) : "");
@@ -242,6 +272,32 @@ private:
             const double a0 = rec_.isAwake(0, b) ? 1.0 : 0.0;
             for (int n : awakeNodes) model_.nodes[static_cast<std::size_t>(n)].scale = {a0, a0, a0};
             for (int n : sleepNodes) model_.nodes[static_cast<std::size_t>(n)].scale = {1 - a0, 1 - a0, 1 - a0};
+        }
+    }
+
+    // A body's visuals, one child node each; a visual mesh's accessors are
+    // stored once however many visuals show it.
+    void addVisuals(std::size_t b, const std::string& bodyName, const Rgb& bodyRgb, std::vector<int>& children) {
+        const RecordedBody& body = rec_.bodies[b];
+        for (std::size_t k = 0; k < body.visuals.size(); ++k) {
+            const BodyVisual& v = body.visuals[k];
+            const std::size_t geometry = visuals_.meshOf[b][k];
+            const RenderMesh& mesh = visuals_.meshes[geometry];
+            auto accessors = visualAccessors_.find(geometry);
+            if (accessors == visualAccessors_.end()) accessors = visualAccessors_.emplace(geometry, addGeometry(mesh)).first;
+            const Rgb rgb = v.hasColor ? Rgb{v.color[0], v.color[1], v.color[2]} : bodyRgb;
+            const int mat = material(rgb, mesh.doubleSided, v.hasColor ? v.color[3] : 1.0f);
+            const std::string name = bodyName + "_visual" + std::to_string(k);
+            auto meshIndex = visualMeshes_.find({geometry, mat});
+            if (meshIndex == visualMeshes_.end()) {
+                meshIndex = visualMeshes_.emplace(std::make_pair(geometry, mat), addMesh(name, accessors->second, mat)).first;
+            }
+            tinygltf::Node child;
+            child.name = name;
+            child.mesh = meshIndex->second;
+            setTransform(child, v.local);
+            if (v.geometry == BodyVisual::Geometry::Mesh && v.scale != Vec3{1, 1, 1}) child.scale = {v.scale.x, v.scale.y, v.scale.z};
+            children.push_back(addNode(std::move(child)));
         }
     }
 
@@ -354,7 +410,10 @@ private:
     tinygltf::Model model_;
     tinygltf::Animation animation_;
     int timeAccessor_ = -1;
-    std::map<std::tuple<float, float, float, bool>, int> materials_;
+    std::map<std::tuple<float, float, float, float, bool>, int> materials_;
+    VisualGeometry visuals_;
+    std::map<std::size_t, std::array<int, 3>> visualAccessors_;              // per visual mesh: stored once
+    std::map<std::pair<std::size_t, int>, int> visualMeshes_;                 // per (visual mesh, material)
 };
 
 }  // namespace

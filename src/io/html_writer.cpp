@@ -100,19 +100,40 @@ json packed(const std::vector<T>& values, std::size_t xorStride = 0) {
 
 json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
 
+// A render mesh's arrays: "positions", "normals", "indices", "doubleSided".
+json meshArrays(const RenderMesh& mesh) {
+    std::vector<float> positions, normals;
+    for (const Vec3& p : mesh.positions) positions.insert(positions.end(), {f32(p.x), f32(p.y), f32(p.z)});
+    for (const Vec3& n : mesh.normals) normals.insert(normals.end(), {f32(n.x), f32(n.y), f32(n.z)});
+    return {{"positions", packed(positions)}, {"normals", packed(normals)}, {"indices", packed(mesh.indices)},
+            {"doubleSided", mesh.doubleSided}};
+}
+
 json renderParts(const std::vector<RenderPart>& parts) {
     json out = json::array();
     for (const RenderPart& part : parts) {
-        std::vector<float> positions, normals;
-        for (const Vec3& p : part.mesh.positions) positions.insert(positions.end(), {f32(p.x), f32(p.y), f32(p.z)});
-        for (const Vec3& n : part.mesh.normals) normals.insert(normals.end(), {f32(n.x), f32(n.y), f32(n.z)});
         const Quat& q = part.local.q;
-        out.push_back({{"position", vec(part.local.p)},
+        json p = meshArrays(part.mesh);
+        p["position"] = vec(part.local.p);
+        p["rotation"] = json::array({q.x, q.y, q.z, q.w});
+        out.push_back(std::move(p));
+    }
+    return out;
+}
+
+// A body's visuals: each names its render mesh in the document's
+// "visualMeshes" (a mesh file shown by several visuals is stored once).
+json visualParts(const RecordedBody& body, const std::vector<std::size_t>& meshOf, const Rgb& bodyRgb) {
+    json out = json::array();
+    for (std::size_t k = 0; k < body.visuals.size(); ++k) {
+        const BodyVisual& v = body.visuals[k];
+        const Quat& q = v.local.q;
+        const auto& c = v.color;
+        out.push_back({{"mesh", meshOf[k]},
+                       {"position", vec(v.local.p)},
                        {"rotation", json::array({q.x, q.y, q.z, q.w})},
-                       {"positions", packed(positions)},
-                       {"normals", packed(normals)},
-                       {"indices", packed(part.mesh.indices)},
-                       {"doubleSided", part.mesh.doubleSided}});
+                       {"scale", vec(v.geometry == BodyVisual::Geometry::Mesh ? v.scale : Vec3{1, 1, 1})},
+                       {"color", v.hasColor ? json::array({c[0], c[1], c[2], c[3]}) : json::array({bodyRgb.r, bodyRgb.g, bodyRgb.b, 1.0f})}});
     }
     return out;
 }
@@ -132,12 +153,14 @@ std::string recordingJson(const Recording& rec) {
     const std::size_t frames = rec.frameCount();
     const std::size_t n = rec.bodies.size();
     const auto meshes = tessellateBodies(rec);
+    const VisualGeometry visuals = tessellateVisuals(rec);
     const AABB scene = sceneBounds(rec);
 
     json doc;
     doc["format"] = "fulcrum-recording";
     doc["version"] = 2;
     doc["title"] = rec.title;
+    doc["up"] = vec(rec.up);
     doc["frames"] = frames;
     // The camera frames the first frame (what the run starts from); "scene" spans every frame.
     const AABB start = sceneBounds(rec, 0, 1);
@@ -154,9 +177,13 @@ std::string recordingJson(const Recording& rec) {
                           {"mass", body.mass},
                           {"color", json::array({c.r, c.g, c.b})},
                           {"sleepColor", json::array({s.r, s.g, s.b})},
-                          {"parts", renderParts(meshes[b])}});
+                          {"parts", renderParts(meshes[b])},
+                          {"visuals", visualParts(body, visuals.meshOf[b], c)}});
     }
     doc["bodies"] = std::move(bodies);
+    json visualMeshes = json::array();
+    for (const RenderMesh& mesh : visuals.meshes) visualMeshes.push_back(meshArrays(mesh));
+    doc["visualMeshes"] = std::move(visualMeshes);
 
     json joints = json::array();
     for (const RecordedJoint& j : rec.joints) {

@@ -1,12 +1,14 @@
 // Recorder: fills a Recording from a World through its public API only.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <span>
 #include <string>
 
 #include "io/gltf_writer.hpp"
 #include "io/html_writer.hpp"
 #include "fulcrum/recording.hpp"
+#include "io/recording_display.hpp"
 
 namespace fulcrum::io {
 
@@ -26,9 +28,15 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
                     std::to_string(options_.captureInterval));
     }
     recording_.title = options_.title;
+    // Up: the axis most against gravity (a URDF robot's world is z-up).
+    const Vec3 g = world.settings().gravity;
+    const Vec3 a{std::fabs(g.x), std::fabs(g.y), std::fabs(g.z)};
+    if (a.z > a.y && a.z > a.x) recording_.up = {0, 0, g.z < 0 ? Real(1) : Real(-1)};
+    else if (a.x > a.y) recording_.up = {g.x < 0 ? Real(1) : Real(-1), 0, 0};
+    else if (a.y > 0 && g.y > 0) recording_.up = {0, -1, 0};
     ids_ = world.bodies();
     recording_.bodies.reserve(ids_.size());
-    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id), world.mass(id)});
+    for (BodyId id : ids_) recording_.bodies.push_back({world.name(id), world.bodyType(id), world.shape(id), world.mass(id), {}});
 
     // Joint anchors are world space at creation; with the bodies' current
     // transforms they become body-local, which is exact when the recorder is
@@ -89,6 +97,19 @@ Recorder::Recorder(const World& world, RecordOptions options) : options_(std::mo
     for (CharacterId cid : world.characters()) {
         const int body = indexOf(ids_, world.characterBody(cid));
         if (body >= 0) recording_.characters.push_back({world.name(cid), body});
+    }
+}
+
+void Recorder::setVisuals(BodyId body, std::vector<BodyVisual> visuals) {
+    const int index = indexOf(ids_, body);
+    if (index < 0) throw Error("recorder: setVisuals names a body that is not recorded (created after the recorder, or null)");
+    RecordedBody& recorded = recording_.bodies[static_cast<std::size_t>(index)];
+    recorded.visuals = std::move(visuals);
+    try {
+        checkVisuals(recorded);
+    } catch (const Error&) {
+        recorded.visuals.clear();
+        throw;
     }
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace fulcrum::io {
@@ -59,6 +60,8 @@ void Recording::validate() const {
             throw Error("recording: joints[" + std::to_string(j) + "] ('" + joint.name + "') refers to a body index out of range");
         }
     }
+    for (const RecordedBody& body : bodies) checkVisuals(body);
+    if (!isFinite(up) || !(length(up) > Real(0.5))) throw Error("recording: up must be a finite, non-zero direction");
     for (std::size_t i = 0; i < transforms.size(); ++i) {
         if (!isFinite(transforms[i].p) || !isFinite(transforms[i].q)) {
             throw Error("recording: body '" + bodies[i % n].name + "' has a non-finite transform in frame " +
@@ -165,6 +168,102 @@ AABB sceneBounds(const Recording& recording, std::size_t first, std::size_t last
     }
     if (box.isEmpty()) box = AABB::fromCenterHalf(Vec3::zero(), Vec3::splat(1));
     return box;
+}
+
+void checkVisuals(const RecordedBody& body) {
+    for (std::size_t k = 0; k < body.visuals.size(); ++k) {
+        const BodyVisual& v = body.visuals[k];
+        const auto fail = [&](const std::string& what) {
+            throw Error("recording: body '" + body.name + "', visual " + std::to_string(k) + ": " + what);
+        };
+        if (!isFinite(v.local.p) || !isFinite(v.local.q)) fail("its pose is not finite");
+        for (const float c : v.color) {
+            if (!(c >= 0 && c <= 1)) fail("its colour components must lie in [0, 1]");
+        }
+        const auto positive = [](Real x) { return std::isfinite(x) && x > 0; };
+        switch (v.geometry) {
+            case BodyVisual::Geometry::Box:
+                if (!positive(v.halfExtents.x) || !positive(v.halfExtents.y) || !positive(v.halfExtents.z)) fail("a box needs positive half extents");
+                break;
+            case BodyVisual::Geometry::Sphere:
+                if (!positive(v.radius)) fail("a sphere needs a positive radius");
+                break;
+            case BodyVisual::Geometry::Cylinder:
+            case BodyVisual::Geometry::Capsule:
+                if (!positive(v.radius) || !(std::isfinite(v.halfHeight) && v.halfHeight >= 0)) {
+                    fail("a cylinder or capsule needs a positive radius and a half height >= 0");
+                }
+                break;
+            case BodyVisual::Geometry::Mesh:
+                if (v.mesh == nullptr) fail("a mesh visual has no mesh");
+                if (!isFinite(v.scale)) fail("its scale is not finite");
+                for (const Vec3& p : v.mesh->vertices) {
+                    if (!isFinite(p)) fail("mesh '" + v.mesh->name + "' has a non-finite vertex");
+                }
+                for (const auto& t : v.mesh->triangles) {
+                    for (const std::uint32_t i : t) {
+                        if (i >= v.mesh->vertices.size()) fail("mesh '" + v.mesh->name + "' names a vertex it does not have");
+                    }
+                }
+                break;
+        }
+    }
+}
+
+namespace {
+
+// A visual mesh flat shaded (one normal per triangle), drawn from both sides:
+// meshes made for display are often open or wound either way.
+RenderMesh renderVisualMesh(const VisualMesh& source) {
+    RenderMesh mesh;
+    mesh.doubleSided = true;
+    mesh.positions.reserve(source.triangles.size() * 3);
+    mesh.normals.reserve(source.triangles.size() * 3);
+    mesh.indices.reserve(source.triangles.size() * 3);
+    for (const auto& tri : source.triangles) {
+        const Vec3 &a = source.vertices[tri[0]], &b = source.vertices[tri[1]], &c = source.vertices[tri[2]];
+        const Vec3 n = cross(b - a, c - a);
+        const Real len = length(n);
+        const Vec3 unit = len > 0 ? n / len : Vec3{0, 0, 1};
+        for (const Vec3* p : {&a, &b, &c}) {
+            mesh.indices.push_back(static_cast<std::uint32_t>(mesh.positions.size()));
+            mesh.positions.push_back(*p);
+            mesh.normals.push_back(unit);
+        }
+    }
+    return mesh;
+}
+
+RenderMesh renderVisualPrimitive(const BodyVisual& v) {
+    switch (v.geometry) {
+        case BodyVisual::Geometry::Box: return tessellateBox(v.halfExtents);
+        case BodyVisual::Geometry::Sphere: return tessellateSphere(v.radius);
+        case BodyVisual::Geometry::Cylinder: return tessellateCylinder(v.radius, v.halfHeight);
+        case BodyVisual::Geometry::Capsule: return tessellateCapsule(v.radius, v.halfHeight);
+        case BodyVisual::Geometry::Mesh: break;
+    }
+    return renderVisualMesh(*v.mesh);
+}
+
+}  // namespace
+
+VisualGeometry tessellateVisuals(const Recording& recording) {
+    VisualGeometry out;
+    std::map<const VisualMesh*, std::size_t> seen;
+    out.meshOf.resize(recording.bodies.size());
+    for (std::size_t b = 0; b < recording.bodies.size(); ++b) {
+        for (const BodyVisual& v : recording.bodies[b].visuals) {
+            if (v.geometry == BodyVisual::Geometry::Mesh) {
+                const auto [it, isNew] = seen.try_emplace(v.mesh.get(), out.meshes.size());
+                if (isNew) out.meshes.push_back(renderVisualMesh(*v.mesh));
+                out.meshOf[b].push_back(it->second);
+            } else {
+                out.meshOf[b].push_back(out.meshes.size());
+                out.meshes.push_back(renderVisualPrimitive(v));
+            }
+        }
+    }
+    return out;
 }
 
 std::vector<std::vector<RenderPart>> tessellateBodies(const Recording& recording) {

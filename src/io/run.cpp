@@ -385,6 +385,10 @@ RunResult runWorld(World built, const SceneHandles& handles, const Scene& scene,
     std::optional<io::Recorder> recorder;
     if (!outputs.recordPath.empty()) {
         recorder.emplace(world, io::RecordOptions{.title = scene.sourceName.empty() ? "Fulcrum" : scene.sourceName});
+        // Robot links are drawn as their URDF visuals (docs/robots.md).
+        for (std::size_t i = 0; i < scene.bodies.size() && i < result.handles.bodies.size(); ++i) {
+            if (!scene.bodies[i].visuals.empty()) recorder->setVisuals(result.handles.bodies[i], scene.bodies[i].visuals);
+        }
         recorder->capture(world);
     }
 

@@ -13,12 +13,14 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
 
 #include "dynamics/validation.hpp"
+#include "io/mesh_import.hpp"
 #include "io/urdf_model.hpp"
 #include "world/input_file.hpp"
 
@@ -95,18 +97,33 @@ std::optional<std::filesystem::path> findMesh(const std::string& filename, const
     return std::nullopt;
 }
 
-// The vertices and triangles of an STL (binary or ASCII) or OBJ file, scaled;
-// nullopt with `why` set for another format or a file it cannot read.
+// The vertices and triangles of an STL (binary or ASCII), OBJ or COLLADA
+// file, scaled; nullopt with `why` set for another format or a file it cannot
+// read. STL and OBJ are read here (small, exact readers of what robot files
+// use); COLLADA, a scene format with units, up axes and node transforms, by
+// assimp (mesh_import.cpp).
 struct MeshData {
     std::vector<Vec3> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::optional<std::array<float, 4>> color;  // COLLADA: its first material's diffuse colour
 };
 
 std::optional<MeshData> readMesh(const std::filesystem::path& file, const Vec3& scale, std::string& why) {
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".dae") {
+        auto imported = detail::importColladaMesh(file, why);
+        if (!imported) return std::nullopt;
+        if (imported->vertices.size() < 4) {
+            why = "it has fewer than 4 vertices";
+            return std::nullopt;
+        }
+        MeshData m{std::move(imported->vertices), std::move(imported->triangles), imported->color};
+        for (Vec3& v : m.vertices) v = {v.x * scale.x, v.y * scale.y, v.z * scale.z};
+        return m;
+    }
     if (ext != ".stl" && ext != ".obj") {
-        why = "only STL and OBJ meshes are read";
+        why = "only STL, OBJ and COLLADA (.dae) meshes are read";
         return std::nullopt;
     }
     std::ifstream in(file, std::ios::binary);
@@ -309,6 +326,82 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
         }
     }
 
+    // Visuals (docs/robots.md): each mesh file read once, unscaled, and shared
+    // by every visual showing it; a file that cannot be used is left out with
+    // a warning (the link is then drawn as its other visuals, or its colliders).
+    std::map<std::string, std::shared_ptr<const VisualMesh>> visualMeshes;
+    std::map<std::string, std::array<float, 4>> meshColors;
+    const auto makeVisual = [&](const detail::UrdfGeometryElement& v, const std::string& link) -> std::optional<BodyVisual> {
+        BodyVisual visual;
+        visual.local = {v.origin.p, v.origin.q};
+        visual.hasColor = v.hasColor;
+        visual.color = v.rgba;
+        const Quat yToZ = Quat::fromAxisAngle({1, 0, 0}, kPi / 2);
+        switch (v.geometry.kind) {
+            case UrdfGeometry::Kind::Box:
+                visual.geometry = BodyVisual::Geometry::Box;
+                visual.halfExtents = v.geometry.size * Real(0.5);
+                break;
+            case UrdfGeometry::Kind::Sphere:
+                visual.geometry = BodyVisual::Geometry::Sphere;
+                visual.radius = v.geometry.radius;
+                break;
+            case UrdfGeometry::Kind::Cylinder:
+            case UrdfGeometry::Kind::Capsule:
+                visual.geometry = v.geometry.kind == UrdfGeometry::Kind::Cylinder ? BodyVisual::Geometry::Cylinder
+                                                                                 : BodyVisual::Geometry::Capsule;
+                visual.radius = v.geometry.radius;
+                visual.halfHeight = v.geometry.length * Real(0.5);
+                visual.local.q = normalize(v.origin.q * yToZ);  // URDF's along z, Fulcrum's along y
+                break;
+            case UrdfGeometry::Kind::Mesh: {
+                visual.geometry = BodyVisual::Geometry::Mesh;
+                visual.scale = v.geometry.scale;
+                const std::string what = lineOf(m, v.line) + ": link '" + link + "', visual: mesh '" + v.geometry.filename + "' ";
+                const auto found = findMesh(v.geometry.filename, folder, options.searchPath);
+                if (!found) {
+                    warn(what + "not found; this visual is left out");
+                    return std::nullopt;
+                }
+                const std::string key = found->lexically_normal().string();
+                auto it = visualMeshes.find(key);
+                if (it == visualMeshes.end()) {
+                    std::string why;
+                    auto data = readMesh(*found, {1, 1, 1}, why);
+                    if (!data) {
+                        warn(what + "found at " + found->string() + " but not used (" + why + "); this visual is left out");
+                        return std::nullopt;
+                    }
+                    for (const auto& t : data->triangles) {
+                        if (t[0] >= data->vertices.size() || t[1] >= data->vertices.size() || t[2] >= data->vertices.size()) {
+                            warn(what + "found at " + found->string() + " but not used (a triangle names a missing vertex)" +
+                                 "; this visual is left out");
+                            return std::nullopt;
+                        }
+                    }
+                    auto mesh = std::make_shared<VisualMesh>();
+                    mesh->name = found->string();
+                    mesh->vertices = std::move(data->vertices);
+                    mesh->triangles = std::move(data->triangles);
+                    if (data->color) meshColors[key] = *data->color;
+                    it = visualMeshes.emplace(key, std::move(mesh)).first;
+                }
+                visual.mesh = it->second;
+                // A COLLADA file's own colour where the URDF gives none.
+                if (const auto c = meshColors.find(key); !visual.hasColor && c != meshColors.end()) {
+                    visual.hasColor = true;
+                    visual.color = c->second;
+                }
+                break;
+            }
+        }
+        if (!v.hasColor && !v.material.empty() && !visual.hasColor) {
+            warn(lineOf(m, v.line) + ": link '" + link + "', visual: material '" + v.material +
+                 "' has no colour defined in the file; the link's display colour is used");
+        }
+        return visual;
+    };
+
     CollisionFilter filter;
     if (!options.selfCollision) filter.group = options.collisionGroup != 0 ? options.collisionGroup : -1;
 
@@ -386,14 +479,11 @@ UrdfSceneParts urdfSceneParts(std::string_view xml, const std::string& sourceNam
             }
         }
         for (const auto& v : l.visuals) {
-            if (v.geometry.kind != UrdfGeometry::Kind::Mesh) continue;
-            if (!findMesh(v.geometry.filename, folder, options.searchPath)) {
-                warn(lineOf(m, v.line) + ": link '" + l.name + "', visual: mesh '" + v.geometry.filename +
-                     "' not found (visuals are not drawn yet; nothing else changes)");
-            }
+            if (auto visual = makeVisual(v, l.name)) body.visuals.push_back(std::move(*visual));
         }
         RobotLink rl;
         rl.name = l.name;
+        rl.visuals = body.visuals;
         rl.collides = !parts.empty();
         if (parts.empty()) {
             // No collider: a small sphere that collides with nothing carries the mass.

@@ -1,6 +1,7 @@
 #pragma once
 // A URDF file as parsed and checked (urdf_parse.cpp), before it becomes
 // bodies and joints (urdf.cpp). Everything in the file's own frames and units.
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,6 +30,11 @@ struct UrdfGeometryElement {
     UrdfPose origin;
     UrdfGeometry geometry;
     int line = 0;
+    // <visual>'s <material>: its colour, given inline or by the name of a
+    // material defined in the file (at the robot level or in another visual).
+    std::string material;                    // the name, as written ("" without one)
+    bool hasColor = false;
+    std::array<float, 4> rgba{1, 1, 1, 1};
 };
 
 struct UrdfLink {

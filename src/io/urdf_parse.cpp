@@ -3,10 +3,12 @@
 // so a process locale with a decimal comma cannot change them.
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "dynamics/body_mass.hpp"
@@ -154,6 +156,17 @@ public:
         return out;
     }
 
+    // A <material>'s <color rgba>, each component clamped to [0, 1]; nullopt
+    // without a <color> (a texture only, or a reference by name).
+    std::optional<std::array<float, 4>> materialColor(const tinyxml2::XMLElement* material, const tinyxml2::XMLElement* owner) const {
+        const tinyxml2::XMLElement* c = material->FirstChildElement("color");
+        if (c == nullptr) return std::nullopt;
+        const auto v = numbers(c, "rgba", 4, owner);
+        std::array<float, 4> rgba{};
+        for (std::size_t k = 0; k < 4; ++k) rgba[k] = static_cast<float>(std::clamp(v[k], 0.0, 1.0));
+        return rgba;
+    }
+
     UrdfLink link(const tinyxml2::XMLElement* e) const {
         UrdfLink l;
         l.line = e->GetLineNum();
@@ -184,7 +197,15 @@ public:
             l.collisions.push_back(geometryElement(c, e));
         }
         for (const tinyxml2::XMLElement* v = e->FirstChildElement("visual"); v; v = v->NextSiblingElement("visual")) {
-            l.visuals.push_back(geometryElement(v, e));
+            UrdfGeometryElement visual = geometryElement(v, e);
+            if (const tinyxml2::XMLElement* mat = v->FirstChildElement("material")) {
+                if (const char* n = mat->Attribute("name")) visual.material = n;
+                if (const auto rgba = materialColor(mat, e)) {
+                    visual.hasColor = true;
+                    visual.rgba = *rgba;
+                }
+            }
+            l.visuals.push_back(std::move(visual));
         }
         return l;
     }
@@ -273,6 +294,29 @@ public:
             m.links.push_back(std::move(l));
         }
         if (m.links.empty()) fail(robot, "the robot has no <link>");
+        // Materials by name: those defined at the robot level, then those
+        // defined inside a visual (as urdfdom does, the first definition of a
+        // name counts); a visual naming one without a colour of its own takes it.
+        std::map<std::string, std::array<float, 4>, std::less<>> materials;
+        for (const tinyxml2::XMLElement* e = robot->FirstChildElement("material"); e; e = e->NextSiblingElement("material")) {
+            const char* n = e->Attribute("name");
+            if (n == nullptr) continue;
+            if (const auto rgba = materialColor(e, e)) materials.try_emplace(n, *rgba);
+        }
+        for (const UrdfLink& l : m.links) {
+            for (const UrdfGeometryElement& v : l.visuals) {
+                if (v.hasColor && !v.material.empty()) materials.try_emplace(v.material, v.rgba);
+            }
+        }
+        for (UrdfLink& l : m.links) {
+            for (UrdfGeometryElement& v : l.visuals) {
+                if (v.hasColor || v.material.empty()) continue;
+                if (const auto it = materials.find(v.material); it != materials.end()) {
+                    v.hasColor = true;
+                    v.rgba = it->second;
+                }
+            }
+        }
         std::map<std::string, int, std::less<>> jointNames;
         m.parentJoint.assign(m.links.size(), kNone);
         for (const tinyxml2::XMLElement* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {

@@ -73,4 +73,21 @@ TEST(Browser, SyntheticReplayRendersAndPlays) {
     checkInBrowser(page, artifacts() / "replay-synthetic.png", scene.recording.bodies.size(), "--labels box,ball,gem --pick box");
 }
 
+// A robot with URDF visuals (scenes/quadruped.json, 2 s): its 14 visuals are
+// drawn in their materials' colours in place of the collision shapes, the
+// "collision shapes" toggle swaps them, the camera stands on the world's z
+// (URDF is z-up), and a click on the torso selects it.
+TEST(Browser, RobotReplayDrawsItsVisuals) {
+    if (const std::string missing = missingTool(); !missing.empty()) GTEST_SKIP() << missing;
+    const fs::path page = artifacts() / "replay-robot.html";
+    fulcrum::Scene scene = loadScene(fs::path(FULCRUM_SOURCE_DIR) / "scenes" / "quadruped.json");
+    scene.steps = 240;
+    fulcrum::detail::RunOutputs outputs;
+    outputs.recordPath = page.string();
+    const fulcrum::detail::RunResult result = fulcrum::detail::runScene(scene, outputs);
+    // sRGB hex of the quadruped's materials: shell, graphite, rubber, lens.
+    checkInBrowser(page, artifacts() / "replay-robot.png", result.world.bodyCount(),
+                   "--visuals 14 --visual-colors 296bbf,2e3036,0d0d0d,e6d94c --up 0,0,1 --pick torso");
+}
+
 }  // namespace

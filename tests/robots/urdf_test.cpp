@@ -5,6 +5,7 @@
 // energy, a slider's load. Bad input gives errors naming the file and element.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <chrono>
 #include <cstdint>
@@ -165,6 +166,35 @@ TEST(Urdf, ModelsAreReadAsWritten) {
     EXPECT_EQ(missingCollisionMeshes, 7);
 }
 
+// R2D2's visuals (docs/robots.md): every link keeps its <visual>, in the
+// colours its materials give, whether defined inline or named; the gripper's
+// two COLLADA meshes are missing from the shared copy and left out.
+TEST(Urdf, R2d2VisualsKeepTheirMaterials) {
+    World world = zUpWorld();
+    const Robot r2d2 = loadUrdf(world, robotsDir() / "r2d2/07-physics.urdf", quietOptions());
+    std::size_t visuals = 0;
+    for (const RobotLink& l : r2d2.links) visuals += l.visuals.size();
+    EXPECT_EQ(visuals, 16u - 4u);  // 16 <visual>, four of them the missing finger meshes
+    const auto colorOf = [&](const char* link) {
+        for (const RobotLink& l : r2d2.links) {
+            if (l.name == link && !l.visuals.empty() && l.visuals[0].hasColor) return l.visuals[0].color;
+        }
+        return std::array<float, 4>{-1, -1, -1, -1};
+    };
+    EXPECT_EQ(colorOf("base_link"), (std::array<float, 4>{0, 0, 0.8f, 1}));    // "blue", inline
+    EXPECT_EQ(colorOf("right_leg"), (std::array<float, 4>{1, 1, 1, 1}));       // "white", inline
+    EXPECT_EQ(colorOf("right_base"), (std::array<float, 4>{1, 1, 1, 1}));      // "white", by name
+    const RobotLink& base = r2d2.links[0];
+    ASSERT_EQ(base.visuals[0].geometry, BodyVisual::Geometry::Cylinder);
+    EXPECT_NEAR(base.visuals[0].radius, 0.2, 1e-7);
+    EXPECT_NEAR(base.visuals[0].halfHeight, 0.3, 1e-7);
+    int missingVisualMeshes = 0;
+    for (const std::string& w : r2d2.warnings) {
+        if (w.find("visual: mesh") != std::string::npos && w.find(".dae' not found") != std::string::npos) ++missingVisualMeshes;
+    }
+    EXPECT_EQ(missingVisualMeshes, 4);
+}
+
 // The gravity torque about joint j's axis of every link beyond it, from
 // where the links are now: sum m (c - anchor) x g.
 Real gravityTorque(const World& world, const Robot& robot, const RobotJoint& j) {
@@ -293,7 +323,8 @@ TEST(Urdf, VelocityDriveAndImu) {
 
 // Collision meshes in STL and OBJ: a dynamic link collides as the mesh's
 // convex hull, a static one as its triangles; package:// paths resolve
-// against the search path; a format it does not read is a warning.
+// against the search path; a missing file is a warning (COLLADA meshes:
+// urdf_dae_test.cpp).
 TEST(Urdf, CollisionMeshesFromStlAndObj) {
     World world = zUpWorld();
     std::vector<std::string> warnings;
@@ -308,7 +339,7 @@ TEST(Urdf, CollisionMeshesFromStlAndObj) {
         R"(<link name="block">)" + inertia +
             R"(<collision><geometry><mesh filename="package://robots/meshes/cube.obj" scale="2 1 1"/></geometry></collision></link>)"
             R"(<link name="odd">)" + inertia +
-            R"(<collision><geometry><mesh filename="meshes/cube.dae"/></geometry></collision></link>)"
+            R"(<collision><geometry><mesh filename="meshes/absent.dae"/></geometry></collision></link>)"
             R"(<joint name="a" type="revolute"><parent link="floor"/><child link="block"/><origin xyz="0 0 1"/><limit lower="-1" upper="1"/></joint>)"
             R"(<joint name="b" type="fixed"><parent link="block"/><child link="odd"/><origin xyz="1 0 0"/></joint></robot>)",
         (ownDir() / "inline.urdf").string(), o);
@@ -318,7 +349,7 @@ TEST(Urdf, CollisionMeshesFromStlAndObj) {
     EXPECT_NEAR(block.localBounds().max.x, 0.2, 1e-6);  // scaled by 2 along x
     EXPECT_NEAR(block.localBounds().max.y, 0.1, 1e-6);
     ASSERT_EQ(warnings.size(), 1u);
-    EXPECT_NE(warnings[0].find("link 'odd', collision: mesh 'meshes/cube.dae' not found"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("link 'odd', collision: mesh 'meshes/absent.dae' not found"), std::string::npos) << warnings[0];
 }
 
 // A binary STL (written here: a tetrahedron) beside a URDF given from memory.

@@ -32,10 +32,12 @@ export function createCameraChoice({ camera, controls, bodies, vehicles, charact
   let chosen = choices[0];
   const heading = new Vector3(), lastHeading = new Vector3(), turn = new Quaternion(), step = new Vector3();
   const lastPosition = new Vector3();
-  const forward = new Vector3(0, 0, 1), up = new Vector3(0, 1, 0);
+  // The world's up is the camera's (y, or z for a z-up recording: viewer.js).
+  const forward = new Vector3(0, 0, 1), up = camera.up.clone();
+  const level = (v) => v.addScaledVector(up, -v.dot(up));  // the part of v across up
 
   function headingOf(body, out) {
-    out.copy(forward).applyQuaternion(body.group.quaternion).setY(0);
+    level(out.copy(forward).applyQuaternion(body.group.quaternion));
     return out.lengthSq() > 1e-8 ? out.normalize() : out.set(0, 0, 1);
   }
 
@@ -47,7 +49,7 @@ export function createCameraChoice({ camera, controls, bodies, vehicles, charact
     // Start from behind and above the body (its heading for a vehicle), far
     // enough to see it and its surroundings.
     const distance = Math.max(6, 5 * body.extent);
-    const back = chosen.vehicle ? headingOf(body, heading).clone().negate() : camera.position.clone().sub(controls.target).setY(0).normalize();
+    const back = chosen.vehicle ? headingOf(body, heading).clone().negate() : level(camera.position.clone().sub(controls.target)).normalize();
     if (back.lengthSq() < 1e-8) back.set(0, 0, 1);
     controls.target.copy(body.group.position);
     camera.position.copy(body.group.position).addScaledVector(back, distance * 0.9).addScaledVector(up, distance * 0.45);

@@ -6,7 +6,7 @@
 import {
   BackSide, Box3, BufferAttribute, BufferGeometry, CanvasTexture, Color, DirectionalLight, DoubleSide, FrontSide, Group,
   HemisphereLight, LineBasicMaterial, Mesh, MeshBasicMaterial, MeshStandardMaterial, Points, PointsMaterial, RepeatWrapping,
-  SRGBColorSpace, SphereGeometry, Vector3,
+  Quaternion, SRGBColorSpace, SphereGeometry, Vector3,
 } from 'three';
 
 export const srgb = (rgb) => new Color().setRGB(rgb[0], rgb[1], rgb[2], SRGBColorSpace);
@@ -16,9 +16,26 @@ function material(rgb, doubleSided) {
                                     side: doubleSided ? DoubleSide : FrontSide });
 }
 
+function visualMaterial(rgba, doubleSided) {
+  const alpha = rgba[3] ?? 1;
+  return new MeshStandardMaterial({ color: srgb(rgba), roughness: 0.55, metalness: 0.05, transparent: alpha < 1,
+                                    opacity: alpha, side: doubleSided ? DoubleSide : FrontSide });
+}
+
+function meshGeometry(arrays) {
+  const geometry = new BufferGeometry();
+  geometry.setAttribute('position', new BufferAttribute(arrays.positions, 3));
+  geometry.setAttribute('normal', new BufferAttribute(arrays.normals, 3));
+  geometry.setIndex(new BufferAttribute(arrays.indices, 1));
+  return geometry;
+}
+
 // One group of meshes per body, added to the scene; each mesh knows its
-// body's index (userData.bodyIndex, counted from `firstIndex`).
-export function buildBodies(scene, recBodies, firstIndex = 0) {
+// body's index (userData.bodyIndex, counted from `firstIndex`). A body with
+// visuals (a robot link's, docs/recording.md) is drawn as them, its collision
+// meshes hidden; `visualMeshes` are the recording's shared geometries.
+export function buildBodies(scene, recBodies, firstIndex = 0, visualMeshes = []) {
+  const visualGeometries = visualMeshes.map(meshGeometry);  // each once, however many visuals show it
   const bodies = recBodies.map((body) => {
     const group = new Group();
     group.name = body.name;
@@ -42,12 +59,27 @@ export function buildBodies(scene, recBodies, firstIndex = 0) {
         local.union(geometry.boundingBox.clone().applyMatrix4(mesh.matrix));
       }
     }
+    const visuals = [];
+    for (const v of body.visuals ?? []) {
+      const geometry = visualGeometries[v.mesh];
+      const mesh = new Mesh(geometry, visualMaterial(v.color, visualMeshes[v.mesh].doubleSided));
+      mesh.position.set(...v.position);
+      mesh.quaternion.set(...v.rotation);
+      mesh.scale.set(...v.scale);
+      mesh.castShadow = mesh.receiveShadow = true;
+      group.add(mesh);
+      visuals.push(mesh);
+      mesh.updateMatrix();
+      if (!geometry.boundingBox) geometry.computeBoundingBox();
+      local.union(geometry.boundingBox.clone().applyMatrix4(mesh.matrix));
+    }
+    meshes.forEach((m) => { m.visible = visuals.length === 0; });
     scene.add(group);
     const extent = local.isEmpty() ? 0 : local.getSize(new Vector3()).length() / 2;
-    return { rec: body, group, meshes, awakeMaterial: meshes.map((m) => m.material), local, extent,
+    return { rec: body, group, meshes, awakeMaterial: meshes.map((m) => m.material), local, extent, visuals,
              sleepMaterial: body.parts.map((p) => material(body.sleepColor, p.doubleSided)), asleep: false };
   });
-  bodies.forEach((b, index) => b.meshes.forEach((m) => { m.userData.bodyIndex = firstIndex + index; }));
+  bodies.forEach((b, index) => b.meshes.concat(b.visuals).forEach((m) => { m.userData.bodyIndex = firstIndex + index; }));
   return bodies;
 }
 
@@ -56,7 +88,7 @@ export function buildBodies(scene, recBodies, firstIndex = 0) {
 export function frameCamera(camera, controls, box, direction, margin, focusRadius) {
   const centre = box.getCenter(new Vector3());
   const back = direction.clone().normalize();
-  const right = new Vector3(0, 1, 0).cross(back).normalize();
+  const right = camera.up.clone().cross(back).normalize();
   const up = back.clone().cross(right);
   const ty = Math.tan((camera.fov * Math.PI) / 360) * margin, tx = ty * camera.aspect;
   let distance = 0;
@@ -90,11 +122,14 @@ export function createSkyDome(horizon, zenith) {
 }
 
 // A sky/ground fill and a sun whose shadow map covers the focus box.
-export function addLights(scene, focus, focusRadius, typicalSize) {
+// `turn` takes y up to the world's up (identity for a y-up world).
+export function addLights(scene, focus, focusRadius, typicalSize, turn = new Quaternion()) {
   const focusCenter = focus.getCenter(new Vector3());
-  scene.add(new HemisphereLight(0xdde8ff, 0x4a4238, 1.1));
+  const sky = new HemisphereLight(0xdde8ff, 0x4a4238, 1.1);
+  sky.position.set(0, 1, 0).applyQuaternion(turn);
+  scene.add(sky);
   const sun = new DirectionalLight(0xfff4e6, 3.2);
-  const sunDirection = new Vector3(-0.45, 1, 0.6).normalize();
+  const sunDirection = new Vector3(-0.45, 1, 0.6).applyQuaternion(turn).normalize();
   sun.position.copy(focusCenter).addScaledVector(sunDirection, focusRadius * 3);
   sun.target.position.copy(focusCenter);
   sun.castShadow = true;

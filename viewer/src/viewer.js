@@ -49,6 +49,7 @@ async function decodeRecording(rec) {
   const decode = (holder, key) => jobs.push(unpack(holder[key]).then((a) => { holder[key] = a; }));
   for (const key of ['times', 'transforms', 'awake', 'bounds', 'contactOffsets', 'contacts', 'jointErrors', 'energy', 'momentum']) decode(rec, key);
   for (const body of rec.bodies) for (const part of body.parts) for (const key of ['positions', 'normals', 'indices']) decode(part, key);
+  for (const mesh of rec.visualMeshes ?? []) for (const key of ['positions', 'normals', 'indices']) decode(mesh, key);
   for (const track of rec.particles ?? []) for (const key of ['indices', 'positions']) decode(track, key);
   for (const vehicle of rec.vehicles ?? []) decode(vehicle, 'poses');
   await Promise.all(jobs);
@@ -78,6 +79,10 @@ function start(rec) {
   const t0 = frameCount > 0 ? times[0] : 0;
   const duration = frameCount > 0 ? times[frameCount - 1] - t0 : 0;
   const isMoving = (body) => body.type !== 'static';
+  // The world's up (against gravity; docs/recording.md): y, or z for a z-up
+  // world such as a URDF robot's. The camera, the sky and the sun turn with it.
+  const worldUp = new Vector3(...(rec.up ?? [0, 1, 0])).normalize();
+  const upTurn = new Quaternion().setFromUnitVectors(new Vector3(0, 1, 0), worldUp);
 
   const view = document.getElementById('view');
   const renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -89,7 +94,8 @@ function start(rec) {
   const scene = new Scene();
 
   // ---- bodies (stage.js)
-  const bodies = buildBodies(scene, rec.bodies);
+  const bodies = buildBodies(scene, rec.bodies, 0, rec.visualMeshes ?? []);
+  const hasVisuals = bodies.some((b) => b.visuals.length > 0);
   const vehicleView = createVehicles(rec, bodies, srgb);  // wheels, on their chassis (vehicles.js)
   paintTerrain(bodies);                                   // heightfields as grass (terrain.js)
 
@@ -195,10 +201,11 @@ function start(rec) {
   // ---- camera: from the front, a little to the right and above, at the
   // distance where every corner of the focus box is inside the view.
   const camera = new PerspectiveCamera(40, 1, focusRadius / 500, focusRadius * 60);
+  camera.up.copy(worldUp);  // before the controls, which orbit about it
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.enableDamping = true;
   controls.dampingFactor = 0.12;
-  const viewDirection = new Vector3(0.32, 0.42, 1).normalize();
+  const viewDirection = new Vector3(0.32, 0.42, 1).applyQuaternion(upTurn).normalize();
   const cameraChoice = createCameraChoice({ camera, controls, bodies, vehicles: vehicleView.list, characters: rec.characters ?? [] });
 
   function frameBox(box, direction = viewDirection, margin = 0.94) {
@@ -213,10 +220,11 @@ function start(rec) {
   // (where the ground fades into it), darkening towards the zenith.
   const horizon = new Color(0x8d9bb0), zenith = new Color(0x1f2836);
   const skyDome = createSkyDome(horizon, zenith);
+  skyDome.quaternion.copy(upTurn);
   scene.add(skyDome);
   scene.background = horizon;
   scene.fog = new Fog(horizon, focusRadius * 3, focusRadius * 9);
-  addLights(scene, focus, focusRadius, typicalSize);
+  addLights(scene, focus, focusRadius, typicalSize, upTurn);
 
   // ---- a ground that reads as one: planes drawn as a large checkered floor
   // (tiles of a round number of metres) fading into the horizon.
@@ -273,13 +281,17 @@ function start(rec) {
     for (const track of g.tracks) g.box.union(track.box);
     return g.box;
   }
-  const projected = new Vector3();
+  const projected = new Vector3(), labelSize = new Vector3();
+  const upAbs = new Vector3(Math.abs(worldUp.x), Math.abs(worldUp.y), Math.abs(worldUp.z));
   function placeLabels() {
     const w = view.clientWidth, h = view.clientHeight;
     for (const g of labels) {
       const box = groupBox(g);
       if (box.isEmpty() || !ui.labels.checked) { g.element.style.display = 'none'; continue; }
-      projected.set((box.min.x + box.max.x) / 2, box.max.y, (box.min.z + box.max.z) / 2).project(camera);
+      // Above the group's box: its centre moved along up to the box's top.
+      box.getCenter(projected);
+      box.getSize(labelSize);
+      projected.addScaledVector(worldUp, 0.5 * labelSize.dot(upAbs)).project(camera);
       const visible = projected.z < 1 && Math.abs(projected.x) < 1.1 && Math.abs(projected.y) < 1.1;
       g.element.style.display = visible ? '' : 'none';
       if (visible) {
@@ -301,6 +313,7 @@ function start(rec) {
     aabbs: document.getElementById('show-aabbs'),
     labels: document.getElementById('show-labels'),
     sleeping: document.getElementById('show-sleeping'),
+    collision: document.getElementById('show-collision'),
     loop: document.getElementById('loop'),
     plot: document.getElementById('plot'),
     readout: document.getElementById('readout'),
@@ -311,6 +324,17 @@ function start(rec) {
     `${frameCount} frames · ${duration.toFixed(2)} s`;
   document.title = rec.title;
   ui.timeline.max = String(Math.max(frameCount - 1, 0));
+  // Bodies with visuals (robot links) are drawn as them; "collision shapes"
+  // draws what collides instead. Offered only when some body has visuals.
+  if (!hasVisuals) ui.collision.parentElement.style.display = 'none';
+  function showCollision(shown) {
+    for (const body of bodies) {
+      if (body.visuals.length === 0) continue;
+      body.meshes.forEach((m) => { m.visible = shown; });
+      body.visuals.forEach((m) => { m.visible = !shown; });
+    }
+  }
+  ui.collision.addEventListener('change', () => showCollision(ui.collision.checked));
 
   const state = { playing: false, time: 0, frame: 0, alpha: 0, speed: 1, framesRendered: 0, selected: -1 };
 
@@ -427,18 +451,19 @@ function start(rec) {
   // ---- picking: a click (not a drag) on a body selects it; the readout
   // shows its recorded state, velocities by central differences of the poses.
   const raycaster = new Raycaster();
-  const pickable = bodies.flatMap((b) => (b.rec.shape === 'plane' ? [] : b.meshes));
+  const pickable = bodies.flatMap((b) => (b.rec.shape === 'plane' ? [] : b.meshes.concat(b.visuals)));
+  const tintable = (body) => body.awakeMaterial.concat(body.sleepMaterial, body.visuals.map((m) => m.material));
   // The selection: tinted, and outlined by its body-frame box (a child of the body, so it follows it).
   const outline = new LineSegments(new EdgesGeometry(new BoxGeometry(1, 1, 1)),
                                    new LineBasicMaterial({ color: 0xf0b24a, depthTest: false, transparent: true }));
   outline.renderOrder = 11;
   function select(index) {
-    if (state.selected >= 0) bodies[state.selected].awakeMaterial.concat(bodies[state.selected].sleepMaterial).forEach((m) => m.emissive.setHex(0));
+    if (state.selected >= 0) tintable(bodies[state.selected]).forEach((m) => m.emissive.setHex(0));
     outline.removeFromParent();
     state.selected = index;
     if (index >= 0) {
       const body = bodies[index];
-      body.awakeMaterial.concat(body.sleepMaterial).forEach((m) => m.emissive.setHex(0x4a2c00));
+      tintable(body).forEach((m) => m.emissive.setHex(0x4a2c00));
       body.local.getCenter(outline.position);
       body.local.getSize(outline.scale).addScalar(typicalSize * 0.08);
       body.group.add(outline);
@@ -630,6 +655,21 @@ function start(rec) {
   window.fulcrumViewer = {
     objectCount: bodyCount,
     meshCount: bodies.reduce((n, b) => n + b.meshes.length, 0),
+    up: worldUp.toArray(),
+    visualCount: bodies.reduce((n, b) => n + b.visuals.length, 0),
+    visualMeshCount: (rec.visualMeshes ?? []).length,
+    // Every visual as drawn now: its body, whether shown, its colour (hex,
+    // sRGB), its world position and the world size of its box.
+    visuals() {
+      return bodies.flatMap((b) => b.visuals.map((m) => {
+        m.updateMatrixWorld();
+        const box = new Box3().setFromObject(m);
+        return { body: b.rec.name, visible: m.visible, color: m.material.color.getHexString(), opacity: m.material.opacity,
+                 position: m.getWorldPosition(new Vector3()).toArray(), size: box.getSize(new Vector3()).toArray() };
+      }));
+    },
+    get collisionShown() { return bodies.some((b) => b.visuals.length > 0 && b.meshes.some((m) => m.visible)); },
+    showCollision(shown) { ui.collision.checked = shown; showCollision(shown); },
     jointCount: rec.joints.length,
     particleSystemCount: particleTracks.length,
     vehicles: vehicleView,

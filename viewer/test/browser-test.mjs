@@ -1,7 +1,7 @@
 // Headless-browser check of a recorded replay page (run by the C++ test
 // tests/recording/browser_test.cpp, or by hand):
 //   node viewer/test/browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]
-//        [--vehicle NAME [--vehicle-times T1,T2]]
+//        [--vehicle NAME [--vehicle-times T1,T2]] [--visuals N [--visual-colors HEX,HEX,...]] [--up X,Y,Z]
 // Opens the page from file:// in Debian's Chromium driven by playwright-core,
 // refuses every non-file request (the page must fetch nothing), and checks the
 // first impression: the viewer starts without errors or console errors, shows
@@ -25,6 +25,9 @@ const expectedLabels = option('--labels')?.split(',').filter(Boolean) ?? [];
 const pickName = option('--pick');
 const vehicleName = option('--vehicle');
 const vehicleTimes = (option('--vehicle-times') ?? '1,5').split(',').map(Number);
+const expectedVisuals = option('--visuals');
+const expectedVisualColors = option('--visual-colors')?.split(',').filter(Boolean) ?? [];
+const expectedUp = option('--up')?.split(',').map(Number);
 const [pagePath, screenshotPath, expectedArg] = args;
 if (!pagePath || !screenshotPath || !expectedArg) {
   console.error('usage: browser-test.mjs PAGE.html SCREENSHOT.png EXPECTED_OBJECTS [--labels a,b,...] [--pick NAME]');
@@ -63,6 +66,13 @@ try {
     return { objectCount: v.objectCount, meshCount: v.meshCount, frameCount: v.frameCount, duration: v.duration };
   });
   Object.assign(report, info);
+  // The world's up (a z-up robot's page): the camera stands on it.
+  if (expectedUp) {
+    const up = await page.evaluate(() => ({ world: window.fulcrumViewer.up, camera: window.fulcrumViewer.camera.up.toArray() }));
+    report.up = up;
+    const same = (a) => a.every((x, k) => Math.abs(x - expectedUp[k]) < 1e-6);
+    check(same(up.world) && same(up.camera), `up ${JSON.stringify(up)}, expected ${expectedUp}`);
+  }
   check(info.objectCount === expectedObjects, `objectCount ${info.objectCount}, expected ${expectedObjects}`);
 
   // It plays on load: time and frame advance with no click.
@@ -128,6 +138,35 @@ try {
   for (const name of expectedLabels) {
     const label = labels.find((l) => l.text === name);
     check(label?.shown, label ? `label '${name}' hidden` : `no label '${name}'`);
+  }
+
+  // Visuals (robot links): N drawn, shown by default in place of the bodies'
+  // collision shapes, in the given colours (sRGB hex); the "collision shapes"
+  // toggle swaps the two and back.
+  if (expectedVisuals !== undefined) {
+    const visuals = await page.evaluate(() => {
+      const v = window.fulcrumViewer;
+      const before = { list: v.visuals(), collision: v.collisionShown,
+                       toggle: getComputedStyle(document.getElementById('show-collision').parentElement).display !== 'none' };
+      v.showCollision(true);
+      const swapped = { shown: v.visuals().filter((x) => x.visible).length, collision: v.collisionShown };
+      v.showCollision(false);
+      return { count: v.visualCount, meshes: v.visualMeshCount, before, swapped,
+               after: { shown: v.visuals().filter((x) => x.visible).length, collision: v.collisionShown } };
+    });
+    report.visuals = { count: visuals.count, meshes: visuals.meshes, colors: [...new Set(visuals.before.list.map((x) => x.color))] };
+    check(visuals.count === Number(expectedVisuals), `${visuals.count} visuals drawn, expected ${expectedVisuals}`);
+    check(visuals.before.list.every((x) => x.visible) && !visuals.before.collision,
+          'visuals not shown by default in place of the collision shapes');
+    check(visuals.before.toggle, 'no "collision shapes" toggle on a page with visuals');
+    check(visuals.swapped.shown === 0 && visuals.swapped.collision, `the collision toggle did not swap: ${JSON.stringify(visuals.swapped)}`);
+    check(visuals.after.shown === visuals.count && !visuals.after.collision, 'the collision toggle did not swap back');
+    // Within 2 of 255 per channel: the page turns sRGB into linear and back.
+    const rgb = (hex) => [0, 2, 4].map((k) => parseInt(hex.slice(k, k + 2), 16));
+    const near = (a, b) => rgb(a).every((x, k) => Math.abs(x - rgb(b)[k]) <= 2);
+    for (const color of expectedVisualColors) {
+      check(report.visuals.colors.some((c) => near(c, color)), `no visual of colour ${color}: ${report.visuals.colors}`);
+    }
   }
 
   // Picking: a click on the body selects it, the readout names it.
