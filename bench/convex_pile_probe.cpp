@@ -3,7 +3,9 @@
 // `warm` steps first, then `measured` steps timed (and, under callgrind with
 // --instr-atstart=no, the only steps counted). After the run every reported
 // manifold is compared with a fresh narrow phase at the bodies' final poses.
-//   build/release/bench/bench_convex_pile_probe 8 8 80 0 500 [threads]
+//   build/release/bench/bench_convex_pile_probe 8 8 80 0 500 [threads] [every]
+// With `every` > 0 the deepest reported overlap is printed every that many
+// measured steps (outside the timed and counted part).
 //   valgrind --tool=callgrind --instr-atstart=no build/release/bench/bench_convex_pile_probe 8 8 10 200 10
 // The checksum (sum of the final heights) lets two builds be checked for the
 // same results; it is not a test.
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
     const int nx = std::atoi(argv[1]), nz = std::atoi(argv[2]), layers = std::atoi(argv[3]);
     const int warm = std::atoi(argv[4]), measured = std::atoi(argv[5]);
     const int threads = argc > 6 ? std::atoi(argv[6]) : 1;
+    const int every = argc > 7 ? std::atoi(argv[7]) : 0;
     if (nx <= 0 || nz <= 0 || layers <= 0 || warm < 0 || measured <= 0 || threads <= 0) {
         std::fprintf(stderr, "convex_pile_probe: sizes, measured steps and threads must be positive\n");
         return 2;
@@ -71,11 +74,24 @@ int main(int argc, char** argv) {
     }
     const Real dt = real(scene.dt);
     for (int i = 0; i < warm; ++i) world.step(dt);
-    CALLGRIND_START_INSTRUMENTATION;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int i = 0; i < measured; ++i) world.step(dt);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    CALLGRIND_STOP_INSTRUMENTATION;
+    double ms = 0;
+    for (int i = 0; i < measured; ++i) {
+        CALLGRIND_START_INSTRUMENTATION;
+        const auto t0 = std::chrono::steady_clock::now();
+        world.step(dt);
+        ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        CALLGRIND_STOP_INSTRUMENTATION;
+        if (every > 0 && (i + 1) % every == 0) {
+            Real deepest = 0;
+            std::size_t count = 0;
+            for (const fulcrum::ContactReport& r : world.contacts()) {
+                deepest = std::max(deepest, r.depth);
+                ++count;
+            }
+            std::printf("step %d: deepest reported %.4f m, %zu contacts, %.3f ms/step so far\n", warm + i + 1,
+                        double(deepest), count, ms / (i + 1));
+        }
+    }
 
     double heights = 0;
     int awake = 0;
