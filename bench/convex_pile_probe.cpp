@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 #include <vector>
 
 #if __has_include(<valgrind/callgrind.h>)
@@ -50,6 +51,17 @@ int main(int argc, char** argv) {
     fulcrum::WorldDef def;
     def.threads = threads;
     def.substeps = scene.substeps;
+    // Experiments on the solver's settings (not Box3D's scene): PROBE_SUBSTEPS,
+    // PROBE_HERTZ (contactHertz), PROBE_PUSH (contactPushMaxVelocity),
+    // PROBE_MARGIN (speculativeMargin), PROBE_DAMPING (contactDampingRatio).
+    const auto setting = [](const char* name, auto& value) {
+        if (const char* text = std::getenv(name)) value = static_cast<std::remove_reference_t<decltype(value)>>(std::atof(text));
+    };
+    setting("PROBE_SUBSTEPS", def.substeps);
+    setting("PROBE_HERTZ", def.contactHertz);
+    setting("PROBE_PUSH", def.contactPushMaxVelocity);
+    setting("PROBE_MARGIN", def.speculativeMargin);
+    setting("PROBE_DAMPING", def.contactDampingRatio);
     def.sleeping = scene.sleeping;
     def.gravity = vec(scene.gravity);
     fulcrum::World world(def);
@@ -84,12 +96,24 @@ int main(int argc, char** argv) {
         if (every > 0 && (i + 1) % every == 0) {
             Real deepest = 0;
             std::size_t count = 0;
-            for (const fulcrum::ContactReport& r : world.contacts()) {
+            const fulcrum::ContactReport* worst = nullptr;
+            const std::vector<fulcrum::ContactReport> now = world.contacts();
+            for (const fulcrum::ContactReport& r : now) {
+                if (r.depth > deepest) worst = &r;
                 deepest = std::max(deepest, r.depth);
                 ++count;
             }
-            std::printf("step %d: deepest reported %.4f m, %zu contacts, %.3f ms/step so far\n", warm + i + 1,
+            std::printf("step %d: deepest reported %.4f m, %zu contacts, %.3f ms/step so far", warm + i + 1,
                         double(deepest), count, ms / (i + 1));
+            if (worst != nullptr) {
+                // The deepest pair: how fast its bodies move and close along the normal, and how high it is.
+                const Vec3 va = world.linearVelocity(worst->bodyA), vb = world.linearVelocity(worst->bodyB);
+                std::printf("; its pair at y %.1f m, speeds %.2f and %.2f m/s, closing %.2f m/s, spins %.2f and %.2f rad/s",
+                            double(world.position(worst->bodyB).y), double(length(va)), double(length(vb)),
+                            double(dot(va - vb, worst->normal)), double(length(world.angularVelocity(worst->bodyA))),
+                            double(length(world.angularVelocity(worst->bodyB))));
+            }
+            std::printf("\n");
         }
     }
 
