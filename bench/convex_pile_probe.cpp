@@ -87,12 +87,16 @@ int main(int argc, char** argv) {
     const Real dt = real(scene.dt);
     for (int i = 0; i < warm; ++i) world.step(dt);
     double ms = 0;
+    fulcrum::StepProfile phases;  // summed over the measured steps
     for (int i = 0; i < measured; ++i) {
         CALLGRIND_START_INSTRUMENTATION;
         const auto t0 = std::chrono::steady_clock::now();
         world.step(dt);
         ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         CALLGRIND_STOP_INSTRUMENTATION;
+        const fulcrum::StepProfile& p = world.lastStepProfile();
+        phases.total += p.total, phases.collide += p.collide, phases.prepare += p.prepare, phases.solve += p.solve;
+        phases.store += p.store, phases.continuous += p.continuous, phases.sleep += p.sleep;
         if (every > 0 && (i + 1) % every == 0) {
             Real deepest = 0;
             std::size_t count = 0;
@@ -166,6 +170,12 @@ int main(int argc, char** argv) {
     }
     std::printf("%s: %zu bodies, %d steps, %d threads\n", scene.name.c_str(), ids.size(), warm + measured, threads);
     std::printf("ms/step %.3f  awake %d  checksum %.9g\n", ms / measured, awake, heights);
+    std::printf("pairs held after the last collide %u, contact constraints %u\n", world.lastStepProfile().contactPairs,
+                world.lastStepProfile().contactConstraints);
+    std::printf("phases, share of the step: collide %.1f %%, prepare %.1f %%, solve %.1f %%, store %.1f %%, continuous %.1f %%, "
+                "sleep %.1f %%\n",
+                100 * phases.collide / phases.total, 100 * phases.prepare / phases.total, 100 * phases.solve / phases.total,
+                100 * phases.store / phases.total, 100 * phases.continuous / phases.total, 100 * phases.sleep / phases.total);
     std::printf("contacts %zu  deepest reported %.4f m  deepest fresh %.4f m  mismatches %d  worst depth error %.4g m  "
                 "worst separation lost %.4g m\n",
                 reports.size(), double(deepestReported), double(deepestFresh), mismatches, double(worstDepthError),
