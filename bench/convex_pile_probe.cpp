@@ -3,7 +3,9 @@
 // `warm` steps first, then `measured` steps timed (and, under callgrind with
 // --instr-atstart=no, the only steps counted). After the run every reported
 // manifold is compared with a fresh narrow phase at the bodies' final poses.
-//   build/release/bench/bench_convex_pile_probe 8 8 80 0 500 [threads]
+//   build/release/bench/bench_convex_pile_probe 8 8 80 0 500 [threads] [every]
+// With `every` > 0 the deepest reported overlap is printed every that many
+// measured steps (outside the timed and counted part).
 //   valgrind --tool=callgrind --instr-atstart=no build/release/bench/bench_convex_pile_probe 8 8 10 200 10
 // The checksum (sum of the final heights) lets two builds be checked for the
 // same results; it is not a test.
@@ -12,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 #include <vector>
 
 #if __has_include(<valgrind/callgrind.h>)
@@ -34,6 +37,7 @@ int main(int argc, char** argv) {
     const int nx = std::atoi(argv[1]), nz = std::atoi(argv[2]), layers = std::atoi(argv[3]);
     const int warm = std::atoi(argv[4]), measured = std::atoi(argv[5]);
     const int threads = argc > 6 ? std::atoi(argv[6]) : 1;
+    const int every = argc > 7 ? std::atoi(argv[7]) : 0;
     if (nx <= 0 || nz <= 0 || layers <= 0 || warm < 0 || measured <= 0 || threads <= 0) {
         std::fprintf(stderr, "convex_pile_probe: sizes, measured steps and threads must be positive\n");
         return 2;
@@ -47,6 +51,17 @@ int main(int argc, char** argv) {
     fulcrum::WorldDef def;
     def.threads = threads;
     def.substeps = scene.substeps;
+    // Experiments on the solver's settings (not Box3D's scene): PROBE_SUBSTEPS,
+    // PROBE_HERTZ (contactHertz), PROBE_PUSH (contactPushMaxVelocity),
+    // PROBE_MARGIN (speculativeMargin), PROBE_DAMPING (contactDampingRatio).
+    const auto setting = [](const char* name, auto& value) {
+        if (const char* text = std::getenv(name)) value = static_cast<std::remove_reference_t<decltype(value)>>(std::atof(text));
+    };
+    setting("PROBE_SUBSTEPS", def.substeps);
+    setting("PROBE_HERTZ", def.contactHertz);
+    setting("PROBE_PUSH", def.contactPushMaxVelocity);
+    setting("PROBE_MARGIN", def.speculativeMargin);
+    setting("PROBE_DAMPING", def.contactDampingRatio);
     def.sleeping = scene.sleeping;
     def.gravity = vec(scene.gravity);
     fulcrum::World world(def);
@@ -71,11 +86,40 @@ int main(int argc, char** argv) {
     }
     const Real dt = real(scene.dt);
     for (int i = 0; i < warm; ++i) world.step(dt);
-    CALLGRIND_START_INSTRUMENTATION;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int i = 0; i < measured; ++i) world.step(dt);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    CALLGRIND_STOP_INSTRUMENTATION;
+    double ms = 0;
+    fulcrum::StepProfile phases;  // summed over the measured steps
+    for (int i = 0; i < measured; ++i) {
+        CALLGRIND_START_INSTRUMENTATION;
+        const auto t0 = std::chrono::steady_clock::now();
+        world.step(dt);
+        ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        CALLGRIND_STOP_INSTRUMENTATION;
+        const fulcrum::StepProfile& p = world.lastStepProfile();
+        phases.total += p.total, phases.collide += p.collide, phases.prepare += p.prepare, phases.solve += p.solve;
+        phases.store += p.store, phases.continuous += p.continuous, phases.sleep += p.sleep;
+        if (every > 0 && (i + 1) % every == 0) {
+            Real deepest = 0;
+            std::size_t count = 0;
+            const fulcrum::ContactReport* worst = nullptr;
+            const std::vector<fulcrum::ContactReport> now = world.contacts();
+            for (const fulcrum::ContactReport& r : now) {
+                if (r.depth > deepest) worst = &r;
+                deepest = std::max(deepest, r.depth);
+                ++count;
+            }
+            std::printf("step %d: deepest reported %.4f m, %zu contacts, %.3f ms/step so far", warm + i + 1,
+                        double(deepest), count, ms / (i + 1));
+            if (worst != nullptr) {
+                // The deepest pair: how fast its bodies move and close along the normal, and how high it is.
+                const Vec3 va = world.linearVelocity(worst->bodyA), vb = world.linearVelocity(worst->bodyB);
+                std::printf("; its pair at y %.1f m, speeds %.2f and %.2f m/s, closing %.2f m/s, spins %.2f and %.2f rad/s",
+                            double(world.position(worst->bodyB).y), double(length(va)), double(length(vb)),
+                            double(dot(va - vb, worst->normal)), double(length(world.angularVelocity(worst->bodyA))),
+                            double(length(world.angularVelocity(worst->bodyB))));
+            }
+            std::printf("\n");
+        }
+    }
 
     double heights = 0;
     int awake = 0;
@@ -126,6 +170,12 @@ int main(int argc, char** argv) {
     }
     std::printf("%s: %zu bodies, %d steps, %d threads\n", scene.name.c_str(), ids.size(), warm + measured, threads);
     std::printf("ms/step %.3f  awake %d  checksum %.9g\n", ms / measured, awake, heights);
+    std::printf("pairs held after the last collide %u, contact constraints %u\n", world.lastStepProfile().contactPairs,
+                world.lastStepProfile().contactConstraints);
+    std::printf("phases, share of the step: collide %.1f %%, prepare %.1f %%, solve %.1f %%, store %.1f %%, continuous %.1f %%, "
+                "sleep %.1f %%\n",
+                100 * phases.collide / phases.total, 100 * phases.prepare / phases.total, 100 * phases.solve / phases.total,
+                100 * phases.store / phases.total, 100 * phases.continuous / phases.total, 100 * phases.sleep / phases.total);
     std::printf("contacts %zu  deepest reported %.4f m  deepest fresh %.4f m  mismatches %d  worst depth error %.4g m  "
                 "worst separation lost %.4g m\n",
                 reports.size(), double(deepestReported), double(deepestFresh), mismatches, double(worstDepthError),

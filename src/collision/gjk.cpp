@@ -165,7 +165,7 @@ bool closestOnSimplex(Simplex& s, Vec3& closest) {
     }
 }
 
-GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius) {
+GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius, Real stopBeyond) {
     GjkResult r;
     Simplex& s = r.simplex;
     auto supportA = [&](const Vec3& d) { return withRadius ? a.support(d) : a.coreSupport(d); };
@@ -193,6 +193,14 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
         nv.a = supportA(-v);
         nv.b = supportB(v);
         nv.w = nv.a - nv.b;
+        // Every point x of A - B has v.x >= v.w: the shapes are at least
+        // v.w / |v| apart, and the full run's |v| never ends below that.
+        const Real plane = dot(v, nv.w);
+        if (plane > 0 && plane * plane > stopBeyond * stopBeyond * vv) {
+            r.beyond = true;
+            r.distance = plane / std::sqrt(vv);
+            return r;
+        }
         // No progress possible: w is not closer to the origin along v than v itself.
         if (vv - dot(v, nv.w) <= kRelTol * vv) break;
         bool duplicate = false;

@@ -4,6 +4,7 @@
 // Collision Detection", ch. 9): closest points of two convex shapes by
 // walking a simplex of the Minkowski difference A - B towards the origin.
 #include <cstdint>
+#include <limits>
 
 #include "collision/support.hpp"
 
@@ -28,11 +29,21 @@ struct GjkResult {
     Vec3 normal;            // unit, from A to B, when apart: the direction of pointB - pointA, but exact to rounding
     Simplex simplex;        // final simplex (for EPA when overlapping)
     std::uint32_t iterations = 0;
+    // Stopped early: a support plane showed the shapes farther apart than
+    // `stopBeyond`; `distance` is then that lower bound, the points and the
+    // normal are not filled in.
+    bool beyond = false;
 };
 
 // Distance between the cores of a and b (radii ignored) when `withRadius` is
-// false, or between the full shapes when true.
-GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius);
+// false, or between the full shapes when true. With a finite `stopBeyond` GJK
+// stops as soon as a support plane proves the shapes more than that far
+// apart (a caller that only needs to know that they are: the narrow phase
+// beyond its margin). The full run's distance is never below that bound, so
+// a caller that would reject the pair on the full distance rejects it the
+// same; with the default every result is as before.
+GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius,
+                      Real stopBeyond = std::numeric_limits<Real>::infinity());
 
 // Closest point to the origin on the simplex; shrinks it to the vertices that
 // support that point and stores their barycentric weights. Returns false when

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+#include <emmintrin.h>
+#endif
 
 namespace fulcrum::detail {
 
@@ -18,7 +21,88 @@ inline Real sgn(Real v) { return v >= 0 ? Real(1) : Real(-1); }
 constexpr Real kSideFlat = Real(0.05);
 constexpr Real kAxisAligned = Real(0.95);
 
+// The reference scan: the first vertex of the largest dot (NaNs never win).
+std::uint32_t scanSupportIndex(const std::vector<Vec3>& v, const Vec3& d) {
+    std::uint32_t best = 0;
+    Real bestDot = dot(v[0], d);
+    for (std::uint32_t i = 1; i < v.size(); ++i) {
+        const Real dd = dot(v[i], d);
+        if (dd > bestDot) {
+            bestDot = dd;
+            best = i;
+        }
+    }
+    return best;
+}
+
 }  // namespace
+
+// The support search was half of Box3D's hull pile's instructions as a scalar
+// scan (docs/narrow-phase.md, "Hull support"). With SSE2 it runs four vertices
+// at a time, straight from the vertex array (x y z x | y z x y | z x y z,
+// transposed in registers): each lane scans its own vertices as the scalar
+// scan does (the same dot, (x dx + y dy) + z dz, rounded the same way, and
+// only a strictly larger one wins), and the lanes' winners and the last few
+// vertices are merged by value, then by the smaller index: the scalar
+// answer, bit for bit. A NaN (a non-finite direction) takes the scalar scan,
+// whose answer with NaNs the merge would not reproduce.
+std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
+    const std::vector<Vec3>& v = hull.vertices;
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+    static_assert(sizeof(Vec3) == 3 * sizeof(float), "the vertices are read as packed floats");
+    const std::uint32_t n = static_cast<std::uint32_t>(v.size());
+    const std::uint32_t blocks = n / 4;
+    if (blocks >= 2) {
+        const float* p = &v[0].x;
+        const __m128 dx = _mm_set1_ps(d.x), dy = _mm_set1_ps(d.y), dz = _mm_set1_ps(d.z);
+        __m128 best = _mm_set1_ps(0), nan = _mm_setzero_ps();
+        __m128i bestIndex = _mm_setzero_si128(), index = _mm_setr_epi32(0, 1, 2, 3);
+        const __m128i four = _mm_set1_epi32(4);
+        for (std::uint32_t b = 0; b < blocks; ++b, p += 12) {
+            const __m128 r0 = _mm_loadu_ps(p), r1 = _mm_loadu_ps(p + 4), r2 = _mm_loadu_ps(p + 8);
+            const __m128 t0 = _mm_shuffle_ps(r1, r2, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
+            const __m128 t1 = _mm_shuffle_ps(r0, r1, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
+            const __m128 x = _mm_shuffle_ps(r0, t0, _MM_SHUFFLE(2, 0, 3, 0));
+            const __m128 y = _mm_shuffle_ps(t1, t0, _MM_SHUFFLE(3, 1, 2, 0));
+            const __m128 z = _mm_shuffle_ps(t1, r2, _MM_SHUFFLE(3, 0, 3, 1));
+            const __m128 dd = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, dx), _mm_mul_ps(y, dy)), _mm_mul_ps(z, dz));
+            nan = _mm_or_ps(nan, _mm_cmpunord_ps(dd, dd));
+            if (b == 0) {
+                best = dd;
+                bestIndex = index;
+            } else {
+                const __m128i larger = _mm_castps_si128(_mm_cmpgt_ps(dd, best));
+                best = _mm_max_ps(dd, best);  // dd > best ? dd : best, NaN-free here
+                bestIndex = _mm_or_si128(_mm_and_si128(larger, index), _mm_andnot_si128(larger, bestIndex));
+            }
+            index = _mm_add_epi32(index, four);
+        }
+        if (_mm_movemask_ps(nan) == 0) {
+            alignas(16) float value[4];
+            alignas(16) std::uint32_t at[4];
+            _mm_store_ps(value, best);
+            _mm_store_si128(reinterpret_cast<__m128i*>(at), bestIndex);
+            std::uint32_t top = at[0];
+            float topDot = value[0];
+            for (int k = 1; k < 4; ++k) {
+                if (value[k] > topDot || (value[k] == topDot && at[k] < top)) {
+                    topDot = value[k];
+                    top = at[k];
+                }
+            }
+            for (std::uint32_t i = 4 * blocks; i < n; ++i) {  // later than every lane's: only a larger one wins
+                const float dd = dot(v[i], d);
+                if (dd > topDot) {
+                    topDot = dd;
+                    top = i;
+                }
+            }
+            return top;
+        }
+    }
+#endif
+    return scanSupportIndex(v, d);
+}
 
 Vec3 ConvexShape::coreSupport(const Vec3& d) const {
     switch (kind) {
@@ -31,17 +115,7 @@ Vec3 ConvexShape::coreSupport(const Vec3& d) const {
             const Vec3 l = inverseRotate(xf.q, d);
             return transformPoint(xf, {sgn(l.x) * halfExtents.x, sgn(l.y) * halfExtents.y, sgn(l.z) * halfExtents.z});
         }
-        case ConvexKind::Hull: {
-            const Vec3 l = inverseRotate(xf.q, d);
-            const std::vector<Vec3>& v = hull->vertices;
-            std::size_t best = 0;
-            Real bestDot = dot(v[0], l);
-            for (std::size_t i = 1; i < v.size(); ++i) {
-                const Real dd = dot(v[i], l);
-                if (dd > bestDot) { bestDot = dd; best = i; }
-            }
-            return transformPoint(xf, v[best]);
-        }
+        case ConvexKind::Hull: return transformPoint(xf, hull->vertices[hullSupportIndex(*hull, inverseRotate(xf.q, d))]);
         case ConvexKind::Cylinder: {
             const Vec3 l = inverseRotate(xf.q, d);
             const Real r = std::sqrt(l.x * l.x + l.z * l.z);
@@ -222,12 +296,7 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
             // vertex of a long, narrow Gauss-map cell), and clipping that face
             // would lose the deepest point (docs/narrow-phase.md, "Hull
             // supporting face").
-            std::uint32_t top = 0;
-            Real topDot = dot(h.vertices[0], l);
-            for (std::uint32_t i = 1; i < h.vertices.size(); ++i) {
-                const Real d = dot(h.vertices[i], l);
-                if (d > topDot) { topDot = d; top = i; }
-            }
+            const std::uint32_t top = hullSupportIndex(h, l);
             std::size_t best = 0;
             Real bestDot = -2;
             for (std::size_t f = 0; f < h.faces.size(); ++f) {

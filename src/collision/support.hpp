@@ -41,6 +41,10 @@ struct ConvexShape {
     Real boundingRadius() const;
 };
 
+// The index of the hull vertex farthest along `d` (hull frame): the first of
+// the largest dot(vertex, d), exactly as a scan in vertex order finds it.
+std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d);
+
 // The convex shape of `shape` placed at `xf`; `shape` must not be a plane, mesh or compound.
 ConvexShape makeConvex(const Shape& shape, const Transform& xf);
 // The same without a rounded shape's convex radius (box, cylinder, hull): the

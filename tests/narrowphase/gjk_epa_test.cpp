@@ -56,6 +56,42 @@ TEST(Gjk, DistanceBetweenRandomHullsMatchesTheSeparatingAxisOptimum) {
     }
 }
 
+TEST(Gjk, EarlyStopBeyondADistanceIsALowerBoundOfTheFullRun) {
+    // The narrow phase asks GJK to stop once a support plane shows the
+    // shapes farther apart than its margin (collideConvexConvex): that answer
+    // is only the same as the full run's if the full distance is never below
+    // the bound the early stop reports, and if a run that does not stop is the
+    // full run, bit for bit. Hulls, boxes and cylinders, 0 to 3 m apart.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<Real> off(0.5f, 4.0f);
+    std::normal_distribution<Real> g(0, 1);
+    int stopped = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+        const Shape shapes[3] = {Shape::convexHull(randomCloud(rng, 16, 0.5f)), Shape::box({0.4f, 0.2f, 0.6f}),
+                                 Shape::cylinder(0.5f, 0.3f)};
+        const Shape& a = shapes[trial % 3];
+        const Shape& b = shapes[(trial / 3) % 3];
+        const detail::ConvexShape ca = detail::makeConvex(a, {{0, 0, 0}, test::randomRotation(rng)});
+        const detail::ConvexShape cb =
+            detail::makeConvex(b, {normalize(Vec3{g(rng), g(rng), g(rng)}) * off(rng), test::randomRotation(rng)});
+        const detail::GjkResult full = detail::gjkDistance(ca, cb, false);
+        for (const Real beyond : {Real(0.01), Real(0.3), Real(1)}) {
+            const detail::GjkResult early = detail::gjkDistance(ca, cb, false, beyond);
+            if (early.beyond) {
+                ++stopped;
+                EXPECT_GT(early.distance, beyond);
+                EXPECT_FALSE(full.overlap) << "trial " << trial;
+                EXPECT_GE(full.distance, early.distance - Real(1e-5)) << "trial " << trial;
+            } else {
+                EXPECT_EQ(early.overlap, full.overlap) << "trial " << trial;
+                EXPECT_EQ(early.distance, full.distance) << "trial " << trial;
+                EXPECT_EQ(early.iterations, full.iterations) << "trial " << trial;
+            }
+        }
+    }
+    EXPECT_GT(stopped, 300);  // the early stop does happen
+}
+
 TEST(Epa, OverlappingBoxHullsDepthAlongTheAxis) {
     // Hull boxes (general path: GJK + EPA + face clipping) overlapping by 0.1 along x.
     const ConvexHull h = test::boxHull({1, 1, 1});
