@@ -248,10 +248,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // preference for A's face), and the gap along each is the travel along
     // it, checked below for both orders: two boxes 0.238 m apart have gaps of
     // 0.2565 and 0.2453 m along normals 23 degrees apart, each its travel
-    // (fuzz/corpus/narrowphase/box_box_orders_take_their_own_faces).
+    // (fuzz/corpus/narrowphase/box_box_orders_take_their_own_faces). The
+    // travels along two directions an angle t apart differ by up to about
+    // sin t times the pair's reach (the centres' distance plus both radii):
+    // two boxes 3.1 m apart whose faces are 0.22 degrees apart have gaps of
+    // 0.1509 and 0.1414 m, each its travel
+    // (fuzz/corpus/narrowphase/box_box_faces_a_fifth_of_a_degree_apart).
     const ShapeType ta = a->type(), tb = b->type();
+    const auto radius = [](const Shape& s) {
+        const AABB local = s.localBounds();
+        return std::max(length(local.min), length(local.max));
+    };
     const auto apartAlongOwnNormals = [&] {
-        return -ab[0].maxDepth() > tol && -ba[0].maxDepth() > tol && dot(ab[0].normal, ba[0].normal) > Real(-0.9999);
+        if (!(-ab[0].maxDepth() > tol && -ba[0].maxDepth() > tol)) return false;
+        const Real sinAngle = length(cross(ab[0].normal, ba[0].normal));
+        const Real allowed = tol + sinAngle * (length(xa.p - xb.p) + radius(*a) + radius(*b));
+        return dot(ab[0].normal, ba[0].normal) < 0 && std::fabs(ab[0].maxDepth() - ba[0].maxDepth()) <= allowed;
     };
     if (!samePoint && isConvex(ta) && isConvex(tb) && ta != tb) {
         checkMirror(ab, ba);
