@@ -50,7 +50,16 @@ public:
                 break;
             case BodySpec::Kind::Hull: d.shape = hull_; break;
         }
-        if (!b.parts.empty()) d.shape = parts(b.parts);
+        if (b.parts.size() == 1) {
+            // One part (a ragdoll bone's capsule): the body's frame on the part
+            // itself, a plain shape rather than a compound of one (as a Fulcrum
+            // user builds a bone: a symmetric body gets the integrator's fast
+            // path); its joints' frames move with it (createFulcrumJoint).
+            const ShapePart& part = b.parts.front();
+            d.shape = plain(part);
+        } else if (!b.parts.empty()) {
+            d.shape = parts(b.parts);
+        }
         if (b.mesh >= 0) d.shape = mesh(b.mesh);
         if (b.isKinematic) d.type = fulcrum::BodyType::Kinematic;
         d.isBullet = b.isBullet;
@@ -59,6 +68,10 @@ public:
         if (d.type == fulcrum::BodyType::Dynamic) d.mass = real(b.mass);
         d.position = bench::toFulcrum(b.position);
         d.orientation = toFulcrum(b.orientation);
+        if (b.parts.size() == 1) {
+            d.position = bench::toFulcrum(b.position + rotate(b.orientation, b.parts.front().position));
+            d.orientation = toFulcrum(b.orientation * b.parts.front().orientation);
+        }
         d.linearVelocity = bench::toFulcrum(b.linearVelocity);
         d.angularVelocity = bench::toFulcrum(b.angularVelocity);
         // The scene's: the geometric mean of equal values is the pair value.
@@ -83,24 +96,23 @@ public:
         if (found != cache_.end()) return found->second;
         std::vector<fulcrum::CompoundChild> children;
         for (const ShapePart& p : parts) {
-            fulcrum::CompoundChild c;
-            c.transform = {bench::toFulcrum(p.position), toFulcrum(p.orientation)};
-            switch (p.kind) {
-                case ShapePart::Kind::Box: c.shape = fulcrum::Shape::box(bench::toFulcrum(p.half)); break;
-                case ShapePart::Kind::Sphere: c.shape = fulcrum::Shape::sphere(static_cast<fulcrum::Real>(p.half.x)); break;
-                case ShapePart::Kind::Capsule:
-                    c.shape = fulcrum::Shape::capsule(static_cast<fulcrum::Real>(p.half.x), static_cast<fulcrum::Real>(p.half.y));
-                    break;
-                case ShapePart::Kind::Hull: {
-                    std::vector<fulcrum::Vec3> points;
-                    for (const V3& v : p.points) points.push_back(bench::toFulcrum(v));
-                    c.shape = fulcrum::Shape::convexHull(points);
-                    break;
-                }
-            }
-            children.push_back(std::move(c));
+            children.push_back({plain(p), {bench::toFulcrum(p.position), toFulcrum(p.orientation)}});
         }
         return cache_.emplace(std::move(key), fulcrum::Shape::compound(children)).first->second;
+    }
+
+    // A part's shape in its own frame.
+    static fulcrum::Shape plain(const ShapePart& p) {
+        switch (p.kind) {
+            case ShapePart::Kind::Box: return fulcrum::Shape::box(bench::toFulcrum(p.half));
+            case ShapePart::Kind::Sphere: return fulcrum::Shape::sphere(static_cast<fulcrum::Real>(p.half.x));
+            case ShapePart::Kind::Capsule:
+                return fulcrum::Shape::capsule(static_cast<fulcrum::Real>(p.half.x), static_cast<fulcrum::Real>(p.half.y));
+            case ShapePart::Kind::Hull: break;
+        }
+        std::vector<fulcrum::Vec3> points;
+        for (const V3& v : p.points) points.push_back(bench::toFulcrum(v));
+        return fulcrum::Shape::convexHull(points);
     }
 
     const fulcrum::Shape& mesh(int index) {
@@ -138,22 +150,31 @@ struct FulcrumWorld {
 };
 
 // A churn scene's joint (bench/churn_scenes.hpp: given by a frame in each body).
-inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpec& j, fulcrum::BodyId a, fulcrum::BodyId b) {
+// specA, specB: the bodies' descriptions (null: the world), whose frame
+// FulcrumShapes::bodyDef may have moved onto their one part.
+inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpec& j, fulcrum::BodyId a, fulcrum::BodyId b,
+                                           const BodySpec* specA = nullptr, const BodySpec* specB = nullptr) {
     using fulcrum::Real;
     const auto real = [](double v) { return static_cast<Real>(v); };
+    const auto onPart = [](const BodySpec* spec, V3 p, bool isPoint) {
+        if (spec == nullptr || spec->parts.size() != 1) return p;
+        const ShapePart& part = spec->parts.front();
+        return rotate(conjugate(part.orientation), isPoint ? p - part.position : p);
+    };
     const auto local = [&](fulcrum::BodyId body, V3 p) {
-        const fulcrum::Vec3 v = toFulcrum(p);
+        const fulcrum::Vec3 v = toFulcrum(onPart(body == a ? specA : specB, p, true));
         return body.isNull() ? v : v - world.localCenterOfMass(body);
     };
-    const auto zAxis = [](Q q) { return toFulcrum(rotate(q, {0, 0, 1})); };
+    const auto axisA = [&](Q q) { return toFulcrum(onPart(specA, rotate(q, {0, 0, 1}), false)); };
+    const auto axisB = [&](Q q) { return toFulcrum(onPart(specB, rotate(q, {0, 0, 1}), false)); };
     if (j.type == JointSpec::Type::Hinge) {
         fulcrum::HingeJointDef d;
         d.bodyA = a;
         d.bodyB = b;
         d.localAnchorA = local(a, j.localA);
         d.localAnchorB = local(b, j.localB);
-        d.localAxisA = zAxis(j.frameA);
-        d.localAxisB = zAxis(j.frameB);
+        d.localAxisA = axisA(j.frameA);
+        d.localAxisB = axisB(j.frameB);
         d.hasLimits = true;
         d.lowerLimit = real(j.lower);
         d.upperLimit = real(j.upper);
@@ -166,8 +187,8 @@ inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpe
         d.bodyB = b;
         d.localAnchorA = local(a, j.localA);
         d.localAnchorB = local(b, j.localB);
-        d.localAxisA = zAxis(j.frameA);
-        d.localAxisB = zAxis(j.frameB);
+        d.localAxisA = axisA(j.frameA);
+        d.localAxisB = axisB(j.frameB);
         d.swingLimit = real(j.swing);
         d.twistLower = real(j.lower);
         d.twistUpper = real(j.upper);
@@ -211,8 +232,9 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
     }
     for (const JointSpec& j : scene.joints) {
         if (j.localFrames || j.type != JointSpec::Type::Ball) {
-            createFulcrumJoint(world, j, j.a < 0 ? fulcrum::kWorldBody : out.bodies[static_cast<std::size_t>(j.a)],
-                               out.bodies[static_cast<std::size_t>(j.b)]);
+            const auto a = static_cast<std::size_t>(j.a), b = static_cast<std::size_t>(j.b);
+            createFulcrumJoint(world, j, j.a < 0 ? fulcrum::kWorldBody : out.bodies[a], out.bodies[b],
+                               j.a < 0 ? nullptr : &scene.bodies[a], &scene.bodies[b]);
             continue;
         }
         fulcrum::JointDef d;
@@ -264,8 +286,9 @@ public:
         std::vector<fulcrum::BodyId>& ids = bodies_[static_cast<std::size_t>(group)];
         for (const BodySpec& b : g.bodies) ids.push_back(world.createBody(built_->shapes->bodyDef(b)));
         for (const JointSpec& j : g.joints) {
-            joints_[static_cast<std::size_t>(group)].push_back(createFulcrumJoint(
-                world, j, j.a < 0 ? fulcrum::kWorldBody : ids[static_cast<std::size_t>(j.a)], ids[static_cast<std::size_t>(j.b)]));
+            const auto a = static_cast<std::size_t>(j.a), b = static_cast<std::size_t>(j.b);
+            joints_[static_cast<std::size_t>(group)].push_back(createFulcrumJoint(world, j, j.a < 0 ? fulcrum::kWorldBody : ids[a], ids[b],
+                                                                                  j.a < 0 ? nullptr : &g.bodies[a], &g.bodies[b]));
         }
     }
 
