@@ -7,9 +7,10 @@
 //   bench_benchmark_scenes [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco]
 //                          [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS per engine and scene: 60, --quick 20]
 //                          [--rounds N: interleaved rounds per scene, a step's fastest time kept: 3]
-//                          [--suite shared|box3d|jolt: docs/benchmarks.md's scenes (default), Box3D's own
-//                           benchmark scenes or Jolt's PerformanceTest pyramid (bench/box3d_scenes.hpp);
-//                           probes run with the shared suite only]
+//                          [--suite shared|box3d|jolt|churn: docs/benchmarks.md's scenes (default), Box3D's own
+//                           benchmark scenes or Jolt's PerformanceTest pyramid (bench/box3d_scenes.hpp), or
+//                           both suites' churn and scale scenes (bench/churn_scenes.hpp: rain, washer,
+//                           large_world, jolt_high_speed); probes run with the shared suite only]
 //
 // Per scene, a table: engine, threads, median and mean ms per step, mean over
 // the first 120 steps, total seconds, the quality metric and Fulcrum's
@@ -28,6 +29,7 @@
 #include "fulcrum/fulcrum.hpp"
 #include "peers/peers.hpp"
 #include "box3d_scenes.hpp"
+#include "churn_scenes.hpp"
 #include "fulcrum_world.hpp"
 #include "scenes.hpp"
 #include "memory_sizes.hpp"
@@ -59,11 +61,22 @@ public:
 
     bool build(const SceneSpec& scene, std::string&) override {
         scene_ = &scene;
-        FulcrumWorld built = buildFulcrumWorld(scene, threads_);
-        world_ = std::move(built.world);
-        ids_ = std::move(built.bodies);
-        cloth_ = built.cloth;
+        built_ = buildFulcrumWorld(scene, threads_);
+        world_ = built_.world.get();
+        ids_ = built_.bodies;
+        cloth_ = built_.cloth;
+        script_ = std::make_unique<FulcrumScript>(scene, built_);
         return true;
+    }
+    void createGroup(int group) override { script_->create(group); }
+    void destroyGroup(int group) override { script_->destroy(group); }
+    std::vector<V3> dynamicPositions() const override {
+        std::vector<V3> out;
+        for (std::size_t i = 0; i < ids_.size(); ++i) {
+            if (!scene_->bodies[i].isStatic && !scene_->bodies[i].isKinematic) out.push_back(bv(world_->position(ids_[i])));
+        }
+        for (const fulcrum::BodyId id : script_->liveBodies()) out.push_back(bv(world_->position(id)));
+        return out;
     }
     void step() override { world_->step(static_cast<fulcrum::Real>(scene_->dt)); }
     BodyState body(std::size_t i) const override {
@@ -87,7 +100,9 @@ public:
 private:
     int threads_;
     const SceneSpec* scene_ = nullptr;
-    std::unique_ptr<fulcrum::World> world_;
+    FulcrumWorld built_;
+    std::unique_ptr<FulcrumScript> script_;
+    fulcrum::World* world_ = nullptr;
     std::vector<fulcrum::BodyId> ids_;
     fulcrum::ParticleSystemId cloth_;
 };
@@ -181,12 +196,22 @@ Result run(Engine& engine, const SceneSpec& scene) {
     r.stepMs.reserve(static_cast<std::size_t>(scene.steps));
     double elapsedMs = 0;
     int stoppedAt = -1;
+    std::size_t nextEvent = 0;
     for (int i = 0; i < scene.steps; ++i) {
         if (elapsedMs > 1000 * gBudgetSeconds) {
             stoppedAt = i;
             break;
         }
         const auto t0 = std::chrono::steady_clock::now();
+        // A churn scene's script runs with the step it comes before, timed as Box3D's benchmark times it.
+        while (nextEvent < scene.script.size() && scene.script[nextEvent].step <= i) {
+            const ScriptEvent& e = scene.script[nextEvent++];
+            if (e.create) {
+                engine.createGroup(e.group);
+            } else {
+                engine.destroyGroup(e.group);
+            }
+        }
         engine.step();
         const auto t1 = std::chrono::steady_clock::now();
         r.stepMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
@@ -234,6 +259,29 @@ Result run(Engine& engine, const SceneSpec& scene) {
         case SceneSpec::Kind::Jointed:
             r.quality = format("joint error max %.4f m, end %.4f m", jointErrorMax, worstJointError());
             break;
+        case SceneSpec::Kind::Churn: {
+            // What a churn or scale scene can get wrong: bodies through a floor or
+            // out of their container (the mesh, the drum, continuous collision),
+            // bodies resting where they should not, overlaps.
+            const std::vector<V3> live = engine.dynamicPositions();
+            int escaped = 0;
+            double lowest = 1e30;
+            for (const V3& p : live) {
+                const bool inside = p.x >= scene.boundsMin.x && p.x <= scene.boundsMax.x && p.y >= scene.boundsMin.y &&
+                                    p.y <= scene.boundsMax.y && p.z >= scene.boundsMin.z && p.z <= scene.boundsMax.z;
+                if (!inside) ++escaped;
+                lowest = std::min(lowest, p.y);
+            }
+            r.quality = format("%zu dynamic bodies, **%d escaped**", live.size(), escaped);
+            if (scene.restHeight > -1e29) r.quality += format(", lowest %.4f m (rests at %.2f m)", lowest, scene.restHeight);
+            int asleep = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                if (!scene.bodies[i].isStatic && !scene.bodies[i].isKinematic && engine.asleep(i)) ++asleep;
+            }
+            r.quality += format(", deepest %.4f m", engine.deepestPenetration());
+            if (asleep > 0) r.quality += format(", asleep %d", asleep);
+            break;
+        }
         case SceneSpec::Kind::Cloth: {
             const std::vector<V3> p = engine.clothParticles();
             const int cn = scene.cloth.n;
@@ -456,7 +504,7 @@ int main(int argc, char** argv) {
         else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--scene PREFIX] [--threads 1,2] [--engines fulcrum,bullet,ode,mujoco] "
-                         "[--fulcrum-only] [--suite shared|box3d|jolt] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
+                         "[--fulcrum-only] [--suite shared|box3d|jolt|churn] [--no-probes] [--no-scenes] [--sizes] [--budget SECONDS] [--rounds N]\n",
                          argv[0]);
             return 2;
         }
@@ -471,9 +519,10 @@ int main(int argc, char** argv) {
     }
     if (o.sizes) printMemorySizes();
     if (o.scenes) {
-        const std::vector<SceneSpec> suite = o.suite == "box3d"  ? box3dScenes(o.quick)
-                                             : o.suite == "jolt" ? joltScenes(o.quick)
-                                                                 : allScenes(o.quick);
+        const std::vector<SceneSpec> suite = o.suite == "box3d"   ? box3dScenes(o.quick)
+                                             : o.suite == "jolt"  ? joltScenes(o.quick)
+                                             : o.suite == "churn" ? churnScenes(o.quick)
+                                                                  : allScenes(o.quick);
         for (const SceneSpec& scene : suite) {
             if (!o.only.empty() && scene.name.rfind(o.only, 0) != 0) continue;
             std::vector<Result> results;

@@ -4,6 +4,7 @@
 // side-by-side timings (bench/benchmark_scenes.cpp), the instruction counts
 // (bench/step_count.cpp) and the recorded state hashes
 // (tests/determinism/golden_hash_test.cpp), so all three measure the same world.
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -16,11 +17,191 @@ inline fulcrum::Vec3 toFulcrum(V3 v) {
     return {static_cast<fulcrum::Real>(v.x), static_cast<fulcrum::Real>(v.y), static_cast<fulcrum::Real>(v.z)};
 }
 
+
+// Shapes the churn scenes' bodies need (bench/churn_scenes.hpp): a body of
+// parts (a compound; one part off the origin too), a scene mesh, a box of any
+// size; made once per distinct description and shared, as a game shares them.
+class FulcrumShapes {
+public:
+    // One shape per distinct size, shared by the bodies that have it (as a
+    // game would): the unit box and sphere of the piles, the scene's hull.
+    explicit FulcrumShapes(const SceneSpec& scene)
+        : scene_(&scene),
+          unitBox_(fulcrum::Shape::box(fulcrum::Vec3::splat(fulcrum::Real(0.5)))),
+          unitSphere_(fulcrum::Shape::sphere(fulcrum::Real(0.5))) {
+        if (!scene.hullPoints.empty()) {
+            std::vector<fulcrum::Vec3> points;
+            for (const V3& p : scene.hullPoints) points.push_back(bench::toFulcrum(p));
+            hull_ = fulcrum::Shape::convexHull(points);
+        }
+    }
+
+    // The definition of a scene's (or a script group's) body.
+    fulcrum::BodyDef bodyDef(const BodySpec& b) {
+        using fulcrum::Real;
+        const auto real = [](double v) { return static_cast<Real>(v); };
+        fulcrum::BodyDef d;
+        d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
+        switch (b.kind) {
+            case BodySpec::Kind::Sphere: d.shape = b.half.x == 0.5 ? unitSphere_ : fulcrum::Shape::sphere(real(b.half.x)); break;
+            case BodySpec::Kind::Capsule: d.shape = fulcrum::Shape::capsule(real(b.half.x), real(b.half.y)); break;
+            case BodySpec::Kind::Box:
+                d.shape = (b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) ? unitBox_ : fulcrum::Shape::box(bench::toFulcrum(b.half));
+                break;
+            case BodySpec::Kind::Hull: d.shape = hull_; break;
+        }
+        if (b.parts.size() == 1) {
+            // One part (a ragdoll bone's capsule): the body's frame on the part
+            // itself, a plain shape rather than a compound of one (as a Fulcrum
+            // user builds a bone: a symmetric body gets the integrator's fast
+            // path); its joints' frames move with it (createFulcrumJoint).
+            const ShapePart& part = b.parts.front();
+            d.shape = plain(part);
+        } else if (!b.parts.empty()) {
+            d.shape = parts(b.parts);
+        }
+        if (b.mesh >= 0) d.shape = mesh(b.mesh);
+        if (b.isKinematic) d.type = fulcrum::BodyType::Kinematic;
+        d.isBullet = b.isBullet;
+        d.filter.group = b.filterGroup;
+        if (!scene_->bodyCollisions) d.filter.group = -1;  // a shared negative group never collides
+        if (d.type == fulcrum::BodyType::Dynamic) d.mass = real(b.mass);
+        d.position = bench::toFulcrum(b.position);
+        d.orientation = toFulcrum(b.orientation);
+        if (b.parts.size() == 1) {
+            d.position = bench::toFulcrum(b.position + rotate(b.orientation, b.parts.front().position));
+            d.orientation = toFulcrum(b.orientation * b.parts.front().orientation);
+        }
+        d.linearVelocity = bench::toFulcrum(b.linearVelocity);
+        d.angularVelocity = bench::toFulcrum(b.angularVelocity);
+        // The scene's: the geometric mean of equal values is the pair value.
+        d.friction = real(b.friction >= 0 ? b.friction : scene_->friction);
+        d.restitution = real(b.restitution);
+        return d;
+    }
+
+    static fulcrum::Quat toFulcrum(Q q) {
+        using fulcrum::Real;
+        return {static_cast<Real>(q.w), static_cast<Real>(q.x), static_cast<Real>(q.y), static_cast<Real>(q.z)};
+    }
+
+    const fulcrum::Shape& parts(const std::vector<ShapePart>& parts) {
+        std::vector<double> key;
+        for (const ShapePart& p : parts) {
+            key.insert(key.end(), {double(static_cast<int>(p.kind)), p.position.x, p.position.y, p.position.z, p.orientation.w,
+                                   p.orientation.x, p.orientation.y, p.orientation.z, p.half.x, p.half.y, p.half.z});
+            for (const V3& v : p.points) key.insert(key.end(), {v.x, v.y, v.z});
+        }
+        const auto found = cache_.find(key);
+        if (found != cache_.end()) return found->second;
+        std::vector<fulcrum::CompoundChild> children;
+        for (const ShapePart& p : parts) {
+            children.push_back({plain(p), {bench::toFulcrum(p.position), toFulcrum(p.orientation)}});
+        }
+        return cache_.emplace(std::move(key), fulcrum::Shape::compound(children)).first->second;
+    }
+
+    // A part's shape in its own frame.
+    static fulcrum::Shape plain(const ShapePart& p) {
+        switch (p.kind) {
+            case ShapePart::Kind::Box: return fulcrum::Shape::box(bench::toFulcrum(p.half));
+            case ShapePart::Kind::Sphere: return fulcrum::Shape::sphere(static_cast<fulcrum::Real>(p.half.x));
+            case ShapePart::Kind::Capsule:
+                return fulcrum::Shape::capsule(static_cast<fulcrum::Real>(p.half.x), static_cast<fulcrum::Real>(p.half.y));
+            case ShapePart::Kind::Hull: break;
+        }
+        std::vector<fulcrum::Vec3> points;
+        for (const V3& v : p.points) points.push_back(bench::toFulcrum(v));
+        return fulcrum::Shape::convexHull(points);
+    }
+
+    const fulcrum::Shape& mesh(int index) {
+        const auto found = meshes_.find(index);
+        if (found != meshes_.end()) return found->second;
+        const MeshSpec& m = scene_->meshes[static_cast<std::size_t>(index)];
+        std::vector<fulcrum::Vec3> vertices;
+        for (const V3& v : m.vertices) vertices.push_back(bench::toFulcrum(v));
+        std::vector<std::array<std::uint32_t, 3>> triangles;
+        for (const auto& t : m.triangles) {
+            triangles.push_back({static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
+        }
+        return meshes_.emplace(index, fulcrum::Shape::mesh(vertices, triangles)).first->second;
+    }
+
+    const fulcrum::Shape& box(V3 half) {
+        const std::vector<double> key{-1, half.x, half.y, half.z};
+        const auto found = cache_.find(key);
+        if (found != cache_.end()) return found->second;
+        return cache_.emplace(key, fulcrum::Shape::box(bench::toFulcrum(half))).first->second;
+    }
+
+private:
+    const SceneSpec* scene_;
+    fulcrum::Shape unitBox_, unitSphere_, hull_;
+    std::map<std::vector<double>, fulcrum::Shape> cache_;
+    std::map<int, fulcrum::Shape> meshes_;
+};
+
 struct FulcrumWorld {
     std::unique_ptr<fulcrum::World> world;
     std::vector<fulcrum::BodyId> bodies;  // index-aligned with SceneSpec::bodies
     fulcrum::ParticleSystemId cloth;      // null when the scene has none
+    std::unique_ptr<FulcrumShapes> shapes;  // the scene's, for the bodies its script creates
 };
+
+// A churn scene's joint (bench/churn_scenes.hpp: given by a frame in each body).
+// specA, specB: the bodies' descriptions (null: the world), whose frame
+// FulcrumShapes::bodyDef may have moved onto their one part.
+inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpec& j, fulcrum::BodyId a, fulcrum::BodyId b,
+                                           const BodySpec* specA = nullptr, const BodySpec* specB = nullptr) {
+    using fulcrum::Real;
+    const auto real = [](double v) { return static_cast<Real>(v); };
+    const auto onPart = [](const BodySpec* spec, V3 p, bool isPoint) {
+        if (spec == nullptr || spec->parts.size() != 1) return p;
+        const ShapePart& part = spec->parts.front();
+        return rotate(conjugate(part.orientation), isPoint ? p - part.position : p);
+    };
+    const auto local = [&](fulcrum::BodyId body, V3 p) {
+        const fulcrum::Vec3 v = toFulcrum(onPart(body == a ? specA : specB, p, true));
+        return body.isNull() ? v : v - world.localCenterOfMass(body);
+    };
+    const auto axisA = [&](Q q) { return toFulcrum(onPart(specA, rotate(q, {0, 0, 1}), false)); };
+    const auto axisB = [&](Q q) { return toFulcrum(onPart(specB, rotate(q, {0, 0, 1}), false)); };
+    if (j.type == JointSpec::Type::Hinge) {
+        fulcrum::HingeJointDef d;
+        d.bodyA = a;
+        d.bodyB = b;
+        d.localAnchorA = local(a, j.localA);
+        d.localAnchorB = local(b, j.localB);
+        d.localAxisA = axisA(j.frameA);
+        d.localAxisB = axisB(j.frameB);
+        d.hasLimits = true;
+        d.lowerLimit = real(j.lower);
+        d.upperLimit = real(j.upper);
+        d.frictionTorque = real(j.frictionTorque);
+        return world.createJoint(d);
+    }
+    if (j.type == JointSpec::Type::ConeTwist) {
+        fulcrum::ConeTwistJointDef d;
+        d.bodyA = a;
+        d.bodyB = b;
+        d.localAnchorA = local(a, j.localA);
+        d.localAnchorB = local(b, j.localB);
+        d.localAxisA = axisA(j.frameA);
+        d.localAxisB = axisB(j.frameB);
+        d.swingLimit = real(j.swing);
+        d.twistLower = real(j.lower);
+        d.twistUpper = real(j.upper);
+        d.frictionTorque = real(j.frictionTorque);
+        return world.createJoint(d);
+    }
+    fulcrum::BallJointDef d = fulcrum::BallJointDef::fromWorld(world, a, b, toFulcrum(j.anchor));
+    if (j.localFrames) {
+        d.localAnchorA = local(a, j.localA);
+        d.localAnchorB = local(b, j.localB);
+    }
+    return world.createJoint(d);
+}
 
 inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
     using fulcrum::Real;
@@ -30,39 +211,32 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
     def.threads = threads;
     def.gravity = toFulcrum(scene.gravity);
     if (scene.substeps > 0) def.substeps = scene.substeps;
-    FulcrumWorld out{std::make_unique<fulcrum::World>(def), {}, {}};
+    FulcrumWorld out{std::make_unique<fulcrum::World>(def), {}, {}, {}};
     fulcrum::World& world = *out.world;
-    // One shape per distinct size, shared by the bodies that have it (as a
-    // game would): the unit box and sphere of the piles, the scene's hull.
-    const fulcrum::Shape unitBox = fulcrum::Shape::box(fulcrum::Vec3::splat(Real(0.5)));
-    const fulcrum::Shape unitSphere = fulcrum::Shape::sphere(Real(0.5));
-    fulcrum::Shape hull;
-    if (!scene.hullPoints.empty()) {
-        std::vector<fulcrum::Vec3> points;
-        for (const V3& p : scene.hullPoints) points.push_back(toFulcrum(p));
-        hull = fulcrum::Shape::convexHull(points);
-    }
-    for (const BodySpec& b : scene.bodies) {
+    out.shapes = std::make_unique<FulcrumShapes>(scene);
+    FulcrumShapes& shapes = *out.shapes;
+    for (const BodySpec& b : scene.bodies) out.bodies.push_back(world.createBody(shapes.bodyDef(b)));
+    if (scene.staticGrid.nx > 0) {
+        const StaticGrid& g = scene.staticGrid;
         fulcrum::BodyDef d;
-        d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
-        switch (b.kind) {
-            case BodySpec::Kind::Sphere: d.shape = b.half.x == 0.5 ? unitSphere : fulcrum::Shape::sphere(real(b.half.x)); break;
-            case BodySpec::Kind::Capsule: d.shape = fulcrum::Shape::capsule(real(b.half.x), real(b.half.y)); break;
-            case BodySpec::Kind::Box:
-                d.shape = (b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) ? unitBox : fulcrum::Shape::box(toFulcrum(b.half));
-                break;
-            case BodySpec::Kind::Hull: d.shape = hull; break;
+        d.type = fulcrum::BodyType::Static;
+        d.shape = shapes.box(g.half);
+        d.friction = real(scene.friction);
+        const double halfX = 0.5 * g.cell * g.nx, halfZ = 0.5 * g.cell * g.nz;
+        for (int i = 0; i < g.nx; ++i) {
+            for (int k = 0; k < g.nz; ++k) {
+                d.position = toFulcrum({-halfX + (i + 0.5) * g.cell, g.y, -halfZ + (k + 0.5) * g.cell});
+                world.createBody(d);
+            }
         }
-        if (!scene.bodyCollisions) d.filter.group = -1;  // a shared negative group never collides
-        if (!b.isStatic) d.mass = real(b.mass);
-        d.position = toFulcrum(b.position);
-        d.orientation = {real(b.orientation.w), real(b.orientation.x), real(b.orientation.y), real(b.orientation.z)};
-        d.linearVelocity = toFulcrum(b.linearVelocity);
-        d.angularVelocity = toFulcrum(b.angularVelocity);
-        d.friction = real(scene.friction);  // geometric mean of equal values: the pair value
-        out.bodies.push_back(world.createBody(d));
     }
     for (const JointSpec& j : scene.joints) {
+        if (j.localFrames || j.type != JointSpec::Type::Ball) {
+            const auto a = static_cast<std::size_t>(j.a), b = static_cast<std::size_t>(j.b);
+            createFulcrumJoint(world, j, j.a < 0 ? fulcrum::kWorldBody : out.bodies[a], out.bodies[b],
+                               j.a < 0 ? nullptr : &scene.bodies[a], &scene.bodies[b]);
+            continue;
+        }
         fulcrum::JointDef d;
         d.type = fulcrum::JointType::Ball;
         d.bodyA = j.a < 0 ? fulcrum::kWorldBody : out.bodies[static_cast<std::size_t>(j.a)];
@@ -85,5 +259,60 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
     }
     return out;
 }
+
+// A churn scene's script (bench/churn_scenes.hpp) run on a Fulcrum world:
+// its groups' bodies and joints created and destroyed before the steps the
+// events name.
+class FulcrumScript {
+public:
+    FulcrumScript(const SceneSpec& scene, FulcrumWorld& built)
+        : scene_(&scene), built_(&built), bodies_(scene.groups.size()), joints_(scene.groups.size()) {}
+
+    // The events of step `step` (call before each step, in order).
+    void beforeStep(int step) {
+        while (next_ < scene_->script.size() && scene_->script[next_].step <= step) {
+            const ScriptEvent& e = scene_->script[next_++];
+            if (e.create) {
+                create(e.group);
+            } else {
+                destroy(e.group);
+            }
+        }
+    }
+
+    void create(int group) {
+        fulcrum::World& world = *built_->world;
+        const BodyGroup& g = scene_->groups[static_cast<std::size_t>(group)];
+        std::vector<fulcrum::BodyId>& ids = bodies_[static_cast<std::size_t>(group)];
+        for (const BodySpec& b : g.bodies) ids.push_back(world.createBody(built_->shapes->bodyDef(b)));
+        for (const JointSpec& j : g.joints) {
+            const auto a = static_cast<std::size_t>(j.a), b = static_cast<std::size_t>(j.b);
+            joints_[static_cast<std::size_t>(group)].push_back(createFulcrumJoint(world, j, j.a < 0 ? fulcrum::kWorldBody : ids[a], ids[b],
+                                                                                  j.a < 0 ? nullptr : &g.bodies[a], &g.bodies[b]));
+        }
+    }
+
+    void destroy(int group) {
+        fulcrum::World& world = *built_->world;
+        for (const fulcrum::JointId id : joints_[static_cast<std::size_t>(group)]) world.destroyJoint(id);
+        for (const fulcrum::BodyId id : bodies_[static_cast<std::size_t>(group)]) world.destroyBody(id);
+        joints_[static_cast<std::size_t>(group)].clear();
+        bodies_[static_cast<std::size_t>(group)].clear();
+    }
+
+    // Every live group's bodies.
+    std::vector<fulcrum::BodyId> liveBodies() const {
+        std::vector<fulcrum::BodyId> out;
+        for (const auto& ids : bodies_) out.insert(out.end(), ids.begin(), ids.end());
+        return out;
+    }
+
+private:
+    const SceneSpec* scene_;
+    FulcrumWorld* built_;
+    std::vector<std::vector<fulcrum::BodyId>> bodies_;
+    std::vector<std::vector<fulcrum::JointId>> joints_;
+    std::size_t next_ = 0;
+};
 
 }  // namespace bench

@@ -6,6 +6,7 @@
 // Header-only: bench/CMakeLists.txt makes an executable of every bench/*.cpp.
 //
 // Everything here is double: the adapters cast to their engine's scalar.
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <memory>
@@ -44,6 +45,16 @@ inline V3 rotate(Q q, V3 v) {
 }
 
 // ---- scene description ---------------------------------------------------------
+// One piece of a body made of several (Box3D's washer drum, a ragdoll bone's
+// off-centre capsule, Jolt's high-speed compound), in the body's frame.
+struct ShapePart {
+    enum class Kind { Box, Sphere, Capsule, Hull } kind = Kind::Box;
+    V3 position;
+    Q orientation;
+    V3 half{0.5, 0.5, 0.5};   // as BodySpec::half
+    std::vector<V3> points;   // Hull
+};
+
 struct BodySpec {
     enum class Kind { Box, Sphere, Capsule, Hull } kind = Kind::Box;  // Hull: the scene's hullPoints
     V3 position;                  // centre (= centre of mass: every shape here is symmetric)
@@ -52,11 +63,55 @@ struct BodySpec {
     V3 linearVelocity, angularVelocity;  // world frame, at the start
     bool isStatic = false;
     double mass = 1;
+    // Churn and scale scenes (bench/churn_scenes.hpp):
+    bool isKinematic = false;      // moves at its velocities, pushed by nothing
+    bool isBullet = false;         // continuous collision against moving bodies too
+    std::vector<ShapePart> parts;  // non-empty: the body is these (kind and half unused), position = the body's origin
+    int mesh = -1;                 // >= 0: a static body whose shape is the scene's meshes[mesh]
+    int filterGroup = 0;           // bodies sharing a negative group never collide
+    double friction = -1;          // >= 0: this body's own (else the scene's)
+    double restitution = 0;
 };
 
 struct JointSpec {  // ball-and-socket; a = -1 is the static world
     int a = -1, b = -1;
     V3 anchor;      // world space at creation
+    // Churn scenes' ragdolls (bench/churn_scenes.hpp): a joint given by a frame
+    // in each body (the anchor, and the twist or hinge axis as the frame's z).
+    enum class Type { Ball, ConeTwist, Hinge } type = Type::Ball;
+    bool localFrames = false;     // true: anchor unused, frameA/frameB hold it
+    V3 localA{}, localB{};
+    Q frameA{}, frameB{};
+    double swing = 0;             // ConeTwist: cone half-angle, rad
+    double lower = 0, upper = 0;  // ConeTwist: twist limits; Hinge: angle limits (rad)
+    double frictionTorque = 0;    // N m
+};
+
+// A static triangle mesh (the rain's ground cells).
+struct MeshSpec {
+    std::vector<V3> vertices;
+    std::vector<std::array<int, 3>> triangles;
+};
+
+// Bodies and joints a scene's script creates and destroys while stepping
+// (joint body indices count within the group; -1 is the static world).
+struct BodyGroup {
+    std::vector<BodySpec> bodies;
+    std::vector<JointSpec> joints;
+};
+struct ScriptEvent {
+    int step = 0;                 // before this step (0-based)
+    bool create = true;           // false: destroy the group's joints, then its bodies
+    int group = 0;
+};
+
+// nx x nz static boxes of half extents `half` side by side, `cell` apart,
+// centred on x = z = 0 at height y (Box3D's large_world: a million of them,
+// described without a million BodySpecs).
+struct StaticGrid {
+    int nx = 0, nz = 0;
+    double cell = 1, y = 0;
+    V3 half;
 };
 
 // docs/benchmarks.md's cloth (the harness measures it from particle positions).
@@ -74,7 +129,8 @@ enum class Probe { None, FreeFall, Pendulum, Slope20, Slope30, Spin };
 struct SceneSpec {
     std::string name;
     // Jointed: bodies held by ball joints other than the chain (quality: joint error).
-    enum class Kind { Bodies, Chain, Jointed, Cloth, Probe } kind = Kind::Bodies;
+    // Churn: bench/churn_scenes.hpp's (quality: what stays inside `bounds`, the deepest overlap).
+    enum class Kind { Bodies, Chain, Jointed, Cloth, Probe, Churn } kind = Kind::Bodies;
     Probe probe = Probe::None;
     std::vector<BodySpec> bodies;
     std::vector<JointSpec> joints;
@@ -91,6 +147,13 @@ struct SceneSpec {
     int substeps = 0;          // 0: the engine's default; otherwise engines with sub-steps use this many
     bool bodyCollisions = true;  // false: no body collides with any other (Box3D's joint_grid)
     std::vector<V3> hullPoints;  // the one convex hull Kind::Hull bodies use, in their body frame
+    // Churn and scale (bench/churn_scenes.hpp):
+    std::vector<MeshSpec> meshes;
+    std::vector<BodyGroup> groups;
+    std::vector<ScriptEvent> script;  // in step order
+    StaticGrid staticGrid;
+    V3 boundsMin{-1e30, -1e30, -1e30}, boundsMax{1e30, 1e30, 1e30};  // Churn: a dynamic body outside has escaped
+    double restHeight = -1e30;        // Churn, when set: the height the dynamic bodies' origins should rest at
 };
 
 // ---- what an engine implements -------------------------------------------------
@@ -117,6 +180,12 @@ public:
     virtual std::vector<V3> clothParticles() const { return {}; }  // particle (i, j) at j * n + i
     virtual std::string settings() const = 0;       // the defaults it runs with, for the docs
     virtual std::string note() const { return {}; } // anything odd in the last run (e.g. an overflow)
+    // Churn scenes (bench/churn_scenes.hpp): the script's groups, and every
+    // live dynamic body's origin (scene bodies and live groups', any order).
+    // An engine that builds churn scenes implements all three.
+    virtual void createGroup(int /*group*/) {}
+    virtual void destroyGroup(int /*group*/) {}
+    virtual std::vector<V3> dynamicPositions() const { return {}; }
 };
 
 // ---- the scenes ---------------------------------------------------------------

@@ -6,7 +6,10 @@
 //       build/release/bench/bench_step_count pyramid20 60
 // Prints the scene, the steps and a checksum of the final positions (so the
 // two builds' runs can be told apart from a broken one). Box3D's scenes
-// (bench/box3d_scenes.hpp) run at their full sizes, e.g. joint_grid.
+// (bench/box3d_scenes.hpp) run at their full sizes, e.g. joint_grid; the
+// churn scenes (bench/churn_scenes.hpp) at their full or quick sizes, their
+// script's creations and destructions inside the counted step (callgrind:
+// --toggle-collect='scriptAndStep(*)' counts them with the step).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -15,9 +18,17 @@
 
 #include "fulcrum/fulcrum.hpp"
 #include "box3d_scenes.hpp"
+#include "churn_scenes.hpp"
 #include "fulcrum_world.hpp"
 
 using namespace fulcrum;
+
+// One step with the script's events before it: callgrind's
+// --toggle-collect='scriptAndStep(*)' counts both.
+[[gnu::noinline]] void scriptAndStep(bench::FulcrumScript& script, World& world, int step, Real dt) {
+    script.beforeStep(step);
+    world.step(dt);
+}
 
 int main(int argc, char** argv) {
     if (argc != 3) {
@@ -28,12 +39,17 @@ int main(int argc, char** argv) {
     const int steps = std::atoi(argv[2]);
     std::vector<bench::SceneSpec> scenes = bench::allScenes(true);
     for (bench::SceneSpec& scene : bench::box3dScenes(false)) scenes.push_back(std::move(scene));
+    // The churn scenes by name: full size, or the quick sizes (e.g. rain(4x2)).
+    for (bench::SceneSpec& scene : bench::churnScenes(false)) scenes.push_back(std::move(scene));
+    for (bench::SceneSpec& scene : bench::churnScenes(true)) scenes.push_back(std::move(scene));
     for (const bench::SceneSpec& scene : scenes) {
         if (scene.name != name) continue;
-        const bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
+        bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
         World& world = *built.world;
-        const std::vector<BodyId>& ids = built.bodies;
-        for (int i = 0; i < steps; ++i) world.step(static_cast<Real>(scene.dt));
+        std::vector<BodyId> ids = built.bodies;
+        bench::FulcrumScript script(scene, built);
+        for (int i = 0; i < steps; ++i) scriptAndStep(script, world, i, static_cast<Real>(scene.dt));
+        for (const BodyId id : script.liveBodies()) ids.push_back(id);
         double checksum = 0;
         for (const BodyId id : ids) {
             const Vec3 p = world.position(id);

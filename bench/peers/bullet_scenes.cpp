@@ -11,7 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
+#include <vector>
 
 #include "peers.hpp"
 
@@ -35,7 +37,9 @@ public:
     ~BulletEngine() override {
         if (world_ == nullptr) return;
         for (btTypedConstraint* c : constraints_) world_->removeConstraint(c);
+        for (int g = 0; g < static_cast<int>(groupBodies_.size()); ++g) destroyGroup(g);
         for (const auto& b : bodies_) world_->removeRigidBody(b.get());
+        for (const auto& b : gridBodies_) world_->removeRigidBody(b.get());
         if (cloth_ != nullptr) static_cast<btSoftRigidDynamicsWorld*>(world_.get())->removeSoftBody(cloth_);
         delete cloth_;
         for (btTypedConstraint* c : constraints_) delete c;
@@ -59,58 +63,30 @@ public:
             world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
         }
         world_->setGravity(bt(scene.gravity));
+        world_->getPairCache()->setOverlapFilterCallback(&groupFilter_);
 
-        // Bullet combines friction as the product: each body gets sqrt(mu) for a pair value mu.
-        const auto friction = static_cast<btScalar>(std::sqrt(scene.friction));
-        btCollisionShape* unitBox = nullptr;
-        btCollisionShape* unitSphere = nullptr;
-        btCollisionShape* hull = nullptr;
-        for (const BodySpec& b : scene.bodies) {
-            btCollisionShape* shape = nullptr;
-            if (b.kind == BodySpec::Kind::Sphere && b.half.x == 0.5 && !b.isStatic) {
-                if (unitSphere == nullptr) unitSphere = addShape(std::make_unique<btSphereShape>(btScalar(0.5)));
-                shape = unitSphere;
-            } else if (b.kind == BodySpec::Kind::Sphere) {
-                shape = addShape(std::make_unique<btSphereShape>(static_cast<btScalar>(b.half.x)));
-            } else if (b.kind == BodySpec::Kind::Hull) {
-                if (hull == nullptr) {
-                    auto h = std::make_unique<btConvexHullShape>();
-                    for (const V3& p : scene.hullPoints) h->addPoint(bt(p), false);
-                    h->recalcLocalAabb();
-                    h->optimizeConvexHull();
-                    hull = addShape(std::move(h));
+        for (const BodySpec& b : scene.bodies) bodies_.push_back(makeBody(b));
+        if (scene.staticGrid.nx > 0) {
+            const StaticGrid& g = scene.staticGrid;
+            BodySpec tile;
+            tile.isStatic = true;
+            tile.half = g.half;
+            const double halfX = 0.5 * g.cell * g.nx, halfZ = 0.5 * g.cell * g.nz;
+            for (int i = 0; i < g.nx; ++i) {
+                for (int k = 0; k < g.nz; ++k) {
+                    tile.position = {-halfX + (i + 0.5) * g.cell, g.y, -halfZ + (k + 0.5) * g.cell};
+                    gridBodies_.push_back(makeBody(tile));
                 }
-                shape = hull;
-            } else if (b.kind == BodySpec::Kind::Capsule) {
-                shape = addShape(std::make_unique<btCapsuleShape>(static_cast<btScalar>(b.half.x), static_cast<btScalar>(2 * b.half.y)));
-            } else if (!b.isStatic && b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) {
-                if (unitBox == nullptr) unitBox = addShape(std::make_unique<btBoxShape>(btVector3(0.5f, 0.5f, 0.5f)));
-                shape = unitBox;
-            } else {
-                shape = addShape(std::make_unique<btBoxShape>(bt(b.half)));
-            }
-            const auto mass = static_cast<btScalar>(b.isStatic ? 0.0 : b.mass);
-            btVector3 inertia(0, 0, 0);
-            if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-            btTransform xf(btQuaternion(static_cast<btScalar>(b.orientation.x), static_cast<btScalar>(b.orientation.y),
-                                        static_cast<btScalar>(b.orientation.z), static_cast<btScalar>(b.orientation.w)),
-                           bt(b.position));
-            states_.push_back(std::make_unique<btDefaultMotionState>(xf));
-            btRigidBody::btRigidBodyConstructionInfo info(mass, states_.back().get(), shape, inertia);
-            info.m_friction = friction;
-            info.m_restitution = 0;
-            bodies_.push_back(std::make_unique<btRigidBody>(info));
-            btRigidBody& body = *bodies_.back();
-            body.setLinearVelocity(bt(b.linearVelocity));
-            body.setAngularVelocity(bt(b.angularVelocity));
-            if (!scene.sleeping && mass > 0) body.setActivationState(DISABLE_DEACTIVATION);
-            if (scene.bodyCollisions) {
-                world_->addRigidBody(&body);
-            } else {  // every body in filter group 2, masking group 2 out: nothing collides
-                world_->addRigidBody(&body, 2, ~2);
             }
         }
+        groupBodies_.resize(scene.groups.size());
+        groupJoints_.resize(scene.groups.size());
         for (const JointSpec& j : scene.joints) {
+            if (j.localFrames || j.type != JointSpec::Type::Ball) {
+                constraints_.push_back(makeJoint(j, j.a < 0 ? nullptr : bodies_[static_cast<std::size_t>(j.a)].get(),
+                                                 *bodies_[static_cast<std::size_t>(j.b)]));
+                continue;
+            }
             btRigidBody& b = *bodies_[static_cast<std::size_t>(j.b)];
             const btVector3 pivotB = b.getCenterOfMassTransform().inverse() * bt(j.anchor);
             btTypedConstraint* c = nullptr;
@@ -127,7 +103,50 @@ public:
         return true;
     }
 
-    void step() override { world_->stepSimulation(static_cast<btScalar>(scene_->dt), 0, static_cast<btScalar>(scene_->dt)); }
+    void step() override {
+        // Kinematic bodies move at their velocities: Bullet reads their pose from the motion state each step.
+        const auto dt = static_cast<btScalar>(scene_->dt);
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            if (!scene_->bodies[i].isKinematic) continue;
+            btRigidBody& b = *bodies_[i];
+            btTransform xf;
+            btTransformUtil::integrateTransform(b.getWorldTransform(), bt(scene_->bodies[i].linearVelocity),
+                                                bt(scene_->bodies[i].angularVelocity), dt, xf);
+            b.getMotionState()->setWorldTransform(xf);
+        }
+        world_->stepSimulation(dt, 0, dt);
+    }
+
+    void createGroup(int group) override {
+        const BodyGroup& g = scene_->groups[static_cast<std::size_t>(group)];
+        auto& bodies = groupBodies_[static_cast<std::size_t>(group)];
+        for (const BodySpec& b : g.bodies) bodies.push_back(makeBody(b));
+        for (const JointSpec& j : g.joints) {
+            groupJoints_[static_cast<std::size_t>(group)].push_back(
+                makeJoint(j, j.a < 0 ? nullptr : bodies[static_cast<std::size_t>(j.a)].get(), *bodies[static_cast<std::size_t>(j.b)]));
+        }
+    }
+    void destroyGroup(int group) override {
+        for (btTypedConstraint* c : groupJoints_[static_cast<std::size_t>(group)]) {
+            world_->removeConstraint(c);
+            delete c;
+        }
+        for (const auto& b : groupBodies_[static_cast<std::size_t>(group)]) {
+            world_->removeRigidBody(b.get());
+        }
+        groupJoints_[static_cast<std::size_t>(group)].clear();
+        groupBodies_[static_cast<std::size_t>(group)].clear();
+    }
+    std::vector<V3> dynamicPositions() const override {
+        std::vector<V3> out;
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            if (!scene_->bodies[i].isStatic && !scene_->bodies[i].isKinematic) out.push_back(toV3(bodies_[i]->getWorldTransform().getOrigin()));
+        }
+        for (const auto& group : groupBodies_) {
+            for (const auto& b : group) out.push_back(toV3(b->getWorldTransform().getOrigin()));
+        }
+        return out;
+    }
 
     BodyState body(std::size_t i) const override {
         const btRigidBody& b = *bodies_[i];
@@ -156,6 +175,136 @@ public:
     }
 
 private:
+    btCollisionShape* partShape(const ShapePart& p) {
+        switch (p.kind) {
+            case ShapePart::Kind::Box: return addShape(std::make_unique<btBoxShape>(bt(p.half)));
+            case ShapePart::Kind::Sphere: return addShape(std::make_unique<btSphereShape>(static_cast<btScalar>(p.half.x)));
+            case ShapePart::Kind::Capsule:
+                return addShape(std::make_unique<btCapsuleShape>(static_cast<btScalar>(p.half.x), static_cast<btScalar>(2 * p.half.y)));
+            case ShapePart::Kind::Hull: {
+                auto h = std::make_unique<btConvexHullShape>();
+                for (const V3& v : p.points) h->addPoint(bt(v), false);
+                h->recalcLocalAabb();
+                h->optimizeConvexHull();
+                return addShape(std::move(h));
+            }
+        }
+        return nullptr;
+    }
+
+    // One shape per distinct description (as the Fulcrum side shares them).
+    btCollisionShape* shapeFor(const BodySpec& b) {
+        if (b.mesh >= 0) {
+            auto& shape = meshShapes_[b.mesh];
+            if (shape == nullptr) {
+                const MeshSpec& m = scene_->meshes[static_cast<std::size_t>(b.mesh)];
+                auto mesh = std::make_unique<btTriangleMesh>();
+                for (const auto& t : m.triangles) {
+                    mesh->addTriangle(bt(m.vertices[static_cast<std::size_t>(t[0])]), bt(m.vertices[static_cast<std::size_t>(t[1])]),
+                                      bt(m.vertices[static_cast<std::size_t>(t[2])]));
+                }
+                shape = addShape(std::make_unique<btBvhTriangleMeshShape>(mesh.get(), true));
+                meshes_.push_back(std::move(mesh));
+            }
+            return shape;
+        }
+        std::vector<double> key{double(static_cast<int>(b.kind)), b.half.x, b.half.y, b.half.z};
+        for (const ShapePart& p : b.parts) {
+            key.insert(key.end(), {double(static_cast<int>(p.kind)), p.position.x, p.position.y, p.position.z, p.orientation.w,
+                                   p.orientation.x, p.orientation.y, p.orientation.z, p.half.x, p.half.y, p.half.z});
+            for (const V3& v : p.points) key.insert(key.end(), {v.x, v.y, v.z});
+        }
+        auto& shape = shapeCache_[key];
+        if (shape != nullptr) return shape;
+        if (!b.parts.empty()) {
+            auto compound = std::make_unique<btCompoundShape>();
+            for (const ShapePart& p : b.parts) {
+                compound->addChildShape(btTransform(quat(p.orientation), bt(p.position)), partShape(p));
+            }
+            shape = addShape(std::move(compound));
+        } else if (b.kind == BodySpec::Kind::Sphere) {
+            shape = addShape(std::make_unique<btSphereShape>(static_cast<btScalar>(b.half.x)));
+        } else if (b.kind == BodySpec::Kind::Hull) {
+            ShapePart p;
+            p.kind = ShapePart::Kind::Hull;
+            p.points = scene_->hullPoints;
+            shape = partShape(p);
+        } else if (b.kind == BodySpec::Kind::Capsule) {
+            shape = addShape(std::make_unique<btCapsuleShape>(static_cast<btScalar>(b.half.x), static_cast<btScalar>(2 * b.half.y)));
+        } else {
+            shape = addShape(std::make_unique<btBoxShape>(bt(b.half)));
+        }
+        return shape;
+    }
+
+    static btQuaternion quat(Q q) {
+        return {static_cast<btScalar>(q.x), static_cast<btScalar>(q.y), static_cast<btScalar>(q.z), static_cast<btScalar>(q.w)};
+    }
+
+    std::unique_ptr<btRigidBody> makeBody(const BodySpec& b) {
+        btCollisionShape* shape = shapeFor(b);
+        const bool moving = !b.isStatic && !b.isKinematic;
+        const auto mass = static_cast<btScalar>(moving ? b.mass : 0.0);
+        btVector3 inertia(0, 0, 0);
+        if (mass > 0) shape->calculateLocalInertia(mass, inertia);
+        // A compound's origin is the body's origin here (Bullet takes the inertia about it: close enough for a benchmark).
+        btTransform xf(quat(b.orientation), bt(b.position));
+        auto* state = new btDefaultMotionState(xf);  // owned by the body's slot: freed with it
+        btRigidBody::btRigidBodyConstructionInfo info(mass, state, shape, inertia);
+        // Bullet combines friction and restitution as products: each body gets sqrt(mu) for a pair value mu.
+        info.m_friction = static_cast<btScalar>(std::sqrt(b.friction >= 0 ? b.friction : scene_->friction));
+        info.m_restitution = static_cast<btScalar>(b.restitution);
+        auto body = std::make_unique<btRigidBody>(info);
+        body->setLinearVelocity(bt(b.linearVelocity));
+        body->setAngularVelocity(bt(b.angularVelocity));
+        if (b.isKinematic) {
+            body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+            body->setActivationState(DISABLE_DEACTIVATION);
+        }
+        if (!scene_->sleeping && mass > 0) body->setActivationState(DISABLE_DEACTIVATION);
+        if (b.isBullet) {  // Bullet's continuous collision: a swept sphere inside the shape, above a motion threshold
+            btVector3 centre;
+            btScalar radius;
+            shape->getBoundingSphere(centre, radius);
+            body->setCcdMotionThreshold(static_cast<btScalar>(0.25) * radius);
+            body->setCcdSweptSphereRadius(static_cast<btScalar>(0.5) * radius);
+        }
+        if (!scene_->bodyCollisions) {  // every body in filter group 2, masking group 2 out: nothing collides
+            world_->addRigidBody(body.get(), 2, ~2);
+        } else {
+            world_->addRigidBody(body.get());
+        }
+        body->setUserIndex(b.filterGroup);
+        states_.emplace_back(state);
+        return body;
+    }
+
+    // A churn scene's ragdoll joint (frames in each body; Bullet's cone-twist
+    // and hinge turn about their frames' x and z axes, Box3D's about z).
+    btTypedConstraint* makeJoint(const JointSpec& j, btRigidBody* a, btRigidBody& b) {
+        const btQuaternion zToX(btVector3(0, 1, 0), static_cast<btScalar>(-1.5707963267948966));  // maps x to z
+        const btTransform frameB(quat(j.frameB), bt(j.localB));
+        const btTransform frameA(quat(j.frameA), bt(j.localA));
+        btTypedConstraint* c = nullptr;
+        if (j.type == JointSpec::Type::Hinge) {
+            auto* h = a != nullptr ? new btHingeConstraint(*a, b, frameA, frameB) : new btHingeConstraint(b, frameB);
+            h->setLimit(static_cast<btScalar>(j.lower), static_cast<btScalar>(j.upper));
+            h->enableAngularMotor(true, 0, static_cast<btScalar>(j.frictionTorque * scene_->dt));  // friction: a motor at rest
+            c = h;
+        } else if (j.type == JointSpec::Type::ConeTwist) {
+            const btTransform fa(quat(j.frameA) * zToX, bt(j.localA)), fb(quat(j.frameB) * zToX, bt(j.localB));
+            auto* t = a != nullptr ? new btConeTwistConstraint(*a, b, fa, fb) : new btConeTwistConstraint(b, fb);
+            // Bullet's twist limit is symmetric: the span of Box3D's.
+            t->setLimit(static_cast<btScalar>(j.swing), static_cast<btScalar>(j.swing), static_cast<btScalar>(0.5 * (j.upper - j.lower)));
+            c = t;
+        } else {
+            c = a != nullptr ? static_cast<btTypedConstraint*>(new btPoint2PointConstraint(*a, b, bt(j.localA), bt(j.localB)))
+                             : new btPoint2PointConstraint(b, bt(j.localB));
+        }
+        world_->addConstraint(c, /*disableCollisionsBetweenLinkedBodies=*/true);
+        return c;
+    }
+
     btCollisionShape* addShape(std::unique_ptr<btCollisionShape> s) {
         shapes_.push_back(std::move(s));
         return shapes_.back().get();
@@ -188,6 +337,23 @@ private:
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
     std::vector<btTypedConstraint*> constraints_;
     btSoftBody* cloth_ = nullptr;
+    std::map<std::vector<double>, btCollisionShape*> shapeCache_;
+    std::map<int, btCollisionShape*> meshShapes_;
+    std::vector<std::unique_ptr<btTriangleMesh>> meshes_;
+    std::vector<std::unique_ptr<btRigidBody>> gridBodies_;
+    std::vector<std::vector<std::unique_ptr<btRigidBody>>> groupBodies_;
+    std::vector<std::vector<btTypedConstraint*>> groupJoints_;
+    // Bodies sharing a negative filter group (the user index) never collide; the rest as Bullet's default.
+    struct GroupFilter final : btOverlapFilterCallback {
+        bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+            if ((a->m_collisionFilterGroup & b->m_collisionFilterMask) == 0 || (b->m_collisionFilterGroup & a->m_collisionFilterMask) == 0) {
+                return false;
+            }
+            const int ga = static_cast<const btCollisionObject*>(a->m_clientObject)->getUserIndex();
+            const int gb = static_cast<const btCollisionObject*>(b->m_clientObject)->getUserIndex();
+            return !(ga < 0 && ga == gb);
+        }
+    } groupFilter_;
 };
 
 }  // namespace

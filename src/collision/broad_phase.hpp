@@ -269,6 +269,11 @@ public:
     // Rebuilds the static tree top-down (binned SAH); call after adding many
     // static proxies, e.g. after loading a scene. Ids and pairs are unaffected.
     void rebuildStaticTree() { staticTree_.rebuild(); }
+    // Rebuilds the moving tree the same way: after setFatBox for most of its
+    // proxies, instead of reinsertProxy for each (the leaves keep their ids
+    // and boxes; the pool is not reallocated, so fatAABB and testOverlap may
+    // run on other threads meanwhile, as with the reinsertions).
+    void rebuildMovingTree() { movingTree_.rebuild(); }
 
     // Both trees' invariants plus the proxy records and the move buffer.
     // Empty when valid, otherwise the first violation found.

@@ -18,6 +18,9 @@ namespace {
 constexpr std::uint32_t kNoKey = UINT32_MAX;
 constexpr std::uint32_t contactOfKey(std::uint32_t key) { return key >> 1; }
 constexpr std::uint32_t endOfKey(std::uint32_t key) { return key & 1; }
+// Below this many moved proxies a step reinserts them one by one, whatever
+// their share of the moving tree (update(), step 1).
+constexpr std::uint32_t kMinBulkRebuild = 256;
 }  // namespace
 
 namespace {
@@ -644,11 +647,20 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
         }
     });
     bool anyMoved = false;
+    std::uint32_t movedCount = 0;
     for (std::uint32_t k = 0; k < awakeCount; ++k) {
         if (proxyMoves_[k] == 0) continue;
         broad_.noteMoved(proxyOfSlot_[w.denseToSlot[awake[k]]], movedFrom_[k]);
         anyMoved = true;
+        ++movedCount;
     }
+    // When most moving proxies left their fat boxes (fast bodies everywhere:
+    // Jolt's HighSpeed scene), one bulk rebuild of the moving tree replaces
+    // the reinsertions: one by one, with the ancestors' boxes stale while the
+    // others are still to come, the in-place refits let the tree's boxes grow
+    // until every query visited most of it.
+    const bool rebuildMoving =
+        movedCount > kMinBulkRebuild && 2 * movedCount > static_cast<std::uint32_t>(broad_.movingTree().proxyCount());
 
     // 2. The existing contacts: end those whose fat boxes separated, collide
     // the rest that can have moved. In parallel, each contact writing only
@@ -702,7 +714,9 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
     };
     tasks.parallelFor(activeCount + 1, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
         if (begin == 0) {
-            if (anyMoved) {
+            if (rebuildMoving) {
+                broad_.rebuildMovingTree();
+            } else if (anyMoved) {
                 for (std::uint32_t k = 0; k < awakeCount; ++k) {
                     if (proxyMoves_[k] != 0) broad_.reinsertProxy(proxyOfSlot_[w.denseToSlot[awake[k]]]);
                 }

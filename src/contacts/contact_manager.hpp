@@ -99,6 +99,17 @@ public:
     // Grows every per-step buffer for `bodyCount` bodies (about 4 contacts and
     // 2 reports per body), at body creation, so steps don't allocate.
     void reserve(std::size_t bodyCount, std::int64_t maxContactPairs, std::vector<ContactReport>& reports);
+    // The body count to size the per-contact and per-awake-body buffers for
+    // (reserve above, the contact solver's, the islands'): the moving bodies,
+    // plus as many static ones at most. A contact needs a moving body, so a
+    // world of a million static bodies and a hundred spheres needs no million
+    // contacts: reserving for every body made Box3D's large_world take 3 GB
+    // (4 pooled contacts and 2 reports with their point buffers per body).
+    std::size_t bufferBodyCount() const {
+        const auto moving = static_cast<std::size_t>(broad_.movingTree().proxyCount());
+        const auto fixed = static_cast<std::size_t>(broad_.staticTree().proxyCount());
+        return moving + std::min(fixed, moving);
+    }
     // Drops the body's contacts and reports all its overlaps anew next step
     // (a joint that changes which partners it may collide with). Like
     // removeBody, after the world built the last step's contact report.

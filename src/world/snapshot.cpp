@@ -1101,9 +1101,10 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
     detail::validateLoaded(reader, w);
 
     // Grow the per-step buffers as body creation would have (no allocation in the next step).
-    w.contactManager.reserve(w.motion.size(), w.settings.maxContactPairs, w.contacts);
-    w.contactSolver.reserve(w.motion.size());
-    w.sleepManager.reserve(w.motion.size());
+    const std::size_t bufferBodies = w.contactManager.bufferBodyCount();
+    w.contactManager.reserve(bufferBodies, w.settings.maxContactPairs, w.contacts);
+    w.contactSolver.reserve(bufferBodies);
+    w.sleepManager.reserve(bufferBodies);
     if (userData != nullptr) *userData = std::move(data);
     return world;
 }

@@ -216,9 +216,10 @@ BodyId World::createBody(const BodyDef& def) {
         if (p.awake && p.type != BodyType::Static) w.wokenBodies.push_back(dense);
     }
     w.markPreviousStale(dense);
-    w.contactManager.reserve(w.motion.size(), w.settings.maxContactPairs, w.contacts);
-    w.contactSolver.reserve(w.motion.size());
-    w.sleepManager.reserve(w.motion.size());
+    const std::size_t bufferBodies = w.contactManager.bufferBodyCount();
+    w.contactManager.reserve(bufferBodies, w.settings.maxContactPairs, w.contacts);
+    w.contactSolver.reserve(bufferBodies);
+    w.sleepManager.reserve(bufferBodies);
     return {slotIndex, w.bodySlots[slotIndex].generation};
 }
 
