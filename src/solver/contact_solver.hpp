@@ -200,6 +200,7 @@ private:
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::unique_ptr<WideBlocks> blocks_;         // wide mode: the coloured constraints, lanes() per block
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
+    std::uint32_t colourEnd_ = 0;                // wide mode: colours from here on have no block (packWide)
     SimdPath simd_ = SimdPath::Scalar;           // set by the constructor
     bool wide_ = false;                          // simd_ != Scalar
     TaskSystem* tasks_ = nullptr;
