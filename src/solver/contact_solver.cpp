@@ -94,6 +94,7 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(colourStart_, kColourCount + 2);
     if (blocks_) blocks_->reserve(4 * bodyCount / static_cast<std::size_t>(blocks_->lanes()) + kColourCount + 1);
     grow(blockStart_, kColourCount + 2);
+    grow(lastPassStages_, kColourCount + 4);
 }
 
 SimdPath ContactSolver::setSimdPath(SimdPath path) {
@@ -528,6 +529,21 @@ void ContactSolver::addPassStages(StagedParallel& stages, std::uint32_t kind, Pa
         }
     }
     if (!constraints_.empty()) stages.add(kind, p | kOverflowStage, 0, 1, 1);
+}
+
+bool ContactSolver::takePassStagesChanged() {
+    // [wide, overflow, colour end, blockStart_[0 .. colour end]]: addPassStages reads nothing else.
+    const std::uint32_t colours = wide_ ? colourEnd_ : 0;
+    const std::size_t size = 3 + (wide_ ? std::size_t{colours} + 1 : 0);
+    const std::uint32_t head[3] = {wide_ ? 1u : 0u, constraints_.empty() ? 0u : 1u, colours};
+    bool changed = lastPassStages_.size() != size;
+    for (std::size_t i = 0; i < 3 && !changed; ++i) changed = lastPassStages_[i] != head[i];
+    for (std::size_t i = 3; i < size && !changed; ++i) changed = lastPassStages_[i] != blockStart_[i - 3];
+    if (changed) {
+        lastPassStages_.assign(head, head + 3);
+        if (wide_) lastPassStages_.insert(lastPassStages_.end(), blockStart_.begin(), blockStart_.begin() + colours + 1);
+    }
+    return changed;
 }
 
 void ContactSolver::runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last) {

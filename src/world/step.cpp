@@ -423,6 +423,24 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
     const bool hasJoints = jointSolver.constraintCount() > 0;
     const auto bodies = static_cast<std::uint32_t>(awakeBodies.size());
     const int substeps = settings.substeps, iterations = settings.solverIterations;
+    // The list is a function of these and of the contact solver's pass stages
+    // only: kept while none changed (a small world's list is the same step
+    // after step).
+    SubStepKey key;
+    key.bodies = bodies;
+    key.workers = tasks.workerCount();
+    key.projectionGroups = hasJoints ? jointSolver.projectionGroupCount() : 0;
+    key.substeps = substeps;
+    key.iterations = iterations;
+    key.integrator = settings.integrator;
+    key.callbacks = anyCallback;
+    key.springs = !springs.empty();
+    key.contacts = hasContacts;
+    key.joints = hasJoints;
+    key.built = true;
+    const bool contactStagesChanged = hasContacts && contactSolver.takePassStagesChanged();
+    if (!contactStagesChanged && key == subStepKey) return;
+    subStepKey = key;
     // Room for the most stages any step can have, so a step with more colours
     // than before allocates nothing.
     const auto passes = static_cast<std::size_t>(2 + iterations);
