@@ -29,6 +29,7 @@
 #include "fulcrum/math.hpp"
 #include "dynamics/body_store.hpp"
 #include "solver/contact_wide.hpp"
+#include "solver/graph_colouring.hpp"
 #include "solver/softness.hpp"
 
 namespace fulcrum {
@@ -201,6 +202,8 @@ private:
     std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
     std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by slot
     std::vector<std::uint32_t> colourOf_;
+    std::vector<ConstraintEnds> colouredEnds_;   // the ends colourOf_ was made for (colourGreedy keeps it while they hold)
+    bool coloursKept_ = false;                   // this step's colours and slots are the last step's
     std::vector<std::uint64_t> colourBits_;      // per solver body, the colours it has (graph_colouring.hpp)
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::unique_ptr<WideBlocks> blocks_;         // wide mode: the coloured constraints, lanes() per block
