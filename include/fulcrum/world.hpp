@@ -138,8 +138,8 @@ struct EnergyReport {
 // "Profiling"): wall-clock milliseconds per phase of the step pipeline
 // (docs/architecture.md), and what the step worked on. The phases follow one
 // another, so they add up to `total` but for the few microseconds between them.
-// Measured with std::chrono::steady_clock at the phase boundaries only (nine
-// clock reads per step), so it is always on; it is a diagnostic, not part of
+// Timed by steady_clock, its phases by shares of a cheaper counter (x86-64: rdtsc)
+// read at their boundaries, so it is always on; it is a diagnostic, not part of
 // the simulation: two runs of one scene give the same state, not the same times.
 struct StepProfile {
     double total = 0;       // World::step from entry to return

@@ -29,6 +29,7 @@
 #include "fulcrum/math.hpp"
 #include "dynamics/body_store.hpp"
 #include "solver/contact_wide.hpp"
+#include "solver/graph_colouring.hpp"
 #include "solver/softness.hpp"
 
 namespace fulcrum {
@@ -138,6 +139,11 @@ public:
     enum class Pass : std::uint32_t { WarmStart = 0, Solve = 1, Relax = 2 };
     void addPassStages(StagedParallel& stages, std::uint32_t kind, Pass pass) const;
     static std::uint32_t maxPassStages();  // the most stages addPassStages appends
+    // Whether addPassStages would append other stages than at the last call
+    // of this (what they depend on: the blocks of each colour up to the last
+    // non-empty one, and whether there is an overflow part). The step keeps
+    // its stage list while this and its own inputs are unchanged.
+    bool takePassStagesChanged();
     // Runs items [first, last) of a stage added above (its arg).
     void runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last);
 
@@ -196,10 +202,14 @@ private:
     std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
     std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by slot
     std::vector<std::uint32_t> colourOf_;
+    std::vector<ConstraintEnds> colouredEnds_;   // the ends colourOf_ was made for (colourGreedy keeps it while they hold)
+    bool coloursKept_ = false;                   // this step's colours and slots are the last step's
     std::vector<std::uint64_t> colourBits_;      // per solver body, the colours it has (graph_colouring.hpp)
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::unique_ptr<WideBlocks> blocks_;         // wide mode: the coloured constraints, lanes() per block
     std::vector<std::uint32_t> blockStart_;      // blocks_ of colour k: [blockStart[k], blockStart[k+1])
+    std::uint32_t colourEnd_ = 0;                // wide mode: colours from here on have no block (packWide)
+    std::vector<std::uint32_t> lastPassStages_;  // takePassStagesChanged: what addPassStages depended on last
     SimdPath simd_ = SimdPath::Scalar;           // set by the constructor
     bool wide_ = false;                          // simd_ != Scalar
     TaskSystem* tasks_ = nullptr;

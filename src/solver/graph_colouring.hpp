@@ -16,6 +16,7 @@ namespace fulcrum::detail {
 struct ConstraintEnds {
     std::uint32_t a = 0, b = 0;
     bool dynamicA = false, dynamicB = false;
+    bool operator==(const ConstraintEnds&) const = default;
 };
 
 // The ends of a constraint with solver-body indices bodyA, bodyB into
