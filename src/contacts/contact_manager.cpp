@@ -419,6 +419,12 @@ std::uint8_t ContactManager::collideSpheres(const BodyStore& w, Contact& c, std:
                                      wakeFlags(w.params[dA], w.params[dB]));
 }
 
+void ContactManager::mixMaterials(const BodyStore& w) {
+    for (Contact& c : contacts_) {
+        if (c.alive) mixMaterial(w, c, w.bodySlots[c.slotA].dense, w.bodySlots[c.slotB].dense);
+    }
+}
+
 std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real dt, NarrowScratch& ns) const {
     ManifoldBuffer& buffer = ns.buffer;
     std::vector<CachedManifold>& scratch = ns.manifolds;

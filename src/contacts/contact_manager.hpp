@@ -114,6 +114,9 @@ public:
     // (a joint that changes which partners it may collide with). Like
     // removeBody, after the world built the last step's contact report.
     void resetPairs(BodyStore& w, std::uint32_t slot);
+    // Every live contact's material mixed from its bodies' (as collideContact
+    // does): for a snapshot written before the contacts held it.
+    void mixMaterials(const BodyStore& w);
 
     // Broad phase + narrow phase + events. Clears the previous step's events.
     void update(BodyStore& w, const CollisionSettings& settings, const JointPairFilter& joints, TaskSystem& tasks, Real dt);

@@ -378,6 +378,10 @@ template <typename A>
 void io(A& a, Contact& c) {
     io(a, c.alive), io(a, c.sensor), io(a, c.touching), io(a, c.solved), io(a, c.slotA), io(a, c.slotB);
     io(a, c.proxyA), io(a, c.proxyB), io(a, c.nextFree), io(a, c.hasPose), io(a, c.relativePose);
+    // Version 9: the pair's mixed material. The step reads it before the
+    // narrow phase mixes it again, so a file without it (older) gets it mixed
+    // from the bodies on load (ContactManager::mixMaterials).
+    if (a.version >= 9) io(a, c.friction), io(a, c.restitution), io(a, c.rollingResistance);
     io(a, c.manifolds);
 }
 template <typename A>
@@ -915,6 +919,10 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
         for (const CachedManifold& m : c.manifolds) {
             if (m.pointCount > 4) fail("contacts[" + std::to_string(i) + "] manifold point count");
         }
+        const auto coefficient = [](Real x) { return x >= 0 && x < std::numeric_limits<Real>::infinity(); };
+        if (!coefficient(c.friction) || !coefficient(c.restitution) || !coefficient(c.rollingResistance)) {
+            fail("contacts[" + std::to_string(i) + "] material is negative or not finite");
+        }
     }
     // The free list: in range, dead entries only, no cycle (found by
     // fuzz/snapshot_fuzz.cpp: a head past the end made the next new contact
@@ -1099,6 +1107,7 @@ World loadSnapshotFromMemory(std::span<const std::uint8_t> bytes, std::string* u
         throw Error(source + ": invalid settings: " + e.what());
     }
     detail::validateLoaded(reader, w);
+    if (reader.version < 9) w.contactManager.mixMaterials(w);
 
     // Grow the per-step buffers as body creation would have (no allocation in the next step).
     const std::size_t bufferBodies = w.contactManager.bufferBodyCount();
