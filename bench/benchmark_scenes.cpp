@@ -23,6 +23,7 @@
 #include <cstring>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "fulcrum/fulcrum.hpp"
@@ -66,6 +67,9 @@ public:
         return true;
     }
     void step() override { world_->step(static_cast<fulcrum::Real>(scene_->dt)); }
+    void moveKinematic(std::size_t i, V3 origin, double dt) override {
+        world_->moveKinematic(ids_[i], fulcrum::Transform{toFulcrum(origin), fulcrum::Quat{}}, static_cast<fulcrum::Real>(dt));
+    }
     BodyState body(std::size_t i) const override {
         const fulcrum::BodyId id = ids_[i];
         const fulcrum::Quat q = world_->orientation(id);
@@ -136,6 +140,25 @@ std::pair<double, double> spinEnergyMomentum(const BodySpec& spec, const BodySta
     return {0.5 * dot(wl, ll), length(ll)};
 }
 
+// The mesh scenes (bench/mesh_scenes.hpp): how many dynamic bodies ended with
+// their origin below the mesh surface under it (fell through it), and how many
+// left the mesh's extent.
+std::string meshQuality(const Engine& engine, const SceneSpec& scene) {
+    V3 meshOrigin;
+    for (const BodySpec& b : scene.bodies) {
+        if (b.kind == BodySpec::Kind::Mesh) meshOrigin = b.position;
+    }
+    int below = 0, off = 0;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+        if (scene.bodies[i].isStatic || scene.bodies[i].isKinematic) continue;
+        const V3 p = engine.body(i).position;
+        const std::optional<double> surface = meshSurfaceHeight(*scene.mesh, meshOrigin, p);
+        if (!surface) ++off;
+        else if (p.y < *surface) ++below;
+    }
+    return format("; **fell through the mesh %d**, off the mesh %d", below, off);
+}
+
 // Seconds one engine may spend stepping one scene; a slower engine stops there
 // and its row says after how many steps (the harness must finish in minutes).
 double gBudgetSeconds = 60;
@@ -186,6 +209,9 @@ Result run(Engine& engine, const SceneSpec& scene) {
             stoppedAt = i;
             break;
         }
+        for (const KinematicPath& path : scene.kinematicPaths) {
+            engine.moveKinematic(static_cast<std::size_t>(path.body), path.origin(i), scene.dt);
+        }
         const auto t0 = std::chrono::steady_clock::now();
         engine.step();
         const auto t1 = std::chrono::steady_clock::now();
@@ -220,6 +246,7 @@ Result run(Engine& engine, const SceneSpec& scene) {
                 r.quality = format("%s: drift %.3f m, sink %.3f m; ", stands ? "stands" : "FAILS", drift, sink);
             }
             r.quality += format("asleep %d, deepest %.4f m", asleep, engine.deepestPenetration());
+            if (scene.mesh) r.quality += meshQuality(engine, scene);
             if (scene.fixedCost) r.quality = format("**%.1f us/step** (median); ", 1000 * median(r.stepMs)) + r.quality;
             break;
         }

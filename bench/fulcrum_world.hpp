@@ -30,6 +30,7 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
     def.threads = threads;
     def.gravity = toFulcrum(scene.gravity);
     if (scene.substeps > 0) def.substeps = scene.substeps;
+    if (scene.sleepVelocity > 0) def.linearSleepVelocity = static_cast<Real>(scene.sleepVelocity);
     FulcrumWorld out{std::make_unique<fulcrum::World>(def), {}, {}};
     fulcrum::World& world = *out.world;
     // One shape per distinct size, shared by the bodies that have it (as a
@@ -42,6 +43,23 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
         for (const V3& p : scene.hullPoints) points.push_back(toFulcrum(p));
         hull = fulcrum::Shape::convexHull(points);
     }
+    // The mesh scenes (bench/mesh_scenes.hpp): the scene's mesh and compound, each built once.
+    fulcrum::Shape mesh, compound;
+    if (scene.mesh) {
+        std::vector<fulcrum::Vec3> vertices;
+        vertices.reserve(scene.mesh->vertices.size());
+        for (const V3& v : scene.mesh->vertices) vertices.push_back(toFulcrum(v));
+        mesh = fulcrum::Shape::mesh(vertices, scene.mesh->triangles);
+    }
+    if (!scene.compoundHulls.empty()) {
+        std::vector<fulcrum::CompoundChild> children;
+        for (const std::vector<V3>& part : scene.compoundHulls) {
+            std::vector<fulcrum::Vec3> points;
+            for (const V3& p : part) points.push_back(toFulcrum(p));
+            children.push_back({fulcrum::Shape::convexHull(points), fulcrum::Transform{}});
+        }
+        compound = fulcrum::Shape::compound(children);
+    }
     for (const BodySpec& b : scene.bodies) {
         fulcrum::BodyDef d;
         d.type = b.isStatic ? fulcrum::BodyType::Static : fulcrum::BodyType::Dynamic;
@@ -52,14 +70,18 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
                 d.shape = (b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) ? unitBox : fulcrum::Shape::box(toFulcrum(b.half));
                 break;
             case BodySpec::Kind::Hull: d.shape = hull; break;
+            case BodySpec::Kind::Mesh: d.shape = mesh; break;
+            case BodySpec::Kind::Compound: d.shape = compound; break;
         }
+        if (b.isKinematic) d.type = fulcrum::BodyType::Kinematic;
         if (!scene.bodyCollisions) d.filter.group = -1;  // a shared negative group never collides
-        if (!b.isStatic) d.mass = real(b.mass);
+        if (!b.isStatic && !b.isKinematic) d.mass = real(b.mass);
         d.position = toFulcrum(b.position);
         d.orientation = {real(b.orientation.w), real(b.orientation.x), real(b.orientation.y), real(b.orientation.z)};
         d.linearVelocity = toFulcrum(b.linearVelocity);
         d.angularVelocity = toFulcrum(b.angularVelocity);
         d.friction = real(scene.friction);  // geometric mean of equal values: the pair value
+        d.restitution = real(scene.restitution);
         out.bodies.push_back(world.createBody(d));
     }
     for (const JointSpec& j : scene.joints) {
@@ -84,6 +106,15 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
         out.cloth = world.createCloth(d);
     }
     return out;
+}
+
+// Before step `step` (from 0): sets the scene's kinematic bodies moving along
+// their paths (SceneSpec::kinematicPaths).
+inline void driveKinematics(const FulcrumWorld& built, const SceneSpec& scene, int step) {
+    for (const KinematicPath& path : scene.kinematicPaths) {
+        built.world->moveKinematic(built.bodies[static_cast<std::size_t>(path.body)],
+                                   fulcrum::Transform{toFulcrum(path.origin(step)), fulcrum::Quat{}}, static_cast<fulcrum::Real>(scene.dt));
+    }
 }
 
 }  // namespace bench

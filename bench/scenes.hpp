@@ -6,8 +6,11 @@
 // Header-only: bench/CMakeLists.txt makes an executable of every bench/*.cpp.
 //
 // Everything here is double: the adapters cast to their engine's scalar.
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,18 +48,35 @@ inline V3 rotate(Q q, V3 v) {
 
 // ---- scene description ---------------------------------------------------------
 struct BodySpec {
-    enum class Kind { Box, Sphere, Capsule, Hull } kind = Kind::Box;  // Hull: the scene's hullPoints
+    // Hull: the scene's hullPoints. Mesh (static only): the scene's mesh; Compound: every hull of the
+    // scene's compoundHulls; for these two `position` is the body origin (the frame of their points).
+    enum class Kind { Box, Sphere, Capsule, Hull, Mesh, Compound } kind = Kind::Box;
     V3 position;                  // centre (= centre of mass: every shape here is symmetric)
     Q orientation;
     V3 half{0.5, 0.5, 0.5};       // box: half extents; sphere: radius in x; capsule: radius x, half height y (axis: local y)
     V3 linearVelocity, angularVelocity;  // world frame, at the start
     bool isStatic = false;
+    bool isKinematic = false;     // moved by the scene's kinematicPaths, never by contacts
     double mass = 1;
 };
 
 struct JointSpec {  // ball-and-socket; a = -1 is the static world
     int a = -1, b = -1;
     V3 anchor;      // world space at creation
+};
+
+// A static triangle mesh (bench/mesh_scenes.hpp), counter-clockwise seen from its front (solid) side.
+struct MeshSpec {
+    std::vector<V3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+// A kinematic body's path: before step k (from 0) the harness asks the engine
+// to bring the body's origin to origin(k) by the end of the step (orientation
+// kept at the identity).
+struct KinematicPath {
+    int body = -1;
+    std::function<V3(int)> origin;
 };
 
 // docs/benchmarks.md's cloth (the harness measures it from particle positions).
@@ -91,6 +111,12 @@ struct SceneSpec {
     int substeps = 0;          // 0: the engine's default; otherwise engines with sub-steps use this many
     bool bodyCollisions = true;  // false: no body collides with any other (Box3D's joint_grid)
     std::vector<V3> hullPoints;  // the one convex hull Kind::Hull bodies use, in their body frame
+    // The peers' mesh scenes (bench/mesh_scenes.hpp):
+    std::shared_ptr<const MeshSpec> mesh;         // the one mesh Kind::Mesh bodies use (shared: large)
+    std::vector<std::vector<V3>> compoundHulls;   // the hulls of every Kind::Compound body, in its body frame
+    double restitution = 0;                       // effective pair coefficient
+    double sleepVelocity = 0;                     // m/s a body must stay below to sleep; 0: the engine's default
+    std::vector<KinematicPath> kinematicPaths;
 };
 
 // ---- what an engine implements -------------------------------------------------
@@ -109,6 +135,9 @@ public:
     // Returns false, with the reason in `why`, when the engine can't hold it.
     virtual bool build(const SceneSpec& scene, std::string& why) = 0;
     virtual void step() = 0;
+    // Sets kinematic body `index` moving so that its origin reaches `origin` in
+    // `dt` (SceneSpec::kinematicPaths; called before each step).
+    virtual void moveKinematic(std::size_t /*index*/, V3 /*origin*/, double /*dt*/) {}
     // Before reading state after steps (MuJoCo computes poses lazily); not timed.
     virtual void sync() {}
     virtual BodyState body(std::size_t index) const = 0;

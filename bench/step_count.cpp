@@ -6,7 +6,8 @@
 //       build/release/bench/bench_step_count pyramid20 60
 // Prints the scene, the steps and a checksum of the final positions (so the
 // two builds' runs can be told apart from a broken one). Box3D's scenes
-// (bench/box3d_scenes.hpp) run at their full sizes, e.g. joint_grid.
+// (bench/box3d_scenes.hpp) and Jolt's run at their full sizes, e.g. joint_grid,
+// trees25, convex_vs_mesh.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -28,12 +29,19 @@ int main(int argc, char** argv) {
     const int steps = std::atoi(argv[2]);
     std::vector<bench::SceneSpec> scenes = bench::allScenes(true);
     for (bench::SceneSpec& scene : bench::box3dScenes(false)) scenes.push_back(std::move(scene));
+    for (bench::SceneSpec& scene : bench::joltScenes(false)) scenes.push_back(std::move(scene));
+    // The mesh scenes' small sizes too (trees100(10), convex_vs_mesh(7x7), ...): callgrind runs them in minutes.
+    for (bench::SceneSpec& scene : bench::box3dMeshScenes(true)) scenes.push_back(std::move(scene));
+    for (bench::SceneSpec& scene : bench::joltMeshScenes(true)) scenes.push_back(std::move(scene));
     for (const bench::SceneSpec& scene : scenes) {
         if (scene.name != name) continue;
         const bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
         World& world = *built.world;
         const std::vector<BodyId>& ids = built.bodies;
-        for (int i = 0; i < steps; ++i) world.step(static_cast<Real>(scene.dt));
+        for (int i = 0; i < steps; ++i) {
+            bench::driveKinematics(built, scene, i);
+            world.step(static_cast<Real>(scene.dt));
+        }
         double checksum = 0;
         for (const BodyId id : ids) {
             const Vec3 p = world.position(id);

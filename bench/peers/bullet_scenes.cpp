@@ -65,9 +65,20 @@ public:
         btCollisionShape* unitBox = nullptr;
         btCollisionShape* unitSphere = nullptr;
         btCollisionShape* hull = nullptr;
+        btCollisionShape* mesh = nullptr;
+        btCompoundShape* compound = nullptr;
+        btVector3 compoundCenter(0, 0, 0);  // the compound's centre of mass in the body frame
         for (const BodySpec& b : scene.bodies) {
             btCollisionShape* shape = nullptr;
-            if (b.kind == BodySpec::Kind::Sphere && b.half.x == 0.5 && !b.isStatic) {
+            btVector3 centerOffset(0, 0, 0);
+            if (b.kind == BodySpec::Kind::Mesh) {
+                if (mesh == nullptr) mesh = buildMesh(*scene.mesh);
+                shape = mesh;
+            } else if (b.kind == BodySpec::Kind::Compound) {
+                if (compound == nullptr) compound = buildCompound(scene.compoundHulls, compoundCenter);
+                shape = compound;
+                centerOffset = compoundCenter;
+            } else if (b.kind == BodySpec::Kind::Sphere && b.half.x == 0.5 && !b.isStatic) {
                 if (unitSphere == nullptr) unitSphere = addShape(std::make_unique<btSphereShape>(btScalar(0.5)));
                 shape = unitSphere;
             } else if (b.kind == BodySpec::Kind::Sphere) {
@@ -89,18 +100,24 @@ public:
             } else {
                 shape = addShape(std::make_unique<btBoxShape>(bt(b.half)));
             }
-            const auto mass = static_cast<btScalar>(b.isStatic ? 0.0 : b.mass);
+            const auto mass = static_cast<btScalar>(b.isStatic || b.isKinematic ? 0.0 : b.mass);
             btVector3 inertia(0, 0, 0);
             if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-            btTransform xf(btQuaternion(static_cast<btScalar>(b.orientation.x), static_cast<btScalar>(b.orientation.y),
-                                        static_cast<btScalar>(b.orientation.z), static_cast<btScalar>(b.orientation.w)),
-                           bt(b.position));
+            const btQuaternion rotation(static_cast<btScalar>(b.orientation.x), static_cast<btScalar>(b.orientation.y),
+                                        static_cast<btScalar>(b.orientation.z), static_cast<btScalar>(b.orientation.w));
+            // Bullet's body frame is the centre of mass: a compound's children are shifted by it.
+            btTransform xf(rotation, bt(b.position) + quatRotate(rotation, centerOffset));
+            centerOffsets_.push_back(centerOffset);
             states_.push_back(std::make_unique<btDefaultMotionState>(xf));
             btRigidBody::btRigidBodyConstructionInfo info(mass, states_.back().get(), shape, inertia);
             info.m_friction = friction;
-            info.m_restitution = 0;
+            info.m_restitution = static_cast<btScalar>(std::sqrt(scene.restitution));  // Bullet multiplies the two
             bodies_.push_back(std::make_unique<btRigidBody>(info));
             btRigidBody& body = *bodies_.back();
+            if (b.isKinematic) {
+                body.setCollisionFlags(body.getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+                body.setActivationState(DISABLE_DEACTIVATION);
+            }
             body.setLinearVelocity(bt(b.linearVelocity));
             body.setAngularVelocity(bt(b.angularVelocity));
             if (!scene.sleeping && mass > 0) body.setActivationState(DISABLE_DEACTIVATION);
@@ -129,11 +146,17 @@ public:
 
     void step() override { world_->stepSimulation(static_cast<btScalar>(scene_->dt), 0, static_cast<btScalar>(scene_->dt)); }
 
+    void moveKinematic(std::size_t i, V3 origin, double) override {
+        // Bullet turns the motion state's new transform into the kinematic body's velocity for the step.
+        states_[i]->setWorldTransform(btTransform(btQuaternion::getIdentity(), bt(origin) + centerOffsets_[i]));
+    }
+
     BodyState body(std::size_t i) const override {
         const btRigidBody& b = *bodies_[i];
         const btQuaternion q = b.getOrientation();
-        return {toV3(b.getCenterOfMassPosition()), {q.w(), q.x(), q.y(), q.z()}, toV3(b.getLinearVelocity()),
-                toV3(b.getAngularVelocity())};
+        // The body origin (the centre of mass less a compound's shift).
+        return {toV3(b.getCenterOfMassPosition() - quatRotate(q, centerOffsets_[i])), {q.w(), q.x(), q.y(), q.z()},
+                toV3(b.getLinearVelocity()), toV3(b.getAngularVelocity())};
     }
     bool asleep(std::size_t i) const override { return bodies_[i]->getActivationState() == ISLAND_SLEEPING; }
 
@@ -161,6 +184,59 @@ private:
         return shapes_.back().get();
     }
 
+    // A static btBvhTriangleMeshShape over the scene's mesh (Bullet keeps pointers into the arrays).
+    btCollisionShape* buildMesh(const MeshSpec& m) {
+        for (const V3& v : m.vertices) {
+            meshVertices_.push_back(static_cast<btScalar>(v.x));
+            meshVertices_.push_back(static_cast<btScalar>(v.y));
+            meshVertices_.push_back(static_cast<btScalar>(v.z));
+        }
+        for (const auto& t : m.triangles) {
+            for (const std::uint32_t k : t) meshIndices_.push_back(static_cast<int>(k));
+        }
+        meshArray_ = std::make_unique<btTriangleIndexVertexArray>(
+            static_cast<int>(m.triangles.size()), meshIndices_.data(), 3 * static_cast<int>(sizeof(int)),
+            static_cast<int>(m.vertices.size()), meshVertices_.data(), 3 * static_cast<int>(sizeof(btScalar)));
+        return addShape(std::make_unique<btBvhTriangleMeshShape>(meshArray_.get(), /*useQuantizedAabbCompression=*/true));
+    }
+
+    // A btCompoundShape of hulls, shifted so its centre of mass is the body's
+    // frame (`center`: where that is in the spec's body frame). The children's
+    // masses are in proportion to their points' bounding boxes' volumes: exact
+    // ratios for the trees' prisms of one shape, and for a single child.
+    btCompoundShape* buildCompound(const std::vector<std::vector<V3>>& parts, btVector3& center) {
+        std::vector<btScalar> weights;
+        btScalar total = 0;
+        center.setZero();
+        std::vector<btVector3> centroids;
+        for (const std::vector<V3>& part : parts) {
+            btVector3 lo = bt(part.front()), hi = lo, sum(0, 0, 0);
+            for (const V3& p : part) {
+                lo.setMin(bt(p));
+                hi.setMax(bt(p));
+                sum += bt(p);
+            }
+            const btVector3 size = hi - lo;
+            weights.push_back(size.x() * size.y() * size.z());
+            total += weights.back();
+            centroids.push_back(sum / static_cast<btScalar>(part.size()));
+            center += centroids.back() * weights.back();
+        }
+        center /= total;
+        auto compound = std::make_unique<btCompoundShape>();
+        for (const std::vector<V3>& part : parts) {
+            auto h = std::make_unique<btConvexHullShape>();
+            for (const V3& p : part) h->addPoint(bt(p) - center, false);
+            h->recalcLocalAabb();
+            h->optimizeConvexHull();
+            compound->addChildShape(btTransform::getIdentity(), h.get());
+            addShape(std::move(h));
+        }
+        btCompoundShape* out = compound.get();
+        addShape(std::move(compound));
+        return out;
+    }
+
     void buildCloth(const ClothSpec& c) {
         auto* soft = static_cast<btSoftRigidDynamicsWorld*>(world_.get());
         btSoftBodyWorldInfo& info = soft->getWorldInfo();
@@ -185,6 +261,10 @@ private:
     std::unique_ptr<btDiscreteDynamicsWorld> world_;
     std::vector<std::unique_ptr<btCollisionShape>> shapes_;
     std::vector<std::unique_ptr<btDefaultMotionState>> states_;
+    std::vector<btVector3> centerOffsets_;  // per body: its centre of mass in the spec's body frame
+    std::vector<btScalar> meshVertices_;
+    std::vector<int> meshIndices_;
+    std::unique_ptr<btTriangleIndexVertexArray> meshArray_;
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
     std::vector<btTypedConstraint*> constraints_;
     btSoftBody* cloth_ = nullptr;
