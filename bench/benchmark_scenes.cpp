@@ -141,22 +141,31 @@ std::pair<double, double> spinEnergyMomentum(const BodySpec& spec, const BodySta
 }
 
 // The mesh scenes (bench/mesh_scenes.hpp): how many dynamic bodies ended with
-// their origin below the mesh surface under it (fell through it), and how many
-// left the mesh's extent.
+// their origin more than kThrough below the mesh surface under it (fell
+// through it: a resting body's origin, at most on its own surface, is above
+// the mesh or a hair below it, as a pyramid's on its base), the lowest origin
+// relative to the surface, and how many left the mesh's extent.
 std::string meshQuality(const Engine& engine, const SceneSpec& scene) {
+    constexpr double kThrough = 0.1;
     V3 meshOrigin;
     for (const BodySpec& b : scene.bodies) {
         if (b.kind == BodySpec::Kind::Mesh) meshOrigin = b.position;
     }
     int below = 0, off = 0;
+    double lowest = 1e30;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
         if (scene.bodies[i].isStatic || scene.bodies[i].isKinematic) continue;
         const V3 p = engine.body(i).position;
         const std::optional<double> surface = meshSurfaceHeight(*scene.mesh, meshOrigin, p);
-        if (!surface) ++off;
-        else if (p.y < *surface) ++below;
+        if (!surface) {
+            ++off;
+            continue;
+        }
+        lowest = std::min(lowest, p.y - *surface);
+        if (p.y < *surface - kThrough) ++below;
     }
-    return format("; **fell through the mesh %d**, off the mesh %d", below, off);
+    return format("; **fell through the mesh %d** (origin > %.1f m under it), lowest origin %+.3f m from the surface, off the mesh %d",
+                  below, kThrough, lowest, off);
 }
 
 // Seconds one engine may spend stepping one scene; a slower engine stops there
