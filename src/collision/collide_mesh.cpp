@@ -65,12 +65,13 @@ constexpr Real kSeparationSlack = Real(1e-3);
 // True when the triangle's plane separates b from it by more than the margin
 // (b wholly above it, or wholly behind it): one extent, a pass over a hull's
 // vertices, where GJK takes several supports and simplex steps. On a hilly
-// mesh most triangles under a body's bounding box lie below it like this.
-// The three in-plane edge normals were tried as well: on convex_vs_mesh(7x7)
-// they saved less than the four extents cost (callgrind: 1,611.5 M with the
-// face normal alone, 1,661.9 M with all four, 1,742.8 M with neither), and
-// on the trees, whose hulls are near most triangles under them, the four
-// cost 2.2 G more than they saved over 21.6 G.
+// mesh many triangles under a body's bounding box lie below it like this.
+// Tried and measured (callgrind, docs/benchmarks.md "Mesh scenes"): the three
+// in-plane edge normals as further axes, and b's bounding box instead of b
+// (alone, or before b's extent for all but hulls). On convex_vs_mesh(7x7)
+// this one saves most (7.5 %); on trees100(10), whose hulls lie near most
+// triangles under them, every variant costs more than it saves, this one
+// 2.5 %, the box alone 0.5 %.
 bool separatedByTrianglePlane(const Vec3 w[3], const Vec3& faceN, const ConvexShape& b, Real margin) {
     const Real reach = margin + kSeparationSlack;
     Real lo, hi;
