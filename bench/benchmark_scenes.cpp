@@ -24,6 +24,7 @@
 #include <cstring>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "fulcrum/fulcrum.hpp"
@@ -79,6 +80,9 @@ public:
         return out;
     }
     void step() override { world_->step(static_cast<fulcrum::Real>(scene_->dt)); }
+    void moveKinematic(std::size_t i, V3 origin, double dt) override {
+        world_->moveKinematic(ids_[i], fulcrum::Transform{toFulcrum(origin), fulcrum::Quat{}}, static_cast<fulcrum::Real>(dt));
+    }
     BodyState body(std::size_t i) const override {
         const fulcrum::BodyId id = ids_[i];
         const fulcrum::Quat q = world_->orientation(id);
@@ -151,6 +155,38 @@ std::pair<double, double> spinEnergyMomentum(const BodySpec& spec, const BodySta
     return {0.5 * dot(wl, ll), length(ll)};
 }
 
+// The mesh scenes (bench/mesh_scenes.hpp): how many dynamic bodies ended with
+// their origin more than kThrough below the mesh surface under it (fell
+// through it: a resting body's origin, at most on its own surface, is above
+// the mesh or a hair below it, as a pyramid's on its base), the lowest origin
+// relative to the surface, and how many left the mesh's extent.
+std::string meshQuality(const Engine& engine, const SceneSpec& scene) {
+    constexpr double kThrough = 0.1;
+    V3 meshOrigin;
+    int mesh = -1;
+    for (const BodySpec& b : scene.bodies) {
+        if (b.mesh >= 0) {
+            mesh = b.mesh;
+            meshOrigin = b.position;
+        }
+    }
+    int below = 0, off = 0;
+    double lowest = 1e30;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+        if (scene.bodies[i].isStatic || scene.bodies[i].isKinematic) continue;
+        const V3 p = engine.body(i).position;
+        const std::optional<double> surface = meshSurfaceHeight(*scene.meshes[static_cast<std::size_t>(mesh)], meshOrigin, p);
+        if (!surface) {
+            ++off;
+            continue;
+        }
+        lowest = std::min(lowest, p.y - *surface);
+        if (p.y < *surface - kThrough) ++below;
+    }
+    return format("; **fell through the mesh %d** (origin > %.1f m under it), lowest origin %+.3f m from the surface, off the mesh %d",
+                  below, kThrough, lowest, off);
+}
+
 // Seconds one engine may spend stepping one scene; a slower engine stops there
 // and its row says after how many steps (the harness must finish in minutes).
 double gBudgetSeconds = 60;
@@ -202,6 +238,9 @@ Result run(Engine& engine, const SceneSpec& scene) {
             stoppedAt = i;
             break;
         }
+        for (const KinematicPath& path : scene.kinematicPaths) {
+            engine.moveKinematic(static_cast<std::size_t>(path.body), path.origin(i), scene.dt);
+        }
         const auto t0 = std::chrono::steady_clock::now();
         // A churn scene's script runs with the step it comes before, timed as Box3D's benchmark times it.
         while (nextEvent < scene.script.size() && scene.script[nextEvent].step <= i) {
@@ -245,6 +284,7 @@ Result run(Engine& engine, const SceneSpec& scene) {
                 r.quality = format("%s: drift %.3f m, sink %.3f m; ", stands ? "stands" : "FAILS", drift, sink);
             }
             r.quality += format("asleep %d, deepest %.4f m", asleep, engine.deepestPenetration());
+            if (!scene.meshes.empty()) r.quality += meshQuality(engine, scene);
             if (scene.fixedCost) r.quality = format("**%.1f us/step** (median); ", 1000 * median(r.stepMs)) + r.quality;
             break;
         }

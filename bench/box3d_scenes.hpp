@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_scenes.hpp"
 #include "scenes.hpp"
 
 namespace bench {
@@ -256,21 +257,23 @@ inline SceneSpec joltPyramid(int height = 15) {
     return s;
 }
 
-// The part of Box3D's suite the harness runs (--suite box3d). Not yet here:
-// junkyard, rain, trees, washer and large_world (meshes, ragdolls created
-// and destroyed while stepping, a kinematic drum, a million static bodies).
+// The part of Box3D's suite the harness runs (--suite box3d). Its rain,
+// washer and large_world are in bench/churn_scenes.hpp (--suite churn).
 inline std::vector<SceneSpec> box3dScenes(bool quick) {
-    if (quick) {
-        return {jointGrid(30), largePyramid(40), manyPyramids(4, 4), hullPileScene(convexPile(4, 4, 20))};
-    }
-    return {jointGrid(), largePyramid(), manyPyramids(), hullPileScene(convexPile())};
+    std::vector<SceneSpec> scenes = quick ? std::vector<SceneSpec>{jointGrid(30), largePyramid(40), manyPyramids(4, 4),
+                                                                   hullPileScene(convexPile(4, 4, 20))}
+                                          : std::vector<SceneSpec>{jointGrid(), largePyramid(), manyPyramids(),
+                                                                   hullPileScene(convexPile())};
+    for (SceneSpec& s : box3dMeshScenes(quick)) scenes.push_back(std::move(s));  // trees, junkyard (mesh_scenes.hpp)
+    return scenes;
 }
 
 // The part of Jolt's PerformanceTest the harness runs (--suite jolt). Not
-// yet: Ragdoll, ConvexVsMesh (a mesh terrain) and the high-speed continuous bodies.
+// yet: Ragdoll. Its HighSpeed is in bench/churn_scenes.hpp (--suite churn).
 inline std::vector<SceneSpec> joltScenes(bool quick) {
-    if (quick) return {joltPyramid(8)};
-    return {joltPyramid()};
+    std::vector<SceneSpec> scenes{quick ? joltPyramid(8) : joltPyramid()};
+    for (SceneSpec& s : joltMeshScenes(quick)) scenes.push_back(std::move(s));  // ConvexVsMesh (mesh_scenes.hpp)
+    return scenes;
 }
 
 }  // namespace bench

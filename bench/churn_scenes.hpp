@@ -15,6 +15,7 @@
 // overlap, and for large_world how far the spheres rest from where they should.
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -193,26 +194,27 @@ inline SceneSpec rain(int gridCount = 10, int groupSize = 3, int steps = 400) {
     s.steps = steps;
     s.substeps = 4;
     const double cell = 15, span = cell * gridCount;
-    MeshSpec mesh;
+    auto mesh = std::make_shared<MeshSpec>();
+    const auto index = [](int i) { return static_cast<std::uint32_t>(i); };
     const int rows = 8;
     const double width = cell / rows;
     for (int ix = 0; ix <= rows; ++ix) {
-        for (int iz = 0; iz <= rows; ++iz) mesh.vertices.push_back({-0.5 * cell + ix * width, 0, -0.5 * cell + iz * width});
+        for (int iz = 0; iz <= rows; ++iz) mesh->vertices.push_back({-0.5 * cell + ix * width, 0, -0.5 * cell + iz * width});
     }
     for (int ix = 0; ix < rows; ++ix) {
         for (int iz = 0; iz < rows; ++iz) {
             const int i1 = iz + (rows + 1) * ix, i2 = i1 + 1, i3 = i2 + (rows + 1), i4 = i3 - 1;
-            mesh.triangles.push_back({i1, i2, i3});
-            mesh.triangles.push_back({i3, i4, i1});
+            mesh->triangles.push_back({index(i1), index(i2), index(i3)});
+            mesh->triangles.push_back({index(i3), index(i4), index(i1)});
         }
     }
-    const int torusBase = static_cast<int>(mesh.vertices.size()), segments = 16;
+    const int torusBase = static_cast<int>(mesh->vertices.size()), segments = 16;
     const double radius = 0.25 * cell, thickness = 1;
     for (int r = 0; r < segments; ++r) {
         for (int t = 0; t < segments; ++t) {
             const double u = 2 * kPi * t / segments, v = 2 * kPi * r / segments;
-            mesh.vertices.push_back({(radius + thickness * std::cos(v)) * std::cos(u), (radius + thickness * std::cos(v)) * std::sin(u),
-                                     thickness * std::sin(v)});
+            mesh->vertices.push_back({(radius + thickness * std::cos(v)) * std::cos(u), (radius + thickness * std::cos(v)) * std::sin(u),
+                                      thickness * std::sin(v)});
         }
     }
     for (int r1 = 0; r1 < segments; ++r1) {
@@ -221,8 +223,8 @@ inline SceneSpec rain(int gridCount = 10, int groupSize = 3, int steps = 400) {
             const int t2 = (t1 + 1) % segments;
             const int i1 = torusBase + r1 * segments + t1, i2 = torusBase + r1 * segments + t2;
             const int i3 = torusBase + r2 * segments + t2, i4 = torusBase + r2 * segments + t1;
-            mesh.triangles.push_back({i1, i2, i3});
-            mesh.triangles.push_back({i3, i4, i1});
+            mesh->triangles.push_back({index(i1), index(i2), index(i3)});
+            mesh->triangles.push_back({index(i3), index(i4), index(i1)});
         }
     }
     s.meshes.push_back(std::move(mesh));

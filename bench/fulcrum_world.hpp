@@ -18,9 +18,10 @@ inline fulcrum::Vec3 toFulcrum(V3 v) {
 }
 
 
-// Shapes the churn scenes' bodies need (bench/churn_scenes.hpp): a body of
-// parts (a compound; one part off the origin too), a scene mesh, a box of any
-// size; made once per distinct description and shared, as a game shares them.
+// Shapes the peers' scenes' bodies need (bench/churn_scenes.hpp,
+// bench/mesh_scenes.hpp): a body of parts (a compound; one part off the
+// origin too), a scene mesh, the scene's shared compound, a box of any size;
+// made once per distinct description and shared, as a game shares them.
 class FulcrumShapes {
 public:
     // One shape per distinct size, shared by the bodies that have it (as a
@@ -33,6 +34,15 @@ public:
             std::vector<fulcrum::Vec3> points;
             for (const V3& p : scene.hullPoints) points.push_back(bench::toFulcrum(p));
             hull_ = fulcrum::Shape::convexHull(points);
+        }
+        if (!scene.sharedCompoundHulls.empty()) {
+            std::vector<fulcrum::CompoundChild> children;
+            for (const std::vector<V3>& hull : scene.sharedCompoundHulls) {
+                std::vector<fulcrum::Vec3> points;
+                for (const V3& p : hull) points.push_back(bench::toFulcrum(p));
+                children.push_back({fulcrum::Shape::convexHull(points), fulcrum::Transform{}});
+            }
+            sharedCompound_ = fulcrum::Shape::compound(children);
         }
     }
 
@@ -49,6 +59,7 @@ public:
                 d.shape = (b.half.x == 0.5 && b.half.y == 0.5 && b.half.z == 0.5) ? unitBox_ : fulcrum::Shape::box(bench::toFulcrum(b.half));
                 break;
             case BodySpec::Kind::Hull: d.shape = hull_; break;
+            case BodySpec::Kind::SharedCompound: d.shape = sharedCompound_; break;
         }
         if (b.parts.size() == 1) {
             // One part (a ragdoll bone's capsule): the body's frame on the part
@@ -76,7 +87,7 @@ public:
         d.angularVelocity = bench::toFulcrum(b.angularVelocity);
         // The scene's: the geometric mean of equal values is the pair value.
         d.friction = real(b.friction >= 0 ? b.friction : scene_->friction);
-        d.restitution = real(b.restitution);
+        d.restitution = real(b.restitution >= 0 ? b.restitution : scene_->restitution);
         return d;
     }
 
@@ -118,14 +129,11 @@ public:
     const fulcrum::Shape& mesh(int index) {
         const auto found = meshes_.find(index);
         if (found != meshes_.end()) return found->second;
-        const MeshSpec& m = scene_->meshes[static_cast<std::size_t>(index)];
+        const MeshSpec& m = *scene_->meshes[static_cast<std::size_t>(index)];
         std::vector<fulcrum::Vec3> vertices;
+        vertices.reserve(m.vertices.size());
         for (const V3& v : m.vertices) vertices.push_back(bench::toFulcrum(v));
-        std::vector<std::array<std::uint32_t, 3>> triangles;
-        for (const auto& t : m.triangles) {
-            triangles.push_back({static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
-        }
-        return meshes_.emplace(index, fulcrum::Shape::mesh(vertices, triangles)).first->second;
+        return meshes_.emplace(index, fulcrum::Shape::mesh(vertices, m.triangles)).first->second;
     }
 
     const fulcrum::Shape& box(V3 half) {
@@ -137,7 +145,7 @@ public:
 
 private:
     const SceneSpec* scene_;
-    fulcrum::Shape unitBox_, unitSphere_, hull_;
+    fulcrum::Shape unitBox_, unitSphere_, hull_, sharedCompound_;
     std::map<std::vector<double>, fulcrum::Shape> cache_;
     std::map<int, fulcrum::Shape> meshes_;
 };
@@ -211,6 +219,7 @@ inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {
     def.threads = threads;
     def.gravity = toFulcrum(scene.gravity);
     if (scene.substeps > 0) def.substeps = scene.substeps;
+    if (scene.sleepVelocity > 0) def.linearSleepVelocity = static_cast<Real>(scene.sleepVelocity);
     FulcrumWorld out{std::make_unique<fulcrum::World>(def), {}, {}, {}};
     fulcrum::World& world = *out.world;
     out.shapes = std::make_unique<FulcrumShapes>(scene);
@@ -314,5 +323,14 @@ private:
     std::vector<std::vector<fulcrum::JointId>> joints_;
     std::size_t next_ = 0;
 };
+
+// Before step `step` (from 0): sets the scene's kinematic bodies moving along
+// their paths (SceneSpec::kinematicPaths).
+inline void driveKinematics(const FulcrumWorld& built, const SceneSpec& scene, int step) {
+    for (const KinematicPath& path : scene.kinematicPaths) {
+        built.world->moveKinematic(built.bodies[static_cast<std::size_t>(path.body)],
+                                   fulcrum::Transform{toFulcrum(path.origin(step)), fulcrum::Quat{}}, static_cast<fulcrum::Real>(scene.dt));
+    }
+}
 
 }  // namespace bench

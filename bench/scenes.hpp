@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -56,21 +58,28 @@ struct ShapePart {
 };
 
 struct BodySpec {
-    enum class Kind { Box, Sphere, Capsule, Hull } kind = Kind::Box;  // Hull: the scene's hullPoints
+    // Hull: the scene's hullPoints. SharedCompound: one compound of every hull
+    // in the scene's sharedCompoundHulls, shared by all such bodies, `position`
+    // its origin (the frame of the hulls' points); unlike `parts` (a body's own
+    // shapes, each placed in the body's frame), engines build it once for the
+    // scene and Bullet shifts it to its centre of mass (bench/mesh_scenes.hpp).
+    enum class Kind { Box, Sphere, Capsule, Hull, SharedCompound } kind = Kind::Box;
     V3 position;                  // centre (= centre of mass: every shape here is symmetric)
     Q orientation;
     V3 half{0.5, 0.5, 0.5};       // box: half extents; sphere: radius in x; capsule: radius x, half height y (axis: local y)
     V3 linearVelocity, angularVelocity;  // world frame, at the start
     bool isStatic = false;
+    // Pushed by nothing: moves at its velocities (the washer's drum), or, when
+    // a scene's kinematicPaths names it, along that path (the junkyard's pusher).
+    bool isKinematic = false;
     double mass = 1;
-    // Churn and scale scenes (bench/churn_scenes.hpp):
-    bool isKinematic = false;      // moves at its velocities, pushed by nothing
+    // The peers' churn and mesh scenes (bench/churn_scenes.hpp, bench/mesh_scenes.hpp):
     bool isBullet = false;         // continuous collision against moving bodies too
     std::vector<ShapePart> parts;  // non-empty: the body is these (kind and half unused), position = the body's origin
-    int mesh = -1;                 // >= 0: a static body whose shape is the scene's meshes[mesh]
+    int mesh = -1;                 // >= 0: a static body whose shape is the scene's meshes[mesh], position = the mesh's origin
     int filterGroup = 0;           // bodies sharing a negative group never collide
     double friction = -1;          // >= 0: this body's own (else the scene's)
-    double restitution = 0;
+    double restitution = -1;       // >= 0: this body's own (else the scene's)
 };
 
 struct JointSpec {  // ball-and-socket; a = -1 is the static world
@@ -85,12 +94,6 @@ struct JointSpec {  // ball-and-socket; a = -1 is the static world
     double swing = 0;             // ConeTwist: cone half-angle, rad
     double lower = 0, upper = 0;  // ConeTwist: twist limits; Hinge: angle limits (rad)
     double frictionTorque = 0;    // N m
-};
-
-// A static triangle mesh (the rain's ground cells).
-struct MeshSpec {
-    std::vector<V3> vertices;
-    std::vector<std::array<int, 3>> triangles;
 };
 
 // Bodies and joints a scene's script creates and destroys while stepping
@@ -112,6 +115,21 @@ struct StaticGrid {
     int nx = 0, nz = 0;
     double cell = 1, y = 0;
     V3 half;
+};
+
+// A static triangle mesh (the rain's ground cells, the trees' and Jolt's
+// terrains), counter-clockwise seen from its front (solid) side.
+struct MeshSpec {
+    std::vector<V3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+// A kinematic body's path (BodySpec::isKinematic): before step k (from 0) the
+// harness asks the engine to bring the body's origin to origin(k) by the end
+// of the step (orientation kept at the identity).
+struct KinematicPath {
+    int body = -1;
+    std::function<V3(int)> origin;
 };
 
 // docs/benchmarks.md's cloth (the harness measures it from particle positions).
@@ -147,8 +165,14 @@ struct SceneSpec {
     int substeps = 0;          // 0: the engine's default; otherwise engines with sub-steps use this many
     bool bodyCollisions = true;  // false: no body collides with any other (Box3D's joint_grid)
     std::vector<V3> hullPoints;  // the one convex hull Kind::Hull bodies use, in their body frame
+    double restitution = 0;    // effective pair coefficient (BodySpec::restitution overrides it)
+    double sleepVelocity = 0;  // m/s a body must stay below to sleep; 0: the engine's default
+    // The static meshes bodies name by BodySpec::mesh (shared: the trees' are large).
+    std::vector<std::shared_ptr<const MeshSpec>> meshes;
+    // Mesh scenes (bench/mesh_scenes.hpp):
+    std::vector<std::vector<V3>> sharedCompoundHulls;  // the hulls of every Kind::SharedCompound body, in its body frame
+    std::vector<KinematicPath> kinematicPaths;
     // Churn and scale (bench/churn_scenes.hpp):
-    std::vector<MeshSpec> meshes;
     std::vector<BodyGroup> groups;
     std::vector<ScriptEvent> script;  // in step order
     StaticGrid staticGrid;
@@ -172,6 +196,9 @@ public:
     // Returns false, with the reason in `why`, when the engine can't hold it.
     virtual bool build(const SceneSpec& scene, std::string& why) = 0;
     virtual void step() = 0;
+    // Sets kinematic body `index` moving so that its origin reaches `origin` in
+    // `dt` (SceneSpec::kinematicPaths; called before each step).
+    virtual void moveKinematic(std::size_t /*index*/, V3 /*origin*/, double /*dt*/) {}
     // Before reading state after steps (MuJoCo computes poses lazily); not timed.
     virtual void sync() {}
     virtual BodyState body(std::size_t index) const = 0;

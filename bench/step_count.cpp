@@ -6,9 +6,11 @@
 //       build/release/bench/bench_step_count pyramid20 60
 // Prints the scene, the steps and a checksum of the final positions (so the
 // two builds' runs can be told apart from a broken one). Box3D's scenes
-// (bench/box3d_scenes.hpp) run at their full sizes, e.g. joint_grid; the
-// churn scenes (bench/churn_scenes.hpp) at their full or quick sizes, their
-// script's creations and destructions inside the counted step (callgrind:
+// (bench/box3d_scenes.hpp) and Jolt's run at their full sizes, e.g. joint_grid,
+// trees25, convex_vs_mesh, and the mesh scenes at their small sizes too
+// (trees100(10), convex_vs_mesh(7x7)); the churn scenes
+// (bench/churn_scenes.hpp) at their full or quick sizes, their script's
+// creations and destructions inside the counted step (callgrind:
 // --toggle-collect='scriptAndStep(*)' counts them with the step).
 #include <cstdio>
 #include <cstdlib>
@@ -39,6 +41,10 @@ int main(int argc, char** argv) {
     const int steps = std::atoi(argv[2]);
     std::vector<bench::SceneSpec> scenes = bench::allScenes(true);
     for (bench::SceneSpec& scene : bench::box3dScenes(false)) scenes.push_back(std::move(scene));
+    for (bench::SceneSpec& scene : bench::joltScenes(false)) scenes.push_back(std::move(scene));
+    // The mesh scenes' small sizes too (trees100(10), convex_vs_mesh(7x7), ...): callgrind runs them in minutes.
+    for (bench::SceneSpec& scene : bench::box3dMeshScenes(true)) scenes.push_back(std::move(scene));
+    for (bench::SceneSpec& scene : bench::joltMeshScenes(true)) scenes.push_back(std::move(scene));
     // The churn scenes by name: full size, or the quick sizes (e.g. rain(4x2)).
     for (bench::SceneSpec& scene : bench::churnScenes(false)) scenes.push_back(std::move(scene));
     for (bench::SceneSpec& scene : bench::churnScenes(true)) scenes.push_back(std::move(scene));
@@ -48,7 +54,10 @@ int main(int argc, char** argv) {
         World& world = *built.world;
         std::vector<BodyId> ids = built.bodies;
         bench::FulcrumScript script(scene, built);
-        for (int i = 0; i < steps; ++i) scriptAndStep(script, world, i, static_cast<Real>(scene.dt));
+        for (int i = 0; i < steps; ++i) {
+            bench::driveKinematics(built, scene, i);
+            scriptAndStep(script, world, i, static_cast<Real>(scene.dt));
+        }
         for (const BodyId id : script.liveBodies()) ids.push_back(id);
         double checksum = 0;
         for (const BodyId id : ids) {

@@ -91,6 +91,7 @@ fulcrum::World build(const bench::SceneSpec& scene, int threads) {
                 d.shape = fulcrum::Shape::convexHull(points);
                 break;
             }
+            case bench::BodySpec::Kind::SharedCompound: break;  // the mesh scenes' (not among the scenes run here)
         }
         if (!b.isStatic) d.mass = real(b.mass);
         d.position = vec(b.position);

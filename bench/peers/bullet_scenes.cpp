@@ -65,7 +65,12 @@ public:
         world_->setGravity(bt(scene.gravity));
         world_->getPairCache()->setOverlapFilterCallback(&groupFilter_);
 
-        for (const BodySpec& b : scene.bodies) bodies_.push_back(makeBody(b));
+        for (const BodySpec& b : scene.bodies) {
+            bodies_.push_back(makeBody(b));
+            centerOffsets_.push_back(centerOffset(b));
+        }
+        onPath_.assign(scene.bodies.size(), false);
+        for (const KinematicPath& path : scene.kinematicPaths) onPath_[static_cast<std::size_t>(path.body)] = true;
         if (scene.staticGrid.nx > 0) {
             const StaticGrid& g = scene.staticGrid;
             BodySpec tile;
@@ -104,10 +109,11 @@ public:
     }
 
     void step() override {
-        // Kinematic bodies move at their velocities: Bullet reads their pose from the motion state each step.
+        // Kinematic bodies move at their velocities (those on a path: moveKinematic):
+        // Bullet reads their pose from the motion state each step.
         const auto dt = static_cast<btScalar>(scene_->dt);
         for (std::size_t i = 0; i < bodies_.size(); ++i) {
-            if (!scene_->bodies[i].isKinematic) continue;
+            if (!scene_->bodies[i].isKinematic || onPath_[i]) continue;
             btRigidBody& b = *bodies_[i];
             btTransform xf;
             btTransformUtil::integrateTransform(b.getWorldTransform(), bt(scene_->bodies[i].linearVelocity),
@@ -148,11 +154,17 @@ public:
         return out;
     }
 
+    void moveKinematic(std::size_t i, V3 origin, double) override {
+        // Bullet turns the motion state's new transform into the kinematic body's velocity for the step.
+        bodies_[i]->getMotionState()->setWorldTransform(btTransform(btQuaternion::getIdentity(), bt(origin) + centerOffsets_[i]));
+    }
+
     BodyState body(std::size_t i) const override {
         const btRigidBody& b = *bodies_[i];
         const btQuaternion q = b.getOrientation();
-        return {toV3(b.getCenterOfMassPosition()), {q.w(), q.x(), q.y(), q.z()}, toV3(b.getLinearVelocity()),
-                toV3(b.getAngularVelocity())};
+        // The body origin (the centre of mass less a compound's shift).
+        return {toV3(b.getCenterOfMassPosition() - quatRotate(q, centerOffsets_[i])), {q.w(), q.x(), q.y(), q.z()},
+                toV3(b.getLinearVelocity()), toV3(b.getAngularVelocity())};
     }
     bool asleep(std::size_t i) const override { return bodies_[i]->getActivationState() == ISLAND_SLEEPING; }
 
@@ -196,17 +208,12 @@ private:
     btCollisionShape* shapeFor(const BodySpec& b) {
         if (b.mesh >= 0) {
             auto& shape = meshShapes_[b.mesh];
-            if (shape == nullptr) {
-                const MeshSpec& m = scene_->meshes[static_cast<std::size_t>(b.mesh)];
-                auto mesh = std::make_unique<btTriangleMesh>();
-                for (const auto& t : m.triangles) {
-                    mesh->addTriangle(bt(m.vertices[static_cast<std::size_t>(t[0])]), bt(m.vertices[static_cast<std::size_t>(t[1])]),
-                                      bt(m.vertices[static_cast<std::size_t>(t[2])]));
-                }
-                shape = addShape(std::make_unique<btBvhTriangleMeshShape>(mesh.get(), true));
-                meshes_.push_back(std::move(mesh));
-            }
+            if (shape == nullptr) shape = buildMesh(*scene_->meshes[static_cast<std::size_t>(b.mesh)]);
             return shape;
+        }
+        if (b.kind == BodySpec::Kind::SharedCompound && b.parts.empty()) {
+            if (sharedCompound_ == nullptr) sharedCompound_ = buildCompound(scene_->sharedCompoundHulls, sharedCompoundCenter_);
+            return sharedCompound_;
         }
         std::vector<double> key{double(static_cast<int>(b.kind)), b.half.x, b.half.y, b.half.z};
         for (const ShapePart& p : b.parts) {
@@ -237,6 +244,11 @@ private:
         return shape;
     }
 
+    // Where the body's shape has its centre of mass in the spec's body frame (Bullet's body frame).
+    btVector3 centerOffset(const BodySpec& b) const {
+        return b.kind == BodySpec::Kind::SharedCompound && b.parts.empty() ? sharedCompoundCenter_ : btVector3(0, 0, 0);
+    }
+
     static btQuaternion quat(Q q) {
         return {static_cast<btScalar>(q.x), static_cast<btScalar>(q.y), static_cast<btScalar>(q.z), static_cast<btScalar>(q.w)};
     }
@@ -247,13 +259,15 @@ private:
         const auto mass = static_cast<btScalar>(moving ? b.mass : 0.0);
         btVector3 inertia(0, 0, 0);
         if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-        // A compound's origin is the body's origin here (Bullet takes the inertia about it: close enough for a benchmark).
-        btTransform xf(quat(b.orientation), bt(b.position));
+        // A body of parts: its origin is the body's origin here (Bullet takes the inertia about it: close enough for
+        // a benchmark); the shared compound is shifted to its centre of mass (the trees topple about it).
+        btTransform xf(quat(b.orientation), bt(b.position) + quatRotate(quat(b.orientation), centerOffset(b)));
         auto* state = new btDefaultMotionState(xf);  // owned by the body's slot: freed with it
         btRigidBody::btRigidBodyConstructionInfo info(mass, state, shape, inertia);
         // Bullet combines friction and restitution as products: each body gets sqrt(mu) for a pair value mu.
         info.m_friction = static_cast<btScalar>(std::sqrt(b.friction >= 0 ? b.friction : scene_->friction));
-        info.m_restitution = static_cast<btScalar>(b.restitution);
+        // A body's own restitution as given; the scene's is a pair value (Bullet multiplies the two: sqrt each).
+        info.m_restitution = static_cast<btScalar>(b.restitution >= 0 ? b.restitution : std::sqrt(scene_->restitution));
         auto body = std::make_unique<btRigidBody>(info);
         body->setLinearVelocity(bt(b.linearVelocity));
         body->setAngularVelocity(bt(b.angularVelocity));
@@ -310,6 +324,61 @@ private:
         return shapes_.back().get();
     }
 
+    // A static btBvhTriangleMeshShape over a scene mesh (Bullet keeps pointers into the arrays).
+    btCollisionShape* buildMesh(const MeshSpec& m) {
+        meshArrays_.push_back(std::make_unique<MeshArrays>());
+        MeshArrays& arrays = *meshArrays_.back();
+        for (const V3& v : m.vertices) {
+            arrays.vertices.push_back(static_cast<btScalar>(v.x));
+            arrays.vertices.push_back(static_cast<btScalar>(v.y));
+            arrays.vertices.push_back(static_cast<btScalar>(v.z));
+        }
+        for (const auto& t : m.triangles) {
+            for (const std::uint32_t k : t) arrays.indices.push_back(static_cast<int>(k));
+        }
+        arrays.array = std::make_unique<btTriangleIndexVertexArray>(
+            static_cast<int>(m.triangles.size()), arrays.indices.data(), 3 * static_cast<int>(sizeof(int)),
+            static_cast<int>(m.vertices.size()), arrays.vertices.data(), 3 * static_cast<int>(sizeof(btScalar)));
+        return addShape(std::make_unique<btBvhTriangleMeshShape>(arrays.array.get(), /*useQuantizedAabbCompression=*/true));
+    }
+
+    // A btCompoundShape of hulls, shifted so its centre of mass is the body's
+    // frame (`center`: where that is in the spec's body frame). The children's
+    // masses are in proportion to their points' bounding boxes' volumes: exact
+    // ratios for the trees' prisms of one shape, and for a single child.
+    btCompoundShape* buildCompound(const std::vector<std::vector<V3>>& parts, btVector3& center) {
+        std::vector<btScalar> weights;
+        btScalar total = 0;
+        center.setZero();
+        std::vector<btVector3> centroids;
+        for (const std::vector<V3>& part : parts) {
+            btVector3 lo = bt(part.front()), hi = lo, sum(0, 0, 0);
+            for (const V3& p : part) {
+                lo.setMin(bt(p));
+                hi.setMax(bt(p));
+                sum += bt(p);
+            }
+            const btVector3 size = hi - lo;
+            weights.push_back(size.x() * size.y() * size.z());
+            total += weights.back();
+            centroids.push_back(sum / static_cast<btScalar>(part.size()));
+            center += centroids.back() * weights.back();
+        }
+        center /= total;
+        auto compound = std::make_unique<btCompoundShape>();
+        for (const std::vector<V3>& part : parts) {
+            auto h = std::make_unique<btConvexHullShape>();
+            for (const V3& p : part) h->addPoint(bt(p) - center, false);
+            h->recalcLocalAabb();
+            h->optimizeConvexHull();
+            compound->addChildShape(btTransform::getIdentity(), h.get());
+            addShape(std::move(h));
+        }
+        btCompoundShape* out = compound.get();
+        addShape(std::move(compound));
+        return out;
+    }
+
     void buildCloth(const ClothSpec& c) {
         auto* soft = static_cast<btSoftRigidDynamicsWorld*>(world_.get());
         btSoftBodyWorldInfo& info = soft->getWorldInfo();
@@ -334,12 +403,21 @@ private:
     std::unique_ptr<btDiscreteDynamicsWorld> world_;
     std::vector<std::unique_ptr<btCollisionShape>> shapes_;
     std::vector<std::unique_ptr<btDefaultMotionState>> states_;
+    std::vector<btVector3> centerOffsets_;  // per scene body: its centre of mass in the spec's body frame
+    std::vector<bool> onPath_;              // per scene body: moved by a kinematic path (moveKinematic)
+    struct MeshArrays {
+        std::vector<btScalar> vertices;
+        std::vector<int> indices;
+        std::unique_ptr<btTriangleIndexVertexArray> array;
+    };
+    std::vector<std::unique_ptr<MeshArrays>> meshArrays_;
+    btCompoundShape* sharedCompound_ = nullptr;
+    btVector3 sharedCompoundCenter_{0, 0, 0};
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
     std::vector<btTypedConstraint*> constraints_;
     btSoftBody* cloth_ = nullptr;
     std::map<std::vector<double>, btCollisionShape*> shapeCache_;
     std::map<int, btCollisionShape*> meshShapes_;
-    std::vector<std::unique_ptr<btTriangleMesh>> meshes_;
     std::vector<std::unique_ptr<btRigidBody>> gridBodies_;
     std::vector<std::vector<std::unique_ptr<btRigidBody>>> groupBodies_;
     std::vector<std::vector<btTypedConstraint*>> groupJoints_;

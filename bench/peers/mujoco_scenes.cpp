@@ -196,7 +196,8 @@ private:
                 xml << " type=\"capsule\" size=\"" << b.half.x << ' ' << b.half.y << "\" quat=\"0.7071067811865476 -0.7071067811865476 0 0\"";
                 break;
             case BodySpec::Kind::Box: writeVec(xml, "size", b.half); xml << " type=\"box\""; break;
-            case BodySpec::Kind::Hull: break;  // refused in build()
+            case BodySpec::Kind::Hull:
+            case BodySpec::Kind::SharedCompound: break;  // refused in build()
         }
         if (!b.isStatic) xml << " mass=\"" << b.mass << '"';
     }

@@ -22,7 +22,8 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
 // (counter-clockwise front, index t, convex-edge flags `convexMask` as
 // TriangleMesh::convexEdgeMask) with b to `scratch`, internal edges resolved;
 // false when they do not touch. groupTriangleContacts then turns the
-// candidates into manifolds, one per normal direction, at most 4 points each.
+// candidates into manifolds, one per normal direction, at most 4 points each
+// (it uses up `scratch`: what is left there afterwards means nothing).
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch);
 void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out);
