@@ -175,14 +175,18 @@ inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpe
     };
     const auto axisA = [&](Q q) { return toFulcrum(onPart(specA, rotate(q, {0, 0, 1}), false)); };
     const auto axisB = [&](Q q) { return toFulcrum(onPart(specB, rotate(q, {0, 0, 1}), false)); };
-    if (j.type == JointSpec::Type::Hinge) {
-        fulcrum::HingeJointDef d;
+    // Both joint kinds take the bodies, anchors and axes the same way.
+    const auto placeFrames = [&](auto& d) {
         d.bodyA = a;
         d.bodyB = b;
         d.localAnchorA = local(a, j.localA);
         d.localAnchorB = local(b, j.localB);
         d.localAxisA = axisA(j.frameA);
         d.localAxisB = axisB(j.frameB);
+    };
+    if (j.type == JointSpec::Type::Hinge) {
+        fulcrum::HingeJointDef d;
+        placeFrames(d);
         d.hasLimits = true;
         d.lowerLimit = real(j.lower);
         d.upperLimit = real(j.upper);
@@ -191,12 +195,7 @@ inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpe
     }
     if (j.type == JointSpec::Type::ConeTwist) {
         fulcrum::ConeTwistJointDef d;
-        d.bodyA = a;
-        d.bodyB = b;
-        d.localAnchorA = local(a, j.localA);
-        d.localAnchorB = local(b, j.localB);
-        d.localAxisA = axisA(j.frameA);
-        d.localAxisB = axisB(j.frameB);
+        placeFrames(d);
         d.swingLimit = real(j.swing);
         d.twistLower = real(j.lower);
         d.twistUpper = real(j.upper);

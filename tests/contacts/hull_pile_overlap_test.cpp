@@ -26,8 +26,9 @@ struct PileRun {
     int asleep = 0;
 };
 
-PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom) {
-    const bench::HullPileSpec pile = bench::convexPile(nx, nz, layers);
+// Box3D's convex pile (bench/box3d_scenes.hpp) as a World: the ground, then
+// one body per hull position (their ids in `ids`).
+World buildPile(const bench::HullPileSpec& pile, std::vector<BodyId>& ids) {
     const auto vec = [](bench::V3 v) { return Vec3{Real(v.x), Real(v.y), Real(v.z)}; };
     WorldDef def;
     def.substeps = pile.substeps;
@@ -42,7 +43,6 @@ PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom) {
     std::vector<Vec3> points;
     for (const bench::V3& p : pile.hullPoints) points.push_back(vec(p));
     const Shape hull = Shape::convexHull(points);
-    std::vector<BodyId> ids;
     for (const bench::V3& p : pile.positions) {
         BodyDef d;
         d.shape = hull;
@@ -51,6 +51,13 @@ PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom) {
         d.position = vec(p);
         ids.push_back(world.createBody(d));
     }
+    return world;
+}
+
+PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom) {
+    const bench::HullPileSpec pile = bench::convexPile(nx, nz, layers);
+    std::vector<BodyId> ids;
+    World world = buildPile(pile, ids);
     PileRun run;
     for (int i = 0; i < steps; ++i) {
         world.step(Real(pile.dt));
@@ -94,28 +101,8 @@ TEST(HullPile, SnapshotMidPileContinuesWithTheSameBits) {
     // give the answers of the plain code): a world saved while Box3D's hulls
     // land on each other continues, once loaded, bit for bit.
     const bench::HullPileSpec pile = bench::convexPile(3, 3, 6);
-    const auto vec = [](bench::V3 v) { return Vec3{Real(v.x), Real(v.y), Real(v.z)}; };
-    WorldDef def;
-    def.substeps = pile.substeps;
-    def.gravity = vec(pile.gravity);
-    World world(def);
-    BodyDef ground;
-    ground.type = BodyType::Static;
-    ground.shape = Shape::box(vec(pile.groundHalf));
-    ground.position = vec(pile.groundPosition);
-    world.createBody(ground);
-    std::vector<Vec3> points;
-    for (const bench::V3& p : pile.hullPoints) points.push_back(vec(p));
-    const Shape hull = Shape::convexHull(points);
     std::vector<BodyId> ids;
-    for (const bench::V3& p : pile.positions) {
-        BodyDef d;
-        d.shape = hull;
-        d.density = Real(pile.density);
-        d.friction = Real(pile.friction);
-        d.position = vec(p);
-        ids.push_back(world.createBody(d));
-    }
+    World world = buildPile(pile, ids);
     for (int i = 0; i < 90; ++i) world.step(Real(pile.dt));  // the upper layers are landing
     World loaded = loadSnapshotFromMemory(saveSnapshotToMemory(world));
     for (int i = 0; i < 90; ++i) {
