@@ -792,6 +792,59 @@ void requireDofCount(const Robot& r, std::size_t given, std::size_t wanted, cons
     }
 }
 
+// The bulk setters' targets: the joint* calls address the actuated joints
+// (each its hinge or slider row, axis -1), the dof* calls every dof.
+std::vector<RobotDof> actuatedDofs(const Robot& r) {
+    std::vector<RobotDof> out;
+    for (const std::size_t i : r.actuatedJoints()) out.push_back({i, -1});
+    return out;
+}
+
+// Each target's drive spring, read, changed by change(spring, joint, k) and set.
+template <class Change>
+void changeSprings(World& world, const Robot& r, const std::vector<RobotDof>& targets, Change change) {
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+        const RobotJoint& j = r.joints[targets[k].joint];
+        JointSpring s = springOf(world, j.joint, targets[k].axis);
+        change(s, j, k);
+        setSpring(world, j.joint, targets[k].axis, s);
+    }
+}
+
+void applyPositionTargets(World& world, const Robot& r, const std::vector<RobotDof>& targets,
+                          std::span<const Real> positions) {
+    changeSprings(world, r, targets, [&](JointSpring& s, const RobotJoint&, std::size_t k) {
+        s.target = positions[k];
+        s.enabled = s.stiffness > 0 || s.damping > 0;
+    });
+}
+
+void applyDriveGains(World& world, const Robot& r, const std::vector<RobotDof>& targets,
+                     std::span<const Real> stiffness, std::span<const Real> damping) {
+    changeSprings(world, r, targets, [&](JointSpring& s, const RobotJoint& j, std::size_t k) {
+        s.stiffness = stiffness[k];
+        s.damping = j.damping + damping[k];  // the URDF joint's own damping rides on the spring row
+        s.enabled = s.stiffness > 0 || s.damping > 0;
+    });
+}
+
+void applyDriveMaxForces(World& world, const Robot& r, const std::vector<RobotDof>& targets,
+                         std::span<const Real> maxForces) {
+    changeSprings(world, r, targets, [&](JointSpring& s, const RobotJoint&, std::size_t k) { s.maxForce = maxForces[k]; });
+}
+
+void applyVelocityTargets(World& world, const Robot& r, const std::vector<RobotDof>& targets,
+                          std::span<const Real> velocities) {
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+        const RobotJoint& j = r.joints[targets[k].joint];
+        JointMotor m;
+        m.enabled = true;
+        m.speed = velocities[k];
+        m.maxForce = motorLimit(j);
+        setMotor(world, j.joint, targets[k].axis, m);
+    }
+}
+
 }  // namespace
 
 void Robot::setDrive(World& world, std::string_view jointName, const JointDrive& drive) const {
@@ -834,53 +887,28 @@ void Robot::setDrive(World& world, std::string_view jointName, const JointDrive&
 }
 
 void Robot::setPositionTargets(World& world, std::span<const Real> positions) const {
-    const auto act = actuatedJoints();
-    requireCount(*this, positions.size(), act.size(), "position targets");
-    for (std::size_t k = 0; k < act.size(); ++k) {
-        const JointId id = joints[act[k]].joint;
-        JointSpring s = world.jointDef(id).spring;
-        s.target = positions[k];
-        s.enabled = s.stiffness > 0 || s.damping > 0;
-        world.setJointSpring(id, s);
-    }
+    const auto targets = actuatedDofs(*this);
+    requireCount(*this, positions.size(), targets.size(), "position targets");
+    applyPositionTargets(world, *this, targets, positions);
 }
 
 void Robot::setDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const {
-    const auto act = actuatedJoints();
-    requireCount(*this, stiffness.size(), act.size(), "stiffnesses");
-    requireCount(*this, damping.size(), act.size(), "dampings");
-    for (std::size_t k = 0; k < act.size(); ++k) {
-        const RobotJoint& j = joints[act[k]];
-        JointSpring s = world.jointDef(j.joint).spring;
-        s.stiffness = stiffness[k];
-        s.damping = j.damping + damping[k];
-        s.enabled = s.stiffness > 0 || s.damping > 0;
-        world.setJointSpring(j.joint, s);
-    }
+    const auto targets = actuatedDofs(*this);
+    requireCount(*this, stiffness.size(), targets.size(), "stiffnesses");
+    requireCount(*this, damping.size(), targets.size(), "dampings");
+    applyDriveGains(world, *this, targets, stiffness, damping);
 }
 
 void Robot::setDriveMaxForces(World& world, std::span<const Real> maxForces) const {
-    const auto act = actuatedJoints();
-    requireCount(*this, maxForces.size(), act.size(), "force limits");
-    for (std::size_t k = 0; k < act.size(); ++k) {
-        const JointId id = joints[act[k]].joint;
-        JointSpring s = world.jointDef(id).spring;
-        s.maxForce = maxForces[k];
-        world.setJointSpring(id, s);
-    }
+    const auto targets = actuatedDofs(*this);
+    requireCount(*this, maxForces.size(), targets.size(), "force limits");
+    applyDriveMaxForces(world, *this, targets, maxForces);
 }
 
 void Robot::setVelocityTargets(World& world, std::span<const Real> velocities) const {
-    const auto act = actuatedJoints();
-    requireCount(*this, velocities.size(), act.size(), "velocity targets");
-    for (std::size_t k = 0; k < act.size(); ++k) {
-        const RobotJoint& j = joints[act[k]];
-        JointMotor m;
-        m.enabled = true;
-        m.speed = velocities[k];
-        m.maxForce = motorLimit(j);
-        world.setJointMotor(j.joint, m);
-    }
+    const auto targets = actuatedDofs(*this);
+    requireCount(*this, velocities.size(), targets.size(), "velocity targets");
+    applyVelocityTargets(world, *this, targets, velocities);
 }
 
 void Robot::disableDrives(World& world) const {
@@ -919,53 +947,28 @@ std::vector<std::string> Robot::dofNames() const {
 }
 
 void Robot::setDofPositionTargets(World& world, std::span<const Real> positions) const {
-    const auto all = dofs();
-    requireDofCount(*this, positions.size(), all.size(), "position targets");
-    for (std::size_t k = 0; k < all.size(); ++k) {
-        const JointId id = joints[all[k].joint].joint;
-        JointSpring s = springOf(world, id, all[k].axis);
-        s.target = positions[k];
-        s.enabled = s.stiffness > 0 || s.damping > 0;
-        setSpring(world, id, all[k].axis, s);
-    }
+    const auto targets = dofs();
+    requireDofCount(*this, positions.size(), targets.size(), "position targets");
+    applyPositionTargets(world, *this, targets, positions);
 }
 
 void Robot::setDofDriveGains(World& world, std::span<const Real> stiffness, std::span<const Real> damping) const {
-    const auto all = dofs();
-    requireDofCount(*this, stiffness.size(), all.size(), "stiffnesses");
-    requireDofCount(*this, damping.size(), all.size(), "dampings");
-    for (std::size_t k = 0; k < all.size(); ++k) {
-        const RobotJoint& j = joints[all[k].joint];
-        JointSpring s = springOf(world, j.joint, all[k].axis);
-        s.stiffness = stiffness[k];
-        s.damping = j.damping + damping[k];
-        s.enabled = s.stiffness > 0 || s.damping > 0;
-        setSpring(world, j.joint, all[k].axis, s);
-    }
+    const auto targets = dofs();
+    requireDofCount(*this, stiffness.size(), targets.size(), "stiffnesses");
+    requireDofCount(*this, damping.size(), targets.size(), "dampings");
+    applyDriveGains(world, *this, targets, stiffness, damping);
 }
 
 void Robot::setDofDriveMaxForces(World& world, std::span<const Real> maxForces) const {
-    const auto all = dofs();
-    requireDofCount(*this, maxForces.size(), all.size(), "force limits");
-    for (std::size_t k = 0; k < all.size(); ++k) {
-        const JointId id = joints[all[k].joint].joint;
-        JointSpring s = springOf(world, id, all[k].axis);
-        s.maxForce = maxForces[k];
-        setSpring(world, id, all[k].axis, s);
-    }
+    const auto targets = dofs();
+    requireDofCount(*this, maxForces.size(), targets.size(), "force limits");
+    applyDriveMaxForces(world, *this, targets, maxForces);
 }
 
 void Robot::setDofVelocityTargets(World& world, std::span<const Real> velocities) const {
-    const auto all = dofs();
-    requireDofCount(*this, velocities.size(), all.size(), "velocity targets");
-    for (std::size_t k = 0; k < all.size(); ++k) {
-        const RobotJoint& j = joints[all[k].joint];
-        JointMotor m;
-        m.enabled = true;
-        m.speed = velocities[k];
-        m.maxForce = motorLimit(j);
-        setMotor(world, j.joint, all[k].axis, m);
-    }
+    const auto targets = dofs();
+    requireDofCount(*this, velocities.size(), targets.size(), "velocity targets");
+    applyVelocityTargets(world, *this, targets, velocities);
 }
 
 namespace {
