@@ -1,7 +1,9 @@
 // Convex shapes against triangle meshes.
 //
 // Each candidate triangle is collided as a one-sided convex shape (triangles
-// facing away from the shape's centre are skipped). Then the internal-edge
+// facing away from the shape's centre are skipped): boxes and hulls by the
+// separating-axis test of collide_triangle.cpp, the other shapes by the
+// general convex path (GJK, EPA, face clipping). Then the internal-edge
 // fix: a contact whose normal is not the triangle's face normal is only
 // allowed when it touches the triangle at a *convex* edge (or at a vertex with
 // a convex edge); at a flat or concave edge the normal is replaced by the face
@@ -26,6 +28,7 @@
 #include <cmath>
 
 #include "collision/collide_pairs.hpp"
+#include "collision/collide_triangle.hpp"
 
 namespace fulcrum::detail {
 
@@ -112,15 +115,21 @@ bool edgeNormalAllowed(const Vec3 w[3], std::uint8_t convexMask, const Vec3& p, 
 }  // namespace
 
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
-                               std::vector<MeshContactCandidate>& scratch) {
+                               std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope) {
     const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
     if (dot(faceN, b.center() - w[0]) < 0) return false;  // one-sided: behind the triangle
-    if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
     const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
     Manifold tm;
-    const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
-                                                 : collideConvexConvex(tri, b, margin, tm);
-    if (!hit) return false;
+    if (polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
+        // A box or hull: the separating-axis test (collide_triangle.cpp),
+        // which also tests the triangle's plane.
+        if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm)) return false;
+    } else {
+        if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
+        const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
+                                                     : collideConvexConvex(tri, b, margin, tm);
+        if (!hit) return false;
+    }
     if (dot(tm.normal, faceN) < kFaceNormalCos) {
         // Where the deepest point touches the triangle.
         std::uint32_t deepest = 0;
@@ -227,13 +236,15 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
                        Real margin, ManifoldBuffer& out) {
     std::vector<MeshContactCandidate>& scratch = out.meshScratch();
     scratch.clear();
+    TrianglePolytope polytope;
+    const TrianglePolytope* sat = polytope.prepare(b, out.polytopeEdgeScratch()) ? &polytope : nullptr;
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
     forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
         const auto& idx = mesh.triangles[t];
         const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
                            transformPoint(meshXf, mesh.vertices[idx[2]])};
         const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
-        collideTriangleWithConvex(w, mask, t, b, margin, scratch);
+        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
     });
     groupTriangleContacts(scratch, margin, out);
 }
