@@ -20,11 +20,13 @@
 // The contacts of all triangles are then grouped by normal (cosine > 0.999)
 // and each group is reduced to one manifold of at most four points, so a box
 // lying across many triangles gets one manifold, not one per triangle. Only
-// the points within kReductionBand of the group's deepest take part.
+// the points within kReductionBand of the group's deepest (or, a centimetre
+// deep, at least half as deep) take part.
 // Heightfields (collide_heightfield.cpp) run the same two halves on the
 // triangles of their cells.
 #include "collision/collide_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "collision/collide_pairs.hpp"
@@ -47,6 +49,9 @@ constexpr Real kBaryTol = Real(1e-3);
 // deepest one are left out; a falling body's group is led by its nearest point,
 // so its speculative contact stays.
 constexpr Real kReductionBand = Real(1e-3);
+// A group led by a point this deep is a body sunk into the surface, not one
+// resting on it (groupTriangleContacts).
+constexpr Real kDeepSeed = Real(0.01);
 
 // True when p, projected along the triangle's normal, falls on the triangle
 // (within kBaryTol of its edges).
@@ -196,7 +201,18 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
     }
     while (seed != kNone) {
         const Vec3 n = scratch[seed].normal;
-        const Real bandFloor = scratch[seed].contact.depth - kReductionBand;  // the seed is the group's deepest
+        // The seed is the group's deepest. When it is sunk deeper than any
+        // resting contact (kDeepSeed), every point at least half as deep
+        // takes part as well: a pyramid hit hard on a hill of convex_vs_mesh,
+        // 0.1-0.2 m into two triangles, otherwise kept only its deepest
+        // point, was pushed out at that one corner, tipped and had another
+        // corner deepest the next step, and rocked there sunk for hundreds of
+        // steps. (Every overlapping point, or every point half as deep at any
+        // depth, was tried: a resting cylinder then rocked between its rim
+        // points again, EveryConvexShapeRestsOnBumpyField.)
+        const Real seedDepth = scratch[seed].contact.depth;
+        const Real bandFloor =
+            seedDepth > kDeepSeed ? std::min(seedDepth - kReductionBand, Real(0.5) * seedDepth) : seedDepth - kReductionBand;
         Manifold& m = out.push();
         m.normal = n;
         m.childA = scratch[seed].triangle;

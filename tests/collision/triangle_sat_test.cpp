@@ -277,3 +277,31 @@ TEST(TriangleSat, BoxAndHullSlideAcrossAFlatMeshsInternalEdgesWithoutSnagging) {
         }
     }
 }
+
+// A box sunk 6 cm into a flat mesh, tilted 1 degree: the manifold keeps all
+// four sunk corners (at least half as deep as the deepest), not only the two
+// within the resting band of the deepest; with one edge to push on the solver
+// tipped a sunk body from corner to corner instead of lifting it out
+// (convex_vs_mesh's pyramid, docs/benchmarks.md).
+TEST(TriangleSat, SunkBoxKeepsAllItsSunkCornersInTheManifold) {
+    const TriangleMesh m = test::flatGrid(8, 1);
+    const Shape grid = Shape::mesh(m.vertices, m.triangles);
+    const Real tilt = Real(0.017453293), depth = Real(0.06);
+    const Quat q = Quat::fromAxisAngle({0, 0, 1}, tilt);
+    // The lowest corners, (-0.5, -0.25) rotated, at -depth.
+    const Vec3 low = rotate(q, Vec3{-0.5f, -0.25f, 0});
+    const Vec3 centre{0.13f, -depth - low.y, 0.21f};
+    ManifoldBuffer out;
+    collide(grid, {}, Shape::box({0.5f, 0.25f, 0.5f}), {centre, q}, kMargin, out);
+    ASSERT_EQ(out.size(), 1u);
+    expectVecNear(out[0].normal, {0, 1, 0}, Real(1e-6));
+    ASSERT_EQ(out[0].pointCount, 4u);
+    std::vector<Real> depths;
+    for (const ContactPoint& c : out[0].contacts()) depths.push_back(c.depth);
+    std::sort(depths.begin(), depths.end());
+    const Real shallow = depth - Real(1) * std::sin(tilt);  // the corners 1 m away along x
+    EXPECT_NEAR(depths[0], shallow, Real(1e-5));
+    EXPECT_NEAR(depths[1], shallow, Real(1e-5));
+    EXPECT_NEAR(depths[2], depth, Real(1e-5));
+    EXPECT_NEAR(depths[3], depth, Real(1e-5));
+}
