@@ -53,17 +53,6 @@ constexpr Real kReductionBand = Real(1e-3);
 // resting on it (groupTriangleContacts).
 constexpr Real kDeepSeed = Real(0.01);
 
-// True when p, projected along the triangle's normal, falls on the triangle
-// (within kBaryTol of its edges).
-bool overTriangle(const Vec3 w[3], const Vec3& p) {
-    const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
-    const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);
-    const Real den = d00 * d11 - d01 * d01;
-    if (!(den > 0)) return false;
-    const Real bv = (d11 * d20 - d01 * d21) / den, bw = (d00 * d21 - d01 * d20) / den;
-    return bv >= -kBaryTol && bw >= -kBaryTol && bv + bw <= 1 + kBaryTol;
-}
-
 // How far beyond the margin the face plane must put the shape before the
 // triangle is skipped without GJK: GJK's distance is exact to far less than
 // this, so a triangle skipped here is one GJK would have found apart as well
@@ -118,6 +107,17 @@ bool edgeNormalAllowed(const Vec3 w[3], std::uint8_t convexMask, const Vec3& p, 
 }
 
 }  // namespace
+
+// True when p, projected along the triangle's normal, falls on the triangle
+// (within kBaryTol of its edges).
+bool overTriangle(const Vec3 w[3], const Vec3& p) {
+    const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
+    const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);
+    const Real den = d00 * d11 - d01 * d01;
+    if (!(den > 0)) return false;
+    const Real bv = (d11 * d20 - d01 * d21) / den, bw = (d00 * d21 - d01 * d20) / den;
+    return bv >= -kBaryTol && bw >= -kBaryTol && bv + bw <= 1 + kBaryTol;
+}
 
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope) {

@@ -32,6 +32,9 @@ class TrianglePolytope;
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope);
 void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out);
+// True when p, projected along the triangle's normal, falls on triangle w
+// (within 1e-3 of its edges, in barycentric terms).
+bool overTriangle(const Vec3 w[3], const Vec3& p);
 
 // Calls fn(triangleIndex) for each triangle whose bounds overlap `localBox`
 // (mesh-local coordinates).

@@ -173,7 +173,8 @@ TEST(TriangleSat, ShapesBehindOrBeyondTheMarginGetNothing) {
 // finds the shapes overlapping by 1 mm or more, both find a contact; with
 // every edge convex (mask 7: no normal is rebuilt) the test's normal
 // separates the shapes as well as the general path's (within 1e-4 m, by
-// the support functions), and its deepest point is exactly as deep as the
+// the support functions; a face axis may stand against an edge pair better
+// by up to 5 mm + 5 %, kEdgeBias), and its deepest point is as deep as the
 // shapes overlap along it (within 1e-4 m; a face contact's clipped points
 // may all lie up to 1 mm shallower, as the general path allows,
 // kClipDepthTolerance). The general path's own deepest point is not held to
@@ -189,7 +190,7 @@ TEST(TriangleSat, AgreesWithTheGeneralPathOnRandomPoses) {
     std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), Shape::box({1.5f, 0.1f, 0.8f}), cubeHull(0.5f),
                                  hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
     for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
-    int compared = 0, overlapping = 0, apart = 0, generalDeeper = 0;
+    int compared = 0, overlapping = 0, apart = 0, generalDeeper = 0, sameAxis = 0;
     for (int trial = 0; trial < 6000; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
         // A random triangle, counter-clockwise about its normal.
@@ -223,9 +224,14 @@ TEST(TriangleSat, AgreesWithTheGeneralPathOnRandomPoses) {
                 const Real sepSat = separationAlong(w, b, sat[0].normal), sepGeneral = separationAlong(w, b, general[0].normal);
                 where += " separation along the test's normal " + std::to_string(sepSat) + ", the general path's " +
                          std::to_string(sepGeneral);
+                const bool same = std::fabs(sepSat - sepGeneral) <= Real(1e-4);
                 if (mask == kAllConvex) {
-                    EXPECT_NEAR(sepSat, sepGeneral, Real(1e-4)) << where;
+                    // A face stands against an edge pair up to 5 mm + 5 % better (kEdgeBias).
+                    EXPECT_LE(sepSat, sepGeneral + Real(1e-4)) << where;
+                    EXPECT_GE(sepSat, sepGeneral - Real(1e-4) - Real(0.005) - Real(0.05) * std::fabs(sepSat)) << where;
                     EXPECT_LE(ds, -sepSat + Real(1e-4)) << where;
+                    if (!same) continue;  // a face where the general path took the edge pair: its depths are along another normal
+                    ++sameAxis;
                     if (dot(sat[0].normal, faceN) >= Real(1 - 1e-4)) {
                         // Along the face normal both keep only the points over the
                         // triangle; an edge contact within 1e-4 of the normal is
@@ -235,7 +241,7 @@ TEST(TriangleSat, AgreesWithTheGeneralPathOnRandomPoses) {
                         EXPECT_GE(ds, -sepSat - Real(1e-3)) << where;
                     }
                     if (dg > -sepGeneral + Real(1e-4)) ++generalDeeper;
-                } else {
+                } else if (same) {
                     expectVecNear(sat[0].normal, general[0].normal, Real(1e-3));
                 }
             } else if (!general.empty() && !sat.empty() && mask == kAllConvex) {
@@ -244,13 +250,17 @@ TEST(TriangleSat, AgreesWithTheGeneralPathOnRandomPoses) {
                          ", the general path's " + std::to_string(separationAlong(w, b, general[0].normal)) + " n.faceN " +
                          std::to_string(dot(sat[0].normal, faceN)) + " " + std::to_string(dot(general[0].normal, faceN)) +
                          " points " + std::to_string(sat.size()) + " " + std::to_string(general.size());
-                EXPECT_GE(ds, dg - Real(1e-4)) << where;  // -ds: a lower bound of the distance
+                // -ds: a lower bound of the distance, where both took the same axis.
+                if (separationAlong(w, b, sat[0].normal) >= separationAlong(w, b, general[0].normal) - Real(1e-4)) {
+                    EXPECT_GE(ds, dg - Real(1e-4)) << where;
+                }
             }
         }
     }
     EXPECT_GT(compared, 8000);
     EXPECT_GT(overlapping, 2000);
     EXPECT_GT(apart, 100);
+    EXPECT_GT(sameAxis, overlapping * 4 / 10);  // of the overlapping poses' ~half with mask 7: nearly all on the same axis
     EXPECT_GT(generalDeeper, 0);  // the general path's over-stated depths are still there to compare with
 }
 
