@@ -17,18 +17,18 @@
 //   for hulls (GDC 2013); a box is a hull whose 12 edges are known.
 // Each axis's separation is exact and a lower bound of the distance; the
 // largest is the overlap's depth (negated) when the shapes overlap, and a
-// lower bound of their distance when they do not, which is what a
-// speculative contact may safely over-state. Any axis that separates by more
-// than the margin ends the test.
+// lower bound of their distance when they do not (a speculative contact that
+// says the shapes are closer than they are is safe). Any axis that separates
+// by more than the margin ends the test.
 //
 // The contact along the chosen axis: a face axis clips the other shape's
 // supporting feature against the reference face (buildFaceManifold, as the
 // general path does after EPA), an edge axis is the closest points of the two
 // edges (one point). The triangle's normal is preferred to a polytope face,
-// unless the latter separates the pair better by more than kAxisBias, and a
-// face to an edge unless the edge pair is better by 5 mm and 5 % (kEdgeBias,
-// as box-box): ties (a box lying flat on a triangle) keep the triangle's own
-// normal, and the choice does not flip between steps.
+// unless the latter separates the pair better by more than kAxisBias, and,
+// while the shapes overlap, to an edge pair unless that is better by 5 mm and
+// 5 % (kEdgeBias, as box-box): ties (a box lying flat on a triangle) keep the
+// triangle's own normal, and the choice does not flip between steps.
 // Everything the mesh path does afterwards (internal edges, points over the
 // triangle only, grouping by normal) is collide_mesh.cpp's, unchanged.
 #include "collision/collide_triangle.hpp"
@@ -53,7 +53,7 @@ constexpr Real kAxisBias = Real(1e-4);
 // (collide_box.cpp). With kAxisBias here, a box resting on a gently curved
 // heightfield (bench/heightfield.cpp's hills, 0.25 m boxes on 0.25 m cells)
 // flipped between a face manifold and a one-point edge contact at the
-// slightly convex edges under it and never came to rest (0.6 cm/s after
+// slightly convex edges under it and never came to rest (6 mm/s after
 // settling, against 0 with the general path).
 constexpr Real kEdgeBias = Real(0.005);
 constexpr Real kEdgeBiasRelative = Real(0.05);
@@ -265,12 +265,11 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         axis = Axis::PolytopeFace;
         best = polytopeSeparation;
     }
-    // Apart, the best axis is taken as it is: a face axis that does not meet
-    // the other shape's nearest feature (beyond the face's edges) may say
-    // the shapes are farther apart than they are, an edge pair never does.
-    // The triangle's own normal is what the mesh path keeps best (over the
-    // triangle, grouped with its neighbours'); a polytope face against an
-    // edge pair takes the better of the two, as the general path does.
+    // Apart, the better axis is taken as it is: it is the nearer bound of the
+    // distance, and nothing rests there to flip. The triangle's own normal
+    // is what the mesh path keeps best (over the triangle, grouped with its
+    // neighbours'); a polytope face against an edge pair takes the better of
+    // the two, as the general path does.
     const Real edgeBias = axis != Axis::TriangleFace || best > 0 || edgeSeparation > 0
                               ? kAxisBias
                               : kEdgeBias + kEdgeBiasRelative * std::fabs(best);
@@ -291,8 +290,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     // the triangle along its normal, which the stand-in is not). An edge
     // pair that does not cross keeps its point on the triangle's edge and
     // the axis's separation, a lower bound of the distance. (Handing every
-    // unmet axis to the general path, GJK, cost the trees 30 % more steps'
-    // instructions than this.)
+    // unmet axis to the general path, GJK, made trees100(10) slower than the
+    // general path alone: docs/benchmarks.md, "Mesh scenes".)
     bool realized = true;
     if (std::max(best, edgeSeparation) > 0) {
         if (axis == Axis::Edges) {
