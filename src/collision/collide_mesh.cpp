@@ -1,7 +1,9 @@
 // Convex shapes against triangle meshes.
 //
 // Each candidate triangle is collided as a one-sided convex shape (triangles
-// facing away from the shape's centre are skipped). Then the internal-edge
+// facing away from the shape's centre are skipped): boxes and hulls by the
+// separating-axis test of collide_triangle.cpp, the other shapes by the
+// general convex path (GJK, EPA, face clipping). Then the internal-edge
 // fix: a contact whose normal is not the triangle's face normal is only
 // allowed when it touches the triangle at a *convex* edge (or at a vertex with
 // a convex edge); at a flat or concave edge the normal is replaced by the face
@@ -18,14 +20,17 @@
 // The contacts of all triangles are then grouped by normal (cosine > 0.999)
 // and each group is reduced to one manifold of at most four points, so a box
 // lying across many triangles gets one manifold, not one per triangle. Only
-// the points within kReductionBand of the group's deepest take part.
+// the points within kReductionBand of the group's deepest (or, a centimetre
+// deep, at least half as deep) take part.
 // Heightfields (collide_heightfield.cpp) run the same two halves on the
 // triangles of their cells.
 #include "collision/collide_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "collision/collide_pairs.hpp"
+#include "collision/collide_triangle.hpp"
 
 namespace fulcrum::detail {
 
@@ -44,17 +49,9 @@ constexpr Real kBaryTol = Real(1e-3);
 // deepest one are left out; a falling body's group is led by its nearest point,
 // so its speculative contact stays.
 constexpr Real kReductionBand = Real(1e-3);
-
-// True when p, projected along the triangle's normal, falls on the triangle
-// (within kBaryTol of its edges).
-bool overTriangle(const Vec3 w[3], const Vec3& p) {
-    const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
-    const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);
-    const Real den = d00 * d11 - d01 * d01;
-    if (!(den > 0)) return false;
-    const Real bv = (d11 * d20 - d01 * d21) / den, bw = (d00 * d21 - d01 * d20) / den;
-    return bv >= -kBaryTol && bw >= -kBaryTol && bv + bw <= 1 + kBaryTol;
-}
+// A group led by a point this deep is a body sunk into the surface, not one
+// resting on it (groupTriangleContacts).
+constexpr Real kDeepSeed = Real(0.01);
 
 // How far beyond the margin the face plane must put the shape before the
 // triangle is skipped without GJK: GJK's distance is exact to far less than
@@ -111,16 +108,33 @@ bool edgeNormalAllowed(const Vec3 w[3], std::uint8_t convexMask, const Vec3& p, 
 
 }  // namespace
 
+// True when p, projected along the triangle's normal, falls on the triangle
+// (within kBaryTol of its edges).
+bool overTriangle(const Vec3 w[3], const Vec3& p) {
+    const Vec3 e0 = w[1] - w[0], e1 = w[2] - w[0], ep = p - w[0];
+    const Real d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(ep, e0), d21 = dot(ep, e1);
+    const Real den = d00 * d11 - d01 * d01;
+    if (!(den > 0)) return false;
+    const Real bv = (d11 * d20 - d01 * d21) / den, bw = (d00 * d21 - d01 * d20) / den;
+    return bv >= -kBaryTol && bw >= -kBaryTol && bv + bw <= 1 + kBaryTol;
+}
+
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
-                               std::vector<MeshContactCandidate>& scratch) {
+                               std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope) {
     const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
     if (dot(faceN, b.center() - w[0]) < 0) return false;  // one-sided: behind the triangle
-    if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
     const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
     Manifold tm;
-    const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
-                                                 : collideConvexConvex(tri, b, margin, tm);
-    if (!hit) return false;
+    if (polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
+        // A box or hull: the separating-axis test (collide_triangle.cpp),
+        // which also tests the triangle's plane.
+        if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm)) return false;
+    } else {
+        if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
+        const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
+                                                     : collideConvexConvex(tri, b, margin, tm);
+        if (!hit) return false;
+    }
     if (dot(tm.normal, faceN) < kFaceNormalCos) {
         // Where the deepest point touches the triangle.
         std::uint32_t deepest = 0;
@@ -187,7 +201,18 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
     }
     while (seed != kNone) {
         const Vec3 n = scratch[seed].normal;
-        const Real bandFloor = scratch[seed].contact.depth - kReductionBand;  // the seed is the group's deepest
+        // The seed is the group's deepest. When it is sunk deeper than any
+        // resting contact (kDeepSeed), every point at least half as deep
+        // takes part as well: a pyramid hit hard on a hill of convex_vs_mesh,
+        // 0.1-0.2 m into two triangles, otherwise kept only its deepest
+        // point, was pushed out at that one corner, tipped and had another
+        // corner deepest the next step, and rocked there sunk for hundreds of
+        // steps. (Every overlapping point, or every point half as deep at any
+        // depth, was tried: a resting cylinder then rocked between its rim
+        // points again, EveryConvexShapeRestsOnBumpyField.)
+        const Real seedDepth = scratch[seed].contact.depth;
+        const Real bandFloor =
+            seedDepth > kDeepSeed ? std::min(seedDepth - kReductionBand, Real(0.5) * seedDepth) : seedDepth - kReductionBand;
         Manifold& m = out.push();
         m.normal = n;
         m.childA = scratch[seed].triangle;
@@ -227,13 +252,15 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
                        Real margin, ManifoldBuffer& out) {
     std::vector<MeshContactCandidate>& scratch = out.meshScratch();
     scratch.clear();
+    TrianglePolytope polytope;
+    const TrianglePolytope* sat = polytope.prepare(b, out.polytopeEdgeScratch()) ? &polytope : nullptr;
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
     forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
         const auto& idx = mesh.triangles[t];
         const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
                            transformPoint(meshXf, mesh.vertices[idx[2]])};
         const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
-        collideTriangleWithConvex(w, mask, t, b, margin, scratch);
+        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
     });
     groupTriangleContacts(scratch, margin, out);
 }

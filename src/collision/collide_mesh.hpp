@@ -24,9 +24,17 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
 // false when they do not touch. groupTriangleContacts then turns the
 // candidates into manifolds, one per normal direction, at most 4 points each
 // (it uses up `scratch`: what is left there afterwards means nothing).
+// `polytope`, when given, is b prepared for the separating-axis test
+// (collide_triangle.hpp: boxes and hulls); without it the triangle runs the
+// general convex path (GJK, EPA, face clipping), as spheres, capsules and
+// cylinders always do.
+class TrianglePolytope;
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
-                               std::vector<MeshContactCandidate>& scratch);
+                               std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope);
 void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out);
+// True when p, projected along the triangle's normal, falls on triangle w
+// (within 1e-3 of its edges, in barycentric terms).
+bool overTriangle(const Vec3 w[3], const Vec3& p);
 
 // Calls fn(triangleIndex) for each triangle whose bounds overlap `localBox`
 // (mesh-local coordinates).

@@ -70,6 +70,13 @@ struct MeshContactCandidate {
     std::uint32_t triangle = 0;
 };
 
+// One edge of a box or hull with the two faces that meet there (the
+// triangle test's view of a polytope, collide_triangle.hpp).
+struct PolytopeEdge {
+    std::uint32_t from = 0, to = 0;
+    std::uint32_t faces[2] = {0, 0};
+};
+
 // Reduces `candidates` to at most 4 points of `out` (normal already set):
 // keeps the deepest point, then the point farthest from it, then the two that
 // maximise the contact polygon's area (Gregorius, "Robust Contact Creation for
@@ -106,12 +113,15 @@ public:
     // Scratch for the mesh path (candidates of one shape against many triangles).
     std::vector<detail::MeshContactCandidate>& meshScratch() { return meshScratch_; }
     std::vector<std::uint32_t>& triangleScratch() { return triangleScratch_; }
+    // Scratch for a hull's edges with their faces (the mesh path's triangle test).
+    std::vector<detail::PolytopeEdge>& polytopeEdgeScratch() { return polytopeEdgeScratch_; }
 
 private:
     std::vector<Manifold> manifolds_;
     std::size_t count_ = 0;
     std::vector<detail::MeshContactCandidate> meshScratch_;
     std::vector<std::uint32_t> triangleScratch_;
+    std::vector<detail::PolytopeEdge> polytopeEdgeScratch_;
 };
 
 }  // namespace fulcrum

@@ -1,0 +1,372 @@
+// A box or convex hull against one triangle: the separating-axis test.
+//
+// The general path (GJK, EPA when the shapes overlap, then face clipping
+// along EPA's normal) was 57 % of a mesh scene's step (docs/benchmarks.md,
+// "Mesh scenes"): each of the 10-30 triangles under a hull ran it. A triangle
+// and a polytope are both polyhedra, so the axes that can separate them, and
+// the direction of least overlap when they do overlap, are among a short
+// list (the Minkowski difference's face normals):
+// - the triangle's normal, both ways (the triangle is flat: its two faces);
+// - the polytope's face normals;
+// - for an edge of the polytope and an edge of the triangle, the common
+//   perpendicular, when it is a face of the Minkowski difference: on the
+//   Gauss map, the arc of the polytope's edge (between its two face normals)
+//   crosses the arc of the triangle's edge reflected through the centre (the
+//   half great circle from n to -n through the edge's outward side
+//   direction). Every other pair of edges is skipped, as in Gregorius's SAT
+//   for hulls (GDC 2013); a box is a hull whose 12 edges are known.
+// Each axis's separation is exact and a lower bound of the distance; the
+// largest is the overlap's depth (negated) when the shapes overlap, and a
+// lower bound of their distance when they do not (a speculative contact that
+// says the shapes are closer than they are is safe). Any axis that separates
+// by more than the margin ends the test.
+//
+// The contact along the chosen axis: a face axis clips the other shape's
+// supporting feature against the reference face (buildFaceManifold, as the
+// general path does after EPA), an edge axis is the closest points of the two
+// edges (one point). The triangle's normal is preferred to a polytope face,
+// unless the latter separates the pair better by more than kAxisBias, and,
+// while the shapes overlap, to an edge pair unless that is better by 5 mm and
+// 5 % (kEdgeBias, as box-box): ties (a box lying flat on a triangle) keep the
+// triangle's own normal, and the choice does not flip between steps.
+// Everything the mesh path does afterwards (internal edges, points over the
+// triangle only, grouping by normal) is collide_mesh.cpp's, unchanged.
+#include "collision/collide_triangle.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "collision/collide_mesh.hpp"
+#include "collision/collide_pairs.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+// The triangle's face axis stands unless a polytope face separates the pair
+// better by more than this: the general path's preference for a box or hull
+// face over EPA's normal (kFaceAxisTolerance in collide_convex.cpp).
+constexpr Real kAxisBias = Real(1e-4);
+// Where the shapes overlap along every face axis, a face axis stands unless
+// an edge pair separates the pair better by more than this plus
+// kEdgeBiasRelative of the separation, as box-box does
+// (collide_box.cpp). With kAxisBias here, a box resting on a gently curved
+// heightfield (bench/heightfield.cpp's hills, 0.25 m boxes on 0.25 m cells)
+// flipped between a face manifold and a one-point edge contact at the
+// slightly convex edges under it and never came to rest (6 mm/s after
+// settling, against 0 with the general path).
+constexpr Real kEdgeBias = Real(0.005);
+constexpr Real kEdgeBiasRelative = Real(0.05);
+// Edges this close to parallel (sine of their angle) make no edge axis: their
+// common perpendicular is not defined, and the faces on either side of the
+// two edges are the axes of such a contact.
+constexpr Real kParallelSine = Real(1e-3);
+
+// A box's 12 edges: vertex i has coordinate +h along axis k when bit k of i
+// is set; face 2k is +k, face 2k+1 is -k. The edge along k from vertex i (bit
+// k clear) lies on the faces of the other two axes on i's sides.
+constexpr PolytopeEdge boxEdge(std::uint32_t k, std::uint32_t i) {
+    const std::uint32_t u = (k + 1) % 3, v = (k + 2) % 3;
+    PolytopeEdge e;
+    e.from = i;
+    e.to = i | (1u << k);
+    e.faces[0] = 2 * u + ((i >> u) & 1u ? 0u : 1u);
+    e.faces[1] = 2 * v + ((i >> v) & 1u ? 0u : 1u);
+    return e;
+}
+constexpr PolytopeEdge kBoxEdges[12] = {
+    boxEdge(0, 0), boxEdge(0, 2), boxEdge(0, 4), boxEdge(0, 6),  // along x
+    boxEdge(1, 0), boxEdge(1, 1), boxEdge(1, 4), boxEdge(1, 5),  // along y
+    boxEdge(2, 0), boxEdge(2, 1), boxEdge(2, 2), boxEdge(2, 3),  // along z
+};
+
+// The feature id of an edge-edge contact (before the mesh path hashes in the
+// triangle): its own high bits, the triangle's edge, the polytope's edge.
+std::uint32_t edgeFeature(std::uint32_t triangleEdge, std::uint32_t polytopeEdge) {
+    return 0x80400000u | (triangleEdge << 20) | (polytopeEdge & 0xFFFFFu);
+}
+
+// How far a point may lie outside a face's other planes and still count as
+// over the face (rounding).
+constexpr Real kOverTolerance = Real(1e-5);
+
+}  // namespace
+
+bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
+    shape = &b;
+    if (b.radius != 0) return false;
+    if (b.kind == ConvexKind::Box) {
+        const Vec3 h = b.halfExtents;
+        for (std::uint32_t i = 0; i < 8; ++i) {
+            boxVertices_[i] = {(i & 1u) ? h.x : -h.x, (i & 2u) ? h.y : -h.y, (i & 4u) ? h.z : -h.z};
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+            Vec3 axis;
+            axis[k] = 1;
+            boxFaces_[2 * k].normal = axis;
+            boxFaces_[2 * k + 1].normal = -axis;
+            boxFaces_[2 * k].offset = boxFaces_[2 * k + 1].offset = h[k];
+        }
+        vertices = boxVertices_.data();
+        vertexCount = 8;
+        faces = boxFaces_.data();
+        faceCount = 6;
+        edges = kBoxEdges;
+        edgeCount = 12;
+        return true;
+    }
+    if (b.kind != ConvexKind::Hull || b.hull == nullptr) return false;
+    const ConvexHull& h = *b.hull;
+    if (h.vertices.size() < 4 || h.faces.size() < 4) return false;
+    // Every face's edges, keyed by (lower vertex, higher vertex), faces[1]
+    // holding the way round (0: lower to higher in the face's loop).
+    edgeScratch.clear();
+    for (std::uint32_t f = 0; f < h.faces.size(); ++f) {
+        const HullFace& face = h.faces[f];
+        if (std::uint64_t(face.firstIndex) + face.indexCount > h.faceVertices.size() || face.indexCount < 3) return false;
+        for (std::uint32_t i = 0; i < face.indexCount; ++i) {
+            const std::uint32_t a = h.faceVertices[face.firstIndex + i];
+            const std::uint32_t c = h.faceVertices[face.firstIndex + (i + 1) % face.indexCount];
+            if (a >= h.vertices.size() || c >= h.vertices.size()) return false;
+            PolytopeEdge e;
+            e.from = std::min(a, c);
+            e.to = std::max(a, c);
+            e.faces[0] = f;
+            e.faces[1] = a < c ? 0u : 1u;
+            edgeScratch.push_back(e);
+        }
+    }
+    std::sort(edgeScratch.begin(), edgeScratch.end(), [](const PolytopeEdge& x, const PolytopeEdge& y) {
+        if (x.from != y.from) return x.from < y.from;
+        if (x.to != y.to) return x.to < y.to;
+        return x.faces[1] < y.faces[1];
+    });
+    // A closed surface has each edge twice, once each way round.
+    const std::size_t n = edgeScratch.size();
+    if (n % 2 != 0) return false;
+    for (std::size_t k = 0; 2 * k < n; ++k) {
+        const PolytopeEdge x = edgeScratch[2 * k], y = edgeScratch[2 * k + 1];
+        if (x.from != y.from || x.to != y.to || x.faces[1] != 0 || y.faces[1] != 1) return false;
+        if (k > 0 && edgeScratch[k - 1].from == x.from && edgeScratch[k - 1].to == x.to) return false;
+        edgeScratch[k] = {x.from, x.to, {x.faces[0], y.faces[0]}};
+    }
+    edgeScratch.resize(n / 2);
+    vertices = h.vertices.data();
+    vertexCount = static_cast<std::uint32_t>(h.vertices.size());
+    faces = h.faces.data();
+    faceCount = static_cast<std::uint32_t>(h.faces.size());
+    edges = edgeScratch.data();
+    edgeCount = static_cast<std::uint32_t>(edgeScratch.size());
+    return true;
+}
+
+namespace {
+
+// True when the triangle's edge j and the polytope's edge e cross, seen along
+// their common perpendicular: the closest points of their lines lie inside
+// both segments.
+bool edgesCross(const Vec3 w[3], std::uint32_t j, const TrianglePolytope& p, std::uint32_t e) {
+    const Vec3 a0 = w[j], a1 = w[(j + 1) % 3];
+    const Vec3 b0 = transformPoint(p.shape->xf, p.vertices[p.edges[e].from]);
+    const Vec3 b1 = transformPoint(p.shape->xf, p.vertices[p.edges[e].to]);
+    Real s, u;
+    closestSegmentSegment(a0, a1, b0, b1, s, u);
+    return s > 0 && s < 1 && u > 0 && u < 1;
+}
+
+}  // namespace
+
+bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m) {
+    const ConvexShape& b = *p.shape;
+    const Transform& xf = b.xf;
+    // In the polytope's frame: its vertices and face planes as stored.
+    const Vec3 v[3] = {inverseTransformPoint(xf, w[0]), inverseTransformPoint(xf, w[1]), inverseTransformPoint(xf, w[2])};
+    const Vec3 n = inverseRotate(xf.q, faceN);
+
+    // The triangle's normal, both ways: one pass over the vertices.
+    const Real plane = dot(n, v[0]);
+    Real lo = dot(n, p.vertices[0]), hi = lo;
+    std::uint32_t lowest = 0;
+    for (std::uint32_t i = 1; i < p.vertexCount; ++i) {
+        const Real d = dot(n, p.vertices[i]);
+        if (d < lo) {
+            lo = d;
+            lowest = i;
+        }
+        hi = std::max(hi, d);
+    }
+    const Real faceSeparation = lo - plane, backSeparation = plane - hi;
+    if (faceSeparation > margin || backSeparation > margin) return false;
+
+    // The polytope's faces (axis -normal, from the triangle to the polytope):
+    // the triangle's lowest vertex under each face's plane.
+    Real polytopeSeparation = -1e30f;
+    std::uint32_t bestFace = 0, bestVertex = 0;
+    for (std::uint32_t f = 0; f < p.faceCount; ++f) {
+        const Vec3 nf = p.faces[f].normal;
+        const Real d[3] = {dot(nf, v[0]), dot(nf, v[1]), dot(nf, v[2])};
+        const std::uint32_t k = d[0] <= d[1] ? (d[0] <= d[2] ? 0u : 2u) : (d[1] <= d[2] ? 1u : 2u);
+        const Real separation = d[k] - p.faces[f].offset;
+        if (separation > margin) return false;
+        if (separation > polytopeSeparation) {
+            polytopeSeparation = separation;
+            bestFace = f;
+            bestVertex = k;
+        }
+    }
+
+    // Edge pairs that make a face of the Minkowski difference. For the
+    // polytope's edge with face normals a and c and the triangle's edge t
+    // (outward side direction s = t x n), the arc from a to c crosses the
+    // great circle perpendicular to t where a.t and c.t change sign, at
+    // mid = a + (c - a) (a.t) / (a.t - c.t): the polytope's outward
+    // direction there. The axis from the triangle to the polytope is -mid,
+    // which must point out of the triangle's edge (-mid . s > 0). Both
+    // supports along it are then the two edges, so the separation is one dot.
+    Vec3 t[3], side[3];
+    Real tt[3];
+    for (std::uint32_t j = 0; j < 3; ++j) {
+        t[j] = v[(j + 1) % 3] - v[j];
+        side[j] = cross(t[j], n);
+        tt[j] = dot(t[j], t[j]);
+    }
+    Real edgeSeparation = -1e30f;
+    std::uint32_t bestEdge = 0, bestTriangleEdge = 0;
+    Vec3 bestEdgeAxis;
+    for (std::uint32_t e = 0; e < p.edgeCount; ++e) {
+        const PolytopeEdge& edge = p.edges[e];
+        const Vec3 a = p.faces[edge.faces[0]].normal, c = p.faces[edge.faces[1]].normal;
+        for (std::uint32_t j = 0; j < 3; ++j) {
+            const Real ca = dot(a, t[j]), cc = dot(c, t[j]);
+            if (!(ca * cc < 0)) continue;
+            if (std::max(ca * ca, cc * cc) < kParallelSine * kParallelSine * tt[j]) continue;
+            const Vec3 mid = a + (c - a) * (ca / (ca - cc));
+            if (!(dot(mid, side[j]) < 0)) continue;
+            const Vec3 axis = -normalize(mid);
+            const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
+            if (separation > margin) return false;
+            if (separation > edgeSeparation) {
+                edgeSeparation = separation;
+                bestEdge = e;
+                bestTriangleEdge = j;
+                bestEdgeAxis = axis;
+            }
+        }
+    }
+
+    enum class Axis { TriangleFace, BackFace, PolytopeFace, Edges };
+    Axis axis = Axis::TriangleFace;
+    Real best = faceSeparation;
+    if (backSeparation > best + kAxisBias) {
+        axis = Axis::BackFace;
+        best = backSeparation;
+    }
+    if (polytopeSeparation > best + kAxisBias) {
+        axis = Axis::PolytopeFace;
+        best = polytopeSeparation;
+    }
+    // Apart, the better axis is taken as it is: it is the nearer bound of the
+    // distance, and nothing rests there to flip. The triangle's own normal
+    // is what the mesh path keeps best (over the triangle, grouped with its
+    // neighbours'); a polytope face against an edge pair takes the better of
+    // the two, as the general path does.
+    const Real edgeBias = axis != Axis::TriangleFace || best > 0 || edgeSeparation > 0
+                              ? kAxisBias
+                              : kEdgeBias + kEdgeBiasRelative * std::fabs(best);
+    const bool edgeBetter = edgeSeparation > best + kAxisBias;
+    if (edgeSeparation > best + edgeBias) axis = Axis::Edges;
+
+    // Apart, the best axis's separation is the distance only when the
+    // features it names meet across it: the polytope's nearest vertex over
+    // the triangle, the triangle's nearest vertex over the polytope's face,
+    // the two edges crossing. Otherwise the shapes are farther apart than it
+    // says. A face's clipped points are still honest (each one's own gap
+    // along the normal), but the deepest-point stand-in is not: a box's side
+    // face "0.2 mm" from a triangle passing under the box's bottom edge
+    // caged a box resting on hills from both sides, came and went, and the
+    // box never came to rest (bench/heightfield.cpp). So, apart and not met,
+    // a face keeps its clipped points only; a polytope face with none gives
+    // no contact (the triangle's face: the mesh path keeps only points over
+    // the triangle along its normal, which the stand-in is not). An edge
+    // pair that does not cross keeps its point on the triangle's edge and
+    // the axis's separation, a lower bound of the distance. (Handing every
+    // unmet axis to the general path, GJK, made trees100(10) slower than the
+    // general path alone: docs/benchmarks.md, "Mesh scenes".)
+    bool realized = true;
+    if (std::max(best, edgeSeparation) > 0) {
+        if (axis == Axis::Edges) {
+            realized = edgesCross(w, bestTriangleEdge, p, bestEdge);
+        } else if (axis == Axis::PolytopeFace) {
+            // The triangle's vertex, moved onto the face's plane, inside every other face.
+            const Vec3 q = v[bestVertex] - p.faces[bestFace].normal * polytopeSeparation;
+            for (std::uint32_t f = 0; f < p.faceCount && realized; ++f) {
+                realized = f == bestFace || dot(p.faces[f].normal, q) <= p.faces[f].offset + kOverTolerance;
+            }
+        } else {
+            realized = overTriangle(w, transformPoint(xf, p.vertices[lowest]));
+        }
+    }
+    // True when m holds nothing but buildFaceManifold's stand-in (pa, pb).
+    const auto onlyStandIn = [&m](const Vec3& pa, const Vec3& pb) {
+        return m.pointCount == 1 && m.points[0].position == (pa + pb) * Real(0.5);
+    };
+
+    switch (axis) {
+        case Axis::TriangleFace:
+        case Axis::BackFace: {
+            // The back face (the shape reaching further below the triangle's
+            // plane than above it, its centre above) is not a contact a
+            // one-sided triangle keeps: the mesh path rebuilds such a normal
+            // along the front face (edgeNormalAllowed), exactly as here,
+            // without the polytope's deepest point joining the clipped ones.
+            const Vec3 pb = transformPoint(xf, p.vertices[lowest]);
+            const Real depth = -faceSeparation;
+            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, m, 1,
+                              axis == Axis::TriangleFace && realized);
+            // Kept against a better edge pair (within kEdgeBias), the face
+            // must hold a point over the triangle, the only points the mesh
+            // path keeps along its normal: a hull sunk across the triangle's
+            // edge, its deepest part beyond it, otherwise lost its contact.
+            if (edgeBetter) {
+                bool over = false;
+                for (std::uint32_t i = 0; i < m.pointCount && !over; ++i) {
+                    over = overTriangle(w, m.points[i].position + faceN * (Real(0.5) * m.points[i].depth));
+                }
+                if (!over) axis = Axis::Edges;
+            }
+            break;
+        }
+        case Axis::PolytopeFace: {
+            const Vec3 normal = -rotate(xf.q, p.faces[bestFace].normal);
+            const Vec3 pa = w[bestVertex];
+            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, normal, pa, pa + normal * polytopeSeparation, margin, m, 2,
+                              realized);
+            if (!realized && onlyStandIn(pa, pa + normal * polytopeSeparation)) return false;
+            if (edgeBetter && m.pointCount == 0) axis = Axis::Edges;
+            break;
+        }
+        case Axis::Edges: break;
+    }
+    if (axis == Axis::Edges) {
+        const PolytopeEdge& edge = p.edges[bestEdge];
+        const Vec3 a0 = w[bestTriangleEdge], a1 = w[(bestTriangleEdge + 1) % 3];
+        const Vec3 b0 = transformPoint(xf, p.vertices[edge.from]), b1 = transformPoint(xf, p.vertices[edge.to]);
+        Real s, u;
+        closestSegmentSegment(a0, a1, b0, b1, s, u);
+        // The point on the triangle's edge, and the polytope's surface
+        // along the axis from it: the edges' closest points when the two
+        // edges cross (seen along the axis). When they do not (shapes
+        // apart, their nearest features a vertex and an edge), the point
+        // stays on the triangle's edge, where the mesh path looks for the
+        // feature it touches, and the depth is the axis's separation, a
+        // lower bound of the distance.
+        const Vec3 normal = rotate(xf.q, bestEdgeAxis);
+        const Vec3 pa = a0 + (a1 - a0) * s;
+        m.normal = normal;
+        m.pointCount = 0;
+        addContact(m, pa, pa + normal * edgeSeparation, -edgeSeparation, edgeFeature(bestTriangleEdge, bestEdge), margin);
+    }
+    return m.pointCount > 0;
+}
+
+}  // namespace fulcrum::detail
