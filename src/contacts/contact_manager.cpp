@@ -441,13 +441,23 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         // approach counts (the angular term below would add |w| r dt).
         return collideSpheres(w, c, dA, dB, speculativeMargin_ + length(mb.v - ma.v) * dt);
     }
-    Real margin = 0;
+    // Speculative distance: the base margin plus how far the surfaces can
+    // approach in one step, the spin's part per compound child (SpeculativeReach).
+    SpeculativeReach reach;
     if (!c.sensor) {
-        // Speculative distance: the base margin plus how far the surfaces can approach in one step.
-        Real approach = length(mb.v - ma.v);
-        if (pa.type != BodyType::Static) approach += length(ma.w) * pa.extent;
-        if (pb.type != BodyType::Static) approach += length(mb.w) * pb.extent;
-        margin = speculativeMargin_ + approach * dt;
+        reach.base = speculativeMargin_;
+        reach.linear = length(mb.v - ma.v);
+        reach.dt = dt;
+        if (pa.type != BodyType::Static) {
+            reach.spinA = length(ma.w);
+            reach.extentA = pa.extent;
+            reach.centreA = ma.com;
+        }
+        if (pb.type != BodyType::Static) {
+            reach.spinB = length(mb.w);
+            reach.extentB = pb.extent;
+            reach.centreB = mb.com;
+        }
     }
     const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);
     const Transform rel = relative(xA, xB);
@@ -476,7 +486,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     c.hasPose = true;
     c.relativePose = rel;
     std::uint8_t flags = 0;
-    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, margin, buffer);
+    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, reach, buffer);
 
     bool touching = false;
     if (c.sensor) {
