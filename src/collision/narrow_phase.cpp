@@ -141,9 +141,11 @@ Real childReach(const AABB& childBounds, const Vec3& centre, Real extent) {
     return std::min(extent, length(max(abs(childBounds.min - centre), abs(childBounds.max - centre))));
 }
 
-// `margin` is reach->margin(ra, rb) (or the caller's one margin when reach is
-// null): at the top level of a compound on a spinning body each child gets
-// the margin of its own r; deeper levels keep their top-level child's.
+// `margin` is reach->margin(ra, rb) (or, with kPerChild false, the caller's
+// one margin, reach null: the plain collide(), which this instance keeps
+// exactly as it was): at the top level of a compound on a spinning body each
+// child gets the margin of its own r; deeper levels keep their top-level child's.
+template <bool kPerChild>
 void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
                       const SpeculativeReach* reach, Real ra, Real rb, ManifoldBuffer& out, std::uint32_t childA,
                       std::uint32_t childB, int depthA, int depthB) {
@@ -151,7 +153,7 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
     if (ta == ShapeType::Compound) {
         const AABB boundsB = b.bounds(xb);
         const AABB bb = boundsB.fattened(margin);
-        const bool ownMargin = reach != nullptr && depthA == 0 && reach->spinA > 0;
+        const bool ownMargin = kPerChild && depthA == 0 && reach->spinA > 0;
         const auto children = a.children();
         for (std::size_t i = 0; i < children.size(); ++i) {
             const Transform xc = xa * children[i].transform;
@@ -161,10 +163,10 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
                 const Real rc = childReach(bc, reach->centreA, reach->extentA);
                 const Real mc = reach->margin(rc, rb);
                 if (!overlaps(bc, boundsB.fattened(mc))) continue;
-                collideRecursive(children[i].shape, xc, b, xb, mc, reach, rc, rb, out, child, childB, depthA + 1, depthB);
+                collideRecursive<kPerChild>(children[i].shape, xc, b, xb, mc, reach, rc, rb, out, child, childB, depthA + 1, depthB);
             } else {
                 if (!overlaps(bc, bb)) continue;
-                collideRecursive(children[i].shape, xc, b, xb, margin, reach, ra, rb, out, child, childB, depthA + 1, depthB);
+                collideRecursive<kPerChild>(children[i].shape, xc, b, xb, margin, reach, ra, rb, out, child, childB, depthA + 1, depthB);
             }
         }
         return;
@@ -172,7 +174,7 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
     if (tb == ShapeType::Compound) {
         const AABB boundsA = a.bounds(xa);
         const AABB ba = boundsA.fattened(margin);
-        const bool ownMargin = reach != nullptr && depthB == 0 && reach->spinB > 0;
+        const bool ownMargin = kPerChild && depthB == 0 && reach->spinB > 0;
         const auto children = b.children();
         for (std::size_t i = 0; i < children.size(); ++i) {
             const Transform xc = xb * children[i].transform;
@@ -182,10 +184,10 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
                 const Real rc = childReach(bc, reach->centreB, reach->extentB);
                 const Real mc = reach->margin(ra, rc);
                 if (!overlaps(bc, boundsA.fattened(mc))) continue;
-                collideRecursive(a, xa, children[i].shape, xc, mc, reach, ra, rc, out, childA, child, depthA, depthB + 1);
+                collideRecursive<kPerChild>(a, xa, children[i].shape, xc, mc, reach, ra, rc, out, childA, child, depthA, depthB + 1);
             } else {
                 if (!overlaps(bc, ba)) continue;
-                collideRecursive(a, xa, children[i].shape, xc, margin, reach, ra, rb, out, childA, child, depthA, depthB + 1);
+                collideRecursive<kPerChild>(a, xa, children[i].shape, xc, margin, reach, ra, rb, out, childA, child, depthA, depthB + 1);
             }
         }
         return;
@@ -197,8 +199,9 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
     collideLeaf(a, xa, b, xb, margin, out, childA, childB);
 }
 
-// The anchors, last, in the top-level frames.
-void computeAnchors(const Transform& xa, const Transform& xb, ManifoldBuffer& out) {
+// The anchors, last, in the top-level frames (inlined into both collide()s,
+// as it was into the one before).
+[[gnu::always_inline]] inline void computeAnchors(const Transform& xa, const Transform& xb, ManifoldBuffer& out) {
     for (std::size_t i = 0; i < out.size(); ++i) {
         Manifold& m = out[i];
         for (std::uint32_t k = 0; k < m.pointCount; ++k) {
@@ -224,7 +227,7 @@ void collide(const Shape& a, const Transform& xa, const Shape& b, const Transfor
         Manifold& m = out.push();
         if (!collideSphereCentres(xa.p, a.radius(), xb.p, b.radius(), speculativeMargin, m)) out.pop();
     } else {
-        collideRecursive(a, xa, b, xb, speculativeMargin, nullptr, 0, 0, out, 0, 0, 0, 0);
+        collideRecursive<false>(a, xa, b, xb, speculativeMargin, nullptr, 0, 0, out, 0, 0, 0, 0);
     }
     computeAnchors(xa, xb, out);
 }
@@ -237,7 +240,7 @@ void collide(const Shape& a, const Transform& xa, const Shape& b, const Transfor
         return;
     }
     out.clear();
-    collideRecursive(a, xa, b, xb, reach.margin(reach.extentA, reach.extentB), &reach, reach.extentA, reach.extentB, out,
+    collideRecursive<true>(a, xa, b, xb, reach.margin(reach.extentA, reach.extentB), &reach, reach.extentA, reach.extentB, out,
                      0, 0, 0, 0);
     computeAnchors(xa, xb, out);
 }
