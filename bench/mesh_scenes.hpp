@@ -18,8 +18,10 @@
 // (0.5 + 0.5 t / 50) * 0.5 rad/s with alternating sign (first negative) about
 // its origin, so every tree starts toppling. Sleeping on, below 0.2 m/s (the
 // trees' sleep threshold; Fulcrum's linearSleepVelocity, Bullet keeps its own
-// 0.8 m/s); Box3D's rolling resistance of 0.05 is not carried over. 500 steps
-// of 1/60 s, 4 sub-steps.
+// 0.8 m/s); Box3D's rolling resistance of 0.05 is not carried over (Fulcrum's
+// acts on round shapes only, times their radius, so a tree of hulls would not
+// feel it; Box3D's own trees with it set to 0 sleep as soon: docs/benchmarks.md,
+// "Why the trees keep rocking"). 500 steps of 1/60 s, 4 sub-steps.
 //
 // junkyard (Box3D): a static box ground 240 x 2 x 240 m with its top at y = 0,
 // four walls (half extents 1 x 8 x 50 at x = +-50 and 50 x 8 x 1 at z = +-50,

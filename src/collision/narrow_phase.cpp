@@ -5,6 +5,8 @@
 // compounds are unwrapped here; anchors are computed last, in the top-level frames.
 #include "collision/narrow_phase.hpp"
 
+#include <algorithm>
+
 #include "collision/collide_mesh.hpp"
 #include "collision/collide_pairs.hpp"
 
@@ -131,28 +133,62 @@ void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const
     }
 }
 
+// A compound child's r for the speculative margin (narrow_phase.hpp,
+// SpeculativeReach): the farthest corner of its bounds at this pose from the
+// body's centre of mass, and never more than the body's extent (also a bound:
+// the child is inside the body's local box).
+Real childReach(const AABB& childBounds, const Vec3& centre, Real extent) {
+    return std::min(extent, length(max(abs(childBounds.min - centre), abs(childBounds.max - centre))));
+}
+
+// `margin` is reach->margin(ra, rb) (or, with kPerChild false, the caller's
+// one margin, reach null: the plain collide(), which this instance keeps
+// exactly as it was): at the top level of a compound on a spinning body each
+// child gets the margin of its own r; deeper levels keep their top-level child's.
+template <bool kPerChild>
 void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real margin,
-                      ManifoldBuffer& out, std::uint32_t childA, std::uint32_t childB, int depthA, int depthB) {
+                      const SpeculativeReach* reach, Real ra, Real rb, ManifoldBuffer& out, std::uint32_t childA,
+                      std::uint32_t childB, int depthA, int depthB) {
     const ShapeType ta = a.type(), tb = b.type();
     if (ta == ShapeType::Compound) {
-        const AABB bb = b.bounds(xb).fattened(margin);
+        const AABB boundsB = b.bounds(xb);
+        const AABB bb = boundsB.fattened(margin);
+        const bool ownMargin = kPerChild && depthA == 0 && reach->spinA > 0;
         const auto children = a.children();
         for (std::size_t i = 0; i < children.size(); ++i) {
             const Transform xc = xa * children[i].transform;
-            if (!overlaps(children[i].shape.bounds(xc), bb)) continue;
-            collideRecursive(children[i].shape, xc, b, xb, margin, out, depthA == 0 ? static_cast<std::uint32_t>(i) : childA,
-                             childB, depthA + 1, depthB);
+            const AABB bc = children[i].shape.bounds(xc);
+            const std::uint32_t child = depthA == 0 ? static_cast<std::uint32_t>(i) : childA;
+            if (ownMargin) {
+                const Real rc = childReach(bc, reach->centreA, reach->extentA);
+                const Real mc = reach->margin(rc, rb);
+                if (!overlaps(bc, boundsB.fattened(mc))) continue;
+                collideRecursive<kPerChild>(children[i].shape, xc, b, xb, mc, reach, rc, rb, out, child, childB, depthA + 1, depthB);
+            } else {
+                if (!overlaps(bc, bb)) continue;
+                collideRecursive<kPerChild>(children[i].shape, xc, b, xb, margin, reach, ra, rb, out, child, childB, depthA + 1, depthB);
+            }
         }
         return;
     }
     if (tb == ShapeType::Compound) {
-        const AABB ba = a.bounds(xa).fattened(margin);
+        const AABB boundsA = a.bounds(xa);
+        const AABB ba = boundsA.fattened(margin);
+        const bool ownMargin = kPerChild && depthB == 0 && reach->spinB > 0;
         const auto children = b.children();
         for (std::size_t i = 0; i < children.size(); ++i) {
             const Transform xc = xb * children[i].transform;
-            if (!overlaps(children[i].shape.bounds(xc), ba)) continue;
-            collideRecursive(a, xa, children[i].shape, xc, margin, out, childA,
-                             depthB == 0 ? static_cast<std::uint32_t>(i) : childB, depthA, depthB + 1);
+            const AABB bc = children[i].shape.bounds(xc);
+            const std::uint32_t child = depthB == 0 ? static_cast<std::uint32_t>(i) : childB;
+            if (ownMargin) {
+                const Real rc = childReach(bc, reach->centreB, reach->extentB);
+                const Real mc = reach->margin(ra, rc);
+                if (!overlaps(bc, boundsA.fattened(mc))) continue;
+                collideRecursive<kPerChild>(a, xa, children[i].shape, xc, mc, reach, ra, rc, out, childA, child, depthA, depthB + 1);
+            } else {
+                if (!overlaps(bc, ba)) continue;
+                collideRecursive<kPerChild>(a, xa, children[i].shape, xc, margin, reach, ra, rb, out, childA, child, depthA, depthB + 1);
+            }
         }
         return;
     }
@@ -161,6 +197,20 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
         return;
     }
     collideLeaf(a, xa, b, xb, margin, out, childA, childB);
+}
+
+// The anchors, last, in the top-level frames (inlined into both collide()s,
+// as it was into the one before).
+[[gnu::always_inline]] inline void computeAnchors(const Transform& xa, const Transform& xb, ManifoldBuffer& out) {
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        Manifold& m = out[i];
+        for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+            ContactPoint& c = m.points[k];
+            const Vec3 half = m.normal * (Real(0.5) * c.depth);
+            c.localAnchorA = inverseTransformPoint(xa, c.position + half);
+            c.localAnchorB = inverseTransformPoint(xb, c.position - half);
+        }
+    }
 }
 
 }  // namespace
@@ -177,17 +227,22 @@ void collide(const Shape& a, const Transform& xa, const Shape& b, const Transfor
         Manifold& m = out.push();
         if (!collideSphereCentres(xa.p, a.radius(), xb.p, b.radius(), speculativeMargin, m)) out.pop();
     } else {
-        collideRecursive(a, xa, b, xb, speculativeMargin, out, 0, 0, 0, 0);
+        collideRecursive<false>(a, xa, b, xb, speculativeMargin, nullptr, 0, 0, out, 0, 0, 0, 0);
     }
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        Manifold& m = out[i];
-        for (std::uint32_t k = 0; k < m.pointCount; ++k) {
-            ContactPoint& c = m.points[k];
-            const Vec3 half = m.normal * (Real(0.5) * c.depth);
-            c.localAnchorA = inverseTransformPoint(xa, c.position + half);
-            c.localAnchorB = inverseTransformPoint(xb, c.position - half);
-        }
+    computeAnchors(xa, xb, out);
+}
+
+void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, const SpeculativeReach& reach,
+             ManifoldBuffer& out) {
+    const bool compound = a.type() == ShapeType::Compound || b.type() == ShapeType::Compound;
+    if (!compound) {
+        collide(a, xa, b, xb, reach.margin(reach.extentA, reach.extentB), out);
+        return;
     }
+    out.clear();
+    collideRecursive<true>(a, xa, b, xb, reach.margin(reach.extentA, reach.extentB), &reach, reach.extentA, reach.extentB, out,
+                     0, 0, 0, 0);
+    computeAnchors(xa, xb, out);
 }
 
 }  // namespace fulcrum

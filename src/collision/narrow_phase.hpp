@@ -17,6 +17,39 @@ namespace fulcrum {
 void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, Real speculativeMargin,
              ManifoldBuffer& out);
 
+// How far two moving bodies' surfaces can approach in one step: the contact
+// manager's speculative margin, base + (linear + spinA r_a + spinB r_b) dt,
+// where r is the distance from a body's centre of mass to its farthest point
+// that can touch (a point at r moves by at most |v| dt + |w| r dt: the chord
+// of its arc). For the whole body r is its extent; a compound's child has its
+// own, smaller r (docs/narrow-phase.md, "Speculative margin"), so a long
+// spinning body's near-centre children look for contacts only as far as they
+// can move. Static bodies have spin 0.
+struct SpeculativeReach {
+    Real base = 0;              // the world's speculative margin
+    Real linear = 0;            // |v_b - v_a| (centres of mass)
+    Real spinA = 0, spinB = 0;  // |w_a|, |w_b|
+    Real dt = 0;
+    Vec3 centreA, centreB;      // centres of mass, world
+    Real extentA = 0, extentB = 0;  // the whole bodies' r (BodyParams::extent)
+
+    // The sums in the order the contact manager has always made them (the
+    // same bits for a pair without compounds).
+    Real margin(Real ra, Real rb) const {
+        Real approach = linear;
+        approach += spinA * ra;
+        approach += spinB * rb;
+        return base + approach * dt;
+    }
+};
+
+// collide() with the margin of `reach`: reach.margin(extentA, extentB) for
+// the pair, and for each child of a compound (at its top level) the margin of
+// that child's own r: the farthest corner of its bounds at this pose from the
+// centre of mass, at most the body's extent.
+void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, const SpeculativeReach& reach,
+             ManifoldBuffer& out);
+
 // The contact geometry of two spheres (centres ca, cb; radii ra, rb): the
 // normal from a to b along the centres (`fallbackNormal` when they coincide),
 // the surface points and the depth. False, with nothing computed, when the

@@ -441,14 +441,6 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         // approach counts (the angular term below would add |w| r dt).
         return collideSpheres(w, c, dA, dB, speculativeMargin_ + length(mb.v - ma.v) * dt);
     }
-    Real margin = 0;
-    if (!c.sensor) {
-        // Speculative distance: the base margin plus how far the surfaces can approach in one step.
-        Real approach = length(mb.v - ma.v);
-        if (pa.type != BodyType::Static) approach += length(ma.w) * pa.extent;
-        if (pb.type != BodyType::Static) approach += length(mb.w) * pb.extent;
-        margin = speculativeMargin_ + approach * dt;
-    }
     const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);
     const Transform rel = relative(xA, xB);
     mixMaterial(w, c, dA, dB);
@@ -475,8 +467,33 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     }
     c.hasPose = true;
     c.relativePose = rel;
+    // Speculative distance: the base margin plus how far the surfaces can
+    // approach in one step, the spin's part per compound child
+    // (SpeculativeReach). Recycled contacts above never need it.
+    SpeculativeReach reach;
+    if (!c.sensor) {
+        reach.base = speculativeMargin_;
+        reach.linear = length(mb.v - ma.v);
+        reach.dt = dt;
+        if (pa.type != BodyType::Static) {
+            reach.spinA = length(ma.w);
+            reach.extentA = pa.extent;
+        }
+        if (pb.type != BodyType::Static) {
+            reach.spinB = length(mb.w);
+            reach.extentB = pb.extent;
+        }
+    }
     std::uint8_t flags = 0;
-    collide(w.cold[dA].shape, xA, w.cold[dB].shape, xB, margin, buffer);
+    const Shape& shapeA = w.cold[dA].shape;
+    const Shape& shapeB = w.cold[dB].shape;
+    if (shapeA.type() == ShapeType::Compound || shapeB.type() == ShapeType::Compound) {
+        reach.centreA = ma.com;
+        reach.centreB = mb.com;
+        collide(shapeA, xA, shapeB, xB, reach, buffer);
+    } else {
+        collide(shapeA, xA, shapeB, xB, reach.margin(reach.extentA, reach.extentB), buffer);  // the same sums
+    }
 
     bool touching = false;
     if (c.sensor) {

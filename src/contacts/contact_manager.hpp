@@ -15,8 +15,10 @@
 //
 // Each contact with at least one awake body runs collide() with a speculative
 // margin of `WorldDef::speculativeMargin` plus the pair's possible approach
-// over one step (relative speed + spin times extent, times dt), so a fast body
-// gets its speculative points a step before it arrives. New manifold points
+// over one step (relative speed + spin times extent, times dt; a spinning
+// compound's children each with their own distance from the centre of mass:
+// SpeculativeReach), so a fast body gets its speculative points a step before
+// it arrives. New manifold points
 // take the accumulated impulses of the old points with the same feature id
 // (manifolds are matched by their child ids) for warm starting.
 //
