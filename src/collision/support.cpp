@@ -37,7 +37,7 @@ std::uint32_t scanSupportIndex(const std::vector<Vec3>& v, const Vec3& d) {
 
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
 bool avx2SupportSearch() {
-#if defined(__GNUC__) || defined(__clang__)
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
     // cpu_init first: a hull searched from a static constructor may get here
     // before libgcc's own initialiser has run (as solver/contact_wide.cpp).
     static const bool available = [] {
