@@ -43,6 +43,13 @@ struct ConvexHull {
     std::vector<HullFace> faces;
     std::vector<std::uint32_t> faceVertices;                  // indices into vertices
     std::vector<std::array<std::uint32_t, 2>> edges;          // unique undirected edges
+    // Derived for the narrow phase (the hull builder and snapshots fill them
+    // in; a hull built by hand without them is searched the slower way):
+    // the faces around each vertex, ascending, vertexFaces[vertexFaceStart[v]]
+    // up to vertexFaces[vertexFaceStart[v + 1]]; and the vertices' x
+    // coordinates, then their y, then their z (8-lane support search).
+    std::vector<std::uint32_t> vertexFaceStart, vertexFaces;
+    std::vector<Real> vertexRows;
     Vec3 centroid;                                            // of the solid (volume centroid)
     Real volume = 0;
     Mat3 unitDensityInertia = Mat3::zero();                   // about the centroid, density 1

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "collision/collide_pairs.hpp"
 #include "collision/epa.hpp"
@@ -160,12 +161,15 @@ void closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const
 }
 
 void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n, const Vec3& fallbackA,
-                       const Vec3& fallbackB, Real margin, Manifold& m, int forceReference, bool fallbackIsDeepest) {
+                       const Vec3& fallbackB, Real margin, Manifold& m, int forceReference, bool fallbackIsDeepest,
+                       const SupportFace* knownFaceA, const SupportFace* knownFaceB) {
     m.normal = n;
     m.pointCount = 0;
-    SupportFace fa, fb;
-    supportingFace(a, n, fa);
-    supportingFace(b, -n, fb);
+    SupportFace ownA, ownB;
+    if (knownFaceA == nullptr) supportingFace(a, n, ownA);
+    if (knownFaceB == nullptr) supportingFace(b, -n, ownB);
+    const SupportFace& fa = knownFaceA != nullptr ? *knownFaceA : ownA;
+    const SupportFace& fb = knownFaceB != nullptr ? *knownFaceB : ownB;
     const Real alignA = fa.count >= 3 ? dot(fa.normal, n) : Real(-1);
     const Real alignB = fb.count >= 3 ? -dot(fb.normal, n) : Real(-1);
     int ref = forceReference;
@@ -256,6 +260,9 @@ struct BoxView {
     Vec3 faceNormal;        // from A to B, of the box face along which the pair separates most
     Real faceSeparation;    // along it (negative: overlap)
     ConvexShape nearPart;   // the box cut down to the other shape's extent plus a pad (or the box itself)
+    // The distance to nearPart is the box's own below this (every point of
+    // the box within it of the other shape is in nearPart), at least this above.
+    Real exactWithin = std::numeric_limits<Real>::infinity();
 };
 
 // Large boxes (a 500 m ground under 2 m bodies) break GJK and EPA in float:
@@ -308,6 +315,7 @@ BoxView viewBox(const ConvexShape& box, const ConvexShape& other, bool boxIsA, R
     if (cut) {
         view.nearPart.xf.p = transformPoint(box.xf, centre);
         view.nearPart.halfExtents = half;
+        view.exactWithin = pad;
     }
     return view;
 }
@@ -327,7 +335,14 @@ BoxView viewBox(const ConvexShape& box, const ConvexShape& other, bool boxIsA, R
 // Every face always would double the hull pile's step cost.
 constexpr Real kNormalInconsistency = Real(1e-3);
 
-Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real gap) {
+// The supporting faces along n that bestHullFaceAxis found on its way, for
+// buildFaceManifold when n stands (the same calls: the same faces).
+struct FacesAlongNormal {
+    SupportFace a, b;
+    bool knownA = false, knownB = false;
+};
+
+Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real gap, FacesAlongNormal& faces) {
     Vec3 best = n;
     const Real separation = separationAlong(a, b, n);
     const bool everyFace = separation < gap - kNormalInconsistency;
@@ -339,21 +354,22 @@ Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n,
             bestSeparation = s;
         }
     };
-    SupportFace face;
     if (a.kind == ConvexKind::Hull) {
         if (everyFace) {
             for (const HullFace& f : a.hull->faces) consider(rotate(a.xf.q, f.normal));
         } else {
-            supportingFace(a, n, face);
-            consider(face.normal);
+            supportingFace(a, n, faces.a);
+            faces.knownA = true;
+            consider(faces.a.normal);
         }
     }
     if (b.kind == ConvexKind::Hull) {
         if (everyFace) {
             for (const HullFace& f : b.hull->faces) consider(-rotate(b.xf.q, f.normal));
         } else {
-            supportingFace(b, -n, face);
-            consider(-face.normal);
+            supportingFace(b, -n, faces.b);
+            faces.knownB = true;
+            consider(-faces.b.normal);
         }
     }
     return best;
@@ -366,7 +382,10 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     BoxView box;
     if (boxA || boxB) {
         box = boxA ? viewBox(shapeA, shapeB, true, margin) : viewBox(shapeB, shapeA, false, margin);
-        if (box.faceSeparation > margin) return false;
+        if (box.faceSeparation > margin) {
+            m.apartBy = box.faceSeparation;  // along a box axis: never more than the distance
+            return false;
+        }
     }
     // From here on a box is its part near the other shape.
     const ConvexShape& a = boxA ? box.nearPart : shapeA;
@@ -377,7 +396,10 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     // iterations. Most pairs of a pile are such pairs (fat bounds overlapping,
     // shapes apart: 83 % of the hull pile's), docs/narrow-phase.md "GJK's early stop".
     const GjkResult g = gjkDistance(a, b, false, margin + a.radius + b.radius + kBeyondPad);
-    if (g.beyond) return false;
+    if (g.beyond) {
+        m.apartBy = std::min(g.distance - a.radius - b.radius, box.exactWithin);
+        return false;
+    }
     Vec3 n, pa, pb;
     const bool separated = !g.overlap && g.distance > kCoreTouch;
     if (separated) {
@@ -386,7 +408,7 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
         pa = g.pointA + n * a.radius;
         pb = g.pointB - n * b.radius;
     } else {
-        const PenetrationResult p = epaPenetration(a, b);
+        const PenetrationResult p = epaPenetration(a, b, &g);
         if (p.valid) {
             n = p.normal;
             pa = p.pointA;
@@ -446,9 +468,11 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
             deepestKnown = true;
         }
     }
+    FacesAlongNormal faces;
     if (reference == 0 && (a.kind == ConvexKind::Hull || b.kind == ConvexKind::Hull)) {
-        const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n));
+        const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n), faces);
         if (!(faceAxis == n)) {
+            faces.knownA = faces.knownB = false;  // found along the old n
             // GJK/EPA's points are closest or deepest along their own normal,
             // not along the face axis: the deepest points along it are the
             // supports. (A small hull deep inside a large cylinder: EPA's
@@ -461,7 +485,8 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
             pb = b.support(-n);
         }
     }
-    buildFaceManifold(a, b, n, pa, pb, margin, m, reference, deepestKnown);
+    buildFaceManifold(a, b, n, pa, pb, margin, m, reference, deepestKnown, faces.knownA ? &faces.a : nullptr,
+                      faces.knownB ? &faces.b : nullptr);
     return m.pointCount > 0;
 }
 

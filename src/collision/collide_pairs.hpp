@@ -31,10 +31,12 @@ bool collideConvexConvex(const ConvexShape& a, const ConvexShape& b, Real margin
 // face pair is usable. forceReference: 0 = choose, 1 = A's face, 2 = B's face.
 // fallbackIsDeepest: the fallback points are the shapes' deepest (or closest)
 // points along n (GJK/EPA's); they join the clipped points when clipping found
-// none as deep.
+// none as deep. knownFaceA / knownFaceB: supportingFace(a, n) and
+// supportingFace(b, -n) when the caller already has them (else found here).
 void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n, const Vec3& fallbackA,
                        const Vec3& fallbackB, Real margin, Manifold& m, int forceReference = 0,
-                       bool fallbackIsDeepest = false);
+                       bool fallbackIsDeepest = false, const SupportFace* knownFaceA = nullptr,
+                       const SupportFace* knownFaceB = nullptr);
 
 // Closest points of segments p1-q1 and p2-q2 (Ericson RTCD 5.1.9); returns
 // the parameters s, t in [0, 1].

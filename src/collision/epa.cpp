@@ -107,9 +107,14 @@ bool buildTetrahedron(const ConvexShape& a, const ConvexShape& b, Sets sets, Sim
 }
 
 // EPA on the full shapes or on the cores; for the cores only when they
-// overlap (false otherwise, and when their difference is flat).
-bool expandPolytope(const ConvexShape& a, const ConvexShape& b, Sets sets, PenetrationResult& out) {
-    GjkResult g = gjkDistance(a, b, sets == Sets::Full);
+// overlap (false otherwise, and when their difference is flat). `coreRun`:
+// see epaPenetration.
+bool expandPolytope(const ConvexShape& a, const ConvexShape& b, Sets sets, PenetrationResult& out,
+                    const GjkResult* coreRun) {
+    // The caller's run on the cores is this run when it is on the cores, or
+    // on full shapes without radii (their supports are the cores').
+    const bool reuse = coreRun != nullptr && (sets == Sets::Cores || (a.radius == 0 && b.radius == 0));
+    const GjkResult g = reuse ? *coreRun : gjkDistance(a, b, sets == Sets::Full);
     if (sets == Sets::Cores && !g.overlap) return false;
     if (!g.overlap && g.distance > Real(1e-6)) {
         // Touching or separated after all (the caller's core test was conservative).
@@ -240,7 +245,7 @@ bool expandPolytope(const ConvexShape& a, const ConvexShape& b, Sets sets, Penet
 
 }  // namespace
 
-PenetrationResult epaPenetration(const ConvexShape& a, const ConvexShape& b) {
+PenetrationResult epaPenetration(const ConvexShape& a, const ConvexShape& b, const GjkResult* coreRun) {
     PenetrationResult out;
     // A rounded shape is its core grown by its radius, so A - B is the cores'
     // difference grown by the sum of the radii, and when the cores overlap
@@ -250,14 +255,14 @@ PenetrationResult epaPenetration(const ConvexShape& a, const ConvexShape& b) {
     // long before it fits a sphere of metres, stopped 1.7 mm short of the
     // depth of a capsule of radius 3.2 m around a small hull
     // (fuzz/corpus/narrowphase/small_hull_inside_capsule).
-    if ((a.radius > 0 || b.radius > 0) && expandPolytope(a, b, Sets::Cores, out)) {
+    if ((a.radius > 0 || b.radius > 0) && expandPolytope(a, b, Sets::Cores, out, coreRun)) {
         out.depth += a.radius + b.radius;
         out.pointA += out.normal * a.radius;
         out.pointB -= out.normal * b.radius;
         return out;
     }
     out = PenetrationResult{};
-    if (!expandPolytope(a, b, Sets::Full, out)) out.valid = false;
+    if (!expandPolytope(a, b, Sets::Full, out, coreRun)) out.valid = false;
     return out;
 }
 

@@ -19,6 +19,9 @@ struct PenetrationResult {
 // Penetration of the full (rounded) shapes. Runs GJK itself: when a shape has
 // a radius and the cores overlap, EPA expands the cores and adds the radii
 // (exact), else the full shapes; fixed-size storage, no allocation.
-PenetrationResult epaPenetration(const ConvexShape& a, const ConvexShape& b);
+// `coreRun`: gjkDistance(a, b, false) on these shapes, when the caller has
+// run it (run to the end: not stopped early); EPA then starts from it instead
+// of running GJK again (the same run, so the same answer).
+PenetrationResult epaPenetration(const ConvexShape& a, const ConvexShape& b, const GjkResult* coreRun = nullptr);
 
 }  // namespace fulcrum::detail

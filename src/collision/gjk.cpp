@@ -180,6 +180,16 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
         sv.w = sv.a - sv.b;
         s.count = 1;
         s.bary[0] = 1;
+        // The line of centres is a support direction like any other (w is
+        // A - B's lowest point along it): when its plane already shows the
+        // shapes beyond stopBeyond, stop before the first iteration (two
+        // support calls fewer; for round hulls apart in a pile, most pairs).
+        const Real plane = dot(v, sv.w), vv = dot(v, v);
+        if (plane > 0 && plane * plane > stopBeyond * stopBeyond * vv) {
+            r.beyond = true;
+            r.distance = plane / std::sqrt(vv);
+            return r;
+        }
         v = sv.w;
     }
     constexpr std::uint32_t kMaxIterations = 64;

@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/support.hpp"
 #include "fulcrum/shape.hpp"
 
 namespace fulcrum {
@@ -535,6 +536,7 @@ Shape Shape::convexHull(std::span<const Vec3> points) {
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     for (const auto& [a, b] : edges) hull->edges.push_back({a, b});
+    detail::deriveHullTables(*hull);
 
     const double volume = volume6 / 6;
     if (!(volume > 0)) throw Error("convex_hull: points are coplanar; a hull needs volume");

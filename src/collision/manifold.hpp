@@ -42,6 +42,10 @@ struct Manifold {
     std::uint32_t pointCount = 0;
     std::uint32_t childA = 0;
     std::uint32_t childB = 0;
+    // A pair function that found no contact may leave here a distance the
+    // shapes are proved to be at least apart (0: none); collide() hands it on
+    // through ManifoldBuffer::apartBy().
+    Real apartBy = 0;
 
     std::span<const ContactPoint> contacts() const { return {points.data(), pointCount}; }
     // Deepest penetration among the points (most positive depth).
@@ -91,7 +95,10 @@ void reduceContacts(std::span<const ContactCandidate> candidates, Real margin, M
 // arrays the mesh and compound paths need.
 class ManifoldBuffer {
 public:
-    void clear() { count_ = 0; }
+    void clear() {
+        count_ = 0;
+        apartBy_ = 0;
+    }
     std::size_t size() const { return count_; }
     bool empty() const { return count_ == 0; }
     const Manifold& operator[](std::size_t i) const { return manifolds_[i]; }
@@ -110,6 +117,14 @@ public:
     // Drops the last manifold (a pair function that found nothing after all).
     void pop() { --count_; }
 
+    // After collide() of two plain convex shapes (neither a compound nor
+    // rounded) that gave no manifold: a lower bound of the shapes' distance
+    // that the pair function proved on its way to rejecting the pair, or 0
+    // when it proved none (the contact manager's apart cache, docs/narrow-phase.md
+    // "Pairs proved apart"). Meaningless for any other pair.
+    Real apartBy() const { return apartBy_; }
+    void setApartBy(Real distance) { apartBy_ = distance; }
+
     // Scratch for the mesh path (candidates of one shape against many triangles).
     std::vector<detail::MeshContactCandidate>& meshScratch() { return meshScratch_; }
     std::vector<std::uint32_t>& triangleScratch() { return triangleScratch_; }
@@ -119,6 +134,7 @@ public:
 private:
     std::vector<Manifold> manifolds_;
     std::size_t count_ = 0;
+    Real apartBy_ = 0;
     std::vector<detail::MeshContactCandidate> meshScratch_;
     std::vector<std::uint32_t> triangleScratch_;
     std::vector<detail::PolytopeEdge> polytopeEdgeScratch_;

@@ -49,7 +49,10 @@ bool isConvex(ShapeType t) {
         hit = kPairTable[kb][ka](cb, ca, margin, m);
         flipManifold(m);
     }
-    if (!hit) out.pop();
+    if (!hit) {
+        out.setApartBy(m.apartBy);
+        out.pop();
+    }
 }
 
 void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const Transform& xb, Real margin,

@@ -35,7 +35,45 @@ std::uint32_t scanSupportIndex(const std::vector<Vec3>& v, const Vec3& d) {
     return best;
 }
 
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+bool avx2SupportSearch() {
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+    // cpu_init first: a hull searched from a static constructor may get here
+    // before libgcc's own initialiser has run (as solver/contact_wide.cpp).
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return hullSupportAvx2Compiled() && __builtin_cpu_supports("avx2");
+    }();
+    return available;
+#else
+    return false;
+#endif
+}
+#endif
+
 }  // namespace
+
+void deriveHullTables(ConvexHull& hull) {
+    const std::size_t n = hull.vertices.size();
+    hull.vertexRows.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        hull.vertexRows[i] = hull.vertices[i].x;
+        hull.vertexRows[n + i] = hull.vertices[i].y;
+        hull.vertexRows[2 * n + i] = hull.vertices[i].z;
+    }
+    hull.vertexFaceStart.assign(n + 1, 0);
+    for (const std::uint32_t v : hull.faceVertices) ++hull.vertexFaceStart[v + 1];
+    for (std::size_t v = 0; v < n; ++v) hull.vertexFaceStart[v + 1] += hull.vertexFaceStart[v];
+    hull.vertexFaces.assign(hull.faceVertices.size(), 0);
+    std::vector<std::uint32_t> next(hull.vertexFaceStart.begin(), hull.vertexFaceStart.end() - 1);
+    // Faces in ascending order, so each vertex's list is ascending too.
+    for (std::uint32_t f = 0; f < hull.faces.size(); ++f) {
+        const HullFace& face = hull.faces[f];
+        for (std::uint32_t i = 0; i < face.indexCount; ++i) {
+            hull.vertexFaces[next[hull.faceVertices[face.firstIndex + i]]++] = f;
+        }
+    }
+}
 
 // The support search was half of Box3D's hull pile's instructions as a scalar
 // scan (docs/narrow-phase.md, "Hull support"). With SSE2 it runs four vertices
@@ -51,6 +89,13 @@ std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
     static_assert(sizeof(Vec3) == 3 * sizeof(float), "the vertices are read as packed floats");
     const std::uint32_t n = static_cast<std::uint32_t>(v.size());
+    // Eight lanes over the hull's coordinate rows where the CPU has AVX2:
+    // the same merge, so the same answer (docs/narrow-phase.md, "Hull support").
+    if (n >= 16 && hull.vertexRows.size() == 3 * std::size_t{n} && avx2SupportSearch()) {
+        const float* rows = hull.vertexRows.data();
+        const std::uint32_t top = hullSupportIndexAvx2(rows, rows + n, rows + 2 * n, n, d);
+        return top < n ? top : scanSupportIndex(v, d);
+    }
     const std::uint32_t blocks = n / 4;
     if (blocks >= 2) {
         const float* p = &v[0].x;
@@ -299,14 +344,27 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
             const std::uint32_t top = hullSupportIndex(h, l);
             std::size_t best = 0;
             Real bestDot = -2;
-            for (std::size_t f = 0; f < h.faces.size(); ++f) {
-                const HullFace& face = h.faces[f];
-                const Real d = dot(face.normal, l);
-                if (d <= bestDot) continue;
-                const auto first = h.faceVertices.begin() + face.firstIndex;
-                if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
-                bestDot = d;
-                best = f;
+            if (h.vertexFaceStart.size() == h.vertices.size() + 1) {
+                // The faces at the vertex from the hull's adjacency, in face
+                // order: the same choice as the search below (NaNs included:
+                // every face at the vertex passes then, the last one stays).
+                for (std::uint32_t k = h.vertexFaceStart[top]; k < h.vertexFaceStart[top + 1]; ++k) {
+                    const std::uint32_t f = h.vertexFaces[k];
+                    const Real d = dot(h.faces[f].normal, l);
+                    if (d <= bestDot) continue;
+                    bestDot = d;
+                    best = f;
+                }
+            } else {
+                for (std::size_t f = 0; f < h.faces.size(); ++f) {
+                    const HullFace& face = h.faces[f];
+                    const Real d = dot(face.normal, l);
+                    if (d <= bestDot) continue;
+                    const auto first = h.faceVertices.begin() + face.firstIndex;
+                    if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
+                    bestDot = d;
+                    best = f;
+                }
             }
             const HullFace& face = h.faces[best];
             const std::uint32_t count = face.indexCount < kMaxFacePoints ? face.indexCount : kMaxFacePoints;

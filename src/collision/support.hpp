@@ -41,6 +41,16 @@ struct ConvexShape {
     Real boundingRadius() const;
 };
 
+// Fills the hull's derived tables (vertexFaceStart, vertexFaces, vertexRows)
+// from its vertices and faces.
+void deriveHullTables(ConvexHull& hull);
+
+// support_avx2.cpp: whether it was compiled with AVX2, and its search: the
+// first index of the largest (x[i] dx + y[i] dy) + z[i] dz over n >= 8
+// vertices (rows x, y, z of n floats each), or n when a dot is NaN.
+bool hullSupportAvx2Compiled();
+std::uint32_t hullSupportIndexAvx2(const float* x, const float* y, const float* z, std::uint32_t n, const Vec3& d);
+
 // The index of the hull vertex farthest along `d` (hull frame): the first of
 // the largest dot(vertex, d), exactly as a scan in vertex order finds it.
 std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d);

@@ -55,6 +55,13 @@ struct Contact {
     std::uint32_t nextFree = UINT32_MAX;
     bool hasPose = false;        // relativePose holds the pose of the last collide()
     Transform relativePose;      // B's body frame in A's, when collide() last ran
+    // The apart cache (docs/narrow-phase.md, "Pairs proved apart"): a distance
+    // the two shapes are proved to be at least apart at relativePose (0: none
+    // known), and each shape's reach (its farthest point from its body
+    // origin) that bounds how far a turn moves it. Not saved in snapshots:
+    // a pair without it runs the narrow phase, which gives the same answer.
+    Real apartBy = 0;
+    Real reachA = 0, reachB = 0;
     // The pair's material, mixed at every collideContact() (so setFriction and
     // setRestitution take effect next step): the solver's prepare then reads
     // only the contact and its own compact body arrays, not the world's body

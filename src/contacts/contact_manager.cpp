@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "collision/narrow_phase.hpp"
+#include "collision/support.hpp"
 #include "fulcrum/task_system.hpp"
 #include "solver/joint_data.hpp"
 
@@ -36,6 +37,21 @@ constexpr Real kMatchDistance = Real(0.02);
 // collide() (a 0.5 m lever moves 1 mm per 0.1 degree).
 constexpr Real kRecycleDistance = Real(0.001);
 const Real kRecycleCosHalfAngle = dmath::cos(Real(0.5) * Real(0.1) * Real(3.14159265) / 180);
+
+// The apart cache skips a pair only while it is proved this much farther
+// apart than the margin: far above the narrow phase's rounding (a few
+// micrometres at a few hundred metres from the origin), as GJK's early stop
+// (kBeyondPad in collide_convex.cpp) for the same reason.
+constexpr Real kApartPad = Real(1e-3);
+
+// Neither a compound nor rounded: the shapes whose collide() reports a
+// proved distance when it rejects the pair (ManifoldBuffer::apartBy).
+bool isPlainConvex(const Shape& s) {
+    const ShapeType t = s.type();
+    return (t == ShapeType::Sphere || t == ShapeType::Box || t == ShapeType::Capsule || t == ShapeType::Cylinder ||
+            t == ShapeType::ConvexHull) &&
+           s.convexRadius() == 0;
+}
 
 bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
 
@@ -93,6 +109,22 @@ inline void copyGeometry(CachedPoint& dst, const ContactPoint& src) {
 }
 
 }  // namespace
+
+// A point y of B (|y| <= reachB) moves by |dp| + |R(q1) y - R(q0) y| and, with
+// unit quaternions, R(q1) y - R(q0) y = (q1 - q0) y q1* + q0 y (q1 - q0)*, at
+// most 2 |q1 - q0| |y| (q and -q are the same turn: the nearer sign). The
+// quaternion difference, not 1 - dot, keeps tiny turns measurable in floats.
+Real apartMotionBound(const Transform& from, const Transform& to, Real reachA, Real reachB) {
+    const Quat& q0 = from.q;
+    const Quat& q1 = to.q;
+    const Real sign = dot(q0, q1) < 0 ? Real(-1) : Real(1);
+    const Real dw = q1.w - sign * q0.w, dx = q1.x - sign * q0.x, dy = q1.y - sign * q0.y, dz = q1.z - sign * q0.z;
+    const Real turn = 2 * std::sqrt(dw * dw + dx * dx + dy * dy + dz * dz);
+    // The view of the shape with the smaller reach (a ground box's corners
+    // swing far with the smallest turn of the body on it).
+    if (reachB <= reachA) return length(to.p - from.p) + turn * reachB;
+    return length(inverseRotate(to.q, to.p) - inverseRotate(from.q, from.p)) + turn * reachA;
+}
 
 bool mayCollide(const BodyStore& w, const JointPairFilter& joints, std::uint32_t slotA, std::uint32_t slotB) {
     const BodyParams& pa = w.params[w.bodySlots[slotA].dense];
@@ -244,6 +276,8 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
     c.solved = false;
     c.nextFree = UINT32_MAX;
     c.hasPose = false;
+    c.apartBy = 0;
+    c.reachA = c.reachB = 0;
     c.sensor = w.params[w.bodySlots[slotA].dense].isSensor || w.params[w.bodySlots[slotB].dense].isSensor;
     c.manifolds.clear();
     if (!linksRebuild_) {
@@ -465,8 +499,6 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         }
         return kCollided | (touching ? kTouching : 0);
     }
-    c.hasPose = true;
-    c.relativePose = rel;
     // Speculative distance: the base margin plus how far the surfaces can
     // approach in one step, the spin's part per compound child
     // (SpeculativeReach). Recycled contacts above never need it.
@@ -484,15 +516,43 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
             reach.extentB = pb.extent;
         }
     }
-    std::uint8_t flags = 0;
     const Shape& shapeA = w.cold[dA].shape;
     const Shape& shapeB = w.cold[dB].shape;
-    if (shapeA.type() == ShapeType::Compound || shapeB.type() == ShapeType::Compound) {
+    const bool compound = shapeA.type() == ShapeType::Compound || shapeB.type() == ShapeType::Compound;
+    const Real margin = reach.margin(reach.extentA, reach.extentB);  // the whole bodies' (the same sums as before)
+    // The apart cache: the last narrow phase proved the shapes at least
+    // c.apartBy apart at c.relativePose, and since then B has moved in A's
+    // frame (or A in B's) by at most `moved`. While what is left exceeds the
+    // margin by kApartPad, the narrow phase would reject the pair again (its
+    // own rounding is far below the pad): the same answer, without it. The
+    // bound moves on to this pose, as relativePose does when the narrow phase
+    // runs, so the recycling above decides as it did without the cache. Only
+    // plain convex pairs ever hold a bound (never a compound).
+    if (!c.sensor && c.apartBy > 0) {
+        const Real moved = apartMotionBound(c.relativePose, rel, c.reachA, c.reachB);
+        if (c.apartBy - moved > margin + kApartPad) {
+            c.apartBy -= moved;
+            c.relativePose = rel;
+            return kCollided;
+        }
+    }
+    c.hasPose = true;
+    c.relativePose = rel;
+    std::uint8_t flags = 0;
+    if (compound) {
         reach.centreA = ma.com;
         reach.centreB = mb.com;
         collide(shapeA, xA, shapeB, xB, reach, buffer);
     } else {
-        collide(shapeA, xA, shapeB, xB, reach.margin(reach.extentA, reach.extentB), buffer);  // the same sums
+        collide(shapeA, xA, shapeB, xB, margin, buffer);
+    }
+    c.apartBy = 0;
+    if (buffer.empty() && buffer.apartBy() > 0 && isPlainConvex(shapeA) && isPlainConvex(shapeB)) {
+        c.apartBy = buffer.apartBy();
+        if (c.reachA == 0) {  // once per contact: the shapes never change
+            c.reachA = detail::makeConvex(shapeA, Transform{}).boundingRadius();
+            c.reachB = detail::makeConvex(shapeB, Transform{}).boundingRadius();
+        }
     }
 
     bool touching = false;

@@ -85,6 +85,14 @@ inline std::uint32_t contactPairLimit(std::int64_t maxContactPairs, std::size_t 
 // The joint rule and the sensor-sensor rule for two bodies (by slot).
 bool mayCollide(const BodyStore& w, const JointPairFilter& joints, std::uint32_t slotA, std::uint32_t slotB);
 
+// The apart cache's motion bound (docs/narrow-phase.md, "Pairs proved apart"):
+// how far any point of B can have moved in A's frame between the relative
+// poses `from` and `to` (B's body frame in A's) when B's reach is the smaller,
+// else any point of A in B's frame; `reachA` and `reachB` bound the shapes'
+// distances from their body origins. The distance between the shapes shrank
+// by at most that.
+Real apartMotionBound(const Transform& from, const Transform& to, Real reachA, Real reachB);
+
 // The settings the collision pipeline reads.
 struct CollisionSettings {
     Real speculativeMargin = Real(0.02);

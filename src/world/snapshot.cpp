@@ -36,6 +36,7 @@
 #include <map>
 #include <type_traits>
 
+#include "collision/support.hpp"
 #include "world/input_file.hpp"
 #include "world/snapshot_versions.hpp"
 #include "world/world_access.hpp"
@@ -378,6 +379,10 @@ template <typename A>
 void io(A& a, Contact& c) {
     io(a, c.alive), io(a, c.sensor), io(a, c.touching), io(a, c.solved), io(a, c.slotA), io(a, c.slotB);
     io(a, c.proxyA), io(a, c.proxyB), io(a, c.nextFree), io(a, c.hasPose), io(a, c.relativePose);
+    if constexpr (A::kReading) {  // the apart cache is not saved: the narrow phase runs again
+        c.apartBy = 0;
+        c.reachA = c.reachB = 0;
+    }
     // Version 9: the pair's mixed material. The step reads it before the
     // narrow phase mixes it again, so a file without it (older) gets it mixed
     // from the bodies on load (ContactManager::mixMaterials).
@@ -551,6 +556,7 @@ struct SnapshotAccess {
                     for (const auto& e : h.edges) {
                         if (e[0] >= h.vertices.size() || e[1] >= h.vertices.size()) a.fail("hull edge out of range");
                     }
+                    detail::deriveHullTables(h);  // derived, not saved
                     s.hull_ = std::make_shared<const ConvexHull>(std::move(h));
                     if (s.convexRadius_ > 0) {  // the rounded hull's stand-in is derived, not saved
                         try {

@@ -90,3 +90,55 @@ TEST(HullSupport, NonFiniteDirectionsGiveTheScanAnswer) {
         expectScanAnswer(hull, d);
     }
 }
+
+TEST(HullSupport, WithoutTheDerivedTablesTheSameAnswers) {
+    // A hull from the builder carries its coordinate rows (the eight-lane
+    // search where the CPU has AVX2) and its vertex-face adjacency (the
+    // supporting face); a hull built by hand has neither and takes the
+    // four-lane search and the face-by-face search. Both give the scan's vertex
+    // and the same face, ties included (a 12-sided prism: its 12 top vertices
+    // tie straight up, across lanes).
+    std::mt19937 rng(17);
+    std::normal_distribution<Real> g(0, 1);
+    std::vector<std::vector<Vec3>> clouds;
+    for (int points = 16; points <= 64; points += 3) {
+        std::vector<Vec3> cloud;
+        for (int i = 0; i < points; ++i) cloud.push_back(Vec3{g(rng), g(rng), g(rng)});
+        clouds.push_back(cloud);
+    }
+    std::vector<Vec3> prism;
+    for (int i = 0; i < 12; ++i) {
+        const Real a = Real(i) * Real(2 * 3.14159265358979 / 12);
+        prism.push_back({std::cos(a), 1, std::sin(a)});
+        prism.push_back({std::cos(a), -1, std::sin(a)});
+    }
+    clouds.push_back(prism);
+    for (const std::vector<Vec3>& cloud : clouds) {
+        const Shape shape = Shape::convexHull(cloud);
+        const ConvexHull& hull = shape.hull();
+        ASSERT_EQ(hull.vertexRows.size(), 3 * hull.vertices.size());
+        ASSERT_EQ(hull.vertexFaceStart.size(), hull.vertices.size() + 1);
+        ConvexHull bare = hull;
+        bare.vertexRows.clear();
+        bare.vertexFaceStart.clear();
+        bare.vertexFaces.clear();
+        detail::ConvexShape withTables, withoutTables;
+        withTables.kind = withoutTables.kind = detail::ConvexKind::Hull;
+        withTables.hull = &hull;
+        withoutTables.hull = &bare;
+        withTables.xf = withoutTables.xf = Transform{{1, 2, 3}, normalize(Quat{g(rng), g(rng), g(rng), g(rng)})};
+        std::vector<Vec3> directions = {{0, 1, 0}, {0, -1, 0}, {1, 0, 0}};
+        for (int k = 0; k < 200; ++k) directions.push_back(randomDirection(rng));
+        for (const Vec3& d : directions) {
+            expectScanAnswer(hull, d);
+            ASSERT_EQ(detail::hullSupportIndex(bare, d), scan(hull.vertices, d));
+            detail::SupportFace a, b;
+            const Vec3 n = normalize(d);
+            detail::supportingFace(withTables, n, a);
+            detail::supportingFace(withoutTables, n, b);
+            ASSERT_EQ(a.id, b.id);
+            ASSERT_EQ(a.count, b.count);
+            for (std::uint32_t i = 0; i < a.count; ++i) ASSERT_TRUE(a.points[i] == b.points[i]);
+        }
+    }
+}
