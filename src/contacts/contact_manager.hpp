@@ -107,7 +107,7 @@ public:
     // (4 pooled contacts and 2 reports with their point buffers per body).
     std::size_t bufferBodyCount() const {
         const auto moving = static_cast<std::size_t>(broad_.movingTree().proxyCount());
-        const auto fixed = static_cast<std::size_t>(broad_.staticTree().proxyCount());
+        const auto fixed = static_cast<std::size_t>(broad_.staticProxyCount());
         return moving + std::min(fixed, moving);
     }
     // Drops the body's contacts and reports all its overlaps anew next step
