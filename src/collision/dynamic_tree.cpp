@@ -437,10 +437,12 @@ void DynamicTree::removeLeaf(std::int32_t leaf) {
 // the three axes and once to partition it (which also gathers the two
 // halves' centroid boxes for the next level); the leaves' boxes and centres
 // sit in one array that the partition permutes, and the internal nodes'
-// boxes are merged bottom-up at the end. A million static boxes
-// (large_world): 4.6 G instructions with one pass per axis, a pass for the
-// centroid box and one for the node's box over the leaf nodes, 1.2 G now,
-// the same tree (the bins, costs and splits are computed as before).
+// boxes are merged bottom-up at the end; the split search sweeps only the
+// non-empty bins. The bins, costs and splits are computed as before, so the
+// trees are the same (checked against the former build on random, grid and
+// identical boxes), for fewer instructions (callgrind): a million static
+// boxes (large_world) 4.6 G before, 3.2 G now; 5000 random unit boxes (a
+// jolt_high_speed moving tree) 30.6 M before, 16.1 M now.
 void DynamicTree::rebuild() {
     if (proxyCount_ < 2) {
         for (const std::int32_t leaf : pending_) insertLeaf(leaf);  // at most one
