@@ -232,6 +232,14 @@ public:
     static constexpr std::size_t kMinEntriesPerUpdate = 256;
     static constexpr std::size_t kMinShare = 32;
 
+    // Capacity for `count` proxies in all (records, and either tree's nodes:
+    // memory reserved, touched only when used).
+    void reserveProxies(std::size_t count) {
+        records_.reserve(count);
+        staticTree_.reserve(count);
+        movingTree_.reserve(count);
+    }
+
     // Grows the new-pair buffer so updatePairs() need not allocate (the world
     // calls it when bodies are created).
     void reservePairs(std::size_t count) {

@@ -4,6 +4,7 @@
 #include "collision/dynamic_tree.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <sstream>
 
@@ -64,6 +65,10 @@ AABB DynamicTree::fatten(const AABB& tight, const Vec3& displacement) const {
         }
     }
     return fat;
+}
+
+void DynamicTree::reserve(std::size_t proxies) {
+    if (proxies > 0) nodes_.reserve(std::bit_ceil(2 * proxies));
 }
 
 // ---- proxies --------------------------------------------------------------------
@@ -451,6 +456,7 @@ void DynamicTree::rebuild() {
     }
     pending_.clear();  // every leaf is taken below
     buildItems_.clear();
+    buildItems_.reserve(static_cast<std::size_t>(proxyCount_));
     AABB centroidBox;
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
         if (nodes_[i].height == 0) {

@@ -120,6 +120,10 @@ public:
 
     const DynamicTreeConfig& config() const { return config_; }
 
+    // Capacity for `proxies` leaves and their internal nodes (the node array
+    // grows by doubling: the next power of two of twice that).
+    void reserve(std::size_t proxies);
+
     // Inserts a proxy for `tightBox`; returns its id (a leaf index).
     std::int32_t createProxy(const AABB& tightBox, std::uint32_t userValue, const Vec3& displacement = Vec3::zero());
     // A proxy whose leaf waits outside the tree until insertPending() (for

@@ -93,6 +93,12 @@ class ContactManager {
 public:
     // Body lifetime (called by World::createBody / destroyBody / setTransform).
     void addBody(BodyStore& w, std::uint32_t dense);
+    // Capacity for `slots` body slots and `bodies` bodies (World::reserveBodies).
+    void reserveBodies(std::size_t slots, std::size_t bodies) {
+        proxyOfSlot_.reserve(slots);
+        headOfSlot_.reserve(slots);
+        broad_.reserveProxies(bodies);
+    }
     // Before the dense arrays are changed, after the world built the last step's contact report.
     void removeBody(BodyStore& w, std::uint32_t slot);
     void bodyTeleported(BodyStore& w, std::uint32_t dense);

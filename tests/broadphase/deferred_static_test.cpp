@@ -200,5 +200,48 @@ TEST(DeferredStatics, WorldQueriesRightAfterCreationSeeTheNewStaticBodies) {
     }
 }
 
+// World::reserveBodies makes room and nothing else: the same bodies, the
+// same bits; an impossible count is a clear error.
+TEST(DeferredStatics, ReservingBodiesChangesNothingButCapacity) {
+    const auto run = [](bool reserve) {
+        World world;
+        if (reserve) world.reserveBodies(3000);
+        EXPECT_EQ(world.bodyCount(), 0u);
+        BodyDef tile;
+        tile.type = BodyType::Static;
+        tile.shape = Shape::box({0.5f, 0.25f, 0.5f});
+        for (int i = 0; i < 2500; ++i) {
+            tile.position = {float(i % 50), 0, float(i / 50)};
+            world.createBody(tile);
+        }
+        BodyDef ball;
+        ball.shape = Shape::sphere(0.3f);
+        std::vector<BodyId> balls;
+        for (int i = 0; i < 20; ++i) {
+            ball.position = {float(i) * 2.1f + 0.3f, 1.5f, float(i) * 1.7f + 0.2f};
+            balls.push_back(world.createBody(ball));
+        }
+        for (int s = 0; s < 60; ++s) world.step(1.0f / 60);
+        std::vector<Vec3> out;
+        for (const BodyId b : balls) out.push_back(world.position(b));
+        return out;
+    };
+    const std::vector<Vec3> plain = run(false), reserved = run(true);
+    ASSERT_EQ(plain.size(), reserved.size());
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_EQ(plain[i].x, reserved[i].x);
+        EXPECT_EQ(plain[i].y, reserved[i].y);
+        EXPECT_EQ(plain[i].z, reserved[i].z);
+        EXPECT_NEAR(plain[i].y, 0.55f, 0.02f);  // resting on the tiles
+    }
+    World world;
+    try {
+        world.reserveBodies(std::size_t{1} << 40);
+        FAIL() << "an impossible count was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("reserveBodies"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace fulcrum
