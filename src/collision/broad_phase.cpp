@@ -26,9 +26,21 @@ ProxyId BroadPhase::createProxy(const AABB& tightBox, BodyType type, const Colli
     r.filter = filter;
     r.type = type;
     r.alive = true;
-    r.leaf = treeOf(type).createProxy(tightBox, static_cast<std::uint32_t>(id));
+    if (type == BodyType::Static) {
+        r.leaf = staticTree_.createProxyDeferred(tightBox, static_cast<std::uint32_t>(id));
+        staticWaiting_.flag.store(true, std::memory_order_release);
+    } else {
+        r.leaf = movingTree_.createProxy(tightBox, static_cast<std::uint32_t>(id));
+    }
     markMoved(id, AABB{}, true);
     return id;
+}
+
+void BroadPhase::settleStaticTreeSlow() const {
+    const std::lock_guard<std::mutex> lock(staticWaiting_.mutex);
+    if (!staticWaiting_.flag.load(std::memory_order_relaxed)) return;
+    staticTree_.insertPending();
+    staticWaiting_.flag.store(false, std::memory_order_release);
 }
 
 void BroadPhase::destroyProxy(ProxyId id) {

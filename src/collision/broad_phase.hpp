@@ -89,8 +89,10 @@
 // No heap allocation in steady state: the move buffer, the pair buffer, the
 // proxy records and the trees' node arrays are reused and grow by doubling.
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cstdint>
+#include <mutex>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -230,6 +232,14 @@ public:
     static constexpr std::size_t kMinEntriesPerUpdate = 256;
     static constexpr std::size_t kMinShare = 32;
 
+    // Capacity for `count` proxies in all (records, and either tree's nodes:
+    // memory reserved, touched only when used).
+    void reserveProxies(std::size_t count) {
+        records_.reserve(count);
+        staticTree_.reserve(count);
+        movingTree_.reserve(count);
+    }
+
     // Grows the new-pair buffer so updatePairs() need not allocate (the world
     // calls it when bodies are created).
     void reservePairs(std::size_t count) {
@@ -250,8 +260,13 @@ public:
     BodyType type(ProxyId id) const { return record(id).type; }
     const CollisionFilter& filter(ProxyId id) const { return record(id).filter; }
     std::int32_t proxyCount() const { return staticTree_.proxyCount() + movingTree_.proxyCount(); }
+    std::int32_t staticProxyCount() const { return staticTree_.proxyCount(); }  // the waiting ones too
     std::size_t moveCount() const { return moveBuffer_.size(); }  // entries waiting for updatePairs
-    const DynamicTree& staticTree() const { return staticTree_; }
+    // The static tree with every static proxy in it (see settleStaticTree).
+    const DynamicTree& staticTree() const {
+        settleStaticTree();
+        return staticTree_;
+    }
     const DynamicTree& movingTree() const { return movingTree_; }
 
     // ---- queries over both trees (moving tree first), on fat boxes
@@ -268,7 +283,22 @@ public:
 
     // Rebuilds the static tree top-down (binned SAH); call after adding many
     // static proxies, e.g. after loading a scene. Ids and pairs are unaffected.
-    void rebuildStaticTree() { staticTree_.rebuild(); }
+    void rebuildStaticTree() {
+        settleStaticTree();
+        staticTree_.rebuild();
+    }
+    // Static proxies wait outside the static tree when created
+    // (DynamicTree::createProxyDeferred) and go in at the first query, ray
+    // cast, pair update or change of the static tree after them: one
+    // insertion each as before, or one bulk build when many came at once (a
+    // scene of a million static bodies, created one by one: 1.8 s of exact
+    // sibling searches before). Const, so that the world's const queries see
+    // every body created before them; guarded like the world's stray-body
+    // list (src/world/stray_bodies.hpp): queries may run concurrently with
+    // each other, never with changes, and the first one settles the tree.
+    void settleStaticTree() const {
+        if (staticWaiting_.flag.load(std::memory_order_acquire)) settleStaticTreeSlow();
+    }
     // Rebuilds the moving tree the same way: after setFatBox for most of its
     // proxies, instead of reinsertProxy for each (the leaves keep their ids
     // and boxes; the pool is not reallocated, so fatAABB and testOverlap may
@@ -335,8 +365,25 @@ private:
     // those whose entryCut_ is set or whose pair was cut.
     void finishUpdate(std::size_t queried, std::uint32_t maxNewPairs, bool cutsRecorded);
 
+    void settleStaticTreeSlow() const;
+    // Whether the static tree may hold waiting leaves, and the lock of the
+    // first query that inserts them. A copy of a broad phase gets its own.
+    struct WaitingGuard {
+        std::atomic<bool> flag{false};
+        std::mutex mutex;
+        WaitingGuard() = default;
+        WaitingGuard(const WaitingGuard& o) : flag(o.flag.load(std::memory_order_relaxed)) {}
+        WaitingGuard& operator=(const WaitingGuard& o) {
+            flag.store(o.flag.load(std::memory_order_relaxed), std::memory_order_relaxed);
+            return *this;
+        }
+    };
+
     BroadPhaseConfig config_;
-    DynamicTree staticTree_;
+    // Mutable for settleStaticTree() only: inserting the waiting leaves
+    // changes no proxy's id, box or pairs, only what queries can reach.
+    mutable DynamicTree staticTree_;
+    mutable WaitingGuard staticWaiting_;
     DynamicTree movingTree_;
     std::vector<ProxyRecord> records_;
     ProxyId freeRecord_ = kNullProxy;
@@ -452,6 +499,7 @@ void BroadPhase::runQueries(std::size_t count, std::uint32_t entryCap, std::size
 template <PairPredicate Predicate, typename Partners>
 std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, const Partners& partners,
                                                    TaskSystem* tasks, std::uint32_t maxNewPairs) {
+    settleStaticTree();
     prepareQueries(tasks != nullptr ? tasks->workerCount() : 1);
     const std::size_t entries = moveBuffer_.size();
     if (maxNewPairs == kNoPairLimit) {
@@ -486,6 +534,7 @@ std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, con
 
 template <typename Callback>
 void BroadPhase::query(const AABB& box, Callback&& callback) const {
+    settleStaticTree();
     const auto forward = [&](std::int32_t, std::uint32_t proxy) {
         return static_cast<bool>(callback(static_cast<ProxyId>(proxy), record(static_cast<ProxyId>(proxy)).userValue));
     };
@@ -495,6 +544,7 @@ void BroadPhase::query(const AABB& box, Callback&& callback) const {
 
 template <typename Callback>
 void BroadPhase::queryStatic(const AABB& box, Callback&& callback) const {
+    settleStaticTree();
     staticTree_.query(box, [&](std::int32_t, std::uint32_t proxy) {
         return static_cast<bool>(callback(static_cast<ProxyId>(proxy), record(static_cast<ProxyId>(proxy)).userValue));
     });
@@ -502,6 +552,7 @@ void BroadPhase::queryStatic(const AABB& box, Callback&& callback) const {
 
 template <typename Callback>
 void BroadPhase::rayCast(const RayCastInput& input, Callback&& callback) const {
+    settleStaticTree();
     const auto forward = [&](const RayCastInput& in, std::int32_t, std::uint32_t proxy) {
         return static_cast<Real>(callback(in, static_cast<ProxyId>(proxy), record(static_cast<ProxyId>(proxy)).userValue));
     };

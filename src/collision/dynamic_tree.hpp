@@ -34,6 +34,7 @@
 // Threads. Queries and ray casts are const and allocate nothing (a stack on
 // the call frame), so any number of threads may query one tree at once as long
 // as nobody modifies it.
+#include <cassert>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -119,8 +120,32 @@ public:
 
     const DynamicTreeConfig& config() const { return config_; }
 
+    // Capacity for `proxies` leaves and their internal nodes (the node array
+    // grows by doubling: the next power of two of twice that).
+    void reserve(std::size_t proxies);
+
     // Inserts a proxy for `tightBox`; returns its id (a leaf index).
     std::int32_t createProxy(const AABB& tightBox, std::uint32_t userValue, const Vec3& displacement = Vec3::zero());
+    // A proxy whose leaf waits outside the tree until insertPending() (for
+    // trees that take many proxies at once: a scene's static bodies, made one
+    // createBody at a time). Its id, box and user value are valid at once;
+    // queries and ray casts do not see it until it is inserted. Every other
+    // change to the tree (create, destroy, move, rebuild) inserts the waiting
+    // leaves first, so the tree is the one immediate insertions would have
+    // built, unless insertPending() builds it in bulk (see there).
+    std::int32_t createProxyDeferred(const AABB& tightBox, std::uint32_t userValue);
+    bool hasPending() const { return !pending_.empty(); }
+    std::size_t pendingCount() const { return pending_.size(); }
+    // Inserts the waiting leaves: one by one, in creation order, as
+    // createProxy would have; or, when at least kBulkMinLeaves wait and they
+    // are at least a kBulkShare-th of the tree, by a rebuild() of the whole
+    // tree (O(n log n) for n leaves, against an exact sibling search per
+    // leaf that grows with the tree). The tree's shape then differs from
+    // the incremental one; results that depend only on which leaves overlap
+    // what (pairs sorted by id, sorted query answers) do not.
+    static constexpr std::size_t kBulkMinLeaves = 1024;
+    static constexpr std::size_t kBulkShare = 4;
+    void insertPending();
     void destroyProxy(std::int32_t proxyId);
     // Updates the proxy for a new tight box. Returns true when the stored fat box
     // changed (the leaf was reinserted), false when the old fat box still fits.
@@ -138,9 +163,11 @@ public:
     // node pool (removal frees the node insertion takes), so fatAABB() may be
     // read by other threads while it runs.
     void setFatBox(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) {
+        assert(!hasPending());  // trees with waiting leaves (the static tree) are not moved this way
         node(proxyId).box = fatten(tightBox, displacement);
     }
     void reinsert(std::int32_t proxyId) {
+        if (hasPending()) insertPending();
         if (updateInPlace(proxyId)) return;
         removeLeaf(proxyId);
         insertLeaf(proxyId);
@@ -205,7 +232,10 @@ private:
     // false (nothing done) when the box left that ancestor's.
     static constexpr int kInPlaceLevels = 3;
     bool updateInPlace(std::int32_t leaf);
-    std::size_t partitionRange(std::size_t begin, std::size_t end);
+    // Splits buildItems_[begin, end) (centres in centroidBox) in two, returns
+    // where the second half starts and each half's centroid box.
+    std::size_t partitionRange(std::size_t begin, std::size_t end, const AABB& centroidBox, AABB& leftCentroids,
+                               AABB& rightCentroids);
 
     TreeNode& node(std::int32_t i) { return nodes_[static_cast<std::size_t>(i)]; }
     const TreeNode& node(std::int32_t i) const { return nodes_[static_cast<std::size_t>(i)]; }
@@ -215,6 +245,7 @@ private:
     std::int32_t root_ = kNullNode;
     std::int32_t freeList_ = kNullNode;
     std::int32_t proxyCount_ = 0;
+    std::vector<std::int32_t> pending_;  // leaves made by createProxyDeferred, not in the tree yet
 
     // Scratch buffers reused across calls (no allocation in steady state).
     struct Candidate {
@@ -222,13 +253,18 @@ private:
         Real inheritedCost;
     };
     std::vector<Candidate> candidates_;          // branch-and-bound priority queue
-    std::vector<std::int32_t> buildLeaves_;      // rebuild(): the leaves being partitioned
-    std::vector<Vec3> buildCentroids_;           // rebuild(): leaf box centres, parallel to buildLeaves_
+    struct BuildItem {
+        AABB box;
+        Vec3 centroid;
+        std::int32_t leaf;
+    };
+    std::vector<BuildItem> buildItems_;          // rebuild(): the leaves being partitioned
     std::vector<std::int32_t> buildOrder_;       // rebuild(): internal nodes in creation order
     struct BuildTask {
         std::size_t begin, end;
         std::int32_t parent;
         bool first;
+        AABB centroidBox;  // of the range's leaves
     };
     std::vector<BuildTask> buildTasks_;          // rebuild(): ranges still to split
 };

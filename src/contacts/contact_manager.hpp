@@ -103,6 +103,12 @@ class ContactManager {
 public:
     // Body lifetime (called by World::createBody / destroyBody / setTransform).
     void addBody(BodyStore& w, std::uint32_t dense);
+    // Capacity for `slots` body slots and `bodies` bodies (World::reserveBodies).
+    void reserveBodies(std::size_t slots, std::size_t bodies) {
+        proxyOfSlot_.reserve(slots);
+        headOfSlot_.reserve(slots);
+        broad_.reserveProxies(bodies);
+    }
     // Before the dense arrays are changed, after the world built the last step's contact report.
     void removeBody(BodyStore& w, std::uint32_t slot);
     void bodyTeleported(BodyStore& w, std::uint32_t dense);
@@ -117,7 +123,7 @@ public:
     // (4 pooled contacts and 2 reports with their point buffers per body).
     std::size_t bufferBodyCount() const {
         const auto moving = static_cast<std::size_t>(broad_.movingTree().proxyCount());
-        const auto fixed = static_cast<std::size_t>(broad_.staticTree().proxyCount());
+        const auto fixed = static_cast<std::size_t>(broad_.staticProxyCount());
         return moving + std::min(fixed, moving);
     }
     // Drops the body's contacts and reports all its overlaps anew next step

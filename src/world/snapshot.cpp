@@ -630,6 +630,8 @@ struct SnapshotAccess {
     }
     template <typename A>
     static void broadPhase(A& a, BroadPhase& b) {
+        // Written with every static proxy in its tree (none waiting), read into one with none waiting.
+        b.settleStaticTree();
         a.at("broad phase: static tree");
         tree(a, b.staticTree_);
         a.at("broad phase: moving tree");

@@ -223,6 +223,25 @@ BodyId World::createBody(const BodyDef& def) {
     return {slotIndex, w.bodySlots[slotIndex].generation};
 }
 
+void World::reserveBodies(std::size_t count) {
+    WorldImpl& w = *impl_;
+    if (count > std::size_t{UINT32_MAX} - 1 - w.motion.size()) {
+        fail(kWorldSubject, "reserveBodies count", "exceeds the most bodies a world holds (2^32 - 2), got " + std::to_string(count));
+    }
+    const std::size_t total = w.motion.size() + count;
+    w.motion.reserve(total);
+    w.forces.reserve(total);
+    w.applied.reserve(total);
+    w.params.reserve(total);
+    w.cold.reserve(total);
+    w.previous.reserve(total);
+    w.denseToSlot.reserve(total);
+    w.scratch.reserve(total);
+    w.bodySlots.reserve(w.bodySlots.size() + count);
+    w.inAwakeList.reserve(total);
+    w.contactManager.reserveBodies(w.bodySlots.capacity(), total);
+}
+
 void World::destroyBody(BodyId id) {
     WorldImpl& w = *impl_;
     const std::uint32_t dense = w.resolveBody(id, "World::destroyBody");
