@@ -191,6 +191,10 @@ void impactRecursive(const Shape& a, const Sweep& sa, const Shape& b, const Swee
         }
         return;
     }
+    // The pieces' swept boxes first: a compound's children each meet only
+    // some of what the whole body's swept box found.
+    const AABB bBox = bStill ? b.bounds(sb.start) : sweptBounds(b, sb);
+    if (!overlaps(sweptBounds(a, sa).fattened(rules.touchBand), bBox)) return;
     Piece pb = movingPiece(b, sb);
     advancePair(pa, pb, rules, limit, out);
 }

@@ -61,7 +61,8 @@ bool canSweepAgainst(ShapeType t) { return isConvexShape(t) || t == ShapeType::C
 // `bullets`: whether this pass takes the bullets (true) or the other bodies
 // (false). Writes only body i's pose; reads the poses of dynamic non-bullets
 // (final once their pass is done) and of static bodies.
-void sweepBody(BodyStore& w, const JointPairFilter& joints, const BroadPhase& broad, std::uint32_t i, bool bullets) {
+void sweepBody(BodyStore& w, const JointPairFilter& joints, const BroadPhase& broad, std::uint32_t i, bool bullets,
+               bool onlyBulletsMove) {
     const std::uint32_t d = w.denseOfSolver[i];
     const BodyParams& p = w.params[d];
     if (p.type != BodyType::Dynamic || !p.awake || p.isSensor || p.isBullet != bullets) return;
@@ -114,8 +115,11 @@ void sweepBody(BodyStore& w, const JointPairFilter& joints, const BroadPhase& br
     };
     // Only a bullet is swept against moving bodies: the others need the
     // static tree alone (benchmark chain, no static body: the query of the
-    // moving tree was 4 % of the step's instructions).
-    if (p.isBullet) {
+    // moving tree was 4 % of the step's instructions), and so do the bullets
+    // when every moving proxy is an awake bullet (Jolt's HighSpeed: the
+    // queries of its moving tree, which give nothing a bullet is swept
+    // against, were 7.5 % of the step's instructions).
+    if (p.isBullet && !onlyBulletsMove) {
         broad.query(swept, hit);
     } else {
         broad.queryStatic(swept, hit);
@@ -142,18 +146,22 @@ void solveContinuous(BodyStore& w, const JointPairFilter& joints, const ContactM
     const auto count = static_cast<std::uint32_t>(w.denseOfSolver.size());
     if (count <= 1) return;
     const BroadPhase& broad = manager.broadPhase();
-    std::atomic<bool> anyBullet{false};
+    std::atomic<std::uint32_t> bulletCount{0};
     tasks.parallelFor(count - 1, 256, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        bool bullet = false;
+        std::uint32_t bullets = 0;
         for (std::uint32_t i = begin + 1; i <= end; ++i) {
-            bullet = bullet || w.params[w.denseOfSolver[i]].isBullet;
-            sweepBody(w, joints, broad, i, false);
+            const BodyParams& p = w.params[w.denseOfSolver[i]];
+            if (p.isBullet && p.type == BodyType::Dynamic) ++bullets;
+            sweepBody(w, joints, broad, i, false, false);
         }
-        if (bullet) anyBullet.store(true, std::memory_order_relaxed);
+        if (bullets != 0) bulletCount.fetch_add(bullets, std::memory_order_relaxed);
     });
-    if (!anyBullet.load(std::memory_order_relaxed)) return;
+    const std::uint32_t bullets = bulletCount.load(std::memory_order_relaxed);
+    if (bullets == 0) return;
+    // Every body, awake or asleep, has one proxy; the static ones are in the static tree.
+    const bool onlyBulletsMove = static_cast<std::uint32_t>(broad.movingTree().proxyCount()) == bullets;
     tasks.parallelFor(count - 1, 16, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        for (std::uint32_t i = begin + 1; i <= end; ++i) sweepBody(w, joints, broad, i, true);
+        for (std::uint32_t i = begin + 1; i <= end; ++i) sweepBody(w, joints, broad, i, true, onlyBulletsMove);
     });
 }
 
