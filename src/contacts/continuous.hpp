@@ -3,17 +3,25 @@
 //
 // Speculative contacts stop most tunnelling: a pair gets contact points a step
 // before it can touch, so the solver removes exactly the approach that would
-// close the gap. They miss what the broad phase had no pair for yet and thin
-// geometry crossed in one step by a small fast body. So, as in Box2D v3, every
-// dynamic body that moved more than half its smallest extent this step is
-// swept from its pose at the step's start to its end pose:
-//   - against static bodies (shapeCast along its displacement; any static shape);
-//   - if it is a bullet, against dynamic non-bullet bodies too (timeOfImpact on
-//     both bodies' sweeps; convex shapes).
-// The body is put back at the first time of impact (less a small slop) with
-// its velocity kept; next step's speculative contact then handles the impact.
-// Hits at fraction 0 (already touching at the start) are ignored so a body
-// sliding fast along the floor is not stopped.
+// close the gap. They miss what the broad phase had no pair for yet, thin
+// geometry crossed in one step by a small fast body, and what a fast turn
+// brings into contact (the manifold's points are where the bodies met at the
+// step's start). So, as in Box2D v3, every dynamic body that moved more than
+// half its smallest extent this step (a bullet: any point of it, its turn
+// counted) is swept from its pose at the step's start to its end pose (the
+// centre on the line between them, the orientation turning at a constant
+// rate: collision/swept_impact.hpp):
+//   - against static bodies (any static shape);
+//   - if it is a bullet, against dynamic non-bullet bodies too (both sweeps;
+//     convex shapes and compounds of them).
+// A pair apart at the start stops kToiSlop short of touching, if the path goes
+// on more than 2 kToiSlop into it (a body its speculative contact held at the
+// surface is left alone); a pair touching or overlapping at the start (a
+// body sliding along a floor, or put back at a wall last step) stops only
+// when a quarter of the body's thinnest half extent deeper than it started:
+// it may slide along what it touches, never through it. The body is put back
+// on its sweep at the first stop, its velocity kept; next step's speculative
+// contact then handles the impact.
 //
 // It runs on the body store's awake set (body_store.hpp), before the records
 // are written: it reads each body's pose at the step's start (startCom,

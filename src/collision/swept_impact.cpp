@@ -1,0 +1,246 @@
+#include "collision/swept_impact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "collision/collide_mesh.hpp"
+#include "collision/epa.hpp"
+#include "collision/gjk.hpp"
+#include "collision/heightfield.hpp"
+#include "collision/support.hpp"
+
+namespace fulcrum::detail {
+
+namespace {
+
+// A pair that has not settled after this many advances stops where it is
+// (every advance is safe, so that is short of its target, never past it).
+// Reached only by pieces spinning much faster than they approach (the angular
+// bound then overstates the closing speed), which then lose the rest of the step.
+constexpr std::uint32_t kMaxAdvances = 64;
+
+bool isConvex(ShapeType t) {
+    return t == ShapeType::Sphere || t == ShapeType::Box || t == ShapeType::Capsule || t == ShapeType::Cylinder ||
+           t == ShapeType::ConvexHull;
+}
+
+bool moves(const Sweep& s) {
+    return lengthSquared(s.linearVelocity) > 0 || lengthSquared(s.angularVelocity) > 0;
+}
+
+// A child's sweep: the same motion seen from the child's frame.
+Sweep childSweep(const Sweep& s, const Transform& child) {
+    return {s.start * child, inverseTransformPoint(child, s.localCenter), s.linearVelocity, s.angularVelocity};
+}
+
+// One convex piece of a pair: a shape (or a triangle, still, in world space)
+// or a plane (still), with its sweep.
+struct Piece {
+    ConvexShape shape;
+    const Sweep* sweep = nullptr;  // null: still
+    Real reach = 0;                // of its core from its centre of rotation
+    bool plane = false;
+    Vec3 planeNormal;              // world, unit (plane)
+    Real planeOffset = 0;          // dot(planeNormal, x) = planeOffset on the plane
+
+    void place(Real t) {
+        if (sweep != nullptr) shape.xf = sweep->at(t);
+    }
+};
+
+Piece movingPiece(const Shape& s, const Sweep& sweep) {
+    Piece p;
+    p.shape = makeConvex(s, sweep.start);
+    if (moves(sweep)) {
+        p.sweep = &sweep;
+        p.reach = (p.shape.boundingRadius() - p.shape.radius) + length(sweep.localCenter);
+    }
+    return p;
+}
+
+// The signed distance of two pieces (negative: the depth of their overlap)
+// with the normal from a to b; false when it cannot be measured.
+bool gapOf(const Piece& a, const Piece& b, Real& distance, Vec3& normal) {
+    if (b.plane) {
+        const Vec3 s = a.shape.support(-b.planeNormal);
+        distance = dot(b.planeNormal, s) - b.planeOffset;
+        normal = -b.planeNormal;
+        return true;
+    }
+    const GjkResult g = gjkDistance(a.shape, b.shape, false);
+    if (!g.overlap && g.distance > Real(1e-6)) {
+        distance = g.distance - a.shape.radius - b.shape.radius;
+        normal = g.normal;
+        return true;
+    }
+    const PenetrationResult p = epaPenetration(a.shape, b.shape);
+    if (!p.valid) return false;
+    distance = -p.depth;
+    normal = p.normal;
+    return true;
+}
+
+// Conservative advancement of one pair from time `t` (placed there, with its
+// distance and normal at t) towards `target`, over [t, limit]: true with t at
+// the time the distance comes within the tolerance above the target (or where
+// it could no longer be measured, or after kMaxAdvances: both short of the
+// target), false when the target is not reached before `limit`.
+bool advance(Piece& a, Piece& b, Real target, Real limit, Real& t, Real& distance, Vec3& normal, const ImpactRules& rules,
+             std::uint32_t& advances) {
+    const Vec3 va = a.sweep != nullptr ? a.sweep->linearVelocity : Vec3::zero();
+    const Vec3 vb = b.sweep != nullptr ? b.sweep->linearVelocity : Vec3::zero();
+    const Vec3 relative = va - vb;
+    const Real angular = (a.sweep != nullptr ? length(a.sweep->angularVelocity) * a.reach : 0) +
+                         (b.sweep != nullptr ? length(b.sweep->angularVelocity) * b.reach : 0);
+    for (std::uint32_t k = 1;; ++k) {
+        const Real gap = distance - target;
+        if (gap < rules.tolerance) return true;
+        // How fast the gap can close: along the fixed normal the separation
+        // (or the overlap) changes by no more than this, and the distance is
+        // at least the separation along any fixed axis (the depth at most the
+        // overlap along it), so the advance never passes the target.
+        const Real closing = dot(relative, normal) + angular;
+        if (closing <= 0) return false;
+        t += (gap - Real(0.5) * rules.tolerance) / closing;
+        if (t >= limit) return false;
+        if (k >= kMaxAdvances) return true;
+        a.place(t);
+        b.place(t);
+        ++advances;
+        if (!gapOf(a, b, distance, normal)) return true;
+    }
+}
+
+// One pair of pieces. Apart at the start: the time they come within stopGap,
+// if the sweeps then take them more than passDepth into each other (a body
+// that touches and rolls or slides on was held by its contact and is left
+// alone; one whose path goes on into or through the other stops where it
+// touched). Touching at the start: the time they are sinkAllowance deeper
+// than they started.
+void advancePair(Piece& a, Piece& b, const ImpactRules& rules, Real limit, SweptImpact& out) {
+    limit = std::min(limit, out.time);
+    Real distance = 0;
+    Vec3 normal;
+    Real t = 0;
+    ++out.advances;
+    bool stops = !gapOf(a, b, distance, normal);
+    Real stopTime = 0;
+    if (!stops && distance > rules.touchBand) {
+        if (!advance(a, b, rules.stopGap, limit, t, distance, normal, rules, out.advances)) return;
+        stopTime = t;
+        stops = advance(a, b, -rules.passDepth, 1, t, distance, normal, rules, out.advances);
+    } else if (!stops) {
+        stops = advance(a, b, std::min(distance, Real(0)) - rules.sinkAllowance, limit, t, distance, normal, rules, out.advances);
+        stopTime = t;
+    }
+    if (stops && stopTime < out.time) {
+        out.hit = true;
+        out.time = stopTime;
+    }
+}
+
+void impactRecursive(const Shape& a, const Sweep& sa, const Shape& b, const Sweep& sb, const ImpactRules& rules,
+                     Real limit, SweptImpact& out) {
+    if (a.type() == ShapeType::Compound) {
+        for (const CompoundChild& c : a.children()) impactRecursive(c.shape, childSweep(sa, c.transform), b, sb, rules, limit, out);
+        return;
+    }
+    if (!isConvex(a.type())) {
+        throw Error(std::string("sweptImpact: the moving shape must be convex or a compound of convex shapes, got a ") +
+                    toString(a.type()));
+    }
+    if (b.type() == ShapeType::Compound) {
+        for (const CompoundChild& c : b.children()) impactRecursive(a, sa, c.shape, childSweep(sb, c.transform), rules, limit, out);
+        return;
+    }
+    const bool bStill = !moves(sb);
+    if (!isConvex(b.type()) && !bStill) {
+        throw Error(std::string("sweptImpact: a ") + toString(b.type()) + " must be still");
+    }
+    Piece pa = movingPiece(a, sa);
+    if (b.type() == ShapeType::Plane) {
+        Piece pb;
+        pb.plane = true;
+        pb.planeNormal = rotate(sb.start.q, b.planeNormal());
+        pb.planeOffset = b.planeOffset() + dot(pb.planeNormal, sb.start.p);
+        return advancePair(pa, pb, rules, limit, out);
+    }
+    if (b.type() == ShapeType::Mesh || b.type() == ShapeType::HeightField) {
+        const Transform xb = sb.start;
+        const AABB local = transformBounds(inverse(xb), sweptBounds(a, sa).fattened(rules.touchBand));
+        const auto triangle = [&](const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+            Piece pb;
+            pb.shape = makeTriangle(transformPoint(xb, v0), transformPoint(xb, v1), transformPoint(xb, v2));
+            pa.place(0);
+            advancePair(pa, pb, rules, limit, out);
+        };
+        if (b.type() == ShapeType::Mesh) {
+            const TriangleMesh& mesh = b.mesh();
+            forEachTriangleOverlapping(mesh, local, [&](std::uint32_t t) {
+                const auto& idx = mesh.triangles[t];
+                triangle(mesh.vertices[idx[0]], mesh.vertices[idx[1]], mesh.vertices[idx[2]]);
+            });
+        } else {
+            const HeightField& hf = b.heightField();
+            forEachHeightFieldTriangle(hf, local, [&](std::uint32_t t) {
+                Vec3 v[3];
+                hf.triangle(t, v);
+                triangle(v[0], v[1], v[2]);
+            });
+        }
+        return;
+    }
+    // The pieces' swept boxes first: a compound's children each meet only
+    // some of what the whole body's swept box found.
+    const AABB bBox = bStill ? b.bounds(sb.start) : sweptBounds(b, sb);
+    if (!overlaps(sweptBounds(a, sa).fattened(rules.touchBand), bBox)) return;
+    Piece pb = movingPiece(b, sb);
+    advancePair(pa, pb, rules, limit, out);
+}
+
+}  // namespace
+
+SweptImpact sweptImpact(const Shape& a, const Sweep& sa, const Shape& b, const Sweep& sb, const ImpactRules& rules,
+                        Real limit) {
+    SweptImpact out;
+    out.time = limit;
+    impactRecursive(a, sa, b, sb, rules, limit, out);
+    return out;
+}
+
+Real coreReach(const Shape& shape, const Vec3& centre) {
+    switch (shape.type()) {
+        case ShapeType::Sphere: return length(centre);
+        case ShapeType::Capsule: {
+            const Vec3 end{0, shape.halfHeight(), 0};
+            return std::max(length(end - centre), length(-end - centre));
+        }
+        case ShapeType::Box: return length(abs(centre) + shape.halfExtents());
+        case ShapeType::Compound: {
+            Real r = 0;
+            for (const CompoundChild& c : shape.children()) r = std::max(r, coreReach(c.shape, inverseTransformPoint(c.transform, centre)));
+            return r;
+        }
+        default: {
+            const AABB b = shape.localBounds();
+            return length(max(abs(b.min - centre), abs(b.max - centre)));
+        }
+    }
+}
+
+AABB sweptBounds(const Shape& shape, const Sweep& sweep) {
+    if (lengthSquared(sweep.angularVelocity) == 0 || coreReach(shape, sweep.localCenter) == 0) {
+        return merge(shape.bounds(sweep.start), shape.bounds({sweep.start.p + sweep.linearVelocity, sweep.start.q}));
+    }
+    const AABB local = shape.localBounds();
+    const Real r = length(max(abs(local.min - sweep.localCenter), abs(local.max - sweep.localCenter)));
+    const Vec3 c0 = transformPoint(sweep.start, sweep.localCenter), c1 = c0 + sweep.linearVelocity;
+    return {min(c0, c1) - Vec3::splat(r), max(c0, c1) + Vec3::splat(r)};
+}
+
+Sweep sweepBetween(const Vec3& com0, const Quat& q0, const Vec3& com1, const Quat& q1, const Vec3& localCenter) {
+    return {{com0 - rotate(q0, localCenter), q0}, localCenter, com1 - com0, toRotationVector(q1 * conjugate(q0))};
+}
+
+}  // namespace fulcrum::detail
