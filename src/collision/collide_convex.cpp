@@ -342,34 +342,37 @@ struct FacesAlongNormal {
     bool knownA = false, knownB = false;
 };
 
-Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real gap, FacesAlongNormal& faces) {
+// faceOfA: whether the axis returned is a face of a (false: of b, or n itself).
+Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real gap, FacesAlongNormal& faces,
+                      bool& faceOfA) {
     Vec3 best = n;
     const Real separation = separationAlong(a, b, n);
     const bool everyFace = separation < gap - kNormalInconsistency;
     Real bestSeparation = separation - kFaceAxisTolerance;
-    const auto consider = [&](const Vec3& axis) {
+    const auto consider = [&](const Vec3& axis, bool ofA) {
         const Real s = separationAlong(a, b, axis);
         if (s > bestSeparation) {
             best = axis;
             bestSeparation = s;
+            faceOfA = ofA;
         }
     };
     if (a.kind == ConvexKind::Hull) {
         if (everyFace) {
-            for (const HullFace& f : a.hull->faces) consider(rotate(a.xf.q, f.normal));
+            for (const HullFace& f : a.hull->faces) consider(rotate(a.xf.q, f.normal), true);
         } else {
             supportingFace(a, n, faces.a);
             faces.knownA = true;
-            consider(faces.a.normal);
+            consider(faces.a.normal, true);
         }
     }
     if (b.kind == ConvexKind::Hull) {
         if (everyFace) {
-            for (const HullFace& f : b.hull->faces) consider(-rotate(b.xf.q, f.normal));
+            for (const HullFace& f : b.hull->faces) consider(-rotate(b.xf.q, f.normal), false);
         } else {
             supportingFace(b, -n, faces.b);
             faces.knownB = true;
-            consider(-faces.b.normal);
+            consider(-faces.b.normal, false);
         }
     }
     return best;
@@ -470,7 +473,8 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     }
     FacesAlongNormal faces;
     if (reference == 0 && (a.kind == ConvexKind::Hull || b.kind == ConvexKind::Hull)) {
-        const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n), faces);
+        bool faceOfA = false;
+        const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n), faces, faceOfA);
         if (!(faceAxis == n)) {
             faces.knownA = faces.knownB = false;  // found along the old n
             // GJK/EPA's points are closest or deepest along their own normal,
@@ -483,6 +487,25 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
             n = faceAxis;
             pa = a.support(n);
             pb = b.support(-n);
+            // The face's own support is only the first vertex of that face,
+            // anywhere on it; the other shape's is the feature reaching
+            // deepest. When their midpoint lies beyond the other shape's
+            // reach (a cube by a drum's 20 m wall: the midpoint of the cube's
+            // corner and the wall's far corner was a contact point 4 m from
+            // the cube, whose impulse spun it, and the speculative contact
+            // became a 16 cm overlap), both points go to the other shape's
+            // feature, on either side of the same depth. Shapes of one size
+            // (a hull pile) keep the midpoint.
+            const Real depth = dot(pa - pb, n);
+            const Vec3 lateral = pa - pb - n * depth;
+            const Real reach = (faceOfA ? b : a).boundingRadius();
+            if (lengthSquared(lateral) > 4 * reach * reach) {
+                if (faceOfA) {
+                    pa = pb + n * depth;
+                } else {
+                    pb = pa - n * depth;
+                }
+            }
         }
     }
     buildFaceManifold(a, b, n, pa, pb, margin, m, reference, deepestKnown, faces.knownA ? &faces.a : nullptr,
