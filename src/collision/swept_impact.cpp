@@ -9,6 +9,7 @@
 #include "collision/gjk.hpp"
 #include "collision/heightfield.hpp"
 #include "collision/support.hpp"
+#include "fulcrum/math/deterministic_math.hpp"
 
 namespace fulcrum::detail {
 
@@ -236,6 +237,24 @@ AABB sweptBounds(const Shape& shape, const Sweep& sweep) {
     const AABB local = shape.localBounds();
     const Real r = length(max(abs(local.min - sweep.localCenter), abs(local.max - sweep.localCenter)));
     const Vec3 c0 = transformPoint(sweep.start, sweep.localCenter), c1 = c0 + sweep.linearVelocity;
+    const Real angle = length(sweep.angularVelocity);
+    if (angle < Real(3)) {
+        // The turn is about one axis (Sweep::at: the exponential map), by at
+        // most `angle` below pi, so every point d from the centre runs along
+        // an arc that stays within its sagitta |d| (1 - cos(angle / 2)) =
+        // 2 |d| sin^2(angle / 4) of the chord from d to its end. The turned
+        // shape is thus inside the box of its start and turned-in-place
+        // bounds grown by that, and the whole sweep inside that box swept
+        // along the centre's path. A tumbling tree's hull is boxed by its
+        // own path, not by a sphere of the tree's height around the centre
+        // (which met every triangle under the tree, each advanced by GJK).
+        const Real s = dmath::sin(angle * Real(0.25));
+        const Real sagitta = 2 * r * s * s + r * Real(1e-5);  // and the rounding of the bounds' poses
+        const Quat q1 = sweep.at(1).q;
+        const AABB turned = merge(shape.bounds(sweep.start), shape.bounds({c0 - rotate(q1, sweep.localCenter), q1}))
+                                .fattened(sagitta);
+        return merge(turned, {turned.min + sweep.linearVelocity, turned.max + sweep.linearVelocity});
+    }
     return {min(c0, c1) - Vec3::splat(r), max(c0, c1) + Vec3::splat(r)};
 }
 

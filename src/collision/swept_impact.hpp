@@ -63,8 +63,10 @@ SweptImpact sweptImpact(const Shape& a, const Sweep& sa, const Shape& b, const S
 Real coreReach(const Shape& shape, const Vec3& centre);
 
 // A box holding the whole shape at every pose of the sweep over [0, 1]: the
-// start and end bounds when it does not turn, else the box around the
-// centre's path grown by the shape's farthest point from the centre.
+// start and end bounds when it does not turn; when it turns by less than
+// 3 rad, its start and turned bounds grown by the arcs' sagitta and swept
+// along the centre's path; else the box around the centre's path grown by
+// the shape's farthest point from the centre.
 AABB sweptBounds(const Shape& shape, const Sweep& sweep);
 
 // The sweep from pose (com0, q0) to pose (com1, q1) of a body whose centre of
