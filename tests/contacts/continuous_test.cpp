@@ -44,6 +44,24 @@ BodyId addWall(World& world, Real face, Real half) {
 
 Real farthestX(const World& world, BodyId id, const Shape& shape) { return shape.bounds(world.transform(id)).max.x; }
 
+// A world without gravity holding the wall of addWall, and the description of
+// a heavy compound bullet (the HighSpeed scene's) to throw at it.
+World worldWithWall(Real face, Real half) {
+    WorldDef def;
+    def.gravity = {};
+    World world(def);
+    addWall(world, face, half);
+    return world;
+}
+
+BodyDef heavyBullet(const Shape& shape) {
+    BodyDef d;
+    d.shape = shape;
+    d.mass = 120;
+    d.isBullet = true;
+    return d;
+}
+
 // A capsule spinning in place beside a thin wall, its axis parallel to the
 // wall: its end must swing into the wall within the first step (60 rad/s, one
 // radian per step), which its centre never approaches. The analytic first
@@ -106,14 +124,8 @@ TEST(Continuous, SpinningCompoundThrownAtAThinWallStaysOnItsSide) {
     int beyond = 0;
     Real deepest = 0;
     for (int k = 0; k < 64; ++k) {
-        WorldDef def;
-        def.gravity = {};
-        World world(def);
-        addWall(world, face, half);
-        BodyDef d;
-        d.shape = shape;
-        d.mass = 120;
-        d.isBullet = true;
+        World world = worldWithWall(face, half);
+        BodyDef d = heavyBullet(shape);
         d.restitution = 1;
         d.friction = 1;
         Vec3 heading = direction();
@@ -149,14 +161,8 @@ TEST(Continuous, CompoundStartingInAWallIsStillSweptAgainstIt) {
     const Real face = 5, half = Real(0.2);
     int through = 0;
     for (int k = 0; k < 32; ++k) {
-        WorldDef def;
-        def.gravity = {};
-        World world(def);
-        addWall(world, face, half);
-        BodyDef d;
-        d.shape = shape;
-        d.mass = 120;
-        d.isBullet = true;
+        World world = worldWithWall(face, half);
+        BodyDef d = heavyBullet(shape);
         d.orientation = normalize(Quat(unit(rnd), unit(rnd), unit(rnd), unit(rnd)));
         d.angularVelocity = Vec3{unit(rnd), unit(rnd), unit(rnd)} * Real(150);
         d.linearVelocity = {150, 30 * unit(rnd), 30 * unit(rnd)};
