@@ -235,8 +235,12 @@ TEST(TriangleSat, AgreesWithTheGeneralPathOnRandomPoses) {
                     if (dot(sat[0].normal, faceN) >= Real(1 - 1e-4)) {
                         // Along the face normal both keep only the points over the
                         // triangle; an edge contact within 1e-4 of the normal is
-                        // one exact point here, clipped points there.
-                        EXPECT_GE(ds, dg - Real(1e-4)) << where;
+                        // one exact point here, clipped points there. As deep as
+                        // the general path's, unless that one overstates the
+                        // overlap along the normal (its clipped face up to 45
+                        // degrees off: seen in the double build, 1.4 mm): then
+                        // the whole overlap.
+                        EXPECT_GE(ds, std::min(dg, -sepSat) - Real(1e-4)) << where;
                     } else {
                         EXPECT_GE(ds, -sepSat - Real(1e-3)) << where;
                     }
