@@ -61,10 +61,18 @@ void deriveHullTables(ConvexHull& hull) {
         hull.vertexRows[n + i] = hull.vertices[i].y;
         hull.vertexRows[2 * n + i] = hull.vertices[i].z;
     }
+    // Counted over the faces' index ranges, not over faceVertices: a loaded
+    // snapshot's faces are each checked to lie in range, but may overlap or
+    // leave gaps (found by fuzz/snapshot_fuzz.cpp), and a built hull's
+    // partition it, where both counts agree.
     hull.vertexFaceStart.assign(n + 1, 0);
-    for (const std::uint32_t v : hull.faceVertices) ++hull.vertexFaceStart[v + 1];
+    std::size_t total = 0;
+    for (const HullFace& face : hull.faces) {
+        for (std::uint32_t i = 0; i < face.indexCount; ++i) ++hull.vertexFaceStart[hull.faceVertices[face.firstIndex + i] + 1];
+        total += face.indexCount;
+    }
     for (std::size_t v = 0; v < n; ++v) hull.vertexFaceStart[v + 1] += hull.vertexFaceStart[v];
-    hull.vertexFaces.assign(hull.faceVertices.size(), 0);
+    hull.vertexFaces.assign(total, 0);
     std::vector<std::uint32_t> next(hull.vertexFaceStart.begin(), hull.vertexFaceStart.end() - 1);
     // Faces in ascending order, so each vertex's list is ascending too.
     for (std::uint32_t f = 0; f < hull.faces.size(); ++f) {
