@@ -164,6 +164,51 @@ bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& 
     return true;
 }
 
+bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
+    static std::vector<PolytopeEdge> unused;  // boxes and the shapes without a table never touch it
+    if (b.radius != 0 || b.kind != ConvexKind::Hull || b.hull == nullptr) return prepare(b, unused);
+    const ConvexHull& h = *b.hull;
+    if (cache.entries.empty()) cache.entries.resize(PolytopeEdgeCache::kEntries);
+    // The entry this hull filled last, if its faces are still these.
+    PolytopeEdgeCache::Entry* entry = nullptr;
+    for (PolytopeEdgeCache::Entry& e : cache.entries) {
+        if (e.hull == &h) {
+            entry = &e;
+            break;
+        }
+    }
+    bool same = entry != nullptr && entry->vertexCount == h.vertices.size() && entry->faceRanges.size() == 2 * h.faces.size() &&
+                entry->faceVertices == h.faceVertices;
+    for (std::size_t f = 0; same && f < h.faces.size(); ++f) {
+        same = entry->faceRanges[2 * f] == h.faces[f].firstIndex && entry->faceRanges[2 * f + 1] == h.faces[f].indexCount;
+    }
+    if (!same) {
+        if (entry == nullptr) {
+            entry = &cache.entries[cache.next];
+            cache.next = (cache.next + 1) % PolytopeEdgeCache::kEntries;
+        }
+        entry->hull = &h;
+        entry->vertexCount = static_cast<std::uint32_t>(h.vertices.size());
+        entry->faceRanges.clear();
+        for (const HullFace& face : h.faces) {
+            entry->faceRanges.push_back(face.firstIndex);
+            entry->faceRanges.push_back(face.indexCount);
+        }
+        entry->faceVertices = h.faceVertices;
+        entry->closed = prepare(b, entry->edges);
+        return entry->closed;
+    }
+    shape = &b;
+    if (!entry->closed) return false;
+    vertices = h.vertices.data();
+    vertexCount = static_cast<std::uint32_t>(h.vertices.size());
+    faces = h.faces.data();
+    faceCount = static_cast<std::uint32_t>(h.faces.size());
+    edges = entry->edges.data();
+    edgeCount = static_cast<std::uint32_t>(entry->edges.size());
+    return true;
+}
+
 namespace {
 
 // True when the triangle's edge j and the polytope's edge e cross, seen along
