@@ -90,6 +90,10 @@ std::uint32_t edgeFeature(std::uint32_t triangleEdge, std::uint32_t polytopeEdge
 // over the face (rounding).
 constexpr Real kOverTolerance = Real(1e-5);
 
+// Polytopes with at most this many faces (every box, the hulls of the bench
+// scenes) get their face-edge dots tabled on the stack.
+constexpr std::uint32_t kMaxTabledFaces = 64;
+
 }  // namespace
 
 bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
@@ -157,6 +161,51 @@ bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& 
     faceCount = static_cast<std::uint32_t>(h.faces.size());
     edges = edgeScratch.data();
     edgeCount = static_cast<std::uint32_t>(edgeScratch.size());
+    return true;
+}
+
+bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
+    static std::vector<PolytopeEdge> unused;  // boxes and the shapes without a table never touch it
+    if (b.radius != 0 || b.kind != ConvexKind::Hull || b.hull == nullptr) return prepare(b, unused);
+    const ConvexHull& h = *b.hull;
+    if (cache.entries.empty()) cache.entries.resize(PolytopeEdgeCache::kEntries);
+    // The entry this hull filled last, if its faces are still these.
+    PolytopeEdgeCache::Entry* entry = nullptr;
+    for (PolytopeEdgeCache::Entry& e : cache.entries) {
+        if (e.hull == &h) {
+            entry = &e;
+            break;
+        }
+    }
+    bool same = entry != nullptr && entry->vertexCount == h.vertices.size() && entry->faceRanges.size() == 2 * h.faces.size() &&
+                entry->faceVertices == h.faceVertices;
+    for (std::size_t f = 0; same && f < h.faces.size(); ++f) {
+        same = entry->faceRanges[2 * f] == h.faces[f].firstIndex && entry->faceRanges[2 * f + 1] == h.faces[f].indexCount;
+    }
+    if (!same) {
+        if (entry == nullptr) {
+            entry = &cache.entries[cache.next];
+            cache.next = (cache.next + 1) % PolytopeEdgeCache::kEntries;
+        }
+        entry->hull = &h;
+        entry->vertexCount = static_cast<std::uint32_t>(h.vertices.size());
+        entry->faceRanges.clear();
+        for (const HullFace& face : h.faces) {
+            entry->faceRanges.push_back(face.firstIndex);
+            entry->faceRanges.push_back(face.indexCount);
+        }
+        entry->faceVertices = h.faceVertices;
+        entry->closed = prepare(b, entry->edges);
+        return entry->closed;
+    }
+    shape = &b;
+    if (!entry->closed) return false;
+    vertices = h.vertices.data();
+    vertexCount = static_cast<std::uint32_t>(h.vertices.size());
+    faces = h.faces.data();
+    faceCount = static_cast<std::uint32_t>(h.faces.size());
+    edges = entry->edges.data();
+    edgeCount = static_cast<std::uint32_t>(entry->edges.size());
     return true;
 }
 
@@ -230,6 +279,18 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         side[j] = cross(t[j], n);
         tt[j] = dot(t[j], t[j]);
     }
+    // Each face normal's dot with each triangle edge, once: every edge of
+    // the polytope reads the two of its faces (an edge per pair of faces
+    // would compute them 2E / F >= 3 times over). The same dots as before,
+    // so the same bits; a hull with more faces than the table computes them
+    // per edge as before.
+    Real faceDots[kMaxTabledFaces][3];
+    const bool tabled = p.faceCount <= kMaxTabledFaces;
+    if (tabled) {
+        for (std::uint32_t f = 0; f < p.faceCount; ++f) {
+            for (std::uint32_t j = 0; j < 3; ++j) faceDots[f][j] = dot(p.faces[f].normal, t[j]);
+        }
+    }
     Real edgeSeparation = -1e30f;
     std::uint32_t bestEdge = 0, bestTriangleEdge = 0;
     Vec3 bestEdgeAxis;
@@ -237,7 +298,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         const PolytopeEdge& edge = p.edges[e];
         const Vec3 a = p.faces[edge.faces[0]].normal, c = p.faces[edge.faces[1]].normal;
         for (std::uint32_t j = 0; j < 3; ++j) {
-            const Real ca = dot(a, t[j]), cc = dot(c, t[j]);
+            const Real ca = tabled ? faceDots[edge.faces[0]][j] : dot(a, t[j]);
+            const Real cc = tabled ? faceDots[edge.faces[1]][j] : dot(c, t[j]);
             if (!(ca * cc < 0)) continue;
             if (std::max(ca * ca, cc * cc) < kParallelSine * kParallelSine * tt[j]) continue;
             const Vec3 mid = a + (c - a) * (ca / (ca - cc));

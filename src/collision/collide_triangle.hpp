@@ -27,6 +27,9 @@ public:
     // whose faces do not close up (each edge in exactly two faces, once each
     // way round): the caller keeps the general path for it.
     bool prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch);
+    // The same, a hull's edge table taken from `cache` when it holds one
+    // derived from the same faces (else derived there): the same polytope.
+    bool prepare(const ConvexShape& b, PolytopeEdgeCache& cache);
 
     const ConvexShape* shape = nullptr;
     const Vec3* vertices = nullptr;

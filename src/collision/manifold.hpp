@@ -81,6 +81,26 @@ struct PolytopeEdge {
     std::uint32_t faces[2] = {0, 0};
 };
 
+// The edge tables of the last few hulls the triangle test prepared
+// (TrianglePolytope::prepare in collide_triangle.cpp), each kept with the face
+// lists it was derived from: a hull whose faces match an entry's takes that
+// entry's table, where deriving it sorts every face's edges (the trees' 22
+// hulls against the mesh at every step: 6 % of their step). Only the faces
+// decide the table, so a hit gives what deriving it again would.
+struct PolytopeEdgeCache {
+    struct Entry {
+        const void* hull = nullptr;                 // which hull filled it last (a hint; the faces decide)
+        std::uint32_t vertexCount = 0;
+        std::vector<std::uint32_t> faceRanges;      // each face's first index and count
+        std::vector<std::uint32_t> faceVertices;
+        std::vector<PolytopeEdge> edges;
+        bool closed = false;                        // the faces close up (else no table)
+    };
+    static constexpr std::size_t kEntries = 32;
+    std::vector<Entry> entries;
+    std::size_t next = 0;                           // the entry a miss fills (round robin)
+};
+
 // Reduces `candidates` to at most 4 points of `out` (normal already set):
 // keeps the deepest point, then the point farthest from it, then the two that
 // maximise the contact polygon's area (Gregorius, "Robust Contact Creation for
@@ -128,8 +148,8 @@ public:
     // Scratch for the mesh path (candidates of one shape against many triangles).
     std::vector<detail::MeshContactCandidate>& meshScratch() { return meshScratch_; }
     std::vector<std::uint32_t>& triangleScratch() { return triangleScratch_; }
-    // Scratch for a hull's edges with their faces (the mesh path's triangle test).
-    std::vector<detail::PolytopeEdge>& polytopeEdgeScratch() { return polytopeEdgeScratch_; }
+    // The hulls' edges with their faces (the mesh path's triangle test).
+    detail::PolytopeEdgeCache& polytopeEdgeScratch() { return polytopeEdgeScratch_; }
 
 private:
     std::vector<Manifold> manifolds_;
@@ -137,7 +157,7 @@ private:
     Real apartBy_ = 0;
     std::vector<detail::MeshContactCandidate> meshScratch_;
     std::vector<std::uint32_t> triangleScratch_;
-    std::vector<detail::PolytopeEdge> polytopeEdgeScratch_;
+    detail::PolytopeEdgeCache polytopeEdgeScratch_;
 };
 
 }  // namespace fulcrum

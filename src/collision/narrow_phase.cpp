@@ -139,9 +139,20 @@ void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const
 // A compound child's r for the speculative margin (narrow_phase.hpp,
 // SpeculativeReach): the farthest corner of its bounds at this pose from the
 // body's centre of mass, and never more than the body's extent (also a bound:
-// the child is inside the body's local box).
-Real childReach(const AABB& childBounds, const Vec3& centre, Real extent) {
-    return std::min(extent, length(max(abs(childBounds.min - centre), abs(childBounds.max - centre))));
+// the child is inside the body's local box). With the spin's axis known, also
+// never more than the distance of the bounds' centre from the line through
+// the centre of mass along that axis plus the bounds' half diagonal: a point
+// x of the child moves at |w x (x - c)| <= |w| (|axis x (mid - c)| + |x - mid|)
+// from the spin. A trunk segment of a tree rolling about its trunk then looks
+// as far as its own girth can turn in a step, not as far as its distance from
+// the centre of mass (up to 30 m on the trees: margins of 0.5 m, every
+// triangle within them tested; docs/benchmarks.md, "Why the trees' step").
+Real childReach(const AABB& childBounds, const Vec3& centre, Real extent, const Vec3& axis) {
+    const Real corner = std::min(extent, length(max(abs(childBounds.min - centre), abs(childBounds.max - centre))));
+    if (!(lengthSquared(axis) > 0)) return corner;  // no axis given: the bound over every axis
+    const Vec3 mid = (childBounds.min + childBounds.max) * Real(0.5);
+    const Real aroundAxis = length(cross(axis, mid - centre)) + length(childBounds.max - mid);
+    return aroundAxis < corner ? aroundAxis : corner;  // a NaN (an infinite spin) keeps the corner
 }
 
 // `margin` is reach->margin(ra, rb) (or, with kPerChild false, the caller's
@@ -163,7 +174,7 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
             const AABB bc = children[i].shape.bounds(xc);
             const std::uint32_t child = depthA == 0 ? static_cast<std::uint32_t>(i) : childA;
             if (ownMargin) {
-                const Real rc = childReach(bc, reach->centreA, reach->extentA);
+                const Real rc = childReach(bc, reach->centreA, reach->extentA, reach->axisA);
                 const Real mc = reach->margin(rc, rb);
                 if (!overlaps(bc, boundsB.fattened(mc))) continue;
                 collideRecursive<kPerChild>(children[i].shape, xc, b, xb, mc, reach, rc, rb, out, child, childB, depthA + 1, depthB);
@@ -184,7 +195,7 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
             const AABB bc = children[i].shape.bounds(xc);
             const std::uint32_t child = depthB == 0 ? static_cast<std::uint32_t>(i) : childB;
             if (ownMargin) {
-                const Real rc = childReach(bc, reach->centreB, reach->extentB);
+                const Real rc = childReach(bc, reach->centreB, reach->extentB, reach->axisB);
                 const Real mc = reach->margin(ra, rc);
                 if (!overlaps(bc, boundsA.fattened(mc))) continue;
                 collideRecursive<kPerChild>(a, xa, children[i].shape, xc, mc, reach, ra, rc, out, childA, child, depthA, depthB + 1);

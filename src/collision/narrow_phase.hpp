@@ -29,6 +29,7 @@ struct SpeculativeReach {
     Real base = 0;              // the world's speculative margin
     Real linear = 0;            // |v_b - v_a| (centres of mass)
     Real spinA = 0, spinB = 0;  // |w_a|, |w_b|
+    Vec3 axisA, axisB;          // w_a / |w_a|, w_b / |w_b|; zero: not given (a child's r is then its farthest corner)
     Real dt = 0;
     Vec3 centreA, centreB;      // centres of mass, world
     Real extentA = 0, extentB = 0;  // the whole bodies' r (BodyParams::extent)

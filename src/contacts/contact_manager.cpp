@@ -509,10 +509,12 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         reach.dt = dt;
         if (pa.type != BodyType::Static) {
             reach.spinA = length(ma.w);
+            if (reach.spinA > 0) reach.axisA = ma.w / reach.spinA;
             reach.extentA = pa.extent;
         }
         if (pb.type != BodyType::Static) {
             reach.spinB = length(mb.w);
+            if (reach.spinB > 0) reach.axisB = mb.w / reach.spinB;
             reach.extentB = pb.extent;
         }
     }

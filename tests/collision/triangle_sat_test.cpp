@@ -319,3 +319,62 @@ TEST(TriangleSat, SunkBoxKeepsAllItsSunkCornersInTheManifold) {
     EXPECT_NEAR(depths[2], depth, Real(1e-5));
     EXPECT_NEAR(depths[3], depth, Real(1e-5));
 }
+
+// The hulls' edge tables kept across calls (PolytopeEdgeCache) give the
+// polytope that deriving the table again gives: the same edges, faces and
+// answer, whether the entry was filled by this hull, by another hull of
+// other faces, or by one with open faces (no table), and after more hulls
+// than the cache holds went through it.
+TEST(TriangleSat, CachedEdgeTablesAreTheTablesDerivedAgain) {
+    std::mt19937 rng(2113);
+    std::vector<Shape> shapes = {cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f), Shape::box({0.4f, 0.2f, 0.3f})};
+    for (int i = 0; i < 40; ++i) shapes.push_back(rock(rng));  // more hulls than the cache's 32 entries
+    detail::PolytopeEdgeCache cache;
+    const auto samePolytope = [](const detail::TrianglePolytope& x, const detail::TrianglePolytope& y) {
+        if (x.vertexCount != y.vertexCount || x.faceCount != y.faceCount || x.edgeCount != y.edgeCount) return false;
+        for (std::uint32_t v = 0; v < x.vertexCount; ++v) {
+            if (!(x.vertices[v] == y.vertices[v])) return false;
+        }
+        for (std::uint32_t f = 0; f < x.faceCount; ++f) {
+            if (!(x.faces[f].normal == y.faces[f].normal) || x.faces[f].offset != y.faces[f].offset) return false;
+        }
+        for (std::uint32_t e = 0; e < x.edgeCount; ++e) {
+            const detail::PolytopeEdge a = x.edges[e], b = y.edges[e];
+            if (a.from != b.from || a.to != b.to || a.faces[0] != b.faces[0] || a.faces[1] != b.faces[1]) return false;
+        }
+        return true;
+    };
+    int hits = 0;
+    for (int round = 0; round < 3; ++round) {
+        for (std::size_t i = 0; i < shapes.size(); ++i) {
+            const detail::ConvexShape b = detail::makeConvexCore(shapes[i], {});
+            std::vector<detail::PolytopeEdge> fresh;
+            detail::TrianglePolytope derived, cached;
+            const bool ok = derived.prepare(b, fresh);
+            ASSERT_EQ(cached.prepare(b, cache), ok) << "shape " << i;
+            ASSERT_TRUE(ok);
+            EXPECT_TRUE(samePolytope(derived, cached)) << "shape " << i << " round " << round;
+            // Twice in a row: the second from the entry the first filled.
+            detail::TrianglePolytope again;
+            ASSERT_TRUE(again.prepare(b, cache));
+            EXPECT_TRUE(samePolytope(derived, again)) << "shape " << i;
+            hits += again.edges == cached.edges ? 1 : 0;
+        }
+    }
+    EXPECT_GT(hits, 100);
+    // A hull whose faces do not close up (a face dropped) gets no table, from
+    // the cache as from deriving it, and the whole hull afterwards its own.
+    ConvexHull open = *detail::makeConvexCore(shapes[0], {}).hull;
+    open.faces.pop_back();
+    detail::ConvexShape openShape = detail::makeConvexCore(shapes[0], {});
+    openShape.hull = &open;
+    std::vector<detail::PolytopeEdge> fresh;
+    detail::TrianglePolytope derived, cached;
+    EXPECT_FALSE(derived.prepare(openShape, fresh));
+    EXPECT_FALSE(cached.prepare(openShape, cache));
+    EXPECT_FALSE(cached.prepare(openShape, cache));
+    open = *detail::makeConvexCore(shapes[0], {}).hull;  // the same object, its faces closed again
+    EXPECT_TRUE(cached.prepare(openShape, cache));
+    EXPECT_TRUE(derived.prepare(openShape, fresh));
+    EXPECT_TRUE(samePolytope(derived, cached));
+}

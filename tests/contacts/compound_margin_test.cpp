@@ -189,4 +189,43 @@ TEST(CompoundMargin, SpinningRodsFarEndNeverPassesThroughAThinWall) {
     }
 }
 
+// The same rod rolling about its own length (x) at 1 rad/s, 10 cm above the
+// plates: no point of it moves by more than |w| times its distance from the
+// x axis, at most a cube's half diagonal (0.87 m), so with the spin's axis
+// given no child looks for the plate (0.02 + 0.87 / 60 = 0.034 m < 0.1 m),
+// where the farthest corner's r alone (up to 10.5 m) gave the outer children
+// a contact. Spun about y instead, the axis changes nothing: every child's
+// margin is its farthest corner's, as above.
+TEST(CompoundMargin, RodRollingAboutItsLengthLooksOnlyAsFarAsItsGirthTurns) {
+    const Real gap = Real(0.1), dt = Real(1) / 60, base = Real(0.02);
+    SpeculativeReach reach;
+    reach.base = base;
+    reach.spinA = 1;
+    reach.dt = dt;
+    reach.extentA = std::sqrt(Real(10.5) * Real(10.5) + 2 * kHalf * kHalf);
+    const Real plateTop = -kHalf - gap;
+    const std::array<Vec3, 4> corners = {Vec3{-30, plateTop, -5}, Vec3{30, plateTop, -5}, Vec3{30, plateTop, 5},
+                                         Vec3{-30, plateTop, 5}};
+    const std::array<std::array<std::uint32_t, 3>, 2> triangles = {{{0, 2, 1}, {0, 3, 2}}};
+    const Shape mesh = Shape::mesh(corners, triangles);
+    const Shape box = Shape::box({30, Real(0.05), 5});
+    ManifoldBuffer out;
+    for (const bool asMesh : {false, true}) {
+        SCOPED_TRACE(asMesh ? "mesh plate" : "box plate");
+        const Shape& plate = asMesh ? mesh : box;
+        const Transform xPlate = asMesh ? Transform{} : Transform{{0, plateTop - Real(0.05), 0}, Quat{}};
+        SpeculativeReach rolling = reach;
+        rolling.axisA = {1, 0, 0};
+        const std::vector<bool> none = childrenInContact(plate, xPlate, rolling, out);
+        EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
+        // Without the axis: the farthest corners, the children 5 or more from the centre.
+        const std::vector<bool> unknown = childrenInContact(plate, xPlate, reach, out);
+        EXPECT_EQ(std::count(unknown.begin(), unknown.end(), true), 12);
+        // About y, the axis through the rod's middle across it: the same children as without the axis.
+        SpeculativeReach yawing = reach;
+        yawing.axisA = {0, 1, 0};
+        EXPECT_EQ(childrenInContact(plate, xPlate, yawing, out), unknown);
+    }
+}
+
 }  // namespace
