@@ -46,7 +46,8 @@ namespace fulcrum {
 // 7: the six-DOF joint (JointDef::axisY and axes, its frame and drive impulses);
 // 8: rounded shapes' convex radius (Shape::convexRadius).
 // 9: the position drives' force limits (JointSpring::maxForce).
-inline constexpr std::uint32_t kSnapshotVersion = 9;
+// 10: how each contact's pair first touched (the solver's push-out sharing).
+inline constexpr std::uint32_t kSnapshotVersion = 10;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

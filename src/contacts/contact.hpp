@@ -43,6 +43,19 @@ struct CachedManifold {
     Vec3 stepFrictionImpulse;    // tangent impulse on B over the last step, as stepNormalImpulse (world)
 };
 
+// How a pair first touched, for the contact solver's push-out limit
+// (ContactSolver::pushLimit; docs/solver.md, "Born deep, driven deep").
+// Bodies created (or moved) inside one another touch first already deep: their
+// deep overlaps share contactPushMaxVelocity, so a heap of them opens gently.
+// Bodies that touched first at a resting depth and were driven in since (a
+// kinematic pusher, a jam, a fast landing the speculative margin saw coming)
+// keep the whole push-out speed.
+enum class FirstTouch : std::uint8_t {
+    NotYet = 0,   // no manifold has reached the solver yet
+    Shallow = 1,  // the first manifold the solver saw had no point deeper than its sharing depth
+    Deep = 2,     // it had one: the pair was born inside each other
+};
+
 struct Contact {
     bool alive = false;
     bool sensor = false;         // one body is a sensor: overlap tracking only
@@ -68,6 +81,9 @@ struct Contact {
     // records (measured: buildConstraint was the top function of sphere_pile,
     // 11 % of its time, mostly cache misses on those records).
     Real friction = 0, restitution = 0, rollingResistance = 0;  // rolling: times the round shape's radius
+    // Set by the solver's prepare from the first manifold it sees, kept for
+    // the contact's life (saved in snapshots from format version 10).
+    FirstTouch firstTouch = FirstTouch::NotYet;
     std::vector<CachedManifold> manifolds;  // capacity kept across reuse: no allocation in steady state
 };
 

@@ -274,6 +274,7 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
     c.proxyB = proxyB;
     c.touching = false;
     c.solved = false;
+    c.firstTouch = FirstTouch::NotYet;
     c.nextFree = UINT32_MAX;
     c.hasPose = false;
     c.apartBy = 0;

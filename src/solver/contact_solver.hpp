@@ -179,8 +179,10 @@ private:
     // The push-out speed limit of one constraint: contactPushMaxVelocity
     // shared among the deep overlaps of its busier dynamic body, so that the
     // pushes asked of any one body add up to at most contactPushMaxVelocity
-    // however many bodies overlap it (issue 27; docs/solver.md, "Many overlaps").
-    Real pushLimit(const PendingConstraint& pc) const;
+    // however many bodies overlap it (issue 27; docs/solver.md, "Many overlaps"),
+    // for pairs born inside each other; pairs driven in keep the whole speed
+    // (Contact::firstTouch; docs/solver.md, "Born deep, driven deep").
+    Real pushLimit(const PendingConstraint& pc, const Contact& c) const;
     // The dynamic or the stiffer static softness (the scalar and the wide
     // build both take it from here).
     Softness softnessOf(const PendingConstraint& pc) const;

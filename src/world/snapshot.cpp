@@ -388,6 +388,15 @@ void io(A& a, Contact& c) {
     // from the bodies on load (ContactManager::mixMaterials).
     if (a.version >= 9) io(a, c.friction), io(a, c.restitution), io(a, c.rollingResistance);
     io(a, c.manifolds);
+    // Version 10: how the pair first touched (the solver's push-out sharing).
+    // A file before it was written by a build that shared every deep overlap
+    // of a body, as for pairs born deep: its touching pairs load so and resume
+    // as they ran.
+    if (a.version >= 10) {
+        a.enumeration(c.firstTouch, FirstTouch::Deep);
+    } else if constexpr (A::kReading) {
+        c.firstTouch = c.manifolds.empty() ? FirstTouch::NotYet : FirstTouch::Deep;
+    }
 }
 template <typename A>
 void io(A& a, ContactReport& r) {
