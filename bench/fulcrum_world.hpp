@@ -319,6 +319,13 @@ public:
         return out;
     }
 
+    // Every live group's joints (a probe's joint error).
+    std::vector<fulcrum::JointId> liveJoints() const {
+        std::vector<fulcrum::JointId> out;
+        for (const auto& ids : joints_) out.insert(out.end(), ids.begin(), ids.end());
+        return out;
+    }
+
 private:
     const SceneSpec* scene_;
     FulcrumWorld* built_;

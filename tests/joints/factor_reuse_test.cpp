@@ -1,6 +1,7 @@
 // The joint-tree solver's factorization reuse (tree_solver.hpp, solve()): a
-// factorization serves the passes until its anchors are two position updates
-// old (3 factorizations per 5-sub-step step instead of 5), and a reused one is
+// factorization serves the passes until its anchors are maxFactorAge position
+// updates old (age 2: 3 factorizations per 5-sub-step step instead of 5; the
+// default: once per step), and a reused one is
 // dropped when an anchor has turned more than JointTreeSolver::kGuardTurn
 // since (the guard). Each test compares the reuse with every pass factored
 // exactly (setMaxFactorAge(1)) and with an analytic result.
@@ -89,6 +90,42 @@ TEST(FactorReuse, WhippingChainAgreesWithExactFactorization) {
     EXPECT_LT(worstReused, 1e-3);  // measured 0.13 mm
     EXPECT_LT(worstExact, 1e-3);   // 0.12 mm
     EXPECT_LT(apart, 1e-3);  // measured 6.4e-5 m
+}
+
+// The default schedule (kDefaultMaxFactorAge: no limit by age) factors once
+// per step and leaves the rest to the guard, which is kLongGuardTurn once the
+// anchors are two position updates old. A chain hanging at rest never trips
+// it: one factorization per step, the top joint carries 10 m g as with every
+// pass factored. A whipping chain does trip it, and lands where the exactly
+// factored one does, its joints as closed.
+TEST(FactorReuse, DefaultFactorsOncePerStepAndTheGuardKeepsAWhippingChainExact) {
+    {
+        Chain c(10, {0, -1, 0}, detail::JointTreeSolver::kDefaultMaxFactorAge);
+        const int steps = 60;
+        for (int i = 0; i < steps; ++i) c.world.step(kDt);
+        const Vec3 top = c.world.jointReactionForce(c.joints[0]);
+        EXPECT_NEAR(top.y, 10 * kG, 10 * kG * 1e-3);
+        EXPECT_LT(c.worstError(), 1e-4);
+        EXPECT_EQ(trees(c.world).guardTrips(), 0u);
+        EXPECT_EQ(trees(c.world).factorizations(), static_cast<std::uint64_t>(steps));
+    }
+    Chain reused(20, {1, 0, 0}, detail::JointTreeSolver::kDefaultMaxFactorAge), exact(20, {1, 0, 0}, 1);
+    double worstReused = 0, worstExact = 0, apart = 0;
+    for (int i = 0; i < 60; ++i) {
+        reused.world.step(kDt);
+        exact.world.step(kDt);
+        worstReused = std::max(worstReused, reused.worstError());
+        worstExact = std::max(worstExact, exact.worstError());
+        for (std::size_t k = 0; k < reused.bodies.size(); ++k) {
+            apart = std::max(apart, static_cast<double>(length(reused.world.position(reused.bodies[k]) -
+                                                               exact.world.position(exact.bodies[k]))));
+        }
+    }
+    EXPECT_GT(trees(reused.world).guardTrips(), 0u);
+    EXPECT_LT(reused.world.position(reused.bodies.back()).y, -4);
+    EXPECT_LT(worstReused, 1e-3);
+    EXPECT_LT(worstExact, 1e-3);
+    EXPECT_LT(apart, 1e-3);
 }
 
 // A 1 kg rod pinned at one end to the world, no gravity, spinning at 60

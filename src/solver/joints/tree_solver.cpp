@@ -504,9 +504,8 @@ namespace {
 
 // Whether anchor r has moved from its factorization's value rf by more than
 // kGuardTurn of its length (a turn of that angle, to first order).
-inline bool turnedTooFar(const Vec3& r, const Vec3& rf) {
-    constexpr Real kTurn2 = static_cast<Real>(JointTreeSolver::kGuardTurn * JointTreeSolver::kGuardTurn);
-    return lengthSquared(r - rf) > kTurn2 * lengthSquared(rf);
+inline bool turnedTooFar(const Vec3& r, const Vec3& rf, Real turn2) {
+    return lengthSquared(r - rf) > turn2 * lengthSquared(rf);
 }
 
 // applyPoint on the ends that move. A static or kinematic end (inverse mass 0)
@@ -593,7 +592,7 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
                 Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
                 if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
                 f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
-                if (guard && (turnedTooFar(fr.rA, f.factorA) || turnedTooFar(fr.rB, f.factorB))) {
+                if (guard && (turnedTooFar(fr.rA, f.factorA, guardTurn2_) || turnedTooFar(fr.rB, f.factorB, guardTurn2_))) {
                     guard = false;
                     refactor = true;
                     ++guardTripsOf_[tree];
@@ -753,7 +752,7 @@ bool JointTreeSolver::solveChain(std::uint32_t tree, std::vector<JointConstraint
                 const Real bias = ctx.soft.biasRate;
                 rx += f.d.x * bias, ry += f.d.y * bias, rz += f.d.z * bias;
             }
-            if (guard && (turnedTooFar(f.rA, L.factorA) || turnedTooFar(f.rB, L.factorB))) {
+            if (guard && (turnedTooFar(f.rA, L.factorA, guardTurn2_) || turnedTooFar(f.rB, L.factorB, guardTurn2_))) {
                 guard = false;
                 refactor = true;
                 ++guardTripsOf_[tree];
@@ -1029,8 +1028,15 @@ bool JointTreeSolver::beginPass(bool useBias) {
     // (3 factorizations per step instead of 5), and no pass sees anchors more
     // than one position update old, the staleness the relax pass always had.
     // Plus the guard in solveTree. Figures in docs/joints.md, fifth round.
+    // Since issue 21 the default age has no limit: one factorization per
+    // step, and a factorization older than one position update is kept only
+    // while its anchors turned less than kLongGuardTurn (a ragdoll lying or
+    // falling barely turns; a whipping chain's links trip it and factor
+    // again, tree by tree).
     if (!useBias) ++factorAge_;  // a relax pass: the positions moved since the last pass
     const bool refactor = !factored_ || factorAge_ >= maxFactorAge_;
+    const double turn = factorAge_ >= 2 ? kLongGuardTurn : kGuardTurn;
+    guardTurn2_ = static_cast<Real>(turn * turn);
     if (refactor) {
         factored_ = true;
         factorAge_ = 0;
