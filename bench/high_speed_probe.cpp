@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     const auto report = [&](int step) {
         const std::vector<ContactReport> now = world.contacts();
         const ContactReport* worst = nullptr;
-        int deep = 0, freshDeep = 0;
+        int deep = 0, freshDeep = 0, freshWall = 0;
         Real deepestFresh = 0;
         ManifoldBuffer buffer;
         for (const ContactReport& r : now) {
@@ -60,14 +60,17 @@ int main(int argc, char** argv) {
             collide(world.shape(r.bodyA), world.transform(r.bodyA), world.shape(r.bodyB), world.transform(r.bodyB), 0, buffer);
             Real fresh = 0;
             for (std::size_t m = 0; m < buffer.size(); ++m) fresh = std::max(fresh, buffer[m].maxDepth());
-            if (fresh > Real(0.05)) ++freshDeep;
+            if (fresh > Real(0.05)) {
+                ++freshDeep;
+                if (kindOf(r.bodyA) == "wall" || kindOf(r.bodyB) == "wall") ++freshWall;
+            }
             deepestFresh = std::max(deepestFresh, fresh);
         }
         int awake = 0;
         for (const BodyId id : built.bodies)
             if (world.isAwake(id)) ++awake;
-        std::printf("step %4d: %zu contacts, %d reported deeper than 5 cm, %d at the final poses (deepest %.4f m), %d awake", step,
-                    now.size(), deep, freshDeep, double(deepestFresh), awake);
+        std::printf("step %4d: %zu contacts, %d reported deeper than 5 cm, %d at the final poses (%d with a wall; deepest %.4f m), %d awake",
+                    step, now.size(), deep, freshDeep, freshWall, double(deepestFresh), awake);
         if (worst != nullptr) {
             const Vec3 va = world.linearVelocity(worst->bodyA), vb = world.linearVelocity(worst->bodyB);
             std::printf("; deepest reported %.4f m: %s-%s, speeds %.2f, %.2f m/s, closing %.2f m/s, spins %.1f, %.1f rad/s, at (%.1f %.1f %.1f)",
