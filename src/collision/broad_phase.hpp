@@ -304,6 +304,9 @@ public:
     // and boxes; the pool is not reallocated, so fatAABB and testOverlap may
     // run on other threads meanwhile, as with the reinsertions).
     void rebuildMovingTree() { movingTree_.rebuild(); }
+    // The same, but refitting the tree's boxes in place while its shape is
+    // still good enough (DynamicTree::refitOrRebuild); the same guarantees.
+    void refitMovingTree() { movingTree_.refitOrRebuild(); }
 
     // Both trees' invariants plus the proxy records and the move buffer.
     // Empty when valid, otherwise the first violation found.

@@ -434,12 +434,13 @@ void DynamicTree::removeLeaf(std::int32_t leaf) {
 
 // Top-down build: split each range of leaves where the SAH estimate
 // area(left) * count(left) + area(right) * count(right) is least, over 16
-// centroid bins on each of the three axes (Wald 2007, "On fast Construction of
-// SAH-based Bounding Volume Hierarchies"). Ranges are processed with an
-// explicit stack, so a skewed split cannot overflow the call stack.
+// centroid bins on the longest axis of the range's centres (Wald 2007, "On
+// fast Construction of SAH-based Bounding Volume Hierarchies"); ranges of at
+// most kSmallRange leaves at the middle of that axis. Ranges are processed
+// with an explicit stack, so a skewed split cannot overflow the call stack.
 //
-// Cost: each level of the build reads every leaf twice, once to bin it on
-// the three axes and once to partition it (which also gathers the two
+// Cost: each level of the build reads every leaf twice, once to bin it
+// and once to partition it (which also gathers the two
 // halves' centroid boxes for the next level); the leaves' boxes and centres
 // sit in one array that the partition permutes, and the internal nodes'
 // boxes are merged bottom-up at the end; the split search sweeps only the
@@ -447,7 +448,10 @@ void DynamicTree::removeLeaf(std::int32_t leaf) {
 // trees are the same (checked against the former build on random, grid and
 // identical boxes), for fewer instructions (callgrind): a million static
 // boxes (large_world) 4.6 G before, 3.2 G now; 5000 random unit boxes (a
-// jolt_high_speed moving tree) 30.6 M before, 16.1 M now.
+// jolt_high_speed moving tree) 30.6 M before, 16.1 M now. Then binning the
+// longest axis only and splitting small ranges at the middle (the trees
+// change, no result does): 10,000 static boxes (large_world(100)) 24.5 M to
+// 16.4 M, with the queries of HighSpeed's moving tree costing the same.
 void DynamicTree::rebuild() {
     if (proxyCount_ < 2) {
         for (const std::int32_t leaf : pending_) insertLeaf(leaf);  // at most one
@@ -510,6 +514,70 @@ void DynamicTree::rebuild() {
     }
 }
 
+// Refit or rebuild, for a moving tree whose leaves nearly all moved (Jolt's
+// HighSpeed: 5000 bodies at up to 250 m/s, every fat box new each step).
+// A rebuild costs ~3 us per leaf; a refit ~0.05 us per node, but keeps the
+// shape chosen for where the leaves were, and the bodies drift apart from
+// their tree neighbours, so the internal boxes loosen and each query visits
+// more of the tree. Looseness: the internal nodes' total area over the
+// leaves' (the SAH cost of a query, up to a constant, per unit of leaf
+// area, so that boxes growing or shrinking with their bodies' speed do not
+// count). Refit while it stays within kRefitSlack of the looseness right
+// after the last rebuild, else rebuild. (The idea of keeping a tree's shape
+// while its boxes move and rebuilding only when it has degraded is the
+// usual one for moving BVHs; Box3D and Jolt both update their trees
+// incrementally and rebuild in part or in the background.) Measured on
+// HighSpeed: see docs/broad-phase.md.
+//
+// Measured (callgrind, HighSpeed's steps 101-120, bench_high_speed_probe;
+// the slack against the whole step's instructions): a rebuild every step
+// before; slack 1.3, a rebuild every ~5 steps; 2.0, every ~10 steps, 2 %
+// fewer instructions than 1.3 (the queries cost 16 % more, the rebuilds a
+// third); 3.0, 2 % more than 2.0 (the queries' growth wins).
+namespace {
+constexpr double kRefitSlack = 2.0;
+}  // namespace
+
+bool DynamicTree::refitOrRebuild() {
+    if (hasPending()) insertPending();
+    if (rebuiltLooseness_ > 0 && root_ != kNullNode && !node(root_).isLeaf()) {
+        // Internal nodes in pre-order (each after its ancestors), then merged
+        // in reverse: children before parents.
+        buildOrder_.clear();
+        std::vector<BuildTask>& stack = buildTasks_;  // only .parent used: the nodes still to visit
+        stack.clear();
+        stack.push_back({0, 0, root_, false, AABB{}});
+        double leafArea = 0;
+        while (!stack.empty()) {
+            const std::int32_t i = stack.back().parent;
+            stack.pop_back();
+            const TreeNode& n = node(i);
+            if (n.isLeaf()) {
+                leafArea += static_cast<double>(area(n.box));
+                continue;
+            }
+            buildOrder_.push_back(i);
+            stack.push_back({0, 0, n.child2, false, AABB{}});
+            stack.push_back({0, 0, n.child1, false, AABB{}});
+        }
+        double internalArea = 0;
+        for (std::size_t k = buildOrder_.size(); k-- > 0;) {
+            TreeNode& n = node(buildOrder_[k]);
+            n.box = merge(node(n.child1).box, node(n.child2).box);
+            internalArea += static_cast<double>(area(n.box));
+        }
+        if (leafArea > 0 && internalArea <= kRefitSlack * rebuiltLooseness_ * leafArea) return false;
+    }
+    rebuild();
+    double internalArea = 0, leafArea = 0;
+    for (const TreeNode& n : nodes_) {
+        if (n.height > 0) internalArea += static_cast<double>(area(n.box));
+        if (n.height == 0) leafArea += static_cast<double>(area(n.box));
+    }
+    rebuiltLooseness_ = leafArea > 0 ? internalArea / leafArea : 0;
+    return true;
+}
+
 std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, const AABB& centroidBox, AABB& leftCentroids,
                                         AABB& rightCentroids) {
     constexpr int kBins = 16;
@@ -532,81 +600,100 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
         return begin + 1;
     }
 
-    // Per axis, the bins' boxes (valid where the count is not 0) and counts.
-    AABB binBox[3][kBins];
-    std::uint32_t binCount[3][kBins] = {};
-    Real scale[3];
-    bool binned[3];
-    for (std::size_t axis = 0; axis < 3; ++axis) {
-        binned[axis] = extent[axis] > Real(0);
-        scale[axis] = binned[axis] ? Real(kBins) / extent[axis] : Real(0);
+    if (end - begin <= kSmallRange) {
+        // A few leaves: halve the longest axis of their centres. Binning
+        // them (the bins' set-up and sweeps cost the same for 3 leaves as
+        // for 3,000) was most of a build's instructions, in ranges where a
+        // better split saves little.
+        std::size_t axis = 0;
+        if (extent.y > extent[axis]) axis = 1;
+        if (extent.z > extent[axis]) axis = 2;
+        std::size_t left = begin;
+        if (extent[axis] > Real(0)) {
+            const Real mid = Real(0.5) * (centroidBox.min[axis] + centroidBox.max[axis]);
+            std::size_t right = end;
+            while (left < right) {
+                if (items[left].centroid[axis] <= mid) {
+                    ++left;
+                } else {
+                    std::swap(items[left], items[--right]);
+                }
+            }
+        }
+        if (left == begin || left == end) left = begin + (end - begin) / 2;
+        leftCentroids = AABB{};
+        rightCentroids = AABB{};
+        for (std::size_t i = begin; i < left; ++i) leftCentroids.grow(items[i].centroid);
+        for (std::size_t i = left; i < end; ++i) rightCentroids.grow(items[i].centroid);
+        return left;
     }
-    const auto binOf = [&](const Vec3& c, std::size_t axis) {
-        return std::clamp(static_cast<int>((c[axis] - centroidBox.min[axis]) * scale[axis]), 0, kBins - 1);
-    };
+    // The longest axis of the centres alone is binned: the split is most
+    // often there (the SAH picks another axis mainly for flat or thin
+    // clusters), and binning all three was two thirds of a build's
+    // binning; HighSpeed's queries cost the same on the trees built so,
+    // and a million static boxes build in a third fewer instructions.
+    std::size_t axis = 0;
+    if (extent.y > extent[axis]) axis = 1;
+    if (extent.z > extent[axis]) axis = 2;
+    leftCentroids = AABB{};
+    rightCentroids = AABB{};
+    if (!(extent[axis] > Real(0))) {  // all centroids coincide: any split is as good
+        leftCentroids = rightCentroids = centroidBox;
+        return begin + (end - begin) / 2;
+    }
+    // The bins' boxes (valid where the count is not 0) and counts.
+    AABB binBox[kBins];
+    std::uint32_t binCount[kBins] = {};
+    const Real scale = Real(kBins) / extent[axis];
+    const Real origin = centroidBox.min[axis];
+    const auto binOf = [&](const Vec3& c) { return std::clamp(static_cast<int>((c[axis] - origin) * scale), 0, kBins - 1); };
     for (std::size_t i = begin; i < end; ++i) {
         const BuildItem& item = items[i];
-        for (std::size_t axis = 0; axis < 3; ++axis) {
-            if (!binned[axis]) continue;
-            const int k = binOf(item.centroid, axis);
-            if (binCount[axis][k]++ == 0) {
-                binBox[axis][k] = item.box;
-            } else {
-                binBox[axis][k].grow(item.box);
-            }
+        const int k = binOf(item.centroid);
+        if (binCount[k]++ == 0) {
+            binBox[k] = item.box;
+        } else {
+            binBox[k].grow(item.box);
         }
     }
     // The candidate splits lie between two non-empty bins; a split between
     // empty bins separates the same leaves as the split just after the last
     // non-empty bin on its left, which is the one the sweep keeps (costs are
-    // compared strictly, first axis first, lowest split first). Sweeping the
-    // non-empty bins alone is what makes small ranges (most of a build's
-    // calls) cheap.
+    // compared strictly, lowest split first). Sweeping the non-empty bins
+    // alone keeps the smaller ranges cheap. The centres span the axis, so
+    // its first and last bins are used: there are two at least.
+    int used[kBins];
+    int m = 0;
+    for (int k = 0; k < kBins; ++k) {
+        if (binCount[k] != 0) used[m++] = k;
+    }
+    // rightArea[j], rightCount[j]: the bins used[j..m).
+    Real rightArea[kBins];
+    std::size_t rightCount[kBins];
+    AABB acc;
+    std::size_t count = 0;
+    for (int j = m - 1; j > 0; --j) {
+        acc.grow(binBox[used[j]]);
+        count += binCount[used[j]];
+        rightArea[j] = area(acc);
+        rightCount[j] = count;
+    }
+    acc = AABB{};
+    count = 0;
     Real bestCost = std::numeric_limits<Real>::max();
-    int bestAxis = -1, bestSplit = 0;
-    for (std::size_t axis = 0; axis < 3; ++axis) {
-        if (!binned[axis]) continue;
-        int used[kBins];
-        int m = 0;
-        for (int k = 0; k < kBins; ++k) {
-            if (binCount[axis][k] != 0) used[m++] = k;
-        }
-        // rightArea[j], rightCount[j]: the bins used[j..m).
-        Real rightArea[kBins];
-        std::size_t rightCount[kBins];
-        AABB acc;
-        std::size_t count = 0;
-        for (int j = m - 1; j > 0; --j) {
-            acc.grow(binBox[axis][used[j]]);
-            count += binCount[axis][used[j]];
-            rightArea[j] = area(acc);
-            rightCount[j] = count;
-        }
-        acc = AABB{};
-        count = 0;
-        for (int j = 0; j + 1 < m; ++j) {
-            acc.grow(binBox[axis][used[j]]);
-            count += binCount[axis][used[j]];
-            const Real cost = area(acc) * static_cast<Real>(count) + rightArea[j + 1] * static_cast<Real>(rightCount[j + 1]);
-            if (cost < bestCost) {
-                bestCost = cost;
-                bestAxis = static_cast<int>(axis);
-                bestSplit = used[j];
-            }
+    int bestSplit = used[0];
+    for (int j = 0; j + 1 < m; ++j) {
+        acc.grow(binBox[used[j]]);
+        count += binCount[used[j]];
+        const Real cost = area(acc) * static_cast<Real>(count) + rightArea[j + 1] * static_cast<Real>(rightCount[j + 1]);
+        if (cost < bestCost) {
+            bestCost = cost;
+            bestSplit = used[j];
         }
     }
-    leftCentroids = AABB{};
-    rightCentroids = AABB{};
-    if (bestAxis < 0) {  // all centroids coincide: any split is as good
-        const std::size_t mid = begin + (end - begin) / 2;
-        leftCentroids = rightCentroids = centroidBox;
-        return mid;
-    }
-
-    const auto axis = static_cast<std::size_t>(bestAxis);
     std::size_t left = begin, right = end;
     while (left < right) {
-        if (binOf(items[left].centroid, axis) <= bestSplit) {
+        if (binOf(items[left].centroid) <= bestSplit) {
             leftCentroids.grow(items[left].centroid);
             ++left;
         } else {

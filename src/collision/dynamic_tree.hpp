@@ -200,6 +200,14 @@ public:
     // current leaves (for trees built once, like the static tree). Proxy ids
     // stay valid. Reuses scratch buffers; allocates only if they must grow.
     void rebuild();
+    // For a tree most of whose leaves just got new boxes (setFatBox), in
+    // place of reinserting them or rebuild(): refits every internal node's
+    // box to its children's, keeping the tree's shape, and rebuilds only
+    // when the refitted tree has become too loose for its leaves (see
+    // dynamic_tree.cpp). Proxy ids stay valid; the pool is not reallocated
+    // (fatAABB may be read by other threads meanwhile). Returns whether it
+    // rebuilt.
+    bool refitOrRebuild();
 
     // ---- statistics and checks
     std::int32_t root() const { return root_; }
@@ -233,7 +241,10 @@ private:
     static constexpr int kInPlaceLevels = 3;
     bool updateInPlace(std::int32_t leaf);
     // Splits buildItems_[begin, end) (centres in centroidBox) in two, returns
-    // where the second half starts and each half's centroid box.
+    // where the second half starts and each half's centroid box: binned SAH
+    // along the centres' longest axis, or for at most kSmallRange leaves
+    // the middle of that axis.
+    static constexpr std::size_t kSmallRange = 6;
     std::size_t partitionRange(std::size_t begin, std::size_t end, const AABB& centroidBox, AABB& leftCentroids,
                                AABB& rightCentroids);
 
@@ -267,6 +278,12 @@ private:
         AABB centroidBox;  // of the range's leaves
     };
     std::vector<BuildTask> buildTasks_;          // rebuild(): ranges still to split
+    // refitOrRebuild(): the internal nodes' total area over the leaves' right
+    // after the last rebuild() (0: no rebuild yet). A heuristic's reference
+    // only: not part of the tree's state (snapshots leave it out; a restored
+    // tree rebuilds at its first bulk update, which changes its shape but no
+    // result: pairs are reported sorted by id).
+    double rebuiltLooseness_ = 0;
 };
 
 // ---- traversal templates ----------------------------------------------------

@@ -741,10 +741,12 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
         ++movedCount;
     }
     // When most moving proxies left their fat boxes (fast bodies everywhere:
-    // Jolt's HighSpeed scene), one bulk rebuild of the moving tree replaces
-    // the reinsertions: one by one, with the ancestors' boxes stale while the
-    // others are still to come, the in-place refits let the tree's boxes grow
-    // until every query visited most of it.
+    // Jolt's HighSpeed scene), one bulk update of the moving tree replaces
+    // the reinsertions (a refit of its boxes, or a rebuild once the refitted
+    // tree has loosened: DynamicTree::refitOrRebuild): one by one, with the
+    // ancestors' boxes stale while the others are still to come, the
+    // in-place refits let the tree's boxes grow until every query visited
+    // most of it.
     const bool rebuildMoving =
         movedCount > kMinBulkRebuild && 2 * movedCount > static_cast<std::uint32_t>(broad_.movingTree().proxyCount());
 
@@ -801,7 +803,7 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
     tasks.parallelFor(activeCount + 1, 32, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
         if (begin == 0) {
             if (rebuildMoving) {
-                broad_.rebuildMovingTree();
+                broad_.refitMovingTree();
             } else if (anyMoved) {
                 for (std::uint32_t k = 0; k < awakeCount; ++k) {
                     if (proxyMoves_[k] != 0) broad_.reinsertProxy(proxyOfSlot_[w.denseToSlot[awake[k]]]);

@@ -91,7 +91,15 @@ void sweepBody(BodyStore& w, const JointPairFilter& joints, const BroadPhase& br
     // move a sphere's surface about its own centre.
     if (p.isBullet && length(dp) + length(sweep.angularVelocity) * coreReach(shape, p.localCom) <= half) return;
     const ImpactRules rules = impactRules(core);
-    const AABB swept = sweptBounds(shape, sweep).fattened(rules.touchBand);
+    // What the sweep may meet: the box of a ball of the body's extent (its
+    // farthest point from the centre of mass) along the centre's path, grown
+    // for rounding. Looser than the swept shape's own box (sweptBounds), but
+    // each candidate is tested against that box first (sweptImpact), so the
+    // looser query changes no result; the tight box for every swept body
+    // was 11 % of Jolt's HighSpeed step (5000 tumbling bullets, a few near
+    // a wall at a time), for candidates the query finds in a few tree nodes.
+    const Vec3 reach = Vec3::splat(p.extent * Real(1 + 1e-5) + rules.touchBand);
+    const AABB swept{min(w.startCom[i], m.com) - reach, max(w.startCom[i], m.com) + reach};
     const std::uint32_t selfSlot = w.denseToSlot[d];
     Real best = 1;
     const auto hit = [&](ProxyId, std::uint32_t otherSlot) {

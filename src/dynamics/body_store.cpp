@@ -124,6 +124,12 @@ void BodyStore::updateDeltas(std::size_t begin, std::size_t end) {
     for (std::size_t i = begin + 1; i <= end; ++i) updateDeltas(static_cast<std::uint32_t>(i));
 }
 
+void BodyStore::updateContactDeltas(std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin + 1; i <= end; ++i) {
+        if (contactDeltas[i] != 0) updateDeltas(static_cast<std::uint32_t>(i));
+    }
+}
+
 void BodyStore::writeRecords(std::size_t begin, std::size_t end) {
     for (std::size_t i = begin + 1; i <= end; ++i) {
         BodyMotion& m = motion[denseOfSolver[i]];

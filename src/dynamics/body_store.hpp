@@ -306,6 +306,17 @@ struct BodyStore {
     }
     // The same for the solver bodies of awake-list entries [begin, end).
     void updateDeltas(std::size_t begin, std::size_t end);
+    // Per solver index: whether a contact constraint of this step reads the
+    // body's deltas (zeroed by beginStep, set by the contact solver's
+    // prepare). A step with contacts and no joints updates only those bodies'
+    // deltas after each sub-step's positions (updateContactDeltas): nothing
+    // else reads them, and a body in free flight has no constraint (Jolt's
+    // HighSpeed: 5000 tumbling bullets, ~200 in contact at a time; the
+    // deltas of all of them, a rotation vector with atan2 each, were 5.7 %
+    // of its step). Steps with joints update every body's (the joint
+    // solver's rows read them too).
+    std::vector<std::uint8_t> contactDeltas;
+    void updateContactDeltas(std::size_t begin, std::size_t end);
     // The awake set back into the records of awake-list entries [begin, end)
     // (solver bodies begin + 1 .. end): once, after the sub-steps.
     void writeRecords(std::size_t begin, std::size_t end);
@@ -321,6 +332,7 @@ void BodyStore::beginStep(ForRanges&& forRanges) {
     denseOfSolver.resize(solverCount);
     startCom.resize(solverCount);
     startQ.resize(solverCount);
+    contactDeltas.assign(solverCount, 0);
     state[0] = SolverBody{};
     pose[0] = BodyPose{};
     denseOfSolver[0] = kNoIndex;

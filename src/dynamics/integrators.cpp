@@ -557,9 +557,9 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
         }
         if (n < waitingCount[k]) driftAxisymmetric(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], k, h);
     }
-    // The pose change since the step's start, for the constraint kernels
-    // (every moved body's: the drifts above included), if there are any.
-    if (deltas) w.updateDeltas(begin, end);
+    // The pose change since the step's start, for the contact kernels (the
+    // bodies they read: the drifts above included), if there are any.
+    if (deltas) w.updateContactDeltas(begin, end);
 }
 
 void verletPredict(BodyStore& w, Real h, std::size_t begin, std::size_t end) {

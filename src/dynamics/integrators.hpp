@@ -26,8 +26,9 @@ void integrateVelocities(BodyStore& b, Integrator method, Real h, std::size_t be
 // Kinematic bodies move at their velocity whatever the integrator. The spin
 // limit is maxTurn (WorldDef::maxRotationPerSubstep).
 // Refreshes every moved body's world inverse inertia and, with `deltas` (the
-// step has constraints), its pose change since the step's start
-// (SolverBody::dp, dtheta) for the constraint kernels.
+// step has contact constraints and no joints), the pose change since the
+// step's start (SolverBody::dp, dtheta) of the bodies the contact kernels
+// read (BodyStore::contactDeltas).
 void integratePositions(BodyStore& b, Integrator method, Real h, Real maxTurn, bool deltas, std::size_t begin,
                         std::size_t end);
 

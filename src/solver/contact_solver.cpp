@@ -215,6 +215,11 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
             }
         }
     });
+    // The bodies whose deltas the kernels read (BodyStore::contactDeltas).
+    for (const PendingConstraint& p : pending_) {
+        w.contactDeltas[p.bodyA] = 1;
+        w.contactDeltas[p.bodyB] = 1;
+    }
 }
 
 void ContactSolver::finishPrepare(ContactManager& manager) {
