@@ -22,7 +22,7 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
         for (Vec3& v : w) v = transformPoint(xf, v);
         collideTriangleWithConvex(w, hf.convexEdgeMask[t], t, b, margin, scratch, sat);
     });
-    groupTriangleContacts(scratch, margin, out);
+    groupTriangleContacts(scratch, margin, out, sat != nullptr);
 }
 
 }  // namespace fulcrum::detail

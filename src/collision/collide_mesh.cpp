@@ -21,7 +21,9 @@
 // and each group is reduced to one manifold of at most four points, so a box
 // lying across many triangles gets one manifold, not one per triangle. Only
 // the points within kReductionBand of the group's deepest (or, a centimetre
-// deep, at least half as deep) take part.
+// deep, at least half as deep) take part; a box's or hull's group then gives
+// two of its places to speculative points where they widen it much more
+// (kTouchingPreference), as a box ground's clipped face would hold them.
 // Heightfields (collide_heightfield.cpp) run the same two halves on the
 // triangles of their cells.
 #include "collision/collide_mesh.hpp"
@@ -52,6 +54,24 @@ constexpr Real kReductionBand = Real(1e-3);
 // A group led by a point this deep is a body sunk into the surface, not one
 // resting on it (groupTriangleContacts).
 constexpr Real kDeepSeed = Real(0.01);
+// A box's or hull's group also keeps its speculative points (those behind the
+// band, up to the margin) where they widen the manifold: the touching pair
+// stays, and the other two places go to the widest of the touching points
+// and the speculative ones. On a box ground the clipped face manifold holds
+// the corners of a face swinging down; on a mesh, without them, a log
+// pivoting on one edge (the trees' trunks) had no point under the face coming
+// down, landed a step late, sunk, and was pushed out: a bounce that kept it
+// rocking about twice as long (tests/contacts/mesh_settle_test.cpp). A
+// touching point counts this many times its width, so it keeps its place
+// unless a speculative point is clearly wider: on a fine mesh the points a
+// millimetre from the pivot edge, centimetres off it, otherwise took those
+// places; with a preference of 1 a hull on the bumpy field kept rocking
+// between them, with 2 another did in the double-precision build. (Taking as
+// speculative only points 5 mm or more from touching was tried as well: the
+// log then rocked longer.) Round shapes (cylinders, capsules) keep only their touching points:
+// a cylinder's cap across a curved field's seams rocked with its rim's
+// speculative points in (tests/contacts/heightfield_test.cpp).
+constexpr Real kTouchingPreference = Real(3);
 
 // How far beyond the margin the face plane must put the shape before the
 // triangle is skipped without GJK: GJK's distance is exact to far less than
@@ -180,7 +200,60 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
     return true;
 }
 
-void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out) {
+namespace {
+
+// How much candidate q would widen manifold m: the squared distance from a
+// lone point, the area of the triangle with a pair (about the normal), the
+// area the edges of a triangle see q outside them (0 or less inside).
+// Compared only within one stage.
+Real wideningBy(const Manifold& m, const Vec3& q) {
+    const Vec3& a = m.points[0].position;
+    if (m.pointCount == 1) return lengthSquared(q - a);
+    const Vec3& b = m.points[1].position;
+    if (m.pointCount == 2) return std::fabs(dot(cross(b - a, q - a), m.normal));
+    const Vec3& c = m.points[2].position;
+    const Real winding = dot(cross(b - a, c - a), m.normal) < 0 ? Real(-1) : Real(1);
+    const Real ab = winding * dot(cross(b - a, q - a), m.normal);
+    const Real bc = winding * dot(cross(c - b, q - b), m.normal);
+    const Real ca = winding * dot(cross(a - c, q - c), m.normal);
+    return -std::min(ab, std::min(bc, ca));
+}
+
+// Fills the free places of m (its touching pair chosen) with the candidates
+// that widen it most, one stage at a time as reduceContacts does, the first
+// of near-equals; the first `touching` candidates are touching points and
+// count kTouchingPreference times their width. Candidates beyond the margin
+// are skipped, and so is a widening no larger than the reduction's duplicate
+// tolerance (1 mm from a lone point, 1e-3 of the span so far).
+void addWideningPoints(Manifold& m, const ContactCandidate* candidates, std::uint32_t count, std::uint32_t touching, Real margin) {
+    const auto score = [&](std::uint32_t i) {
+        const Real w = wideningBy(m, candidates[i].position);
+        return i < touching ? kTouchingPreference * w : w;
+    };
+    while (m.pointCount > 0 && m.pointCount < Manifold::kMaxPoints) {
+        Real best = 0;
+        for (std::uint32_t i = 0; i < count; ++i) {
+            if (candidates[i].depth >= -margin) best = std::max(best, score(i));
+        }
+        Real span2 = 0;
+        for (std::uint32_t k = 1; k < m.pointCount; ++k) {
+            span2 = std::max(span2, lengthSquared(m.points[k].position - m.points[0].position));
+        }
+        const Real floor = m.pointCount == 1 ? Real(1e-6) : Real(1e-3) * std::sqrt(span2);
+        if (!(best > floor)) return;
+        const Real threshold = best - Real(1e-3) * best;
+        std::uint32_t pick = 0;
+        while (!(candidates[pick].depth >= -margin && score(pick) >= threshold)) ++pick;
+        ContactPoint& p = m.points[m.pointCount++];
+        p.position = candidates[pick].position;
+        p.depth = candidates[pick].depth;
+        p.featureId = candidates[pick].featureId;
+    }
+}
+
+}  // namespace
+
+void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out, bool flatFaces) {
     // Group by normal, deepest first. Each pass takes the deepest candidate
     // left (the first of equals) as the seed, consumes its group in index
     // order and moves the rest, in order, to the front of `scratch`, finding
@@ -218,7 +291,8 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
         m.childA = scratch[seed].triangle;
         constexpr std::uint32_t kBatch = 64;
         ContactCandidate batch[kBatch + Manifold::kMaxPoints];
-        std::uint32_t count = 0;
+        ContactCandidate speculative[kBatch + Manifold::kMaxPoints];
+        std::uint32_t count = 0, speculativeCount = 0;
         std::size_t kept = 0, nextSeed = kNone;
         for (std::size_t i = 0; i < live; ++i) {
             // The seed always joins its own group, so every pass consumes at
@@ -231,7 +305,21 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
                 ++kept;
                 continue;
             }
-            if (scratch[i].contact.depth >= bandFloor) batch[count++] = scratch[i].contact;
+            if (scratch[i].contact.depth >= bandFloor) {
+                batch[count++] = scratch[i].contact;
+            } else if (flatFaces && scratch[i].contact.depth >= -margin) {
+                speculative[speculativeCount++] = scratch[i].contact;
+                if (speculativeCount == kBatch + Manifold::kMaxPoints) {
+                    // Bounded as well: the four that reduce them best.
+                    Manifold s;
+                    s.normal = n;
+                    reduceContacts({speculative, speculativeCount}, margin, s);
+                    speculativeCount = 0;
+                    for (std::uint32_t k = 0; k < s.pointCount; ++k) {
+                        speculative[speculativeCount++] = {s.points[k].position, s.points[k].depth, s.points[k].featureId};
+                    }
+                }
+            }
             if (count == kBatch + Manifold::kMaxPoints) {
                 // Keep the batch bounded: reduce to 4 and continue.
                 reduceContacts({batch, count}, margin, m);
@@ -242,6 +330,21 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
             }
         }
         reduceContacts({batch, count}, margin, m);
+        if (flatFaces && speculativeCount > 0) {
+            // The touching pair (the deepest and the farthest from it) stays;
+            // the other places go to the widest of the touching points the
+            // reduction chose for them and the speculative ones, a touching
+            // point counting kTouchingPreference times its width.
+            ContactCandidate widen[kBatch + 2 * Manifold::kMaxPoints];
+            std::uint32_t widenCount = 0;
+            for (std::uint32_t k = 2; k < m.pointCount; ++k) {
+                widen[widenCount++] = {m.points[k].position, m.points[k].depth, m.points[k].featureId};
+            }
+            const std::uint32_t touching = widenCount;
+            for (std::uint32_t k = 0; k < speculativeCount; ++k) widen[widenCount++] = speculative[k];
+            m.pointCount = std::min(m.pointCount, 2u);
+            addWideningPoints(m, widen, widenCount, touching, margin);
+        }
         if (m.pointCount == 0) out.pop();
         live = kept;
         seed = nextSeed;
@@ -262,7 +365,7 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
         const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
         collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
     });
-    groupTriangleContacts(scratch, margin, out);
+    groupTriangleContacts(scratch, margin, out, sat != nullptr);
 }
 
 }  // namespace fulcrum::detail

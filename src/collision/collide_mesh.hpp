@@ -23,7 +23,9 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
 // TriangleMesh::convexEdgeMask) with b to `scratch`, internal edges resolved;
 // false when they do not touch. groupTriangleContacts then turns the
 // candidates into manifolds, one per normal direction, at most 4 points each
-// (it uses up `scratch`: what is left there afterwards means nothing).
+// (it uses up `scratch`: what is left there afterwards means nothing);
+// `flatFaces` (b is a box or hull) also lets a group keep its speculative
+// points where they widen the manifold (collide_mesh.cpp, kTouchingPreference).
 // `polytope`, when given, is b prepared for the separating-axis test
 // (collide_triangle.hpp: boxes and hulls); without it the triangle runs the
 // general convex path (GJK, EPA, face clipping), as spheres, capsules and
@@ -31,7 +33,7 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
 class TrianglePolytope;
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope);
-void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out);
+void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out, bool flatFaces = false);
 // True when p, projected along the triangle's normal, falls on triangle w
 // (within 1e-3 of its edges, in barycentric terms).
 bool overTriangle(const Vec3 w[3], const Vec3& p);
