@@ -66,7 +66,9 @@ struct SpeculativeReach {
 // collide() with the margin of `reach`: reach.margin(extentA, extentB) for
 // the pair, and for each child of a compound (at its top level) the margin of
 // that child's own r: the farthest corner of its bounds at this pose from the
-// centre of mass, at most the body's extent.
+// centre of mass, at most the body's extent. When a compound against a convex
+// shape or a compound gives no manifold, out.apartBy() is a distance the
+// pair is proved apart (0: none), as for plain convex pairs.
 void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, const SpeculativeReach& reach,
              ManifoldBuffer& out);
 
