@@ -141,7 +141,10 @@ public:
     // rounded) that gave no manifold: a lower bound of the shapes' distance
     // that the pair function proved on its way to rejecting the pair, or 0
     // when it proved none (the contact manager's apart cache, docs/narrow-phase.md
-    // "Pairs proved apart"). Meaningless for any other pair.
+    // "Pairs proved apart"); after collide() with a SpeculativeReach of a
+    // compound against a convex shape or a compound, the least such distance
+    // over the compound's children (narrow_phase.cpp). Meaningless for any
+    // other pair.
     Real apartBy() const { return apartBy_; }
     void setApartBy(Real distance) { apartBy_ = distance; }
 

@@ -6,6 +6,7 @@
 #include "collision/narrow_phase.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "collision/collide_mesh.hpp"
 #include "collision/collide_pairs.hpp"
@@ -155,6 +156,39 @@ Real childReach(const AABB& childBounds, const Vec3& centre, Real extent, const 
     return aroundAxis < corner ? aroundAxis : corner;  // a NaN (an infinite spin) keeps the corner
 }
 
+// How far apart two boxes are along the axis that parts them most: a lower
+// bound of the distance between anything inside them (0 when they overlap).
+Real boxGap(const AABB& a, const AABB& b) {
+    Real gap = 0;
+    for (int k = 0; k < 3; ++k) gap = std::max({gap, a.min[k] - b.max[k], b.min[k] - a.max[k]});
+    return gap;
+}
+
+bool isPlainConvexShape(const Shape& s) { return isConvex(s.type()) && s.convexRadius() == 0; }
+
+// Shapes whose every point lies within a bounded reach of their origin, as
+// a moving body's: convex shapes and compounds (the contact manager's apart
+// cache needs it).
+bool hasReach(const Shape& s) { return isConvex(s.type()) || s.type() == ShapeType::Compound; }
+
+}  // namespace
+
+AABB compoundChildReaches(const Shape& s, const Transform& xf, const Vec3& centre, Real extent, const Vec3& axis,
+                          ChildReach* out) {
+    // The union as Shape::bounds grows it, so the same bits as s.bounds(xf).
+    AABB all;
+    const auto children = s.children();
+    for (std::size_t i = 0; i < children.size(); ++i) {
+        const AABB bc = children[i].shape.bounds(xf * children[i].transform);
+        out[i].bounds = bc;
+        out[i].reach = childReach(bc, centre, extent, axis);
+        all.grow(bc);
+    }
+    return all;
+}
+
+namespace {
+
 // `margin` is reach->margin(ra, rb) (or, with kPerChild false, the caller's
 // one margin, reach null: the plain collide(), which this instance keeps
 // exactly as it was): at the top level of a compound on a spinning body each
@@ -168,42 +202,116 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
         const AABB boundsB = b.bounds(xb);
         const AABB bb = boundsB.fattened(margin);
         const bool ownMargin = kPerChild && depthA == 0 && reach->spinA > 0;
+        // The children's bounds and r at this pose, once per body and step
+        // (the contact manager's), or computed here; the pose of a child
+        // only for those the bounds let through.
+        const ChildReach* known = kPerChild && depthA == 0 ? reach->childrenA : nullptr;
         const auto children = a.children();
+        // At the top level, a distance the whole pair is proved apart when no
+        // child gives a point (the contact manager's apart cache, as for
+        // plain convex pairs): the least over the children of their boxes' gap
+        // or, for a plain convex child against a plain convex shape, the
+        // distance its pair function proved; 0 when any child proves none.
+        // Only against a shape of finite reach (the cache bounds its motion
+        // by how far its points lie from its origin: not a plane's, a mesh's).
+        const bool proveApart = kPerChild && depthA == 0 && hasReach(b);
+        const bool plainOther = proveApart && isPlainConvexShape(b);
+        Real apart = std::numeric_limits<Real>::max();
         for (std::size_t i = 0; i < children.size(); ++i) {
-            const Transform xc = xa * children[i].transform;
-            const AABB bc = children[i].shape.bounds(xc);
+            Transform xc;
+            AABB bc;
+            if (known != nullptr) {
+                bc = known[i].bounds;
+            } else {
+                xc = xa * children[i].transform;
+                bc = children[i].shape.bounds(xc);
+            }
             const std::uint32_t child = depthA == 0 ? static_cast<std::uint32_t>(i) : childA;
+            // The whole body's margin is at least any child's (r at most the
+            // extent, each sum monotone in it, rounding too): most children of a
+            // big compound fail this one test.
+            if (!overlaps(bc, bb)) {
+                if (proveApart) apart = std::min(apart, boxGap(bc, boundsB));
+                continue;
+            }
+            const std::size_t before = out.size();
+            if (proveApart) out.setApartBy(0);
             if (ownMargin) {
-                const Real rc = childReach(bc, reach->centreA, reach->extentA, reach->axisA);
+                const Real rc = known != nullptr ? known[i].reach : childReach(bc, reach->centreA, reach->extentA, reach->axisA);
                 const Real mc = reach->margin(rc, rb);
-                if (!overlaps(bc, boundsB.fattened(mc))) continue;
+                if (!overlaps(bc, boundsB.fattened(mc))) {
+                    if (proveApart) apart = std::min(apart, boxGap(bc, boundsB));
+                    continue;
+                }
+                if (known != nullptr) xc = xa * children[i].transform;
                 collideRecursive<kPerChild>(children[i].shape, xc, b, xb, mc, reach, rc, rb, out, child, childB, depthA + 1, depthB);
             } else {
-                if (!overlaps(bc, bb)) continue;
+                if (known != nullptr) xc = xa * children[i].transform;
                 collideRecursive<kPerChild>(children[i].shape, xc, b, xb, margin, reach, ra, rb, out, child, childB, depthA + 1, depthB);
             }
+            if (proveApart) {
+                const bool proved = plainOther && out.size() == before && isPlainConvexShape(children[i].shape);
+                apart = proved ? std::min(apart, out.apartBy()) : Real(0);
+            }
         }
+        if (proveApart) out.setApartBy(out.empty() && apart < std::numeric_limits<Real>::max() ? apart : Real(0));
         return;
     }
     if (tb == ShapeType::Compound) {
         const AABB boundsA = a.bounds(xa);
         const AABB ba = boundsA.fattened(margin);
         const bool ownMargin = kPerChild && depthB == 0 && reach->spinB > 0;
+        // The children's bounds and r at this pose, once per body and step
+        // (the contact manager's), or computed here; the pose of a child
+        // only for those the bounds let through.
+        const ChildReach* known = kPerChild && depthB == 0 ? reach->childrenB : nullptr;
         const auto children = b.children();
+        // At the top level, a distance the whole pair is proved apart when no
+        // child gives a point (the contact manager's apart cache, as for
+        // plain convex pairs): the least over the children of their boxes' gap
+        // or, for a plain convex child against a plain convex shape, the
+        // distance its pair function proved; 0 when any child proves none.
+        const bool proveApart = kPerChild && depthB == 0 && hasReach(a);
+        const bool plainOther = proveApart && isPlainConvexShape(a);
+        Real apart = std::numeric_limits<Real>::max();
         for (std::size_t i = 0; i < children.size(); ++i) {
-            const Transform xc = xb * children[i].transform;
-            const AABB bc = children[i].shape.bounds(xc);
+            Transform xc;
+            AABB bc;
+            if (known != nullptr) {
+                bc = known[i].bounds;
+            } else {
+                xc = xb * children[i].transform;
+                bc = children[i].shape.bounds(xc);
+            }
             const std::uint32_t child = depthB == 0 ? static_cast<std::uint32_t>(i) : childB;
+            // The whole body's margin is at least any child's (r at most the
+            // extent, each sum monotone in it, rounding too): most children of a
+            // big compound fail this one test.
+            if (!overlaps(bc, ba)) {
+                if (proveApart) apart = std::min(apart, boxGap(bc, boundsA));
+                continue;
+            }
+            const std::size_t before = out.size();
+            if (proveApart) out.setApartBy(0);
             if (ownMargin) {
-                const Real rc = childReach(bc, reach->centreB, reach->extentB, reach->axisB);
+                const Real rc = known != nullptr ? known[i].reach : childReach(bc, reach->centreB, reach->extentB, reach->axisB);
                 const Real mc = reach->margin(ra, rc);
-                if (!overlaps(bc, boundsA.fattened(mc))) continue;
+                if (!overlaps(bc, boundsA.fattened(mc))) {
+                    if (proveApart) apart = std::min(apart, boxGap(bc, boundsA));
+                    continue;
+                }
+                if (known != nullptr) xc = xb * children[i].transform;
                 collideRecursive<kPerChild>(a, xa, children[i].shape, xc, mc, reach, ra, rc, out, childA, child, depthA, depthB + 1);
             } else {
-                if (!overlaps(bc, ba)) continue;
+                if (known != nullptr) xc = xb * children[i].transform;
                 collideRecursive<kPerChild>(a, xa, children[i].shape, xc, margin, reach, ra, rb, out, childA, child, depthA, depthB + 1);
             }
+            if (proveApart) {
+                const bool proved = plainOther && out.size() == before && isPlainConvexShape(children[i].shape);
+                apart = proved ? std::min(apart, out.apartBy()) : Real(0);
+            }
         }
+        if (proveApart) out.setApartBy(out.empty() && apart < std::numeric_limits<Real>::max() ? apart : Real(0));
         return;
     }
     if (a.convexRadius() > 0 || b.convexRadius() > 0) {

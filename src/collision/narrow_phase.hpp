@@ -25,6 +25,23 @@ void collide(const Shape& a, const Transform& xa, const Shape& b, const Transfor
 // own, smaller r (docs/narrow-phase.md, "Speculative margin"), so a long
 // spinning body's near-centre children look for contacts only as far as they
 // can move. Static bodies have spin 0.
+// A compound's top-level child at its body's pose: its world bounds
+// (Shape::bounds at the body transform times the child's) and its r for the
+// speculative margin (the farthest corner of those bounds from the centre of
+// mass, at most the body's extent).
+struct ChildReach {
+    AABB bounds;
+    Real reach = 0;
+};
+
+// Fills out[i] for each top-level child i of compound `s` at `xf` (centre of
+// mass `centre`, extent `extent`, spin axis `axis` or zero: childReach) and returns the union of the children's
+// bounds: s.bounds(xf), the same bits. The contact manager computes these
+// once per moving compound body and step (collide() then reads them for
+// every pair of the body instead of recomputing them per pair).
+AABB compoundChildReaches(const Shape& s, const Transform& xf, const Vec3& centre, Real extent, const Vec3& axis,
+                          ChildReach* out);
+
 struct SpeculativeReach {
     Real base = 0;              // the world's speculative margin
     Real linear = 0;            // |v_b - v_a| (centres of mass)
@@ -33,6 +50,10 @@ struct SpeculativeReach {
     Real dt = 0;
     Vec3 centreA, centreB;      // centres of mass, world
     Real extentA = 0, extentB = 0;  // the whole bodies' r (BodyParams::extent)
+    // A compound body's top-level children at this pose (compoundChildReaches
+    // with this centre, extent and axis), or null: computed per pair. The same bits either way.
+    const ChildReach* childrenA = nullptr;
+    const ChildReach* childrenB = nullptr;
 
     // The sums in the order the contact manager has always made them (the
     // same bits for a pair without compounds).
@@ -47,7 +68,9 @@ struct SpeculativeReach {
 // collide() with the margin of `reach`: reach.margin(extentA, extentB) for
 // the pair, and for each child of a compound (at its top level) the margin of
 // that child's own r: the farthest corner of its bounds at this pose from the
-// centre of mass, at most the body's extent.
+// centre of mass, at most the body's extent. When a compound against a convex
+// shape or a compound gives no manifold, out.apartBy() is a distance the
+// pair is proved apart (0: none), as for plain convex pairs.
 void collide(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb, const SpeculativeReach& reach,
              ManifoldBuffer& out);
 

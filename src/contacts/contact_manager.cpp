@@ -45,12 +45,23 @@ const Real kRecycleCosHalfAngle = dmath::cos(Real(0.5) * Real(0.1) * Real(3.1415
 constexpr Real kApartPad = Real(1e-3);
 
 // Neither a compound nor rounded: the shapes whose collide() reports a
-// proved distance when it rejects the pair (ManifoldBuffer::apartBy).
+// proved distance when it rejects the pair (ManifoldBuffer::apartBy; so
+// does a compound pair's, narrow_phase.cpp).
 bool isPlainConvex(const Shape& s) {
     const ShapeType t = s.type();
     return (t == ShapeType::Sphere || t == ShapeType::Box || t == ShapeType::Capsule || t == ShapeType::Cylinder ||
             t == ShapeType::ConvexHull) &&
            s.convexRadius() == 0;
+}
+
+// How far from its origin any point of the shape is (apartMotionBound's
+// reach): a compound's by its local box's farthest corner.
+Real shapeReach(const Shape& s) {
+    if (s.type() == ShapeType::Compound) {
+        const AABB b = s.localBounds();
+        return length(max(abs(b.min), abs(b.max)));
+    }
+    return detail::makeConvex(s, Transform{}).boundingRadius();
 }
 
 bool isAwakeMover(const BodyParams& p) { return p.type != BodyType::Static && p.awake; }
@@ -530,7 +541,8 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     // own rounding is far below the pad): the same answer, without it. The
     // bound moves on to this pose, as relativePose does when the narrow phase
     // runs, so the recycling above decides as it did without the cache. Only
-    // plain convex pairs ever hold a bound (never a compound).
+    // plain convex pairs and compound pairs ever hold a bound (a compound's
+    // children's margins are at most the whole body's, so the test holds for each).
     if (!c.sensor && c.apartBy > 0) {
         const Real moved = apartMotionBound(c.relativePose, rel, c.reachA, c.reachB);
         if (c.apartBy - moved > margin + kApartPad) {
@@ -545,16 +557,21 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     if (compound) {
         reach.centreA = ma.com;
         reach.centreB = mb.com;
+        reach.childrenA = knownChildren(dA);
+        reach.childrenB = knownChildren(dB);
         collide(shapeA, xA, shapeB, xB, reach, buffer);
     } else {
         collide(shapeA, xA, shapeB, xB, margin, buffer);
     }
     c.apartBy = 0;
-    if (buffer.empty() && buffer.apartBy() > 0 && isPlainConvex(shapeA) && isPlainConvex(shapeB)) {
+    // A compound pair's collide() proves a distance too (the least over its
+    // children, narrow_phase.cpp): the bodies with nothing near a spinning
+    // drum skip it while they cannot have come within the margin.
+    if (buffer.empty() && buffer.apartBy() > 0 && (compound || (isPlainConvex(shapeA) && isPlainConvex(shapeB)))) {
         c.apartBy = buffer.apartBy();
         if (c.reachA == 0) {  // once per contact: the shapes never change
-            c.reachA = detail::makeConvex(shapeA, Transform{}).boundingRadius();
-            c.reachB = detail::makeConvex(shapeB, Transform{}).boundingRadius();
+            c.reachA = shapeReach(shapeA);
+            c.reachB = shapeReach(shapeB);
         }
     }
 
@@ -721,17 +738,48 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
     if (tightBoxes_.size() < w.motion.size()) tightBoxes_.resize(w.motion.size());
     if (proxyMoves_.size() < awakeCount) proxyMoves_.resize(awakeCount);
     if (movedFrom_.size() < awakeCount) movedFrom_.resize(awakeCount);
+    // A compound's tight box is the union of its children's bounds: kept per
+    // child (with its r) for this update's narrow phase, in the pool's room
+    // (claimed atomically: any order gives the same entries). Without room
+    // the narrow phase computes them per pair as before, and the pool grows
+    // for the next update.
+    if (++updateCount_ == 0) {  // wrapped: no stale entry may match
+        std::fill(childrenOfDense_.begin(), childrenOfDense_.end(), ChildrenRef{});
+        updateCount_ = 1;
+    }
+    if (childrenOfDense_.size() < w.motion.size()) childrenOfDense_.resize(w.motion.size());
+    std::atomic<std::uint32_t> childCursor{0};
+    const auto poolSize = static_cast<std::uint32_t>(childPool_.size());
     tasks.parallelFor(awakeCount, 64, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         for (std::uint32_t k = begin; k < end; ++k) {
             const std::uint32_t d = awake[k];
             const ProxyId proxy = proxyOfSlot_[w.denseToSlot[d]];
-            const AABB tight = w.cold[d].shape.bounds(w.originTransform(d));
+            const Shape& shape = w.cold[d].shape;
+            const Transform xf = w.originTransform(d);
+            AABB tight;
+            if (shape.type() == ShapeType::Compound) {
+                const auto count = static_cast<std::uint32_t>(shape.children().size());
+                const std::uint32_t at = childCursor.fetch_add(count, std::memory_order_relaxed);
+                if (count <= poolSize && at <= poolSize - count) {
+                    // The spin axis as collideContact forms it (reach.axisA), so the same r.
+                    const Vec3& spin = w.motion[d].w;
+                    const Real spinRate = length(spin);
+                    const Vec3 axis = spinRate > 0 ? spin / spinRate : Vec3{};
+                    tight = compoundChildReaches(shape, xf, w.motion[d].com, w.params[d].extent, axis, childPool_.data() + at);
+                    childrenOfDense_[d] = {updateCount_, at};
+                } else {
+                    tight = shape.bounds(xf);
+                }
+            } else {
+                tight = shape.bounds(xf);
+            }
             const Vec3 displacement = w.motion[d].v * dt;
             tightBoxes_[d] = tight;
             proxyMoves_[k] = broad_.proxyMustMove(proxy, tight, displacement);
             if (proxyMoves_[k] != 0) movedFrom_[k] = broad_.writeFatBox(proxy, tight, displacement);
         }
     });
+    if (childCursor.load(std::memory_order_relaxed) > poolSize) childPool_.resize(childCursor.load(std::memory_order_relaxed));
     bool anyMoved = false;
     std::uint32_t movedCount = 0;
     for (std::uint32_t k = 0; k < awakeCount; ++k) {

@@ -56,6 +56,7 @@
 
 #include "collision/broad_phase.hpp"
 #include "collision/manifold.hpp"
+#include "collision/narrow_phase.hpp"
 #include "fulcrum/world.hpp"
 #include "contacts/contact.hpp"
 #include "dynamics/body_store.hpp"
@@ -198,6 +199,19 @@ private:
         ManifoldBuffer buffer;
         std::vector<CachedManifold> manifolds;
     };
+    // Where an awake compound body's top-level children are in childPool_:
+    // valid when `update` is this update's updateCount_ (else none: the
+    // narrow phase computes them per pair).
+    struct ChildrenRef {
+        std::uint32_t update = 0;
+        std::uint32_t offset = 0;
+    };
+    // The body's children at this update's pose, or null.
+    const ChildReach* knownChildren(std::uint32_t dense) const {
+        if (dense >= childrenOfDense_.size()) return nullptr;
+        const ChildrenRef& r = childrenOfDense_[dense];
+        return r.update == updateCount_ ? childPool_.data() + r.offset : nullptr;
+    }
     // Runs on any worker: reads the world, writes only c and scratch; returns
     // kTouching / kWakeA / kWakeB flags that update() applies in index order.
     std::uint8_t collideContact(const BodyStore& w, Contact& c, Real dt, NarrowScratch& scratch) const;
@@ -252,6 +266,13 @@ private:
     Real speculativeMargin_ = 0;              // update()'s CollisionSettings, for the narrow phase
     std::vector<NarrowScratch> narrow_;       // one per worker
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
+    // The awake compound bodies' top-level children at this update's pose,
+    // bounded once in update()'s step 1 for all of the body's pairs (a
+    // spinning drum of 40 hulls met by 8000 bodies bounded each child per
+    // pair: a third of Box3D's washer). Grows only, like tightBoxes_.
+    std::vector<ChildReach> childPool_;
+    std::vector<ChildrenRef> childrenOfDense_;  // per dense body: its entries in childPool_
+    std::uint32_t updateCount_ = 0;           // update()s so far (ChildrenRef::update)
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
     std::vector<std::uint64_t> flaggedWords_;  // per 64 active contacts: which have a flag (set atomically)
     mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())

@@ -228,4 +228,102 @@ TEST(CompoundMargin, RodRollingAboutItsLengthLooksOnlyAsFarAsItsGirthTurns) {
     }
 }
 
+// The contact manager bounds an awake compound's children once a step
+// (compoundChildReaches) and hands them to every pair of the body: the same
+// manifolds, bit for bit, as the narrow phase bounding them per pair, and the
+// union of the children's bounds is the body's bounds.
+TEST(CompoundMargin, ChildBoundsKnownOnceGiveTheSameManifolds) {
+    const Shape r = rod();
+    const Transform xr{{Real(0.3), Real(0.2), Real(-0.1)}, Quat::fromAxisAngle(normalize(Vec3{Real(0.2), Real(0.1), 1}), Real(0.4))};
+    SpeculativeReach reach;
+    reach.base = Real(0.02);
+    reach.linear = Real(0.7);
+    reach.spinA = Real(1.5);
+    reach.dt = Real(1) / 60;
+    reach.centreA = xr.p;
+    reach.extentA = std::sqrt(Real(10.5) * Real(10.5) + 2 * kHalf * kHalf);
+    std::vector<ChildReach> known(kRodChildren);
+    const AABB all = compoundChildReaches(r, xr, reach.centreA, reach.extentA, reach.axisA, known.data());
+    const AABB whole = r.bounds(xr);
+    EXPECT_EQ(all.min.x, whole.min.x);
+    EXPECT_EQ(all.min.y, whole.min.y);
+    EXPECT_EQ(all.max.z, whole.max.z);
+    const Shape cube = Shape::box(Vec3::splat(Real(0.2)));
+    int pairsWithPoints = 0;
+    for (int k = 0; k < 40; ++k) {
+        // Cubes along the rod, some touching it, some near, some apart.
+        const Real along = Real(-11) + Real(0.55) * Real(k);
+        const Vec3 local{along, Real(0.62) + Real(0.01) * Real(k % 7), Real(0.05) * Real(k % 3)};
+        const Transform xc{transformPoint(xr, local), Quat::fromAxisAngle(normalize(Vec3{1, 1, 0}), Real(0.1) * Real(k))};
+        ManifoldBuffer perPair, once;
+        collide(r, xr, cube, xc, reach, perPair);
+        SpeculativeReach withKnown = reach;
+        withKnown.childrenA = known.data();
+        collide(r, xr, cube, xc, withKnown, once);
+        // And with the rod as B: the same through the other branch.
+        ManifoldBuffer flippedPerPair, flippedOnce;
+        SpeculativeReach flipped;
+        flipped.base = reach.base;
+        flipped.linear = reach.linear;
+        flipped.spinB = reach.spinA;
+        flipped.dt = reach.dt;
+        flipped.centreB = reach.centreA;
+        flipped.extentB = reach.extentA;
+        collide(cube, xc, r, xr, flipped, flippedPerPair);
+        flipped.childrenB = known.data();
+        collide(cube, xc, r, xr, flipped, flippedOnce);
+        ASSERT_EQ(perPair.size(), once.size()) << "cube " << k;
+        ASSERT_EQ(flippedPerPair.size(), flippedOnce.size()) << "cube " << k;
+        ASSERT_EQ(perPair.size(), flippedOnce.size()) << "cube " << k;
+        EXPECT_EQ(perPair.apartBy(), once.apartBy()) << "cube " << k;
+        EXPECT_EQ(flippedPerPair.apartBy(), flippedOnce.apartBy()) << "cube " << k;
+        pairsWithPoints += perPair.empty() ? 0 : 1;
+        for (std::size_t i = 0; i < perPair.size(); ++i) {
+            ASSERT_EQ(perPair[i].childA, once[i].childA);
+            ASSERT_EQ(perPair[i].pointCount, once[i].pointCount);
+            ASSERT_EQ(flippedPerPair[i].pointCount, flippedOnce[i].pointCount);
+            for (std::uint32_t p = 0; p < perPair[i].pointCount; ++p) {
+                EXPECT_EQ(perPair[i].points[p].depth, once[i].points[p].depth);
+                EXPECT_EQ(perPair[i].points[p].position.x, once[i].points[p].position.x);
+                EXPECT_EQ(perPair[i].points[p].localAnchorB.y, once[i].points[p].localAnchorB.y);
+                EXPECT_EQ(flippedPerPair[i].points[p].depth, flippedOnce[i].points[p].depth);
+                EXPECT_EQ(flippedPerPair[i].points[p].position.z, flippedOnce[i].points[p].position.z);
+            }
+        }
+    }
+    EXPECT_GT(pairsWithPoints, 0);
+    EXPECT_LT(pairsWithPoints, 40);
+}
+
+// A compound pair with no point proves how far apart it is (the contact
+// manager's apart cache skips it while it cannot have come within the
+// margin): never more than the true distance, and more than the margin.
+// Axis-aligned cubes beside an axis-aligned rod: the true distance is the
+// nearest child's box distance.
+TEST(CompoundMargin, AnEmptyCompoundPairProvesNoMoreThanItsDistance) {
+    const Shape r = rod();
+    const Shape cube = Shape::box(Vec3::splat(Real(0.2)));
+    SpeculativeReach reach;
+    reach.base = Real(0.02);
+    reach.spinA = Real(1);
+    reach.dt = Real(1) / 60;
+    reach.extentA = std::sqrt(Real(10.5) * Real(10.5) + 2 * kHalf * kHalf);
+    int proved = 0;
+    for (int k = 0; k < 60; ++k) {
+        const Vec3 c{Real(-12) + Real(0.41) * Real(k), Real(0.9) + Real(0.05) * Real(k % 9), Real(0.3) * Real(k % 4)};
+        Real distance = 1e30f;
+        for (int i = 0; i < kRodChildren; ++i) {
+            const Vec3 d = max(Vec3::zero(), max(Vec3{Real(i - kRodChildren / 2), 0, 0} - c, c - Vec3{Real(i - kRodChildren / 2), 0, 0}) -
+                                                 Vec3::splat(kHalf + Real(0.2)));
+            distance = std::min(distance, length(d));
+        }
+        ManifoldBuffer out;
+        collide(r, Transform{}, cube, Transform{c, Quat{}}, reach, out);
+        if (!out.empty()) continue;
+        EXPECT_LE(out.apartBy(), distance + Real(1e-5)) << "cube at x = " << c.x;
+        if (out.apartBy() > 0) ++proved;
+    }
+    EXPECT_GT(proved, 30);
+}
+
 }  // namespace
