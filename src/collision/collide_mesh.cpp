@@ -358,11 +358,20 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
     TrianglePolytope polytope;
     const TrianglePolytope* sat = polytope.prepare(b, out.polytopeEdgeScratch()) ? &polytope : nullptr;
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
+    // A mesh placed at the origin unturned (a ground, the usual case) takes
+    // its vertices as they are: the identity transform changes no bit of them.
+    const bool placed = !(meshXf.p.x == 0 && meshXf.p.y == 0 && meshXf.p.z == 0 && meshXf.q.x == 0 && meshXf.q.y == 0 &&
+                          meshXf.q.z == 0 && meshXf.q.w == 1);
     forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
         const auto& idx = mesh.triangles[t];
+        const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
+        if (!placed) {
+            const Vec3 w[3] = {mesh.vertices[idx[0]], mesh.vertices[idx[1]], mesh.vertices[idx[2]]};
+            collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
+            return;
+        }
         const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
                            transformPoint(meshXf, mesh.vertices[idx[2]])};
-        const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
         collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
     });
     groupTriangleContacts(scratch, margin, out, sat != nullptr);

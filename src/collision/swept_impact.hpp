@@ -37,6 +37,14 @@ struct ImpactRules {
     Real passDepth = Real(0.01);       // ...if the sweeps take the pair this deep into each other
     Real sinkAllowance = Real(0.01);   // touching at the start: stop this much deeper than at the start
     Real tolerance = Real(0.001);      // the stop is within this of its target (never past it)
+    // When set, a compound child of the moving shape none of whose points
+    // moves farther than slowPieceFraction times pieceThickness(child) over
+    // the sweep is not swept: it cannot pass through anything (its
+    // speculative contact holds it), as the caller's own trigger for whole
+    // bodies assumes. A toppling tree turns about its foot: the pieces near
+    // the foot barely move while its top swings far.
+    Real (*pieceThickness)(const Shape&) = nullptr;
+    Real slowPieceFraction = 0;
 };
 
 struct SweptImpact {

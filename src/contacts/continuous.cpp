@@ -51,6 +51,11 @@ ImpactRules impactRules(Real core) {
     rules.passDepth = 2 * kToiSlop;
     rules.sinkAllowance = std::max(kToiSlop, Real(0.25) * core);
     rules.tolerance = Real(0.1) * kToiSlop;
+    // A compound's piece is swept only when it moved as far as a whole body
+    // must before it is (sweepBody), its own turn counted: of a toppling
+    // tree's 22 pieces those near its foot then stay out of the sweep.
+    rules.pieceThickness = coreExtent;
+    rules.slowPieceFraction = Real(0.5);
     return rules;
 }
 

@@ -139,3 +139,36 @@ TEST(SweptImpact, SweptBoundsHoldEveryPoseAndBoxATurningPieceByItsPath) {
 }
 
 }  // namespace
+
+// A toppling "tree" (ten boxes stacked on its foot, as bench/mesh_scenes.hpp's
+// trees are hulls) turning 0.2 rad about its foot in one step, its top piece
+// swinging through a thin wall of two triangles at x = 1.5: the stop is where
+// the top piece's outer corner comes within stopGap of the wall (never past
+// it), with the pieces that barely move skipped (rules.pieceThickness, as the
+// continuous phase does) or not.
+TEST(SweptImpact, TopplingTreeStopsAtAThinWallWithOrWithoutItsSlowPieces) {
+    std::vector<CompoundChild> pieces;
+    for (int k = 0; k < 10; ++k) pieces.push_back({Shape::box({Real(0.1), Real(0.5), Real(0.1)}), Transform{{0, Real(k) + Real(0.5), 0}, {}}});
+    const Shape tree = Shape::compound(pieces);
+    const Vec3 centre{0, 5, 0};
+    const Real angle = Real(0.2);
+    const Quat q1 = Quat::fromAxisAngle({0, 0, 1}, -angle);  // the top towards +x
+    const Sweep topple = sweepBetween(centre, Quat{}, rotate(q1, centre), q1, centre);
+    const std::vector<Vec3> vertices = {{Real(1.5), -1, -2}, {Real(1.5), 20, -2}, {Real(1.5), 20, 2}, {Real(1.5), -1, 2}};
+    const std::vector<std::array<std::uint32_t, 3>> triangles = {{0, 1, 2}, {0, 2, 3}};
+    const Shape wall = Shape::mesh(vertices, triangles);
+    // The top piece's outer corner (0.1, 10, z) along the sweep.
+    const auto cornerX = [&](Real t) { return transformPoint(topple.at(t), Vec3{Real(0.1), 10, 0}).x; };
+    ImpactRules rules;
+    const SweptImpact all = sweptImpact(tree, topple, wall, still({}), rules);
+    rules.pieceThickness = [](const Shape&) { return Real(0.7); };  // skips the lowest piece, sweeps the top
+    rules.slowPieceFraction = Real(0.5);
+    const SweptImpact gated = sweptImpact(tree, topple, wall, still({}), rules);
+    for (const SweptImpact& r : {all, gated}) {
+        ASSERT_TRUE(r.hit);
+        EXPECT_LE(cornerX(r.time), Real(1.5) - rules.stopGap + Real(1e-4));
+        EXPECT_GE(cornerX(r.time), Real(1.5) - rules.stopGap - rules.tolerance - Real(1e-4));
+        EXPECT_LT(r.advances, 40u);
+    }
+    EXPECT_EQ(all.time, gated.time);
+}
