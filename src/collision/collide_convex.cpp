@@ -52,6 +52,20 @@ struct ClipVertex {
     std::uint32_t key;
 };
 
+// Scratch of N elements that its constructor leaves uninitialised: the
+// clipping and candidate arrays are sized for a 32-point face and zeroing
+// them (their Vec3s zero themselves) cost more per pair than the few entries
+// a rock's triangles use; only the first `count` are ever read.
+template <class T, std::uint32_t N>
+struct Scratch {
+    union {
+        T items[N];
+    };
+    Scratch() {}  // NOLINT: uninitialised on purpose
+    T& operator[](std::uint32_t i) { return items[i]; }
+    const T& operator[](std::uint32_t i) const { return items[i]; }
+};
+
 // Sutherland-Hodgman clipping of a polygon against the side planes of `ref`
 // (a counter-clockwise polygon with outward normal ref.normal). Keys record
 // where each output vertex came from: an incident vertex (its index) or the
@@ -176,14 +190,16 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
     if (ref == 0 && std::max(alignA, alignB) >= kMinFaceAlignment) ref = alignA >= alignB - kReferenceBias ? 1 : 2;
     if ((ref == 1 && fa.count < 3) || (ref == 2 && fb.count < 3)) ref = 0;
 
-    ContactCandidate cand[kMaxClip + 1];  // + the deepest point
+    Scratch<ContactCandidate, kMaxClip + 1> cand;  // + the deepest point
     std::uint32_t candCount = 0;
     if (ref != 0) {
         const SupportFace& rf = ref == 1 ? fa : fb;
         const SupportFace& inc = ref == 1 ? fb : fa;
         const Real refD = dot(rf.normal, rf.points[0]);
         const Real denom = ref == 1 ? dot(rf.normal, n) : -dot(rf.normal, n);
-        ClipVertex poly[kMaxClip], scratch[kMaxClip];
+        Scratch<ClipVertex, kMaxClip> polyStore, scratchStore;
+        ClipVertex* poly = polyStore.items;
+        ClipVertex* scratch = scratchStore.items;
         std::uint32_t count = inc.count;
         for (std::uint32_t i = 0; i < count; ++i) poly[i] = {inc.points[i], i};
         if (count >= 3) {
@@ -238,7 +254,7 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
         for (std::uint32_t i = 0; i < candCount; ++i) clipped = std::max(clipped, cand[i].depth);
         if (clipped < deepest - kClipDepthTolerance) cand[candCount++] = {(fallbackA + fallbackB) * Real(0.5), deepest, fallbackId};
     }
-    if (candCount > 0) reduceContacts({cand, candCount}, margin, m);
+    if (candCount > 0) reduceContacts({cand.items, candCount}, margin, m);
     if (m.pointCount == 0) addContact(m, fallbackA, fallbackB, dot(fallbackA - fallbackB, n), fallbackId, margin);
 }
 

@@ -79,7 +79,14 @@ inline constexpr std::uint32_t kMaxFacePoints = 32;
 // support polygon of 64% of the cap's area.
 inline constexpr std::uint32_t kCylinderCapPoints = 4;
 struct SupportFace {
-    Vec3 points[kMaxFacePoints];
+    // Only the first `count` points are ever written or read. Left
+    // uninitialised (a Vec3 zeroes itself): a hull pair's narrow phase builds
+    // up to four faces, and zeroing their 384 bytes each cost more than
+    // filling in the few points used (docs/benchmarks.md, "Hull pairs' scratch").
+    union {
+        Vec3 points[kMaxFacePoints];
+    };
+    SupportFace() {}  // NOLINT: the points stay uninitialised on purpose
     std::uint32_t count = 0;
     std::uint32_t id = 0;
     Vec3 normal;  // outward normal of a polygon face (count >= 3)
