@@ -48,16 +48,28 @@ int inertiaSymmetry(const Mat3& i) {
 }
 
 // The Taylor series of sin and cos to double rounding for |x| <= 0.5, for
-// any lane type (halfAngleSinCos and the paired drift).
+// any lane type (halfAngleSinCos, the paired drift, the general drift's
+// sin(x)/x): sin x = x + x z sinTail(z) and cos x = cosSeries(z), z = x^2
+// (results through references: a vector return type would change the psABI).
+template <class T>
+void sinTail(const T& z, T& tail) {
+    tail = -1.0 / 6 +
+           z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800)))));
+}
+template <class T>
+void cosSeries(const T& z, T& c) {
+    c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
+                                  z * (-1.0 / 720 +
+                                       z * (1.0 / 40320 +
+                                            z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
+}
 template <class T>
 void seriesSinCos(const T& x, T& s, T& c) {
     const T z = x * x;
-    s = x + x * z *
-                (-1.0 / 6 +
-                 z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 + z * (1.0 / 6227020800))))));
-    c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
-                               z * (-1.0 / 720 +
-                                    z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600 + z * (-1.0 / 87178291200)))))));
+    T tail;
+    sinTail(z, tail);
+    s = x + x * z * tail;
+    cosSeries(z, c);
 }
 
 // sin and cos of a half-angle of the drift. The spin limit
@@ -298,6 +310,124 @@ void driftGeneral(DriftLanes<double>& d, double hd) {
     d.ax = an.x, d.ay = an.y, d.az = an.z;
 }
 
+// The drift of a body with a general inertia (no two principal moments equal,
+// or off-diagonal body-axis entries: hull rocks, compounds), at constant world
+// angular momentum L: the rate at the midpoint orientation,
+//     L = R I R^T w,  w_mid = R_mid I^-1 R_mid^T L,  q' = exp(w_mid h / 2) q,
+// then w' = R' I^-1 R'^T L and I_w^-1 = R' I^-1 R'^T. Second order.
+// Written for few operations (issue 21; junkyard and HighSpeed, where it was
+// a third of the step): I_w is never formed nor inverted, each product maps
+// through the body axes with I and I^-1 (three matrix-vector products
+// instead of two 3x3 products and an adjugate of I_w); the rotations are
+// exp(theta) q with sin(theta)/theta and cos theta as series in theta^2 (no
+// square root, no division, no small-angle case); the matrix of the new
+// orientation gives both w' and I_w^-1. In double, as the axisymmetric drift.
+// The round trip w -> L -> w' -> L' must not walk |L| with a bias (mapping
+// back with the unit-length rotate() once did: 1.5e-4 over 1,920 sub-steps):
+// R is the homogeneous form over |q|^2, a rotation to double rounding however
+// far the stored float q is from unit length, so R^T undoes R and the stored
+// w' (from the stored q') maps back to L up to unbiased roundings; and
+// I^-1 is formed in double (inverseInDouble), so I I^-1 is the identity to
+// double rounding as well.
+struct Rotation {
+    D3 c0, c1, c2;  // columns
+};
+Rotation rotationOf(double qw, double qx, double qy, double qz) {
+    const double s = 2 / (qw * qw + qx * qx + qy * qy + qz * qz);
+    const double xs = qx * s, ys = qy * s, zs = qz * s;
+    const double wx = qw * xs, wy = qw * ys, wz = qw * zs;
+    const double xx = qx * xs, xy = qx * ys, xz = qx * zs, yy = qy * ys, yz = qy * zs, zz = qz * zs;
+    return {{1 - (yy + zz), xy + wz, xz - wy}, {xy - wz, 1 - (xx + zz), yz + wx}, {xz + wy, yz - wx, 1 - (xx + yy)}};
+}
+D3 times(const Rotation& m, const D3& v) {  // m v (m: columns)
+    return {m.c0.x * v.x + m.c1.x * v.y + m.c2.x * v.z, m.c0.y * v.x + m.c1.y * v.y + m.c2.y * v.z,
+            m.c0.z * v.x + m.c1.z * v.y + m.c2.z * v.z};
+}
+D3 transposeTimes(const Rotation& m, const D3& v) {  // m^T v
+    return {m.c0.x * v.x + m.c0.y * v.y + m.c0.z * v.z, m.c1.x * v.x + m.c1.y * v.y + m.c1.z * v.z,
+            m.c2.x * v.x + m.c2.y * v.y + m.c2.z * v.z};
+}
+Rotation toDouble(const Mat3& m) {
+    const auto col = [](const Vec3& c) {
+        return D3{static_cast<double>(c.x), static_cast<double>(c.y), static_cast<double>(c.z)};
+    };
+    return {col(m.c0), col(m.c1), col(m.c2)};
+}
+// I^-1 in double, by the adjugate of the symmetric I. Not the stored float
+// I^-1: its rounding makes I I^-1 = diag(1 + e) with a fixed e of up to an
+// ulp, which the round trip L -> w -> L applied every sub-step (|L| drifted
+// 1.8e-4 over 2,400 sub-steps in the tumbling-box test). A singular I (not a
+// positive determinant) keeps the stored inverse.
+Rotation inverseInDouble(const Rotation& m, const Mat3& stored) {
+    const double a = m.c0.x, b = m.c1.x, c = m.c2.x, d = m.c1.y, e = m.c2.y, f = m.c2.z;
+    const double a00 = d * f - e * e, a01 = c * e - b * f, a02 = b * e - c * d;
+    const double det = a * a00 + b * a01 + c * a02;
+    if (!(det > 0)) return toDouble(stored);
+    const double s = 1 / det;
+    const double i00 = a00 * s, i01 = a01 * s, i02 = a02 * s;
+    const double i11 = (a * f - c * c) * s, i12 = (b * c - a * e) * s, i22 = (a * d - b * b) * s;
+    return {{i00, i01, i02}, {i01, i11, i12}, {i02, i12, i22}};
+}
+struct QuatD {
+    double w, x, y, z;
+};
+// exp(w t / 2) q, not normalised. The half angle is within 0.5 under the spin
+// limit (default pi/4 per sub-step: the midpoint rate's |w_mid| = |w| up to
+// O(h)), where the series are exact to double rounding; the library's beyond.
+QuatD turned(const QuatD& q, const D3& w, double t) {
+    const double half = 0.5 * t;
+    const D3 v{w.x * half, w.y * half, w.z * half};
+    const double z = v.x * v.x + v.y * v.y + v.z * v.z;
+    double sinc, c;
+    if (z <= 0.25) {
+        double tail;
+        sinTail(z, tail);
+        sinc = 1 + z * tail;
+        cosSeries(z, c);
+    } else {
+        const double angle = std::sqrt(z);
+        double s;
+        dmath::sinCos(angle, s, c);
+        sinc = s / angle;
+    }
+    const double ux = v.x * sinc, uy = v.y * sinc, uz = v.z * sinc;
+    return {c * q.w - ux * q.x - uy * q.y - uz * q.z, c * q.x + ux * q.w + uy * q.z - uz * q.y,
+            c * q.y - ux * q.z + uy * q.w + uz * q.x, c * q.z + ux * q.y - uy * q.x + uz * q.w};
+}
+
+void driftGeneralInertia(Motion m, const BodyParams& p, Real h) {
+    const double hd = static_cast<double>(h);
+    const Rotation inertia = toDouble(p.localInertia);
+    const Rotation invInertia = inverseInDouble(inertia, p.invLocalInertia);
+    const QuatD q{m.x.q.w, m.x.q.x, m.x.q.y, m.x.q.z};
+    const D3 w{m.s.w.x, m.s.w.y, m.s.w.z};
+    const Rotation r = rotationOf(q.w, q.x, q.y, q.z);
+    const D3 l = times(r, times(inertia, transposeTimes(r, w)));
+    const QuatD qMid = turned(q, w, 0.5 * hd);
+    const Rotation rMid = rotationOf(qMid.w, qMid.x, qMid.y, qMid.z);
+    const D3 wMid = times(rMid, times(invInertia, transposeTimes(rMid, l)));
+    const QuatD qNew = turned(q, wMid, hd);
+    const double invNorm = 1 / std::sqrt(qNew.w * qNew.w + qNew.x * qNew.x + qNew.y * qNew.y + qNew.z * qNew.z);
+    m.x.q = Quat{static_cast<Real>(qNew.w * invNorm), static_cast<Real>(qNew.x * invNorm),
+                 static_cast<Real>(qNew.y * invNorm), static_cast<Real>(qNew.z * invNorm)};
+    // The stored orientation's matrix (the next sub-step's R).
+    const Rotation rn = rotationOf(m.x.q.w, m.x.q.x, m.x.q.y, m.x.q.z);
+    // I_w^-1 = (R' I^-1) R'^T, symmetric: six entries.
+    const Rotation a{times(rn, invInertia.c0), times(rn, invInertia.c1), times(rn, invInertia.c2)};
+    // Entry (i, k): row i of R' I^-1 with row k of R'.
+    const double xx = a.c0.x * rn.c0.x + a.c1.x * rn.c1.x + a.c2.x * rn.c2.x;
+    const double xy = a.c0.x * rn.c0.y + a.c1.x * rn.c1.y + a.c2.x * rn.c2.y;
+    const double xz = a.c0.x * rn.c0.z + a.c1.x * rn.c1.z + a.c2.x * rn.c2.z;
+    const double yy = a.c0.y * rn.c0.y + a.c1.y * rn.c1.y + a.c2.y * rn.c2.y;
+    const double yz = a.c0.y * rn.c0.z + a.c1.y * rn.c1.z + a.c2.y * rn.c2.z;
+    const double zz = a.c0.z * rn.c0.z + a.c1.z * rn.c1.z + a.c2.z * rn.c2.z;
+    m.s.w = Vec3{static_cast<Real>(xx * l.x + xy * l.y + xz * l.z), static_cast<Real>(xy * l.x + yy * l.y + yz * l.z),
+                 static_cast<Real>(xz * l.x + yz * l.y + zz * l.z)};
+    const Real exy = static_cast<Real>(xy), exz = static_cast<Real>(xz), eyz = static_cast<Real>(yz);
+    m.x.invInertiaWorld = Mat3{Vec3{static_cast<Real>(xx), exy, exz}, Vec3{exy, static_cast<Real>(yy), eyz},
+                               Vec3{exz, eyz, static_cast<Real>(zz)}};
+}
+
 DriftLanes<double> loadDrift(Motion m, const BodyParams& p, int k) {
     const int side = (k + 1) % 3;
     return {m.x.q.w, m.x.q.x, m.x.q.y, m.x.q.z, m.s.w.x, m.s.w.y, m.s.w.z, 0, 0, 0, p.localInertia(k, k), p.localInertia(side, side)};
@@ -529,20 +659,10 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
                     }
                     continue;
                 }
-                // Torque-free drift at constant world angular momentum L = I_w(q) w.
-                // The rotation rate is taken at the midpoint orientation (second
-                // order); afterwards w = I_w(q_new)^-1 L.
-                // L and w are mapped with the same matrix I_w = R I R^T and its
-                // adjugate inverse, so the round trip w -> L -> w' -> L' returns L
-                // up to unbiased rounding. (Mapping back with the quaternion rotate()
-                // instead leaves a ~1-ulp *bias* per sub-step from the unit-length
-                // assumption: |L| drifted by 1.5e-4 over 1,920 sub-steps; now ~1e-6.)
-                const Vec3 angularMomentum = worldInertia(m.x.q, p.localInertia) * m.s.w;
-                const Quat qMid = integrateRotation(m.x.q, m.s.w, Real(0.5) * h);
-                const Vec3 omegaMid = inverse(worldInertia(qMid, p.localInertia)) * angularMomentum;
-                m.x.q = integrateRotation(m.x.q, omegaMid, h);
-                m.s.w = inverse(worldInertia(m.x.q, p.localInertia)) * angularMomentum;
-                break;
+                // General inertia: the drift at constant world angular momentum
+                // (driftGeneralInertia), which also sets I_w^-1.
+                driftGeneralInertia(m, p, h);
+                continue;
             }
         }
         const Mat3 r = toMat3(m.x.q);
