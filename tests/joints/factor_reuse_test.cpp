@@ -92,15 +92,15 @@ TEST(FactorReuse, WhippingChainAgreesWithExactFactorization) {
     EXPECT_LT(apart, 1e-3);  // measured 6.4e-5 m
 }
 
-// The default schedule (kDefaultMaxFactorAge: no limit by age) factors once
+// The schedule kOncePerStep (no limit by age) factors once
 // per step and leaves the rest to the guard, which is kLongGuardTurn once the
 // anchors are two position updates old. A chain hanging at rest never trips
 // it: one factorization per step, the top joint carries 10 m g as with every
 // pass factored. A whipping chain does trip it, and lands where the exactly
 // factored one does, its joints as closed.
-TEST(FactorReuse, DefaultFactorsOncePerStepAndTheGuardKeepsAWhippingChainExact) {
+TEST(FactorReuse, OncePerStepFactorsOnceAStepAndTheGuardKeepsAWhippingChainExact) {
     {
-        Chain c(10, {0, -1, 0}, detail::JointTreeSolver::kDefaultMaxFactorAge);
+        Chain c(10, {0, -1, 0}, detail::JointTreeSolver::kOncePerStep);
         const int steps = 60;
         for (int i = 0; i < steps; ++i) c.world.step(kDt);
         const Vec3 top = c.world.jointReactionForce(c.joints[0]);
@@ -109,7 +109,7 @@ TEST(FactorReuse, DefaultFactorsOncePerStepAndTheGuardKeepsAWhippingChainExact) 
         EXPECT_EQ(trees(c.world).guardTrips(), 0u);
         EXPECT_EQ(trees(c.world).factorizations(), static_cast<std::uint64_t>(steps));
     }
-    Chain reused(20, {1, 0, 0}, detail::JointTreeSolver::kDefaultMaxFactorAge), exact(20, {1, 0, 0}, 1);
+    Chain reused(20, {1, 0, 0}, detail::JointTreeSolver::kOncePerStep), exact(20, {1, 0, 0}, 1);
     double worstReused = 0, worstExact = 0, apart = 0;
     for (int i = 0; i < 60; ++i) {
         reused.world.step(kDt);

@@ -120,17 +120,21 @@ public:
     // one position update old, as the relax pass always was) or any anchor
     // of the tree turned by more than the guard's angle since (kGuardTurn,
     // or kLongGuardTurn once the anchors are two or more position updates
-    // old). The default: no limit by age, so a step factors once (prepare
-    // starts every step unfactored) and the guard decides the rest, tree by
-    // tree: rain(4x2), callgrind 200 steps, 1,722 M -> 1,629 M instructions
-    // (the schedule of age 2 factored 3 times per 4 sub-steps), the same
-    // joint errors; docs/joints.md, "Factorization once per step".
+    // old). kOncePerStep (no limit by age) factors once a step (prepare
+    // starts every step unfactored) and lets the guard decide the rest, tree
+    // by tree: rain(4x2), callgrind 200 steps, 1,722 M -> 1,629 M
+    // instructions. It is not the default: a swinging six-DOF chain under a
+    // 100:1 load (tests/joints/six_dof_test.cpp) opened to 0.39 mm in double
+    // precision at the 0.005 rad guard and to 4 mm in float at 0.001 rad,
+    // against 0.07 mm with age 2 and a 0.1 mm bound (docs/joints.md,
+    // "Factorization once per step").
     void setMaxFactorAge(int age) { maxFactorAge_ = age < 1 ? 1 : age; }
-    static constexpr int kDefaultMaxFactorAge = 1 << 30;
+    static constexpr int kOncePerStep = 1 << 30;
+    static constexpr int kDefaultMaxFactorAge = 2;
     static constexpr double kGuardTurn = 0.1;  // rad (relative anchor change)
     // The guard for a factorization two or more position updates old. At
     // 0.02 rad a swinging six-DOF chain under a 100:1 load opened to 0.35
-    // mm (its test holds 0.1 mm); at 0.005 it holds as with age 2.
+    // mm in float (its test holds 0.1 mm); at 0.005, 0.39 mm in double.
     static constexpr double kLongGuardTurn = 0.005;
     // Counters (tests, benchmarks): trees factored, and guard trips among them.
     std::uint64_t factorizations() const { return factorizations_ + guardTrips(); }
