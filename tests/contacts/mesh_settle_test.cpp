@@ -27,13 +27,18 @@ Shape hexLog(Real r, Real length) {
     return Shape::convexHull(points);
 }
 
-// A flat static mesh at y = 0, cells x cells of `cell` metres, centred on the origin.
-BodyId addFlatMesh(World& world, int cells, Real cell, Real friction) {
+// A static grid mesh of cells x cells of `cell` metres, centred on the
+// origin, vertex heights y = height(x, z).
+template <class Height>
+BodyId addGridMesh(World& world, int cells, Real cell, const Height& height, Real friction = BodyDef{}.friction) {
     std::vector<Vec3> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     const Real half = Real(0.5) * Real(cells) * cell;
     for (int i = 0; i <= cells; ++i) {
-        for (int j = 0; j <= cells; ++j) vertices.push_back({Real(i) * cell - half, 0, Real(j) * cell - half});
+        for (int j = 0; j <= cells; ++j) {
+            const Real x = Real(i) * cell - half, z = Real(j) * cell - half;
+            vertices.push_back({x, height(x, z), z});
+        }
     }
     const auto at = [cells](int i, int j) { return static_cast<std::uint32_t>(i * (cells + 1) + j); };
     for (int i = 0; i < cells; ++i) {
@@ -47,6 +52,11 @@ BodyId addFlatMesh(World& world, int cells, Real cell, Real friction) {
     g.shape = Shape::mesh(vertices, triangles);
     g.friction = friction;
     return world.createBody(g);
+}
+
+// A flat static mesh at y = 0, cells x cells of `cell` metres, centred on the origin.
+BodyId addFlatMesh(World& world, int cells, Real cell, Real friction) {
+    return addGridMesh(world, cells, cell, [](Real, Real) { return Real(0); }, friction);
 }
 
 struct Roll {
@@ -141,27 +151,7 @@ TEST(MeshSettle, RestingBodiesOnMeshesSleep) {
     for (const bool waves : {false, true}) {
         for (const bool log : {false, true}) {
             World world;
-            std::vector<Vec3> vertices;
-            std::vector<std::array<std::uint32_t, 3>> triangles;
-            const int cells = 40;
-            const Real cell = Real(0.25), half = Real(5);
-            for (int i = 0; i <= cells; ++i) {
-                for (int j = 0; j <= cells; ++j) {
-                    const Real x = Real(i) * cell - half, z = Real(j) * cell - half;
-                    vertices.push_back({x, waves ? wave(x, z) : 0, z});
-                }
-            }
-            const auto at = [](int i, int j) { return static_cast<std::uint32_t>(i * (cells + 1) + j); };
-            for (int i = 0; i < cells; ++i) {
-                for (int j = 0; j < cells; ++j) {
-                    triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
-                    triangles.push_back({at(i + 1, j + 1), at(i + 1, j), at(i, j)});
-                }
-            }
-            BodyDef g;
-            g.type = BodyType::Static;
-            g.shape = Shape::mesh(vertices, triangles);
-            world.createBody(g);
+            addGridMesh(world, 40, Real(0.25), [&](Real x, Real z) { return waves ? wave(x, z) : Real(0); });
             BodyDef d;
             const Real height = log ? Real(0.75) * std::sqrt(Real(3)) / 2 : Real(0.25);
             d.shape = log ? hexLog(Real(0.75), 3) : Shape::box({Real(0.5), Real(0.25), Real(0.4)});

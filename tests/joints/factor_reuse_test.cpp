@@ -68,22 +68,32 @@ TEST(FactorReuse, HangingChainCarriesItsWeightWithThreeFactorizationsPerStep) {
     }
 }
 
+// Steps two chains side by side: each one's worst joint error over the run,
+// and how far apart their bodies got at worst.
+struct SideBySide {
+    double worstReused = 0, worstExact = 0, apart = 0;
+};
+SideBySide stepSideBySide(Chain& reused, Chain& exact, int steps) {
+    SideBySide r;
+    for (int i = 0; i < steps; ++i) {
+        reused.world.step(kDt);
+        exact.world.step(kDt);
+        r.worstReused = std::max(r.worstReused, reused.worstError());
+        r.worstExact = std::max(r.worstExact, exact.worstError());
+        for (std::size_t k = 0; k < reused.bodies.size(); ++k) {
+            r.apart = std::max(r.apart, static_cast<double>(length(reused.world.position(reused.bodies[k]) -
+                                                                   exact.world.position(exact.bodies[k]))));
+        }
+    }
+    return r;
+}
+
 // 20 links released horizontally: after 1 s of falling and whipping the
 // chain with the factorization reused is where the exactly factored one is,
 // to well under a millimetre, and its joints are as closed.
 TEST(FactorReuse, WhippingChainAgreesWithExactFactorization) {
     Chain reused(20, {1, 0, 0}, 2), exact(20, {1, 0, 0}, 1);
-    double worstReused = 0, worstExact = 0, apart = 0;
-    for (int i = 0; i < 60; ++i) {
-        reused.world.step(kDt);
-        exact.world.step(kDt);
-        worstReused = std::max(worstReused, reused.worstError());
-        worstExact = std::max(worstExact, exact.worstError());
-        for (std::size_t k = 0; k < reused.bodies.size(); ++k) {
-            apart = std::max(apart, static_cast<double>(length(reused.world.position(reused.bodies[k]) -
-                                                               exact.world.position(exact.bodies[k]))));
-        }
-    }
+    const auto [worstReused, worstExact, apart] = stepSideBySide(reused, exact, 60);
     // The free end fell ~10 m and swung: both chains are at the same place.
     const Vec3 end = reused.world.position(reused.bodies.back());
     EXPECT_LT(end.y, -4);
@@ -110,17 +120,7 @@ TEST(FactorReuse, OncePerStepFactorsOnceAStepAndTheGuardKeepsAWhippingChainExact
         EXPECT_EQ(trees(c.world).factorizations(), static_cast<std::uint64_t>(steps));
     }
     Chain reused(20, {1, 0, 0}, detail::JointTreeSolver::kOncePerStep), exact(20, {1, 0, 0}, 1);
-    double worstReused = 0, worstExact = 0, apart = 0;
-    for (int i = 0; i < 60; ++i) {
-        reused.world.step(kDt);
-        exact.world.step(kDt);
-        worstReused = std::max(worstReused, reused.worstError());
-        worstExact = std::max(worstExact, exact.worstError());
-        for (std::size_t k = 0; k < reused.bodies.size(); ++k) {
-            apart = std::max(apart, static_cast<double>(length(reused.world.position(reused.bodies[k]) -
-                                                               exact.world.position(exact.bodies[k]))));
-        }
-    }
+    const auto [worstReused, worstExact, apart] = stepSideBySide(reused, exact, 60);
     EXPECT_GT(trees(reused.world).guardTrips(), 0u);
     EXPECT_LT(reused.world.position(reused.bodies.back()).y, -4);
     EXPECT_LT(worstReused, 1e-3);
