@@ -311,22 +311,12 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
                 speculative[speculativeCount++] = scratch[i].contact;
                 if (speculativeCount == kBatch + Manifold::kMaxPoints) {
                     // Bounded as well: the four that reduce them best.
-                    Manifold s;
-                    s.normal = n;
-                    reduceContacts({speculative, speculativeCount}, margin, s);
-                    speculativeCount = 0;
-                    for (std::uint32_t k = 0; k < s.pointCount; ++k) {
-                        speculative[speculativeCount++] = {s.points[k].position, s.points[k].depth, s.points[k].featureId};
-                    }
+                    speculativeCount = compactCandidates(speculative, speculativeCount, n, margin);
                 }
             }
             if (count == kBatch + Manifold::kMaxPoints) {
                 // Keep the batch bounded: reduce to 4 and continue.
-                reduceContacts({batch, count}, margin, m);
-                count = 0;
-                for (std::uint32_t k = 0; k < m.pointCount; ++k) {
-                    batch[count++] = {m.points[k].position, m.points[k].depth, m.points[k].featureId};
-                }
+                count = compactCandidates(batch, count, n, margin);
             }
         }
         reduceContacts({batch, count}, margin, m);

@@ -49,13 +49,7 @@ bool collidePlaneConvex(const Vec3& n, Real offset, const ConvexShape& b, Real m
                 if (depth < -margin) continue;
                 if (count == kMaxFacePoints + 1) {
                     // Full: make room by reducing what we have to 4 and carrying on.
-                    Manifold tmp;
-                    tmp.normal = n;
-                    reduceContacts({cand, count}, margin, tmp);
-                    count = 0;
-                    for (std::uint32_t k = 0; k < tmp.pointCount; ++k) {
-                        cand[count++] = {tmp.points[k].position, tmp.points[k].depth, tmp.points[k].featureId};
-                    }
+                    count = compactCandidates(cand, count, n, margin);
                 }
                 add(transformPoint(b.xf, v[i]), static_cast<std::uint32_t>(i));
             }

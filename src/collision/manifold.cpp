@@ -35,6 +35,16 @@ std::size_t firstNearBest(std::size_t n, Value&& value, Real absTie, Real relTie
 
 }  // namespace
 
+std::uint32_t compactCandidates(ContactCandidate* candidates, std::uint32_t count, const Vec3& normal, Real margin) {
+    Manifold kept;
+    kept.normal = normal;
+    reduceContacts({candidates, count}, margin, kept);
+    for (std::uint32_t k = 0; k < kept.pointCount; ++k) {
+        candidates[k] = {kept.points[k].position, kept.points[k].depth, kept.points[k].featureId};
+    }
+    return kept.pointCount;
+}
+
 void reduceContacts(std::span<const ContactCandidate> candidates, Real margin, Manifold& out) {
     out.pointCount = 0;
     const std::size_t n = candidates.size();

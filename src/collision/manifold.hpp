@@ -108,6 +108,11 @@ struct PolytopeEdgeCache {
 // span) are dropped. Candidates shallower than -margin are ignored.
 void reduceContacts(std::span<const ContactCandidate> candidates, Real margin, Manifold& out);
 
+// A candidate buffer that filled up: reduces candidates[0, count) in place to
+// the points reduceContacts keeps for `normal` (at most four) and returns
+// their count, so the caller can go on collecting into the same buffer.
+std::uint32_t compactCandidates(ContactCandidate* candidates, std::uint32_t count, const Vec3& normal, Real margin);
+
 }  // namespace detail
 
 // Reusable output of collide(): cleared by the caller (or by collide), grown
