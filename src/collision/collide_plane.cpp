@@ -59,6 +59,12 @@ bool collidePlaneConvex(const Vec3& n, Real offset, const ConvexShape& b, Real m
             SupportFace face;
             supportingFace(b, -n, face);
             for (std::uint32_t i = 0; i < face.count; ++i) add(face.points[i], face.id << 8 | i);
+            // A tilted cap's square lies up to 0.29 r sin(tilt) above the
+            // rim's lowest point, so with the rim inside the margin every
+            // corner can still be beyond it: the rim's deepest point keeps
+            // the speculative contact the margin promises (no contact would
+            // let a fast cylinder reach the plane unseen).
+            if (count == 0) add(b.support(-n), face.id << 8 | kCylinderCapPoints);
             return flush();
         }
         case ConvexKind::Triangle: return false;

@@ -562,3 +562,34 @@ TEST(FuzzFindings, MeshContactGroupingEndsWhenANormalIsNotUnit) {
     EXPECT_EQ(out[1].pointCount, 1u);
     EXPECT_NEAR(out[1].points[0].depth, 0.005, 1e-7);
 }
+
+// fuzz/corpus/narrowphase/tilted_cylinder_cap_near_plane (CI's run of
+// 2026-11-28): a cylinder tilted within the cap band (axis . n >= 0.95)
+// whose rim came within the margin of a plane while the cap's inscribed
+// square, 0.29 r sin(tilt) higher where the rim is lowest between two
+// corners, was beyond it: no manifold at all, so nothing would have held a
+// fast cylinder back. The rim's lowest point is now kept when no corner is
+// within the margin, and its gap is the rim's height, exactly.
+TEST(FuzzFindings, TiltedCylinderWithItsRimWithinTheMarginHasASpeculativeContact) {
+    const Real r = 1, h = Real(0.5), tilt = Real(15 * 3.14159265358979 / 180);
+    const Shape ground = Shape::plane({0, 1, 0}, 0);
+    const Shape can = Shape::cylinder(r, h);
+    // Tilted about the diagonal between the cap's x and z corners, so the
+    // rim's lowest point lies midway between two corners.
+    const Quat q = Quat::fromAxisAngle(normalize(Vec3{1, 0, -1}), tilt);
+    const double rimBelowCentre = double(h) * std::cos(double(tilt)) + double(r) * std::sin(double(tilt));
+    const double cornerAboveRim = double(r) * (1 - std::sqrt(0.5)) * std::sin(double(tilt));  // 0.0758 m
+    for (const double height : {0.01, 0.05}) {
+        const Transform xb{{0, Real(rimBelowCentre + height), 0}, q};
+        const Real margin = Real(0.06);  // under height + cornerAboveRim for both
+        ASSERT_GT(height + cornerAboveRim, double(margin));
+        ManifoldBuffer out;
+        collide(ground, Transform{}, can, xb, margin, out);
+        ASSERT_EQ(out.size(), 1u) << "rim " << height << " m over the plane";
+        EXPECT_NEAR(-out[0].maxDepth(), height, 1e-5);
+    }
+    // Beyond the margin the rim gives nothing either.
+    ManifoldBuffer out;
+    collide(ground, Transform{}, can, Transform{{0, Real(rimBelowCentre + 0.07), 0}, q}, Real(0.06), out);
+    EXPECT_TRUE(out.empty());
+}
