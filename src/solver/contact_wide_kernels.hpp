@@ -78,6 +78,10 @@ struct WideContactBlock {
     std::uint32_t laneCount = 0, pointCount = 0;           // pointCount: the largest of the lanes
     bool rolling = false;                                  // a lane has rolling resistance
     bool bouncy = false;                                   // a lane has restitution
+    // Every lane's end A (B) is solver body 0, the static world: all zeros
+    // (BodyStore::beginStep) and never written, so the kernels take zeros for
+    // it without the gather and skip its scatter (gatherEnd): the same values.
+    bool staticA = false, staticB = false;
     WideBlockExtra* extra = nullptr;                       // points 1-3 and rolling; set iff pointCount > 1 or rolling
     Vec3W normal, tangent1, tangent2;
     FloatW friction, biasRate, massScale, impulseScale, minusPushMax;
@@ -113,10 +117,9 @@ struct WideBody {
 
 #define FULCRUM_WIDE_INLINE inline __attribute__((always_inline))
 
+// The rows of a block's end as WideBody's fields (gatherBody, gatherEnd).
 template <int K>
-FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uint32_t* index,
-                                        std::array<FloatW, K>& row) {
-    row = FloatW::gatherTransposed<K>(bodies, index);
+FULCRUM_WIDE_INLINE WideBody bodyOfRows(const std::array<FloatW, K>& row) {
     WideBody b;
     b.v = {row[0], row[1], row[2]};
     b.invMass = row[3];
@@ -129,10 +132,36 @@ FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uin
     return b;
 }
 
+template <int K>
+FULCRUM_WIDE_INLINE WideBody gatherBody(const SolverBody* bodies, const std::uint32_t* index,
+                                        std::array<FloatW, K>& row) {
+    row = FloatW::gatherTransposed<K>(bodies, index);
+    return bodyOfRows<K>(row);
+}
+
+// A block's end: gathered, or solver body 0's zeros where every lane's end is
+// the static world (WideContactBlock::staticA/B). A transposed gather of 16
+// floats is ~110 instructions, and its scatter ~50, per block and pass: a
+// tenth of a solve pass (ten boxes on the ground, all their blocks' A static).
+template <int K>
+FULCRUM_WIDE_INLINE WideBody gatherEnd(bool isStatic, const SolverBody* bodies, const std::uint32_t* index,
+                                       std::array<FloatW, K>& row) {
+    if (isStatic) {
+        row.fill(FloatW(0.0f));
+    } else {
+        row = FloatW::gatherTransposed<K>(bodies, index);
+    }
+    return bodyOfRows<K>(row);
+}
+
 // Writes v and w (floats 0-7 of each row; invMass and dp.x unchanged).
 FULCRUM_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::uint32_t* index, const WideBody& b) {
     const std::array<FloatW, 8> row = {b.v.x, b.v.y, b.v.z, b.invMass, b.w.x, b.w.y, b.w.z, b.spare};
     FloatW::scatterTransposed<8>(bodies, index, row);
+}
+// scatterVelocity of a block's end, none for the static world (no lane writes it).
+FULCRUM_WIDE_INLINE void scatterEnd(bool isStatic, SolverBody* bodies, const std::uint32_t* index, const WideBody& b) {
+    if (!isStatic) scatterVelocity(bodies, index, b);
 }
 
 struct WideMat3 {
@@ -164,12 +193,24 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     k.rolling = false;
     k.bouncy = false;
     k.extra = nullptr;
+    std::uint32_t anyBodyA = 0, anyBodyB = 0;  // ORed: zero iff every lane's end is the static world
     for (int l = 0; l < laneCount; ++l) {
         k.pointCount = std::max(k.pointCount, lanes[l].pointCount);
         k.rolling = k.rolling || lanes[l].rollingResistance > 0;
+        anyBodyA |= lanes[l].bodyA;
+        anyBodyB |= lanes[l].bodyB;
     }
+    k.staticA = anyBodyA == 0;
+    k.staticB = anyBodyB == 0;
     if (k.pointCount > 1 || k.rolling) {
-        extra = WideBlockExtra{};
+        // Only the rolling columns need zeros first (setLane fills the lanes
+        // with rolling resistance); points 1-3 are written below up to
+        // pointCount, and no kernel reads a point past it. Zeroing the whole
+        // extra was 2.2 KB of stores per block and step.
+        if (k.rolling) {
+            const FloatW zero = 0.0f;
+            extra.rollingMass0 = extra.rollingMass1 = extra.rollingMass2 = extra.rollingImpulse = Vec3W{zero, zero, zero};
+        }
         k.extra = &extra;
     }
     for (int l = laneCount; l < kWideLanes; ++l) {
@@ -353,8 +394,8 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
     for (std::size_t bi = 0; bi < count; ++bi) {
         WideContactBlock& k = blocks[bi];
         std::array<FloatW, 8> rowA, rowB;
-        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
-        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
+        WideBody a = gatherEnd<8>(k.staticA, bodies, k.bodyA, rowA);
+        WideBody b = gatherEnd<8>(k.staticB, bodies, k.bodyB, rowB);
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         FloatW total = 0.0f;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
@@ -378,8 +419,8 @@ void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodi
         a.w = wA;
         b.v = vB;
         b.w = wB;
-        scatterVelocity(bodies, k.writeA, a);
-        scatterVelocity(bodies, k.writeB, b);
+        scatterEnd(k.staticA, bodies, k.writeA, a);
+        scatterEnd(k.staticB, bodies, k.writeB, b);
     }
 }
 
@@ -390,8 +431,8 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
     for (std::size_t bi = 0; bi < count; ++bi) {
         WideContactBlock& k = blocks[bi];
         std::array<FloatW, 16> rowA, rowB;
-        WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
-        WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
+        WideBody a = gatherEnd<16>(k.staticA, bodies, k.bodyA, rowA);
+        WideBody b = gatherEnd<16>(k.staticB, bodies, k.bodyB, rowB);
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         const FloatW mA = a.invMass, mB = b.invMass;
         const Vec3W dp = b.dp - a.dp;
@@ -493,8 +534,8 @@ void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies
         a.w = wA;
         b.v = vB;
         b.w = wB;
-        scatterVelocity(bodies, k.writeA, a);
-        scatterVelocity(bodies, k.writeB, b);
+        scatterEnd(k.staticA, bodies, k.writeA, a);
+        scatterEnd(k.staticB, bodies, k.writeB, b);
     }
 }
 
@@ -516,8 +557,8 @@ void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bo
         WideContactBlock& k = blocks[bi];
         if (!k.bouncy) continue;
         std::array<FloatW, 8> rowA, rowB;
-        WideBody a = gatherBody<8>(bodies, k.bodyA, rowA);
-        WideBody b = gatherBody<8>(bodies, k.bodyB, rowB);
+        WideBody a = gatherEnd<8>(k.staticA, bodies, k.bodyA, rowA);
+        WideBody b = gatherEnd<8>(k.staticB, bodies, k.bodyB, rowB);
         Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
         const MaskW bouncy = k.restitution != zero;
         for (std::uint32_t i = 0; i < k.pointCount; ++i) {
@@ -541,8 +582,8 @@ void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bo
         a.w = wA;
         b.v = vB;
         b.w = wB;
-        scatterVelocity(bodies, k.writeA, a);
-        scatterVelocity(bodies, k.writeB, b);
+        scatterEnd(k.staticA, bodies, k.writeA, a);
+        scatterEnd(k.staticB, bodies, k.writeB, b);
     }
 }
 
@@ -552,8 +593,8 @@ void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBo
     for (std::size_t bi = 0; bi < count; ++bi) {
         const WideContactBlock& k = blocks[bi];
         std::array<FloatW, 16> rowA, rowB;
-        const WideBody a = gatherBody<16>(bodies, k.bodyA, rowA);
-        const WideBody b = gatherBody<16>(bodies, k.bodyB, rowB);
+        const WideBody a = gatherEnd<16>(k.staticA, bodies, k.bodyA, rowA);
+        const WideBody b = gatherEnd<16>(k.staticB, bodies, k.bodyB, rowB);
         const Vec3W dp = b.dp - a.dp;
         alignas(32) Real impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
         alignas(32) Real stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];

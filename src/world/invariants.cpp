@@ -275,6 +275,14 @@ private:
             if (s.solverIndexOf(d) != i) fail("solver bodies", body(d) + " is solver body " + num(i) + " but maps to " + num(s.solverIndexOf(d)));
         }
         if (!s.state.empty() && s.state[0].invMass != 0) fail("solver bodies", "the static stand-in (entry 0) has mass");
+        // And no other body maps to one: beginStep clears only the last
+        // step's entries of the map, so a stale one would make a sleeping or
+        // static body a solver body's alias.
+        std::size_t mapped = 0;
+        for (std::uint32_t d = 0; d < bodyCount(); ++d) mapped += s.solverIndexOf(d) != 0 ? 1 : 0;
+        if (!denseOf.empty() && mapped != denseOf.size() - 1) {
+            fail("solver bodies", num(mapped) + " bodies map to a solver body, but there are " + num(denseOf.size() - 1));
+        }
     }
 
     // Colour c's constraints (but the overflow's, solved in order) share no

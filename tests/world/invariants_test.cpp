@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "contacts/helpers.hpp"
 #include "world/invariants.hpp"
@@ -116,6 +117,39 @@ TEST(Invariants, HoldThroughAPileThatSleepsAndWakes) {
     runChecked(world, 60, "pile, a box dropped on a sleeping stack");
     world.destroyBody(boxes[1]);
     runChecked(world, 120, "pile, a body destroyed");
+}
+
+// The map from dense body to solver body after each step: exactly the step's
+// solver bodies map to one (BodyStore::beginStep clears only the last step's
+// entries, not the whole map), through sleep, wake, creation and destruction.
+TEST(Invariants, SolverBodyMapHoldsOnlyTheStepsSolverBodies) {
+    World world;
+    addGround(world);
+    std::vector<BodyId> boxes;
+    for (int s = 0; s < 3; ++s) {
+        for (int k = 0; k < 3; ++k) boxes.push_back(addBox(world, {Real(3 * s), Real(0.5) + Real(k), 0}));
+    }
+    const auto expectExactMap = [&](const char* when) {
+        const WorldImpl& w = detail::implOf(world);
+        std::size_t mapped = 0;
+        for (std::uint32_t d = 0; d < w.motion.size(); ++d) mapped += w.solverIndexOf(d) != 0 ? 1 : 0;
+        EXPECT_EQ(mapped + 1, w.denseOfSolver.size()) << when;
+        for (std::uint32_t i = 1; i < w.denseOfSolver.size(); ++i) EXPECT_EQ(w.solverIndexOf(w.denseOfSolver[i]), i) << when;
+    };
+    for (int i = 0; i < 240; ++i) {
+        world.step(kDt);
+        expectExactMap("settling");
+    }
+    ASSERT_FALSE(world.isAwake(boxes[0]));  // asleep: its old solver entry must be gone
+    world.setLinearVelocity(boxes[3], {Real(0.5), 0, 0});
+    world.step(kDt);
+    expectExactMap("one stack woken");
+    world.destroyBody(boxes[4]);
+    addBox(world, {Real(9), Real(0.5), 0});
+    for (int i = 0; i < 30; ++i) {
+        world.step(kDt);
+        expectExactMap("a body destroyed, one created");
+    }
 }
 
 // A hanging chain (the tree solver's rows), a hinge, and joints to a
@@ -293,6 +327,17 @@ TEST(Invariants, ContactColourSharingADynamicBody) {
     ASSERT_EQ(solver.constraintCount(), 3u);
     detail::implOf(world).state[detail::implOf(world).solverIndexOf(denseOf(world, slab))].invMass = 1;
     EXPECT_THAT(violation(world, StepPhase::AfterSubsteps), HasSubstr("after the sub-steps: contact colours: colour 0 holds two constraints on solver body"));
+}
+
+TEST(Invariants, StaleSolverBodyMapEntry) {
+    World world;
+    const BodyId ground = addGround(world);
+    addBox(world, {0, Real(0.5), 0});
+    run(world, 1);
+    EXPECT_NO_THROW(detail::checkInvariants(detail::implOf(world), StepPhase::AfterSubsteps));
+    detail::implOf(world).solverOfDense[denseOf(world, ground)] = 1;
+    EXPECT_THAT(violation(world, StepPhase::AfterSubsteps),
+                HasSubstr("solver bodies: 2 bodies map to a solver body, but there are 1"));
 }
 
 TEST(Invariants, JointColourSharingADynamicBody) {
