@@ -1,9 +1,8 @@
 // The joint-tree solver's factorization reuse (tree_solver.hpp, solve()): a
 // factorization serves the passes until its anchors are maxFactorAge position
 // updates old (age 2: 3 factorizations per 5-sub-step step instead of 5; the
-// default: once per step), and a reused one is
-// dropped when an anchor has turned more than JointTreeSolver::kGuardTurn
-// since (the guard). Each test compares the reuse with every pass factored
+// default, kOncePerStep: once per step), and a reused one is dropped when an
+// anchor has turned more than JointTreeSolver::kGuardTurn since (the guard). Each test compares the reuse with every pass factored
 // exactly (setMaxFactorAge(1)) and with an analytic result.
 #include <vector>
 
@@ -102,9 +101,8 @@ TEST(FactorReuse, WhippingChainAgreesWithExactFactorization) {
     EXPECT_LT(apart, 1e-3);  // measured 6.4e-5 m
 }
 
-// The schedule kOncePerStep (no limit by age) factors once
-// per step and leaves the rest to the guard, which is kLongGuardTurn once the
-// anchors are two position updates old. A chain hanging at rest never trips
+// The schedule kOncePerStep (no limit by age, the default) factors once
+// per step and leaves the rest to the guard. A chain hanging at rest never trips
 // it: one factorization per step, the top joint carries 10 m g as with every
 // pass factored. A whipping chain does trip it, and lands where the exactly
 // factored one does, its joints as closed.
@@ -129,7 +127,7 @@ TEST(FactorReuse, OncePerStepFactorsOnceAStepAndTheGuardKeepsAWhippingChainExact
 }
 
 // A 1 kg rod pinned at one end to the world, no gravity, spinning at 60
-// rad/s about the pin: its anchor turns 0.2 rad per sub-step, twice the
+// rad/s about the pin: its anchor turns 0.2 rad per sub-step, far beyond the
 // guard's kGuardTurn. With reuse allowed for a whole step (maxFactorAge 100),
 // every relax pass that would reuse the factorization trips the guard (5 a
 // step) and factors again, and the biased pass after it reuses that one with

@@ -1019,24 +1019,15 @@ void JointTreeSolver::solve(std::vector<JointConstraint>& joints, SolverBody* bo
 
 bool JointTreeSolver::beginPass(bool useBias) {
     // Since issue 8's fifth round the factorization is also reused across
-    // one position update in either direction: a relax pass follows the
-    // sub-step's position update, and its anchors are exactly those of the
-    // next sub-step's warm start and biased passes (the deltas don't change
-    // in between). So a pass factors only when the factorization's anchors
-    // are maxFactorAge_ (2) position updates old: with 5 sub-steps, the
-    // biased pass of sub-step 0 and the relax passes of sub-steps 1 and 3
-    // (3 factorizations per step instead of 5), and no pass sees anchors more
-    // than one position update old, the staleness the relax pass always had.
-    // Plus the guard in solveTree. Figures in docs/joints.md, fifth round.
-    // Since issue 21 the default age has no limit: one factorization per
-    // step, and a factorization older than one position update is kept only
-    // while its anchors turned less than kLongGuardTurn (a ragdoll lying or
-    // falling barely turns; a whipping chain's links trip it and factor
-    // again, tree by tree).
+    // position updates: a relax pass follows the sub-step's position update,
+    // and its anchors are exactly those of the next sub-step's warm start and
+    // biased passes (the deltas don't change in between). Since issue 21 the
+    // default age has no limit: one factorization per step, kept by each
+    // tree while its anchors turned less than kGuardTurn since (solveTree; a
+    // ragdoll lying or falling barely turns, a whipping chain's links trip
+    // it and factor again, tree by tree). Figures in docs/joints.md.
     if (!useBias) ++factorAge_;  // a relax pass: the positions moved since the last pass
     const bool refactor = !factored_ || factorAge_ >= maxFactorAge_;
-    const double turn = factorAge_ >= 2 ? kLongGuardTurn : kGuardTurn;
-    guardTurn2_ = static_cast<Real>(turn * turn);
     if (refactor) {
         factored_ = true;
         factorAge_ = 0;

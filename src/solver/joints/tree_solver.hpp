@@ -36,10 +36,9 @@
 // the joints that close its loops stay Gauss-Seidel, solved before them.
 // The factorization is made once per step, by the step's first pass, and
 // reused by its later passes while no anchor of the tree turned more than
-// the guard's angle since: kGuardTurn while the factorization is at most one
-// position update old, kLongGuardTurn after (solve(), solveTree()); a tree
-// whose guard trips factors again alone. Double precision: the
-// elimination works with products of masses and lever arms over whole trees.
+// kGuardTurn since (solve(), solveTree()); a tree whose guard trips factors
+// again alone. Double precision: the elimination works with products of
+// masses and lever arms over whole trees.
 //
 // Speed (docs/joints.md has the figures). A body with at most one child joint
 // (every link of a chain; a ragdoll's head and limbs) is eliminated first,
@@ -116,26 +115,26 @@ public:
     }
     // Factorization reuse (solve()): a pass factors again once the anchors
     // it would reuse are `age` position updates old (1: every pass after a
-    // position update factors, so every pass is exact; the default 2: at most
-    // one position update old, as the relax pass always was) or any anchor
-    // of the tree turned by more than the guard's angle since (kGuardTurn,
-    // or kLongGuardTurn once the anchors are two or more position updates
-    // old). kOncePerStep (no limit by age) factors once a step (prepare
-    // starts every step unfactored) and lets the guard decide the rest, tree
-    // by tree: rain(4x2), callgrind 200 steps, 1,722 M -> 1,629 M
-    // instructions. It is not the default: a swinging six-DOF chain under a
-    // 100:1 load (tests/joints/six_dof_test.cpp) opened to 0.39 mm in double
-    // precision at the 0.005 rad guard and to 4 mm in float at 0.001 rad,
-    // against 0.07 mm with age 2 and a 0.1 mm bound (docs/joints.md,
-    // "Factorization once per step").
+    // position update factors, so every pass is exact; 2: at most one
+    // position update old, the schedule before issue 21) or any anchor of
+    // the tree turned by more than kGuardTurn since. The default,
+    // kOncePerStep (no limit by age), factors once a step (prepare starts
+    // every step unfactored) and lets the guard decide the rest, tree by
+    // tree.
     void setMaxFactorAge(int age) { maxFactorAge_ = age < 1 ? 1 : age; }
     static constexpr int kOncePerStep = 1 << 30;
-    static constexpr int kDefaultMaxFactorAge = 2;
-    static constexpr double kGuardTurn = 0.1;  // rad (relative anchor change)
-    // The guard for a factorization two or more position updates old. At
-    // 0.02 rad a swinging six-DOF chain under a 100:1 load opened to 0.35
-    // mm in float (its test holds 0.1 mm); at 0.005, 0.39 mm in double.
-    static constexpr double kLongGuardTurn = 0.005;
+    static constexpr int kDefaultMaxFactorAge = kOncePerStep;
+    // The guard: one angle, whatever the factorization's age. A stale
+    // factorization's error scales with the turn times the tree's
+    // conditioning, not with its age: the six-DOF chain under a 100:1 load
+    // (tests/joints/six_dof_test.cpp) opened to 45 mm at worst over its run
+    // when a factorization one position update old was kept up to 0.1 rad
+    // (the old schedule, age 2), 11 mm up to 0.02 rad, 1.23 mm (as with
+    // every pass factored) up to 0.005 rad (docs/joints.md, "Factorization
+    // once per step").
+    static constexpr double kGuardTurn = 0.005;  // rad (relative anchor change)
+    // Another guard angle (tests and experiments that compare angles).
+    void setGuardTurn(double turn) { guardTurn2_ = static_cast<Real>(turn * turn); }
     // Counters (tests, benchmarks): trees factored, and guard trips among them.
     std::uint64_t factorizations() const { return factorizations_ + guardTrips(); }
     std::uint64_t guardTrips() const {
@@ -215,12 +214,12 @@ private:
     std::vector<ChainLink> links_;        // per node of a chain tree
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
-    Real guardTurn2_ = static_cast<Real>(kGuardTurn * kGuardTurn);  // beginPass(): this pass's guard angle, squared
+    Real guardTurn2_ = static_cast<Real>(kGuardTurn * kGuardTurn);  // the guard's angle, squared (setGuardTurn)
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
-    // Position updates since the factorization (each relax pass follows one):
-    // solve() factors again when the next pass would see anchors two
-    // position updates old (kMaxFactorAge).
+    // Position updates since the step's factorization (each relax pass
+    // follows one): solve() factors again when the next pass would see
+    // anchors maxFactorAge_ position updates old.
     int factorAge_ = 0;
     int maxFactorAge_ = kDefaultMaxFactorAge;
     // Factorizations by the schedule; guard trips per tree (trees may be
