@@ -194,6 +194,18 @@ Vec3 ConvexShape::support(const Vec3& d) const {
     return c + normalize(d) * radius;
 }
 
+Vec3 ConvexShape::support(const Vec3& d, std::uint32_t& hullVertex) const {
+    if (kind != ConvexKind::Hull) {
+        hullVertex = kNoVertex;
+        return support(d);
+    }
+    // coreSupport's hull case, keeping the index.
+    hullVertex = hullSupportIndex(*hull, inverseRotate(xf.q, d));
+    const Vec3 c = transformPoint(xf, hull->vertices[hullVertex]);
+    if (radius == 0) return c;
+    return c + normalize(d) * radius;
+}
+
 void ConvexShape::extent(const Vec3& d, Real& lo, Real& hi) const {
     if (kind != ConvexKind::Hull) {
         lo = dot(d, support(-d));
@@ -296,7 +308,7 @@ ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return s;
 }
 
-void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
+void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out, std::uint32_t hullVertex) {
     out.count = 0;
     out.id = 0;
     out.normal = n;
@@ -349,7 +361,7 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
             // vertex of a long, narrow Gauss-map cell), and clipping that face
             // would lose the deepest point (docs/narrow-phase.md, "Hull
             // supporting face").
-            const std::uint32_t top = hullSupportIndex(h, l);
+            const std::uint32_t top = hullVertex != kNoVertex ? hullVertex : hullSupportIndex(h, l);
             std::size_t best = 0;
             Real bestDot = -2;
             if (h.vertexFaceStart.size() == h.vertices.size() + 1) {
