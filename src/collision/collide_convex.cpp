@@ -269,6 +269,29 @@ Real separationAlong(const ConvexShape& a, const ConvexShape& b, const Vec3& n) 
     return dot(b.support(-n) - a.support(n), n);
 }
 
+// The supports separationAlong looks at (A's along n, B's along -n), with the
+// hulls' vertices they are: the supporting faces along the same n start from
+// those vertices, so each pair's search runs once (docs/narrow-phase.md,
+// "Hull support").
+struct AxisSupports {
+    Vec3 a, b;
+    std::uint32_t vertexA = kNoVertex, vertexB = kNoVertex;
+};
+
+AxisSupports supportsAlong(const ConvexShape& a, const ConvexShape& b, const Vec3& n) {
+    AxisSupports s;
+    s.a = a.support(n, s.vertexA);
+    s.b = b.support(-n, s.vertexB);
+    return s;
+}
+
+// At most s.boundingRadius(), as rounded: for a hull one vertex's distance
+// (boundingRadius scans them all), so a test that passes below it needs no scan.
+Real boundingRadiusAtMost(const ConvexShape& s) {
+    if (s.kind != ConvexKind::Hull || s.hull->vertices.empty()) return s.boundingRadius();
+    return std::sqrt(lengthSquared(s.hull->vertices[0])) + s.radius;
+}
+
 // A box against another convex shape, seen from the box's frame: the other
 // shape's extent along each box axis, the box's best face normal and the
 // region of the box that can touch the other shape.
@@ -358,26 +381,30 @@ struct FacesAlongNormal {
     bool knownA = false, knownB = false;
 };
 
-// faceOfA: whether the axis returned is a face of a (false: of b, or n itself).
+// faceOfA: whether the axis returned is a face of a (false: of b, or n itself);
+// bestSupports: the supports along the axis returned when it is not n.
 Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real gap, FacesAlongNormal& faces,
-                      bool& faceOfA) {
+                      bool& faceOfA, AxisSupports& bestSupports) {
     Vec3 best = n;
-    const Real separation = separationAlong(a, b, n);
+    const AxisSupports alongN = supportsAlong(a, b, n);
+    const Real separation = dot(alongN.b - alongN.a, n);
     const bool everyFace = separation < gap - kNormalInconsistency;
     Real bestSeparation = separation - kFaceAxisTolerance;
     const auto consider = [&](const Vec3& axis, bool ofA) {
-        const Real s = separationAlong(a, b, axis);
+        const AxisSupports along = supportsAlong(a, b, axis);
+        const Real s = dot(along.b - along.a, axis);
         if (s > bestSeparation) {
             best = axis;
             bestSeparation = s;
             faceOfA = ofA;
+            bestSupports = along;
         }
     };
     if (a.kind == ConvexKind::Hull) {
         if (everyFace) {
             for (const HullFace& f : a.hull->faces) consider(rotate(a.xf.q, f.normal), true);
         } else {
-            supportingFace(a, n, faces.a);
+            supportingFace(a, n, faces.a, alongN.vertexA);
             faces.knownA = true;
             consider(faces.a.normal, true);
         }
@@ -386,7 +413,7 @@ Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n,
         if (everyFace) {
             for (const HullFace& f : b.hull->faces) consider(-rotate(b.xf.q, f.normal), false);
         } else {
-            supportingFace(b, -n, faces.b);
+            supportingFace(b, -n, faces.b, alongN.vertexB);
             faces.knownB = true;
             consider(-faces.b.normal, false);
         }
@@ -490,9 +517,9 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     FacesAlongNormal faces;
     if (reference == 0 && (a.kind == ConvexKind::Hull || b.kind == ConvexKind::Hull)) {
         bool faceOfA = false;
-        const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n), faces, faceOfA);
+        AxisSupports along;
+        const Vec3 faceAxis = bestHullFaceAxis(a, b, n, dot(pb - pa, n), faces, faceOfA, along);
         if (!(faceAxis == n)) {
-            faces.knownA = faces.knownB = false;  // found along the old n
             // GJK/EPA's points are closest or deepest along their own normal,
             // not along the face axis: the deepest points along it are the
             // supports. (A small hull deep inside a large cylinder: EPA's
@@ -501,8 +528,12 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
             // the clipped face missed the cylinder's side and the pair got no
             // contact at all; found by fuzz/narrowphase_fuzz.cpp.)
             n = faceAxis;
-            pa = a.support(n);
-            pb = b.support(-n);
+            pa = along.a;
+            pb = along.b;
+            // The faces along the old n are not these.
+            supportingFace(a, n, faces.a, along.vertexA);
+            supportingFace(b, -n, faces.b, along.vertexB);
+            faces.knownA = faces.knownB = true;
             // The face's own support is only the first vertex of that face,
             // anywhere on it; the other shape's is the feature reaching
             // deepest. When their midpoint lies beyond the other shape's
@@ -514,8 +545,15 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
             // (a hull pile) keep the midpoint.
             const Real depth = dot(pa - pb, n);
             const Vec3 lateral = pa - pb - n * depth;
-            const Real reach = (faceOfA ? b : a).boundingRadius();
-            if (lengthSquared(lateral) > 4 * reach * reach) {
+            const ConvexShape& other = faceOfA ? b : a;
+            const Real lateral2 = lengthSquared(lateral);
+            const Real reachAtMost = boundingRadiusAtMost(other);
+            bool beyondReach = lateral2 > 4 * reachAtMost * reachAtMost;
+            if (beyondReach) {
+                const Real reach = other.boundingRadius();
+                beyondReach = lateral2 > 4 * reach * reach;
+            }
+            if (beyondReach) {
                 if (faceOfA) {
                     pa = pb + n * depth;
                 } else {

@@ -36,19 +36,23 @@ std::uint32_t scanSupportIndex(const std::vector<Vec3>& v, const Vec3& d) {
 }
 
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
-bool avx2SupportSearch() {
+bool detectAvx2SupportSearch() {
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    // cpu_init first: a hull searched from a static constructor may get here
-    // before libgcc's own initialiser has run (as solver/contact_wide.cpp).
-    static const bool available = [] {
-        __builtin_cpu_init();
-        return hullSupportAvx2Compiled() && __builtin_cpu_supports("avx2");
-    }();
-    return available;
+    // cpu_init first: this may run before libgcc's own initialiser has
+    // (as solver/contact_wide.cpp).
+    __builtin_cpu_init();
+    return hullSupportAvx2Compiled() && __builtin_cpu_supports("avx2");
 #else
     return false;
 #endif
 }
+
+// A plain flag, read by every search: a function-local static's guard (and
+// its initialiser inlined) made each search save and restore six registers,
+// 35 of the eight-lane path's 180 instructions. A hull searched from another
+// file's static constructor before this initialiser has run reads false and
+// takes the four lanes: the same answer.
+const bool avx2SupportSearch = detectAvx2SupportSearch();
 #endif
 
 }  // namespace
@@ -92,18 +96,14 @@ void deriveHullTables(ConvexHull& hull) {
 // vertices are merged by value, then by the smaller index: the scalar
 // answer, bit for bit. A NaN (a non-finite direction) takes the scalar scan,
 // whose answer with NaNs the merge would not reproduce.
-std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
-    const std::vector<Vec3>& v = hull.vertices;
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+namespace {
+
+// The four-lane search, and the scan for fewer than eight vertices or a NaN;
+// out of line, so the eight-lane path saves no registers for it.
+[[gnu::noinline]] std::uint32_t fourLaneSupportIndex(const std::vector<Vec3>& v, const Vec3& d) {
     static_assert(sizeof(Vec3) == 3 * sizeof(float), "the vertices are read as packed floats");
     const std::uint32_t n = static_cast<std::uint32_t>(v.size());
-    // Eight lanes over the hull's coordinate rows where the CPU has AVX2:
-    // the same merge, so the same answer (docs/narrow-phase.md, "Hull support").
-    if (n >= 16 && hull.vertexRows.size() == 3 * std::size_t{n} && avx2SupportSearch()) {
-        const float* rows = hull.vertexRows.data();
-        const std::uint32_t top = hullSupportIndexAvx2(rows, rows + n, rows + 2 * n, n, d);
-        return top < n ? top : scanSupportIndex(v, d);
-    }
     const std::uint32_t blocks = n / 4;
     if (blocks >= 2) {
         const float* p = &v[0].x;
@@ -153,8 +153,27 @@ std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
             return top;
         }
     }
-#endif
     return scanSupportIndex(v, d);
+}
+
+}  // namespace
+#endif
+
+std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+    const std::uint32_t n = static_cast<std::uint32_t>(hull.vertices.size());
+    // Eight lanes over the hull's coordinate rows where the CPU has AVX2:
+    // the same merge, so the same answer (docs/narrow-phase.md, "Hull
+    // support"); a NaN (top == n) is left to the scan.
+    if (n >= 8 && hull.vertexRows.size() == 3 * std::size_t{n} && avx2SupportSearch) {
+        const float* rows = hull.vertexRows.data();
+        const std::uint32_t top = hullSupportIndexAvx2(rows, rows + n, rows + 2 * n, n, d);
+        if (top < n) return top;
+    }
+    return fourLaneSupportIndex(hull.vertices, d);
+#else
+    return scanSupportIndex(hull.vertices, d);
+#endif
 }
 
 Vec3 ConvexShape::coreSupport(const Vec3& d) const {
@@ -190,6 +209,18 @@ Vec3 ConvexShape::coreSupport(const Vec3& d) const {
 
 Vec3 ConvexShape::support(const Vec3& d) const {
     const Vec3 c = coreSupport(d);
+    if (radius == 0) return c;
+    return c + normalize(d) * radius;
+}
+
+Vec3 ConvexShape::support(const Vec3& d, std::uint32_t& hullVertex) const {
+    if (kind != ConvexKind::Hull) {
+        hullVertex = kNoVertex;
+        return support(d);
+    }
+    // coreSupport's hull case, keeping the index.
+    hullVertex = hullSupportIndex(*hull, inverseRotate(xf.q, d));
+    const Vec3 c = transformPoint(xf, hull->vertices[hullVertex]);
     if (radius == 0) return c;
     return c + normalize(d) * radius;
 }
@@ -296,7 +327,7 @@ ConvexShape makeTriangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return s;
 }
 
-void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
+void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out, std::uint32_t hullVertex) {
     out.count = 0;
     out.id = 0;
     out.normal = n;
@@ -349,7 +380,7 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out) {
             // vertex of a long, narrow Gauss-map cell), and clipping that face
             // would lose the deepest point (docs/narrow-phase.md, "Hull
             // supporting face").
-            const std::uint32_t top = hullSupportIndex(h, l);
+            const std::uint32_t top = hullVertex != kNoVertex ? hullVertex : hullSupportIndex(h, l);
             std::size_t best = 0;
             Real bestDot = -2;
             if (h.vertexFaceStart.size() == h.vertices.size() + 1) {

@@ -31,6 +31,10 @@ struct ConvexShape {
     Vec3 coreSupport(const Vec3& d) const;
     // Support point of the full (rounded) shape in world direction `d`.
     Vec3 support(const Vec3& d) const;
+    // support(d), bit for bit, and for a hull the index of the vertex it
+    // found (kNoVertex for the other kinds): supportingFace(d) of a hull
+    // starts from the same vertex, so a caller holding it skips one search.
+    Vec3 support(const Vec3& d, std::uint32_t& hullVertex) const;
     // The full shape's extent along world direction `d` (need not be unit):
     // lo = min and hi = max of dot(d, p) over its points; for a hull one pass
     // over the vertices instead of two supports.
@@ -91,6 +95,10 @@ struct SupportFace {
     std::uint32_t id = 0;
     Vec3 normal;  // outward normal of a polygon face (count >= 3)
 };
-void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out);
+// No hull vertex known (supportingFace searches for it).
+inline constexpr std::uint32_t kNoVertex = 0xFFFFFFFFu;
+// `hullVertex`: for a hull, the index support(n, hullVertex) gave for this
+// very n (the same answer as the search, without it), or kNoVertex.
+void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out, std::uint32_t hullVertex = kNoVertex);
 
 }  // namespace fulcrum::detail

@@ -101,7 +101,8 @@ TEST(HullSupport, WithoutTheDerivedTablesTheSameAnswers) {
     std::mt19937 rng(17);
     std::normal_distribution<Real> g(0, 1);
     std::vector<std::vector<Vec3>> clouds;
-    for (int points = 16; points <= 64; points += 3) {
+    // From 8 points: the eight-lane search takes hulls of 8 vertices or more.
+    for (int points = 8; points <= 64; points += 3) {
         std::vector<Vec3> cloud;
         for (int i = 0; i < points; ++i) cloud.push_back(Vec3{g(rng), g(rng), g(rng)});
         clouds.push_back(cloud);
@@ -139,6 +140,44 @@ TEST(HullSupport, WithoutTheDerivedTablesTheSameAnswers) {
             ASSERT_EQ(a.id, b.id);
             ASSERT_EQ(a.count, b.count);
             for (std::uint32_t i = 0; i < a.count; ++i) ASSERT_TRUE(a.points[i] == b.points[i]);
+        }
+    }
+}
+
+TEST(HullSupport, KnownVertexGivesTheSearchedSupportAndFace) {
+    // The narrow phase hands supportingFace the vertex support(n, vertex)
+    // found along the same n instead of searching again: the point, the
+    // vertex and the face must be the searching calls' bit for bit, for
+    // plain and rounded hulls and for the kinds that have no vertex index.
+    std::mt19937 rng(29);
+    std::normal_distribution<Real> g(0, 1);
+    std::vector<Vec3> cloud;
+    for (int i = 0; i < 32; ++i) cloud.push_back(normalize(Vec3{g(rng), g(rng), g(rng)}) * Real(2));
+    const Shape shapes[] = {Shape::convexHull(cloud), Shape::roundedConvexHull(cloud, Real(0.05)),
+                            Shape::box({1, 2, 3}), Shape::cylinder(Real(0.5), 1), Shape::capsule(Real(0.3), 1)};
+    for (const Shape& shape : shapes) {
+        for (int pose = 0; pose < 50; ++pose) {
+            const Transform xf{{g(rng), g(rng), g(rng)}, normalize(Quat{g(rng), g(rng), g(rng), g(rng)})};
+            const detail::ConvexShape full = detail::makeConvex(shape, xf), core = detail::makeConvexCore(shape, xf);
+            for (int k = 0; k < 40; ++k) {
+                const Vec3 n = normalize(randomDirection(rng));
+                std::uint32_t vertex = 0;
+                ASSERT_TRUE(full.support(n, vertex) == full.support(n));
+                if (shape.type() == ShapeType::ConvexHull) {
+                    ASSERT_EQ(vertex, detail::hullSupportIndex(shape.hull(), inverseRotate(xf.q, n)));
+                } else {
+                    ASSERT_EQ(vertex, detail::kNoVertex);
+                }
+                std::uint32_t coreVertex = 0;
+                ASSERT_TRUE(core.support(n, coreVertex) == core.support(n));
+                detail::SupportFace searched, known;
+                detail::supportingFace(core, n, searched);
+                detail::supportingFace(core, n, known, coreVertex);
+                ASSERT_EQ(searched.id, known.id);
+                ASSERT_EQ(searched.count, known.count);
+                ASSERT_TRUE(searched.normal == known.normal);
+                for (std::uint32_t i = 0; i < searched.count; ++i) ASSERT_TRUE(searched.points[i] == known.points[i]);
+            }
         }
     }
 }
