@@ -142,10 +142,9 @@ bool overTriangle(const Vec3 w[3], const Vec3& p) {
 
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope,
-                               std::uint32_t* axisHint) {
+                               std::uint32_t* axisHint, const Vec3* bCentre) {
     const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
-    if (dot(faceN, b.center() - w[0]) < 0) return false;  // one-sided: behind the triangle
-    const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
+    if (dot(faceN, (bCentre != nullptr ? *bCentre : b.center()) - w[0]) < 0) return false;  // one-sided: behind the triangle
     Manifold tm;
     if (polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
         // A box or hull: the separating-axis test (collide_triangle.cpp),
@@ -153,6 +152,7 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
         if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm, axisHint)) return false;
     } else {
         if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
+        const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
         const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
                                                      : collideConvexConvex(tri, b, margin, tm);
         if (!hit) return false;
@@ -174,7 +174,7 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
                 tm.pointCount = 0;
                 addContact(tm, pb + faceN * depth, pb, depth, 7, margin);
             } else {
-                buildFaceManifold(tri, b, faceN, pb + faceN * depth, pb, margin, tm, 1);
+                buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, tm, 1);
             }
             if (tm.pointCount == 0) return false;
         }
@@ -384,17 +384,18 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
     SeparatingAxisCache& hints = out.separatingAxisScratch();
     if (sat != nullptr && hints.entries.empty()) hints.entries.resize(std::size_t(1) << SeparatingAxisCache::kLogEntries);
     const std::uint64_t pairKey = sat != nullptr ? polytopeKey(mesh, b) : 0;
+    const Vec3 centre = b.center();  // the one-sided test's, once for every triangle
     // The triangle's test with its hint, the hint stored back when it changed.
     const auto collideTriangle = [&](const Vec3 w[3], std::uint8_t mask, std::uint32_t t) {
         if (sat == nullptr) {
-            collideTriangleWithConvex(w, mask, t, b, margin, scratch, nullptr);
+            collideTriangleWithConvex(w, mask, t, b, margin, scratch, nullptr, nullptr, &centre);
             return;
         }
         std::uint64_t key;
         SeparatingAxisCache::Entry& slot = hintSlot(hints, pairKey, t, key);
         std::uint32_t hint = slot.key == key ? slot.axis : 0;
         const std::uint32_t before = hint;
-        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint);
+        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint, &centre);
         if (hint != before) slot = {key, hint};
     };
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));

@@ -354,7 +354,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     Vec3 bestEdgeAxis;
     for (std::uint32_t e = 0; e < p.edgeCount; ++e) {
         const PolytopeEdge& edge = p.edges[e];
-        const Vec3 a = p.faces[edge.faces[0]].normal, c = p.faces[edge.faces[1]].normal;
+        const Vec3& a = p.faces[edge.faces[0]].normal;
+        const Vec3& c = p.faces[edge.faces[1]].normal;
         for (std::uint32_t j = 0; j < 3; ++j) {
             const Real ca = tabled ? faceDots[edge.faces[0]][j] : dot(a, t[j]);
             const Real cc = tabled ? faceDots[edge.faces[1]][j] : dot(c, t[j]);
