@@ -362,15 +362,18 @@ std::uint64_t polytopeKey(const TriangleMesh& mesh, const ConvexShape& b) {
             key = (key ^ bits) * 0xBF58476D1CE4E5B9ull;
         }
     }
-    return key;
+    key *= 0xBF58476D1CE4E5B9ull;
+    return key ^ (key >> 29);
 }
 
-// The hint table's slot for triangle t of the pair `key`, and its key there
-// (never 0, the empty slot's).
-SeparatingAxisCache::Entry& hintSlot(SeparatingAxisCache& cache, std::uint64_t pairKey, std::uint32_t t, std::uint64_t& key) {
-    key = (pairKey ^ (std::uint64_t(t) * 0xC2B2AE3D27D4EB4Full)) * 0x94D049BB133111EBull;
-    key |= 1;
-    return cache.entries[key >> (64 - SeparatingAxisCache::kLogEntries)];
+// The hint table's slot for triangle t of the pair `pairKey` (the pair's
+// run of slots from a place its hash picks), and the tag that names the
+// triangle's pair there.
+SeparatingAxisCache::Entry& hintSlot(SeparatingAxisCache& cache, std::uint64_t pairKey, std::uint32_t t, std::uint32_t& tag) {
+    const std::uint64_t mixed = (pairKey ^ (std::uint64_t(t) * 0xC2B2AE3D27D4EB4Full)) * 0x94D049BB133111EBull;
+    tag = static_cast<std::uint32_t>(mixed >> 32);
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << SeparatingAxisCache::kLogEntries) - 1;
+    return cache.entries[((pairKey >> 40) + t) & kMask];
 }
 
 }  // namespace
@@ -391,12 +394,12 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
             collideTriangleWithConvex(w, mask, t, b, margin, scratch, nullptr, nullptr, &centre);
             return;
         }
-        std::uint64_t key;
-        SeparatingAxisCache::Entry& slot = hintSlot(hints, pairKey, t, key);
-        std::uint32_t hint = slot.key == key ? slot.axis : 0;
+        std::uint32_t tag;
+        SeparatingAxisCache::Entry& slot = hintSlot(hints, pairKey, t, tag);
+        std::uint32_t hint = slot.tag == tag ? slot.axis : 0;
         const std::uint32_t before = hint;
         collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint, &centre);
-        if (hint != before) slot = {key, hint};
+        if (hint != before) slot = {tag, hint};
     };
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
     // A mesh placed at the origin unturned (a ground, the usual case) takes

@@ -110,12 +110,16 @@ struct PolytopeEdgeCache {
 // the margin rejects the pair, so a hit gives the test's own answer: the
 // table only saves work, whatever it holds (entries of other pairs that hash
 // to the same place included), and needs no saving in snapshots.
+// A shape's triangles take consecutive slots (from a place its hash picks),
+// so the hints of one piece over a mesh's rows share cache lines: with one
+// slot per hash, a larger table cost more in cache misses than the hints
+// saved (trees50).
 struct SeparatingAxisCache {
     struct Entry {
-        std::uint64_t key = 0;   // 0: empty
+        std::uint32_t tag = 0;   // which (shape, mesh, triangle) wrote it, hashed
         std::uint32_t axis = 0;  // collide_triangle.hpp's encoding; 0: none
     };
-    static constexpr unsigned kLogEntries = 13;
+    static constexpr unsigned kLogEntries = 14;
     std::vector<Entry> entries;  // 1 << kLogEntries once used
 };
 
