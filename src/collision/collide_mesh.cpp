@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "collision/collide_pairs.hpp"
 #include "collision/collide_triangle.hpp"
@@ -140,17 +141,18 @@ bool overTriangle(const Vec3 w[3], const Vec3& p) {
 }
 
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
-                               std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope) {
+                               std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope,
+                               std::uint32_t* axisHint, const Vec3* bCentre) {
     const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
-    if (dot(faceN, b.center() - w[0]) < 0) return false;  // one-sided: behind the triangle
-    const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
+    if (dot(faceN, (bCentre != nullptr ? *bCentre : b.center()) - w[0]) < 0) return false;  // one-sided: behind the triangle
     Manifold tm;
     if (polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
         // A box or hull: the separating-axis test (collide_triangle.cpp),
         // which also tests the triangle's plane.
-        if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm)) return false;
+        if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm, axisHint)) return false;
     } else {
         if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
+        const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
         const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
                                                      : collideConvexConvex(tri, b, margin, tm);
         if (!hit) return false;
@@ -172,7 +174,7 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
                 tm.pointCount = 0;
                 addContact(tm, pb + faceN * depth, pb, depth, 7, margin);
             } else {
-                buildFaceManifold(tri, b, faceN, pb + faceN * depth, pb, margin, tm, 1);
+                buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, tm, 1);
             }
             if (tm.pointCount == 0) return false;
         }
@@ -341,12 +343,64 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
     }
 }
 
+namespace {
+
+// Which box or hull a separating-axis hint belongs to, with the mesh: a
+// hull by its shared data (a compound's child, as every body built from the
+// same hulls: two bodies' pieces over one triangle share a slot and only
+// cost each other a miss), a box by its size. Any value is safe (the hints
+// are only tried, SeparatingAxisCache), a distinct one is merely faster.
+std::uint64_t polytopeKey(const TriangleMesh& mesh, const ConvexShape& b) {
+    std::uint64_t key = reinterpret_cast<std::uintptr_t>(&mesh);
+    if (b.kind == ConvexKind::Hull) {
+        key ^= reinterpret_cast<std::uintptr_t>(b.hull) * 0x9E3779B97F4A7C15ull;
+    } else {
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Real h = b.halfExtents[k];
+            std::uint64_t bits = 0;
+            std::memcpy(&bits, &h, sizeof(Real));
+            key = (key ^ bits) * 0xBF58476D1CE4E5B9ull;
+        }
+    }
+    key *= 0xBF58476D1CE4E5B9ull;
+    return key ^ (key >> 29);
+}
+
+// The hint table's slot for triangle t of the pair `pairKey` (the pair's
+// run of slots from a place its hash picks), and the tag that names the
+// triangle's pair there.
+SeparatingAxisCache::Entry& hintSlot(SeparatingAxisCache& cache, std::uint64_t pairKey, std::uint32_t t, std::uint32_t& tag) {
+    const std::uint64_t mixed = (pairKey ^ (std::uint64_t(t) * 0xC2B2AE3D27D4EB4Full)) * 0x94D049BB133111EBull;
+    tag = static_cast<std::uint32_t>(mixed >> 32);
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << SeparatingAxisCache::kLogEntries) - 1;
+    return cache.entries[((pairKey >> 40) + t) & kMask];
+}
+
+}  // namespace
+
 void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const ConvexShape& b, const AABB& bBounds,
                        Real margin, ManifoldBuffer& out) {
     std::vector<MeshContactCandidate>& scratch = out.meshScratch();
     scratch.clear();
     TrianglePolytope polytope;
     const TrianglePolytope* sat = polytope.prepare(b, out.polytopeEdgeScratch()) ? &polytope : nullptr;
+    SeparatingAxisCache& hints = out.separatingAxisScratch();
+    if (sat != nullptr && hints.entries.empty()) hints.entries.resize(std::size_t(1) << SeparatingAxisCache::kLogEntries);
+    const std::uint64_t pairKey = sat != nullptr ? polytopeKey(mesh, b) : 0;
+    const Vec3 centre = b.center();  // the one-sided test's, once for every triangle
+    // The triangle's test with its hint, the hint stored back when it changed.
+    const auto collideTriangle = [&](const Vec3 w[3], std::uint8_t mask, std::uint32_t t) {
+        if (sat == nullptr) {
+            collideTriangleWithConvex(w, mask, t, b, margin, scratch, nullptr, nullptr, &centre);
+            return;
+        }
+        std::uint32_t tag;
+        SeparatingAxisCache::Entry& slot = hintSlot(hints, pairKey, t, tag);
+        std::uint32_t hint = slot.tag == tag ? slot.axis : 0;
+        const std::uint32_t before = hint;
+        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint, &centre);
+        if (hint != before) slot = {tag, hint};
+    };
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
     // A mesh placed at the origin unturned (a ground, the usual case) takes
     // its vertices as they are: the identity transform changes no bit of them.
@@ -357,12 +411,12 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
         const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
         if (!placed) {
             const Vec3 w[3] = {mesh.vertices[idx[0]], mesh.vertices[idx[1]], mesh.vertices[idx[2]]};
-            collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
+            collideTriangle(w, mask, t);
             return;
         }
         const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
                            transformPoint(meshXf, mesh.vertices[idx[2]])};
-        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat);
+        collideTriangle(w, mask, t);
     });
     groupTriangleContacts(scratch, margin, out, sat != nullptr);
 }

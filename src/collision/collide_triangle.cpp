@@ -223,14 +223,71 @@ bool edgesCross(const Vec3 w[3], std::uint32_t j, const TrianglePolytope& p, std
     return s > 0 && s < 1 && u > 0 && u < 1;
 }
 
+// The separation along polytope face f's axis (from the triangle to the
+// polytope): the triangle's lowest vertex under the face's plane, `vertex`
+// that vertex. The full test and the hint compute it alike (the same bits).
+[[gnu::always_inline]] inline Real faceAxisSeparation(const TrianglePolytope& p, std::uint32_t f, const Vec3 v[3],
+                                                      std::uint32_t& vertex) {
+    const Vec3 nf = p.faces[f].normal;
+    const Real d[3] = {dot(nf, v[0]), dot(nf, v[1]), dot(nf, v[2])};
+    vertex = d[0] <= d[1] ? (d[0] <= d[2] ? 0u : 2u) : (d[1] <= d[2] ? 1u : 2u);
+    return d[vertex] - p.faces[f].offset;
+}
+
+// The axis of the polytope's edge with face normals a and c against a
+// triangle edge (its side direction `side`, squared length tt, the faces'
+// dots with it ca and cc), when the pair makes a face of the Minkowski
+// difference (collideTrianglePolytope): false when it does not.
+[[gnu::always_inline]] inline bool edgePairAxis(const Vec3& a, const Vec3& c, Real ca, Real cc, const Vec3& side, Real tt,
+                                                Vec3& axis) {
+    if (!(ca * cc < 0)) return false;
+    if (std::max(ca * ca, cc * cc) < kParallelSine * kParallelSine * tt) return false;
+    const Vec3 mid = a + (c - a) * (ca / (ca - cc));
+    if (!(dot(mid, side) < 0)) return false;
+    axis = -normalize(mid);
+    return true;
+}
+
+// True when the hinted axis (a polytope face, or an edge pair that is still
+// a candidate) separates the triangle (v, normal n, in the polytope's frame)
+// from the polytope by more than the margin: then the full test rejects the
+// pair too, on that axis if on no other.
+bool hintSeparates(std::uint32_t hint, const TrianglePolytope& p, const Vec3 v[3], const Vec3& n, Real margin) {
+    const std::uint32_t index = hint & kAxisHintIndex;
+    const std::uint32_t kind = hint & ~kAxisHintIndex;
+    if (kind == kFaceAxisHint) {
+        if (index >= p.faceCount) return false;
+        std::uint32_t vertex;
+        return faceAxisSeparation(p, index, v, vertex) > margin;
+    }
+    if (kind != kEdgeAxisHint) return false;
+    const std::uint32_t e = index / 3, j = index % 3;
+    if (e >= p.edgeCount) return false;
+    const Vec3 t = v[(j + 1) % 3] - v[j];
+    const Vec3 side = cross(t, n);
+    const Real tt = dot(t, t);
+    const PolytopeEdge& edge = p.edges[e];
+    const Vec3 a = p.faces[edge.faces[0]].normal, c = p.faces[edge.faces[1]].normal;
+    Vec3 axis;
+    if (!edgePairAxis(a, c, dot(a, t), dot(c, t), side, tt, axis)) return false;
+    return dot(axis, p.vertices[edge.from] - v[j]) > margin;
+}
+
 }  // namespace
 
-bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m) {
+bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m,
+                             std::uint32_t* axisHint) {
     const ConvexShape& b = *p.shape;
     const Transform& xf = b.xf;
     // In the polytope's frame: its vertices and face planes as stored.
     const Vec3 v[3] = {inverseTransformPoint(xf, w[0]), inverseTransformPoint(xf, w[1]), inverseTransformPoint(xf, w[2])};
     const Vec3 n = inverseRotate(xf.q, faceN);
+    // The axis that rejected the pair last time, first: a piece resting or
+    // rolling slowly beside a triangle is still beyond the margin along it.
+    std::uint32_t unusedHint = 0;
+    std::uint32_t& hint = axisHint != nullptr ? *axisHint : unusedHint;
+    if (hint != 0 && hintSeparates(hint, p, v, n, margin)) return false;
+    hint = 0;
 
     // The triangle's normal, both ways: one pass over the vertices.
     const Real plane = dot(n, v[0]);
@@ -252,11 +309,12 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     Real polytopeSeparation = -1e30f;
     std::uint32_t bestFace = 0, bestVertex = 0;
     for (std::uint32_t f = 0; f < p.faceCount; ++f) {
-        const Vec3 nf = p.faces[f].normal;
-        const Real d[3] = {dot(nf, v[0]), dot(nf, v[1]), dot(nf, v[2])};
-        const std::uint32_t k = d[0] <= d[1] ? (d[0] <= d[2] ? 0u : 2u) : (d[1] <= d[2] ? 1u : 2u);
-        const Real separation = d[k] - p.faces[f].offset;
-        if (separation > margin) return false;
+        std::uint32_t k;
+        const Real separation = faceAxisSeparation(p, f, v, k);
+        if (separation > margin) {
+            hint = kFaceAxisHint | f;
+            return false;
+        }
         if (separation > polytopeSeparation) {
             polytopeSeparation = separation;
             bestFace = f;
@@ -296,17 +354,18 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     Vec3 bestEdgeAxis;
     for (std::uint32_t e = 0; e < p.edgeCount; ++e) {
         const PolytopeEdge& edge = p.edges[e];
-        const Vec3 a = p.faces[edge.faces[0]].normal, c = p.faces[edge.faces[1]].normal;
+        const Vec3& a = p.faces[edge.faces[0]].normal;
+        const Vec3& c = p.faces[edge.faces[1]].normal;
         for (std::uint32_t j = 0; j < 3; ++j) {
             const Real ca = tabled ? faceDots[edge.faces[0]][j] : dot(a, t[j]);
             const Real cc = tabled ? faceDots[edge.faces[1]][j] : dot(c, t[j]);
-            if (!(ca * cc < 0)) continue;
-            if (std::max(ca * ca, cc * cc) < kParallelSine * kParallelSine * tt[j]) continue;
-            const Vec3 mid = a + (c - a) * (ca / (ca - cc));
-            if (!(dot(mid, side[j]) < 0)) continue;
-            const Vec3 axis = -normalize(mid);
+            Vec3 axis;
+            if (!edgePairAxis(a, c, ca, cc, side[j], tt[j], axis)) continue;
             const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
-            if (separation > margin) return false;
+            if (separation > margin) {
+                if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
+                return false;
+            }
             if (separation > edgeSeparation) {
                 edgeSeparation = separation;
                 bestEdge = e;

@@ -52,6 +52,20 @@ private:
 // map. A face axis gives the reference face's clipped manifold
 // (buildFaceManifold), an edge axis the closest points of the two edges.
 // False when the two are farther apart than `margin` or no point is within it.
-bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m);
+//
+// `axisHint`, when given, is the pair's separating-axis hint
+// (SeparatingAxisCache, manifold.hpp): tried before the other axes, and left
+// naming the polytope face or edge pair that rejected the pair this time, or
+// 0 (none: the triangle's own normal, tested first anyway, or no rejection).
+// The answer is the same with or without it.
+bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m,
+                             std::uint32_t* axisHint = nullptr);
+
+// The hint of a polytope face f or of the polytope's edge e against the
+// triangle's edge j (from vertex j to j + 1), as collideTrianglePolytope
+// stores them; 0 is no hint.
+constexpr std::uint32_t kFaceAxisHint = 1u << 30;
+constexpr std::uint32_t kEdgeAxisHint = 2u << 30;
+constexpr std::uint32_t kAxisHintIndex = (1u << 30) - 1;
 
 }  // namespace fulcrum::detail

@@ -101,6 +101,28 @@ struct PolytopeEdgeCache {
     std::size_t next = 0;                           // the entry a miss fills (round robin)
 };
 
+// The mesh path's separating-axis hints (collide_triangle.cpp,
+// collideTrianglePolytope): per (box or hull, mesh, triangle), the polytope
+// face or edge pair that last proved the two farther apart than the margin.
+// The next step tries that axis first, and a pair it still separates is
+// rejected without the rest of the test. A hint is one of the test's own
+// candidate axes computed by the same expressions, and any candidate beyond
+// the margin rejects the pair, so a hit gives the test's own answer: the
+// table only saves work, whatever it holds (entries of other pairs that hash
+// to the same place included), and needs no saving in snapshots.
+// A shape's triangles take consecutive slots (from a place its hash picks),
+// so the hints of one piece over a mesh's rows share cache lines: with one
+// slot per hash, a larger table cost more in cache misses than the hints
+// saved (trees50).
+struct SeparatingAxisCache {
+    struct Entry {
+        std::uint32_t tag = 0;   // which (shape, mesh, triangle) wrote it, hashed
+        std::uint32_t axis = 0;  // collide_triangle.hpp's encoding; 0: none
+    };
+    static constexpr unsigned kLogEntries = 14;
+    std::vector<Entry> entries;  // 1 << kLogEntries once used
+};
+
 // Reduces `candidates` to at most 4 points of `out` (normal already set):
 // keeps the deepest point, then the point farthest from it, then the two that
 // maximise the contact polygon's area (Gregorius, "Robust Contact Creation for
@@ -158,6 +180,8 @@ public:
     std::vector<std::uint32_t>& triangleScratch() { return triangleScratch_; }
     // The hulls' edges with their faces (the mesh path's triangle test).
     detail::PolytopeEdgeCache& polytopeEdgeScratch() { return polytopeEdgeScratch_; }
+    // The boxes' and hulls' separating axes against triangles (a hint table).
+    detail::SeparatingAxisCache& separatingAxisScratch() { return separatingAxisScratch_; }
 
 private:
     std::vector<Manifold> manifolds_;
@@ -166,6 +190,7 @@ private:
     std::vector<detail::MeshContactCandidate> meshScratch_;
     std::vector<std::uint32_t> triangleScratch_;
     detail::PolytopeEdgeCache polytopeEdgeScratch_;
+    detail::SeparatingAxisCache separatingAxisScratch_;
 };
 
 }  // namespace fulcrum

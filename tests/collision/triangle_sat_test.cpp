@@ -378,3 +378,136 @@ TEST(TriangleSat, CachedEdgeTablesAreTheTablesDerivedAgain) {
     EXPECT_TRUE(derived.prepare(openShape, fresh));
     EXPECT_TRUE(samePolytope(derived, cached));
 }
+
+// The separating-axis hints (collideTrianglePolytope's axisHint,
+// SeparatingAxisCache): a piece drifting a few millimetres and a fraction of
+// a degree a step beside a triangle, now and then jumping (beyond where the
+// hinted axis still separates it: the hint misses and the test runs whole),
+// gets bit for bit the answer of the test without a hint, and so does any
+// hint at all (another pair's, hashed to the same slot, or garbage).
+TEST(TriangleSat, SeparatingAxisHintsGiveTheFullTestsAnswer) {
+    std::mt19937 rng(2117);
+    std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.2f, 1.2f);
+    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
+    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    const auto sameAnswer = [](bool hitA, const Manifold& a, bool hitB, const Manifold& b) {
+        if (hitA != hitB) return false;
+        if (!hitA) return true;
+        if (!(a.normal == b.normal) || a.pointCount != b.pointCount) return false;
+        for (std::uint32_t k = 0; k < a.pointCount; ++k) {
+            if (!(a.points[k].position == b.points[k].position) || a.points[k].depth != b.points[k].depth ||
+                a.points[k].featureId != b.points[k].featureId) {
+                return false;
+            }
+        }
+        return true;
+    };
+    int tests = 0, hits = 0, stale = 0, faceHints = 0, edgeHints = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
+        const Real r = size(rng);
+        const Vec3 w[3] = {{unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r},
+                           {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r},
+                           {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r}};
+        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
+        if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
+        const Vec3 faceN = normalize(nRaw);
+        // Beside the triangle as often as over it, within reach or a little beyond.
+        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
+        Transform xf{w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * r,
+                     test::randomRotation(rng)};
+        {
+            detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+            Real lo, hi;
+            b.extent(faceN, lo, hi);
+            xf.p += faceN * (dot(faceN, w[0]) - lo + height(rng) * kMargin * 4);  // its lowest point that far above the plane
+        }
+        std::uint32_t hint = 0;
+        for (int step = 0; step < 40; ++step) {
+            if (step % 13 == 12) {
+                xf.p += Vec3{unit(rng), unit(rng), unit(rng)} * Real(0.3);  // a jump
+                xf.q = normalize(xf.q * Quat(1, unit(rng) * Real(0.3), unit(rng) * Real(0.3), unit(rng) * Real(0.3)));
+            } else {
+                xf.p += Vec3{unit(rng), unit(rng), unit(rng)} * Real(0.003);
+                xf.q = normalize(xf.q * Quat(1, unit(rng) * Real(0.004), unit(rng) * Real(0.004), unit(rng) * Real(0.004)));
+            }
+            const detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+            std::vector<detail::PolytopeEdge> edges;
+            detail::TrianglePolytope polytope;
+            ASSERT_TRUE(polytope.prepare(b, edges));
+            Manifold full, hinted, garbage;
+            const bool fullHit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, full);
+            const std::uint32_t before = hint;
+            const bool hintedHit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, hinted, &hint);
+            ++tests;
+            ASSERT_TRUE(sameAnswer(fullHit, full, hintedHit, hinted)) << "trial " << trial << " step " << step;
+            if (before != 0) (hint == before && !hintedHit ? hits : stale) += 1;
+            if ((hint & ~detail::kAxisHintIndex) == detail::kFaceAxisHint) ++faceHints;
+            if ((hint & ~detail::kAxisHintIndex) == detail::kEdgeAxisHint) ++edgeHints;
+            // Any hint: every face and edge pair, and indices past the end.
+            std::uint32_t any = (rng() % 2 == 0 ? detail::kFaceAxisHint : detail::kEdgeAxisHint) | static_cast<std::uint32_t>(rng() % 80);
+            const bool garbageHit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, garbage, &any);
+            ASSERT_TRUE(sameAnswer(fullHit, full, garbageHit, garbage)) << "trial " << trial << " step " << step;
+        }
+    }
+    EXPECT_GT(tests, 10000);
+    EXPECT_GT(hits, 1000);     // the drifting pieces' hints mostly stand
+    EXPECT_GT(stale, 100);     // and the jumps' do not: the test ran whole
+    EXPECT_GT(faceHints, 500);
+    EXPECT_GT(edgeHints, 50);
+}
+
+// The mesh path with its hint table: a hull and a box drifting over a wave
+// mesh get the same manifolds, bit for bit, from a buffer whose hints are
+// warm from the poses before as from a fresh one.
+TEST(TriangleSat, MeshManifoldsWithWarmHintsAreTheFreshOnes) {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    constexpr std::uint32_t kCells = 24;
+    for (std::uint32_t i = 0; i <= kCells; ++i) {
+        for (std::uint32_t j = 0; j <= kCells; ++j) {
+            const Real x = Real(0.25) * static_cast<Real>(j) - 3, z = Real(0.25) * static_cast<Real>(i) - 3;
+            vertices.push_back({x, Real(0.1) * std::sin(Real(1.3) * x) * std::cos(Real(0.9) * z), z});
+        }
+    }
+    for (std::uint32_t i = 0; i < kCells; ++i) {
+        for (std::uint32_t j = 0; j < kCells; ++j) {
+            const std::uint32_t v = i * (kCells + 1) + j;
+            triangles.push_back({v, v + kCells + 1, v + 1});
+            triangles.push_back({v + 1, v + kCells + 1, v + kCells + 2});
+        }
+    }
+    const Shape ground = Shape::mesh(vertices, triangles);
+    std::mt19937 rng(2119);
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    const Shape pieces[] = {hexPrism(0.3f, 1.0f), Shape::box({0.3f, 0.2f, 0.5f})};
+    ManifoldBuffer warm;
+    int manifolds = 0;
+    for (const Shape& piece : pieces) {
+        Transform xf{{0, Real(0.32), 0}, normalize(Quat(1, 0, 0, Real(0.7)))};
+        for (int step = 0; step < 300; ++step) {
+            xf.p += Vec3{Real(0.01), unit(rng) * Real(0.004), Real(0.004) * unit(rng)};
+            xf.q = normalize(xf.q * Quat(1, unit(rng) * Real(0.01), unit(rng) * Real(0.01), unit(rng) * Real(0.01)));
+            const detail::ConvexShape b = detail::makeConvexCore(piece, xf);
+            ManifoldBuffer fresh;
+            warm.clear();
+            detail::collideMeshConvex(ground.mesh(), Transform{}, b, piece.bounds(xf), Real(0.05), warm);
+            detail::collideMeshConvex(ground.mesh(), Transform{}, b, piece.bounds(xf), Real(0.05), fresh);
+            ASSERT_EQ(warm.size(), fresh.size()) << "step " << step;
+            for (std::size_t i = 0; i < warm.size(); ++i) {
+                const Manifold &x = warm[i], &y = fresh[i];
+                ASSERT_TRUE(x.normal == y.normal && x.pointCount == y.pointCount && x.childA == y.childA) << "step " << step;
+                for (std::uint32_t k = 0; k < x.pointCount; ++k) {
+                    ASSERT_TRUE(x.points[k].position == y.points[k].position && x.points[k].depth == y.points[k].depth &&
+                                x.points[k].featureId == y.points[k].featureId)
+                        << "step " << step;
+                }
+            }
+            manifolds += static_cast<int>(warm.size());
+        }
+    }
+    EXPECT_GT(manifolds, 300);
+    int hinted = 0;
+    for (const detail::SeparatingAxisCache::Entry& e : warm.separatingAxisScratch().entries) hinted += e.axis != 0 ? 1 : 0;
+    EXPECT_GT(hinted, 20);
+}
