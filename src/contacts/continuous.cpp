@@ -156,10 +156,19 @@ Real impactTimeOf(const BodyStore& w, const JointPairFilter& joints, const Conta
             const std::uint32_t oi = w.solverIndexOf(od);
             if (oi != 0) {
                 if (op.isBullet) {
-                    // Stops only if the sweeps end it overlapping (below): not
-                    // when the balls of the two bodies' extents end apart.
+                    // Stops only if the sweeps end it more than 2 kToiSlop
+                    // into each other (below): not when the balls of the two
+                    // bodies' extents end apart, nor when their end boxes
+                    // overlap by less than that along some axis (a shift by
+                    // that overlap parts the boxes, so the shapes too). The
+                    // boxes are shrunk by a quarter of it: rounding.
                     const Real both = (p.extent + op.extent) * Real(1 + 1e-5);
-                    if (lengthSquared(m.com - w.pose[oi].com) > both * both) return true;
+                    const BodyPose& om = w.pose[oi];
+                    if (lengthSquared(m.com - om.com) > both * both) return true;
+                    const Real shrink = Real(-0.5) * kToiSlop;
+                    const AABB endBox = shape.bounds({m.com - rotate(m.q, p.localCom), m.q}).fattened(shrink);
+                    const AABB otherEndBox = other.bounds({om.com - rotate(om.q, op.localCom), om.q}).fattened(shrink);
+                    if (!overlaps(endBox, otherEndBox)) return true;
                 } else {
                     const Vec3 otherDp = w.pose[oi].com - w.startCom[oi];
                     if (!pathsMayMeet(w.startCom[i], dp, p.extent, w.startCom[oi], otherDp, op.extent, kTouchBand)) return true;
