@@ -7,6 +7,10 @@
 // With `every` > 0 the deepest reported overlap is printed every that many
 // measured steps (outside the timed and counted part).
 //   valgrind --tool=callgrind --instr-atstart=no build/release/bench/bench_convex_pile_probe 8 8 10 200 10
+// PROBE_EXACT=K: at each print, the K deepest reported contacts are checked
+// against a fresh narrow phase at the bodies' poses and the exact separation
+// of the two hulls (exact_hull_depth.hpp), and the deepest pair's poses are
+// printed in hexadecimal floats (to rebuild it in a test).
 // The checksum (sum of the final heights) lets two builds be checked for the
 // same results; it is not a test.
 #include <algorithm>
@@ -25,9 +29,71 @@
 #endif
 
 #include "box3d_scenes.hpp"
+#include "exact_hull_depth.hpp"
 #include "collision/narrow_phase.hpp"
 #include "collision/support.hpp"
 #include "fulcrum/fulcrum.hpp"
+
+namespace {
+
+// The k deepest reported hull-hull contacts: the report's depth, a fresh
+// manifold's at the current poses, the overlap along the fresh normal (support
+// functions) and the exact penetration depth.
+void checkExact(const fulcrum::World& world, const std::vector<fulcrum::ContactReport>& reports, int k) {
+    fulcrum::ManifoldBuffer buffer;
+    struct Row {
+        std::size_t report;
+        double fresh;
+        int points;
+        fulcrum::Vec3 normal;
+    };
+    std::vector<Row> rows;
+    for (std::size_t i = 0; i < reports.size(); ++i) {
+        const fulcrum::ContactReport& r = reports[i];
+        const fulcrum::Shape& sa = world.shape(r.bodyA);
+        const fulcrum::Shape& sb = world.shape(r.bodyB);
+        if (sa.type() != fulcrum::ShapeType::ConvexHull || sb.type() != fulcrum::ShapeType::ConvexHull) continue;
+        fulcrum::collide(sa, world.transform(r.bodyA), sb, world.transform(r.bodyB), 1, buffer);
+        if (buffer.size() == 1) rows.push_back({i, double(buffer[0].maxDepth()), int(buffer[0].pointCount), buffer[0].normal});
+    }
+    // The k deepest by the report and the k deepest by the fresh manifold.
+    std::vector<Row> picked;
+    std::sort(rows.begin(), rows.end(), [&](const Row& x, const Row& y) { return reports[x.report].depth > reports[y.report].depth; });
+    picked.insert(picked.end(), rows.begin(), rows.begin() + std::min<std::ptrdiff_t>(k, std::ptrdiff_t(rows.size())));
+    std::sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.fresh > y.fresh; });
+    picked.insert(picked.end(), rows.begin(), rows.begin() + std::min<std::ptrdiff_t>(k, std::ptrdiff_t(rows.size())));
+    double worstOver = -1e300, worstUnder = -1e300;
+    for (std::size_t i = 0; i < picked.size(); ++i) {
+        const Row& row = picked[i];
+        const fulcrum::ContactReport& r = reports[row.report];
+        const fulcrum::Shape& sa = world.shape(r.bodyA);
+        const fulcrum::Shape& sb = world.shape(r.bodyB);
+        const fulcrum::Transform xa = world.transform(r.bodyA), xb = world.transform(r.bodyB);
+        const fulcrum::detail::ConvexShape ca = fulcrum::detail::makeConvex(sa, xa);
+        const fulcrum::detail::ConvexShape cb = fulcrum::detail::makeConvex(sb, xb);
+        const fulcrum::Vec3 n = row.normal;
+        const double alongFresh = -double(fulcrum::dot(cb.support(-n) - ca.support(n), n));
+        const bench::ExactSeparation e = bench::exactHullSeparation(sa.hull(), xa, sb.hull(), xb);
+        const double exact = -e.separation;
+        worstOver = std::max(worstOver, row.fresh - exact);
+        worstUnder = std::max(worstUnder, exact - row.fresh);
+        std::printf("  %s pair %u-%u: reported %.4f  fresh %.4f (%d points, overlap along its normal %.4f)  exact %.4f  "
+                    "speeds %.2f %.2f\n",
+                    i < std::size_t(k) ? "by report" : "by fresh ", r.bodyA.index, r.bodyB.index, double(r.depth), row.fresh,
+                    row.points, alongFresh, exact, double(length(world.linearVelocity(r.bodyA))),
+                    double(length(world.linearVelocity(r.bodyB))));
+        if (i == 0 || i == std::size_t(k)) {
+            std::printf("    poses: A p {%a, %a, %a} q {%a, %a, %a, %a}  B p {%a, %a, %a} q {%a, %a, %a, %a}\n", double(xa.p.x),
+                        double(xa.p.y), double(xa.p.z), double(xa.q.w), double(xa.q.x), double(xa.q.y), double(xa.q.z),
+                        double(xb.p.x), double(xb.p.y), double(xb.p.z), double(xb.q.w), double(xb.q.x), double(xb.q.y),
+                        double(xb.q.z));
+        }
+    }
+    std::printf("  fresh manifold vs exact over these: deeper by at most %.4f m, shallower by at most %.4f m\n", worstOver,
+                worstUnder);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     if (argc < 6) {
@@ -38,6 +104,7 @@ int main(int argc, char** argv) {
     const int warm = std::atoi(argv[4]), measured = std::atoi(argv[5]);
     const int threads = argc > 6 ? std::atoi(argv[6]) : 1;
     const int every = argc > 7 ? std::atoi(argv[7]) : 0;
+    const int exactChecks = std::getenv("PROBE_EXACT") != nullptr ? std::atoi(std::getenv("PROBE_EXACT")) : 0;
     if (nx <= 0 || nz <= 0 || layers <= 0 || warm < 0 || measured <= 0 || threads <= 0) {
         std::fprintf(stderr, "convex_pile_probe: sizes, measured steps and threads must be positive\n");
         return 2;
@@ -118,6 +185,7 @@ int main(int argc, char** argv) {
                             double(length(world.angularVelocity(worst->bodyB))));
             }
             std::printf("\n");
+            if (exactChecks > 0) checkExact(world, now, exactChecks);
         }
     }
 
@@ -168,6 +236,7 @@ int main(int argc, char** argv) {
             }
         }
     }
+    if (exactChecks > 0) checkExact(world, reports, exactChecks);
     std::printf("%s: %zu bodies, %d steps, %d threads\n", scene.name.c_str(), ids.size(), warm + measured, threads);
     std::printf("ms/step %.3f  awake %d  checksum %.9g\n", ms / measured, awake, heights);
     std::printf("pairs held after the last collide %u, contact constraints %u\n", world.lastStepProfile().contactPairs,
