@@ -211,3 +211,51 @@ TEST(LeverReaction, OffsetSliderHoldingALoad) {
         }
     }
 }
+
+// A lever spinning about a vertical hinge under its weight (the point and
+// alignment rows carry m g and m g r) with dry friction T: the friction row,
+// coupled to those rows, slows it at the constant rate T / (I_cm + m r^2), so
+// the spin is w(t) = w0 - T t / I_joint until it stops. Bounded at every step
+// of the run, not only at its end (the worst error over the run): the
+// coupled row is kept from the step's start while the lever turns less than
+// the guard (coupled_row.hpp) and coupled again at every position update
+// past it, so each speed exercises another share of kept and fresh rows
+// (0.2 rad/s: 0.0008 rad a sub-step, kept for the step; 2 rad/s: past the
+// guard at the third sub-step; 20 rad/s: 0.08 rad a sub-step). Stopping
+// in 1 s; the rate is checked from 0.1 s (the lever has taken its weight)
+// to 0.75 s. Tolerance 1 % of w0 (measured worst: 0.5 %, at 20 rad/s; see
+// docs/joints.md, "The hinge's coupled row once per step"). The rod only:
+// a 5 cm sphere spinning on its lever is off by 1-80 % with the coupling
+// redone every sub-step too (an open issue of the soft point rows, not of
+// the coupling's reuse).
+TEST(LeverFriction, SpinningHingeUnderLoadSlowsAtTheFrictionRate) {
+    for (const bool direct : {true, false}) {
+        {
+            const Lever lever = rod();
+            for (const double w0 : {0.2, 2.0, 20.0}) {
+                World w(world(direct));
+                const BodyId b = w.createBody(lever.body);
+                JointDef j = jointDef(JointType::Hinge, kWorldBody, b, {0, 0, 0}, {0, 1, 0});
+                const double rate = w0;  // rad/s^2: stops in 1 s
+                j.frictionTorque = Real(rate * lever.inertiaAboutJoint);
+                w.createJoint(j);
+                // Spinning about the joint: v = w x r with r = (r, 0, 0).
+                w.setAngularVelocity(b, {0, Real(w0), 0});
+                w.setLinearVelocity(b, {0, 0, Real(-w0 * kLever)});
+                const std::string what = std::string(direct ? "tree" : "gauss-seidel") + " I_joint " +
+                                         std::to_string(lever.inertiaAboutJoint) + " w0 " + std::to_string(w0);
+                // The first 0.1 s: the lever takes its weight (the soft rows' sag).
+                constexpr int kSettle = 6;
+                for (int i = 0; i < kSettle; ++i) w.step(kDt);
+                const double start = double(w.angularVelocity(b).y);
+                double worst = 0;
+                for (int i = 1; i <= 39; ++i) {
+                    w.step(kDt);
+                    const double expected = start - rate * i * double(kDt);
+                    worst = std::max(worst, std::fabs(double(w.angularVelocity(b).y) - expected) / w0);
+                }
+                EXPECT_LT(worst, 0.01) << what;
+            }
+        }
+    }
+}

@@ -22,6 +22,7 @@
 // included). The held rows' share is applied with the free row (`apply`) but
 // stays out of their accumulated impulses; reaction forces add it back.
 #include <cmath>
+#include <cstdint>
 
 #include "solver/joints/joint_common.hpp"
 
@@ -76,6 +77,54 @@ static inline bool coupledInverseMass(double (&L)[kMaxHeldRows][kMaxHeldRows], c
     schur = kaa;
     for (int i = 0; i < count; ++i) schur -= rhs[i] * c[i];
     return schur > 1e-12 * kaa;
+}
+
+// A hinge's coupled free-axis row (friction, motor, spring, limits) is
+// coupled once per step and kept while neither body has turned more than
+// kCouplingGuardTurn since the step's start; past it, the row is coupled
+// again at every position update.
+// Why: the coupling (a 5x5 solve in double per joint) depends only on the
+// anchors, the axis and the inverse inertias, which turn with the bodies; a
+// joint whose bodies barely turn within a step needn't redo it every
+// sub-step (the hinges' warm start cost twice their passes in Box3D's rain).
+// Why one guard, checked where the positions change: a kept row's error
+// follows the largest turn any pass reuses it across, whatever its age (the
+// lesson of the joint trees' factorization, docs/joints.md, "Factorization
+// once per step"). The positions change only between a sub-step's biased
+// passes and its relax pass; the next warm start and biased passes see the
+// relax pass's positions. So the relax pass checks the guard (from the
+// step's start, the rotations JointContext::rotations hold) and couples
+// again where it trips, and every pass solves with a row coupled either at
+// the step's start within the guard or at its own positions. A row once
+// coupled away from the step's start is coupled at every later relax pass
+// (Moved): measured from the step's start, its own pose is not known
+// without keeping the rotations (32 bytes more per constraint record, the
+// ball grid's memory traffic: +0.9 % instructions).
+// Scalar and wide kernels take the decision with these functions, lane by
+// lane (the same bits on every path).
+enum AxialCoupling : std::uint8_t {
+    kAxialNotCoupled = 0,  // not yet this step
+    kAxialAtStart = 1,     // at the step's first warm start (the step's start pose)
+    kAxialMoved = 2,       // at a relax pass, with that pass's positions
+};
+inline constexpr double kCouplingGuardTurn = 0.005;  // rad, the joint trees' guard (JointTreeSolver::kGuardTurn)
+// Whether a body has turned by more than kCouplingGuardTurn since the step's
+// start (rotA, rotB: JointContext::rotations; |q - 1| is half the angle, to first order).
+inline bool couplingTurned(const Quat& rotA, const Quat& rotB) {
+    constexpr Real kHalfTurn2 = static_cast<Real>(0.25 * kCouplingGuardTurn * kCouplingGuardTurn);
+    const auto moved = [](const Quat& q) {
+        const Real dw = q.w - 1;
+        return ((dw * dw + q.x * q.x) + q.y * q.y) + q.z * q.z > kHalfTurn2;
+    };
+    return moved(rotA) || moved(rotB);
+}
+// Whether a pass (relax: !useBias) must couple the row again before solving:
+// not coupled yet, or (at a relax pass, the positions new) coupled away from
+// the step's start or a body turned past the guard.
+inline bool couplingStale(std::uint8_t state, bool relax, const Quat& rotA, const Quat& rotB) {
+    if (state == kAxialNotCoupled) return true;
+    if (!relax) return false;
+    return state == kAxialMoved || couplingTurned(rotA, rotB);
 }
 
 // The hinge's point rows (anchors rA, rB) and its two alignment rows (perpendicular to axisA).

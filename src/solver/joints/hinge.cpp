@@ -79,9 +79,14 @@ void HingeJoint::warmStart(JointConstraint& j, SolverBody& a, SolverBody& b, con
     a.w -= a.invI * j.impulse.angular;
     b.w += b.invI * j.impulse.angular;
     // The axial rows turn B about the axis with the point and alignment rows'
-    // share (coupled_row.hpp), computed once per sub-step.
+    // share (coupled_row.hpp): coupled at the step's first warm start, then
+    // kept or coupled again by the relax passes (couplingStale), whose
+    // positions this warm start shares.
     if (j.spring || j.motor || j.limit) {
-        coupleHingeRow(a, b, f.rA, f.rB, axis, j.axial);
+        if (couplingStale(j.axialCoupled, false, ctx.rotations[j.bodyA], ctx.rotations[j.bodyB])) {
+            coupleHingeRow(a, b, f.rA, f.rB, axis, j.axial);
+            j.axialCoupled = kAxialAtStart;
+        }
         applyRow(j.axial.apply, a, b, axialImpulse(j.impulse));
     }
 }
@@ -92,6 +97,11 @@ void HingeJoint::solve(JointConstraint& j, SolverBody& a, SolverBody& b, const J
     const Vec3 axisB = rotate(f.qB, j.localAxisB);
     JointImpulses& i = j.impulse;
     if (j.spring || j.motor || j.limit) {
+        // A relax pass has new positions: the guard (coupled_row.hpp).
+        if (couplingStale(j.axialCoupled, !ctx.useBias, ctx.rotations[j.bodyA], ctx.rotations[j.bodyB])) {
+            coupleHingeRow(a, b, f.rA, f.rB, axisA, j.axial);
+            j.axialCoupled = kAxialMoved;
+        }
         CoupledRow row = j.axial;
         row.measure = angularRow(axisA);
         const Real angle = j.spring || j.limit ? twistAngle(j.relative0, f.qA, f.qB, j.localAxisA) : Real(0);

@@ -48,6 +48,7 @@ struct HingeBlock : FramedLanes {
     FloatW pointMassValid;
     RowW apply;             // CoupledRow::apply
     FloatW axialInvMass;    // CoupledRow::invMass
+    std::uint8_t axialCoupled[kLanes] = {};  // JointConstraint::axialCoupled (AxialCoupling: the coupling's guard)
     // Accumulated impulses (linear: the lanes not in a tree).
     Vec3W linear, angular;
     FloatW springImpulse, motorImpulse, lowerImpulse, upperImpulse;
@@ -147,7 +148,8 @@ FULCRUM_JOINT_WIDE_INLINE Vec3W hingePointImpulse(const HingeBlock& k, const Joi
 // once per row) in lanes; the 5x5 solve in double per lane with the scalar
 // code itself (coupledInverseMass); `apply` = measure + sum held_i c_i in
 // lanes. Lanes whose solve fails get the plain row, as coupleRow returns it.
-FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, const MaskW& axial) {
+// Only the lanes in `redo` are coupled; the others keep theirs.
+FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, const MaskW& redo) {
     const FloatW zero = 0.0f, one = 1.0f;
     const Vec3W units[3] = {{one, zero, zero}, {zero, one, zero}, {zero, zero, one}};
     constexpr int kRows = 6;  // 5 held, then the measured row
@@ -177,8 +179,11 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
     alignas(32) Real c[5][kLanes] = {}, invMass[kLanes], coupled[kLanes] = {};
     for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
         const int l = static_cast<int>(lane);
+        if (!redo.lane(l)) {
+            invMass[lane] = getLane(k.axialInvMass, l);
+            continue;
+        }
         invMass[lane] = rowMass[lane];
-        if (!axial.lane(l)) continue;
         double L[kMaxHeldRows][kMaxHeldRows] = {};
         double rhs[kMaxHeldRows] = {};
         for (int i = 0; i < 5; ++i) {
@@ -201,9 +206,29 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
         apply.angularB = apply.angularB + rows[i].angularB * ci;
     }
     const MaskW ok = FloatW::load(coupled) > zero;
-    k.apply = {select(ok, apply.linear, rows[5].linear), select(ok, apply.angularA, rows[5].angularA),
-               select(ok, apply.angularB, rows[5].angularB)};
+    const RowW fresh = {select(ok, apply.linear, rows[5].linear), select(ok, apply.angularA, rows[5].angularA),
+                        select(ok, apply.angularB, rows[5].angularB)};
+    k.apply = {select(redo, fresh.linear, k.apply.linear), select(redo, fresh.angularA, k.apply.angularA),
+               select(redo, fresh.angularB, k.apply.angularB)};
     k.axialInvMass = FloatW::load(invMass);
+}
+
+// HingeJoint's guard (couplingStale, coupled_row.hpp), lane by lane: the
+// lanes of `axial` whose row is stale for this pass (`relax`: a relax pass,
+// new positions) are coupled again, the others keep theirs.
+FULCRUM_JOINT_WIDE_INLINE void recoupleHingeLanes(HingeBlock& k, const Ends& e, const MaskW& axial,
+                                                  const JointContext& ctx, bool relax) {
+    alignas(32) Real redo[kLanes] = {};
+    bool anyRedo = false;
+    for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+        if (!axial.lane(static_cast<int>(lane))) continue;
+        const std::uint8_t state = k.axialCoupled[lane];
+        if (!couplingStale(state, relax, ctx.rotations[k.bodyA[lane]], ctx.rotations[k.bodyB[lane]])) continue;
+        k.axialCoupled[lane] = relax || state != kAxialNotCoupled ? kAxialMoved : kAxialAtStart;
+        redo[lane] = 1.0f;
+        anyRedo = true;
+    }
+    if (anyRedo) coupleHingeRow(k, e, FloatW::load(redo) > FloatW(0.0f));
 }
 
 // HingeJoint::warmStart: cachePointMass (the lanes not in a tree), the alignment
@@ -228,7 +253,8 @@ void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bod
         e.wB = e.wB + e.invIB * k.angular;
         if (k.anySpring || k.anyMotor || k.anyLimit) {
             const MaskW axial = (k.spring > zero) | (k.motor > zero) | (k.limit > zero);
-            coupleHingeRow(k, e, axial);
+            // HingeJoint::warmStart: couple the lanes not yet coupled this step.
+            recoupleHingeLanes(k, e, axial, ctx, false);
             // axialImpulse: spring + motor + lower - upper.
             const FloatW impulse = k.springImpulse + k.motorImpulse + k.lowerImpulse - k.upperImpulse;
             applyRow(k.apply, e, impulse, axial);
@@ -248,6 +274,11 @@ void solveHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies,
         const bool stale = k.frameAt != ctx.generation;
         Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
         if (stale) updateHingeFrame(k, e, constraints, ctx.rotations, ctx.generation);
+        if (!pass.useBias && (k.anySpring || k.anyMotor || k.anyLimit)) {
+            // A relax pass has new positions: HingeJoint::solve's guard.
+            const MaskW axial = (k.spring > zero) | (k.motor > zero) | (k.limit > zero);
+            recoupleHingeLanes(k, e, axial, ctx, true);
+        }
         const RowW measure = angularRow(k.axisA);
         const FloatW kAxial = k.axialInvMass;
         if (k.anySpring) {

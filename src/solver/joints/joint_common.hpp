@@ -91,6 +91,7 @@ struct JointConstraint {
     bool direct = false;              // point rows solved by the tree solver (tree_solver.hpp), not here
     bool warmStartInTree = false;     // its tree may fold the warm start into its solve (JointTreeSolver::markWarmStartFree)
     bool pointMassValid = false;      // pointMass holds the inverse of the 3x3 point block's K
+    std::uint8_t axialCoupled = 0;    // hinge: where `axial` was coupled this step (AxialCoupling, coupled_row.hpp)
     Mat3 pointMass = Mat3::zero();    // K^-1 at the sub-step's start (warm start), reused by its passes
     bool frictionValid = false;       // friction (ball, cone-twist): see cacheFriction
     Mat3 frictionMass = Mat3::zero(), frictionCoupling = Mat3::zero();
