@@ -105,10 +105,15 @@ bool BroadPhase::preferDescent() const {
     if (config_.pairSearch != BroadPhaseConfig::PairSearch::Auto) {
         return config_.pairSearch == BroadPhaseConfig::PairSearch::Descents;
     }
+    const std::size_t needed = std::max(kTreePairsMinEntries, (static_cast<std::size_t>(movingTree_.proxyCount()) +
+                                                               kTreePairsShare - 1) / kTreePairsShare);
+    if (moveBuffer_.size() < needed) return false;
     std::size_t moved = 0;
-    for (const MoveEntry& entry : moveBuffer_) moved += entry.proxy != kNullProxy && !entry.fresh ? 1 : 0;
-    return moved >= kTreePairsMinEntries &&
-           moved * kTreePairsShare >= static_cast<std::size_t>(movingTree_.proxyCount());
+    for (const MoveEntry& entry : moveBuffer_) {
+        moved += entry.proxy != kNullProxy && !entry.fresh ? 1 : 0;
+        if (moved == needed) return true;
+    }
+    return false;
 }
 
 void BroadPhase::splitDescents(std::size_t target) {
