@@ -98,6 +98,54 @@ void BroadPhase::prepareQueries(std::uint32_t workers) {
     if (entryCut_.size() < moveBuffer_.size()) entryCut_.resize(moveBuffer_.capacity(), 0);
 }
 
+bool BroadPhase::preferDescent() const {
+    // Only the moved entries count: the descent of the moving tree costs
+    // about what its proxies' queries would, so it pays once enough of them
+    // would query anyway (fresh entries still do).
+    if (config_.pairSearch != BroadPhaseConfig::PairSearch::Auto) {
+        return config_.pairSearch == BroadPhaseConfig::PairSearch::Descents;
+    }
+    const std::size_t needed = std::max(kTreePairsMinEntries, (static_cast<std::size_t>(movingTree_.proxyCount()) +
+                                                               kTreePairsShare - 1) / kTreePairsShare);
+    if (moveBuffer_.size() < needed) return false;
+    std::size_t moved = 0;
+    for (const MoveEntry& entry : moveBuffer_) {
+        moved += entry.proxy != kNullProxy && !entry.fresh ? 1 : 0;
+        if (moved == needed) return true;
+    }
+    return false;
+}
+
+void BroadPhase::splitDescents(std::size_t target) {
+    descentParts_.clear();
+    const std::int32_t movingRoot = movingTree_.root();
+    const std::int32_t staticRoot = staticTree_.root();
+    if (movingRoot == kNullNode) return;
+    descentParts_.push_back({movingRoot, movingRoot, false});
+    if (staticRoot != kNullNode && overlaps(movingTree_.fatAABB(movingRoot), staticTree_.fatAABB(staticRoot))) {
+        descentParts_.push_back({movingRoot, staticRoot, true});
+    }
+    // Breadth first, a level at a time, until there are enough parts for the
+    // workers or none splits further (the parts depend on the trees only).
+    while (descentParts_.size() < target) {
+        descentSplit_.clear();
+        bool split = false;
+        for (const DescentPart& part : descentParts_) {
+            const DynamicTree& other = part.withStatic ? staticTree_ : movingTree_;
+            const bool did = movingTree_.splitPairs(part.moving, other, part.other, [&](std::int32_t a, std::int32_t b) {
+                descentSplit_.push_back({a, b, part.withStatic});
+            });
+            if (did) {
+                split = true;
+            } else {
+                descentSplit_.push_back(part);
+            }
+        }
+        descentParts_.swap(descentSplit_);
+        if (!split) break;
+    }
+}
+
 void BroadPhase::finishUpdate(std::size_t queried, std::uint32_t maxNewPairs, bool cutsRecorded) {
     std::sort(pairs_.begin(), pairs_.end(),
               [](const ProxyPair& l, const ProxyPair& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });

@@ -86,6 +86,19 @@
 // updates) stay serial: they are cheap because most moves stay inside their
 // fat box.
 //
+// ---- Many moved proxies: one descent instead of a query each -----------------
+// When at least a kTreePairsShare-th of the moving proxies moved (HighSpeed:
+// nearly all of them), the pairs come from one descent of the moving tree
+// against itself and one of the moving tree against the static tree
+// (DynamicTree::overlapPairs), each overlapping pair seen once, keeping those
+// with a moved proxy and the same rules; fresh entries still query on their
+// own (their pairs may be in S already, which the `partners` check needs per
+// proxy) and the descent leaves their pairs to them. The pairs found are the
+// same set as the queries' and sorted the same way, so the choice changes no
+// result, only the work (tests/broadphase/pair_descent_test.cpp compares both
+// with brute force). With few moved proxies the queries stay: a descent
+// would visit every resting overlap too.
+//
 // No heap allocation in steady state: the move buffer, the pair buffer, the
 // proxy records and the trees' node arrays are reused and grow by doubling.
 #include <algorithm>
@@ -147,6 +160,11 @@ struct BroadPhaseConfig {
     // kinematic-static pairs produce no response). Set false to report them too,
     // e.g. for kinematic sensors.
     bool requireDynamic = true;
+    // How updatePairs finds the new pairs (see "Many moved proxies"): Auto
+    // picks by the share of moved proxies; the others force one way (tests
+    // compare them; every way gives the same pairs).
+    enum class PairSearch : std::uint8_t { Auto, Queries, Descents };
+    PairSearch pairSearch = PairSearch::Auto;
 };
 
 class BroadPhase {
@@ -354,15 +372,42 @@ private:
     // One query: appends the new pairs of `entry` to `out`, at most entryCap
     // of them and while out holds fewer than outCap. Returns false when it
     // stopped with a pair unreported.
+    // With descended (the descents found the pairs of non-fresh entries),
+    // a fresh entry leaves to a partner only pairs the partner's own query
+    // reports: those with a fresh partner of a smaller id.
     template <typename Predicate, typename Partners>
     bool findNewPairs(const MoveEntry& entry, const Predicate& canPair, const Partners& partners, std::uint32_t entryCap,
-                      std::size_t outCap, QueryScratch& scratch, std::vector<ProxyPair>& out) const;
+                      std::size_t outCap, QueryScratch& scratch, std::vector<ProxyPair>& out,
+                      bool descended = false) const;
     // The queries of the first `count` entries into pairs_, on `tasks` (or this
     // thread); with recordCuts, entryCut_[i] says whether entry i stopped early.
     template <typename Predicate, typename Partners>
     void runQueries(std::size_t count, std::uint32_t entryCap, std::size_t outCap, bool recordCuts,
                     const Predicate& canPair, const Partners& partners, TaskSystem* tasks);
     void prepareQueries(std::uint32_t workers);  // sizes the per-worker scratch and the cut flags
+    // Whether every new pair is better found by the descents (see "Many moved
+    // proxies" above): the non-fresh entries are at least a
+    // kTreePairsShare-th of the moving proxies, and there are enough of them.
+    static constexpr std::size_t kTreePairsShare = 4;
+    static constexpr std::size_t kTreePairsMinEntries = 64;
+    bool preferDescent() const;
+    // All the new pairs (up to outCap per buffer, as runQueries) by the
+    // descents plus the fresh entries' queries, into pairs_.
+    template <typename Predicate, typename Partners>
+    void runDescents(std::size_t outCap, const Predicate& canPair, const Partners& partners, TaskSystem* tasks);
+    // The descents' callback for one overlapping pair of proxies: appends it
+    // to `out` when it is new, allowed and neither proxy is fresh. Returns
+    // false when out was full.
+    template <typename Predicate>
+    bool considerPair(ProxyId x, ProxyId y, const Predicate& canPair, std::size_t outCap,
+                      std::vector<ProxyPair>& out) const;
+    // Parts of the descents for the workers (splitDescents fills it).
+    struct DescentPart {
+        std::int32_t moving = kNullNode;  // a node of the moving tree
+        std::int32_t other = kNullNode;   // a node of the moving tree, or with withStatic of the static tree
+        bool withStatic = false;
+    };
+    void splitDescents(std::size_t target);
     // Sorts pairs_, cuts it to maxNewPairs, and rebuilds the move buffer from
     // the entries that must wait: those past `queried`, and with cutsRecorded
     // those whose entryCut_ is set or whose pair was cut.
@@ -395,6 +440,7 @@ private:
     std::vector<std::uint8_t> entryCut_;     // per move entry: 1 its query stopped at its share, 2 a pair of it was cut
     std::vector<ProxyPair> pairs_;
     std::vector<QueryScratch> workerPairs_;  // [0] also serves the queries on one thread
+    std::vector<DescentPart> descentParts_, descentSplit_;  // splitDescents' scratch
     PairUpdateStats lastUpdate_;
 };
 
@@ -412,7 +458,7 @@ void BroadPhase::QueryScratch::stampPartners(ProxyId self, const Partners& partn
 template <typename Predicate, typename Partners>
 bool BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, const Partners& partners,
                               std::uint32_t entryCap, std::size_t outCap, QueryScratch& scratch,
-                              std::vector<ProxyPair>& out) const {
+                              std::vector<ProxyPair>& out, bool descended) const {
     const ProxyId self = entry.proxy;
     const ProxyRecord& me = record(self);
     const AABB& box = fatAABB(self);
@@ -427,10 +473,11 @@ bool BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, 
         // the larger one too, since overlap is symmetric and the type rule
         // sends each proxy's query to every tree holding allowed partners).
         const bool themMoved = them.moveIndex >= 0;
-        if (themMoved && other < self) return true;
+        const MoveEntry* theirs = themMoved ? &moveBuffer_[static_cast<std::size_t>(them.moveIndex)] : nullptr;
+        const bool theyReport = themMoved && (!descended || theirs->fresh);
+        if (theyReport && other < self) return true;
         if (!typesPair(me.type, them.type)) return true;
         // New only if the boxes as of the last update did not overlap.
-        const MoveEntry* theirs = themMoved ? &moveBuffer_[static_cast<std::size_t>(them.moveIndex)] : nullptr;
         const bool eitherFresh = entry.fresh || (theirs != nullptr && theirs->fresh);
         if (!eitherFresh) {
             const AABB& theirOld = theirs != nullptr ? theirs->oldFat : fatAABB(other);
@@ -465,6 +512,78 @@ bool BroadPhase::findNewPairs(const MoveEntry& entry, const Predicate& canPair, 
     }
     movingTree_.query(box, visit);
     return complete;
+}
+
+template <typename Predicate>
+bool BroadPhase::considerPair(ProxyId x, ProxyId y, const Predicate& canPair, std::size_t outCap,
+                              std::vector<ProxyPair>& out) const {
+    const ProxyRecord& rx = record(x);
+    const ProxyRecord& ry = record(y);
+    if (rx.moveIndex < 0 && ry.moveIndex < 0) return true;  // neither moved: an old pair
+    const MoveEntry* ex = rx.moveIndex >= 0 ? &moveBuffer_[static_cast<std::size_t>(rx.moveIndex)] : nullptr;
+    const MoveEntry* ey = ry.moveIndex >= 0 ? &moveBuffer_[static_cast<std::size_t>(ry.moveIndex)] : nullptr;
+    if ((ex != nullptr && ex->fresh) || (ey != nullptr && ey->fresh)) return true;  // the fresh one's query
+    if (!typesPair(rx.type, ry.type)) return true;
+    // New only if the boxes as of the last update did not overlap.
+    if (overlaps(ex != nullptr ? ex->oldFat : fatAABB(x), ey != nullptr ? ey->oldFat : fatAABB(y))) return true;
+    if (!shouldCollide(rx.filter, ry.filter)) return true;
+    const bool xFirst = x < y;
+    const ProxyRecord& first = xFirst ? rx : ry;
+    const ProxyRecord& second = xFirst ? ry : rx;
+    if (!canPair(first.userValue, second.userValue)) return true;
+    if (out.size() >= outCap) return false;
+    out.push_back({xFirst ? x : y, xFirst ? y : x, first.userValue, second.userValue});
+    return true;
+}
+
+template <typename Predicate, typename Partners>
+void BroadPhase::runDescents(std::size_t outCap, const Predicate& canPair, const Partners& partners,
+                             TaskSystem* tasks) {
+    const std::uint32_t workers = tasks != nullptr ? tasks->workerCount() : 1;
+    const std::int32_t movingRoot = movingTree_.root();
+    const std::int32_t staticRoot = staticTree_.root();
+    pairs_.clear();
+    if (workers <= 1) {
+        const auto add = [&](std::uint32_t x, std::uint32_t y) {
+            return considerPair(static_cast<ProxyId>(x), static_cast<ProxyId>(y), canPair, outCap, pairs_);
+        };
+        if (!movingTree_.overlapPairs(movingRoot, movingTree_, movingRoot, add)) return;
+        if (!movingTree_.overlapPairs(movingRoot, staticTree_, staticRoot, add)) return;
+        for (const MoveEntry& entry : moveBuffer_) {
+            if (entry.proxy == kNullProxy || !entry.fresh) continue;
+            if (pairs_.size() >= outCap) return;
+            findNewPairs(entry, canPair, partners, kNoEntryCap, outCap, workerPairs_[0], pairs_, true);
+        }
+        return;
+    }
+    for (QueryScratch& wp : workerPairs_) wp.pairs.clear();
+    splitDescents(std::size_t{8} * workers);
+    const std::vector<DescentPart>& parts = descentParts_;
+    tasks->parallelFor(static_cast<std::uint32_t>(parts.size()), 1,
+                       [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+                           std::vector<ProxyPair>& out = workerPairs_[worker].pairs;
+                           const auto add = [&](std::uint32_t x, std::uint32_t y) {
+                               return considerPair(static_cast<ProxyId>(x), static_cast<ProxyId>(y), canPair, outCap,
+                                                   out);
+                           };
+                           for (std::uint32_t i = begin; i < end; ++i) {
+                               const DescentPart& part = parts[i];
+                               const DynamicTree& other = part.withStatic ? staticTree_ : movingTree_;
+                               if (!movingTree_.overlapPairs(part.moving, other, part.other, add)) return;
+                           }
+                       });
+    tasks->parallelFor(static_cast<std::uint32_t>(moveBuffer_.size()), 32,
+                       [&](std::uint32_t begin, std::uint32_t end, std::uint32_t worker) {
+                           QueryScratch& scratch = workerPairs_[worker];
+                           for (std::uint32_t i = begin; i < end && scratch.pairs.size() < outCap; ++i) {
+                               const MoveEntry& entry = moveBuffer_[i];
+                               if (entry.proxy == kNullProxy || !entry.fresh) continue;
+                               findNewPairs(entry, canPair, partners, kNoEntryCap, outCap, scratch, scratch.pairs,
+                                            true);
+                           }
+                       });
+    // Concatenated in worker order; finishUpdate() sorts them.
+    for (const QueryScratch& wp : workerPairs_) pairs_.insert(pairs_.end(), wp.pairs.begin(), wp.pairs.end());
 }
 
 template <typename Predicate, typename Partners>
@@ -505,8 +624,13 @@ std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, con
     settleStaticTree();
     prepareQueries(tasks != nullptr ? tasks->workerCount() : 1);
     const std::size_t entries = moveBuffer_.size();
+    const bool descend = preferDescent();
     if (maxNewPairs == kNoPairLimit) {
-        runQueries(entries, kNoEntryCap, SIZE_MAX, false, canPair, partners, tasks);
+        if (descend) {
+            runDescents(SIZE_MAX, canPair, partners, tasks);
+        } else {
+            runQueries(entries, kNoEntryCap, SIZE_MAX, false, canPair, partners, tasks);
+        }
         finishUpdate(entries, maxNewPairs, false);
         return pairs_;
     }
@@ -514,7 +638,11 @@ std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, con
     // room: if they all fit, that is the answer (as without a limit). A worker
     // stops only past maxNewPairs, so "they fit" does not depend on how the
     // entries were spread over the workers.
-    runQueries(entries, kNoEntryCap, std::size_t{maxNewPairs} + 1, false, canPair, partners, tasks);
+    if (descend) {
+        runDescents(std::size_t{maxNewPairs} + 1, canPair, partners, tasks);
+    } else {
+        runQueries(entries, kNoEntryCap, std::size_t{maxNewPairs} + 1, false, canPair, partners, tasks);
+    }
     if (pairs_.size() <= maxNewPairs) {
         finishUpdate(entries, maxNewPairs, false);
         return pairs_;

@@ -34,6 +34,7 @@
 // Threads. Queries and ray casts are const and allocate nothing (a stack on
 // the call frame), so any number of threads may query one tree at once as long
 // as nobody modifies it.
+#include <array>
 #include <cassert>
 #include <cstdint>
 #include <string>
@@ -196,6 +197,25 @@ public:
     template <typename Callback>
     Real rayCast(const RayCastInput& input, Callback&& callback) const;
 
+    // Calls callback(userValueA, userValueB) for every pair of leaves whose
+    // fat boxes overlap, one in the subtree at `a` of this tree and one in
+    // the subtree at `b` of `other`; with other == *this and a == b, every
+    // unordered pair of distinct leaves of that subtree once (a self-test:
+    // each internal node's two children are tested against each other).
+    // One simultaneous descent of both subtrees tests far fewer node boxes
+    // than a query per leaf, which walks down from the root each time and
+    // finds every pair twice. The callback returns false to stop; returns
+    // false when it stopped. Order: tree order (callers sort).
+    template <typename Callback>
+    bool overlapPairs(std::int32_t a, const DynamicTree& other, std::int32_t b, Callback&& callback) const;
+    // One level of that descent, for splitting it into independent parts
+    // (parallel work): calls part(a', b') for the sub-pairs whose
+    // overlapPairs together equal overlapPairs(a, other, b) and returns
+    // true, or returns false when (a, b) does not split (a leaf pair).
+    // Pairs of disjoint boxes are dropped (they have no overlap pairs).
+    template <typename Part>
+    bool splitPairs(std::int32_t a, const DynamicTree& other, std::int32_t b, Part&& part) const;
+
     // Replaces the internal nodes by a top-down binned-SAH build over the
     // current leaves (for trees built once, like the static tree). Proxy ids
     // stay valid. Reuses scratch buffers; allocates only if they must grow.
@@ -316,6 +336,40 @@ private:
     std::size_t size_ = 0;
     std::vector<std::int32_t> spill_;
 };
+
+// The same for pairs of nodes (the descent of two subtrees). It holds at
+// most about 2 x (the two subtrees' heights) pairs, far below kInline for
+// any tree a step meets, so steady-state steps allocate nothing.
+class NodePairStack {
+public:
+    void push(std::int32_t a, std::int32_t b) {
+        if (size_ < kInline) {
+            inline_[size_][0] = a;
+            inline_[size_][1] = b;
+        } else {
+            spill_.push_back({a, b});
+        }
+        ++size_;
+    }
+    void pop(std::int32_t& a, std::int32_t& b) {
+        --size_;
+        if (size_ < kInline) {
+            a = inline_[size_][0];
+            b = inline_[size_][1];
+            return;
+        }
+        a = spill_.back()[0];
+        b = spill_.back()[1];
+        spill_.pop_back();
+    }
+    bool empty() const { return size_ == 0; }
+
+private:
+    static constexpr std::size_t kInline = 512;
+    std::int32_t inline_[kInline][2];
+    std::size_t size_ = 0;
+    std::vector<std::array<std::int32_t, 2>> spill_;
+};
 }  // namespace detail
 
 template <typename Callback>
@@ -358,6 +412,49 @@ Real DynamicTree::rayCast(const RayCastInput& input, Callback&& callback) const 
         }
     }
     return current.maxFraction;
+}
+
+template <typename Part>
+bool DynamicTree::splitPairs(std::int32_t a, const DynamicTree& other, std::int32_t b, Part&& part) const {
+    const TreeNode& na = node(a);
+    const TreeNode& nb = other.node(b);
+    if (&other == this && a == b) {
+        if (na.isLeaf()) return true;  // no pair within one leaf
+        part(na.child1, na.child1);
+        part(na.child2, na.child2);
+        if (overlaps(node(na.child1).box, node(na.child2).box)) part(na.child1, na.child2);
+        return true;
+    }
+    if (na.isLeaf() && nb.isLeaf()) return false;
+    // Descend the larger box (or the one that is not a leaf): the smaller
+    // box then prunes more of the other's subtree.
+    if (nb.isLeaf() || (!na.isLeaf() && na.box.surfaceArea() >= nb.box.surfaceArea())) {
+        if (overlaps(node(na.child1).box, nb.box)) part(na.child1, b);
+        if (overlaps(node(na.child2).box, nb.box)) part(na.child2, b);
+    } else {
+        if (overlaps(na.box, other.node(nb.child1).box)) part(a, nb.child1);
+        if (overlaps(na.box, other.node(nb.child2).box)) part(a, nb.child2);
+    }
+    return true;
+}
+
+template <typename Callback>
+bool DynamicTree::overlapPairs(std::int32_t a, const DynamicTree& other, std::int32_t b, Callback&& callback) const {
+    if (a == kNullNode || b == kNullNode) return true;
+    if (!(&other == this && a == b) && !overlaps(node(a).box, other.node(b).box)) return true;
+    // Pairs of nodes on the stack, each already known to overlap (or a
+    // subtree against itself).
+    detail::NodePairStack stack;
+    stack.push(a, b);
+    const auto push = [&](std::int32_t x, std::int32_t y) { stack.push(x, y); };
+    while (!stack.empty()) {
+        std::int32_t x, y;
+        stack.pop(x, y);
+        if (!splitPairs(x, other, y, push)) {
+            if (!callback(node(x).userValue, other.node(y).userValue)) return false;
+        }
+    }
+    return true;
 }
 
 }  // namespace fulcrum
