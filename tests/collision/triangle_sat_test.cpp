@@ -5,6 +5,7 @@
 // internal-edge rules on top.
 #include <gtest/gtest.h>
 
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -76,6 +77,13 @@ Shape rock(std::mt19937& rng) {
     std::vector<Vec3> p;
     for (int i = 0; i < 10; ++i) p.push_back({u(rng), u(rng) * Real(0.7), u(rng)});
     return Shape::convexHull(p);
+}
+
+// A random triangle of size r, flattened towards y = 0 (|y| <= 0.3 r), in
+// the order its vertices are drawn (a random winding).
+void randomTriangle(std::mt19937& rng, Real r, Vec3 w[3]) {
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    for (int i = 0; i < 3; ++i) w[i] = {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r};
 }
 
 // A large counter-clockwise triangle in y = 0 around the origin.
@@ -195,9 +203,8 @@ TEST(TriangleSat, AgreesWithTheGeneralPathOnRandomPoses) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
         // A random triangle, counter-clockwise about its normal.
         const Real r = size(rng);
-        const Vec3 w[3] = {{unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r},
-                           {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r},
-                           {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r}};
+        Vec3 w[3];
+        randomTriangle(rng, r, w);
         const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
         if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
         const Vec3 faceN = normalize(nRaw);
@@ -406,9 +413,8 @@ TEST(TriangleSat, SeparatingAxisHintsGiveTheFullTestsAnswer) {
     for (int trial = 0; trial < 400; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
         const Real r = size(rng);
-        const Vec3 w[3] = {{unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r},
-                           {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r},
-                           {unit(rng) * r, unit(rng) * Real(0.3) * r, unit(rng) * r}};
+        Vec3 w[3];
+        randomTriangle(rng, r, w);
         const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
         if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
         const Vec3 faceN = normalize(nRaw);

@@ -22,6 +22,15 @@
 namespace fulcrum::test {
 namespace {
 
+// A unit vector uniform over directions (rejection from the unit ball).
+Vec3 randomDirection(std::mt19937& rnd) {
+    std::uniform_real_distribution<float> unit(-1, 1);
+    Vec3 v;
+    do v = {unit(rnd), unit(rnd), unit(rnd)};
+    while (lengthSquared(v) > 1 || lengthSquared(v) < Real(0.01));
+    return normalize(v);
+}
+
 // Jolt's HighSpeed compound: a capsule (radius 0.125, half height 0.5) at
 // (0, 0.5, 0) and a bar (half extents 0.5 x 0.125 x 0.125) at (0.5, 0, 0).
 Shape capsuleAndBar() {
@@ -114,12 +123,7 @@ TEST(Continuous, SpinningBarStopsWhereItsEndReachesTheWall) {
 TEST(Continuous, SpinningCompoundThrownAtAThinWallStaysOnItsSide) {
     std::mt19937 rnd(21);
     std::uniform_real_distribution<float> unit(-1, 1);
-    const auto direction = [&] {
-        Vec3 v;
-        do v = {unit(rnd), unit(rnd), unit(rnd)};
-        while (lengthSquared(v) > 1 || lengthSquared(v) < Real(0.01));
-        return normalize(v);
-    };
+    const auto direction = [&] { return randomDirection(rnd); };
     const Shape shape = capsuleAndBar();
     const Real face = 5, half = Real(0.2);
     int beyond = 0;
@@ -204,12 +208,7 @@ Real overlapDepth(const World& world, BodyId a, BodyId b) {
 TEST(Continuous, TwoSpinningBulletsCrossingWithinAStepStopShortOfEachOther) {
     std::mt19937 rnd(5);
     std::uniform_real_distribution<float> unit(-1, 1);
-    const auto direction = [&] {
-        Vec3 v;
-        do v = {unit(rnd), unit(rnd), unit(rnd)};
-        while (lengthSquared(v) > 1 || lengthSquared(v) < Real(0.01));
-        return normalize(v);
-    };
+    const auto direction = [&] { return randomDirection(rnd); };
     const Shape shape = capsuleAndBar();
     int overlapping = 0;
     Real deepest = 0;
