@@ -179,32 +179,16 @@ bool advance(Piece& a, Piece& b, Real target, Real limit, Real& t, Real& distanc
 // than they started.
 void advancePair(Piece& a, Piece& b, const ImpactRules& rules, Real limit, SweptImpact& out) {
     limit = std::min(limit, out.time);
-    if (rules.endOverlapOnly) {
-        // First, as most pairs of moving bodies end the sweeps apart.
-        const Transform startA = a.shape.xf, startB = b.shape.xf;
-        a.place(1);
-        b.place(1);
-        ++out.advances;
-        Real endDistance = 0;
-        Vec3 endNormal;
-        const bool endsShallow = gapOf(a, b, endDistance, endNormal) && endDistance > -rules.passDepth;
-        a.shape.xf = startA;
-        b.shape.xf = startB;
-        if (endsShallow) return;
-    }
-    // (With endOverlapOnly the sweeps end the pair deeper than passDepth: a
-    // stop at stopGap needs no look at the rest of the path.)
     Real distance = 0;
     Vec3 normal;
     Real t = 0;
     ++out.advances;
     bool stops = !gapOf(a, b, distance, normal);
-    if (rules.endOverlapOnly && (stops || distance <= rules.touchBand)) return;
     Real stopTime = 0;
     if (!stops && distance > rules.touchBand) {
         if (!advance(a, b, rules.stopGap, limit, t, distance, normal, rules, out.advances)) return;
         stopTime = t;
-        stops = rules.endOverlapOnly || advance(a, b, -rules.passDepth, 1, t, distance, normal, rules, out.advances);
+        stops = advance(a, b, -rules.passDepth, 1, t, distance, normal, rules, out.advances);
     } else if (!stops) {
         stops = advance(a, b, std::min(distance, Real(0)) - rules.sinkAllowance, limit, t, distance, normal, rules, out.advances);
         stopTime = t;

@@ -37,14 +37,6 @@ struct ImpactRules {
     Real passDepth = Real(0.01);       // ...if the sweeps take the pair this deep into each other
     Real sinkAllowance = Real(0.01);   // touching at the start: stop this much deeper than at the start
     Real tolerance = Real(0.001);      // the stop is within this of its target (never past it)
-    // For two moving bodies whose contact handles what their sweeps do not:
-    // a pair of pieces stops only if the sweeps end it more than passDepth
-    // into each other (most pairs of moving bodies end apart: one distance
-    // each) and it was apart at the start. One touching or overlapping at
-    // the start is left to its contact, which pushes it apart: held a
-    // quarter core deeper than they started, both bodies would stay stuck
-    // in each other, step after step.
-    bool endOverlapOnly = false;
     // When set, a compound child of the moving shape none of whose points
     // moves farther than slowPieceFraction times pieceThickness(child) over
     // the sweep is not swept: it cannot pass through anything (its

@@ -12,12 +12,8 @@
 // centre on the line between them, the orientation turning at a constant
 // rate: collision/swept_impact.hpp):
 //   - against static bodies (any static shape);
-//   - if it is a bullet, against dynamic bodies too (both sweeps; convex
-//     shapes and compounds of them): the non-bullets along their final
-//     paths, the other bullets along the paths the sub-steps gave them; a
-//     pair of bullets stops only where the sweeps would end it overlapping
-//     (what two bullets meet within the step, their speculative contact
-//     meets; ImpactRules::endOverlapOnly).
+//   - if it is a bullet, against dynamic non-bullet bodies too (both sweeps;
+//     convex shapes and compounds of them).
 // A pair apart at the start stops kToiSlop short of touching, if the path goes
 // on more than 2 kToiSlop into it (a body its speculative contact held at the
 // surface is left alone); a pair touching or overlapping at the start (a

@@ -68,7 +68,6 @@ void BodyStore::reserveAwakeList(std::size_t bodyCount) {
     grow(startCom, bodyCount + 1);
     grow(startQ, bodyCount + 1);
     grow(denseOfSolver, bodyCount + 1);
-    grow(impactTime, bodyCount + 1);
 }
 
 void BodyStore::refreshAwakeList() {

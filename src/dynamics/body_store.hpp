@@ -317,10 +317,6 @@ struct BodyStore {
     // solver's rows read them too).
     std::vector<std::uint8_t> contactDeltas;
     void updateContactDeltas(std::size_t begin, std::size_t end);
-    // Per solver index: the bullets' stops found by the time of impact
-    // (contacts/continuous.cpp), all found before any bullet is moved back,
-    // since a bullet is swept against the other bullets' whole paths.
-    std::vector<Real> impactTime;
     // The awake set back into the records of awake-list entries [begin, end)
     // (solver bodies begin + 1 .. end): once, after the sub-steps.
     void writeRecords(std::size_t begin, std::size_t end);

@@ -16,7 +16,6 @@
 
 #include "../../bench/churn_scenes.hpp"
 #include "../../bench/fulcrum_world.hpp"
-#include "collision/narrow_phase.hpp"
 #include "helpers.hpp"
 
 namespace fulcrum::test {
@@ -182,67 +181,6 @@ TEST(Continuous, CompoundStartingInAWallIsStillSweptAgainstIt) {
         if (shape.bounds(world.transform(body)).min.x > face) ++through;
     }
     EXPECT_EQ(through, 0);
-}
-
-// How deep two bodies overlap at their poses now: a fresh narrow phase (no
-// margin), not the contact's end-of-step estimate, which linearises a turn of
-// radians and reads metres at HighSpeed's spins.
-Real overlapDepth(const World& world, BodyId a, BodyId b) {
-    ManifoldBuffer buffer;
-    collide(world.shape(a), world.transform(a), world.shape(b), world.transform(b), 0, buffer);
-    Real depth = 0;
-    for (std::size_t m = 0; m < buffer.size(); ++m) depth = std::max(depth, buffer[m].maxDepth());
-    return depth;
-}
-
-// Two of HighSpeed's compounds (bullets, 250 m/s, spinning at 200 rad/s),
-// thrown so that their centres would meet in the middle of a step, from 256
-// seeded headings (apart at the start), orientations and spin axes. Bullets
-// were swept against static bodies and non-bullets only, so two bullets met
-// through the speculative contact made at the step's start, whose points a
-// bar turning 3 rad a step outruns (Jolt's HighSpeed: about six pairs of
-// bullets more than 5 cm into each other at the end of a step). Before, one
-// of these throws ended its first step 1.9 cm deep; now a pair the sweeps
-// end overlapping stops short of it: at the end of every step no pair
-// overlaps deeper than the time of impact's allowance (1 cm).
-TEST(Continuous, TwoSpinningBulletsCrossingWithinAStepStopShortOfEachOther) {
-    std::mt19937 rnd(5);
-    std::uniform_real_distribution<float> unit(-1, 1);
-    const auto direction = [&] { return randomDirection(rnd); };
-    const Shape shape = capsuleAndBar();
-    int overlapping = 0;
-    Real deepest = 0;
-    for (int k = 0; k < 256; ++k) {
-        WorldDef def;
-        def.gravity = {};
-        World world(def);
-        // Headings at least 60 degrees apart: the bodies start 2 m apart or
-        // more, clear of each other or nearly (a pair touching at the start
-        // is its contact's to separate).
-        const Vec3 first = direction();
-        Vec3 second = direction();
-        while (dot(first, second) > Real(0.5)) second = direction();
-        const Vec3 headings[2] = {first, second};
-        BodyId ids[2];
-        for (int b = 0; b < 2; ++b) {
-            BodyId& id = ids[b];
-            BodyDef d = heavyBullet(shape);
-            d.restitution = 1;
-            d.linearVelocity = headings[b] * Real(250);
-            d.angularVelocity = direction() * Real(200);
-            d.orientation = Quat::fromAxisAngle(direction(), Real(3.14159265) * unit(rnd));
-            d.position = d.linearVelocity * (Real(-0.5) * kDt);
-            id = world.createBody(d);
-        }
-        Real worst = 0;
-        for (int i = 0; i < 4; ++i) {
-            world.step(kDt);
-            worst = std::max(worst, overlapDepth(world, ids[0], ids[1]));
-        }
-        if (worst > Real(0.01)) ++overlapping;
-        deepest = std::max(deepest, worst);
-    }
-    EXPECT_EQ(overlapping, 0) << "deepest " << deepest << " m";
 }
 
 // The scene itself, small (500 bodies, 200 steps: 3 of them escaped before):
