@@ -133,8 +133,6 @@ public:
     // every pass factored) up to 0.005 rad (docs/joints.md, "Factorization
     // once per step").
     static constexpr double kGuardTurn = 0.005;  // rad (relative anchor change)
-    // Another guard angle (tests and experiments that compare angles).
-    void setGuardTurn(double turn) { guardTurn2_ = static_cast<Real>(turn * turn); }
     // Counters (tests, benchmarks): trees factored, and guard trips among them.
     std::uint64_t factorizations() const { return factorizations_ + guardTrips(); }
     std::uint64_t guardTrips() const {
@@ -214,7 +212,7 @@ private:
     std::vector<ChainLink> links_;        // per node of a chain tree
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
-    Real guardTurn2_ = static_cast<Real>(kGuardTurn * kGuardTurn);  // the guard's angle, squared (setGuardTurn)
+    Real guardTurn2_ = static_cast<Real>(kGuardTurn * kGuardTurn);  // the guard's angle, squared
     std::vector<std::uint8_t> direct_;  // per joint of the last build(): its `direct` flag (reuse())
     bool factored_ = false;
     // Position updates since the step's factorization (each relax pass
