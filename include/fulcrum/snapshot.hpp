@@ -47,7 +47,8 @@ namespace fulcrum {
 // 8: rounded shapes' convex radius (Shape::convexRadius).
 // 9: the position drives' force limits (JointSpring::maxForce).
 // 10: how each contact's pair first touched (the solver's push-out sharing).
-inline constexpr std::uint32_t kSnapshotVersion = 10;
+// 11: each contact's triangle axis cache (a box or hull against a mesh).
+inline constexpr std::uint32_t kSnapshotVersion = 11;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -142,14 +142,14 @@ bool overTriangle(const Vec3 w[3], const Vec3& p) {
 
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope,
-                               std::uint32_t* axisHint, const Vec3* bCentre) {
+                               std::uint32_t* axisHint, const Vec3* bCentre, TriangleAxisEntry* cachedAxis) {
     const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
     if (dot(faceN, (bCentre != nullptr ? *bCentre : b.center()) - w[0]) < 0) return false;  // one-sided: behind the triangle
     Manifold tm;
     if (polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
         // A box or hull: the separating-axis test (collide_triangle.cpp),
         // which also tests the triangle's plane.
-        if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm, axisHint)) return false;
+        if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm, axisHint, cachedAxis)) return false;
     } else {
         if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
         const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
@@ -388,6 +388,19 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
     if (sat != nullptr && hints.entries.empty()) hints.entries.resize(std::size_t(1) << SeparatingAxisCache::kLogEntries);
     const std::uint64_t pairKey = sat != nullptr ? polytopeKey(mesh, b) : 0;
     const Vec3 centre = b.center();  // the one-sided test's, once for every triangle
+    // The contact's triangle axis cache (TriangleAxisCache, manifold.hpp):
+    // this piece's entries from the last collide(), and where this one's go.
+    TriangleAxisCache& axes = out.triangleAxes();
+    std::vector<TriangleAxisEntry>* axisOut = sat != nullptr ? axes.out : nullptr;
+    const TriangleAxisEntry* pieceFirst = nullptr;
+    const TriangleAxisEntry* pieceLast = nullptr;
+    std::size_t outFirst = 0;
+    if (axisOut != nullptr) {
+        const TriangleAxisEntry* end = axes.in + axes.inCount;
+        pieceFirst = std::lower_bound(axes.in, end, axes.piece, [](const TriangleAxisEntry& e, std::uint32_t x) { return e.piece < x; });
+        pieceLast = std::upper_bound(pieceFirst, end, axes.piece, [](std::uint32_t x, const TriangleAxisEntry& e) { return x < e.piece; });
+        outFirst = axisOut->size();
+    }
     // The triangle's test with its hint, the hint stored back when it changed.
     const auto collideTriangle = [&](const Vec3 w[3], std::uint8_t mask, std::uint32_t t) {
         if (sat == nullptr) {
@@ -398,7 +411,18 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
         SeparatingAxisCache::Entry& slot = hintSlot(hints, pairKey, t, tag);
         std::uint32_t hint = slot.tag == tag ? slot.axis : 0;
         const std::uint32_t before = hint;
-        collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint, &centre);
+        if (axisOut == nullptr) {
+            collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint, &centre);
+        } else {
+            // The contact's entry for this triangle, if its last collide() kept one.
+            TriangleAxisEntry entry{axes.piece, t, 0, 0};
+            const TriangleAxisEntry* found = std::lower_bound(pieceFirst, pieceLast, t, [](const TriangleAxisEntry& e, std::uint32_t x) {
+                return e.triangle < x;
+            });
+            if (found != pieceLast && found->triangle == t) entry = *found;
+            collideTriangleWithConvex(w, mask, t, b, margin, scratch, sat, &hint, &centre, &entry);
+            if (entry.axis != 0) axisOut->push_back(entry);
+        }
         if (hint != before) slot = {tag, hint};
     };
     const AABB localBox = transformBounds(inverse(meshXf), bBounds.fattened(margin));
@@ -418,6 +442,11 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
                            transformPoint(meshXf, mesh.vertices[idx[2]])};
         collideTriangle(w, mask, t);
     });
+    if (axisOut != nullptr) {
+        // In triangle order, for the next collide()'s search.
+        std::sort(axisOut->begin() + static_cast<std::ptrdiff_t>(outFirst), axisOut->end(),
+                  [](const TriangleAxisEntry& x, const TriangleAxisEntry& y) { return x.triangle < y.triangle; });
+    }
     groupTriangleContacts(scratch, margin, out, sat != nullptr);
 }
 

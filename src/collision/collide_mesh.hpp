@@ -33,10 +33,13 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
 class TrianglePolytope;
 // `axisHint` (with `polytope` only) is the pair's separating-axis hint for
 // collideTrianglePolytope (collide_triangle.hpp); `bCentre`, when given, is
-// b.center(), computed once for all of a shape's triangles.
+// b.center(), computed once for all of a shape's triangles; `cachedAxis`
+// (with `polytope` only) the pair's triangle axis cache entry
+// (collideTrianglePolytope).
 bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::uint32_t t, const ConvexShape& b, Real margin,
                                std::vector<MeshContactCandidate>& scratch, const TrianglePolytope* polytope,
-                               std::uint32_t* axisHint = nullptr, const Vec3* bCentre = nullptr);
+                               std::uint32_t* axisHint = nullptr, const Vec3* bCentre = nullptr,
+                               TriangleAxisEntry* cachedAxis = nullptr);
 void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out, bool flatFaces = false);
 // True when p, projected along the triangle's normal, falls on triangle w
 // (within 1e-3 of its edges, in barycentric terms).

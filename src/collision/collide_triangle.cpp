@@ -94,6 +94,11 @@ constexpr Real kOverTolerance = Real(1e-5);
 // scenes) get their face-edge dots tabled on the stack.
 constexpr std::uint32_t kMaxTabledFaces = 64;
 
+// How far a cached axis's separation may move from the one the full test
+// found before the full test runs again (TriangleAxisCache, manifold.hpp):
+// Box3D's linear slop, as its mesh contacts use it.
+constexpr Real kAxisCacheTolerance = Real(0.005);
+
 }  // namespace
 
 bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
@@ -273,10 +278,169 @@ bool hintSeparates(std::uint32_t hint, const TrianglePolytope& p, const Vec3 v[3
     return dot(axis, p.vertices[edge.from] - v[j]) > margin;
 }
 
+// The axis a triangle test settled on, with what building its contact needs
+// (collideTrianglePolytope: the full search fills every field, the cached
+// axis only its own).
+enum class Axis { TriangleFace, BackFace, PolytopeFace, Edges };
+struct Choice {
+    Axis axis = Axis::TriangleFace;
+    Real separation = 0;  // along `axis` (the cache's)
+    Real faceSeparation = 0;
+    std::uint32_t lowest = 0;  // the polytope's vertex lowest along the triangle's normal
+    std::uint32_t bestFace = 0, bestVertex = 0;
+    Real polytopeSeparation = 0;
+    std::uint32_t bestEdge = 0, bestTriangleEdge = 0;
+    Vec3 bestEdgeAxis;
+    Real edgeSeparation = 0;
+    bool edgeBetter = false;  // a triangle face kept against a better edge pair (within kEdgeBias)
+    bool realized = true;     // apart, the features the axis names meet across it
+};
+
+// Apart, an axis's separation is the distance only when the features it
+// names meet across it: the polytope's nearest vertex over the triangle,
+// the triangle's nearest vertex over the polytope's face, the two edges
+// crossing (collideTrianglePolytope).
+bool axisRealized(const Choice& c, const TrianglePolytope& p, const Vec3 w[3], const Vec3 v[3]) {
+    if (c.axis == Axis::Edges) return edgesCross(w, c.bestTriangleEdge, p, c.bestEdge);
+    if (c.axis == Axis::PolytopeFace) {
+        // The triangle's vertex, moved onto the face's plane, inside every other face.
+        const Vec3 q = v[c.bestVertex] - p.faces[c.bestFace].normal * c.polytopeSeparation;
+        bool realized = true;
+        for (std::uint32_t f = 0; f < p.faceCount && realized; ++f) {
+            realized = f == c.bestFace || dot(p.faces[f].normal, q) <= p.faces[f].offset + kOverTolerance;
+        }
+        return realized;
+    }
+    return overTriangle(w, transformPoint(p.shape->xf, p.vertices[c.lowest]));
+}
+
+// The contact along c's axis (collideTrianglePolytope's second half): false
+// when it gives no point. c.axis ends naming the axis the contact took (a
+// face kept against a better edge pair may fall back to the pair).
+bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m) {
+    const ConvexShape& b = *p.shape;
+    const Transform& xf = b.xf;
+    const bool realized = c.realized;
+    // True when m holds nothing but buildFaceManifold's stand-in (pa, pb).
+    const auto onlyStandIn = [&m](const Vec3& pa, const Vec3& pb) {
+        return m.pointCount == 1 && m.points[0].position == (pa + pb) * Real(0.5);
+    };
+
+    switch (c.axis) {
+        case Axis::TriangleFace:
+        case Axis::BackFace: {
+            // The back face (the shape reaching further below the triangle's
+            // plane than above it, its centre above) is not a contact a
+            // one-sided triangle keeps: the mesh path rebuilds such a normal
+            // along the front face (edgeNormalAllowed), exactly as here,
+            // without the polytope's deepest point joining the clipped ones.
+            const Vec3 pb = transformPoint(xf, p.vertices[c.lowest]);
+            const Real depth = -c.faceSeparation;
+            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, m, 1,
+                              c.axis == Axis::TriangleFace && realized);
+            // Kept against a better edge pair (within kEdgeBias), the face
+            // must hold a point over the triangle, the only points the mesh
+            // path keeps along its normal: a hull sunk across the triangle's
+            // edge, its deepest part beyond it, otherwise lost its contact.
+            if (c.edgeBetter) {
+                bool over = false;
+                for (std::uint32_t i = 0; i < m.pointCount && !over; ++i) {
+                    over = overTriangle(w, m.points[i].position + faceN * (Real(0.5) * m.points[i].depth));
+                }
+                if (!over) c.axis = Axis::Edges;
+            }
+            break;
+        }
+        case Axis::PolytopeFace: {
+            const Vec3 normal = -rotate(xf.q, p.faces[c.bestFace].normal);
+            const Vec3 pa = w[c.bestVertex];
+            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, normal, pa, pa + normal * c.polytopeSeparation, margin, m, 2,
+                              realized);
+            if (!realized && onlyStandIn(pa, pa + normal * c.polytopeSeparation)) return false;
+            if (c.edgeBetter && m.pointCount == 0) c.axis = Axis::Edges;
+            break;
+        }
+        case Axis::Edges: break;
+    }
+    if (c.axis == Axis::Edges) {
+        const PolytopeEdge& edge = p.edges[c.bestEdge];
+        const Vec3 a0 = w[c.bestTriangleEdge], a1 = w[(c.bestTriangleEdge + 1) % 3];
+        const Vec3 b0 = transformPoint(xf, p.vertices[edge.from]), b1 = transformPoint(xf, p.vertices[edge.to]);
+        Real s, u;
+        closestSegmentSegment(a0, a1, b0, b1, s, u);
+        // The point on the triangle's edge, and the polytope's surface
+        // along the axis from it: the edges' closest points when the two
+        // edges cross (seen along the axis). When they do not (shapes
+        // apart, their nearest features a vertex and an edge), the point
+        // stays on the triangle's edge, where the mesh path looks for the
+        // feature it touches, and the depth is the axis's separation, a
+        // lower bound of the distance.
+        const Vec3 normal = rotate(xf.q, c.bestEdgeAxis);
+        const Vec3 pa = a0 + (a1 - a0) * s;
+        m.normal = normal;
+        m.pointCount = 0;
+        addContact(m, pa, pa + normal * c.edgeSeparation, -c.edgeSeparation, edgeFeature(c.bestTriangleEdge, c.bestEdge), margin);
+    }
+    return m.pointCount > 0;
+}
+
+// What the cached axis gives at this pose.
+enum class CachedAxis { Invalid, Apart, Valid };
+CachedAxis cachedAxisSeparation(std::uint32_t code, const TrianglePolytope& p, const Vec3 v[3], const Vec3& n, Real margin,
+                                Choice& c) {
+    const std::uint32_t index = code & kAxisHintIndex;
+    const std::uint32_t kind = code & ~kAxisHintIndex;
+    if (kind == kTriangleFaceAxis) {
+        Real lo = dot(n, p.vertices[0]);
+        std::uint32_t lowest = 0;
+        for (std::uint32_t i = 1; i < p.vertexCount; ++i) {
+            const Real d = dot(n, p.vertices[i]);
+            if (d < lo) {
+                lo = d;
+                lowest = i;
+            }
+        }
+        c.axis = Axis::TriangleFace;
+        c.lowest = lowest;
+        c.faceSeparation = c.separation = lo - dot(n, v[0]);
+    } else if (kind == kFaceAxisHint) {
+        if (index >= p.faceCount) return CachedAxis::Invalid;
+        c.axis = Axis::PolytopeFace;
+        c.bestFace = index;
+        c.polytopeSeparation = c.separation = faceAxisSeparation(p, index, v, c.bestVertex);
+    } else if (kind == kEdgeAxisHint) {
+        const std::uint32_t e = index / 3, j = index % 3;
+        if (e >= p.edgeCount) return CachedAxis::Invalid;
+        const Vec3 t = v[(j + 1) % 3] - v[j];
+        const Vec3 side = cross(t, n);
+        const PolytopeEdge& edge = p.edges[e];
+        const Vec3 a = p.faces[edge.faces[0]].normal, cn = p.faces[edge.faces[1]].normal;
+        if (!edgePairAxis(a, cn, dot(a, t), dot(cn, t), side, dot(t, t), c.bestEdgeAxis)) return CachedAxis::Invalid;
+        c.axis = Axis::Edges;
+        c.bestEdge = e;
+        c.bestTriangleEdge = j;
+        c.edgeSeparation = c.separation = dot(c.bestEdgeAxis, p.vertices[edge.from] - v[j]);
+    } else {
+        return CachedAxis::Invalid;
+    }
+    return c.separation > margin ? CachedAxis::Apart : CachedAxis::Valid;
+}
+
+// The cache's code of the axis a contact took.
+std::uint32_t axisCode(const Choice& c) {
+    switch (c.axis) {
+        case Axis::TriangleFace: return kTriangleFaceAxis;
+        case Axis::PolytopeFace: return kFaceAxisHint | c.bestFace;
+        case Axis::Edges: return c.bestEdge <= kAxisHintIndex / 3 ? kEdgeAxisHint | (3 * c.bestEdge + c.bestTriangleEdge) : 0u;
+        case Axis::BackFace: break;
+    }
+    return 0;
+}
+
 }  // namespace
 
 bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m,
-                             std::uint32_t* axisHint) {
+                             std::uint32_t* axisHint, TriangleAxisEntry* cached) {
     const ConvexShape& b = *p.shape;
     const Transform& xf = b.xf;
     // In the polytope's frame: its vertices and face planes as stored.
@@ -288,6 +452,31 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     std::uint32_t& hint = axisHint != nullptr ? *axisHint : unusedHint;
     if (hint != 0 && hintSeparates(hint, p, v, n, margin)) return false;
     hint = 0;
+
+    Choice ch;
+    // The contact's cached axis (TriangleAxisCache, manifold.hpp): the axis
+    // the full test chose when it last ran for this pair, taken again alone
+    // while its separation is within kAxisCacheTolerance of what it was then
+    // and it still gives a point. Beyond the margin along it, the pair is
+    // apart whatever the other axes say.
+    const std::uint32_t cachedAxis = cached != nullptr ? cached->axis : 0u;
+    if (cachedAxis != 0) {
+        switch (cachedAxisSeparation(cachedAxis, p, v, n, margin, ch)) {
+            case CachedAxis::Apart:
+                cached->axis = 0;
+                return false;
+            case CachedAxis::Valid:
+                if (std::fabs(ch.separation - cached->separation) < kAxisCacheTolerance) {
+                    ch.realized = ch.separation <= 0 || axisRealized(ch, p, w, v);
+                    if (buildAlong(ch, w, faceN, p, margin, m)) return true;
+                    m = Manifold{};
+                }
+                break;
+            case CachedAxis::Invalid: break;
+        }
+        ch = Choice{};
+    }
+    if (cached != nullptr) cached->axis = 0;
 
     // The triangle's normal, both ways: one pass over the vertices.
     const Real plane = dot(n, v[0]);
@@ -375,15 +564,14 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         }
     }
 
-    enum class Axis { TriangleFace, BackFace, PolytopeFace, Edges };
-    Axis axis = Axis::TriangleFace;
+    ch.axis = Axis::TriangleFace;
     Real best = faceSeparation;
     if (backSeparation > best + kAxisBias) {
-        axis = Axis::BackFace;
+        ch.axis = Axis::BackFace;
         best = backSeparation;
     }
     if (polytopeSeparation > best + kAxisBias) {
-        axis = Axis::PolytopeFace;
+        ch.axis = Axis::PolytopeFace;
         best = polytopeSeparation;
     }
     // Apart, the better axis is taken as it is: it is the nearer bound of the
@@ -391,103 +579,45 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     // is what the mesh path keeps best (over the triangle, grouped with its
     // neighbours'); a polytope face against an edge pair takes the better of
     // the two, as the general path does.
-    const Real edgeBias = axis != Axis::TriangleFace || best > 0 || edgeSeparation > 0
+    const Real edgeBias = ch.axis != Axis::TriangleFace || best > 0 || edgeSeparation > 0
                               ? kAxisBias
                               : kEdgeBias + kEdgeBiasRelative * std::fabs(best);
-    const bool edgeBetter = edgeSeparation > best + kAxisBias;
-    if (edgeSeparation > best + edgeBias) axis = Axis::Edges;
+    ch.edgeBetter = edgeSeparation > best + kAxisBias;
+    if (edgeSeparation > best + edgeBias) ch.axis = Axis::Edges;
+    ch.faceSeparation = faceSeparation;
+    ch.lowest = lowest;
+    ch.bestFace = bestFace;
+    ch.bestVertex = bestVertex;
+    ch.polytopeSeparation = polytopeSeparation;
+    ch.bestEdge = bestEdge;
+    ch.bestTriangleEdge = bestTriangleEdge;
+    ch.bestEdgeAxis = bestEdgeAxis;
+    ch.edgeSeparation = edgeSeparation;
 
     // Apart, the best axis's separation is the distance only when the
-    // features it names meet across it: the polytope's nearest vertex over
-    // the triangle, the triangle's nearest vertex over the polytope's face,
-    // the two edges crossing. Otherwise the shapes are farther apart than it
-    // says. A face's clipped points are still honest (each one's own gap
-    // along the normal), but the deepest-point stand-in is not: a box's side
-    // face "0.2 mm" from a triangle passing under the box's bottom edge
-    // caged a box resting on hills from both sides, came and went, and the
-    // box never came to rest (bench/heightfield.cpp). So, apart and not met,
-    // a face keeps its clipped points only; a polytope face with none gives
-    // no contact (the triangle's face: the mesh path keeps only points over
-    // the triangle along its normal, which the stand-in is not). An edge
-    // pair that does not cross keeps its point on the triangle's edge and
-    // the axis's separation, a lower bound of the distance. (Handing every
-    // unmet axis to the general path, GJK, made trees100(10) slower than the
-    // general path alone: docs/benchmarks.md, "Mesh scenes".)
-    bool realized = true;
-    if (std::max(best, edgeSeparation) > 0) {
-        if (axis == Axis::Edges) {
-            realized = edgesCross(w, bestTriangleEdge, p, bestEdge);
-        } else if (axis == Axis::PolytopeFace) {
-            // The triangle's vertex, moved onto the face's plane, inside every other face.
-            const Vec3 q = v[bestVertex] - p.faces[bestFace].normal * polytopeSeparation;
-            for (std::uint32_t f = 0; f < p.faceCount && realized; ++f) {
-                realized = f == bestFace || dot(p.faces[f].normal, q) <= p.faces[f].offset + kOverTolerance;
-            }
-        } else {
-            realized = overTriangle(w, transformPoint(xf, p.vertices[lowest]));
-        }
+    // features it names meet across it (axisRealized). Otherwise the shapes
+    // are farther apart than it says. A face's clipped points are still
+    // honest (each one's own gap along the normal), but the deepest-point
+    // stand-in is not: a box's side face "0.2 mm" from a triangle passing
+    // under the box's bottom edge caged a box resting on hills from both
+    // sides, came and went, and the box never came to rest
+    // (bench/heightfield.cpp). So, apart and not met, a face keeps its
+    // clipped points only; a polytope face with none gives no contact (the
+    // triangle's face: the mesh path keeps only points over the triangle
+    // along its normal, which the stand-in is not). An edge pair that does
+    // not cross keeps its point on the triangle's edge and the axis's
+    // separation, a lower bound of the distance. (Handing every unmet axis
+    // to the general path, GJK, made trees100(10) slower than the general
+    // path alone: docs/benchmarks.md, "Mesh scenes".)
+    ch.realized = !(std::max(best, edgeSeparation) > 0) || axisRealized(ch, p, w, v);
+    if (!buildAlong(ch, w, faceN, p, margin, m)) return false;
+    if (cached != nullptr) {
+        cached->axis = axisCode(ch);
+        cached->separation = ch.axis == Axis::Edges          ? edgeSeparation
+                             : ch.axis == Axis::PolytopeFace ? polytopeSeparation
+                                                            : faceSeparation;
     }
-    // True when m holds nothing but buildFaceManifold's stand-in (pa, pb).
-    const auto onlyStandIn = [&m](const Vec3& pa, const Vec3& pb) {
-        return m.pointCount == 1 && m.points[0].position == (pa + pb) * Real(0.5);
-    };
-
-    switch (axis) {
-        case Axis::TriangleFace:
-        case Axis::BackFace: {
-            // The back face (the shape reaching further below the triangle's
-            // plane than above it, its centre above) is not a contact a
-            // one-sided triangle keeps: the mesh path rebuilds such a normal
-            // along the front face (edgeNormalAllowed), exactly as here,
-            // without the polytope's deepest point joining the clipped ones.
-            const Vec3 pb = transformPoint(xf, p.vertices[lowest]);
-            const Real depth = -faceSeparation;
-            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, m, 1,
-                              axis == Axis::TriangleFace && realized);
-            // Kept against a better edge pair (within kEdgeBias), the face
-            // must hold a point over the triangle, the only points the mesh
-            // path keeps along its normal: a hull sunk across the triangle's
-            // edge, its deepest part beyond it, otherwise lost its contact.
-            if (edgeBetter) {
-                bool over = false;
-                for (std::uint32_t i = 0; i < m.pointCount && !over; ++i) {
-                    over = overTriangle(w, m.points[i].position + faceN * (Real(0.5) * m.points[i].depth));
-                }
-                if (!over) axis = Axis::Edges;
-            }
-            break;
-        }
-        case Axis::PolytopeFace: {
-            const Vec3 normal = -rotate(xf.q, p.faces[bestFace].normal);
-            const Vec3 pa = w[bestVertex];
-            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, normal, pa, pa + normal * polytopeSeparation, margin, m, 2,
-                              realized);
-            if (!realized && onlyStandIn(pa, pa + normal * polytopeSeparation)) return false;
-            if (edgeBetter && m.pointCount == 0) axis = Axis::Edges;
-            break;
-        }
-        case Axis::Edges: break;
-    }
-    if (axis == Axis::Edges) {
-        const PolytopeEdge& edge = p.edges[bestEdge];
-        const Vec3 a0 = w[bestTriangleEdge], a1 = w[(bestTriangleEdge + 1) % 3];
-        const Vec3 b0 = transformPoint(xf, p.vertices[edge.from]), b1 = transformPoint(xf, p.vertices[edge.to]);
-        Real s, u;
-        closestSegmentSegment(a0, a1, b0, b1, s, u);
-        // The point on the triangle's edge, and the polytope's surface
-        // along the axis from it: the edges' closest points when the two
-        // edges cross (seen along the axis). When they do not (shapes
-        // apart, their nearest features a vertex and an edge), the point
-        // stays on the triangle's edge, where the mesh path looks for the
-        // feature it touches, and the depth is the axis's separation, a
-        // lower bound of the distance.
-        const Vec3 normal = rotate(xf.q, bestEdgeAxis);
-        const Vec3 pa = a0 + (a1 - a0) * s;
-        m.normal = normal;
-        m.pointCount = 0;
-        addContact(m, pa, pa + normal * edgeSeparation, -edgeSeparation, edgeFeature(bestTriangleEdge, bestEdge), margin);
-    }
-    return m.pointCount > 0;
+    return true;
 }
 
 }  // namespace fulcrum::detail

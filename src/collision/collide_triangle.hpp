@@ -58,8 +58,16 @@ private:
 // naming the polytope face or edge pair that rejected the pair this time, or
 // 0 (none: the triangle's own normal, tested first anyway, or no rejection).
 // The answer is the same with or without it.
+//
+// `cached`, when given, is the pair's entry of the contact's triangle axis
+// cache (TriangleAxisCache, manifold.hpp): its axis (0: none) is taken alone
+// while its separation is within 5 mm of the entry's and it gives a point
+// (the entry then unchanged); otherwise the full test runs and the entry is
+// left naming the axis of its contact and that axis's separation, or 0 when
+// there is none (or the contact's axis is the triangle's back face). Unlike
+// the hint, this changes results: the kept axis is not proven the best.
 bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m,
-                             std::uint32_t* axisHint = nullptr);
+                             std::uint32_t* axisHint = nullptr, TriangleAxisEntry* cached = nullptr);
 
 // The hint of a polytope face f or of the polytope's edge e against the
 // triangle's edge j (from vertex j to j + 1), as collideTrianglePolytope
@@ -67,5 +75,7 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
 constexpr std::uint32_t kFaceAxisHint = 1u << 30;
 constexpr std::uint32_t kEdgeAxisHint = 2u << 30;
 constexpr std::uint32_t kAxisHintIndex = (1u << 30) - 1;
+// The triangle axis cache's code of the triangle's own (front) normal.
+constexpr std::uint32_t kTriangleFaceAxis = 3u << 30;
 
 }  // namespace fulcrum::detail

@@ -123,6 +123,29 @@ struct SeparatingAxisCache {
     std::vector<Entry> entries;  // 1 << kLogEntries once used
 };
 
+// The per-contact triangle axis cache (collide_triangle.cpp, the "cached
+// axis" path; docs/narrow-phase.md, "The triangle axis cache"): for each
+// triangle a box or hull met within the margin, the axis the full
+// separating-axis test chose (collide_triangle.hpp's hint encoding, or
+// kTriangleFaceAxis) and its separation then. The next collide() of the pair
+// builds the contact along that axis alone while its separation has moved by
+// less than kAxisCacheTolerance, and runs the full test otherwise. The kept
+// axis is not proven the best, so the cache changes results: it is the
+// contact's own state (Contact::triangleAxes), saved in snapshots, never a
+// worker's. Entries are sorted by (piece, triangle).
+struct TriangleAxisEntry {
+    std::uint32_t piece = 0;     // the box or hull's child index, with the mesh's (narrow_phase.cpp)
+    std::uint32_t triangle = 0;
+    std::uint32_t axis = 0;      // 0: none
+    Real separation = 0;         // when the full test chose the axis
+};
+struct TriangleAxisCache {
+    const TriangleAxisEntry* in = nullptr;  // the contact's entries from its last collide()
+    std::size_t inCount = 0;
+    std::vector<TriangleAxisEntry>* out = nullptr;  // null: no cache (the full test always)
+    std::uint32_t piece = 0;                        // the piece the mesh path is colliding now
+};
+
 // Reduces `candidates` to at most 4 points of `out` (normal already set):
 // keeps the deepest point, then the point farthest from it, then the two that
 // maximise the contact polygon's area (Gregorius, "Robust Contact Creation for
@@ -182,6 +205,9 @@ public:
     detail::PolytopeEdgeCache& polytopeEdgeScratch() { return polytopeEdgeScratch_; }
     // The boxes' and hulls' separating axes against triangles (a hint table).
     detail::SeparatingAxisCache& separatingAxisScratch() { return separatingAxisScratch_; }
+    // The contact's triangle axis cache for this collide() (none unless the
+    // contact manager sets it).
+    detail::TriangleAxisCache& triangleAxes() { return triangleAxes_; }
 
 private:
     std::vector<Manifold> manifolds_;
@@ -191,6 +217,7 @@ private:
     std::vector<std::uint32_t> triangleScratch_;
     detail::PolytopeEdgeCache polytopeEdgeScratch_;
     detail::SeparatingAxisCache separatingAxisScratch_;
+    detail::TriangleAxisCache triangleAxes_;
 };
 
 }  // namespace fulcrum

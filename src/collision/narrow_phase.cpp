@@ -90,6 +90,7 @@ void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const
     if (ta == ShapeType::Mesh || ta == ShapeType::HeightField) {
         const std::size_t first = out.size();
         if (ta == ShapeType::Mesh) {
+            out.triangleAxes().piece = childB ^ (childA << 16);  // the triangle axis cache's key (manifold.hpp)
             collideMeshConvex(a.mesh(), xa, makeConvexCore(b, xb), b.bounds(xb), margin, out);
         } else {
             collideHeightFieldConvex(a.heightField(), xa, makeConvexCore(b, xb), b.bounds(xb), margin, out);
@@ -100,6 +101,7 @@ void collidePlane(const Shape& plane, const Transform& xp, const Shape& b, const
     if (tb == ShapeType::Mesh || tb == ShapeType::HeightField) {
         const std::size_t first = out.size();
         if (tb == ShapeType::Mesh) {
+            out.triangleAxes().piece = childA ^ (childB << 16);
             collideMeshConvex(b.mesh(), xb, makeConvexCore(a, xa), a.bounds(xa), margin, out);
         } else {
             collideHeightFieldConvex(b.heightField(), xb, makeConvexCore(a, xa), a.bounds(xa), margin, out);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "collision/broad_phase.hpp"
+#include "collision/manifold.hpp"
 #include "fulcrum/math.hpp"
 
 namespace fulcrum::detail {
@@ -85,6 +86,11 @@ struct Contact {
     // the contact's life (saved in snapshots from format version 10).
     FirstTouch firstTouch = FirstTouch::NotYet;
     std::vector<CachedManifold> manifolds;  // capacity kept across reuse: no allocation in steady state
+    // The triangle axis cache of a box or hull against a mesh (TriangleAxisCache,
+    // collision/manifold.hpp): per (piece, triangle) the axis of the last full
+    // test that gave a contact, sorted. It changes results, so it is saved in
+    // snapshots (format version 11); capacity kept across reuse.
+    std::vector<TriangleAxisEntry> triangleAxes;
 };
 
 }  // namespace fulcrum::detail

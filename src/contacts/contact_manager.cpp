@@ -292,6 +292,7 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
     c.reachA = c.reachB = 0;
     c.sensor = w.params[w.bodySlots[slotA].dense].isSensor || w.params[w.bodySlots[slotB].dense].isSensor;
     c.manifolds.clear();
+    c.triangleAxes.clear();
     if (!linksRebuild_) {
         linkContact(index);
         setAliveBit(index, true);
@@ -419,6 +420,7 @@ void ContactManager::destroyContact(BodyStore& w, std::uint32_t index) {
     c.alive = false;
     c.touching = false;
     c.manifolds.clear();
+    c.triangleAxes.clear();
     c.nextFree = freeContact_;
     freeContact_ = index;
     --liveContacts_;
@@ -554,6 +556,14 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     c.hasPose = true;
     c.relativePose = rel;
     std::uint8_t flags = 0;
+    // A box or hull against a mesh reads and rewrites the pair's triangle
+    // axis cache (TriangleAxisCache, collision/manifold.hpp).
+    const bool meshPair = !c.sensor && (shapeA.type() == ShapeType::Mesh || shapeB.type() == ShapeType::Mesh || compound);
+    TriangleAxisCache& axes = buffer.triangleAxes();
+    if (meshPair) {
+        ns.triangleAxes.clear();
+        axes = {c.triangleAxes.data(), c.triangleAxes.size(), &ns.triangleAxes, 0};
+    }
     if (compound) {
         reach.centreA = ma.com;
         reach.centreB = mb.com;
@@ -562,6 +572,15 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         collide(shapeA, xA, shapeB, xB, reach, buffer);
     } else {
         collide(shapeA, xA, shapeB, xB, margin, buffer);
+    }
+    if (meshPair) {
+        axes = TriangleAxisCache{};
+        std::vector<TriangleAxisEntry>& fresh = ns.triangleAxes;
+        const auto before = [](const TriangleAxisEntry& x, const TriangleAxisEntry& y) {
+            return x.piece != y.piece ? x.piece < y.piece : x.triangle < y.triangle;
+        };
+        if (!std::is_sorted(fresh.begin(), fresh.end(), before)) std::sort(fresh.begin(), fresh.end(), before);
+        c.triangleAxes.assign(fresh.begin(), fresh.end());
     }
     c.apartBy = 0;
     // A compound pair's collide() proves a distance too (the least over its

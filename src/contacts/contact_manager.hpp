@@ -198,6 +198,7 @@ private:
     struct alignas(64) NarrowScratch {
         ManifoldBuffer buffer;
         std::vector<CachedManifold> manifolds;
+        std::vector<TriangleAxisEntry> triangleAxes;  // a contact's new triangle axis cache, copied back to it
     };
     // Where an awake compound body's top-level children are in childPool_:
     // valid when `update` is this update's updateCount_ (else none: the

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -516,4 +517,99 @@ TEST(TriangleSat, MeshManifoldsWithWarmHintsAreTheFreshOnes) {
     int hinted = 0;
     for (const detail::SeparatingAxisCache::Entry& e : warm.separatingAxisScratch().entries) hinted += e.axis != 0 ? 1 : 0;
     EXPECT_GT(hinted, 20);
+}
+
+// The contact's triangle axis cache (collideTrianglePolytope's `cached`,
+// TriangleAxisCache in manifold.hpp): pieces drifting beside random
+// triangles. Where the full test, run afresh, still picks the cached axis,
+// the cached path's contact is the full test's (normal and points within
+// 1e-5 m: the same expressions, so in practice the same bits); an entry
+// whose separation moved by more than the tolerance, or one naming no axis
+// of this polytope, runs the full test (the same bits). Where the cached
+// axis is no longer the best, its contact differs (counted, not bounded
+// here: the drift is the 5 mm tolerance's).
+TEST(TriangleSat, CachedAxisGivesTheFullTestsContactWhileItStaysTheBest) {
+    std::mt19937 rng(2123);
+    std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.5f, 0.9f);
+    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
+    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    const auto near = [](bool hitA, const Manifold& a, bool hitB, const Manifold& b, Real tol) {
+        if (hitA != hitB) return false;
+        if (!hitA) return true;
+        if (length(a.normal - b.normal) > tol || a.pointCount != b.pointCount) return false;
+        for (std::uint32_t k = 0; k < a.pointCount; ++k) {
+            if (length(a.points[k].position - b.points[k].position) > tol || std::fabs(a.points[k].depth - b.points[k].depth) > tol ||
+                a.points[k].featureId != b.points[k].featureId) {
+                return false;
+            }
+        }
+        return true;
+    };
+    const auto maxDepth = [](const Manifold& m) {
+        Real d = -1e30f;
+        for (std::uint32_t k = 0; k < m.pointCount; ++k) d = std::max(d, m.points[k].depth);
+        return d;
+    };
+    int same = 0, kept = 0, shallower = 0, codes[4] = {0, 0, 0, 0};
+    for (int trial = 0; trial < 400; ++trial) {
+        const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
+        const Real r = size(rng);
+        Vec3 w[3];
+        randomTriangle(rng, r, w);
+        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
+        if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
+        const Vec3 faceN = normalize(nRaw);
+        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
+        Transform xf{w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * (Real(0.3) * r),
+                     test::randomRotation(rng)};
+        {
+            detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+            Real lo, hi;
+            b.extent(faceN, lo, hi);
+            xf.p += faceN * (dot(faceN, w[0]) - lo + height(rng) * kMargin);
+        }
+        detail::TriangleAxisEntry entry;
+        for (int step = 0; step < 40; ++step) {
+            xf.p += Vec3{unit(rng), unit(rng), unit(rng)} * Real(0.002);
+            xf.q = normalize(xf.q * Quat(1, unit(rng) * Real(0.003), unit(rng) * Real(0.003), unit(rng) * Real(0.003)));
+            const detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+            std::vector<detail::PolytopeEdge> edges;
+            detail::TrianglePolytope polytope;
+            ASSERT_TRUE(polytope.prepare(b, edges));
+            Manifold full, cachedM;
+            detail::TriangleAxisEntry fresh;
+            const bool fullHit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, full, nullptr, &fresh);
+            const detail::TriangleAxisEntry prev = entry;
+            const bool cachedHit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, cachedM, nullptr, &entry);
+            const bool tookCache = prev.axis != 0 && entry.axis == prev.axis && entry.separation == prev.separation && cachedHit;
+            if (tookCache) {
+                ++kept;
+                codes[prev.axis >> 30] += 1;
+                if (fresh.axis == prev.axis) {
+                    ASSERT_TRUE(near(fullHit, full, cachedHit, cachedM, Real(1e-5))) << "trial " << trial << " step " << step;
+                    ++same;
+                }
+                if (fullHit) shallower += maxDepth(cachedM) < maxDepth(full) - Real(1e-5) ? 1 : 0;
+            } else {
+                // The full test ran: its answer and its entry.
+                ASSERT_TRUE(near(fullHit, full, cachedHit, cachedM, 0)) << "trial " << trial << " step " << step;
+                ASSERT_EQ(entry.axis, fresh.axis);
+            }
+            // A stale entry (its separation 1 cm off) and entries naming no axis of this polytope run the full test.
+            for (const std::uint32_t code : {fresh.axis, detail::kFaceAxisHint | 999u, detail::kEdgeAxisHint | 9999u, 7u}) {
+                detail::TriangleAxisEntry bogus{0, 0, code, fresh.separation + Real(0.01)};
+                if (code != fresh.axis) bogus.separation = fresh.separation;
+                Manifold m;
+                const bool hit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, m, nullptr, &bogus);
+                ASSERT_TRUE(near(fullHit, full, hit, m, 0)) << "trial " << trial << " step " << step << " code " << code;
+            }
+        }
+    }
+    EXPECT_GT(kept, 3000);   // drifting 2 mm a step, the cached axis mostly stands
+    EXPECT_GT(same, 2000);   // and is mostly still the best
+    EXPECT_GT(codes[3], 100);  // the triangle's normal
+    EXPECT_GT(codes[1], 10);   // a polytope face (39 in the GCC build: pieces near triangles mostly take the triangle's normal or an edge pair)
+    EXPECT_GT(codes[2], 100);  // an edge pair
+    std::printf("cached %d, still the best %d, shallower than the full test's %d, by kind %d %d %d\n", kept, same, shallower,
+                codes[3], codes[1], codes[2]);
 }

@@ -83,7 +83,7 @@ TEST(FirstTouchSnapshot, VersionNineLoadsTouchingPairsAsBornDeep) {
     World world = bothKinds();
     for (int i = 0; i < 30; ++i) world.step(kDt);
     const std::vector<std::uint8_t> v9 = detail::saveSnapshotAsVersion(world, 9);
-    const std::vector<std::uint8_t> v10 = saveSnapshotToMemory(world);
+    const std::vector<std::uint8_t> v10 = detail::saveSnapshotAsVersion(world, 10);
     EXPECT_EQ(v10[8], 10);
     const std::size_t contacts = detail::implOf(world).contactManager.contacts().size();
     EXPECT_EQ(v10.size() - v9.size(), contacts);  // one byte per contact slot
