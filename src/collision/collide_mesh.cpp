@@ -422,11 +422,24 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
     // its vertices as they are: the identity transform changes no bit of them.
     const bool placed = !(meshXf.p.x == 0 && meshXf.p.y == 0 && meshXf.p.z == 0 && meshXf.q.x == 0 && meshXf.q.y == 0 &&
                           meshXf.q.z == 0 && meshXf.q.w == 1);
+    // Moved but not turned, with no coordinate of the move zero (Jolt's
+    // ConvexVsMesh terrain at (-150, 5, -150)): transformPoint's rotation by
+    // the identity gives each vertex back up to the sign of a zero
+    // coordinate, which the non-zero move's sum then drops, so the sum alone
+    // gives the same bits.
+    const bool shifted = placed && meshXf.q.x == 0 && meshXf.q.y == 0 && meshXf.q.z == 0 && meshXf.q.w == 1 &&
+                         meshXf.p.x != 0 && meshXf.p.y != 0 && meshXf.p.z != 0;
     forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
         const auto& idx = mesh.triangles[t];
         const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
         if (!placed) {
             const Vec3 w[3] = {mesh.vertices[idx[0]], mesh.vertices[idx[1]], mesh.vertices[idx[2]]};
+            collideTriangle(w, mask, t);
+            return;
+        }
+        if (shifted) {
+            const Vec3 w[3] = {mesh.vertices[idx[0]] + meshXf.p, mesh.vertices[idx[1]] + meshXf.p,
+                               mesh.vertices[idx[2]] + meshXf.p};
             collideTriangle(w, mask, t);
             return;
         }
