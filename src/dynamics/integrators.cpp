@@ -124,9 +124,11 @@ void halfAngleSinCos(double x, double& s, double& c) {
 //    1/I_t)(L.a) a' uses the value computed once: no re-projection.
 // L = I_t w + (I_a - I_t)(w.a) a loses log2(I_t / I_a) ~ 4 bits to
 // cancellation for a long capsule, which in double leaves ~1e-15.
-struct D3 {
-    double x, y, z;
+template <class T>
+struct Vec3Of {
+    T x, y, z;
 };
+using D3 = Vec3Of<double>;
 
 // Two bodies' drifts at once, one per lane of a 2 x double SSE2 register
 // (GCC/Clang vector extension; elsewhere bodies go one at a time). The lanes
@@ -329,21 +331,29 @@ void driftGeneral(DriftLanes<double>& d, double hd) {
 // w' (from the stored q') maps back to L up to unbiased roundings; and
 // I^-1 is formed in double (inverseInDouble), so I I^-1 is the identity to
 // double rounding as well.
-struct Rotation {
-    D3 c0, c1, c2;  // columns
+// For any lane type T (double, or the SIMD lanes of driftGeneralQuad: the
+// same operations per lane).
+template <class T>
+struct RotationOf {
+    Vec3Of<T> c0, c1, c2;  // columns
 };
-Rotation rotationOf(double qw, double qx, double qy, double qz) {
-    const double s = 2 / (qw * qw + qx * qx + qy * qy + qz * qz);
-    const double xs = qx * s, ys = qy * s, zs = qz * s;
-    const double wx = qw * xs, wy = qw * ys, wz = qw * zs;
-    const double xx = qx * xs, xy = qx * ys, xz = qx * zs, yy = qy * ys, yz = qy * zs, zz = qz * zs;
-    return {{1 - (yy + zz), xy + wz, xz - wy}, {xy - wz, 1 - (xx + zz), yz + wx}, {xz + wy, yz - wx, 1 - (xx + yy)}};
+using Rotation = RotationOf<double>;
+template <class T>
+RotationOf<T> rotationOfLanes(const T& qw, const T& qx, const T& qy, const T& qz) {
+    const T s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz);
+    const T xs = qx * s, ys = qy * s, zs = qz * s;
+    const T wx = qw * xs, wy = qw * ys, wz = qw * zs;
+    const T xx = qx * xs, xy = qx * ys, xz = qx * zs, yy = qy * ys, yz = qy * zs, zz = qz * zs;
+    return {{1.0 - (yy + zz), xy + wz, xz - wy}, {xy - wz, 1.0 - (xx + zz), yz + wx}, {xz + wy, yz - wx, 1.0 - (xx + yy)}};
 }
-D3 times(const Rotation& m, const D3& v) {  // m v (m: columns)
+Rotation rotationOf(double qw, double qx, double qy, double qz) { return rotationOfLanes<double>(qw, qx, qy, qz); }
+template <class T>
+Vec3Of<T> times(const RotationOf<T>& m, const Vec3Of<T>& v) {  // m v (m: columns)
     return {m.c0.x * v.x + m.c1.x * v.y + m.c2.x * v.z, m.c0.y * v.x + m.c1.y * v.y + m.c2.y * v.z,
             m.c0.z * v.x + m.c1.z * v.y + m.c2.z * v.z};
 }
-D3 transposeTimes(const Rotation& m, const D3& v) {  // m^T v
+template <class T>
+Vec3Of<T> transposeTimes(const RotationOf<T>& m, const Vec3Of<T>& v) {  // m^T v
     return {m.c0.x * v.x + m.c0.y * v.y + m.c0.z * v.z, m.c1.x * v.x + m.c1.y * v.y + m.c1.z * v.z,
             m.c2.x * v.x + m.c2.y * v.y + m.c2.z * v.z};
 }
@@ -541,6 +551,124 @@ void driftQuad(BodyStore& w, const std::uint32_t* entries, int k, Real h) {
         default: driftQuadK<2>(w, entries, hd); break;
     }
 }
+
+// exp(w t / 2) q for four lanes, turned()'s series branch: false, with
+// nothing written, when a lane's half angle is beyond it (or not a number),
+// where turned() takes the library's sin/cos.
+bool turnedLanes(const Double4& qw, const Double4& qx, const Double4& qy, const Double4& qz, const Vec3Of<Double4>& w,
+                 double t, Double4 out[4]) {
+    const double half = 0.5 * t;
+    const Vec3Of<Double4> v{w.x * half, w.y * half, w.z * half};
+    const Double4 z = v.x * v.x + v.y * v.y + v.z * v.z;
+    for (int lane = 0; lane < 4; ++lane) {
+        if (!(z[lane] <= 0.25)) return false;
+    }
+    Double4 tail, c;
+    sinTail(z, tail);
+    const Double4 sinc = 1.0 + z * tail;
+    cosSeries(z, c);
+    const Double4 ux = v.x * sinc, uy = v.y * sinc, uz = v.z * sinc;
+    out[0] = c * qw - ux * qx - uy * qy - uz * qz;
+    out[1] = c * qx + ux * qw + uy * qz - uz * qy;
+    out[2] = c * qy - ux * qz + uy * qw + uz * qx;
+    out[3] = c * qz + ux * qy - uy * qx + uz * qw;
+    return true;
+}
+
+// Four bodies of general inertia at once: driftGeneralInertia's operations,
+// in the same order, one body per lane (so a body's bits do not depend on its
+// partners, as for driftQuadK). On a scene of boxes with three distinct
+// half extents (Jolt's ConvexVsMesh) the scalar drift was most of the
+// position stage. A lane beyond the series' range sends the four through
+// driftGeneralInertia alone (the same bits).
+void driftGeneralQuad(BodyStore& w, const std::uint32_t* entries, Real h) {
+    const double hd = static_cast<double>(h);
+    BodyPose* x[4];
+    SolverBody* v[4];
+    const BodyParams* p[4];
+    for (int lane = 0; lane < 4; ++lane) {
+        x[lane] = &w.pose[entries[lane] + 1];
+        v[lane] = &w.state[entries[lane] + 1];
+        p[lane] = &w.params[w.awakeBodies[entries[lane]]];
+    }
+    const auto lanes = [](Real a, Real b, Real c, Real e) {
+        return Double4{static_cast<double>(a), static_cast<double>(b), static_cast<double>(c), static_cast<double>(e)};
+    };
+    // I in double and its inverse by inverseInDouble's operations per lane;
+    // a lane whose I is singular takes the stored inverse, as there.
+    RotationOf<Double4> inertiaL, invInertiaL;
+    for (int lane = 0; lane < 4; ++lane) {
+        const Rotation r = toDouble(p[lane]->localInertia);
+        inertiaL.c0.x[lane] = r.c0.x, inertiaL.c0.y[lane] = r.c0.y, inertiaL.c0.z[lane] = r.c0.z;
+        inertiaL.c1.x[lane] = r.c1.x, inertiaL.c1.y[lane] = r.c1.y, inertiaL.c1.z[lane] = r.c1.z;
+        inertiaL.c2.x[lane] = r.c2.x, inertiaL.c2.y[lane] = r.c2.y, inertiaL.c2.z[lane] = r.c2.z;
+    }
+    {
+        const RotationOf<Double4>& m = inertiaL;
+        const Double4 a = m.c0.x, b = m.c1.x, c = m.c2.x, d = m.c1.y, e = m.c2.y, f = m.c2.z;
+        const Double4 a00 = d * f - e * e, a01 = c * e - b * f, a02 = b * e - c * d;
+        const Double4 det = a * a00 + b * a01 + c * a02;
+        const Double4 sc = 1.0 / det;
+        const Double4 i00 = a00 * sc, i01 = a01 * sc, i02 = a02 * sc;
+        const Double4 i11 = (a * f - c * c) * sc, i12 = (b * c - a * e) * sc, i22 = (a * d - b * b) * sc;
+        invInertiaL = {{i00, i01, i02}, {i01, i11, i12}, {i02, i12, i22}};
+        for (int lane = 0; lane < 4; ++lane) {
+            if (det[lane] > 0) continue;
+            const Rotation stored = toDouble(p[lane]->invLocalInertia);
+            const D3* from[3] = {&stored.c0, &stored.c1, &stored.c2};
+            Vec3Of<Double4>* to[3] = {&invInertiaL.c0, &invInertiaL.c1, &invInertiaL.c2};
+            for (int k = 0; k < 3; ++k) {
+                to[k]->x[lane] = from[k]->x, to[k]->y[lane] = from[k]->y, to[k]->z[lane] = from[k]->z;
+            }
+        }
+    }
+    const Double4 qw = lanes(x[0]->q.w, x[1]->q.w, x[2]->q.w, x[3]->q.w);
+    const Double4 qx = lanes(x[0]->q.x, x[1]->q.x, x[2]->q.x, x[3]->q.x);
+    const Double4 qy = lanes(x[0]->q.y, x[1]->q.y, x[2]->q.y, x[3]->q.y);
+    const Double4 qz = lanes(x[0]->q.z, x[1]->q.z, x[2]->q.z, x[3]->q.z);
+    const Vec3Of<Double4> wv{lanes(v[0]->w.x, v[1]->w.x, v[2]->w.x, v[3]->w.x),
+                             lanes(v[0]->w.y, v[1]->w.y, v[2]->w.y, v[3]->w.y),
+                             lanes(v[0]->w.z, v[1]->w.z, v[2]->w.z, v[3]->w.z)};
+    const RotationOf<Double4> r = rotationOfLanes(qw, qx, qy, qz);
+    const Vec3Of<Double4> l = times(r, times(inertiaL, transposeTimes(r, wv)));
+    Double4 qMid[4], qNew[4];
+    bool series = turnedLanes(qw, qx, qy, qz, wv, 0.5 * hd, qMid);
+    if (series) {
+        const RotationOf<Double4> rMid = rotationOfLanes(qMid[0], qMid[1], qMid[2], qMid[3]);
+        const Vec3Of<Double4> wMid = times(rMid, times(invInertiaL, transposeTimes(rMid, l)));
+        series = turnedLanes(qw, qx, qy, qz, wMid, hd, qNew);
+    }
+    if (!series) {
+        for (int lane = 0; lane < 4; ++lane) driftGeneralInertia(Motion{*x[lane], *v[lane]}, *p[lane], h);
+        return;
+    }
+    const Double4 invNorm = 1.0 / sqrtOf(qNew[0] * qNew[0] + qNew[1] * qNew[1] + qNew[2] * qNew[2] + qNew[3] * qNew[3]);
+    // The stored orientation (Real) and, read back, its matrix (the next sub-step's R).
+    Double4 stored[4];
+    for (int k = 0; k < 4; ++k) {
+        const Double4 unit = qNew[k] * invNorm;
+        stored[k] = lanes(static_cast<Real>(unit[0]), static_cast<Real>(unit[1]), static_cast<Real>(unit[2]),
+                          static_cast<Real>(unit[3]));
+    }
+    const RotationOf<Double4> rn = rotationOfLanes(stored[0], stored[1], stored[2], stored[3]);
+    const RotationOf<Double4> a{times(rn, invInertiaL.c0), times(rn, invInertiaL.c1), times(rn, invInertiaL.c2)};
+    const Double4 xx = a.c0.x * rn.c0.x + a.c1.x * rn.c1.x + a.c2.x * rn.c2.x;
+    const Double4 xy = a.c0.x * rn.c0.y + a.c1.x * rn.c1.y + a.c2.x * rn.c2.y;
+    const Double4 xz = a.c0.x * rn.c0.z + a.c1.x * rn.c1.z + a.c2.x * rn.c2.z;
+    const Double4 yy = a.c0.y * rn.c0.y + a.c1.y * rn.c1.y + a.c2.y * rn.c2.y;
+    const Double4 yz = a.c0.y * rn.c0.z + a.c1.y * rn.c1.z + a.c2.y * rn.c2.z;
+    const Double4 zz = a.c0.z * rn.c0.z + a.c1.z * rn.c1.z + a.c2.z * rn.c2.z;
+    const Double4 wx = xx * l.x + xy * l.y + xz * l.z, wy = xy * l.x + yy * l.y + yz * l.z,
+                  wz = xz * l.x + yz * l.y + zz * l.z;
+    for (int lane = 0; lane < 4; ++lane) {
+        x[lane]->q = Quat{static_cast<Real>(stored[0][lane]), static_cast<Real>(stored[1][lane]),
+                          static_cast<Real>(stored[2][lane]), static_cast<Real>(stored[3][lane])};
+        v[lane]->w = Vec3{static_cast<Real>(wx[lane]), static_cast<Real>(wy[lane]), static_cast<Real>(wz[lane])};
+        const Real exy = static_cast<Real>(xy[lane]), exz = static_cast<Real>(xz[lane]), eyz = static_cast<Real>(yz[lane]);
+        x[lane]->invInertiaWorld = Mat3{Vec3{static_cast<Real>(xx[lane]), exy, exz}, Vec3{exy, static_cast<Real>(yy[lane]), eyz},
+                                        Vec3{exz, eyz, static_cast<Real>(zz[lane])}};
+    }
+}
 #else
 void driftPair(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1, int k, Real h) {
     driftAxisymmetric(m0, p0, k, h);
@@ -548,6 +676,9 @@ void driftPair(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1,
 }
 void driftQuad(BodyStore& w, const std::uint32_t* entries, int k, Real h) {
     for (int lane = 0; lane < 4; ++lane) driftAxisymmetric(motionOf(w, entries[lane] + 1), w.params[w.awakeBodies[entries[lane]]], k, h);
+}
+void driftGeneralQuad(BodyStore& w, const std::uint32_t* entries, Real h) {
+    for (int lane = 0; lane < 4; ++lane) driftGeneralInertia(motionOf(w, entries[lane] + 1), w.params[w.awakeBodies[entries[lane]]], h);
 }
 #endif
 
@@ -612,6 +743,9 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
     // their awake-list entries.
     std::uint32_t waitingDrift[3][4];
     int waitingCount[3] = {0, 0, 0};
+    // And bodies of general inertia (driftGeneralQuad).
+    std::uint32_t waitingGeneral[4];
+    int generalCount = 0;
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
@@ -660,8 +794,17 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
                     continue;
                 }
                 // General inertia: the drift at constant world angular momentum
-                // (driftGeneralInertia), which also sets I_w^-1.
-                driftGeneralInertia(m, p, h);
+                // (driftGeneralInertia), which also sets I_w^-1; four at a
+                // time where the SIMD lanes exist (driftGeneralQuad).
+                if (!kPairedDrift) {
+                    driftGeneralInertia(m, p, h);
+                    continue;
+                }
+                waitingGeneral[generalCount++] = static_cast<std::uint32_t>(k);
+                if (generalCount == 4) {
+                    driftGeneralQuad(w, waitingGeneral, h);
+                    generalCount = 0;
+                }
                 continue;
             }
         }
@@ -676,6 +819,9 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
                       w.params[w.awakeBodies[waiting[n + 1]]], k, h);
         }
         if (n < waitingCount[k]) driftAxisymmetric(motionOf(w, waiting[n] + 1), w.params[w.awakeBodies[waiting[n]]], k, h);
+    }
+    for (int n = 0; n < generalCount; ++n) {
+        driftGeneralInertia(motionOf(w, waitingGeneral[n] + 1), w.params[w.awakeBodies[waitingGeneral[n]]], h);
     }
     // The pose change since the step's start, for the contact kernels (the
     // bodies they read: the drifts above included), if there are any.

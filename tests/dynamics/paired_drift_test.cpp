@@ -119,3 +119,75 @@ TEST(PairedDrift, PairedTopsPrecessAsTheClosedForm) {
         EXPECT_LT(length(l - l0) / length(l0), 1e-4) << "top " << k;
     }
 }
+
+// Bodies of general inertia (three distinct moments, or off-diagonal entries:
+// a hull) drift four at a time as well (driftGeneralQuad), the rest one by
+// one. The list fills one group of four and leaves three alone; the fast one
+// is beyond the series' range, so its group goes through the scalar drift.
+namespace {
+
+std::vector<Top> tumblers() {
+    static const Vec3 rock[] = {{Real(0.4), Real(-0.1), Real(0.2)}, {Real(-0.3), Real(0.2), Real(0.1)},
+                                {Real(0.1), Real(0.5), Real(-0.3)}, {Real(-0.2), Real(-0.3), Real(-0.4)},
+                                {Real(0.2), Real(0.1), Real(0.45)}};
+    return {
+        {Shape::box({Real(0.5), Real(0.75), Real(1)}), {Real(1.5), 5, Real(-0.7)}},
+        {Shape::box({Real(0.1), Real(0.3), Real(0.2)}), {Real(-2), Real(0.5), 3}},
+        {Shape::convexHull(rock), {Real(0.3), -4, Real(1.1)}},
+        {Shape::box({Real(0.2), Real(0.4), Real(0.1)}), {4, Real(-1), Real(0.2)}},
+        {Shape::box({Real(0.3), Real(0.2), Real(0.6)}), {Real(2.5), Real(1.5), Real(-1)}},
+        {Shape::box({Real(0.5), Real(0.75), Real(1)}), {}},                             // at rest
+        {Shape::box({Real(0.3), Real(0.1), Real(0.2)}), {Real(0.5), 400, Real(0.3)}},  // beyond the series' range
+    };
+}
+
+}  // namespace
+
+TEST(PairedDrift, GeneralInertiaBodiesHaveTheBitsTheyHaveAlone) {
+    for (const bool withFast : {false, true}) {
+        std::vector<Top> list = tumblers();
+        if (!withFast) list.pop_back();  // then the first four drift as one group of lanes
+        for (const Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::Verlet}) {
+            World together(spinning(integrator));
+            std::vector<BodyId> ids;
+            for (std::size_t k = 0; k < list.size(); ++k) ids.push_back(addTop(together, list[k], static_cast<int>(k)));
+            for (int i = 0; i < 120; ++i) together.step(Real(1) / 60);
+            for (std::size_t k = 0; k < list.size(); ++k) {
+                World alone(spinning(integrator));
+                const BodyId id = addTop(alone, list[k], static_cast<int>(k));
+                for (int i = 0; i < 120; ++i) alone.step(Real(1) / 60);
+                EXPECT_TRUE(sameBits(alone.orientation(id), together.orientation(ids[k]))) << "body " << k;
+                EXPECT_TRUE(sameBits(alone.angularVelocity(id), together.angularVelocity(ids[k]))) << "body " << k;
+            }
+        }
+    }
+}
+
+// Torque-free: each grouped body keeps its world angular momentum L = I_w w
+// (the drift turns it at constant L; float storage of q and w walks it only
+// by roundings) and its kinetic energy w.L / 2 to second order in the step.
+TEST(PairedDrift, GeneralInertiaBodiesKeepTheirAngularMomentum) {
+    std::vector<Top> list = tumblers();
+    list.resize(5);
+    World world(worldDef(Integrator::SemiImplicitEuler, 4, {0, 0, 0}));
+    std::vector<BodyId> ids;
+    std::vector<Vec3> l0;
+    std::vector<Real> e0;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        ids.push_back(addTop(world, list[k], static_cast<int>(k)));
+        const Mat3 inertia = world.localInertia(ids[k]);  // q0 = identity: world and body axes agree
+        l0.push_back(inertia * list[k].w0);
+        e0.push_back(Real(0.5) * dot(list[k].w0, l0.back()));
+    }
+    for (int i = 0; i < 600; ++i) world.step(Real(1) / 60);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const Mat3 r = toMat3(world.orientation(ids[k]));
+        const Vec3 w = world.angularVelocity(ids[k]);
+        const Vec3 l = r * world.localInertia(ids[k]) * transpose(r) * w;
+        // Measured: at most 2.0e-6 relative over the 2,400 sub-steps.
+        EXPECT_LT(length(l - l0[k]) / length(l0[k]), 2e-5) << "body " << k;
+        // The midpoint drift is second order: measured at most 6.4e-6 of the
+        // energy at these spins (|w| h up to 0.022 rad per sub-step).
+        EXPECT_LT(std::fabs(Real(0.5) * dot(w, l) - e0[k]) / e0[k], 1e-4) << "body " << k;
+    }
+}
