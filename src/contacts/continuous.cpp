@@ -93,8 +93,12 @@ void sweepBody(BodyStore& w, const JointPairFilter& joints, const BroadPhase& br
     if (length(dp) + turnBound <= half) return;
     const Sweep sweep = sweepBetween(w.startCom[i], q0, m.com, m.q, p.localCom);
     // How far a point of the body's core moved at most: its turn does not
-    // move a sphere's surface about its own centre.
-    if (p.isBullet && length(dp) + length(sweep.angularVelocity) * coreReach(shape, p.localCom) <= half) return;
+    // move a sphere's surface about its own centre. (Only when the centre
+    // alone moved no farther: the sum is never less than length(dp), and
+    // the core's reach, a loop over a compound's children, was 1.2 % of Jolt's
+    // HighSpeed step, whose bullets move metres.)
+    const Real moved = length(dp);
+    if (p.isBullet && moved <= half && moved + length(sweep.angularVelocity) * coreReach(shape, p.localCom) <= half) return;
     const ImpactRules rules = impactRules(core);
     // What the sweep may meet: the box of a ball of the body's extent (its
     // farthest point from the centre of mass) along the centre's path, grown
