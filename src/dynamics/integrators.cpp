@@ -507,13 +507,13 @@ void driftGeneralQuad(BodyStore& w, const std::uint32_t* entries, Real h) {
     };
     // toDouble(p.localInertia): column c holds entries (0, c), (1, c), (2, c).
     RotationL<T> inertia;
-    T* const columns[3] = {&inertia.c0.x, &inertia.c1.x, &inertia.c2.x};
-    for (int col = 0; col < 3; ++col) {
-        for (int row = 0; row < 3; ++row) {
-            lanes(p[0]->localInertia(row, col), p[1]->localInertia(row, col), p[2]->localInertia(row, col),
-                  p[3]->localInertia(row, col), columns[col][row]);
-        }
-    }
+    const auto entry = [&](int row, int col, T& out) {
+        lanes(p[0]->localInertia(row, col), p[1]->localInertia(row, col), p[2]->localInertia(row, col),
+              p[3]->localInertia(row, col), out);
+    };
+    entry(0, 0, inertia.c0.x), entry(1, 0, inertia.c0.y), entry(2, 0, inertia.c0.z);
+    entry(0, 1, inertia.c1.x), entry(1, 1, inertia.c1.y), entry(2, 1, inertia.c1.z);
+    entry(0, 2, inertia.c2.x), entry(1, 2, inertia.c2.y), entry(2, 2, inertia.c2.z);
     // inverseInDouble, on its regular branch.
     const T a = inertia.c0.x, b = inertia.c1.x, c = inertia.c2.x, d = inertia.c1.y, e = inertia.c2.y, f = inertia.c2.z;
     const T a00 = d * f - e * e, a01 = c * e - b * f, a02 = b * e - c * d;
