@@ -217,7 +217,7 @@ bool collideBoxBox(const ConvexShape& a, const ConvexShape& b, Real margin, Mani
     } else {
         n = ra.col(axisA) * (dA[static_cast<std::size_t>(axisA)] >= 0 ? Real(1) : Real(-1));
     }
-    buildFaceManifold(a, b, n, a.support(n), b.support(-n), margin, m, useB ? 2 : 1);
+    buildFaceManifold(a, b, n, margin, m, useB ? 2 : 1);
     // The clipped points' nearest is never nearer than the face axis's
     // separation (each is a real path along n onto the reference face); when
     // it lies farther, the nearest part of B was clipped away and the bodies
