@@ -74,13 +74,13 @@ std::uint32_t clipPolygon(const SupportFace& ref, ClipVertex* poly, std::uint32_
     ClipVertex* in = poly;
     ClipVertex* out = scratch;
     for (std::uint32_t e = 0; e < ref.count && count > 0; ++e) {
-        const Vec3 p0 = ref.points[e], p1 = ref.points[(e + 1) % ref.count];
+        const Vec3 p0 = ref.points[e], p1 = ref.points[e + 1 == ref.count ? 0 : e + 1];
         const Vec3 side = cross(p1 - p0, ref.normal);
         const Real off = dot(side, p0);
         std::uint32_t outCount = 0;
         for (std::uint32_t i = 0; i < count; ++i) {
             const ClipVertex& s = in[i];
-            const ClipVertex& t = in[(i + 1) % count];
+            const ClipVertex& t = in[i + 1 == count ? 0 : i + 1];  // not % count: a division per vertex
             const Real ds = dot(side, s.p) - off, dt = dot(side, t.p) - off;
             if (ds <= 0 && outCount < kMaxClip) out[outCount++] = s;
             if ((ds <= 0) != (dt <= 0) && outCount < kMaxClip) {
@@ -103,7 +103,7 @@ bool clipSegment(const SupportFace& ref, ClipVertex& a, ClipVertex& b) {
     std::uint32_t k0 = a.key, k1 = b.key;
     const Vec3 d = b.p - a.p;
     for (std::uint32_t e = 0; e < ref.count; ++e) {
-        const Vec3 p0 = ref.points[e], p1 = ref.points[(e + 1) % ref.count];
+        const Vec3 p0 = ref.points[e], p1 = ref.points[e + 1 == ref.count ? 0 : e + 1];
         const Vec3 side = cross(p1 - p0, ref.normal);
         const Real da = dot(side, a.p - p0), dd = dot(side, d);
         if (std::fabs(dd) < Real(1e-12)) {
@@ -215,7 +215,7 @@ void buildFaceManifoldWith(const ConvexShape& a, const ConvexShape& b, const Vec
         } else {
             const Vec3 q = poly[0].p;
             for (std::uint32_t e = 0; e < rf.count && count > 0; ++e) {
-                const Vec3 p0 = rf.points[e], p1 = rf.points[(e + 1) % rf.count];
+                const Vec3 p0 = rf.points[e], p1 = rf.points[e + 1 == rf.count ? 0 : e + 1];
                 if (dot(cross(p1 - p0, rf.normal), q - p0) > 0) count = 0;
             }
         }
