@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
     // The churn scenes by name: full size, or the quick sizes (e.g. rain(4x2)).
     for (bench::SceneSpec& scene : bench::churnScenes(false)) scenes.push_back(std::move(scene));
     for (bench::SceneSpec& scene : bench::churnScenes(true)) scenes.push_back(std::move(scene));
+    // A middle size of the washer for callgrind: 1728 cubes, where the cube pairs weigh as at full size.
+    scenes.push_back(bench::washer(12, 300));
     for (const bench::SceneSpec& scene : scenes) {
         if (scene.name != name) continue;
         bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);

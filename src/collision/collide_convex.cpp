@@ -74,13 +74,13 @@ std::uint32_t clipPolygon(const SupportFace& ref, ClipVertex* poly, std::uint32_
     ClipVertex* in = poly;
     ClipVertex* out = scratch;
     for (std::uint32_t e = 0; e < ref.count && count > 0; ++e) {
-        const Vec3 p0 = ref.points[e], p1 = ref.points[(e + 1) % ref.count];
+        const Vec3 p0 = ref.points[e], p1 = ref.points[e + 1 == ref.count ? 0 : e + 1];
         const Vec3 side = cross(p1 - p0, ref.normal);
         const Real off = dot(side, p0);
         std::uint32_t outCount = 0;
         for (std::uint32_t i = 0; i < count; ++i) {
             const ClipVertex& s = in[i];
-            const ClipVertex& t = in[(i + 1) % count];
+            const ClipVertex& t = in[i + 1 == count ? 0 : i + 1];  // not % count: a division per vertex
             const Real ds = dot(side, s.p) - off, dt = dot(side, t.p) - off;
             if (ds <= 0 && outCount < kMaxClip) out[outCount++] = s;
             if ((ds <= 0) != (dt <= 0) && outCount < kMaxClip) {
@@ -103,7 +103,7 @@ bool clipSegment(const SupportFace& ref, ClipVertex& a, ClipVertex& b) {
     std::uint32_t k0 = a.key, k1 = b.key;
     const Vec3 d = b.p - a.p;
     for (std::uint32_t e = 0; e < ref.count; ++e) {
-        const Vec3 p0 = ref.points[e], p1 = ref.points[(e + 1) % ref.count];
+        const Vec3 p0 = ref.points[e], p1 = ref.points[e + 1 == ref.count ? 0 : e + 1];
         const Vec3 side = cross(p1 - p0, ref.normal);
         const Real da = dot(side, a.p - p0), dd = dot(side, d);
         if (std::fabs(dd) < Real(1e-12)) {
@@ -174,9 +174,15 @@ void closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const
     t = static_cast<Real>(tt);
 }
 
-void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n, const Vec3& fallbackA,
-                       const Vec3& fallbackB, Real margin, Manifold& m, int forceReference, bool fallbackIsDeepest,
-                       const SupportFace* knownFaceA, const SupportFace* knownFaceB) {
+namespace {
+
+// buildFaceManifold's body. `fallback(pa, pb)` gives the fallback points; it
+// is called only when they are used: always with fallbackIsDeepest, else only
+// when clipping left no point within the margin.
+template <class Fallback>
+void buildFaceManifoldWith(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Fallback&& fallback, Real margin,
+                           Manifold& m, int forceReference, bool fallbackIsDeepest, const SupportFace* knownFaceA,
+                           const SupportFace* knownFaceB) {
     m.normal = n;
     m.pointCount = 0;
     SupportFace ownA, ownB;
@@ -209,7 +215,7 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
         } else {
             const Vec3 q = poly[0].p;
             for (std::uint32_t e = 0; e < rf.count && count > 0; ++e) {
-                const Vec3 p0 = rf.points[e], p1 = rf.points[(e + 1) % rf.count];
+                const Vec3 p0 = rf.points[e], p1 = rf.points[e + 1 == rf.count ? 0 : e + 1];
                 if (dot(cross(p1 - p0, rf.normal), q - p0) > 0) count = 0;
             }
         }
@@ -242,6 +248,8 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
     }
     const std::uint32_t fallbackId = 0x00800000u | fa.id << 8 | fb.id;
     if (fallbackIsDeepest) {
+        Vec3 fallbackA, fallbackB;
+        fallback(fallbackA, fallbackB);
         // Clipping measures depth to the reference face's plane over the
         // prism of its polygon; at an edge-like contact (normal up to 45
         // degrees off the face) the touching edges can lie outside that
@@ -255,7 +263,36 @@ void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n
         if (clipped < deepest - kClipDepthTolerance) cand[candCount++] = {(fallbackA + fallbackB) * Real(0.5), deepest, fallbackId};
     }
     if (candCount > 0) reduceContacts({cand.items, candCount}, margin, m);
-    if (m.pointCount == 0) addContact(m, fallbackA, fallbackB, dot(fallbackA - fallbackB, n), fallbackId, margin);
+    if (m.pointCount == 0) {
+        Vec3 fallbackA, fallbackB;
+        fallback(fallbackA, fallbackB);
+        addContact(m, fallbackA, fallbackB, dot(fallbackA - fallbackB, n), fallbackId, margin);
+    }
+}
+
+}  // namespace
+
+void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n, const Vec3& fallbackA,
+                       const Vec3& fallbackB, Real margin, Manifold& m, int forceReference, bool fallbackIsDeepest,
+                       const SupportFace* knownFaceA, const SupportFace* knownFaceB) {
+    buildFaceManifoldWith(
+        a, b, n,
+        [&](Vec3& pa, Vec3& pb) {
+            pa = fallbackA;
+            pb = fallbackB;
+        },
+        margin, m, forceReference, fallbackIsDeepest, knownFaceA, knownFaceB);
+}
+
+void buildFaceManifold(const ConvexShape& a, const ConvexShape& b, const Vec3& n, Real margin, Manifold& m,
+                       int forceReference) {
+    buildFaceManifoldWith(
+        a, b, n,
+        [&](Vec3& pa, Vec3& pb) {
+            pa = a.support(n);
+            pb = b.support(-n);
+        },
+        margin, m, forceReference, false, nullptr, nullptr);
 }
 
 namespace {

@@ -21,9 +21,28 @@ namespace {
 constexpr Real kDepthTie = Real(1e-4);  // metres
 constexpr Real kRelTie = Real(1e-3);
 
+// Each candidate's value is computed once into a small array when there are
+// few candidates (a face clipped against a face gives at most 8 for boxes, a
+// few dozen for hulls), instead of once for the best and again for the first
+// near it: the same values, so the same choice bit for bit.
+constexpr std::size_t kCachedValues = 80;
+
 template <class Value>
 std::size_t firstNearBest(std::size_t n, Value&& value, Real absTie, Real relTie, Real& best) {
     best = -1e30f;
+    if (n <= kCachedValues) {
+        Real v[kCachedValues];
+        for (std::size_t i = 0; i < n; ++i) {
+            v[i] = value(i);
+            best = std::max(best, v[i]);
+        }
+        if (best <= -1e29f) return n;
+        const Real threshold = best - absTie - relTie * std::fabs(best);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (v[i] >= threshold) return i;
+        }
+        return n;
+    }
     for (std::size_t i = 0; i < n; ++i) best = std::max(best, value(i));
     if (best <= -1e29f) return n;
     const Real threshold = best - absTie - relTie * std::fabs(best);

@@ -352,22 +352,26 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out, std::
             const int axis = maxAxis(a);
             const Real sign = sgn(l[static_cast<std::size_t>(axis)]);
             // Face axis k with sign: corners counter-clockwise seen from outside.
-            const std::size_t k = static_cast<std::size_t>(axis), u = (k + 1) % 3, v = (k + 2) % 3;
             const Vec3 e = s.halfExtents;
-            Vec3 c[4];
-            const Real su[4] = {1, -1, -1, 1}, sv[4] = {1, 1, -1, -1};
-            for (int i = 0; i < 4; ++i) {
-                Vec3 p;
-                p[k] = sign * e[k];
-                p[u] = su[i] * e[u];
-                p[v] = sv[i] * e[v] * sign;  // mirror the winding on the negative face
-                c[i] = p;
-            }
-            for (int i = 0; i < 4; ++i) out.points[i] = transformPoint(s.xf, c[i]);
+            // The corners (k, u, v) = (axis, axis + 1, axis + 2) mod 3: k at sign e_k,
+            // u at +-e_u, v at +-e_v mirrored by the sign (the winding on the
+            // negative face), written out per axis so no component is indexed
+            // at run time (the same values as a loop over p[k], p[u], p[v]).
+            const Real ek = sign * e[static_cast<std::size_t>(axis)];
+            const auto corner = [&](Real su, Real sv) {
+                switch (axis) {
+                    case 0: return Vec3{ek, su * e.y, sv * e.z * sign};
+                    case 1: return Vec3{sv * e.x * sign, ek, su * e.z};
+                    default: return Vec3{su * e.x, sv * e.y * sign, ek};
+                }
+            };
+            out.points[0] = transformPoint(s.xf, corner(1, 1));
+            out.points[1] = transformPoint(s.xf, corner(-1, 1));
+            out.points[2] = transformPoint(s.xf, corner(-1, -1));
+            out.points[3] = transformPoint(s.xf, corner(1, -1));
             out.count = 4;
             out.id = static_cast<std::uint32_t>(2 * axis + (sign > 0 ? 0 : 1));
-            Vec3 fn;
-            fn[k] = sign;
+            const Vec3 fn = axis == 0 ? Vec3{sign, 0, 0} : axis == 1 ? Vec3{0, sign, 0} : Vec3{0, 0, sign};
             out.normal = rotate(s.xf.q, fn);
             return;
         }
