@@ -550,7 +550,7 @@ void JointSolver::projectPositions(BodyStore& w) {
     //
     // Most sub-steps leave every joint within the slop: a first check of all
     // of them in SIMD lanes then stands for the first pass, which would move
-    // nothing (anyBeyondSlop: the same operations per lane as the pass's, so
+    // nothing (firstGroupBeyondSlop: the same operations per lane as the pass's, so
     // the same decisions and the same bits).
     const std::uint32_t groups = projectionGroupCount();
     if (tasks_ != nullptr && tasks_->workerCount() > 1 && groups >= 2 * kProjectionGroupsPerTask) {
@@ -559,11 +559,29 @@ void JointSolver::projectPositions(BodyStore& w) {
         projectCheckedPositions(w);
         return;
     }
-    if (!anyBeyondSlop(w, slop)) return;
-    runProjectionPasses(w);
+    const std::size_t first = firstGroupBeyondSlop(w, slop);
+    if (first == (projection_.size() + 3) / 4) return;
+    runProjectionPasses(w, nullptr, first);
 }
 
-void JointSolver::runProjectionPasses(BodyStore& w) const {
+void JointSolver::runProjectionPasses(BodyStore& w, const std::uint8_t* beyond, std::size_t firstBeyond) {
+    // What the check found within the slop needs no second look before a
+    // body of it moves (withinAt_, movedAt_): rain, where a few ragdolls
+    // touching down make every sub-step's passes run over all joints, spent
+    // as much on the passes' checks again as on the check itself.
+    const std::size_t joints = projection_.size();
+    if (projectionClock_ > 0xF0000000u) {  // long runs: start the clock again
+        std::fill(movedAt_.begin(), movedAt_.end(), 0u);
+        std::fill(withinAt_.begin(), withinAt_.end(), 0u);
+        projectionClock_ = 0;
+    }
+    projectionRunStart_ = ++projectionClock_;
+    if (movedAt_.size() < w.state.size()) movedAt_.resize(w.state.size(), 0u);
+    if (withinAt_.size() < joints) withinAt_.resize(joints, 0u);
+    for (std::size_t g = 0, groups = (joints + 3) / 4; g < groups; ++g) {
+        if (beyond != nullptr ? beyond[g] != 0 : g >= firstBeyond) continue;
+        for (std::size_t k = 4 * g, end = std::min(joints, 4 * g + 4); k < end; ++k) withinAt_[k] = projectionRunStart_;
+    }
     for (int pass = 0; pass < JointTuning::kMaxProjectionPasses; ++pass) {
         if (!projectionPass(w, projectionSlop_)) break;
     }
@@ -581,16 +599,16 @@ void JointSolver::checkProjection(const BodyStore& w, std::uint32_t beginGroup, 
     for (std::uint32_t g = beginGroup; g < endGroup; ++g) groupBeyond_[g] = groupBeyondSlop(w, g, projectionSlop_) ? 1 : 0;
 }
 
-void JointSolver::projectCheckedPositions(BodyStore& w) const {
+void JointSolver::projectCheckedPositions(BodyStore& w) {
     // The check ran in groups across the threads (checkProjection): what
-    // anyBeyondSlop would have found, without its serial sweep over every
+    // firstGroupBeyondSlop would have found, without its serial sweep over every
     // joint each sub-step (joint_grid: 7 % of the step's instructions, all
     // of it on one thread; docs/benchmarks.md).
     const std::uint32_t groups = projectionGroupCount();
     if (groups == 0) return;
     const auto* first = groupBeyond_.data();
     if (std::find(first, first + groups, std::uint8_t{1}) == first + groups) return;
-    runProjectionPasses(w);
+    runProjectionPasses(w, first, 0);
 }
 
 bool JointSolver::groupBeyondSlop(const BodyStore& w, std::size_t group, Real slop) const {
@@ -614,12 +632,12 @@ bool JointSolver::groupBeyondSlop(const BodyStore& w, std::size_t group, Real sl
 #endif
 }
 
-bool JointSolver::anyBeyondSlop(const BodyStore& w, Real slop) const {
+std::size_t JointSolver::firstGroupBeyondSlop(const BodyStore& w, Real slop) const {
     const std::size_t groups = (projection_.size() + 3) / 4;
     for (std::size_t g = 0; g < groups; ++g) {
-        if (groupBeyondSlop(w, g, slop)) return true;
+        if (groupBeyondSlop(w, g, slop)) return g;
     }
-    return false;
+    return groups;
 }
 
 #if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE
@@ -689,10 +707,19 @@ void JointSolver::squaredSeparations4(const BodyStore& w, std::size_t first, std
 }
 #endif
 
-bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
+bool JointSolver::projectionPass(BodyStore& w, Real slop) {
     bool moved = false;
     const std::size_t joints = projection_.size();
+    // Within the slop at withinAt_[k] and neither body moved since (a
+    // distance joint is judged by its own rule: never skipped).
+    const auto known = [&](std::size_t k) {
+        const ProjectionJoint& j = projection_[k];
+        const std::uint32_t at = withinAt_[k];
+        return projectionMemory_ && at >= projectionRunStart_ && movedAt_[j.bodyA] <= at && movedAt_[j.bodyB] <= at &&
+               j.type != JointType::Distance;
+    };
     for (std::size_t i = 0; i < joints; ++i) {  // sliders left out
+        if (known(i)) continue;
 #if defined(__GNUC__) && defined(__SSE2__) && !FULCRUM_DOUBLE
         // Most joints are within the slop (grid, callgrind: 6.6 % of the
         // joints a pass visits move a body): the next four are checked in
@@ -706,7 +733,10 @@ bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
             float e2[4];
             squaredSeparations4(w, i, count, e2);
             std::size_t k = 0;
-            while (k < count && projection_[i + k].type != JointType::Distance && std::sqrt(e2[k]) <= slop) ++k;
+            while (k < count && projection_[i + k].type != JointType::Distance && std::sqrt(e2[k]) <= slop) {
+                withinAt_[i + k] = projectionClock_;
+                ++k;
+            }
             if (k == count) {
                 i += count - 1;
                 continue;
@@ -730,7 +760,10 @@ bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
         // before the masses are gathered (chain benchmark, callgrind 120 steps:
         // projection 15.8 M -> see docs/joints.md).
         const Real e = length(d);
-        if (j.type != JointType::Distance && e <= slop) continue;
+        if (j.type != JointType::Distance && e <= slop) {
+            withinAt_[i] = projectionClock_;
+            continue;
+        }
         // Masses of the current orientations (the step's start is far off for a link spinning at 40 rad/s).
         SolverBody sa = bodies_[j.bodyA];
         SolverBody sb = bodies_[j.bodyB];
@@ -756,6 +789,9 @@ bool JointSolver::projectionPass(BodyStore& w, Real slop) const {
         }
         if (ma) shiftBody(*ma, sa, rA, -P);
         if (mb) shiftBody(*mb, sb, rB, P);
+        ++projectionClock_;
+        if (ma) movedAt_[j.bodyA] = projectionClock_;
+        if (mb) movedAt_[j.bodyB] = projectionClock_;
         moved = true;
     }
     return moved;

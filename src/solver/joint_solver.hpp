@@ -94,7 +94,11 @@ public:
     // group found a joint beyond the slop: the same decisions, the same bits.
     std::uint32_t projectionGroupCount() const;
     void checkProjection(const BodyStore& w, std::uint32_t beginGroup, std::uint32_t endGroup);
-    void projectCheckedPositions(BodyStore& w) const;
+    void projectCheckedPositions(BodyStore& w);
+    // Tests: whether the passes skip the joints they know within the slop
+    // (withinAt_; on by default). Off, every pass checks every joint again:
+    // the same decisions, the same bits.
+    void setProjectionMemory(bool on) { projectionMemory_ = on; }
     // Impulses back into the joints, reaction forces, breaking (events; the
     // broken joints' bodies are woken through the store's wake queue).
     void store(BodyStore& w, std::vector<JointData>& joints);
@@ -122,15 +126,29 @@ private:
     void colour(const std::vector<SolverBody>& bodies, bool sameStructure);
     bool sameStructureAsLastStep(const std::vector<JointData>& joints, const std::vector<SolverBody>& bodies, bool directSolve);
     void refreshRotations();
-    bool projectionPass(BodyStore& w, Real slop) const;  // true if it moved a body
+    bool projectionPass(BodyStore& w, Real slop);  // true if it moved a body
     // Whether a projection pass could move anything: every point joint's
-    // anchor separation, four joints at a time in SIMD lanes (false: all
-    // within the slop, the pass would move nothing).
-    bool anyBeyondSlop(const BodyStore& w, Real slop) const;
+    // anchor separation, four joints at a time in SIMD lanes, up to the
+    // first group of four holding one beyond the slop; returns that group
+    // (the group count if none: all within the slop, the pass would move
+    // nothing).
+    std::size_t firstGroupBeyondSlop(const BodyStore& w, Real slop) const;
     // Whether the point joints projection_[4 first, 4 first + 4) hold one beyond the slop.
     bool groupBeyondSlop(const BodyStore& w, std::size_t group, Real slop) const;
-    void runProjectionPasses(BodyStore& w) const;
+    // The passes, after a check that found the groups of four flagged in
+    // `beyond` (nullptr: those from `firstBeyond` on) holding a joint beyond
+    // the slop, the others within it.
+    void runProjectionPasses(BodyStore& w, const std::uint8_t* beyond, std::size_t firstBeyond);
     std::vector<std::uint8_t> groupBeyond_;  // checkProjection's verdict per group of four
+    // What the passes already know (runProjectionPasses): a joint found
+    // within the slop at clock withinAt_[k] (the check or a pass) whose
+    // bodies have not moved since (movedAt_, per solver body: the clock of
+    // its last shift) is within it still, on the same positions, and is
+    // skipped: the same decisions, the same bits. The clock ticks at every
+    // shift and at every run's start (verdicts of an earlier run are older).
+    std::vector<std::uint32_t> withinAt_, movedAt_;
+    std::uint32_t projectionClock_ = 0, projectionRunStart_ = 0;
+    bool projectionMemory_ = true;
     std::vector<std::uint8_t> overBreakLimit_;  // store(): per constraint, its reaction exceeds a break threshold
     // |pB - pA|^2 of the point joints projection_[first, first + count)
     // (count <= 4) into e2[0 .. count), four lanes at once with the pass's

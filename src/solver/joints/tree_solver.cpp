@@ -457,6 +457,11 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     valid_.assign(trees_, 1);
     for (const std::uint64_t k : guardTripsOf_) guardTripsPast_ += k;
     guardTripsOf_.assign(trees_, 0);
+    kind_.resize(nodes_.size());
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+        const Node& n = nodes_[i];
+        kind_[i] = !n.joint ? kBodyNode : n.parent != kNone && nodes_[n.parent].joint ? kJointBelowJoint : kJointBelowBody;
+    }
     chain_.assign(trees_, 0);
     for (std::size_t t = 0; t < trees_; ++t) {
         bool chain = true;
@@ -561,10 +566,77 @@ inline void pushEnd(SolverBody& s, const Vec3& r, Real px, Real py, Real pz) {
 
 }  // namespace
 
+bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                      const JointContext& ctx, bool foldedWarmStart) {
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    // Only a relax pass checks the guard (solveTree).
+    const bool guard = !ctx.useBias;
+    // Right-hand sides, parents first (a joint's before its child's forward
+    // step subtracts from it): the residual J v (+ biasRate C) of a joint,
+    // zero for a body.
+    for (std::uint32_t i = end; i-- > begin;) {
+        Factor& f = factors_[i];
+        if (kind_[i] == kBodyNode) {
+            for (double& z : f.z) z = 0;
+            continue;
+        }
+        JointConstraint& j = joints[nodes_[i].ref];
+        const SolverBody& a = bodies[j.bodyA];
+        const SolverBody& b = bodies[j.bodyB];
+        const JointFrame& fr = currentFrame(j, a, b, ctx);
+        if (guard && (turnedTooFar(fr.rA, f.factorA, guardTurn2_) || turnedTooFar(fr.rB, f.factorB, guardTurn2_))) return false;
+        f.rA = fr.rA;
+        f.rB = fr.rB;
+        // b.v + b.w x rB - a.v - a.w x rA (+ biasRate d), per component (solveChain's).
+        Real rx = ((b.v.x + (b.w.y * fr.rB.z - b.w.z * fr.rB.y)) - a.v.x) - (a.w.y * fr.rA.z - a.w.z * fr.rA.y);
+        Real ry = ((b.v.y + (b.w.z * fr.rB.x - b.w.x * fr.rB.z)) - a.v.y) - (a.w.z * fr.rA.x - a.w.x * fr.rA.z);
+        Real rz = ((b.v.z + (b.w.x * fr.rB.y - b.w.y * fr.rB.x)) - a.v.z) - (a.w.x * fr.rA.y - a.w.y * fr.rA.x);
+        if (ctx.useBias) {
+            const Real bias = ctx.soft.biasRate;
+            rx += fr.d.x * bias, ry += fr.d.y * bias, rz += fr.d.z * bias;
+        }
+        f.z[0] = rx, f.z[1] = ry, f.z[2] = rz;
+    }
+    // Forward substitution on the stored factor, children first.
+    for (std::uint32_t i = begin; i < end; ++i) {
+        switch (kind_[i]) {
+            case kBodyNode: forward<6, 3>(i); break;
+            case kJointBelowJoint: forwardChainJoint(i); break;
+            default: forward<3, 6>(i); break;
+        }
+    }
+    // Back-substitution, parents first: y = D^-1 z - D^-1 Hp^T y_parent.
+    for (std::uint32_t i = end; i-- > begin;) {
+        switch (kind_[i]) {
+            case kBodyNode: backSubstitute<6, 3>(i); break;
+            case kJointBelowJoint: backSubstituteChainJoint(i); break;
+            default: backSubstitute<3, 6>(i); break;
+        }
+    }
+    // Impulses, children first (solveTree's).
+    for (std::uint32_t i = begin; i < end; ++i) {
+        if (kind_[i] == kBodyNode) continue;
+        const Factor& f = factors_[i];
+        JointConstraint& j = joints[nodes_[i].ref];
+        Vec3 d{static_cast<Real>(f.y[0]), static_cast<Real>(f.y[1]), static_cast<Real>(f.y[2])};
+        if (foldedWarmStart) {
+            d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
+            j.impulse.linear = d;
+        } else {
+            if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
+            j.impulse.linear += d;
+        }
+        SolverBody& a = bodies[j.bodyA];
+        SolverBody& b = bodies[j.bodyB];
+        if (a.invMass > 0) pushEnd<false>(a, f.rA, d.x, d.y, d.z);
+        if (b.invMass > 0) pushEnd<true>(b, f.rB, d.x, d.y, d.z);
+    }
+    return true;
+}
+
 bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
                                 const JointContext& ctx, bool refactor, bool foldedWarmStart) {
     if (chain_[tree]) return solveChain(tree, joints, bodies, ctx, refactor, foldedWarmStart);
-    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
     // A reused factorization first checks that no anchor of the tree has
     // turned by more than kGuardTurn since it was made (the guard): a
     // stale K^-1 far from the current K may amplify instead of solve (a
@@ -573,10 +645,12 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
     // Only a relax pass needs the check: the anchors move with the positions,
     // and a biased pass sees the anchors of the relax pass before it (or
     // of its own factorization).
-    bool guard = !refactor && !ctx.useBias;
-    bool again;
-    do {
-        again = false;
+    if (!refactor) {
+        if (solveTreeReused(tree, joints, bodies, ctx, foldedWarmStart)) return true;
+        ++guardTripsOf_[tree];  // tripped (nothing applied): factor now, below
+    }
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    {
         // Initial diagonal blocks and right-hand sides, parents first (a joint
         // below a contracted body adds that body's share to its parent joint).
         for (std::uint32_t i = end; i-- > begin;) {
@@ -592,14 +666,6 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
                 Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
                 if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
                 f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
-                if (guard && (turnedTooFar(fr.rA, f.factorA, guardTurn2_) || turnedTooFar(fr.rB, f.factorB, guardTurn2_))) {
-                    guard = false;
-                    refactor = true;
-                    ++guardTripsOf_[tree];
-                    again = true;  // the blocks are built parents first: start again
-                    break;
-                }
-                if (!refactor) continue;
                 f.factorA = fr.rA;
                 f.factorB = fr.rB;
                 // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
@@ -635,7 +701,6 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
                 }
             } else {
                 for (double& z : f.z) z = 0;
-                if (!refactor) continue;
                 const SolverBody& b = bodies[n.ref];
                 for (auto& row : f.D) {
                     for (double& x : row) x = 0;
@@ -648,21 +713,11 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
                 }
             }
         }
-    } while (again);
-    // Factor (or reuse this sub-step's factor) and forward-substitute, children first.
+    }
+    // Factor and forward-substitute, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
         const bool parentJoint = n.parent != kNone && nodes_[n.parent].joint;
-        if (!refactor) {
-            if (!n.joint) {
-                forward<6, 3>(i);
-            } else if (parentJoint) {
-                forwardChainJoint(i);
-            } else {
-                forward<3, 6>(i);
-            }
-            continue;
-        }
         bool ok;
         if (!n.joint) {
             ok = eliminate<6, 3>(i);

@@ -201,6 +201,13 @@ private:
                     bool refactor, bool foldedWarmStart);
     bool solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
                    bool refactor, bool foldedWarmStart);
+    // solveTree's pass on the kept factorization (no refactor), the same
+    // operations in the same order per value (same bits), with the node
+    // kinds looked up once (kind_) and the 3-vector work written out per
+    // component as solveChain's. False if the guard trips (nothing applied):
+    // the caller factors the tree again.
+    bool solveTreeReused(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
+                         bool foldedWarmStart);
 
     std::vector<Node> nodes_;       // elimination order: every tree's children before its parents
     std::vector<Factor> factors_;
@@ -209,6 +216,11 @@ private:
     std::vector<std::uint8_t> valid_;  // per tree: its factorization of this sub-step succeeded
     std::vector<std::uint8_t> warmFree_;  // per tree: markWarmStartFree
     std::vector<std::uint8_t> chain_;     // per tree: a chain of joints (solveChain)
+    // Per node (build()): kBodyNode, kJointBelowJoint (through a contracted
+    // body), kJointBelowBody (or a root joint): which block sizes its
+    // forward and back-substitution take (solveTreeReused).
+    static constexpr std::uint8_t kBodyNode = 0, kJointBelowJoint = 1, kJointBelowBody = 2;
+    std::vector<std::uint8_t> kind_;
     std::vector<ChainLink> links_;        // per node of a chain tree
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
