@@ -564,6 +564,26 @@ inline void pushEnd(SolverBody& s, const Vec3& r, Real px, Real py, Real pz) {
     }
 }
 
+
+// A joint's solved impulse y (softened, or folded with the warm start as
+// solveTree explains) into its accumulated impulse and onto its two bodies:
+// the kept-factor passes' and the chains' last step.
+inline void applyJointImpulse(JointConstraint& j, SolverBody* bodies, const Vec3& rA, const Vec3& rB, const double* y,
+                              const JointContext& ctx, bool foldedWarmStart) {
+    Vec3 d{static_cast<Real>(y[0]), static_cast<Real>(y[1]), static_cast<Real>(y[2])};
+    if (foldedWarmStart) {
+        d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
+        j.impulse.linear = d;
+    } else {
+        if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
+        j.impulse.linear += d;
+    }
+    SolverBody& a = bodies[j.bodyA];
+    SolverBody& b = bodies[j.bodyB];
+    if (a.invMass > 0) pushEnd<false>(a, rA, d.x, d.y, d.z);
+    if (b.invMass > 0) pushEnd<true>(b, rB, d.x, d.y, d.z);
+}
+
 }  // namespace
 
 bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
@@ -617,19 +637,7 @@ bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConst
     for (std::uint32_t i = begin; i < end; ++i) {
         if (kind_[i] == kBodyNode) continue;
         const Factor& f = factors_[i];
-        JointConstraint& j = joints[nodes_[i].ref];
-        Vec3 d{static_cast<Real>(f.y[0]), static_cast<Real>(f.y[1]), static_cast<Real>(f.y[2])};
-        if (foldedWarmStart) {
-            d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
-            j.impulse.linear = d;
-        } else {
-            if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
-            j.impulse.linear += d;
-        }
-        SolverBody& a = bodies[j.bodyA];
-        SolverBody& b = bodies[j.bodyB];
-        if (a.invMass > 0) pushEnd<false>(a, f.rA, d.x, d.y, d.z);
-        if (b.invMass > 0) pushEnd<true>(b, f.rB, d.x, d.y, d.z);
+        applyJointImpulse(joints[nodes_[i].ref], bodies, f.rA, f.rB, f.y, ctx, foldedWarmStart);
     }
     return true;
 }
@@ -935,18 +943,7 @@ bool JointTreeSolver::solveChain(std::uint32_t tree, std::vector<JointConstraint
             prefetch(&ahead.bodyA);
             prefetch(&ahead.impulse.linear);
         }
-        Vec3 d{static_cast<Real>(L.y[0]), static_cast<Real>(L.y[1]), static_cast<Real>(L.y[2])};
-        if (foldedWarmStart) {
-            d = d * ctx.soft.massScale + j.impulse.linear * (1 - ctx.soft.massScale - ctx.soft.impulseScale);
-            j.impulse.linear = d;
-        } else {
-            if (ctx.useBias) d = d * ctx.soft.massScale - j.impulse.linear * ctx.soft.impulseScale;
-            j.impulse.linear += d;
-        }
-        SolverBody& a = bodies[j.bodyA];
-        SolverBody& b = bodies[j.bodyB];
-        if (a.invMass > 0) pushEnd<false>(a, L.rA, d.x, d.y, d.z);
-        if (b.invMass > 0) pushEnd<true>(b, L.rB, d.x, d.y, d.z);
+        applyJointImpulse(j, bodies, L.rA, L.rB, L.y, ctx, foldedWarmStart);
     }
     return true;
 }
