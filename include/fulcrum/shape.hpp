@@ -256,6 +256,15 @@ const ConvexHull* roundedHullOf(const Shape& s);
 // hold the same limit).
 inline constexpr int kMaxCompoundLevels = 32;
 
+// The largest size or coordinate a shape may have, in metres (10^12 m, some
+// seven times the Sun's distance): far beyond any world the engine is
+// accurate for, and small enough that a shape's bounds under any rotation,
+// and the product of two such numbers, stay finite in float. A finite but
+// larger number (a compound child at 3e38 m, a box of half extent 1e38)
+// overflowed to infinity when the shape was turned, deep inside a step; every
+// factory and the snapshot loader refuse it instead.
+inline constexpr Real kMaxShapeCoordinate = Real(1e12);
+
 struct CompoundChild {
     Shape shape;
     Transform transform;  // child frame in the compound's frame

@@ -122,6 +122,9 @@ Shape Shape::heightField(std::uint32_t rows, std::uint32_t columns, Real spacing
     if (!std::isfinite(spacingX * static_cast<Real>(columns - 1)) || !std::isfinite(spacingZ * static_cast<Real>(rows - 1))) {
         throw Error("heightfield: spacing times the number of cells overflows");
     }
+    if (spacingX * static_cast<Real>(columns - 1) > kMaxShapeCoordinate || spacingZ * static_cast<Real>(rows - 1) > kMaxShapeCoordinate) {
+        throw Error("heightfield: spacing times the number of cells is beyond the limit of 1e12 m (kMaxShapeCoordinate)");
+    }
     const std::size_t samples = std::size_t(rows) * columns;
     if (heights.size() != samples) {
         throw Error("heightfield: heights has " + std::to_string(heights.size()) + " values, rows * columns = " +
@@ -131,6 +134,9 @@ Shape Shape::heightField(std::uint32_t rows, std::uint32_t columns, Real spacing
         if (!std::isfinite(heights[i])) {
             throw Error("heightfield: heights[" + std::to_string(i) + "] (row " + std::to_string(i / columns) + ", column " +
                         std::to_string(i % columns) + ") is not finite (NaN or infinity)");
+        }
+        if (std::abs(heights[i]) > kMaxShapeCoordinate) {
+            throw Error("heightfield: heights[" + std::to_string(i) + "] is beyond the limit of 1e12 m (kMaxShapeCoordinate)");
         }
     }
     auto hf = std::make_shared<HeightField>();

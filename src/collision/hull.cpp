@@ -426,6 +426,9 @@ Shape Shape::convexHull(std::span<const Vec3> points) {
     }
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (!isFinite(points[i])) throw Error("convex_hull: points[" + indexString(i) + "] is not finite (NaN or infinity)");
+        if (maxComponent(abs(points[i])) > kMaxShapeCoordinate) {
+            throw Error("convex_hull: points[" + indexString(i) + "] has a coordinate beyond the limit of 1e12 m (kMaxShapeCoordinate)");
+        }
     }
     D3 center;
     const double tol = hullTolerance(points, center);

@@ -59,6 +59,9 @@ Shape Shape::mesh(std::span<const Vec3> vertices, std::span<const std::array<std
     }
     for (std::size_t i = 0; i < vertices.size(); ++i) {
         if (!isFinite(vertices[i])) throw Error("mesh: vertices[" + std::to_string(i) + "] is not finite (NaN or infinity)");
+        if (maxComponent(abs(vertices[i])) > kMaxShapeCoordinate) {
+            throw Error("mesh: vertices[" + std::to_string(i) + "] has a coordinate beyond the limit of 1e12 m (kMaxShapeCoordinate)");
+        }
     }
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const auto& tri = triangles[t];

@@ -27,6 +27,9 @@ void requirePositive(Real v, const char* what, const char* shape) {
     if (!std::isfinite(v) || v <= 0) {
         throw Error(std::string(shape) + ": " + what + " must be a positive finite number, got " + fmt(v));
     }
+    if (v > kMaxShapeCoordinate) {
+        throw Error(std::string(shape) + ": " + what + " must be at most " + fmt(kMaxShapeCoordinate) + " m, got " + fmt(v));
+    }
 }
 
 // Inertia of `mp` after rotating it by `q` and expressing it about `point`
@@ -85,6 +88,9 @@ Shape Shape::plane(const Vec3& normal, Real offset) {
     if (!isFinite(normal) || !std::isfinite(offset)) throw Error("plane: normal and offset must be finite");
     const Real len = length(normal);
     if (len < Real(1e-6)) throw Error("plane: normal must not be zero");
+    if (std::fabs(offset / len) > kMaxShapeCoordinate) {
+        throw Error("plane: offset must be at most " + fmt(kMaxShapeCoordinate) + " m from the origin, got " + fmt(offset / len));
+    }
     Shape s;
     s.type_ = ShapeType::Plane;
     s.halfExtents_ = normal / len;
@@ -115,6 +121,10 @@ Shape Shape::compound(std::span<const CompoundChild> children) {
         }
         if (length(t.q) < Real(1e-6)) {
             throw Error("compound: children[" + std::to_string(i) + "] has a zero-length orientation quaternion");
+        }
+        if (maxComponent(abs(t.p)) > kMaxShapeCoordinate) {
+            throw Error("compound: children[" + std::to_string(i) + "] position is farther than " + fmt(kMaxShapeCoordinate) +
+                        " m from the compound's origin");
         }
     }
     auto list = std::make_shared<std::vector<CompoundChild>>(children.begin(), children.end());

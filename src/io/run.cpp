@@ -32,6 +32,11 @@ namespace {
 
 using ojson = nlohmann::ordered_json;
 
+// A value's JSON text. Body names and the source's name are bytes from the
+// C++ API, a snapshot or a file path and need not be UTF-8: such bytes are
+// written as U+FFFD instead of failing the whole report.
+std::string jsonText(const ojson& j) { return j.dump(-1, ' ', false, ojson::error_handler_t::replace); }
+
 double num(Real v) { return std::strtod(formatNumber(v).c_str(), nullptr); }
 ojson vec(const Vec3& v) { return ojson::array({num(v.x), num(v.y), num(v.z)}); }
 ojson quat(const Quat& q) { return ojson::array({num(q.w), num(q.x), num(q.y), num(q.z)}); }
@@ -262,7 +267,7 @@ namespace {
 // step, the scene's total steps and its name.
 std::string runRecord(const Scene& scene) {
     ojson j{{"fulcrum_run", 1}, {"dt", static_cast<double>(scene.dt)}, {"steps", scene.steps}, {"source", scene.sourceName}};
-    return j.dump();
+    return jsonText(j);
 }
 }  // namespace
 
@@ -446,14 +451,14 @@ namespace {
 // nlohmann's own dump, so the numbers are the same text, bit for bit.
 void writeReadableJson(std::string& out, const ojson& j, std::size_t indent) {
     if (!j.is_structured() || j.empty()) {
-        out += j.dump();
+        out += jsonText(j);
         return;
     }
     if (j.is_array() && std::all_of(j.begin(), j.end(), [](const ojson& e) { return e.is_primitive(); })) {
         out += '[';
         for (std::size_t i = 0; i < j.size(); ++i) {
             if (i > 0) out += ", ";
-            out += j[i].dump();
+            out += jsonText(j[i]);
         }
         out += ']';
         return;
@@ -464,7 +469,7 @@ void writeReadableJson(std::string& out, const ojson& j, std::size_t indent) {
         if (!first) out += ",\n";
         first = false;
         out.append(indent + 2, ' ');
-        if (j.is_object()) out += ojson(it.key()).dump() + ": ";
+        if (j.is_object()) out += jsonText(ojson(it.key())) + ": ";
         writeReadableJson(out, it.value(), indent + 2);
     }
     out += '\n';

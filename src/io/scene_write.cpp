@@ -405,7 +405,9 @@ std::string sceneToJson(const Scene& scene) {
         for (const SceneVehicle& v : scene.vehicles) vehicles.push_back(vehicleJson(v));
         doc["vehicles"] = std::move(vehicles);
     }
-    return doc.dump(2) + "\n";
+    // Names need not be UTF-8 (the C++ API and snapshots take any bytes):
+    // such bytes are written as U+FFFD rather than failing the write.
+    return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 
 void saveScene(const Scene& scene, const std::filesystem::path& file) {

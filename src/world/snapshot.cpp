@@ -559,6 +559,13 @@ struct SnapshotAccess {
         }
         if (a.version >= 8) io(a, s.convexRadius_);
         if constexpr (A::kReading) {
+            // The factories' size limit (kMaxShapeCoordinate, fulcrum/shape.hpp):
+            // a finite but larger size overflows when the shape is turned.
+            const auto within = [](Real x) { return std::isfinite(x) && std::fabs(x) <= kMaxShapeCoordinate; };
+            if (!within(s.radius_) || !within(s.halfHeight_) || !within(s.halfExtents_.x) || !within(s.halfExtents_.y) ||
+                !within(s.halfExtents_.z)) {
+                a.fail("a shape's size is not finite or beyond the limit of 1e12 m");
+            }
             const Real r = s.convexRadius_;
             const bool roundable = s.type_ == ShapeType::Box || s.type_ == ShapeType::Cylinder || s.type_ == ShapeType::ConvexHull;
             Real limit = r;  // hulls: any finite radius
@@ -586,6 +593,11 @@ struct SnapshotAccess {
                     }
                     for (const auto& e : h.edges) {
                         if (e[0] >= h.vertices.size() || e[1] >= h.vertices.size()) a.fail("hull edge out of range");
+                    }
+                    for (const Vec3& v : h.vertices) {
+                        if (!isFinite(v) || maxComponent(abs(v)) > kMaxShapeCoordinate) {
+                            a.fail("hull vertex not finite or beyond the limit of 1e12 m");
+                        }
                     }
                     detail::deriveHullTables(h);  // derived, not saved
                     s.hull_ = std::make_shared<const ConvexHull>(std::move(h));
@@ -639,6 +651,15 @@ struct SnapshotAccess {
                 for (CompoundChild& c : children) {
                     shape(a, c.shape, depth + 1);
                     io(a, c.transform);
+                    // As Shape::compound makes them: a finite position within
+                    // the size limit and a unit orientation.
+                    if constexpr (A::kReading) {
+                        const Transform& t = c.transform;
+                        if (!isFinite(t.p) || maxComponent(abs(t.p)) > kMaxShapeCoordinate || !isFinite(t.q) ||
+                            !(std::fabs(length(t.q) - 1) <= Real(1e-3))) {
+                            a.fail("a compound child's position is not finite or beyond the limit of 1e12 m, or its orientation is not a unit quaternion");
+                        }
+                    }
                 }
                 if constexpr (A::kReading) s.children_ = std::make_shared<const std::vector<CompoundChild>>(std::move(children));
                 break;

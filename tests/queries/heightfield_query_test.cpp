@@ -110,7 +110,10 @@ TEST(HeightFieldShape, BadInputNamesTheField) {
     EXPECT_THAT(message([&] { Shape::heightField(1, 4, 1, 1, four); }), HasSubstr("heightfield: rows must be between 2 and 4097, got 1"));
     EXPECT_THAT(message([&] { Shape::heightField(4, 1, 1, 1, four); }), HasSubstr("heightfield: columns must be between 2"));
     EXPECT_THAT(message([&] { Shape::heightField(100000, 100000, 1, 1, four); }), HasSubstr("rows must be between 2 and 4097"));
-    EXPECT_THAT(message([&] { Shape::heightField(2, 2, Real(1e38), 1, std::vector<Real>(4, 0)); }), HasSubstr("no error"));
+    // The size limit (kMaxShapeCoordinate, 1e12 m): at it, fine; a finite extent beyond it is refused.
+    EXPECT_THAT(message([&] { Shape::heightField(2, 2, Real(1e12), 1, std::vector<Real>(4, 0)); }), HasSubstr("no error"));
+    EXPECT_THAT(message([&] { Shape::heightField(2, 2, Real(1e38), 1, std::vector<Real>(4, 0)); }),
+                HasSubstr("heightfield: spacing times the number of cells is beyond the limit of 1e12 m"));
     // The extent (spacing x (columns - 1)) overflows Real: 3e38 x 2 in float, 1.5e308 x 2 in double.
     const Real hugeSpacing = sizeof(Real) == sizeof(float) ? Real(3e38) : Real(1.5e308);
     EXPECT_THAT(message([&] { Shape::heightField(2, 3, hugeSpacing, 1, std::vector<Real>(6, 0)); }), HasSubstr("overflows"));

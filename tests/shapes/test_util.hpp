@@ -5,10 +5,25 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string>
 
+#include <gtest/gtest.h>
+
+#include "fulcrum/error.hpp"
 #include "fulcrum/shape.hpp"
 
 namespace fulcrum::test {
+
+// `make()` must throw fulcrum::Error whose message contains `fragment`.
+template <typename F>
+void expectErrorContaining(F&& make, const std::string& fragment) {
+    try {
+        make();
+        ADD_FAILURE() << "expected an error containing '" << fragment << "'";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
 
 // Deterministic uniform numbers (mt19937 with an explicit mapping, so results
 // do not depend on the standard library's distribution implementation).

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fulcrum/snapshot.hpp"
+#include "fulcrum/world.hpp"
 #include "io/run.hpp"
 
 namespace fulcrum {
@@ -76,6 +78,33 @@ TEST(CliResume, BadSnapshotsAndOptionsExitWithStatus2) {
     const Outcome missing = runCli(std::nullopt, {}, noFile);
     EXPECT_EQ(missing.status, 2);
     EXPECT_NE(missing.err.find("--snapshot-at: needs --snapshot FILE"), std::string::npos) << missing.err;
+}
+
+// Found by fuzzing a snapshot: a body name is bytes (the C++ API and the
+// snapshot take any), and a name that is not UTF-8 made the --json report
+// fail with the JSON library's "invalid UTF-8 byte" as an internal error.
+// The report is written instead, the bad bytes as U+FFFD, the rest intact.
+TEST(CliResume, ANameThatIsNotUtf8IsReportedWithReplacementCharacters) {
+    World world;
+    BodyDef def;
+    def.name = "crate\xff\xfe";
+    def.shape = Shape::box({Real(0.5), Real(0.5), Real(0.5)});
+    def.position = {0, 2, 0};
+    (void)world.createBody(def);
+    const auto snap = std::filesystem::temp_directory_path() / "fulcrum_cli_not_utf8.snap";
+    saveSnapshot(world, snap, R"({"fulcrum_run": 1, "dt": 0.01, "steps": 5, "source": "bytes\u00e9"})");
+    detail::RunOverrides resume;
+    resume.resumePath = snap.string();
+    detail::RunOutputs json;
+    json.json = true;
+    const Outcome resumed = runCli(std::nullopt, resume, json);
+    std::filesystem::remove(snap);
+    ASSERT_EQ(resumed.status, 0) << resumed.err;
+    const nlohmann::json r = report(resumed.out);
+    EXPECT_EQ(r["steps"], 5);
+    EXPECT_NE(resumed.out.find("crate\xEF\xBF\xBD\xEF\xBF\xBD"), std::string::npos) << resumed.out;
+    // The body still fell under gravity for 5 steps of 0.01 s (not a stub report).
+    EXPECT_LT(r["bodies"][0]["position"][1].get<double>(), 2.0);
 }
 
 }  // namespace
