@@ -62,6 +62,8 @@ SimdPath JointSolver::setSimdPath(SimdPath path) {
         wide_ = makeWideJoints(path);
         wide_->reserve(reservedJoints_ / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
     }
+    // The joint trees' groups of four in lanes of doubles (tree_lanes.hpp): none on the scalar path.
+    trees_.setLanes(path == SimdPath::Scalar ? 0 : path == SimdPath::Avx2 ? 2 : 1);
     return simd_;
 }
 
