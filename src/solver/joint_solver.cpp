@@ -517,8 +517,11 @@ void JointSolver::solveTrees() {
         trees_.solveTrees(0, count, constraints_, bodies_, ctx_, refactor);
         return;
     }
-    tasks_->parallelFor(count, kTreesPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        trees_.solveTrees(begin, end, constraints_, bodies_, ctx_, refactor);
+    // Ranges of whole fours of trees, so that no range cuts a group the tree
+    // solver runs in lanes (tree_lanes.hpp: groups start at multiples of 4).
+    const std::uint32_t fours = (count + 3) / 4;
+    tasks_->parallelFor(fours, (kTreesPerTask + 3) / 4, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        trees_.solveTrees(4 * begin, std::min(4 * end, count), constraints_, bodies_, ctx_, refactor);
     });
 }
 

@@ -7,57 +7,31 @@
 
 namespace fulcrum::detail::FULCRUM_TREE_LANES_NS {
 
-// A register's worth of lanes (Part) and four lanes (V). GCC and Clang
-// vector extensions: lane-wise IEEE operations, the scalar ones.
+// Four lanes (V): with GCC and Clang a vector-extension type of four
+// doubles, whose + - * are the lane-wise IEEE operations, the scalar ones;
+// the compiler splits it into two SSE2 (or WebAssembly SIMD128) registers or
+// keeps it in one AVX register. It never crosses a function boundary (the
+// ABI of a 32-byte vector argument differs with and without AVX), so
+// everything below is inlined into one kernel. Elsewhere a plain struct.
 #if defined(__GNUC__) || defined(__clang__)
-#if defined(__AVX__)
-typedef double Part __attribute__((vector_size(32)));
-constexpr int kParts = 1;
-#else
-typedef double Part __attribute__((vector_size(16)));
-constexpr int kParts = 2;
-#endif
-#else
-using Part = double;
-constexpr int kParts = 4;
-#endif
-struct V {
-    Part p[kParts];
-};
-static_assert(sizeof(V) == sizeof(TreeLane4));
-
-#if defined(__GNUC__)
+typedef double V __attribute__((vector_size(32), may_alias));
 #define FULCRUM_TREE_LANES_INLINE inline __attribute__((always_inline))
+FULCRUM_TREE_LANES_INLINE const V& ld(const TreeLane4& x) { return *reinterpret_cast<const V*>(x.v); }
+FULCRUM_TREE_LANES_INLINE V& lanesOf(TreeLane4& x) { return *reinterpret_cast<V*>(x.v); }
+#define FULCRUM_TREE_LANES_ZERO V{0.0, 0.0, 0.0, 0.0}
 #else
+struct V {
+    double p[4];
+};
 #define FULCRUM_TREE_LANES_INLINE inline
+inline V operator+(const V& a, const V& b) { return {{a.p[0] + b.p[0], a.p[1] + b.p[1], a.p[2] + b.p[2], a.p[3] + b.p[3]}}; }
+inline V operator-(const V& a, const V& b) { return {{a.p[0] - b.p[0], a.p[1] - b.p[1], a.p[2] - b.p[2], a.p[3] - b.p[3]}}; }
+inline V operator*(const V& a, const V& b) { return {{a.p[0] * b.p[0], a.p[1] * b.p[1], a.p[2] * b.p[2], a.p[3] * b.p[3]}}; }
+inline const V& ld(const TreeLane4& x) { return *reinterpret_cast<const V*>(x.v); }
+inline V& lanesOf(TreeLane4& x) { return *reinterpret_cast<V*>(x.v); }
+#define FULCRUM_TREE_LANES_ZERO V{{0.0, 0.0, 0.0, 0.0}}
 #endif
-
-FULCRUM_TREE_LANES_INLINE V ld(const TreeLane4& x) {
-    V v;
-    std::memcpy(&v, x.v, sizeof v);
-    return v;
-}
-FULCRUM_TREE_LANES_INLINE void st(TreeLane4& x, const V& v) { std::memcpy(x.v, &v, sizeof v); }
-FULCRUM_TREE_LANES_INLINE V operator+(const V& a, const V& b) {
-    V r;
-    for (int i = 0; i < kParts; ++i) r.p[i] = a.p[i] + b.p[i];
-    return r;
-}
-FULCRUM_TREE_LANES_INLINE V operator-(const V& a, const V& b) {
-    V r;
-    for (int i = 0; i < kParts; ++i) r.p[i] = a.p[i] - b.p[i];
-    return r;
-}
-FULCRUM_TREE_LANES_INLINE V operator*(const V& a, const V& b) {
-    V r;
-    for (int i = 0; i < kParts; ++i) r.p[i] = a.p[i] * b.p[i];
-    return r;
-}
-FULCRUM_TREE_LANES_INLINE V zero() {
-    V r;
-    for (int i = 0; i < kParts; ++i) r.p[i] = Part{};  // +0 in every lane, as `double t = 0`
-    return r;
-}
+static_assert(sizeof(V) == sizeof(TreeLane4));
 
 // forward<dim, pdim> (tree_solver.cpp): z <- D^-1 z (multiplyInPlace: t = 0,
 // t += a[r][k] x[k]), then the parent's z[r] -= (zr = 0, zr += Hp[r][k] z[k]).
@@ -68,17 +42,17 @@ FULCRUM_TREE_LANES_INLINE void forwardGeneric(TreeLane4* b, TreeLane4* parent) {
     V x[dim], y[dim];
     for (int k = 0; k < dim; ++k) x[k] = ld(z[k]);
     for (int r = 0; r < dim; ++r) {
-        V t = zero();
+        V t = FULCRUM_TREE_LANES_ZERO;
         for (int k = 0; k < dim; ++k) t = t + ld(D[r * dim + k]) * x[k];
         y[r] = t;
     }
-    for (int r = 0; r < dim; ++r) st(z[r], y[r]);
+    for (int r = 0; r < dim; ++r) lanesOf(z[r]) = y[r];
     if constexpr (pdim > 0) {
         const TreeLane4* Hp = D + dim * dim;
         for (int r = 0; r < pdim; ++r) {
-            V zr = zero();
+            V zr = FULCRUM_TREE_LANES_ZERO;
             for (int k = 0; k < dim; ++k) zr = zr + ld(Hp[r * dim + k]) * y[k];
-            st(parent[r], ld(parent[r]) - zr);
+            lanesOf(parent[r]) = ld(parent[r]) - zr;
         }
     } else {
         (void)parent;
@@ -93,9 +67,9 @@ FULCRUM_TREE_LANES_INLINE void forwardChain(TreeLane4* b, TreeLane4* parent) {
     const V y0 = (ld(D[0]) * z0 + ld(D[1]) * z1) + ld(D[2]) * z2;
     const V y1 = (ld(D[3]) * z0 + ld(D[4]) * z1) + ld(D[5]) * z2;
     const V y2 = (ld(D[6]) * z0 + ld(D[7]) * z1) + ld(D[8]) * z2;
-    st(b[0], y0), st(b[1], y1), st(b[2], y2);
+    lanesOf(b[0]) = y0, lanesOf(b[1]) = y1, lanesOf(b[2]) = y2;
     for (int r = 0; r < 3; ++r)
-        st(parent[r], ld(parent[r]) - ((ld(Hp[3 * r]) * y0 + ld(Hp[3 * r + 1]) * y1) + ld(Hp[3 * r + 2]) * y2));
+        lanesOf(parent[r]) = ld(parent[r]) - ((ld(Hp[3 * r]) * y0 + ld(Hp[3 * r + 1]) * y1) + ld(Hp[3 * r + 2]) * y2);
 }
 
 // backSubstitute<dim, pdim> (and backSubstituteChainJoint, the same order):
@@ -114,7 +88,7 @@ FULCRUM_TREE_LANES_INLINE void backGeneric(TreeLane4* b, const TreeLane4* parent
         for (int k = 0; k < dim; ++k) {
             V s = ld(z[k]);
             for (int r = 0; r < pdim; ++r) s = s - ld(X[r * dim + k]) * p[r];
-            st(y[k], s);
+            lanesOf(y[k]) = s;
         }
     }
 }
@@ -162,3 +136,4 @@ void FULCRUM_TREE_LANES_FN(const TreeLaneNode* nodes, std::uint32_t count, TreeL
 }  // namespace fulcrum::detail
 
 #undef FULCRUM_TREE_LANES_INLINE
+#undef FULCRUM_TREE_LANES_ZERO

@@ -1248,11 +1248,9 @@ void JointTreeSolver::groupTrees() {
         return true;
     };
     std::size_t total = 0;
-    for (std::uint32_t t = 0; t + 4 <= trees_;) {
-        if (!(sameShape(t, t + 1) && sameShape(t, t + 2) && sameShape(t, t + 3))) {
-            ++t;
-            continue;
-        }
+    // Groups start at multiples of 4, as the task ranges do (JointSolver::solveTrees).
+    for (std::uint32_t t = 0; t + 4 <= trees_; t += 4) {
+        if (!(sameShape(t, t + 1) && sameShape(t, t + 2) && sameShape(t, t + 3))) continue;
         for (std::uint32_t k = 0; k < 4; ++k) groupOf_[t + k] = t;
         for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
             TreeLaneNode& ln = laneNodes_[i];
@@ -1267,7 +1265,6 @@ void JointTreeSolver::groupTrees() {
             const std::uint32_t parent = nodes_[i].parent;
             laneNodes_[i].parentOff = parent == kNone ? TreeLaneNode::kNoParent : laneNodes_[parent].off;
         }
-        t += 4;
     }
     laneData_.assign(total, TreeLane4{});
 }
