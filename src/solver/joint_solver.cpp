@@ -62,6 +62,8 @@ SimdPath JointSolver::setSimdPath(SimdPath path) {
         wide_ = makeWideJoints(path);
         wide_->reserve(reservedJoints_ / static_cast<std::size_t>(wide_->lanes()) + kColourCount + 1);
     }
+    // The joint trees' groups of four in lanes of doubles (tree_lanes.hpp): none on the scalar path.
+    trees_.setLanes(path == SimdPath::Scalar ? 0 : path == SimdPath::Avx2 ? 2 : 1);
     return simd_;
 }
 
@@ -515,8 +517,11 @@ void JointSolver::solveTrees() {
         trees_.solveTrees(0, count, constraints_, bodies_, ctx_, refactor);
         return;
     }
-    tasks_->parallelFor(count, kTreesPerTask, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-        trees_.solveTrees(begin, end, constraints_, bodies_, ctx_, refactor);
+    // Ranges of whole fours of trees, so that no range cuts a group the tree
+    // solver runs in lanes (tree_lanes.hpp: groups start at multiples of 4).
+    const std::uint32_t fours = (count + 3) / 4;
+    tasks_->parallelFor(fours, (kTreesPerTask + 3) / 4, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
+        trees_.solveTrees(4 * begin, std::min(4 * end, count), constraints_, bodies_, ctx_, refactor);
     });
 }
 

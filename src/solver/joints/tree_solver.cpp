@@ -239,6 +239,8 @@ void JointTreeSolver::markWarmStartFree(std::vector<JointConstraint>& joints, co
 void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies) {
     nodes_.clear();
     trees_ = 0;
+    groupOf_.clear();
+    lanePassesOf_.clear();
     treeStart_.clear();
     const std::size_t nb = bodies.size(), nj = joints.size();
     const auto dynamic = [&](std::uint32_t i) { return i != 0 && bodies[i].invMass > 0; };
@@ -483,6 +485,7 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
             link.ownB = n.ownB;
         }
     }
+    groupTrees();
     factored_ = false;
 }
 
@@ -586,8 +589,9 @@ inline void applyJointImpulse(JointConstraint& j, SolverBody* bodies, const Vec3
 
 }  // namespace
 
-bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
-                                      const JointContext& ctx, bool foldedWarmStart) {
+template <class ZAt>
+bool JointTreeSolver::reusedResiduals(std::uint32_t tree, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                                      const JointContext& ctx, ZAt zAt) {
     const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
     // Only a relax pass checks the guard (solveTree).
     const bool guard = !ctx.useBias;
@@ -597,7 +601,7 @@ bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConst
     for (std::uint32_t i = end; i-- > begin;) {
         Factor& f = factors_[i];
         if (kind_[i] == kBodyNode) {
-            for (double& z : f.z) z = 0;
+            for (int k = 0; k < 6; ++k) zAt(i, k) = 0;
             continue;
         }
         JointConstraint& j = joints[nodes_[i].ref];
@@ -615,8 +619,16 @@ bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConst
             const Real bias = ctx.soft.biasRate;
             rx += fr.d.x * bias, ry += fr.d.y * bias, rz += fr.d.z * bias;
         }
-        f.z[0] = rx, f.z[1] = ry, f.z[2] = rz;
+        zAt(i, 0) = rx, zAt(i, 1) = ry, zAt(i, 2) = rz;
     }
+    return true;
+}
+
+bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                      const JointContext& ctx, bool foldedWarmStart) {
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    if (!reusedResiduals(tree, joints, bodies, ctx, [this](std::uint32_t i, int k) -> double& { return factors_[i].z[k]; }))
+        return false;
     // Forward substitution on the stored factor, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         switch (kind_[i]) {
@@ -736,6 +748,7 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
         }
         if (!ok) return false;
     }
+    if (lanes_ != 0 && groupOf_[tree] != kNone) copyFactorToLanes(tree);
     // Back-substitute, parents first: y = D^-1 z - D^-1 Hp^T y_parent.
     for (std::uint32_t i = end; i-- > begin;) {
         const Node& n = nodes_[i];
@@ -1084,6 +1097,7 @@ bool JointTreeSolver::beginPass(bool useBias) {
         factored_ = true;
         factorAge_ = 0;
         factorizations_ += trees_;
+        lanes_ = lanesWanted_;  // every tree factors in this pass: its lanes get their blocks
         std::fill(valid_.begin(), valid_.end(), std::uint8_t{1});  // singular trees try again
     }
     // The warm start folded into this pass (the sub-step's first biased one).
@@ -1095,9 +1109,25 @@ bool JointTreeSolver::beginPass(bool useBias) {
 void JointTreeSolver::solveTrees(std::uint32_t firstTree, std::uint32_t endTree, std::vector<JointConstraint>& joints,
                                  SolverBody* bodies, const JointContext& ctx, bool refactor) {
     for (std::uint32_t t = firstTree; t < endTree; ++t) {
+        // A group of four whole in this range, all on a kept factorization:
+        // in lanes. Anything else (a pass that factors, a singular tree, a
+        // group cut by the range) one tree at a time, with the same bits.
+        if (lanes_ != 0 && !refactor && groupOf_[t] == t && t + 4 <= endTree && valid_[t] && valid_[t + 1] &&
+            valid_[t + 2] && valid_[t + 3]) {
+            solveGroupInLanes(t, joints, bodies, ctx);
+            t += 3;
+            continue;
+        }
+        solveOneTree(t, joints, bodies, ctx, refactor);
+    }
+}
+
+void JointTreeSolver::solveOneTree(std::uint32_t t, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                   const JointContext& ctx, bool refactor) {
+    {
         const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
         const bool folded = foldThisPass_ && warmFree_[t];
-        if (valid_[t] && solveTree(t, joints, bodies, ctx, refactor, folded)) continue;
+        if (valid_[t] && solveTree(t, joints, bodies, ctx, refactor, folded)) return;
         valid_[t] = 0;  // singular: Gauss-Seidel until the next factorization
         // Singular (degenerate geometry): this pass falls back to Gauss-Seidel blocks.
         for (std::uint32_t i = begin; i < end; ++i) {
@@ -1116,6 +1146,132 @@ void JointTreeSolver::solveTrees(std::uint32_t firstTree, std::uint32_t endTree,
             solvePointBlock(a, b, fr.rA, fr.rB, fr.d, j.impulse.linear, ctx, inverse(K));
         }
     }
+}
+
+void JointTreeSolver::solveGroupInLanes(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                        const JointContext& ctx) {
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[first];
+    const std::uint32_t count = treeStart_[first + 1] - treeStart_[first];
+    TreeLane4* data = laneData_.data();
+    // The residuals, tree by tree into their lanes (solveTreeReused's, guard included).
+    ++lanePassesOf_[first];
+    unsigned tripped = 0;
+    for (int lane = 0; lane < 4; ++lane) {
+        const std::uint32_t t = first + static_cast<std::uint32_t>(lane), begin = treeStart_[t];
+        const auto zAt = [&](std::uint32_t i, int k) -> double& { return data[lanes[i - begin].off + k].v[lane]; };
+        if (!reusedResiduals(t, joints, bodies, ctx, zAt)) tripped |= 1u << lane;
+    }
+    // Forward and back-substitution for the four at once (a tripped lane's
+    // result is not used).
+    if (tripped != 15u) {
+        if (lanes_ == 2) {
+            solveTreeLanesAvx2(lanes, count, data);
+        } else {
+            solveTreeLanes(lanes, count, data);
+        }
+    }
+    // The impulses tree by tree (solveTreeReused's); a tree whose guard
+    // tripped factors alone, as it would have one by one (nothing of it was
+    // applied; the trees share no moving body, so the order between them is free).
+    for (int lane = 0; lane < 4; ++lane) {
+        const std::uint32_t t = first + static_cast<std::uint32_t>(lane);
+        if ((tripped >> lane) & 1u) {
+            solveOneTree(t, joints, bodies, ctx, false);
+            continue;
+        }
+        const bool folded = foldThisPass_ && warmFree_[t];
+        const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
+        for (std::uint32_t i = begin; i < end; ++i) {
+            if (kind_[i] == kBodyNode) continue;
+            const TreeLane4* y = data + lanes[i - begin].off + 3;  // a joint's y follows its z[3]
+            const double yl[3] = {y[0].v[lane], y[1].v[lane], y[2].v[lane]};
+            const Factor& f = factors_[i];
+            applyJointImpulse(joints[nodes_[i].ref], bodies, f.rA, f.rB, yl, ctx, folded);
+        }
+    }
+}
+
+namespace {
+
+// One node's D^-1, Hp and X into lane `lane` of its block (TreeLaneNode's layout).
+template <int dim, int pdim, class F>
+void copyBlocksToLane(const F& f, TreeLane4* block, int lane) {
+    TreeLane4* D = block + 2 * dim;
+    TreeLane4* Hp = D + dim * dim;
+    TreeLane4* X = Hp + pdim * dim;
+    for (int r = 0; r < dim; ++r) {
+        for (int k = 0; k < dim; ++k) D[r * dim + k].v[lane] = f.D[r][k];
+    }
+    for (int r = 0; r < pdim; ++r) {
+        for (int k = 0; k < dim; ++k) Hp[r * dim + k].v[lane] = f.Hp[r][k];
+    }
+    for (int r = 0; r < pdim; ++r) {
+        for (int k = 0; k < dim; ++k) X[r * dim + k].v[lane] = f.X[r][k];
+    }
+}
+
+}  // namespace
+
+void JointTreeSolver::copyFactorToLanes(std::uint32_t tree) {
+    const std::uint32_t group = groupOf_[tree];
+    const int lane = static_cast<int>(tree - group);
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[group];
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const TreeLaneNode& n = lanes[i - begin];
+        const Factor& f = factors_[i];
+        TreeLane4* block = laneData_.data() + n.off;
+        if (n.kind == kJointBelowJoint) {
+            copyBlocksToLane<3, 3>(f, block, lane);
+        } else if (n.kind == kBodyNode) {
+            if (n.pdim != 0) copyBlocksToLane<6, 3>(f, block, lane);
+            else copyBlocksToLane<6, 0>(f, block, lane);
+        } else {
+            if (n.pdim != 0) copyBlocksToLane<3, 6>(f, block, lane);
+            else copyBlocksToLane<3, 0>(f, block, lane);
+        }
+    }
+}
+
+void JointTreeSolver::groupTrees() {
+    groupOf_.assign(trees_, kNone);
+    lanePassesOf_.assign(trees_, 0);
+    laneNodes_.resize(nodes_.size());
+    const auto sameShape = [&](std::uint32_t t, std::uint32_t u) {
+        const std::uint32_t bt = treeStart_[t], bu = treeStart_[u], n = treeStart_[t + 1] - bt;
+        if (treeStart_[u + 1] - bu != n || chain_[t] || chain_[u]) return false;
+        for (std::uint32_t p = 0; p < n; ++p) {
+            const std::uint32_t pt = nodes_[bt + p].parent, pu = nodes_[bu + p].parent;
+            if (kind_[bt + p] != kind_[bu + p] || (pt == kNone) != (pu == kNone)) return false;
+            if (pt != kNone && pt - bt != pu - bu) return false;
+        }
+        return true;
+    };
+    std::size_t total = 0;
+    // Groups start at multiples of 4, as the task ranges do (JointSolver::solveTrees).
+    for (std::uint32_t t = 0; t + 4 <= trees_; t += 4) {
+        if (!(sameShape(t, t + 1) && sameShape(t, t + 2) && sameShape(t, t + 3))) continue;
+        for (std::uint32_t k = 0; k < 4; ++k) groupOf_[t + k] = t;
+        for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
+            TreeLaneNode& ln = laneNodes_[i];
+            const Node& n = nodes_[i];
+            ln.kind = kind_[i];
+            ln.dim = kind_[i] == kBodyNode ? 6 : 3;
+            ln.pdim = n.parent == kNone ? 0 : kind_[i] == kJointBelowBody ? 6 : 3;
+            ln.off = static_cast<std::uint32_t>(total);
+            total += 2u * ln.dim + ln.dim * ln.dim + 2u * ln.pdim * ln.dim;
+        }
+        for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
+            const std::uint32_t parent = nodes_[i].parent;
+            laneNodes_[i].parentOff = parent == kNone ? TreeLaneNode::kNoParent : laneNodes_[parent].off;
+        }
+    }
+    laneData_.assign(total, TreeLane4{});
+}
+
+void JointTreeSolver::setLanes(int mode) {
+    if (mode == 2 && !treeLanesAvx2Compiled()) mode = 1;
+    lanesWanted_ = mode < 0 ? 0 : mode > 2 ? 2 : mode;
 }
 
 }  // namespace fulcrum::detail

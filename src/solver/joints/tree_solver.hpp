@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "solver/joints/joint_common.hpp"
+#include "solver/joints/tree_lanes.hpp"
 
 namespace fulcrum::detail {
 
@@ -101,6 +102,26 @@ public:
         firstBiasedPass_ = true;
     }
     std::size_t treeCount() const { return trees_; }
+    // Four trees of one shape in SIMD lanes of doubles on a kept
+    // factorization (tree_lanes.hpp; the same bits as one by one): 0 none
+    // (every tree scalar), 1 the baseline kernel, 2 the AVX2 one (only if
+    // compiled and the CPU has it; else 1). Takes effect at the next pass that
+    // factors every tree (the next step). JointSolver::setSimdPath sets it:
+    // SimdPath::Scalar is 0.
+    void setLanes(int mode);
+    int lanes() const { return lanesWanted_; }
+    // Passes solved in lanes, counted per group since the last build (tests).
+    std::uint64_t lanePasses() const {
+        std::uint64_t n = 0;
+        for (const std::uint64_t k : lanePassesOf_) n += k;
+        return n;
+    }
+    // Trees in groups of four of one shape (tests).
+    std::size_t groupedTreeCount() const {
+        std::size_t n = 0;
+        for (const std::uint32_t g : groupOf_) n += g != kNone;
+        return n;
+    }
     // Trees solved as chains (solveChain), for tests.
     std::size_t chainCount() const {
         std::size_t n = 0;
@@ -208,6 +229,21 @@ private:
     // the caller factors the tree again.
     bool solveTreeReused(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
                          bool foldedWarmStart);
+    // solveTreeReused's residuals (and its guard), into zAt(node, k).
+    template <class ZAt>
+    bool reusedResiduals(std::uint32_t tree, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                         const JointContext& ctx, ZAt zAt);
+    // solveTrees' work for one tree: solveTree, else (singular) Gauss-Seidel blocks.
+    void solveOneTree(std::uint32_t t, std::vector<JointConstraint>& joints, SolverBody* bodies, const JointContext& ctx,
+                      bool refactor);
+    // The four trees of group `first` on their kept factorizations in lanes
+    // (tree_lanes.hpp); a tree whose guard trips goes on to solveOneTree.
+    void solveGroupInLanes(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                           const JointContext& ctx);
+    // A grouped tree's new factorization into its lane (D^-1, Hp, X).
+    void copyFactorToLanes(std::uint32_t tree);
+    // findTrees' grouping: four consecutive trees of one shape (not chains).
+    void groupTrees();
 
     std::vector<Node> nodes_;       // elimination order: every tree's children before its parents
     std::vector<Factor> factors_;
@@ -222,6 +258,16 @@ private:
     static constexpr std::uint8_t kBodyNode = 0, kJointBelowJoint = 1, kJointBelowBody = 2;
     std::vector<std::uint8_t> kind_;
     std::vector<ChainLink> links_;        // per node of a chain tree
+    // Lanes (setLanes): per tree, the first tree of its group of four (kNone:
+    // not grouped; a group is trees [g, g + 4)); per node of a group's first
+    // tree, its lanes in laneData_ (a tree of the group reads its node i at
+    // the first tree's node at the same place); lanes_ the mode in use,
+    // lanesWanted_ the one set (taken when a pass factors every tree).
+    std::vector<std::uint32_t> groupOf_;
+    std::vector<TreeLaneNode> laneNodes_;
+    std::vector<TreeLane4> laneData_;
+    std::vector<std::uint64_t> lanePassesOf_;  // per group's first tree (only its solver writes it)
+    int lanes_ = 0, lanesWanted_ = 0;
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
     Real guardTurn2_ = static_cast<Real>(kGuardTurn * kGuardTurn);  // the guard's angle, squared

@@ -1,0 +1,149 @@
+// Joint trees of one shape solved four at a time in SIMD lanes of doubles
+// (src/solver/joints/tree_lanes.hpp) against the same trees one by one: the
+// lanes do each tree's scalar operations in the scalar order, so every
+// ragdoll's positions, orientations and velocities equal the ungrouped run's
+// (SimdPath::Scalar: no lanes) bit for bit after every step, on the baseline
+// and AVX2 kernels and on one and three threads. Nine ragdolls: two groups of
+// four and one left over (scalar); they tumble in the air and land on a floor
+// and on each other, so guards trip (a tree that trips factors alone, outside
+// its group's lanes) and contacts touch them.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "joint_test_util.hpp"
+#include "world/world_access.hpp"
+
+using namespace fulcrum;
+using namespace fulcrum::jointtest;
+
+namespace {
+
+using detail::SimdPath;
+
+// The bench's ragdoll (joint_simd_rows_test.cpp's): pelvis, torso, head,
+// arms, legs; cone-twists and hinges with limits and friction. Eleven bodies,
+// the pelvis and torso branch (6 x 6 body blocks in the tree).
+void addRagdoll(World& world, std::vector<BodyId>& bodies, Vec3 o, Vec3 velocity, Vec3 spin) {
+    const auto body = [&](Shape shape, Real mass, Vec3 p, Quat q = Quat{}) {
+        BodyDef d;
+        d.shape = shape;
+        d.mass = mass;
+        d.position = p;
+        d.orientation = q;
+        d.linearVelocity = velocity;
+        d.angularVelocity = spin;
+        const BodyId id = world.createBody(d);
+        bodies.push_back(id);
+        return id;
+    };
+    const auto joint = [&](JointType type, BodyId a, BodyId b, Vec3 anchor, Vec3 axis, Real lower, Real upper,
+                           Real swing = 0) {
+        JointDef j = jointDef(type, a, b, anchor, axis);
+        if (type == JointType::Hinge) {
+            j.hasLimits = true;
+            j.lowerLimit = lower;
+            j.upperLimit = upper;
+        } else {
+            j.twistLower = lower;
+            j.twistUpper = upper;
+            j.swingLimit = swing;
+        }
+        j.frictionTorque = Real(0.5);
+        world.createJoint(j);
+    };
+    const Quat side = Quat::fromAxisAngle({0, 0, 1}, Real(1.5707963));
+    const BodyId pelvis = body(Shape::box({Real(0.15), Real(0.1), Real(0.1)}), 8, o + Vec3{0, 1, 0});
+    const BodyId torso = body(Shape::box({Real(0.18), Real(0.22), Real(0.1)}), 15, o + Vec3{0, Real(1.35), 0});
+    const BodyId head = body(Shape::sphere(Real(0.11)), 4, o + Vec3{0, Real(1.72), 0});
+    joint(JointType::ConeTwist, pelvis, torso, o + Vec3{0, Real(1.1), 0}, {0, 1, 0}, Real(-0.3), Real(0.3), Real(0.4));
+    joint(JointType::ConeTwist, torso, head, o + Vec3{0, Real(1.59), 0}, {0, 1, 0}, Real(-0.8), Real(0.8), Real(0.6));
+    for (const Real k : {Real(-1), Real(1)}) {
+        const BodyId ua = body(Shape::capsule(Real(0.05), Real(0.1)), 2, o + Vec3{k * Real(0.38), Real(1.5), 0}, side);
+        const BodyId la = body(Shape::capsule(Real(0.045), Real(0.1)), Real(1.5), o + Vec3{k * Real(0.66), Real(1.5), 0}, side);
+        joint(JointType::ConeTwist, torso, ua, o + Vec3{k * Real(0.24), Real(1.5), 0}, {k, 0, 0}, Real(-0.5), Real(0.5), Real(1.2));
+        joint(JointType::Hinge, ua, la, o + Vec3{k * Real(0.52), Real(1.5), 0}, {0, 1, 0}, 0, Real(2.5));
+        const BodyId th = body(Shape::capsule(Real(0.07), Real(0.13)), 7, o + Vec3{k * Real(0.1), Real(0.7), 0});
+        const BodyId sh = body(Shape::capsule(Real(0.06), Real(0.15)), 4, o + Vec3{k * Real(0.1), Real(0.27), 0});
+        joint(JointType::ConeTwist, pelvis, th, o + Vec3{k * Real(0.1), Real(0.9), 0}, {0, -1, 0}, Real(-0.3), Real(0.3), Real(0.8));
+        joint(JointType::Hinge, th, sh, o + Vec3{k * Real(0.1), Real(0.49), 0}, {1, 0, 0}, Real(-2.5), 0);
+    }
+}
+
+std::vector<BodyId> buildRagdolls(World& world) {
+    world.createBody(boxBody(0, {0, -1, 0}, {20, 1, 20}));  // the floor (mass 0: static)
+    std::vector<BodyId> bodies;
+    for (int r = 0; r < 9; ++r) {
+        const Real x = Real(0.9) * static_cast<Real>(r % 3), z = Real(0.7) * static_cast<Real>(r / 3);
+        const Real y = Real(0.3) + Real(0.8) * static_cast<Real>(r % 4);
+        addRagdoll(world, bodies, {x, y, z}, {Real(r % 3) - 1, Real(0.5) * static_cast<Real>(r % 2), Real(-0.4)},
+                   {Real(0.5) + Real(0.3) * static_cast<Real>(r), Real(-1.5), Real(2) - Real(0.4) * static_cast<Real>(r)});
+    }
+    return bodies;
+}
+
+struct Run {
+    SimdPath path;
+    int threads;
+};
+
+void expectGroupedAsUngrouped(int steps) {
+    std::vector<Run> runs = {{SimdPath::Scalar, 1}, {SimdPath::Sse2, 1}, {SimdPath::Sse2, 3}};
+    if (detail::avx2Available()) {
+        runs.push_back({SimdPath::Avx2, 1});
+        runs.push_back({SimdPath::Avx2, 3});
+    }
+    std::vector<std::unique_ptr<World>> worlds;
+    std::vector<std::vector<BodyId>> bodies;
+    for (const Run& run : runs) {
+        WorldDef def = worldDef(4);
+        def.parallelMinBodies = 0;
+        worlds.push_back(std::make_unique<World>(def));
+        World& world = *worlds.back();
+        world.setThreadCount(run.threads);
+        ASSERT_EQ(detail::implOf(world).jointSolver.setSimdPath(run.path), run.path);
+        bodies.push_back(buildRagdolls(world));
+    }
+    for (int step = 0; step < steps; ++step) {
+        for (std::size_t p = 0; p < worlds.size(); ++p) {
+            worlds[p]->step(kDt);
+            if (step != 0) continue;
+            const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
+            ASSERT_EQ(trees.treeCount(), 9u);
+            EXPECT_EQ(trees.groupedTreeCount(), 8u);  // trees 0-7; the ninth alone
+            EXPECT_EQ(trees.lanes(), runs[p].path == SimdPath::Scalar ? 0 : runs[p].path == SimdPath::Avx2 ? 2 : 1);
+        }
+        const World& reference = *worlds[0];
+        for (std::size_t p = 1; p < worlds.size(); ++p) {
+            const World& world = *worlds[p];
+            for (std::size_t i = 0; i < bodies[0].size(); ++i) {
+                const BodyId a = bodies[p][i], b = bodies[0][i];
+                const Vec3 pa = world.position(a), pb = reference.position(b);
+                const Quat qa = world.orientation(a), qb = reference.orientation(b);
+                const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z &&
+                                  world.linearVelocity(a) == reference.linearVelocity(b) &&
+                                  world.angularVelocity(a) == reference.angularVelocity(b);
+                ASSERT_TRUE(same) << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads): body "
+                                  << i << " differs from the ungrouped run at step " << step + 1 << ": position ("
+                                  << pa.x << ", " << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", "
+                                  << pb.z << ")";
+            }
+        }
+    }
+    // The lanes ran, and so did the trees that tripped out of them (the same
+    // trips as one by one: the same anchors).
+    const detail::JointTreeSolver& ungrouped = detail::implOf(*worlds[0]).jointSolver.trees();
+    EXPECT_EQ(ungrouped.lanePasses(), 0u);
+    EXPECT_GT(ungrouped.guardTrips(), 0u);
+    for (std::size_t p = 1; p < worlds.size(); ++p) {
+        const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
+        EXPECT_GT(trees.lanePasses(), 0u);
+        EXPECT_EQ(trees.guardTrips(), ungrouped.guardTrips());
+        EXPECT_EQ(trees.factorizations(), ungrouped.factorizations());
+    }
+}
+
+}  // namespace
+
+TEST(TreeLanes, GroupedRagdollsMoveAsUngrouped) { expectGroupedAsUngrouped(240); }
