@@ -172,8 +172,9 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
     } else {
         if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
         const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
-        const bool hit = b.kind == ConvexKind::Point ? collideTriangleSphere(tri, b, margin, tm)
-                                                     : collideConvexConvex(tri, b, margin, tm);
+        const bool hit = b.kind == ConvexKind::Point     ? collideTriangleSphere(tri, b, margin, tm)
+                         : b.kind == ConvexKind::Segment ? collideTriangleCapsule(tri, b, margin, tm)
+                                                         : collideConvexConvex(tri, b, margin, tm);
         if (!hit) return false;
     }
     if (dot(tm.normal, faceN) < kFaceNormalCos) {
