@@ -28,8 +28,8 @@ void collideHeightFieldConvex(const HeightField& hf, const Transform& xf, const 
 // points where they widen the manifold (collide_mesh.cpp, kTouchingPreference).
 // `polytope`, when given, is b prepared for the separating-axis test
 // (collide_triangle.hpp: boxes and hulls); without it the triangle runs the
-// general convex path (GJK, EPA, face clipping), as spheres, capsules and
-// cylinders always do.
+// general convex path (GJK, EPA, face clipping), as cylinders always do
+// (spheres and capsules: their own closest points, collide_pairs.hpp).
 class TrianglePolytope;
 // `axisHint` (with `polytope` only) is the pair's separating-axis hint for
 // collideTrianglePolytope (collide_triangle.hpp); `bCentre`, when given, is

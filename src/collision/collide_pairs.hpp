@@ -19,6 +19,13 @@ bool collideSphereBox(const ConvexShape& a, const ConvexShape& b, Real margin, M
 bool collideTriangleSphere(const ConvexShape& tri, const ConvexShape& b, Real margin, Manifold& m);
 // collide_capsule.cpp
 bool collideCapsuleCapsule(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m);
+// A triangle (makeTriangle) against a capsule: the general path's contact
+// (collideConvexConvex) with the cores' closest points found exactly instead
+// of by GJK; cores within 0.1 mm go through the general path (EPA).
+bool collideTriangleCapsule(const ConvexShape& tri, const ConvexShape& b, Real margin, Manifold& m);
+// Closest points of segment p0-p1 and triangle tri; false (and no points)
+// when the segment touches or crosses the triangle.
+bool closestSegmentTriangle(const Vec3& p0, const Vec3& p1, const Vec3 tri[3], Vec3& onSegment, Vec3& onTriangle);
 // collide_box.cpp: SAT over the 15 axes with face clipping and edge-edge.
 bool collideBoxBox(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m);
 // collide_convex.cpp: GJK (+ EPA when the cores overlap) and face clipping;

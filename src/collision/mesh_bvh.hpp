@@ -73,27 +73,43 @@ inline AABB triangleBounds(const TriangleMesh& mesh, std::uint32_t t) {
 template <class F>
 void queryTriangles(const TriangleMesh& mesh, const AABB& box, F&& callback) {
     const MeshBvh& bvh = *mesh.bvh;
+    const MeshBvhNode* nodes = bvh.nodes.data();
+    if (bvh.nodes.empty() || !overlaps(nodes[0].bounds, box)) return;
+    // Depth first, left child first, as a stack of every node would visit
+    // them; a child is tested before it is pushed, and the overlapping left
+    // one is descended into directly (a small body's query on a large mesh
+    // goes down one path, where pushing both children popped and rejected
+    // one at every level).
     std::array<std::uint32_t, MeshBvh::kStackSize> stack;
     std::uint32_t top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const MeshBvhNode& node = bvh.nodes[stack[--top]];
-        if (!overlaps(node.bounds, box)) continue;
+    std::uint32_t current = 0;
+    for (;;) {
+        const MeshBvhNode& node = nodes[current];
         if (!node.isLeaf()) {
-            const auto self = static_cast<std::uint32_t>(&node - bvh.nodes.data());
-            stack[top++] = node.index;
-            stack[top++] = self + 1;
-            continue;
-        }
-        for (std::uint32_t i = node.index; i < node.index + node.count; ++i) {
-            const std::uint32_t t = bvh.triangleOrder[i];
-            if (!overlaps(triangleBounds(mesh, t), box)) continue;
-            if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
-                if (!callback(t)) return;
-            } else {
-                callback(t);
+            const std::uint32_t left = current + 1, right = node.index;
+            const bool inLeft = overlaps(nodes[left].bounds, box), inRight = overlaps(nodes[right].bounds, box);
+            if (inLeft) {
+                if (inRight) stack[top++] = right;
+                current = left;
+                continue;
+            }
+            if (inRight) {
+                current = right;
+                continue;
+            }
+        } else {
+            for (std::uint32_t i = node.index; i < node.index + node.count; ++i) {
+                const std::uint32_t t = bvh.triangleOrder[i];
+                if (!overlaps(triangleBounds(mesh, t), box)) continue;
+                if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
+                    if (!callback(t)) return;
+                } else {
+                    callback(t);
+                }
             }
         }
+        if (top == 0) return;
+        current = stack[--top];
     }
 }
 
