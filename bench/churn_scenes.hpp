@@ -391,8 +391,12 @@ inline SceneSpec largeWorld(int n = 1000, int steps = 500) {
 // from std::mt19937 with its default seed, Jolt's way and order: position
 // in [-45, 45]^3, a uniform random rotation (Shoemake), friction in
 // [0.5, 1], restitution in [0.9, 1], velocity 250 m/s in a uniform random
-// direction. Sleeping on (Jolt's default); 500 steps of 1/60 s, each
-// engine's default sub-steps (Jolt: one collision step).
+// direction. Sleeping on (Jolt's default); 500 steps of 1/60 s, Jolt with
+// its one collision step, Fulcrum with 2 sub-steps: nothing here stacks, so
+// its default 5 (for stacking quality) would integrate positions five times
+// where Jolt does once; 2 keep every body in the box (with more, not much
+// deeper, overlaps with the walls at a step's end), 1 gives seven times
+// as many (docs/benchmarks.md, branch hsccd).
 inline SceneSpec joltHighSpeed(int count = 5000, int steps = 500) {
     using namespace churn_detail;
     SceneSpec s;
@@ -462,6 +466,7 @@ inline SceneSpec joltHighSpeed(int count = 5000, int steps = 500) {
         }
         s.bodies.push_back(b);
     }
+    s.substeps = 2;
     s.boundsMin = {-half, -half, -half};
     s.boundsMax = {half, half, half};
     return s;

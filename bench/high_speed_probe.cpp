@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
         const std::vector<ContactReport> now = world.contacts();
         const ContactReport* worst = nullptr;
         int deep = 0, freshDeep = 0, freshWall = 0;
-        Real deepestFresh = 0;
+        Real deepestFresh = 0, deepestWall = 0;
         ManifoldBuffer buffer;
         for (const ContactReport& r : now) {
             if (r.depth > Real(0.05)) ++deep;
@@ -65,12 +65,13 @@ int main(int argc, char** argv) {
                 if (kindOf(r.bodyA) == "wall" || kindOf(r.bodyB) == "wall") ++freshWall;
             }
             deepestFresh = std::max(deepestFresh, fresh);
+            if (kindOf(r.bodyA) == "wall" || kindOf(r.bodyB) == "wall") deepestWall = std::max(deepestWall, fresh);
         }
         int awake = 0;
         for (const BodyId id : built.bodies)
             if (world.isAwake(id)) ++awake;
-        std::printf("step %4d: %zu contacts, %d reported deeper than 5 cm, %d at the final poses (%d with a wall; deepest %.4f m), %d awake",
-                    step, now.size(), deep, freshDeep, freshWall, double(deepestFresh), awake);
+        std::printf("step %4d: %zu contacts, %d reported deeper than 5 cm, %d at the final poses (%d with a wall, the deepest into a wall %.4f m; deepest %.4f m), %d awake",
+                    step, now.size(), deep, freshDeep, freshWall, double(deepestWall), double(deepestFresh), awake);
         if (worst != nullptr) {
             const Vec3 va = world.linearVelocity(worst->bodyA), vb = world.linearVelocity(worst->bodyB);
             std::printf("; deepest reported %.4f m: %s-%s, speeds %.2f, %.2f m/s, closing %.2f m/s, spins %.1f, %.1f rad/s, at (%.1f %.1f %.1f)",

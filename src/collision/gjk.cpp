@@ -165,13 +165,13 @@ bool closestOnSimplex(Simplex& s, Vec3& closest) {
     }
 }
 
-GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius, Real stopBeyond) {
+GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius, Real stopBeyond, const Vec3* guess) {
     GjkResult r;
     Simplex& s = r.simplex;
     auto supportA = [&](const Vec3& d) { return withRadius ? a.support(d) : a.coreSupport(d); };
     auto supportB = [&](const Vec3& d) { return withRadius ? b.support(d) : b.coreSupport(d); };
 
-    Vec3 v = a.center() - b.center();
+    Vec3 v = guess != nullptr ? -*guess : a.center() - b.center();
     if (lengthSquared(v) < Real(1e-12)) v = {1, 0, 0};
     {
         SimplexVertex& sv = s.v[0];

@@ -41,9 +41,12 @@ struct GjkResult {
 // apart (a caller that only needs to know that they are: the narrow phase
 // beyond its margin). The full run's distance is never below that bound, so
 // a caller that would reject the pair on the full distance rejects it the
-// same; with the default every result is as before.
+// same; with the default every result is as before. A non-null `guess` (a
+// unit normal from A to B, say a nearby pose's result) starts the search
+// along it instead of along the line of centres: the same distance to the
+// tolerance, in fewer iterations when the guess is close.
 GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius,
-                      Real stopBeyond = std::numeric_limits<Real>::infinity());
+                      Real stopBeyond = std::numeric_limits<Real>::infinity(), const Vec3* guess = nullptr);
 
 // Closest point to the origin on the simplex; shrinks it to the vertices that
 // support that point and stores their barycentric weights. Returns false when

@@ -93,15 +93,17 @@ Piece movingPiece(const Shape& s, const Sweep& sweep) {
 }
 
 // The signed distance of two pieces (negative: the depth of their overlap)
-// with the normal from a to b; false when it cannot be measured.
-bool gapOf(const Piece& a, const Piece& b, Real& distance, Vec3& normal) {
+// with the normal from a to b; false when it cannot be measured. `warm`:
+// `normal` holds the pair's normal at a nearby time of the same sweeps, where
+// GJK starts its search.
+bool gapOf(const Piece& a, const Piece& b, Real& distance, Vec3& normal, bool warm = false) {
     if (b.plane) {
         const Vec3 s = a.shape.support(-b.planeNormal);
         distance = dot(b.planeNormal, s) - b.planeOffset;
         normal = -b.planeNormal;
         return true;
     }
-    const GjkResult g = gjkDistance(a.shape, b.shape, false);
+    const GjkResult g = gjkDistance(a.shape, b.shape, false, std::numeric_limits<Real>::infinity(), warm ? &normal : nullptr);
     if (!g.overlap && g.distance > Real(1e-6)) {
         distance = g.distance - a.shape.radius - b.shape.radius;
         normal = g.normal;
@@ -124,16 +126,26 @@ bool advance(Piece& a, Piece& b, Real target, Real limit, Real& t, Real& distanc
     const Vec3 va = a.sweep != nullptr ? a.sweep->linearVelocity : Vec3::zero();
     const Vec3 vb = b.sweep != nullptr ? b.sweep->linearVelocity : Vec3::zero();
     const Vec3 relative = va - vb;
-    const Real spinA = a.sweep != nullptr ? length(a.sweep->angularVelocity) : 0;
-    const Real spinB = b.sweep != nullptr ? length(b.sweep->angularVelocity) : 0;
-    const Real angular = spinA * a.reach + spinB * b.reach;
-    // The second bound's growth: a piece's arm turns at its spin, so the
-    // velocity of its bounds' centre changes at most by spin^2 |arm| per unit time.
-    const Real growth = spinA * spinA * a.armLength + spinB * spinB * b.armLength;
-    const Real spread = spinA * a.spread + spinB * b.spread;
+    const Vec3 wa = a.sweep != nullptr ? a.sweep->angularVelocity : Vec3::zero();
+    const Vec3 wb = b.sweep != nullptr ? b.sweep->angularVelocity : Vec3::zero();
+    const Real spinA = length(wa), spinB = length(wb);
     for (std::uint32_t k = 1;; ++k) {
         const Real gap = distance - target;
         if (gap < rules.tolerance) return true;
+        // Only the spin across the normal moves a point along it: a point r
+        // from its piece's centre of rotation moves along the (fixed) normal
+        // n at n.(w x r) = r.(n x w), at most |w x n| |r|. Each sweep turns
+        // about a fixed axis at a constant rate, so |w x n| holds over the
+        // whole advance; for a spin about the normal (a bar spinning flat
+        // against a wall) the bound is the translation's alone.
+        const Real acrossA = spinA > 0 ? length(cross(wa, normal)) : Real(0);
+        const Real acrossB = spinB > 0 ? length(cross(wb, normal)) : Real(0);
+        const Real angular = acrossA * a.reach + acrossB * b.reach;
+        // The second bound's growth: a piece's arm turns at its spin, so the
+        // velocity of its bounds' centre along n changes at most by
+        // (n x w).(w x arm) <= |w x n| |w| |arm| per unit time.
+        const Real growth = acrossA * spinA * a.armLength + acrossB * spinB * b.armLength;
+        const Real spread = acrossA * a.spread + acrossB * b.spread;
         // How fast the gap can close: along the fixed normal the separation
         // (or the overlap) changes by no more than this, and the distance is
         // at least the separation along any fixed axis (the depth at most the
@@ -167,8 +179,57 @@ bool advance(Piece& a, Piece& b, Real target, Real limit, Real& t, Real& distanc
         a.place(t);
         b.place(t);
         ++advances;
-        if (!gapOf(a, b, distance, normal)) return true;
+        if (!gapOf(a, b, distance, normal, true)) return true;
     }
+}
+
+// How deep point p (world) lies inside the full shape s (its distance to
+// the outside; negative: outside by that much), for a sphere, a capsule or a
+// (rounded) box; -infinity for the other kinds (not measured here).
+Real pointDepth(const ConvexShape& s, const Vec3& p) {
+    switch (s.kind) {
+        case ConvexKind::Point: return s.radius - length(p - s.xf.p);
+        case ConvexKind::Segment: {
+            const Vec3 l = inverseTransformPoint(s.xf, p);
+            const Real y = std::clamp(l.y, -s.halfHeight, s.halfHeight);
+            return s.radius - length(Vec3{l.x, l.y - y, l.z});
+        }
+        case ConvexKind::Box: {
+            // A point d inside the core is d + radius inside the rounded box:
+            // every point within that distance is a core point plus at most
+            // the radius.
+            const Vec3 q = abs(inverseTransformPoint(s.xf, p)) - s.halfExtents;
+            const Real out = std::max(std::max(q.x, q.y), q.z);
+            if (out <= 0) return s.radius - out;
+            return s.radius - length(max(q, Vec3::zero()));
+        }
+        default: return -std::numeric_limits<Real>::infinity();
+    }
+}
+
+// Whether the sweeps, after time t (the pieces placed there, `distance`
+// apart along `normal`), take the pair more than `depth` into each other,
+// shown cheaply: the point of a deepest along the normal, at the one later
+// time the translation alone would take it 2 depth in, lies more than
+// `depth` inside b. That suffices: the depth of an overlap is at least the
+// depth of any point of one shape inside the other (a shorter move of the
+// shape leaves that point inside), and the distance is continuous, so the
+// conservative advance would reach -depth by then too. False when not shown
+// (the caller advances as before). Leaves the pieces placed at t.
+bool shownGoingIn(Piece& a, Piece& b, Real depth, Real t, Real distance, const Vec3& normal) {
+    if (b.plane) return false;
+    const Vec3 va = a.sweep != nullptr ? a.sweep->linearVelocity : Vec3::zero();
+    const Vec3 vb = b.sweep != nullptr ? b.sweep->linearVelocity : Vec3::zero();
+    const Real approach = dot(va - vb, normal);
+    if (!(approach > 0)) return false;
+    const Real later = t + (std::max(distance, Real(0)) + 2 * depth) / approach;
+    if (!(later <= 1)) return false;
+    a.place(later);
+    b.place(later);
+    const bool shown = pointDepth(b.shape, a.shape.support(normal)) > depth;
+    a.place(t);
+    b.place(t);
+    return shown;
 }
 
 // One pair of pieces. Apart at the start: the time they come within stopGap,
@@ -188,7 +249,8 @@ void advancePair(Piece& a, Piece& b, const ImpactRules& rules, Real limit, Swept
     if (!stops && distance > rules.touchBand) {
         if (!advance(a, b, rules.stopGap, limit, t, distance, normal, rules, out.advances)) return;
         stopTime = t;
-        stops = advance(a, b, -rules.passDepth, 1, t, distance, normal, rules, out.advances);
+        stops = shownGoingIn(a, b, rules.passDepth, t, distance, normal) ||
+                advance(a, b, -rules.passDepth, 1, t, distance, normal, rules, out.advances);
     } else if (!stops) {
         stops = advance(a, b, std::min(distance, Real(0)) - rules.sinkAllowance, limit, t, distance, normal, rules, out.advances);
         stopTime = t;

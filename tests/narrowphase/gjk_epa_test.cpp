@@ -2,6 +2,8 @@
 // known configurations.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "collision/collide_pairs.hpp"
 #include "collision/epa.hpp"
 #include "collision/gjk.hpp"
@@ -90,6 +92,46 @@ TEST(Gjk, EarlyStopBeyondADistanceIsALowerBoundOfTheFullRun) {
         }
     }
     EXPECT_GT(stopped, 300);  // the early stop does happen
+}
+
+TEST(Gjk, AGuessedNormalGivesTheSameDistanceAndTheRightGuessFewerIterations) {
+    // The time of impact starts each advance's GJK along the pair's last
+    // normal. From any start GJK must find the same distance (to its
+    // tolerance, 1e-4 m here on ~1 m shapes), whether the guess is the
+    // normal, a slightly turned one, a random one or its opposite; from the
+    // normal itself it needs no more iterations, summed over the trials,
+    // than from the line of centres.
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<Real> off(0.8f, 4.0f);
+    std::normal_distribution<Real> g(0, 1);
+    std::uint32_t plain = 0, guessed = 0;
+    int apart = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const Shape shapes[4] = {Shape::convexHull(randomCloud(rng, 16, 0.5f)), Shape::box({0.4f, 0.2f, 0.6f}),
+                                 Shape::capsule(0.2f, 0.5f), Shape::box({3.0f, 0.2f, 3.0f})};
+        const Shape& a = shapes[trial % 3];
+        const Shape& b = shapes[(trial / 3) % 4];
+        const detail::ConvexShape ca = detail::makeConvex(a, {{0, 0, 0}, test::randomRotation(rng)});
+        const detail::ConvexShape cb =
+            detail::makeConvex(b, {normalize(Vec3{g(rng), g(rng), g(rng)}) * off(rng), test::randomRotation(rng)});
+        const detail::GjkResult full = detail::gjkDistance(ca, cb, false);
+        const Vec3 random = normalize(Vec3{g(rng), g(rng), g(rng)});
+        const Vec3 turned = full.overlap ? random : normalize(full.normal + Real(0.1) * random);
+        const Vec3 guesses[4] = {full.overlap ? random : full.normal, turned, random, -turned};
+        for (int k = 0; k < 4; ++k) {
+            const detail::GjkResult r = detail::gjkDistance(ca, cb, false, std::numeric_limits<Real>::infinity(), &guesses[k]);
+            EXPECT_EQ(r.overlap, full.overlap) << "trial " << trial << " guess " << k;
+            if (full.overlap || r.overlap) continue;
+            EXPECT_NEAR(r.distance, full.distance, Real(1e-4)) << "trial " << trial << " guess " << k;
+            if (k == 0) {
+                ++apart;
+                plain += full.iterations;
+                guessed += r.iterations;
+            }
+        }
+    }
+    EXPECT_GT(apart, 200);
+    EXPECT_LE(guessed, plain);
 }
 
 TEST(Epa, OverlappingBoxHullsDepthAlongTheAxis) {
