@@ -48,7 +48,8 @@ namespace fulcrum {
 // 9: the position drives' force limits (JointSpring::maxForce).
 // 10: how each contact's pair first touched (the solver's push-out sharing).
 // 11: each contact's triangle axis cache (a box or hull against a mesh).
-inline constexpr std::uint32_t kSnapshotVersion = 11;
+// 12: each contact's GJK warm start (two hulls).
+inline constexpr std::uint32_t kSnapshotVersion = 12;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -461,6 +461,11 @@ Vec3 bestHullFaceAxis(const ConvexShape& a, const ConvexShape& b, const Vec3& n,
 }  // namespace
 
 bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, Real margin, Manifold& m) {
+    return collideConvexConvex(shapeA, shapeB, margin, m, nullptr);
+}
+
+bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, Real margin, Manifold& m,
+                         GjkWarmStart* warm) {
     const bool boxA = shapeA.kind == ConvexKind::Box, boxB = shapeB.kind == ConvexKind::Box;
     BoxView box;
     if (boxA || boxB) {
@@ -478,7 +483,7 @@ bool collideConvexConvex(const ConvexShape& shapeA, const ConvexShape& shapeB, R
     // pair below, so the answer is the same, without GJK's remaining
     // iterations. Most pairs of a pile are such pairs (fat bounds overlapping,
     // shapes apart: 83 % of the hull pile's), docs/narrow-phase.md "GJK's early stop".
-    const GjkResult g = gjkDistance(a, b, false, margin + a.radius + b.radius + kBeyondPad);
+    const GjkResult g = gjkDistance(a, b, false, margin + a.radius + b.radius + kBeyondPad, warm);
     if (g.beyond) {
         m.apartBy = std::min(g.distance - a.radius - b.radius, box.exactWithin);
         return false;

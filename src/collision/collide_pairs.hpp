@@ -31,6 +31,9 @@ bool collideBoxBox(const ConvexShape& a, const ConvexShape& b, Real margin, Mani
 // collide_convex.cpp: GJK (+ EPA when the cores overlap) and face clipping;
 // every pair without a dedicated path (capsule-box, hulls, cylinders, triangles).
 bool collideConvexConvex(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m);
+// The same with the pair's GJK warm start (collision/manifold.hpp,
+// GjkWarmStart; null: none), read and rewritten when both are hulls or boxes.
+bool collideConvexConvex(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m, GjkWarmStart* warm);
 
 // The face-clipping manifold builder: given the contact normal n (A->B), clip
 // the supporting features of A (along n) and B (along -n) against each other.

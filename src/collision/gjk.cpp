@@ -7,6 +7,8 @@
 #include <cmath>
 #include <initializer_list>
 
+#include "collision/manifold.hpp"
+
 namespace fulcrum::detail {
 
 namespace {
@@ -109,6 +111,23 @@ void apply(Simplex& s, const Sub& sub) {
     s.count = sub.n;
 }
 
+// Warm starts name a simplex's points by the vertices they are: a hull's
+// vertex index, or a box's corner (bit k set: + along axis k). The support
+// searches below give the points coreSupport gives, bit for bit, with their
+// indices (a box's sign test is coreSupport's sgn: + at zero).
+bool indexable(const ConvexShape& s) { return s.kind == ConvexKind::Hull || s.kind == ConvexKind::Box; }
+std::size_t vertexCount(const ConvexShape& s) { return s.kind == ConvexKind::Hull ? s.hull->vertices.size() : 8; }
+Vec3 vertexOf(const ConvexShape& s, std::uint32_t i) {
+    if (s.kind == ConvexKind::Hull) return transformPoint(s.xf, s.hull->vertices[i]);
+    const Vec3& h = s.halfExtents;
+    return transformPoint(s.xf, {(i & 1u) ? h.x : -h.x, (i & 2u) ? h.y : -h.y, (i & 4u) ? h.z : -h.z});
+}
+std::uint32_t supportIndex(const ConvexShape& s, const Vec3& d) {
+    const Vec3 l = inverseRotate(s.xf.q, d);
+    if (s.kind == ConvexKind::Hull) return hullSupportIndex(*s.hull, l);
+    return (l.x >= 0 ? 1u : 0u) | (l.y >= 0 ? 2u : 0u) | (l.z >= 0 ? 4u : 0u);
+}
+
 }  // namespace
 
 bool closestOnSimplex(Simplex& s, Vec3& closest) {
@@ -165,19 +184,67 @@ bool closestOnSimplex(Simplex& s, Vec3& closest) {
     }
 }
 
-GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius, Real stopBeyond, const Vec3* guess) {
+GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius, Real stopBeyond, GjkWarmStart* warm,
+                      const Vec3* guess) {
     GjkResult r;
     Simplex& s = r.simplex;
     auto supportA = [&](const Vec3& d) { return withRadius ? a.support(d) : a.coreSupport(d); };
     auto supportB = [&](const Vec3& d) { return withRadius ? b.support(d) : b.coreSupport(d); };
-
-    Vec3 v = guess != nullptr ? -*guess : a.center() - b.center();
-    if (lengthSquared(v) < Real(1e-12)) v = {1, 0, 0};
-    {
-        SimplexVertex& sv = s.v[0];
-        sv.a = supportA(-v);
-        sv.b = supportB(v);
+    // A run that keeps a warm start finds a hull's or a box's supports by
+    // index: the points coreSupport gives, bit for bit, with their indices.
+    const bool indexed = warm != nullptr && !withRadius && indexable(a) && indexable(b);
+    // The vertex of A - B farthest along -v (A's support along -v, B's along v).
+    const auto vertexAgainst = [&](const Vec3& v, SimplexVertex& sv) {
+        if (indexed) {
+            sv.indexA = supportIndex(a, -v);
+            sv.indexB = supportIndex(b, v);
+            sv.a = vertexOf(a, sv.indexA);
+            sv.b = vertexOf(b, sv.indexB);
+        } else {
+            sv.a = supportA(-v);
+            sv.b = supportB(v);
+        }
         sv.w = sv.a - sv.b;
+    };
+    // The simplex the run ends on is the next run's start (at most a
+    // triangle: after an overlap, the tetrahedron's first three vertices;
+    // the next run adds the fourth by one search, through the checks below).
+    const auto keepStart = [&] {
+        if (!indexed) return;
+        warm->count = std::min<std::uint32_t>(s.count, 3);
+        for (std::uint32_t i = 0; i < warm->count; ++i) {
+            warm->indexA[i] = s.v[i].indexA;
+            warm->indexB[i] = s.v[i].indexB;
+        }
+    };
+
+    Vec3 v;
+    bool warmStarted = false;
+    if (indexed && warm->count > 0 && warm->count <= 3) {
+        // The last run's simplex at the shapes' new poses: points of A - B
+        // like any other (a snapshot's indices beyond the shapes: a cold start).
+        const std::size_t na = vertexCount(a), nb = vertexCount(b);
+        bool fits = true;
+        for (std::uint32_t i = 0; i < warm->count; ++i) fits = fits && warm->indexA[i] < na && warm->indexB[i] < nb;
+        if (fits) {
+            for (std::uint32_t i = 0; i < warm->count; ++i) {
+                SimplexVertex& sv = s.v[i];
+                sv.indexA = warm->indexA[i];
+                sv.indexB = warm->indexB[i];
+                sv.a = vertexOf(a, sv.indexA);
+                sv.b = vertexOf(b, sv.indexB);
+                sv.w = sv.a - sv.b;
+            }
+            s.count = warm->count;
+            closestOnSimplex(s, v);  // at most a triangle: never "inside"
+            warmStarted = true;
+        }
+    }
+    if (!warmStarted) {
+        v = guess != nullptr ? -*guess : a.center() - b.center();
+        if (lengthSquared(v) < Real(1e-12)) v = {1, 0, 0};
+        SimplexVertex& sv = s.v[0];
+        vertexAgainst(v, sv);
         s.count = 1;
         s.bary[0] = 1;
         // The line of centres is a support direction like any other (w is
@@ -188,6 +255,7 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
         if (plane > 0 && plane * plane > stopBeyond * stopBeyond * vv) {
             r.beyond = true;
             r.distance = plane / std::sqrt(vv);
+            keepStart();
             return r;
         }
         v = sv.w;
@@ -200,15 +268,14 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
         const Real vv = dot(v, v);
         if (vv < Real(1e-14)) { r.overlap = true; break; }
         SimplexVertex nv;
-        nv.a = supportA(-v);
-        nv.b = supportB(v);
-        nv.w = nv.a - nv.b;
+        vertexAgainst(v, nv);
         // Every point x of A - B has v.x >= v.w: the shapes are at least
         // v.w / |v| apart, and the full run's |v| never ends below that.
         const Real plane = dot(v, nv.w);
         if (plane > 0 && plane * plane > stopBeyond * stopBeyond * vv) {
             r.beyond = true;
             r.distance = plane / std::sqrt(vv);
+            keepStart();
             return r;
         }
         // No progress possible: w is not closer to the origin along v than v itself.
@@ -273,6 +340,7 @@ GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadiu
     const Real vLength = length(v);
     r.distance = r.overlap ? 0 : vLength;
     r.normal = !r.overlap && vLength > 0 ? v * (-1 / vLength) : Vec3{};
+    keepStart();
     return r;
 }
 

@@ -14,7 +14,12 @@ struct SimplexVertex {
     Vec3 a;  // support point on A
     Vec3 b;  // support point on B
     Vec3 w;  // a - b
+    // The vertices a and b are (a hull's index, a box's corner), in a run
+    // with a warm start (else unset).
+    std::uint32_t indexA = 0, indexB = 0;
 };
+
+struct GjkWarmStart;  // collision/manifold.hpp
 
 struct Simplex {
     SimplexVertex v[4];
@@ -42,11 +47,18 @@ struct GjkResult {
 // beyond its margin). The full run's distance is never below that bound, so
 // a caller that would reject the pair on the full distance rejects it the
 // same; with the default every result is as before. A non-null `guess` (a
-// unit normal from A to B, say a nearby pose's result) starts the search
+// unit normal from A to B, say a nearby pose's result) starts a cold search
 // along it instead of along the line of centres: the same distance to the
 // tolerance, in fewer iterations when the guess is close.
+//
+// `warm`: a pair's warm start (collision/manifold.hpp, GjkWarmStart), for
+// the cores of two shapes that are each a hull or a box (else ignored). The
+// run starts from its simplex when it holds one whose indices fit the
+// shapes (then `guess` is not used), and leaves in it the simplex the run
+// ended on (its first three vertices after an overlap).
 GjkResult gjkDistance(const ConvexShape& a, const ConvexShape& b, bool withRadius,
-                      Real stopBeyond = std::numeric_limits<Real>::infinity(), const Vec3* guess = nullptr);
+                      Real stopBeyond = std::numeric_limits<Real>::infinity(), GjkWarmStart* warm = nullptr,
+                      const Vec3* guess = nullptr);
 
 // Closest point to the origin on the simplex; shrinks it to the vertices that
 // support that point and stores their barycentric weights. Returns false when

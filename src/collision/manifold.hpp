@@ -146,6 +146,21 @@ struct TriangleAxisCache {
     std::uint32_t piece = 0;                        // the piece the mesh path is colliding now
 };
 
+// The GJK warm start of two hulls or a box and a hull (gjk.cpp, gjkDistance;
+// docs/narrow-phase.md, "GJK's warm start"): the vertices (a hull's vertex
+// index, a box's corner: bit k set for + along axis k) of the simplex the
+// pair's last GJK run ended on, at most a triangle. The next run starts from
+// that simplex at the shapes' new poses instead of from the line of centres;
+// resting and slowly moving pairs then converge after one or two support
+// searches. The answer is GJK's to its tolerance either way, but not bit for
+// bit, so the start is the contact's own state (Contact::gjkWarmStart), saved
+// in snapshots (format version 12).
+struct GjkWarmStart {
+    std::uint32_t count = 0;  // 0..3; 0: none (GJK starts cold)
+    std::uint32_t indexA[3] = {0, 0, 0};
+    std::uint32_t indexB[3] = {0, 0, 0};
+};
+
 // Reduces `candidates` to at most 4 points of `out` (normal already set):
 // keeps the deepest point, then the point farthest from it, then the two that
 // maximise the contact polygon's area (Gregorius, "Robust Contact Creation for
@@ -208,6 +223,11 @@ public:
     // The contact's triangle axis cache for this collide() (none unless the
     // contact manager sets it).
     detail::TriangleAxisCache& triangleAxes() { return triangleAxes_; }
+    // The contact's GJK warm start for this collide() of two hulls or a box
+    // and a hull (none unless the contact manager sets it; read and rewritten
+    // by the pair's GJK).
+    detail::GjkWarmStart* gjkWarmStart() const { return gjkWarmStart_; }
+    void setGjkWarmStart(detail::GjkWarmStart* warm) { gjkWarmStart_ = warm; }
 
 private:
     std::vector<Manifold> manifolds_;
@@ -218,6 +238,7 @@ private:
     detail::PolytopeEdgeCache polytopeEdgeScratch_;
     detail::SeparatingAxisCache separatingAxisScratch_;
     detail::TriangleAxisCache triangleAxes_;
+    detail::GjkWarmStart* gjkWarmStart_ = nullptr;
 };
 
 }  // namespace fulcrum

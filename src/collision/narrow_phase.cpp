@@ -33,6 +33,13 @@ bool isConvex(ShapeType t) {
            t == ShapeType::ConvexHull;
 }
 
+// The pairs collideConvexConvex takes a GJK warm start for (GjkWarmStart,
+// manifold.hpp): two hulls, or a box and a hull (two boxes have their own path).
+bool warmStartable(ConvexKind a, ConvexKind b) {
+    const bool hullA = a == ConvexKind::Hull, hullB = b == ConvexKind::Hull;
+    return (hullA && (hullB || b == ConvexKind::Box)) || (hullB && a == ConvexKind::Box);
+}
+
 // Inlined into collideLeaf, as it was into collideRecursive before rounded
 // shapes split the leaf out (GCC stopped inlining it on its own).
 [[gnu::always_inline]] inline void collideConvexPair(const Shape& a, const Transform& xa, const Shape& b, const Transform& xb,
@@ -44,7 +51,16 @@ bool isConvex(ShapeType t) {
     m.childA = childA;
     m.childB = childB;
     bool hit;
-    if (ka <= kb) {
+    if (out.gjkWarmStart() != nullptr && warmStartable(ca.kind, cb.kind)) {
+        // Two hulls or a box and a hull, with the pair's GJK warm start (in
+        // the canonical order, as always for the pair).
+        if (ka <= kb) {
+            hit = collideConvexConvex(ca, cb, margin, m, out.gjkWarmStart());
+        } else {
+            hit = collideConvexConvex(cb, ca, margin, m, out.gjkWarmStart());
+            flipManifold(m);
+        }
+    } else if (ka <= kb) {
         hit = kPairTable[ka][kb](ca, cb, margin, m);
     } else {
         hit = kPairTable[kb][ka](cb, ca, margin, m);

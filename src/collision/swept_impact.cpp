@@ -103,7 +103,8 @@ bool gapOf(const Piece& a, const Piece& b, Real& distance, Vec3& normal, bool wa
         normal = -b.planeNormal;
         return true;
     }
-    const GjkResult g = gjkDistance(a.shape, b.shape, false, std::numeric_limits<Real>::infinity(), warm ? &normal : nullptr);
+    const GjkResult g = gjkDistance(a.shape, b.shape, false, std::numeric_limits<Real>::infinity(), nullptr,
+                                    warm ? &normal : nullptr);
     if (!g.overlap && g.distance > Real(1e-6)) {
         distance = g.distance - a.shape.radius - b.shape.radius;
         normal = g.normal;

@@ -91,6 +91,11 @@ struct Contact {
     // test that gave a contact, sorted. It changes results, so it is saved in
     // snapshots (format version 11); capacity kept across reuse.
     std::vector<TriangleAxisEntry> triangleAxes;
+    // The GJK warm start of two hulls or a box and a hull (GjkWarmStart,
+    // collision/manifold.hpp): the vertices of the simplex the pair's last
+    // GJK run ended on. It
+    // changes results, so it is saved in snapshots (format version 12).
+    GjkWarmStart gjkWarmStart;
 };
 
 }  // namespace fulcrum::detail

@@ -293,6 +293,7 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
     c.sensor = w.params[w.bodySlots[slotA].dense].isSensor || w.params[w.bodySlots[slotB].dense].isSensor;
     c.manifolds.clear();
     c.triangleAxes.clear();
+    c.gjkWarmStart = GjkWarmStart{};
     if (!linksRebuild_) {
         linkContact(index);
         setAliveBit(index, true);
@@ -421,6 +422,7 @@ void ContactManager::destroyContact(BodyStore& w, std::uint32_t index) {
     c.touching = false;
     c.manifolds.clear();
     c.triangleAxes.clear();
+    c.gjkWarmStart = GjkWarmStart{};
     c.nextFree = freeContact_;
     freeContact_ = index;
     --liveContacts_;
@@ -564,6 +566,13 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         ns.triangleAxes.clear();
         axes = {c.triangleAxes.data(), c.triangleAxes.size(), &ns.triangleAxes, 0};
     }
+    // Two hulls, or a box and a hull, start GJK from their last run's
+    // simplex (GjkWarmStart, collision/manifold.hpp), the contact's own state.
+    const ShapeType typeA = shapeA.type(), typeB = shapeB.type();
+    const bool hullPair = !c.sensor && (typeA == ShapeType::ConvexHull || typeB == ShapeType::ConvexHull) &&
+                          (typeA == ShapeType::ConvexHull || typeA == ShapeType::Box) &&
+                          (typeB == ShapeType::ConvexHull || typeB == ShapeType::Box);
+    if (hullPair) buffer.setGjkWarmStart(&c.gjkWarmStart);
     if (compound) {
         reach.centreA = ma.com;
         reach.centreB = mb.com;
@@ -573,6 +582,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     } else {
         collide(shapeA, xA, shapeB, xB, margin, buffer);
     }
+    if (hullPair) buffer.setGjkWarmStart(nullptr);
     if (meshPair) {
         axes = TriangleAxisCache{};
         std::vector<TriangleAxisEntry>& fresh = ns.triangleAxes;

@@ -419,6 +419,21 @@ void io(A& a, Contact& c) {
     } else if constexpr (A::kReading) {
         c.triangleAxes.clear();
     }
+    // Version 12: the GJK warm start of two hulls or a box and a hull (collision/manifold.hpp,
+    // GjkWarmStart), where the pair's next GJK run starts. A file before it
+    // was written by a build that started every run cold: its pairs load
+    // with none. Indices beyond the shapes are not an error (the run then
+    // starts cold); a count beyond a triangle is.
+    if (a.version >= 12) {
+        GjkWarmStart& g = c.gjkWarmStart;
+        io(a, g.count);
+        if constexpr (A::kReading) {
+            if (g.count > 3) a.fail("a contact's GJK warm start holds more than three vertices");
+        }
+        for (std::uint32_t i = 0; i < 3; ++i) io(a, g.indexA[i]), io(a, g.indexB[i]);
+    } else if constexpr (A::kReading) {
+        c.gjkWarmStart = GjkWarmStart{};
+    }
 }
 template <typename A>
 void io(A& a, ContactReport& r) {

@@ -119,7 +119,7 @@ TEST(Gjk, AGuessedNormalGivesTheSameDistanceAndTheRightGuessFewerIterations) {
         const Vec3 turned = full.overlap ? random : normalize(full.normal + Real(0.1) * random);
         const Vec3 guesses[4] = {full.overlap ? random : full.normal, turned, random, -turned};
         for (int k = 0; k < 4; ++k) {
-            const detail::GjkResult r = detail::gjkDistance(ca, cb, false, std::numeric_limits<Real>::infinity(), &guesses[k]);
+            const detail::GjkResult r = detail::gjkDistance(ca, cb, false, std::numeric_limits<Real>::infinity(), nullptr, &guesses[k]);
             EXPECT_EQ(r.overlap, full.overlap) << "trial " << trial << " guess " << k;
             if (full.overlap || r.overlap) continue;
             EXPECT_NEAR(r.distance, full.distance, Real(1e-4)) << "trial " << trial << " guess " << k;
