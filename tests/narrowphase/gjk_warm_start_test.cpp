@@ -6,6 +6,7 @@
 
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "collision/collide_pairs.hpp"
@@ -26,6 +27,17 @@ std::vector<Vec3> rock(std::mt19937& rng, int n) {
         p.push_back(Vec3{d.x * Real(1.4), d.y * Real(0.8), d.z});  // an elongated rock, 2.8 m by 1.6 by 2
     }
     return p;
+}
+
+// A random pose pair for the empty-start tests: A at the origin, B's centre
+// 0.5-3.5 m away in a random direction, both randomly turned (the draws in
+// this order, fresh distributions each call).
+std::pair<Transform, Transform> randomPoses(std::mt19937& rng) {
+    std::uniform_real_distribution<Real> off(Real(0.5), Real(3.5));
+    std::normal_distribution<Real> g(0, 1);
+    const Transform xa{{0, 0, 0}, test::randomRotation(rng)};
+    const Transform xb{normalize(Vec3{g(rng), g(rng), g(rng)}) * off(rng), test::randomRotation(rng)};
+    return {xa, xb};
 }
 
 void expectSameBits(const detail::GjkResult& x, const detail::GjkResult& y) {
@@ -103,10 +115,7 @@ TEST(GjkWarmStart, AnEmptyOrForeignStartIsTheColdRun) {
     std::mt19937 rng(5);
     const Shape a = Shape::convexHull(rock(rng, 16)), b = Shape::convexHull(rock(rng, 16));
     for (int trial = 0; trial < 40; ++trial) {
-        std::uniform_real_distribution<Real> off(Real(0.5), Real(3.5));
-        std::normal_distribution<Real> g(0, 1);
-        const Transform xa{{0, 0, 0}, test::randomRotation(rng)};
-        const Transform xb{normalize(Vec3{g(rng), g(rng), g(rng)}) * off(rng), test::randomRotation(rng)};
+        const auto [xa, xb] = randomPoses(rng);
         const detail::ConvexShape ca = detail::makeConvexCore(a, xa), cb = detail::makeConvexCore(b, xb);
         const detail::GjkResult cold = detail::gjkDistance(ca, cb, false, Real(0.1));
         detail::GjkWarmStart empty;
@@ -132,10 +141,7 @@ TEST(GjkWarmStart, ABoxsEmptyStartIsTheColdRun) {
     std::mt19937 rng(6);
     const Shape a = Shape::box({Real(1.2), Real(0.7), Real(0.9)}), b = Shape::convexHull(rock(rng, 16));
     for (int trial = 0; trial < 40; ++trial) {
-        std::uniform_real_distribution<Real> off(Real(0.5), Real(3.5));
-        std::normal_distribution<Real> g(0, 1);
-        const Transform xa{{0, 0, 0}, test::randomRotation(rng)};
-        const Transform xb{normalize(Vec3{g(rng), g(rng), g(rng)}) * off(rng), test::randomRotation(rng)};
+        const auto [xa, xb] = randomPoses(rng);
         const detail::ConvexShape ca = detail::makeConvexCore(a, xa), cb = detail::makeConvexCore(b, xb);
         const detail::GjkResult cold = detail::gjkDistance(ca, cb, false, Real(0.1));
         detail::GjkWarmStart empty;
