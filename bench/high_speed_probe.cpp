@@ -7,8 +7,13 @@
 //   valgrind --tool=callgrind --toggle-collect='measuredStep(*)' build-bench/bench/bench_high_speed_probe 5000 230 1000 1 200
 // It also counts the pairs created overlapping (the scene draws positions
 // at random in a 90 m cube, as Jolt's does), which stay in the report until
-// the solver has pushed them apart. Not a test; no timing.
+// the solver has pushed them apart. Not a test. With FULCRUM_PROBE_PROFILE=1
+// in the environment it also prints the scene's construction time and each
+// phase of World::lastStepProfile summed over the steps (wall clock, a
+// diagnostic: the figures move with the machine's load); with
+// FULCRUM_PROBE_SUBSTEPS=N it runs the scene at N sub-steps.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -34,8 +39,14 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: %s [COUNT] [STEPS] [EVERY] [THREADS] [WARM] (WARM: steps callgrind does not count)\n", argv[0]);
         return 2;
     }
-    const bench::SceneSpec scene = bench::joltHighSpeed(count, steps);
+    const bool profile = std::getenv("FULCRUM_PROBE_PROFILE") != nullptr;
+    const auto built0 = std::chrono::steady_clock::now();
+    bench::SceneSpec scene = bench::joltHighSpeed(count, steps);
+    // FULCRUM_PROBE_SUBSTEPS=N: the scene at N sub-steps (the benchmark's is 2), for comparing the split.
+    if (const char* sub = std::getenv("FULCRUM_PROBE_SUBSTEPS"); sub != nullptr && std::atoi(sub) > 0) scene.substeps = std::atoi(sub);
     bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, threads);
+    const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - built0).count();
+    StepProfile sum;
     World& world = *built.world;
     const auto kindOf = [&](BodyId id) -> std::string {
         for (std::size_t i = 0; i < built.bodies.size(); ++i) {
@@ -89,7 +100,24 @@ int main(int argc, char** argv) {
         } else {
             measuredStep(world, static_cast<Real>(scene.dt));
         }
+        if (profile) {
+            const StepProfile p = world.lastStepProfile();
+            sum.total += p.total;
+            sum.collide += p.collide;
+            sum.prepare += p.prepare;
+            sum.solve += p.solve;
+            sum.store += p.store;
+            sum.continuous += p.continuous;
+            sum.sleep += p.sleep;
+            sum.finish += p.finish;
+        }
         if ((i + 1) % every == 0 || i < 3) report(i + 1);
+    }
+    if (profile) {
+        std::printf("construction %.1f ms; %d steps %.1f ms: collide %.1f, prepare %.1f, solve %.1f, store %.1f, "
+                    "continuous %.1f, sleep %.1f, finish %.1f\n",
+                    buildMs, steps, sum.total, sum.collide, sum.prepare, sum.solve, sum.store, sum.continuous, sum.sleep,
+                    sum.finish);
     }
     return 0;
 }
