@@ -218,8 +218,6 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
     return true;
 }
 
-namespace {
-
 // The triangle's vertices and normal in the polytope's frame:
 // inverseTransformPoint(xf, w[i]) and inverseRotate(xf.q, faceN), bit for
 // bit. In four SSE lanes (three points and the normal) the same products,
@@ -227,7 +225,7 @@ namespace {
 // (quat.hpp: t = 2 (u x v), v + t w + u x t), each rounded alone (no FMA),
 // so every lane gives the scalar result; the scalar rotations were a fifth
 // of the test's own instructions (docs/benchmarks.md, branch `trisat`).
-[[gnu::always_inline]] inline void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
+void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
     const __m128 x = _mm_sub_ps(_mm_setr_ps(w[0].x, w[1].x, w[2].x, faceN.x), _mm_setr_ps(xf.p.x, xf.p.x, xf.p.x, 0.0f));
     const __m128 y = _mm_sub_ps(_mm_setr_ps(w[0].y, w[1].y, w[2].y, faceN.y), _mm_setr_ps(xf.p.y, xf.p.y, xf.p.y, 0.0f));
@@ -252,6 +250,8 @@ namespace {
     n = inverseRotate(xf.q, faceN);
 #endif
 }
+
+namespace {
 
 // True when the triangle's edge j and the polytope's edge e cross, seen along
 // their common perpendicular: the closest points of their lines lie inside
