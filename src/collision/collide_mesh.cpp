@@ -186,7 +186,10 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
         const Vec3 onTri = tm.points[deepest].position + tm.normal * (Real(0.5) * tm.points[deepest].depth);
         if (!edgeNormalAllowed(w, convexMask, onTri, tm.normal, faceN)) {
             // Rebuild the contact along the face normal.
-            const Vec3 pb = b.support(-faceN);
+            // A hull's support vertex is kept: its supporting face along -faceN
+            // starts from it (the search buildFaceManifold would repeat).
+            std::uint32_t hullVertex = kNoVertex;
+            const Vec3 pb = b.support(-faceN, hullVertex);
             const Real depth = dot(w[0] - pb, faceN);
             if (depth < -margin) return false;
             if (b.kind == ConvexKind::Point) {
@@ -194,7 +197,14 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
                 tm.pointCount = 0;
                 addContact(tm, pb + faceN * depth, pb, depth, 7, margin);
             } else {
-                buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, tm, 1);
+                SupportFace faceB;
+                const SupportFace* knownB = nullptr;
+                if (hullVertex != kNoVertex) {
+                    supportingFace(b, -faceN, faceB, hullVertex);
+                    knownB = &faceB;
+                }
+                buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, tm, 1, false, nullptr,
+                                  knownB);
             }
             if (tm.pointCount == 0) return false;
         }

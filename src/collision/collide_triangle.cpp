@@ -36,6 +36,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+#include <xmmintrin.h>
+#endif
+
 #include "collision/collide_mesh.hpp"
 #include "collision/collide_pairs.hpp"
 
@@ -214,6 +218,39 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
     return true;
 }
 
+// The triangle's vertices and normal in the polytope's frame:
+// inverseTransformPoint(xf, w[i]) and inverseRotate(xf.q, faceN), bit for
+// bit. In four SSE lanes (three points and the normal) the same products,
+// sums and differences are taken in the same order as rotate()'s scalar ones
+// (quat.hpp: t = 2 (u x v), v + t w + u x t), each rounded alone (no FMA),
+// so every lane gives the scalar result; the scalar rotations were a fifth
+// of the test's own instructions (docs/benchmarks.md, branch `trisat`).
+void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+    const __m128 x = _mm_sub_ps(_mm_setr_ps(w[0].x, w[1].x, w[2].x, faceN.x), _mm_setr_ps(xf.p.x, xf.p.x, xf.p.x, 0.0f));
+    const __m128 y = _mm_sub_ps(_mm_setr_ps(w[0].y, w[1].y, w[2].y, faceN.y), _mm_setr_ps(xf.p.y, xf.p.y, xf.p.y, 0.0f));
+    const __m128 z = _mm_sub_ps(_mm_setr_ps(w[0].z, w[1].z, w[2].z, faceN.z), _mm_setr_ps(xf.p.z, xf.p.z, xf.p.z, 0.0f));
+    const Quat q = conjugate(xf.q);
+    const __m128 ux = _mm_set1_ps(q.x), uy = _mm_set1_ps(q.y), uz = _mm_set1_ps(q.z), qw = _mm_set1_ps(q.w);
+    const __m128 two = _mm_set1_ps(2.0f);
+    const __m128 tx = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(uy, z), _mm_mul_ps(uz, y)), two);
+    const __m128 ty = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(uz, x), _mm_mul_ps(ux, z)), two);
+    const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(ux, y), _mm_mul_ps(uy, x)), two);
+    const __m128 rx = _mm_add_ps(_mm_add_ps(x, _mm_mul_ps(tx, qw)), _mm_sub_ps(_mm_mul_ps(uy, tz), _mm_mul_ps(uz, ty)));
+    const __m128 ry = _mm_add_ps(_mm_add_ps(y, _mm_mul_ps(ty, qw)), _mm_sub_ps(_mm_mul_ps(uz, tx), _mm_mul_ps(ux, tz)));
+    const __m128 rz = _mm_add_ps(_mm_add_ps(z, _mm_mul_ps(tz, qw)), _mm_sub_ps(_mm_mul_ps(ux, ty), _mm_mul_ps(uy, tx)));
+    alignas(16) float ox[4], oy[4], oz[4];
+    _mm_store_ps(ox, rx);
+    _mm_store_ps(oy, ry);
+    _mm_store_ps(oz, rz);
+    for (std::size_t i = 0; i < 3; ++i) v[i] = {ox[i], oy[i], oz[i]};
+    n = {ox[3], oy[3], oz[3]};
+#else
+    for (std::size_t i = 0; i < 3; ++i) v[i] = inverseTransformPoint(xf, w[i]);
+    n = inverseRotate(xf.q, faceN);
+#endif
+}
+
 namespace {
 
 // True when the triangle's edge j and the polytope's edge e cross, seen along
@@ -336,8 +373,18 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
             // without the polytope's deepest point joining the clipped ones.
             const Vec3 pb = transformPoint(xf, p.vertices[c.lowest]);
             const Real depth = -c.faceSeparation;
+            // A hull's supporting face from the vertex the axis search found
+            // lowest along the triangle's normal: the vertex its own support
+            // search along -faceN returns (the first of the lowest dots, and
+            // -faceN's dots are these negated, exactly), without that search.
+            SupportFace hullFace;
+            const SupportFace* knownB = nullptr;
+            if (b.kind == ConvexKind::Hull) {
+                supportingFace(b, -faceN, hullFace, c.lowest);
+                knownB = &hullFace;
+            }
             buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, m, 1,
-                              c.axis == Axis::TriangleFace && realized);
+                              c.axis == Axis::TriangleFace && realized, nullptr, knownB);
             // Kept against a better edge pair (within kEdgeBias), the face
             // must hold a point over the triangle, the only points the mesh
             // path keeps along its normal: a hull sunk across the triangle's
@@ -444,8 +491,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     const ConvexShape& b = *p.shape;
     const Transform& xf = b.xf;
     // In the polytope's frame: its vertices and face planes as stored.
-    const Vec3 v[3] = {inverseTransformPoint(xf, w[0]), inverseTransformPoint(xf, w[1]), inverseTransformPoint(xf, w[2])};
-    const Vec3 n = inverseRotate(xf.q, faceN);
+    Vec3 v[3], n;
+    toPolytopeFrame(xf, w, faceN, v, n);
     // The axis that rejected the pair last time, first: a piece resting or
     // rolling slowly beside a triangle is still beyond the margin along it.
     std::uint32_t unusedHint = 0;

@@ -44,6 +44,11 @@ private:
     std::array<HullFace, 6> boxFaces_;
 };
 
+// The triangle's vertices w and unit normal faceN in the frame of a shape
+// placed at xf: inverseTransformPoint(xf, w[i]) and inverseRotate(xf.q,
+// faceN), bit for bit (four SSE lanes in the float build).
+void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n);
+
 // The contact of world-space triangle w (counter-clockwise front, unit normal
 // faceN) with the prepared polytope, as collideConvexConvex(triangle, b)
 // gives it: normal from the triangle to b, points with depth and feature ids,

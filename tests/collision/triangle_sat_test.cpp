@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -612,4 +613,99 @@ TEST(TriangleSat, CachedAxisGivesTheFullTestsContactWhileItStaysTheBest) {
     EXPECT_GT(codes[2], 100);  // an edge pair
     std::printf("cached %d, still the best %d, shallower than the full test's %d, by kind %d %d %d\n", kept, same, shallower,
                 codes[3], codes[1], codes[2]);
+}
+
+// The triangle test takes the triangle into the polytope's frame in SIMD
+// lanes (toPolytopeFrame): each point and the normal must come out as the
+// scalar inverseTransformPoint and inverseRotate give them, bit for bit
+// (the test's answers keep their bits), whatever the pose and coordinates:
+// random rotations and places, far and tiny coordinates, signed zeros.
+TEST(TriangleSat, PolytopeFrameIsTheScalarTransformBitForBit) {
+    std::mt19937 rng(2026);
+    std::uniform_real_distribution<Real> unit(-1, 1), logScale(-6, 4);
+    const auto sameBits = [](const Vec3& x, const Vec3& y) { return std::memcmp(&x, &y, sizeof(Vec3)) == 0; };
+    const auto point = [&] {
+        const Real s = std::pow(Real(10), logScale(rng));
+        return Vec3{unit(rng) * s, unit(rng) * s, unit(rng) * s};
+    };
+    int compared = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        Transform xf{point(), test::randomRotation(rng)};
+        Vec3 w[3] = {point(), point(), point()};
+        Vec3 faceN = normalize(Vec3{unit(rng), unit(rng), unit(rng)});
+        if (trial % 10 == 0) {
+            // Signed zeros and axis-aligned poses: a point on the shape's
+            // origin, an unturned or quarter-turned shape, an axis normal.
+            w[trial / 10 % 3] = xf.p;
+            if (trial % 20 == 0) xf.q = Quat{};
+            if (trial % 30 == 0) xf.q = Quat::fromAxisAngle(Vec3{0, 1, 0}, Real(1.5707963));
+            faceN = trial % 40 == 0 ? Vec3{Real(-0.0), 1, Real(0.0)} : faceN;
+            w[(trial / 10 + 1) % 3] = Vec3{Real(-0.0), Real(0.0), xf.p.z};
+        }
+        Vec3 v[3], n;
+        detail::toPolytopeFrame(xf, w, faceN, v, n);
+        for (int i = 0; i < 3; ++i) {
+            ASSERT_TRUE(sameBits(v[i], inverseTransformPoint(xf, w[i]))) << "trial " << trial << " point " << i;
+        }
+        ASSERT_TRUE(sameBits(n, inverseRotate(xf.q, faceN))) << "trial " << trial;
+        ++compared;
+    }
+    EXPECT_EQ(compared, 20000);
+}
+
+// The triangle's face contact takes a hull's supporting face along -faceN
+// from the vertex the axis search found lowest along faceN (the first of the
+// lowest dots in the hull's frame) instead of a second support search: that
+// face must be the one the search gives, point for point, also where dots
+// tie (a face or an edge parallel to the triangle).
+TEST(TriangleSat, LowestVertexGivesTheSupportSearchsFace) {
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    std::vector<Shape> shapes = {cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
+    for (int i = 0; i < 6; ++i) shapes.push_back(rock(rng));
+    // A bigger rock: more than eight vertices, the eight-lane search.
+    {
+        std::uniform_real_distribution<Real> u(-0.5f, 0.5f);
+        std::vector<Vec3> p;
+        for (int i = 0; i < 40; ++i) p.push_back({u(rng), u(rng), u(rng)});
+        shapes.push_back(Shape::convexHull(p));
+    }
+    const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    int ties = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
+        const bool aligned = trial % 3 == 0;  // unturned, a normal along an axis: tied dots
+        const Transform xf{{unit(rng), unit(rng), unit(rng)}, aligned ? Quat{} : test::randomRotation(rng)};
+        const Vec3 faceN = aligned ? axes[static_cast<std::size_t>(trial / 3) % 6] : normalize(Vec3{unit(rng), unit(rng), unit(rng)});
+        const detail::ConvexShape b = detail::makeConvex(shape, xf);
+        const ConvexHull& h = *b.hull;
+        // The axis search's scan (collideTrianglePolytope).
+        const Vec3 n = inverseRotate(xf.q, faceN);
+        Real lo = dot(n, h.vertices[0]);
+        std::uint32_t lowest = 0;
+        int atLowest = 1;
+        for (std::uint32_t i = 1; i < h.vertices.size(); ++i) {
+            const Real d = dot(n, h.vertices[i]);
+            if (d < lo) {
+                lo = d;
+                lowest = i;
+                atLowest = 1;
+            } else if (d == lo) {
+                ++atLowest;
+            }
+        }
+        if (atLowest > 1) ++ties;
+        detail::SupportFace known, searched;
+        detail::supportingFace(b, -faceN, known, lowest);
+        detail::supportingFace(b, -faceN, searched);
+        ASSERT_EQ(known.id, searched.id) << "trial " << trial;
+        ASSERT_EQ(known.count, searched.count) << "trial " << trial;
+        for (std::uint32_t i = 0; i < known.count; ++i) ASSERT_EQ(known.points[i], searched.points[i]) << "trial " << trial;
+        ASSERT_EQ(known.normal, searched.normal) << "trial " << trial;
+        // And the support point itself.
+        std::uint32_t vertex = detail::kNoVertex;
+        b.support(-faceN, vertex);
+        ASSERT_EQ(vertex, lowest) << "trial " << trial;
+    }
+    EXPECT_GT(ties, 1000);  // the tied cases are exercised
 }
