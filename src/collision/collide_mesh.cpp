@@ -85,6 +85,11 @@ constexpr Real kTouchingPreference = Real(3);
 // (the results keep their bits).
 constexpr Real kSeparationSlack = Real(1e-3);
 
+// How far a contact's candidate list (MeshCandidateCache) reaches beyond the
+// body's query box when it is made, as a fraction of the box's largest half
+// extent: a larger box is made again less often and filters more triangles.
+constexpr Real kCandidateGrowth = Real(0.5);
+
 // True when the triangle's plane separates b from it by more than the margin
 // (b wholly above it, or wholly behind it): one extent, a pass over a hull's
 // vertices, where GJK takes several supports and simplex steps. On a hilly
@@ -480,7 +485,7 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
     // gives the same bits.
     const bool shifted = placed && meshXf.q.x == 0 && meshXf.q.y == 0 && meshXf.q.z == 0 && meshXf.q.w == 1 &&
                          meshXf.p.x != 0 && meshXf.p.y != 0 && meshXf.p.z != 0;
-    forEachTriangleOverlapping(mesh, localBox, [&](std::uint32_t t) {
+    const auto visit = [&](std::uint32_t t) {
         const auto& idx = mesh.triangles[t];
         const std::uint8_t mask = t < mesh.convexEdgeMask.size() ? mesh.convexEdgeMask[t] : std::uint8_t(7);
         if (!placed) {
@@ -497,7 +502,17 @@ void collideMeshConvex(const TriangleMesh& mesh, const Transform& meshXf, const 
         const Vec3 w[3] = {transformPoint(meshXf, mesh.vertices[idx[0]]), transformPoint(meshXf, mesh.vertices[idx[1]]),
                            transformPoint(meshXf, mesh.vertices[idx[2]])};
         collideTriangle(w, mask, t);
-    });
+    };
+    // The contact's candidate triangles (MeshCandidateCache, manifold.hpp),
+    // when the contact manager keeps them: the BVH query's own triangles in
+    // its order, so the same bits.
+    MeshCandidateCache* near = out.meshCandidates();
+    if (near != nullptr && mesh.bvh) {
+        const Vec3 h = localBox.halfExtents();
+        queryTrianglesCached(mesh, localBox, kCandidateGrowth * std::max(h.x, std::max(h.y, h.z)), *near, visit);
+    } else {
+        forEachTriangleOverlapping(mesh, localBox, visit);
+    }
     if (axisOut != nullptr) {
         // In triangle order, for the next collide()'s search.
         std::sort(axisOut->begin() + static_cast<std::ptrdiff_t>(outFirst), axisOut->end(),

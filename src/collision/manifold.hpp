@@ -27,6 +27,8 @@
 
 namespace fulcrum {
 
+struct TriangleMesh;
+
 struct ContactPoint {
     Vec3 position;
     Vec3 localAnchorA;
@@ -146,6 +148,30 @@ struct TriangleAxisCache {
     std::uint32_t piece = 0;                        // the piece the mesh path is colliding now
 };
 
+// A convex body's candidate triangles of a mesh (collide_mesh.cpp,
+// collideMeshConvex; docs/narrow-phase.md, "The candidate triangles"):
+// every triangle of `mesh` whose bounds overlap `box` (mesh-local, the
+// body's query box grown when the list was made), with those bounds, in the
+// BVH's order. While
+// the body's query box stays inside `box`, the triangles it overlaps are
+// those of the list that overlap it, in the same order as the BVH query
+// would give them (queryTrianglesCached, mesh_bvh.hpp): the same answer, so
+// the list is only the contact's scratch (Contact::meshCandidates), never
+// saved in snapshots. Null `mesh`: no list.
+struct MeshCandidateCache {
+    struct Candidate {
+        AABB bounds;  // the triangle's (triangleBounds, mesh_bvh.hpp)
+        std::uint32_t triangle = 0;
+    };
+    const TriangleMesh* mesh = nullptr;
+    AABB box;
+    std::vector<Candidate> triangles;  // capacity kept across queries
+    void clear() {
+        mesh = nullptr;
+        triangles.clear();
+    }
+};
+
 // The GJK warm start of two hulls or a box and a hull (gjk.cpp, gjkDistance;
 // docs/narrow-phase.md, "GJK's warm start"): the vertices (a hull's vertex
 // index, a box's corner: bit k set for + along axis k) of the simplex the
@@ -228,6 +254,10 @@ public:
     // by the pair's GJK).
     detail::GjkWarmStart* gjkWarmStart() const { return gjkWarmStart_; }
     void setGjkWarmStart(detail::GjkWarmStart* warm) { gjkWarmStart_ = warm; }
+    // The contact's candidate triangles for this collide() of a convex shape
+    // against a mesh (none unless the contact manager sets it).
+    detail::MeshCandidateCache* meshCandidates() const { return meshCandidates_; }
+    void setMeshCandidates(detail::MeshCandidateCache* near) { meshCandidates_ = near; }
 
 private:
     std::vector<Manifold> manifolds_;
@@ -239,6 +269,7 @@ private:
     detail::SeparatingAxisCache separatingAxisScratch_;
     detail::TriangleAxisCache triangleAxes_;
     detail::GjkWarmStart* gjkWarmStart_ = nullptr;
+    detail::MeshCandidateCache* meshCandidates_ = nullptr;
 };
 
 }  // namespace fulcrum

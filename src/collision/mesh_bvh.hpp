@@ -20,6 +20,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "collision/manifold.hpp"
 #include "fulcrum/shape.hpp"
 
 namespace fulcrum {
@@ -110,6 +111,29 @@ void queryTriangles(const TriangleMesh& mesh, const AABB& box, F&& callback) {
         }
         if (top == 0) return;
         current = stack[--top];
+    }
+}
+
+// queryTriangles through a contact's candidate list (MeshCandidateCache,
+// collision/manifold.hpp): the same triangles in the same order. When `box`
+// is not inside the list's box, or the list is of another mesh or none, the
+// list is made again from a query of `box` grown by `grow` on every side.
+// The answer is exact: a triangle whose bounds overlap `box` overlaps every
+// box that holds `box`, so it is on the list; the list is in tree order, as
+// the query visits; and the filter is the query's own leaf test. (A NaN box
+// is never inside the list's box: the query runs, and finds nothing, as the
+// plain query does.)
+template <class F>
+void queryTrianglesCached(const TriangleMesh& mesh, const AABB& box, Real grow, detail::MeshCandidateCache& near,
+                          F&& callback) {
+    if (near.mesh != &mesh || !near.box.contains(box)) {
+        near.mesh = &mesh;
+        near.box = box.fattened(grow);
+        near.triangles.clear();
+        queryTriangles(mesh, near.box, [&](std::uint32_t t) { near.triangles.push_back({triangleBounds(mesh, t), t}); });
+    }
+    for (const detail::MeshCandidateCache::Candidate& c : near.triangles) {
+        if (overlaps(c.bounds, box)) callback(c.triangle);
     }
 }
 

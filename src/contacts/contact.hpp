@@ -96,6 +96,11 @@ struct Contact {
     // GJK run ended on. It
     // changes results, so it is saved in snapshots (format version 12).
     GjkWarmStart gjkWarmStart;
+    // The candidate triangles of a plain convex shape against a mesh
+    // (MeshCandidateCache, collision/manifold.hpp): the BVH query's answer
+    // while the body stays in a grown box. It gives the query's own
+    // triangles in its order, so it is scratch: not saved in snapshots.
+    MeshCandidateCache meshCandidates;
 };
 
 }  // namespace fulcrum::detail

@@ -294,6 +294,7 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
     c.manifolds.clear();
     c.triangleAxes.clear();
     c.gjkWarmStart = GjkWarmStart{};
+    c.meshCandidates.clear();
     if (!linksRebuild_) {
         linkContact(index);
         setAliveBit(index, true);
@@ -423,6 +424,7 @@ void ContactManager::destroyContact(BodyStore& w, std::uint32_t index) {
     c.manifolds.clear();
     c.triangleAxes.clear();
     c.gjkWarmStart = GjkWarmStart{};
+    c.meshCandidates.clear();
     c.nextFree = freeContact_;
     freeContact_ = index;
     --liveContacts_;
@@ -573,6 +575,10 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
                           (typeA == ShapeType::ConvexHull || typeA == ShapeType::Box) &&
                           (typeB == ShapeType::ConvexHull || typeB == ShapeType::Box);
     if (hullPair) buffer.setGjkWarmStart(&c.gjkWarmStart);
+    // A plain convex shape against a mesh keeps its candidate triangles
+    // (MeshCandidateCache, collision/manifold.hpp; the same answer as the query).
+    const bool nearList = meshPair && !compound;
+    if (nearList) buffer.setMeshCandidates(&c.meshCandidates);
     if (compound) {
         reach.centreA = ma.com;
         reach.centreB = mb.com;
@@ -583,6 +589,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         collide(shapeA, xA, shapeB, xB, margin, buffer);
     }
     if (hullPair) buffer.setGjkWarmStart(nullptr);
+    if (nearList) buffer.setMeshCandidates(nullptr);
     if (meshPair) {
         axes = TriangleAxisCache{};
         std::vector<TriangleAxisEntry>& fresh = ns.triangleAxes;

@@ -386,6 +386,7 @@ void io(A& a, Contact& c) {
     if constexpr (A::kReading) {  // the apart cache is not saved: the narrow phase runs again
         c.apartBy = 0;
         c.reachA = c.reachB = 0;
+        c.meshCandidates.clear();  // nor the candidate triangles: the query runs again
     }
     // Version 9: the pair's mixed material. The step reads it before the
     // narrow phase mixes it again, so a file without it (older) gets it mixed

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "collision/mesh_bvh.hpp"
@@ -182,6 +183,59 @@ TEST(MeshBvh, AabbQueryEqualsBruteForce) {
     int calls = 0;
     queryTriangles(s.mesh(), s.mesh().bounds, [&](std::uint32_t) { ++calls; return false; });
     EXPECT_EQ(calls, 1);
+}
+
+// A contact's candidate list (MeshCandidateCache) gives the query's own
+// answer: the same triangles in the same order, bit for bit, whether the
+// list is made again or reused, over random walks of boxes that grow and
+// shrink (turning bodies), jump, and change mesh.
+TEST(MeshBvh, CachedQueryEqualsQueryOverMotions) {
+    test::Rng rng(31);
+    std::vector<Vec3> v1, v2;
+    std::vector<Tri> t1, t2;
+    flatGrid(40, Real(1.5), v1, t1);
+    for (Vec3& p : v1) p.y = rng.uniform(-1, 1);  // hills: boxes meet several triangles
+    const Shape terrain = Shape::mesh(v1, t1);
+    const Shape soup = randomSoup(rng, 2000, v2, t2);
+    std::size_t reused = 0, remade = 0, found = 0;
+    for (int body = 0; body < 40; ++body) {
+        detail::MeshCandidateCache near;
+        Vec3 c = rng.inBox(Vec3{0, -2, 0}, Vec3{60, 2, 60});
+        Vec3 h = rng.inBox(Vec3::splat(0.1f), Vec3::splat(2));
+        const Real grow = rng.uniform(0, 1) * std::max(h.x, std::max(h.y, h.z));
+        const Real speed = body % 4 == 0 ? Real(0.01) : body % 4 == 1 ? Real(0.1) : Real(0.5);
+        for (int step = 0; step < 300; ++step) {
+            c += rng.inBox(Vec3::splat(-speed), Vec3::splat(speed));
+            h = max(Vec3::splat(0.05f), h + rng.inBox(Vec3::splat(-0.02f), Vec3::splat(0.02f)));
+            if (step % 97 == 96) c = rng.inBox(Vec3{0, -2, 0}, Vec3{60, 2, 60});  // a jump (a teleport)
+            const Shape& s = (step / 100) % 2 == 0 ? terrain : soup;  // the list of another mesh is never used
+            const AABB box = AABB::fromCenterHalf(c, h);
+            std::vector<std::uint32_t> expected, got;
+            queryTriangles(s.mesh(), box, [&](std::uint32_t i) { expected.push_back(i); });
+            const AABB listBox = near.box;
+            const TriangleMesh* listMesh = near.mesh;
+            queryTrianglesCached(s.mesh(), box, grow, near, [&](std::uint32_t i) { got.push_back(i); });
+            ASSERT_EQ(got, expected) << "body " << body << " step " << step;
+            if (near.mesh == listMesh && near.box == listBox) ++reused; else ++remade;
+            found += got.size();
+        }
+    }
+    // Both ways were taken many times, on boxes that met triangles.
+    EXPECT_GT(reused, 1000u);
+    EXPECT_GT(remade, 1000u);
+    EXPECT_GT(found, 5000u);
+    // A NaN box finds nothing either way, and leaves no list that a later box could take.
+    detail::MeshCandidateCache near;
+    const Real nan = std::numeric_limits<Real>::quiet_NaN();
+    std::size_t calls = 0;
+    queryTrianglesCached(terrain.mesh(), AABB{Vec3{nan, 0, 0}, Vec3{nan, 1, 1}}, 1, near, [&](std::uint32_t) { ++calls; });
+    EXPECT_EQ(calls, 0u);
+    const AABB box = AABB::fromCenterHalf(Vec3{30, 0, 30}, Vec3::splat(1));
+    std::vector<std::uint32_t> expected, got;
+    queryTriangles(terrain.mesh(), box, [&](std::uint32_t i) { expected.push_back(i); });
+    queryTrianglesCached(terrain.mesh(), box, 1, near, [&](std::uint32_t i) { got.push_back(i); });
+    EXPECT_FALSE(expected.empty());
+    EXPECT_EQ(got, expected);
 }
 
 TEST(MeshBvh, RayCastEqualsBruteForce) {
