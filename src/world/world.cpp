@@ -563,6 +563,7 @@ void World::step(Real dt) {
         // Half a step done: refuse further steps (above) rather than run on
         // half-updated contacts. The pairs are what grows with crowding.
         w.outOfMemoryAtStep = w.stepCount + 1;
+        w.outOfMemoryReserve.reset();  // room for the message below (the world steps no more)
         const detail::ContactManager& cm = w.contactManager;
         std::size_t particles = 0;
         for (const ParticleSystemId id : w.particles.live) particles += particleCount(id);

@@ -38,6 +38,7 @@
 // No heap allocation per step: every scratch array is sized when bodies are
 // created and reused.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,10 @@ struct WorldImpl : detail::BodyStore {
     StepProfile profile;  // the last step's (World::lastStepProfile)
     std::uint64_t nonFiniteSinceStep = 0;  // != 0: that step threw NumericalError (World::step)
     std::uint64_t outOfMemoryAtStep = 0;   // != 0: that step ran out of memory; no more steps (World::step)
+    // Freed when a step runs out of memory, so that the error's message (a
+    // few hundred bytes) can still be built: without it std::bad_alloc, not
+    // the explanation, would leave World::step (World::step's handler).
+    std::unique_ptr<char[]> outOfMemoryReserve = std::make_unique<char[]>(16 * 1024);
     std::vector<WorldWarning> warnings;    // World::warnings: each kind once
     bool warnedPairLimit = false;          // the contact pair limit was reached (step.cpp)
     std::uint64_t nextBodySerial = 0;
