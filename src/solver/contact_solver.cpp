@@ -51,30 +51,6 @@ constexpr std::size_t kPrefetchBlocks = 8;
 // and the 1:100 stack collapsed.
 constexpr Real kPushShareDepth = Real(0.05);
 
-// A pair driven into each other (Contact::firstTouch not Deep) whose manifold
-// is deeper than this at the step's start is solved as a deep overlap
-// (drivenDeep): with the stiffness of contacts on static bodies
-// (a quarter of the sub-step rate, not a sixth) and a push limit that grows
-// with the overlap. Resting contacts stay below it (a few millimetres; the
-// 1:100 mass-ratio stacks of docs/solver.md, "Mass ratios", rest 1-2 cm
-// deep; at a 1 cm threshold box_pile's results changed, at 2 cm neither the
-// pyramids' nor box_pile's do), so stacks keep the softer spring whose
-// ringing the cap was set against. Box3D's convex pile (docs/benchmarks.md,
-// branch `pile`): sampled every 5 steps of the 5120-hull run, the deepest
-// overlap's mean 10.0 -> 4.8 cm, its peak 36.8 -> 16.1 cm.
-constexpr Real kDrivenDeepDepth = Real(0.02);
-
-// The deepest point of a driven pair's manifold at the step's start, when
-// deeper than kDrivenDeepDepth; 0 otherwise (and for pairs born deep, whose
-// push-out stays gentle and shared: pushLimit).
-[[gnu::always_inline]] inline Real drivenDeep(const Contact& c, std::uint32_t manifold) {
-    if (c.firstTouch == FirstTouch::Deep) return 0;
-    const CachedManifold& m = c.manifolds[manifold];
-    Real deepest = 0;
-    for (std::uint32_t i = 0; i < m.pointCount; ++i) deepest = std::max(deepest, m.points[i].depth);
-    return deepest > kDrivenDeepDepth ? deepest : Real(0);
-}
-
 void prefetchContact(const Contact& c) {
     __builtin_prefetch(&c);
     __builtin_prefetch(reinterpret_cast<const char*>(&c) + sizeof(Contact) - 1);
@@ -325,14 +301,13 @@ void ContactSolver::packWide(const std::vector<Contact>& contacts) {
             lane.friction = contact.friction;
             lane.restitution = contact.restitution;
             lane.rollingResistance = contact.rollingResistance;
-            const Real deep = drivenDeep(contact, pc.manifold);
-            lane.pushMax = pushLimit(pc, contact, deep);
+            lane.pushMax = pushLimit(pc, contact);
             for (std::uint32_t i = 0; i < m.pointCount; ++i) {
                 lane.points[i].position = m.points[i].position;
                 lane.points[i].depth = m.points[i].depth;
                 lane.points[i].normalImpulse = m.points[i].normalImpulse;
             }
-            const Softness soft = softnessOf(pc, deep);
+            const Softness soft = softnessOf(pc);
             lane.biasRate = soft.biasRate;
             lane.massScale = soft.massScale;
             lane.impulseScale = soft.impulseScale;
@@ -387,9 +362,8 @@ void ContactSolver::buildConstraint(const Contact& c, const PendingConstraint& p
             k.friction = friction;
             k.restitution = restitution;
             k.rollingResistance = rolling;
-            const Real deep = drivenDeep(c, mi);
-            k.pushMax = pushLimit(pc, c, deep);
-            k.softness = softnessOf(pc, deep);
+            k.pushMax = pushLimit(pc, c);
+            k.softness = softnessOf(pc);
             const Vec3 n = m.normal;
             k.normal = n;
             orthonormalBasis(n, k.tangent1, k.tangent2);
@@ -491,15 +465,10 @@ void ContactSolver::colourGreedy() {
     }
 }
 
-[[gnu::always_inline]] inline Softness ContactSolver::softnessOf(const PendingConstraint& pc, Real deep) const {
+[[gnu::always_inline]] inline Softness ContactSolver::softnessOf(const PendingConstraint& pc) const {
     // Against static (and kinematic: infinite mass) bodies the stiffer softness.
     const bool stiff = store_->state[pc.bodyA].invMass == 0 || store_->state[pc.bodyB].invMass == 0;
-    // So too a pair driven deep into each other (a hull struck into the one
-    // below by a landing, or pressed by a pile's load): the soft spring's
-    // resting overlap falls with the square of its frequency, and the sixth of
-    // the sub-step rate was set against the ringing of resting stacks, which
-    // never reach kDrivenDeepDepth.
-    return stiff || deep > 0 ? staticSoftness_ : contactSoftness_;
+    return stiff ? staticSoftness_ : contactSoftness_;
 }
 
 // Why shared: each overlapping contact asks its pair to separate at up to
@@ -517,17 +486,8 @@ void ContactSolver::colourGreedy() {
 // while the jam moved at 3.7, went deeper, shared more, and stayed 0.9 m into
 // each other to the end. Their overlaps are the solver's own lag, not a heap
 // to open, so they keep the whole speed (as every Box2D-style solver does).
-// A pair driven deeper than kDrivenDeepDepth gets a limit that grows with its
-// overlap: twice the stiff spring's bias at the step-start depth, so the limit
-// does not bind before the overlap has doubled within the step. A fixed limit
-// caps the spring's force ("Mass ratios"): under the load of a deep pile or a
-// landing at tens of metres per second the pair sank on until the load eased,
-// and a 20 cm overlap took four steps to push out at 3 m/s.
-[[gnu::always_inline]] inline Real ContactSolver::pushLimit(const PendingConstraint& pc, const Contact& c,
-                                                           Real deep) const {
-    if (c.firstTouch != FirstTouch::Deep) {
-        return deep > 0 ? std::max(pushMax_, 2 * staticSoftness_.biasRate * deep) : pushMax_;
-    }
+[[gnu::always_inline]] inline Real ContactSolver::pushLimit(const PendingConstraint& pc, const Contact& c) const {
+    if (c.firstTouch != FirstTouch::Deep) return pushMax_;
     const auto countOf = [&](std::uint32_t body) {
         return store_->state[body].invMass > 0 ? overlapCount_[body] : 0u;  // static and kinematic ends are never pushed
     };

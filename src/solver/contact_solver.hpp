@@ -182,10 +182,10 @@ private:
     // however many bodies overlap it (issue 27; docs/solver.md, "Many overlaps"),
     // for pairs born inside each other; pairs driven in keep the whole speed
     // (Contact::firstTouch; docs/solver.md, "Born deep, driven deep").
-    Real pushLimit(const PendingConstraint& pc, const Contact& c, Real drivenDeep) const;
+    Real pushLimit(const PendingConstraint& pc, const Contact& c) const;
     // The dynamic or the stiffer static softness (the scalar and the wide
     // build both take it from here).
-    Softness softnessOf(const PendingConstraint& pc, Real drivenDeep) const;
+    Softness softnessOf(const PendingConstraint& pc) const;
 
     BodyStore* store_ = nullptr;                 // this step's (prepare): its awake set holds the bodies
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
