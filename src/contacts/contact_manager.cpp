@@ -613,9 +613,22 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     const bool meshIsB = typeB == ShapeType::Mesh && pb.type == BodyType::Static;
     const ShapeType pieceType = meshIsA ? typeB : typeA;
     const bool pieceCompound = pieceType == ShapeType::Compound;
-    const ChildReach* pieceChildren = meshIsA ? reach.childrenB : reach.childrenA;
-    const bool pieces = pieceRecycling_ && !c.sensor && meshIsA != meshIsB && (isRecyclablePiece(pieceType) || (pieceCompound && pieceChildren != nullptr));
+    const bool pieces = pieceRecycling_ && !c.sensor && meshIsA != meshIsB && (isRecyclablePiece(pieceType) || pieceCompound);
     const Shape& pieceShape = meshIsA ? shapeB : shapeA;
+    const ChildReach* pieceChildren = meshIsA ? reach.childrenB : reach.childrenA;
+    if (pieces && pieceCompound && pieceChildren == nullptr) {
+        // Not in the pool this update (a world just loaded, or no room): the
+        // same entries computed here, so the decision never depends on the pool.
+        ns.children.resize(pieceShape.children().size());
+        if (meshIsA) {
+            compoundChildReaches(pieceShape, xB, reach.centreB, reach.extentB, reach.axisB, ns.children.data());
+            reach.childrenB = ns.children.data();
+        } else {
+            compoundChildReaches(pieceShape, xA, reach.centreA, reach.extentA, reach.axisA, ns.children.data());
+            reach.childrenA = ns.children.data();
+        }
+        pieceChildren = ns.children.data();
+    }
     const Real pieceExtent = meshIsA ? reach.extentB : reach.extentA;
     Transform toPiece;  // the piece body's frame in the mesh's
     std::vector<std::uint8_t>& skip = ns.skip;

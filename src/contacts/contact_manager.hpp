@@ -208,6 +208,7 @@ private:
         // phase skips, their recycled manifolds, the contact's new poses.
         std::vector<std::uint8_t> skip;
         std::vector<std::uint8_t> near;  // the pieces the narrow phase looks at
+        std::vector<ChildReach> children;  // a compound piece body's children when the pool has none
         std::vector<CachedManifold> recycled;
         std::vector<PiecePose> piecePoses;
         std::uint64_t recycledPieces = 0;  // pieces recycled by this worker (recycledPieceCount)
