@@ -208,7 +208,7 @@ TEST(PairLimit, RunningOutOfMemoryInAStepIsAnError) {
         GTEST_SKIP() << "open: the out-of-memory message allocates after the budget is spent (double build)";
     }
     World world = crowd(1500, kMaxContactPairs, 1);
-    test::HeapBudget heap(100'000'000);
+    test::HeapBudget heap(120'000'000);
     try {
         world.step(kDt);
         FAIL() << "stepped within the budget";
