@@ -49,7 +49,8 @@ namespace fulcrum {
 // 10: how each contact's pair first touched (the solver's push-out sharing).
 // 11: each contact's triangle axis cache (a box or hull against a mesh).
 // 12: each contact's GJK warm start (two hulls).
-inline constexpr std::uint32_t kSnapshotVersion = 12;
+// 13: each contact's piece poses (recycling a box or hull piece's mesh contacts).
+inline constexpr std::uint32_t kSnapshotVersion = 13;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

@@ -235,7 +235,9 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
         const bool proveApart = kPerChild && depthA == 0 && hasReach(b);
         const bool plainOther = proveApart && isPlainConvexShape(b);
         Real apart = std::numeric_limits<Real>::max();
+        const std::uint8_t* skip = kPerChild && depthA == 0 ? reach->skipA : nullptr;
         for (std::size_t i = 0; i < children.size(); ++i) {
+            if (skip != nullptr && skip[i] != 0) continue;  // recycled (only against a mesh: no apart proof)
             Transform xc;
             AABB bc;
             if (known != nullptr) {
@@ -292,7 +294,9 @@ void collideRecursive(const Shape& a, const Transform& xa, const Shape& b, const
         const bool proveApart = kPerChild && depthB == 0 && hasReach(a);
         const bool plainOther = proveApart && isPlainConvexShape(a);
         Real apart = std::numeric_limits<Real>::max();
+        const std::uint8_t* skip = kPerChild && depthB == 0 ? reach->skipB : nullptr;
         for (std::size_t i = 0; i < children.size(); ++i) {
+            if (skip != nullptr && skip[i] != 0) continue;  // recycled (only against a mesh: no apart proof)
             Transform xc;
             AABB bc;
             if (known != nullptr) {

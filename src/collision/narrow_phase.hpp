@@ -54,6 +54,10 @@ struct SpeculativeReach {
     // with this centre, extent and axis), or null: computed per pair. The same bits either way.
     const ChildReach* childrenA = nullptr;
     const ChildReach* childrenB = nullptr;
+    // Per top-level child of a compound, nonzero: leave it out (the contact
+    // manager recycles its manifolds; contact.hpp, PiecePose). Null: none.
+    const std::uint8_t* skipA = nullptr;
+    const std::uint8_t* skipB = nullptr;
 
     // The sums in the order the contact manager has always made them (the
     // same bits for a pair without compounds).

@@ -44,6 +44,22 @@ struct CachedManifold {
     Vec3 stepFrictionImpulse;    // tangent impulse on B over the last step, as stepNormalImpulse (world)
 };
 
+// Piece recycling against a static mesh (docs/narrow-phase.md, "Recycling a
+// piece's mesh contacts"): for each box or hull piece of a body (a compound's
+// top-level child, or the body's own shape as piece 0) that the narrow phase
+// last looked at against the mesh, where the piece was then. While it has
+// moved so little since that no triangle its manifolds left out can be
+// reached this step, the narrow phase skips it and its points (if any) keep
+// their anchors with refreshed depths.
+struct PiecePose {
+    std::uint32_t piece = 0;     // the top-level child (0: a plain body)
+    Vec3 localCentre;            // the centre of the piece's bounds, in its body's frame
+    Real radius = 0;             // the half diagonal of those bounds
+    Vec3 centre;                 // localCentre in the mesh's frame when the manifolds were made
+    Quat rotation;               // the body's rotation in the mesh's frame then
+    Real margin = 0;             // the speculative distance they were made with (at most the one used)
+};
+
 // How a pair first touched, for the contact solver's push-out limit
 // (ContactSolver::pushLimit; docs/solver.md, "Born deep, driven deep").
 // Bodies created (or moved) inside one another touch first already deep: their
@@ -101,6 +117,10 @@ struct Contact {
     // while the body stays in a grown box. It gives the query's own
     // triangles in its order, so it is scratch: not saved in snapshots.
     MeshCandidateCache meshCandidates;
+    // The pieces' poses for piece recycling against a static mesh (PiecePose),
+    // ascending by piece. They decide which pieces the next narrow phase
+    // skips, so they are saved in snapshots (format version 13); capacity kept.
+    std::vector<PiecePose> piecePoses;
 };
 
 }  // namespace fulcrum::detail

@@ -38,6 +38,33 @@ constexpr Real kMatchDistance = Real(0.02);
 constexpr Real kRecycleDistance = Real(0.001);
 const Real kRecycleCosHalfAngle = dmath::cos(Real(0.5) * Real(0.1) * Real(3.14159265) / 180);
 
+// Piece recycling against a static mesh (contact.hpp, PiecePose;
+// docs/narrow-phase.md, "Recycling a piece's mesh contacts"). A piece whose
+// manifolds were made with speculative distance m0 left out only triangles
+// farther than m0 from it; having moved by at most `moved` since (its centre's
+// travel plus its turn times its half diagonal), it is still farther than
+// m0 - moved from them. Its step may bring it closer by its approach (the
+// margin's motion part, SpeculativeReach), so its manifolds are recycled
+// only while moved + approach + kPieceRecyclePad <= m0: no triangle left out
+// can be reached this step, with kPieceRecyclePad to spare. Its own points
+// keep their anchors and the normal stays the triangle's, so the error of a
+// recycled depth (a turn bringing a point the manifold dropped lower) is
+// bounded by the motion, which kPieceRecycleMax caps at 1 cm (at Box3D's 5 cm
+// a rolling hex log gained 0.05 J in a step, MeshSettle.LogGainsNoEnergyWhileRolling).
+// A piece the narrow phase looked at and found nothing for is proved as far
+// as m0 from every triangle: the same test skips it while it would find
+// nothing again.
+constexpr Real kPieceRecyclePad = Real(0.005);
+constexpr Real kPieceRecycleMax = Real(0.01);
+
+bool isRecyclablePiece(ShapeType t) { return t == ShapeType::Box || t == ShapeType::ConvexHull; }
+
+// The centre and half diagonal of bounds.
+void centreAndRadius(const AABB& b, Vec3& centre, Real& radius) {
+    centre = (b.min + b.max) * Real(0.5);
+    radius = length(b.max - centre);
+}
+
 // The apart cache skips a pair only while it is proved this much farther
 // apart than the margin: far above the narrow phase's rounding (a few
 // micrometres at a few hundred metres from the origin), as GJK's early stop
@@ -295,6 +322,7 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
     c.triangleAxes.clear();
     c.gjkWarmStart = GjkWarmStart{};
     c.meshCandidates.clear();
+    c.piecePoses.clear();
     if (!linksRebuild_) {
         linkContact(index);
         setAliveBit(index, true);
@@ -584,15 +612,112 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         reach.centreB = mb.com;
         reach.childrenA = knownChildren(dA);
         reach.childrenB = knownChildren(dB);
+    }
+    // Piece recycling against a static mesh (PiecePose, kPieceRecyclePad):
+    // which pieces the narrow phase skips, their manifolds set aside with
+    // their depths refreshed.
+    const bool meshIsA = typeA == ShapeType::Mesh && pa.type == BodyType::Static;
+    const bool meshIsB = typeB == ShapeType::Mesh && pb.type == BodyType::Static;
+    const ShapeType pieceType = meshIsA ? typeB : typeA;
+    const bool pieceCompound = pieceType == ShapeType::Compound;
+    const bool pieces = pieceRecycling_ && !c.sensor && meshIsA != meshIsB && (isRecyclablePiece(pieceType) || pieceCompound);
+    const Shape& pieceShape = meshIsA ? shapeB : shapeA;
+    const ChildReach* pieceChildren = meshIsA ? reach.childrenB : reach.childrenA;
+    if (pieces && pieceCompound && pieceChildren == nullptr) {
+        // Not in the pool this update (a world just loaded, or no room): the
+        // same entries computed here, so the decision never depends on the pool.
+        ns.children.resize(pieceShape.children().size());
+        if (meshIsA) {
+            compoundChildReaches(pieceShape, xB, reach.centreB, reach.extentB, reach.axisB, ns.children.data());
+            reach.childrenB = ns.children.data();
+        } else {
+            compoundChildReaches(pieceShape, xA, reach.centreA, reach.extentA, reach.axisA, ns.children.data());
+            reach.childrenA = ns.children.data();
+        }
+        pieceChildren = ns.children.data();
+    }
+    const Real pieceExtent = meshIsA ? reach.extentB : reach.extentA;
+    Transform toPiece;  // the piece body's frame in the mesh's
+    std::vector<std::uint8_t>& skip = ns.skip;
+    std::vector<CachedManifold>& recycled = ns.recycled;
+    recycled.clear();
+    std::size_t skipped = 0;
+    if (pieces) {
+        toPiece = meshIsA ? rel : relative(xB, xA);
+        skip.assign(pieceCompound ? pieceShape.children().size() : 1, 0);
+        for (const PiecePose& r : c.piecePoses) {
+            if (r.piece >= skip.size()) continue;  // not this body's (a bad file): collided
+            const Real rc = pieceCompound ? pieceChildren[r.piece].reach : pieceExtent;
+            const Real approach = (meshIsA ? reach.margin(0, rc) : reach.margin(rc, 0)) - reach.base;
+            const Quat turn = conjugate(r.rotation) * toPiece.q;
+            const Real moved = length(transformPoint(toPiece, r.localCentre) - r.centre) +
+                               2 * length(Vec3{turn.x, turn.y, turn.z}) * r.radius;
+            if (moved <= kPieceRecycleMax && moved + approach + kPieceRecyclePad <= r.margin) {
+                skip[r.piece] = 1;
+                ++skipped;
+            }
+        }
+        ns.recycledPieces += skipped;
+        if (skipped > 0) {
+            std::size_t kept = 0;
+            for (std::size_t i = 0; i < c.manifolds.size(); ++i) {
+                CachedManifold& m = c.manifolds[i];
+                const std::uint32_t piece = meshIsA ? m.childB : m.childA;
+                if (piece < skip.size() && skip[piece] != 0) {
+                    recycled.push_back(m);
+                    CachedManifold& r = recycled.back();
+                    // The mesh is static: the triangles' normal stays put.
+                    r.localNormal = inverseRotate(xA.q, r.normal);
+                    for (std::uint32_t k = 0; k < r.pointCount; ++k) {
+                        CachedPoint& p = r.points[k];
+                        const Vec3 pA = transformPoint(xA, p.localA), pB = transformPoint(xB, p.localB);
+                        p.position = (pA + pB) * Real(0.5);
+                        p.depth = dot(r.normal, pA - pB);
+                        p.depthAfter = p.depth;
+                    }
+                } else {
+                    if (kept != i) c.manifolds[kept] = m;
+                    ++kept;
+                }
+            }
+            c.manifolds.resize(kept);
+        }
+        // Which pieces the narrow phase will look at: the box test of
+        // collideRecursive (a plain piece always).
+        ns.near.assign(skip.size(), 1);
+        if (pieceCompound) {
+            const AABB meshBounds = (meshIsA ? shapeA : shapeB).bounds(meshIsA ? xA : xB);
+            for (std::size_t i = 0; i < skip.size(); ++i) {
+                const Real rc = pieceChildren[i].reach;
+                const Real mc = meshIsA ? reach.margin(0, rc) : reach.margin(rc, 0);
+                ns.near[i] = skip[i] == 0 && overlaps(pieceChildren[i].bounds, meshBounds.fattened(mc)) ? 1 : 0;
+            }
+        }
+        if (pieceCompound) {
+            if (meshIsA) {
+                reach.skipB = skip.data();
+            } else {
+                reach.skipA = skip.data();
+            }
+        }
+    }
+    if (pieces && !pieceCompound && skipped > 0) {
+        buffer.clear();  // the one piece is recycled
+    } else if (compound) {
         collide(shapeA, xA, shapeB, xB, reach, buffer);
     } else {
-        collide(shapeA, xA, shapeB, xB, margin, buffer);
+        collide(shapeA, xA, shapeB, xB, pieces ? reach.margin(reach.extentA, reach.extentB) : margin, buffer);
     }
     if (hullPair) buffer.setGjkWarmStart(nullptr);
     if (nearList) buffer.setMeshCandidates(nullptr);
     if (meshPair) {
         axes = TriangleAxisCache{};
         std::vector<TriangleAxisEntry>& fresh = ns.triangleAxes;
+        if (skipped > 0) {  // the recycled pieces keep theirs (the cache's piece is the top-level child)
+            for (const TriangleAxisEntry& e : c.triangleAxes) {
+                if (e.piece < skip.size() && skip[e.piece] != 0) fresh.push_back(e);
+            }
+        }
         const auto before = [](const TriangleAxisEntry& x, const TriangleAxisEntry& y) {
             return x.piece != y.piece ? x.piece < y.piece : x.triangle < y.triangle;
         };
@@ -731,7 +856,87 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         std::copy(scratch.begin(), scratch.end(), c.manifolds.begin());
         if (!c.manifolds.empty()) flags |= wakeFlags(pa, pb);
     }
+    if (pieces) touching = recordPieces(c, ns, meshIsA, pieceShape, toPiece, reach, pieceChildren) || touching;
+    if (!recycled.empty()) flags |= wakeFlags(pa, pb);
     return flags | kCollided | (touching ? kTouching : 0);
+}
+
+std::uint64_t ContactManager::recycledPieceCount() const {
+    std::uint64_t n = 0;
+    for (const NarrowScratch& s : narrow_) n += s.recycledPieces;
+    return n;
+}
+
+// After a mesh pair's narrow phase: the recycled manifolds merged back in
+// piece order, and the poses of the pieces with manifolds or that the narrow
+// phase looked at (the skipped ones keep theirs). Returns whether a recycled point touches.
+bool ContactManager::recordPieces(Contact& c, NarrowScratch& ns, bool meshIsA, const Shape& pieceShape,
+                                  const Transform& toPiece, const SpeculativeReach& reach,
+                                  const ChildReach* pieceChildren) const {
+    const auto pieceOf = [meshIsA](const CachedManifold& m) { return meshIsA ? m.childB : m.childA; };
+    const std::vector<CachedManifold>& recycled = ns.recycled;
+    bool touching = false;
+    if (!recycled.empty()) {
+        for (const CachedManifold& m : recycled) {
+            for (std::uint32_t k = 0; k < m.pointCount; ++k) touching = touching || m.points[k].depth > -kTouchSlop;
+        }
+        std::vector<CachedManifold>& merged = ns.manifolds;
+        merged.clear();
+        std::size_t i = 0, j = 0;
+        while (i < c.manifolds.size() || j < recycled.size()) {
+            if (j == recycled.size() || (i < c.manifolds.size() && pieceOf(c.manifolds[i]) < pieceOf(recycled[j]))) {
+                merged.push_back(c.manifolds[i++]);
+            } else {
+                merged.push_back(recycled[j++]);
+            }
+        }
+        c.manifolds.resize(merged.size());
+        std::copy(merged.begin(), merged.end(), c.manifolds.begin());
+    }
+    const bool pieceCompound = pieceShape.type() == ShapeType::Compound;
+    std::vector<PiecePose>& poses = ns.piecePoses;
+    poses.clear();
+    std::size_t old = 0, next = 0;
+    const auto count = static_cast<std::uint32_t>(ns.skip.size());
+    for (std::uint32_t piece = 0; piece < count; ++piece) {
+        bool has = false;  // manifolds (the narrow phase's or recycled)
+        while (next < c.manifolds.size() && pieceOf(c.manifolds[next]) <= piece) has = pieceOf(c.manifolds[next++]) == piece || has;
+        while (old < c.piecePoses.size() && c.piecePoses[old].piece < piece) ++old;
+        const PiecePose* before = old < c.piecePoses.size() && c.piecePoses[old].piece == piece ? &c.piecePoses[old] : nullptr;
+        if (ns.skip[piece] != 0) {  // recycled: only pieces with a pose are
+            if (before != nullptr) poses.push_back(*before);
+            continue;
+        }
+        // Without manifolds, a piece the narrow phase looked at (ns.near) is
+        // proved as far from every triangle as its margin: the same bound
+        // lets it skip the narrow phase, which would find nothing again.
+        if (!has && ns.near[piece] == 0) continue;
+        PiecePose r;
+        r.piece = piece;
+        if (before != nullptr) {  // a piece's bounds in its body never change
+            r.localCentre = before->localCentre;
+            r.radius = before->radius;
+        } else {
+            const Shape* s = &pieceShape;
+            AABB local;
+            if (pieceCompound) {
+                const auto children = pieceShape.children();
+                s = &children[piece].shape;
+                local = s->bounds(children[piece].transform);
+            } else {
+                local = s->localBounds();
+            }
+            if (!isRecyclablePiece(s->type())) continue;
+            centreAndRadius(local, r.localCentre, r.radius);
+        }
+        r.centre = transformPoint(toPiece, r.localCentre);
+        r.rotation = toPiece.q;
+        const Real rc = pieceCompound ? pieceChildren[piece].reach : (meshIsA ? reach.extentB : reach.extentA);
+        r.margin = meshIsA ? reach.margin(0, rc) : reach.margin(rc, 0);
+        poses.push_back(r);
+    }
+    c.piecePoses.assign(poses.begin(), poses.end());
+    return touching;
 }
 
 void ContactManager::updateTouching(BodyStore& w, Contact& c, bool touching) {

@@ -158,6 +158,11 @@ public:
 
     std::vector<Contact>& contacts() { return contacts_; }
     const std::vector<Contact>& contacts() const { return contacts_; }
+    // Piece recycling against a static mesh (contact.hpp, PiecePose): on
+    // unless a test turns it off (then every piece runs the narrow phase,
+    // as before it existed), and how many pieces it has recycled.
+    void setPieceRecycling(bool on) { pieceRecycling_ = on; }
+    std::uint64_t recycledPieceCount() const;
     const BroadPhase& broadPhase() const { return broad_; }
     ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
     // The live contacts of the bodies w.awakeBodies lists, ascending, into
@@ -199,6 +204,14 @@ private:
         ManifoldBuffer buffer;
         std::vector<CachedManifold> manifolds;
         std::vector<TriangleAxisEntry> triangleAxes;  // a contact's new triangle axis cache, copied back to it
+        // Piece recycling against a mesh (PiecePose): the pieces the narrow
+        // phase skips, their recycled manifolds, the contact's new poses.
+        std::vector<std::uint8_t> skip;
+        std::vector<std::uint8_t> near;  // the pieces the narrow phase looks at
+        std::vector<ChildReach> children;  // a compound piece body's children when the pool has none
+        std::vector<CachedManifold> recycled;
+        std::vector<PiecePose> piecePoses;
+        std::uint64_t recycledPieces = 0;  // pieces recycled by this worker (recycledPieceCount)
     };
     // Where an awake compound body's top-level children are in childPool_:
     // valid when `update` is this update's updateCount_ (else none: the
@@ -216,6 +229,8 @@ private:
     // Runs on any worker: reads the world, writes only c and scratch; returns
     // kTouching / kWakeA / kWakeB flags that update() applies in index order.
     std::uint8_t collideContact(const BodyStore& w, Contact& c, Real dt, NarrowScratch& scratch) const;
+    bool recordPieces(Contact& c, NarrowScratch& ns, bool meshIsA, const Shape& pieceShape, const Transform& toPiece,
+                      const SpeculativeReach& reach, const ChildReach* pieceChildren) const;
     std::uint8_t collideSpheres(const BodyStore& w, Contact& c, std::uint32_t dA, std::uint32_t dB, Real margin) const;
     void ensureWorkers(std::size_t workers);
     void updateTouching(BodyStore& w, Contact& c, bool touching);
@@ -264,6 +279,7 @@ private:
     std::uint32_t freeContact_ = UINT32_MAX;
     std::uint32_t liveContacts_ = 0;          // alive entries of contacts_ (kept by create/destroy, counted by rebuildLinks)
     std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()
+    bool pieceRecycling_ = true;              // setPieceRecycling
     Real speculativeMargin_ = 0;              // update()'s CollisionSettings, for the narrow phase
     std::vector<NarrowScratch> narrow_;       // one per worker
     std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel

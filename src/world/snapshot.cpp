@@ -380,6 +380,10 @@ void io(A& a, TriangleAxisEntry& e) {
     io(a, e.piece), io(a, e.triangle), io(a, e.axis), io(a, e.separation);
 }
 template <typename A>
+void io(A& a, PiecePose& r) {
+    io(a, r.piece), io(a, r.localCentre), io(a, r.radius), io(a, r.centre), io(a, r.rotation), io(a, r.margin);
+}
+template <typename A>
 void io(A& a, Contact& c) {
     io(a, c.alive), io(a, c.sensor), io(a, c.touching), io(a, c.solved), io(a, c.slotA), io(a, c.slotB);
     io(a, c.proxyA), io(a, c.proxyB), io(a, c.nextFree), io(a, c.hasPose), io(a, c.relativePose);
@@ -434,6 +438,22 @@ void io(A& a, Contact& c) {
         for (std::uint32_t i = 0; i < 3; ++i) io(a, g.indexA[i]), io(a, g.indexB[i]);
     } else if constexpr (A::kReading) {
         c.gjkWarmStart = GjkWarmStart{};
+    }
+    // Version 13: piece recycling against a static mesh (contact.hpp,
+    // PiecePose), which decides which pieces the next narrow phase skips. A
+    // file before it was written by a build that collided every piece: its
+    // pairs load with none and collide them all once.
+    if (a.version >= 13) {
+        io(a, c.piecePoses);
+        if constexpr (A::kReading) {
+            for (std::size_t i = 1; i < c.piecePoses.size(); ++i) {
+                if (!(c.piecePoses[i - 1].piece < c.piecePoses[i].piece)) {
+                    a.fail("a contact's piece poses are not in ascending piece order");
+                }
+            }
+        }
+    } else if constexpr (A::kReading) {
+        c.piecePoses.clear();
     }
 }
 template <typename A>
