@@ -146,6 +146,22 @@ inline void copyGeometry(CachedPoint& dst, const ContactPoint& src) {
     dst.featureId = src.featureId;
 }
 
+// A recycled manifold's points moved with the bodies: each point's two
+// anchors placed by the poses, the depth measured along the manifold's normal
+// (already in world space). Whether any point is touching.
+inline bool refreshRecycledPoints(CachedManifold& m, const Transform& xA, const Transform& xB) {
+    bool touching = false;
+    for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+        CachedPoint& p = m.points[k];
+        const Vec3 pA = transformPoint(xA, p.localA), pB = transformPoint(xB, p.localB);
+        p.position = (pA + pB) * Real(0.5);
+        p.depth = dot(m.normal, pA - pB);
+        p.depthAfter = p.depth;
+        touching = touching || p.depth > -kTouchSlop;
+    }
+    return touching;
+}
+
 }  // namespace
 
 // A point y of B (|y| <= reachB) moves by |dp| + |R(q1) y - R(q0) y| and, with
@@ -534,14 +550,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         bool touching = false;
         for (CachedManifold& m : c.manifolds) {
             m.normal = rotate(xA.q, m.localNormal);
-            for (std::uint32_t k = 0; k < m.pointCount; ++k) {
-                CachedPoint& p = m.points[k];
-                const Vec3 pA = transformPoint(xA, p.localA), pB = transformPoint(xB, p.localB);
-                p.position = (pA + pB) * Real(0.5);
-                p.depth = dot(m.normal, pA - pB);
-                p.depthAfter = p.depth;
-                touching = touching || p.depth > -kTouchSlop;
-            }
+            touching = refreshRecycledPoints(m, xA, xB) || touching;
         }
         return kCollided | (touching ? kTouching : 0);
     }
@@ -668,13 +677,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
                     CachedManifold& r = recycled.back();
                     // The mesh is static: the triangles' normal stays put.
                     r.localNormal = inverseRotate(xA.q, r.normal);
-                    for (std::uint32_t k = 0; k < r.pointCount; ++k) {
-                        CachedPoint& p = r.points[k];
-                        const Vec3 pA = transformPoint(xA, p.localA), pB = transformPoint(xB, p.localB);
-                        p.position = (pA + pB) * Real(0.5);
-                        p.depth = dot(r.normal, pA - pB);
-                        p.depthAfter = p.depth;
-                    }
+                    refreshRecycledPoints(r, xA, xB);  // touching is decided after the narrow phase
                 } else {
                     if (kept != i) c.manifolds[kept] = m;
                     ++kept;
