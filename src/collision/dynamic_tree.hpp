@@ -295,6 +295,7 @@ private:
         std::int32_t leaf;
     };
     std::vector<BuildItem> buildItems_;          // rebuild(): the leaves being partitioned
+    std::vector<std::uint8_t> bins_;             // rebuild(): each item's bin in partitionRange
     std::vector<std::int32_t> buildOrder_;       // rebuild(): internal nodes in creation order
     struct BuildTask {
         std::size_t begin, end;

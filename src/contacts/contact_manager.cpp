@@ -221,7 +221,6 @@ void ContactManager::reserve(std::size_t bodyCount, std::int64_t maxContactPairs
     }
     broad_.reservePairs(8 * std::bit_ceil(bodyCount));
     ensureWorkers(1);
-    if (tightBoxes_.capacity() < bodyCount) tightBoxes_.reserve(std::max(bodyCount, 2 * tightBoxes_.capacity()));
     if (movedFrom_.capacity() < bodyCount) movedFrom_.reserve(std::max(bodyCount, 2 * movedFrom_.capacity()));
     if (contactFlags_.capacity() < contacts_.size()) contactFlags_.reserve(contacts_.capacity());
     if (reportStart_.capacity() < contacts_.size() + 1) reportStart_.reserve(contacts_.capacity() + 1);
@@ -979,7 +978,6 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
     // w.awakeBodies is the ascending list of awake non-static bodies (refreshed by the step).
     const std::vector<std::uint32_t>& awake = w.awakeBodies;
     const auto awakeCount = static_cast<std::uint32_t>(awake.size());
-    if (tightBoxes_.size() < w.motion.size()) tightBoxes_.resize(w.motion.size());
     if (proxyMoves_.size() < awakeCount) proxyMoves_.resize(awakeCount);
     if (movedFrom_.size() < awakeCount) movedFrom_.resize(awakeCount);
     // A compound's tight box is the union of its children's bounds: kept per
@@ -1018,7 +1016,6 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
                 tight = shape.bounds(xf);
             }
             const Vec3 displacement = w.motion[d].v * dt;
-            tightBoxes_[d] = tight;
             proxyMoves_[k] = broad_.proxyMustMove(proxy, tight, displacement);
             if (proxyMoves_[k] != 0) movedFrom_[k] = broad_.writeFatBox(proxy, tight, displacement);
         }

@@ -282,11 +282,10 @@ private:
     bool pieceRecycling_ = true;              // setPieceRecycling
     Real speculativeMargin_ = 0;              // update()'s CollisionSettings, for the narrow phase
     std::vector<NarrowScratch> narrow_;       // one per worker
-    std::vector<AABB> tightBoxes_;            // per dense body, computed in parallel
     // The awake compound bodies' top-level children at this update's pose,
     // bounded once in update()'s step 1 for all of the body's pairs (a
     // spinning drum of 40 hulls met by 8000 bodies bounded each child per
-    // pair: a third of Box3D's washer). Grows only, like tightBoxes_.
+    // pair: a third of Box3D's washer). Grows only.
     std::vector<ChildReach> childPool_;
     std::vector<ChildrenRef> childrenOfDense_;  // per dense body: its entries in childPool_
     std::uint32_t updateCount_ = 0;           // update()s so far (ChildrenRef::update)

@@ -74,6 +74,14 @@ struct WorldImpl : detail::BodyStore {
     std::vector<WorldWarning> warnings;    // World::warnings: each kind once
     bool warnedPairLimit = false;          // the contact pair limit was reached (step.cpp)
     std::uint64_t nextBodySerial = 0;
+    // What createBody last reserved the contact buffers for (World::createBody).
+    struct ReservedFor {
+        std::size_t bufferBodies = SIZE_MAX;
+        std::int64_t maxContactPairs = -1;
+        std::uint64_t step = 0;
+        bool operator==(const ReservedFor&) const = default;
+    };
+    ReservedFor reservedFor;
 
     // ---- springs and joints
     detail::SlotPool<detail::SpringData, SpringId> springs;
