@@ -147,3 +147,134 @@ void expectGroupedAsUngrouped(int steps) {
 }  // namespace
 
 TEST(TreeLanes, GroupedRagdollsMoveAsUngrouped) { expectGroupedAsUngrouped(240); }
+
+// The group's residuals and impulses in SSE float lanes (JointTreeSolver::
+// setWideEnds, branch `rain7`) against the same groups with them tree by
+// tree: every body bit for bit after each step, on the baseline and AVX2
+// kernels and on one and three threads. Besides eight free ragdolls (two
+// groups of the scene above), four ragdolls hang from the static world by a
+// ball joint at the pelvis (a root joint with a static end: those joints'
+// a static end, never pushed) and four frictionless three-armed stars of
+// ball joints (trees that fold the warm start into the step's first biased
+// pass, which factors tree by tree; their later passes take the wide ends).
+// A wrong lane in the residuals or the pushes fails at the first step
+// (checked by breaking one product of the pushes).
+namespace {
+
+void addStar(World& world, std::vector<BodyId>& bodies, Vec3 o, Vec3 spin) {
+    BodyDef hub = sphereBody(3, o, Real(0.15));
+    hub.angularVelocity = spin;
+    const BodyId centre = world.createBody(hub);
+    bodies.push_back(centre);
+    const Vec3 arms[3] = {{Real(0.4), 0, 0}, {Real(-0.2), 0, Real(0.35)}, {Real(-0.2), Real(0.1), Real(-0.35)}};
+    for (const Vec3& arm : arms) {
+        BodyDef d = sphereBody(1, o + arm, Real(0.08));
+        d.angularVelocity = spin;
+        const BodyId b = world.createBody(d);
+        bodies.push_back(b);
+        world.createJoint(jointDef(JointType::Ball, centre, b, o + arm * Real(0.5)));
+    }
+}
+
+std::vector<BodyId> buildMixedTrees(World& world) {
+    world.createBody(boxBody(0, {0, -1, 0}, {20, 1, 20}));  // the floor (mass 0: static)
+    std::vector<BodyId> bodies;
+    for (int r = 0; r < 8; ++r) {
+        const Real x = Real(0.9) * static_cast<Real>(r % 3), z = Real(0.7) * static_cast<Real>(r / 3);
+        addRagdoll(world, bodies, {x, Real(0.3) + Real(0.8) * static_cast<Real>(r % 4), z},
+                   {Real(r % 3) - 1, 0, Real(-0.4)}, {Real(0.5) + Real(0.3) * static_cast<Real>(r), Real(-1.5), Real(1)});
+    }
+    for (int r = 0; r < 4; ++r) {
+        const Vec3 o{Real(5) + Real(1.2) * static_cast<Real>(r), Real(1.5), 0};
+        const std::size_t pelvis = bodies.size();
+        addRagdoll(world, bodies, o, {Real(1.5), 0, Real(0.5) * static_cast<Real>(r)}, {0, Real(2), Real(-1)});
+        world.createJoint(jointDef(JointType::Ball, kWorldBody, bodies[pelvis], o + Vec3{0, Real(1.05), 0}));
+    }
+    for (int r = 0; r < 4; ++r) {
+        addStar(world, bodies, {Real(-5) - Real(1.2) * static_cast<Real>(r), Real(1) + Real(0.5) * static_cast<Real>(r), 2},
+                {Real(3), Real(1) - static_cast<Real>(r), Real(2)});
+    }
+    return bodies;
+}
+
+}  // namespace
+
+TEST(TreeLanes, WideEndsMoveAsTreeByTree) {
+    struct WideRun {
+        SimdPath path;
+        int threads;
+        bool wide;
+    };
+    std::vector<WideRun> runs = {{SimdPath::Sse2, 1, false}, {SimdPath::Sse2, 1, true}, {SimdPath::Sse2, 3, true}};
+    if (detail::avx2Available()) {
+        runs.push_back({SimdPath::Avx2, 1, true});
+        runs.push_back({SimdPath::Avx2, 3, true});
+    }
+    std::vector<std::unique_ptr<World>> worlds;
+    std::vector<std::vector<BodyId>> bodies;
+    for (const WideRun& run : runs) {
+        WorldDef def = worldDef(4);
+        def.parallelMinBodies = 0;
+        worlds.push_back(std::make_unique<World>(def));
+        World& world = *worlds.back();
+        world.setThreadCount(run.threads);
+        detail::JointSolver& joints = detail::implOf(world).jointSolver;
+        ASSERT_EQ(joints.setSimdPath(run.path), run.path);
+        joints.trees().setWideEnds(run.wide);
+        bodies.push_back(buildMixedTrees(world));
+    }
+    const int steps = 200;
+    for (int step = 0; step < steps; ++step) {
+        for (std::size_t p = 0; p < worlds.size(); ++p) {
+            worlds[p]->step(kDt);
+            if (step != 0) continue;
+            const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
+            ASSERT_EQ(trees.treeCount(), 16u);
+            EXPECT_EQ(trees.groupedTreeCount(), 16u);  // free, hanging, stars: four groups
+            EXPECT_EQ(trees.wideEnds(), runs[p].wide);
+        }
+        const World& reference = *worlds[0];
+        for (std::size_t p = 1; p < worlds.size(); ++p) {
+            const World& world = *worlds[p];
+            for (std::size_t i = 0; i < bodies[0].size(); ++i) {
+                const BodyId a = bodies[p][i], b = bodies[0][i];
+                const Vec3 pa = world.position(a), pb = reference.position(b);
+                const Quat qa = world.orientation(a), qb = reference.orientation(b);
+                const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z &&
+                                  world.linearVelocity(a) == reference.linearVelocity(b) &&
+                                  world.angularVelocity(a) == reference.angularVelocity(b);
+                ASSERT_TRUE(same) << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads): body "
+                                  << i << " differs from the tree-by-tree ends at step " << step + 1 << ": position ("
+                                  << pa.x << ", " << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", "
+                                  << pb.z << ")";
+            }
+        }
+    }
+    // Every run solved groups in lanes, tripped guards (the tree-by-tree
+    // impulses after wide residuals) and folded warm starts alike.
+    const detail::JointTreeSolver& reference = detail::implOf(*worlds[0]).jointSolver.trees();
+    EXPECT_GT(reference.lanePasses(), 0u);
+    EXPECT_GT(reference.guardTrips(), 0u);
+    for (std::size_t p = 1; p < worlds.size(); ++p) {
+        const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
+        EXPECT_EQ(trees.lanePasses(), reference.lanePasses());
+        EXPECT_EQ(trees.guardTrips(), reference.guardTrips());
+        EXPECT_EQ(trees.factorizations(), reference.factorizations());
+    }
+    // The stars stayed joined (a wrong impulse would open them): each ball
+    // joint's anchor, at the middle of its arm, as carried by the hub and by
+    // the arm (both created unrotated), within 1 cm.
+    const World& world = *worlds.back();
+    const std::vector<BodyId>& b = bodies.back();
+    const Vec3 arms[3] = {{Real(0.4), 0, 0}, {Real(-0.2), 0, Real(0.35)}, {Real(-0.2), Real(0.1), Real(-0.35)}};
+    for (std::size_t s = 0; s < 4; ++s) {
+        const BodyId hub = b[b.size() - 16 + 4 * s];
+        for (std::size_t k = 0; k < 3; ++k) {
+            const BodyId arm = b[b.size() - 16 + 4 * s + 1 + k];
+            const Vec3 onHub = world.position(hub) + rotate(world.orientation(hub), arms[k] * Real(0.5));
+            const Vec3 onArm = world.position(arm) + rotate(world.orientation(arm), arms[k] * Real(-0.5));
+            EXPECT_LT(length(onHub - onArm), Real(0.01)) << "star " << s << ", arm " << k;
+        }
+    }
+}
+

@@ -2,8 +2,30 @@
 #include "solver/joints/tree_solver.hpp"
 
 #include <cmath>
+#include <cstddef>
 
+#include "math/simd.hpp"
 #include "solver/joints/joint_types.hpp"
+
+// solveGroupInLanes' residuals and impulses in SSE float lanes
+// (JointTreeSolver::setWideEnds): where the build's Real is a float and SSE2
+// is there (the double build, WebAssembly and others: tree by tree).
+#if FULCRUM_SIMD_HAS_SSE2 && !defined(FULCRUM_SIMD_PORTABLE)
+#define FULCRUM_TREE_WIDE_ENDS 1
+#else
+#define FULCRUM_TREE_WIDE_ENDS 0
+#endif
+// Their bodies are inlined into two entry points each; the second is compiled
+// for AVX2 (the function's target only: the file keeps the baseline, and
+// inline functions it calls but does not inline stay baseline copies), run
+// only on the AVX2 path. Elsewhere (MSVC) both entry points are baseline.
+#if defined(__GNUC__) || defined(__clang__)
+#define FULCRUM_TREE_WIDE_INLINE inline __attribute__((always_inline))
+#define FULCRUM_TREE_WIDE_VEX __attribute__((target("avx2")))
+#else
+#define FULCRUM_TREE_WIDE_INLINE inline
+#define FULCRUM_TREE_WIDE_VEX
+#endif
 
 namespace fulcrum::detail {
 
@@ -1156,10 +1178,21 @@ void JointTreeSolver::solveGroupInLanes(std::uint32_t first, std::vector<JointCo
     // The residuals, tree by tree into their lanes (solveTreeReused's, guard included).
     ++lanePassesOf_[first];
     unsigned tripped = 0;
-    for (int lane = 0; lane < 4; ++lane) {
-        const std::uint32_t t = first + static_cast<std::uint32_t>(lane), begin = treeStart_[t];
-        const auto zAt = [&](std::uint32_t i, int k) -> double& { return data[lanes[i - begin].off + k].v[lane]; };
-        if (!reusedResiduals(t, joints, bodies, ctx, zAt)) tripped |= 1u << lane;
+#if FULCRUM_TREE_WIDE_ENDS
+    const bool wide = wideEnds_;
+#else
+    const bool wide = false;
+#endif
+    if (wide) {
+#if FULCRUM_TREE_WIDE_ENDS
+        tripped = lanes_ == 2 ? wideResidualsAvx2(first, joints, bodies, ctx) : wideResiduals(first, joints, bodies, ctx);
+#endif
+    } else {
+        for (int lane = 0; lane < 4; ++lane) {
+            const std::uint32_t t = first + static_cast<std::uint32_t>(lane), begin = treeStart_[t];
+            const auto zAt = [&](std::uint32_t i, int k) -> double& { return data[lanes[i - begin].off + k].v[lane]; };
+            if (!reusedResiduals(t, joints, bodies, ctx, zAt)) tripped |= 1u << lane;
+        }
     }
     // Forward and back-substitution for the four at once (a tripped lane's
     // result is not used).
@@ -1170,6 +1203,23 @@ void JointTreeSolver::solveGroupInLanes(std::uint32_t first, std::vector<JointCo
             solveTreeLanes(lanes, count, data);
         }
     }
+#if FULCRUM_TREE_WIDE_ENDS
+    // The four trees' impulses at once, where no guard tripped and the four
+    // fold the warm start alike (in rain always).
+    if (wide && tripped == 0) {
+        const bool folded = foldThisPass_ && warmFree_[first];
+        bool alike = true;
+        for (std::uint32_t k = 1; k < 4; ++k) alike = alike && (foldThisPass_ && warmFree_[first + k]) == folded;
+        if (alike) {
+            if (lanes_ == 2) {
+                wideImpulsesAvx2(first, joints, bodies, ctx, folded);
+            } else {
+                wideImpulses(first, joints, bodies, ctx, folded);
+            }
+            return;
+        }
+    }
+#endif
     // The impulses tree by tree (solveTreeReused's); a tree whose guard
     // tripped factors alone, as it would have one by one (nothing of it was
     // applied; the trees share no moving body, so the order between them is free).
@@ -1185,11 +1235,257 @@ void JointTreeSolver::solveGroupInLanes(std::uint32_t first, std::vector<JointCo
             if (kind_[i] == kBodyNode) continue;
             const TreeLane4* y = data + lanes[i - begin].off + 3;  // a joint's y follows its z[3]
             const double yl[3] = {y[0].v[lane], y[1].v[lane], y[2].v[lane]};
+            // The residuals' anchors: the Factor's copy, or (the wide
+            // residuals write none) the joint's frame they were read from.
+            JointConstraint& j = joints[nodes_[i].ref];
             const Factor& f = factors_[i];
-            applyJointImpulse(joints[nodes_[i].ref], bodies, f.rA, f.rB, yl, ctx, folded);
+            applyJointImpulse(j, bodies, wide ? j.frame.rA : f.rA, wide ? j.frame.rB : f.rB, yl, ctx, folded);
         }
     }
 }
+
+#if FULCRUM_TREE_WIDE_ENDS
+namespace {
+
+// Four floats per register, lane k the k-th tree of a group. Each lane gets
+// the scalar code's operations (reusedResiduals, applyJointImpulse, pushEnd)
+// in its order: IEEE add, subtract, multiply and compare per lane, and the
+// conversions between float and double rounded as static_cast (cvtpd2ps,
+// cvtps2pd: exact). Rows of structs are read and written four floats at a
+// time (simd.hpp's transposes); a float beyond a field that a store
+// rewrites is the value just read (no other thread writes it: the trees
+// share no moving body, and a joint belongs to one tree).
+using W = __m128;
+
+static_assert(sizeof(SolverBody) == 24 * sizeof(float) && offsetof(SolverBody, v) == 0 &&
+                  offsetof(SolverBody, invMass) == 3 * sizeof(float) && offsetof(SolverBody, w) == 4 * sizeof(float) &&
+                  offsetof(SolverBody, invI) == 13 * sizeof(float),
+              "the wide ends read a solver body's floats 0-7 and 12-23: v, invMass, w, dp.x; dtheta.z, invI, padding");
+static_assert(sizeof(JointFrame) >= 12 * sizeof(float) && offsetof(JointFrame, rA) == 0 &&
+                  offsetof(JointFrame, rB) == 3 * sizeof(float) && offsetof(JointFrame, d) == 6 * sizeof(float),
+              "the wide ends read a frame's floats 0-11: rA, rB, d, and a float of qA");
+static_assert(offsetof(JointImpulses, linear) == 0 && sizeof(JointImpulses) >= 4 * sizeof(float),
+              "the wide ends read and write an impulse's floats 0-3: linear and angular.x");
+
+FULCRUM_TREE_WIDE_INLINE void loadRows(const float* const* rows, W* out) { simd::Sse2Policy::loadTransposed4(rows, out); }
+FULCRUM_TREE_WIDE_INLINE void storeRows(float* const* rows, const W* in) { simd::Sse2Policy::storeTransposed4(rows, in); }
+FULCRUM_TREE_WIDE_INLINE W add(W a, W b) { return _mm_add_ps(a, b); }
+FULCRUM_TREE_WIDE_INLINE W sub(W a, W b) { return _mm_sub_ps(a, b); }
+FULCRUM_TREE_WIDE_INLINE W mul(W a, W b) { return _mm_mul_ps(a, b); }
+// One TreeLane4's four doubles as floats (static_cast<Real> each), and back.
+FULCRUM_TREE_WIDE_INLINE W toFloats(const TreeLane4& x) {
+    return _mm_movelh_ps(_mm_cvtpd_ps(_mm_load_pd(x.v)), _mm_cvtpd_ps(_mm_load_pd(x.v + 2)));
+}
+FULCRUM_TREE_WIDE_INLINE void toDoubles(W f, TreeLane4& x) {
+    _mm_store_pd(x.v, _mm_cvtps_pd(f));
+    _mm_store_pd(x.v + 2, _mm_cvtps_pd(_mm_movehl_ps(f, f)));
+}
+// turnedTooFar per lane: |r - rf|^2 > turn2 |rf|^2, dot's order.
+FULCRUM_TREE_WIDE_INLINE W turnedTooFar4(W rx, W ry, W rz, W fx, W fy, W fz, W turn2) {
+    const W dx = sub(rx, fx), dy = sub(ry, fy), dz = sub(rz, fz);
+    const W moved = add(add(mul(dx, dx), mul(dy, dy)), mul(dz, dz));
+    const W length = add(add(mul(fx, fx), mul(fy, fy)), mul(fz, fz));
+    return _mm_cmpgt_ps(moved, mul(turn2, length));
+}
+
+// pushEnd for four bodies (every one dynamic), lane k: bodies[index[k]].
+// The rows are read where they are used (r x P first, then I^-1 (r x P) as
+// its columns arrive, then v and w): fewer values live at once, fewer spills
+// of the 16 SSE registers.
+template <bool onB>
+FULCRUM_TREE_WIDE_INLINE void pushEnds(SolverBody* bodies, const std::uint32_t* index, W rx, W ry, W rz, W px, W py, W pz) {
+    float* rows[4];
+    for (int k = 0; k < 4; ++k) rows[k] = reinterpret_cast<float*>(bodies + index[k]);
+    const W cx = sub(mul(ry, pz), mul(rz, py)), cy = sub(mul(rz, px), mul(rx, pz)), cz = sub(mul(rx, py), mul(ry, px));
+    W in[4];
+    const float* at12[4] = {rows[0] + 12, rows[1] + 12, rows[2] + 12, rows[3] + 12};
+    loadRows(at12, in);  // dtheta.z, invI.c0
+    W wx = mul(in[1], cx), wy = mul(in[2], cx), wz = mul(in[3], cx);
+    const float* at16[4] = {rows[0] + 16, rows[1] + 16, rows[2] + 16, rows[3] + 16};
+    loadRows(at16, in);  // invI.c1, invI.c2.x
+    wx = add(wx, mul(in[0], cy)), wy = add(wy, mul(in[1], cy)), wz = add(wz, mul(in[2], cy));
+    wx = add(wx, mul(in[3], cz));
+    const float* at20[4] = {rows[0] + 20, rows[1] + 20, rows[2] + 20, rows[3] + 20};
+    loadRows(at20, in);  // invI.c2.y, invI.c2.z, padding
+    wy = add(wy, mul(in[0], cz)), wz = add(wz, mul(in[1], cz));
+    loadRows(rows, in);  // v.x, v.y, v.z, invMass
+    const W m = in[3];
+    if constexpr (onB) {
+        in[0] = add(in[0], mul(px, m)), in[1] = add(in[1], mul(py, m)), in[2] = add(in[2], mul(pz, m));
+    } else {
+        in[0] = sub(in[0], mul(px, m)), in[1] = sub(in[1], mul(py, m)), in[2] = sub(in[2], mul(pz, m));
+    }
+    storeRows(rows, in);
+    float* at4[4] = {rows[0] + 4, rows[1] + 4, rows[2] + 4, rows[3] + 4};
+    loadRows(at4, in);  // w.x, w.y, w.z, dp.x
+    if constexpr (onB) {
+        in[0] = add(in[0], wx), in[1] = add(in[1], wy), in[2] = add(in[2], wz);
+    } else {
+        in[0] = sub(in[0], wx), in[1] = sub(in[1], wy), in[2] = sub(in[2], wz);
+    }
+    storeRows(at4, in);
+}
+
+// Four bodies all dynamic (inverse mass > 0), as pushEnd's test.
+FULCRUM_TREE_WIDE_INLINE bool allMoving(const SolverBody* bodies, const std::uint32_t* index) {
+    return bodies[index[0]].invMass > 0 && bodies[index[1]].invMass > 0 && bodies[index[2]].invMass > 0 &&
+           bodies[index[3]].invMass > 0;
+}
+
+}  // namespace
+
+FULCRUM_TREE_WIDE_INLINE unsigned JointTreeSolver::wideResidualsBody(std::uint32_t first, std::vector<JointConstraint>& joints,
+                                                                     const SolverBody* bodies, const JointContext& ctx) {
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[first];
+    const std::uint32_t count = treeStart_[first + 1] - treeStart_[first];
+    TreeLane4* data = laneData_.data();
+    const std::uint32_t begin[4] = {treeStart_[first], treeStart_[first + 1], treeStart_[first + 2], treeStart_[first + 3]};
+    const bool guard = !ctx.useBias, useBias = ctx.useBias;
+    static_assert(offsetof(Factor, rB) == offsetof(Factor, rA) + 3 * sizeof(float) &&
+                      offsetof(Factor, factorA) == offsetof(Factor, rA) + 6 * sizeof(float) &&
+                      offsetof(Factor, factorB) == offsetof(Factor, rA) + 9 * sizeof(float),
+                  "the guard reads a Factor's floats from rA to factorB's end as three rows of four");
+    const W turn2 = _mm_set1_ps(guardTurn2_), bias = _mm_set1_ps(ctx.soft.biasRate);
+    W trips = _mm_setzero_ps();
+    // Parents first, as reusedResiduals (each node writes only its own z).
+    for (std::uint32_t p = count; p-- > 0;) {
+        TreeLane4* z = data + lanes[p].off;
+        if (lanes[p].kind == kBodyNode) {
+            for (int k = 0; k < 6; ++k) z[k] = TreeLane4{};
+            continue;
+        }
+        const float* frame[4];
+        const float* rowA[4];
+        const float* rowB[4];
+        for (int k = 0; k < 4; ++k) {
+            JointConstraint& j = joints[nodes_[begin[k] + p].ref];
+            const SolverBody& a = bodies[j.bodyA];
+            const SolverBody& b = bodies[j.bodyB];
+            frame[k] = &currentFrame(j, a, b, ctx).rA.x;
+            rowA[k] = &a.v.x;
+            rowB[k] = &b.v.x;
+        }
+        W f0[4], f1[4];
+        loadRows(frame, f0);  // rA, rB.x
+        const float* frame4[4] = {frame[0] + 4, frame[1] + 4, frame[2] + 4, frame[3] + 4};
+        loadRows(frame4, f1);  // rB.y, rB.z, d.x, d.y
+        const W rAx = f0[0], rAy = f0[1], rAz = f0[2], rBx = f0[3], rBy = f1[0], rBz = f1[1];
+        if (guard) {
+            // factorA and factorB: floats 6-11 from the Factor's rA.
+            const float* f[4];
+            for (int k = 0; k < 4; ++k) f[k] = &factors_[begin[k] + p].rA.x + 4;
+            W g4[4], g8[4];
+            loadRows(f, g4);  // rB.y, rB.z, factorA.x, factorA.y
+            for (int k = 0; k < 4; ++k) f[k] += 4;
+            loadRows(f, g8);  // factorA.z, factorB
+            const W tA = turnedTooFar4(rAx, rAy, rAz, g4[2], g4[3], g8[0], turn2);
+            const W tB = turnedTooFar4(rBx, rBy, rBz, g8[1], g8[2], g8[3], turn2);
+            trips = _mm_or_ps(trips, _mm_or_ps(tA, tB));
+        }
+        W va[4], wa[4], vb[4], wb[4];
+        loadRows(rowA, va);
+        loadRows(rowB, vb);
+        for (int k = 0; k < 4; ++k) rowA[k] += 4, rowB[k] += 4;
+        loadRows(rowA, wa);
+        loadRows(rowB, wb);
+        // b.v + b.w x rB - a.v - a.w x rA (+ biasRate d), reusedResiduals' order.
+        W rx = sub(sub(add(vb[0], sub(mul(wb[1], rBz), mul(wb[2], rBy))), va[0]), sub(mul(wa[1], rAz), mul(wa[2], rAy)));
+        W ry = sub(sub(add(vb[1], sub(mul(wb[2], rBx), mul(wb[0], rBz))), va[1]), sub(mul(wa[2], rAx), mul(wa[0], rAz)));
+        W rz = sub(sub(add(vb[2], sub(mul(wb[0], rBy), mul(wb[1], rBx))), va[2]), sub(mul(wa[0], rAy), mul(wa[1], rAx)));
+        if (useBias) {
+            W f2[4];
+            const float* frame8[4] = {frame[0] + 8, frame[1] + 8, frame[2] + 8, frame[3] + 8};
+            loadRows(frame8, f2);  // d.z, qA's first three
+            rx = add(rx, mul(f1[2], bias)), ry = add(ry, mul(f1[3], bias)), rz = add(rz, mul(f2[0], bias));
+        }
+        toDoubles(rx, z[0]);
+        toDoubles(ry, z[1]);
+        toDoubles(rz, z[2]);
+    }
+    return static_cast<unsigned>(_mm_movemask_ps(trips));
+}
+
+FULCRUM_TREE_WIDE_INLINE void JointTreeSolver::wideImpulsesBody(std::uint32_t first, std::vector<JointConstraint>& joints,
+                                                                SolverBody* bodies, const JointContext& ctx, bool folded) {
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[first];
+    const std::uint32_t count = treeStart_[first + 1] - treeStart_[first];
+    const TreeLane4* data = laneData_.data();
+    const std::uint32_t begin[4] = {treeStart_[first], treeStart_[first + 1], treeStart_[first + 2], treeStart_[first + 3]};
+    const W massScale = _mm_set1_ps(ctx.soft.massScale), impulseScale = _mm_set1_ps(ctx.soft.impulseScale);
+    const W keep = _mm_set1_ps(1 - ctx.soft.massScale - ctx.soft.impulseScale);  // applyJointImpulse's folded factor
+    // Children first, as solveTreeReused's impulses (a body's pushes in the scalar order).
+    for (std::uint32_t p = 0; p < count; ++p) {
+        if (lanes[p].kind == kBodyNode) continue;
+        const TreeLane4* y = data + lanes[p].off + 3;  // a joint's y follows its z[3]
+        W dx = toFloats(y[0]), dy = toFloats(y[1]), dz = toFloats(y[2]);
+        JointConstraint* j[4];
+        float* impulse[4];
+        const float* frame[4];
+        std::uint32_t indexA[4], indexB[4];
+        for (int k = 0; k < 4; ++k) {
+            j[k] = &joints[nodes_[begin[k] + p].ref];
+            impulse[k] = &j[k]->impulse.linear.x;
+            frame[k] = &j[k]->frame.rA.x;  // current: the residuals' (currentFrame)
+            indexA[k] = j[k]->bodyA;
+            indexB[k] = j[k]->bodyB;
+        }
+        W lambda[4];
+        loadRows(impulse, lambda);  // linear, angular.x
+        if (folded) {
+            dx = add(mul(dx, massScale), mul(lambda[0], keep));
+            dy = add(mul(dy, massScale), mul(lambda[1], keep));
+            dz = add(mul(dz, massScale), mul(lambda[2], keep));
+            lambda[0] = dx, lambda[1] = dy, lambda[2] = dz;
+        } else {
+            if (ctx.useBias) {
+                dx = sub(mul(dx, massScale), mul(lambda[0], impulseScale));
+                dy = sub(mul(dy, massScale), mul(lambda[1], impulseScale));
+                dz = sub(mul(dz, massScale), mul(lambda[2], impulseScale));
+            }
+            lambda[0] = add(lambda[0], dx), lambda[1] = add(lambda[1], dy), lambda[2] = add(lambda[2], dz);
+        }
+        storeRows(impulse, lambda);
+        W f0[4], f1[4];
+        loadRows(frame, f0);  // rA, rB.x
+        const float* frame4[4] = {frame[0] + 4, frame[1] + 4, frame[2] + 4, frame[3] + 4};
+        loadRows(frame4, f1);  // rB.y, rB.z, d.x, d.y
+        const bool movingA = allMoving(bodies, indexA), movingB = allMoving(bodies, indexB);
+        if (movingA) pushEnds<false>(bodies, indexA, f0[0], f0[1], f0[2], dx, dy, dz);
+        if (movingB) pushEnds<true>(bodies, indexB, f0[3], f1[0], f1[1], dx, dy, dz);
+        if (movingA && movingB) continue;
+        // A static or kinematic end somewhere: lane by lane, the scalar pushEnd
+        // (A before B in each tree, as applyJointImpulse).
+        alignas(16) float px[4], py[4], pz[4];
+        _mm_store_ps(px, dx), _mm_store_ps(py, dy), _mm_store_ps(pz, dz);
+        for (int k = 0; k < 4; ++k) {
+            SolverBody& a = bodies[indexA[k]];
+            SolverBody& b = bodies[indexB[k]];
+            if (!movingA && a.invMass > 0) pushEnd<false>(a, j[k]->frame.rA, px[k], py[k], pz[k]);
+            if (!movingB && b.invMass > 0) pushEnd<true>(b, j[k]->frame.rB, px[k], py[k], pz[k]);
+        }
+    }
+}
+
+unsigned JointTreeSolver::wideResiduals(std::uint32_t first, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                                        const JointContext& ctx) {
+    return wideResidualsBody(first, joints, bodies, ctx);
+}
+
+void JointTreeSolver::wideImpulses(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                   const JointContext& ctx, bool folded) {
+    wideImpulsesBody(first, joints, bodies, ctx, folded);
+}
+
+FULCRUM_TREE_WIDE_VEX unsigned JointTreeSolver::wideResidualsAvx2(std::uint32_t first, std::vector<JointConstraint>& joints,
+                                                                  const SolverBody* bodies, const JointContext& ctx) {
+    return wideResidualsBody(first, joints, bodies, ctx);
+}
+
+FULCRUM_TREE_WIDE_VEX void JointTreeSolver::wideImpulsesAvx2(std::uint32_t first, std::vector<JointConstraint>& joints,
+                                                             SolverBody* bodies, const JointContext& ctx, bool folded) {
+    wideImpulsesBody(first, joints, bodies, ctx, folded);
+}
+#endif
 
 namespace {
 

@@ -110,6 +110,12 @@ public:
     // SimdPath::Scalar is 0.
     void setLanes(int mode);
     int lanes() const { return lanesWanted_; }
+    // A group's residuals and impulses (around the lanes' kernel) four trees
+    // at a time in SSE float lanes, each tree's scalar operations in the
+    // scalar order (the same bits; only where the build has SSE2 floats:
+    // elsewhere, and when off, tree by tree). On by default; off for tests.
+    void setWideEnds(bool on) { wideEnds_ = on; }
+    bool wideEnds() const { return wideEnds_; }
     // Passes solved in lanes, counted per group since the last build (tests).
     std::uint64_t lanePasses() const {
         std::uint64_t n = 0;
@@ -240,6 +246,24 @@ private:
     // (tree_lanes.hpp); a tree whose guard trips goes on to solveOneTree.
     void solveGroupInLanes(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
                            const JointContext& ctx);
+    // solveGroupInLanes' residuals (guard included: returns the tripped
+    // lanes' bits) and impulses, the four trees at once (setWideEnds). The
+    // impulses only for a group with no tripped lane and one `folded` for all.
+    // Each twice: the build's baseline instructions, and (the AVX2 path,
+    // lanes_ == 2) the same code VEX-encoded (GCC and Clang: three-operand
+    // forms, fewer register copies; no FMA, the same bits).
+    unsigned wideResiduals(std::uint32_t first, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                           const JointContext& ctx);
+    void wideImpulses(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                      const JointContext& ctx, bool folded);
+    unsigned wideResidualsAvx2(std::uint32_t first, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                               const JointContext& ctx);
+    void wideImpulsesAvx2(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                          const JointContext& ctx, bool folded);
+    unsigned wideResidualsBody(std::uint32_t first, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                               const JointContext& ctx);
+    void wideImpulsesBody(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                          const JointContext& ctx, bool folded);
     // A grouped tree's new factorization into its lane (D^-1, Hp, X).
     void copyFactorToLanes(std::uint32_t tree);
     // findTrees' grouping: four consecutive trees of one shape (not chains).
@@ -268,6 +292,7 @@ private:
     std::vector<TreeLane4> laneData_;
     std::vector<std::uint64_t> lanePassesOf_;  // per group's first tree (only its solver writes it)
     int lanes_ = 0, lanesWanted_ = 0;
+    bool wideEnds_ = true;
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
     bool foldThisPass_ = false;  // beginPass(): this pass takes the folded warm start
     Real guardTurn2_ = static_cast<Real>(kGuardTurn * kGuardTurn);  // the guard's angle, squared
