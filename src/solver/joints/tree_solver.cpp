@@ -18,8 +18,9 @@
 // Their bodies are inlined into two entry points each; the second is compiled
 // for AVX2 (the function's target only: the file keeps the baseline, and
 // inline functions it calls but does not inline stay baseline copies), run
-// only on the AVX2 path. Elsewhere (MSVC) both entry points are baseline.
-#if defined(__GNUC__) || defined(__clang__)
+// only on the AVX2 path. Elsewhere (MSVC, and WebAssembly, whose SSE2 is
+// SIMD128 with no AVX2 target) both entry points are baseline.
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
 #define FULCRUM_TREE_WIDE_INLINE inline __attribute__((always_inline))
 #define FULCRUM_TREE_WIDE_VEX __attribute__((target("avx2")))
 #else
