@@ -548,49 +548,75 @@ bool DynamicTree::refitOrRebuild() {
     descentValid_ = false;
     if (hasPending()) insertPending();
     if (rebuiltLooseness_ > 0 && root_ != kNullNode && !node(root_).isLeaf()) {
-        // Every node in pre-order (each after its ancestors) into the
-        // depth-first copy (prepareSelfDescent), then the internal nodes
-        // merged in reverse, children before parents, from the copy's boxes
-        // (a node's children lie next to it there) into both.
-        const std::size_t count = 2 * static_cast<std::size_t>(proxyCount_) - 1;
-        if (descent_.size() < count) descent_.resize(count);
-        if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
-        buildOrder_.clear();        // the internal nodes in pre-order: their pool indices,
-        descentInternal_.clear();   // and theirs in the copy
-        DescentNode* copy = descent_.data();
-        std::int32_t next = 0;
-        detail::NodePairStack stack;  // (pool node, its parent's index in the copy when it is a second child, else -1)
-        stack.push(root_, -1);
-        double leafArea = 0;
-        while (!stack.empty()) {
-            std::int32_t i, secondOf;
-            stack.pop(i, secondOf);
-            const TreeNode& n = node(i);
-            const std::int32_t k = next++;
-            if (secondOf >= 0) copy[secondOf].link = static_cast<std::uint32_t>(k);
-            descentIndex_[static_cast<std::size_t>(i)] = k;
-            DescentNode& d = copy[k];
-            if (n.isLeaf()) {
-                leafArea += static_cast<double>(area(n.box));
-                d.box = n.box;
-                d.area = Real(-1);
-                d.link = n.userValue;
-                continue;
+        double leafArea = 0, internalArea = 0;
+        if (proxyCount_ >= kBranchFreeDescentLeaves) {
+            // Every node in pre-order (each after its ancestors) into the
+            // depth-first copy (prepareSelfDescent), then the internal nodes
+            // merged in reverse, children before parents, from the copy's
+            // boxes (a node's children lie next to it there) into both. The
+            // same merges and sums in the same order as below.
+            const std::size_t count = 2 * static_cast<std::size_t>(proxyCount_) - 1;
+            if (descent_.size() < count) descent_.resize(count);
+            if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
+            buildOrder_.clear();       // the internal nodes in pre-order: their pool indices,
+            descentInternal_.clear();  // and theirs in the copy
+            DescentNode* copy = descent_.data();
+            std::int32_t next = 0;
+            detail::NodePairStack stack;  // (pool node, its parent's index in the copy when a second child, else -1)
+            stack.push(root_, -1);
+            while (!stack.empty()) {
+                std::int32_t i, secondOf;
+                stack.pop(i, secondOf);
+                const TreeNode& n = node(i);
+                const std::int32_t k = next++;
+                if (secondOf >= 0) copy[secondOf].link = static_cast<std::uint32_t>(k);
+                descentIndex_[static_cast<std::size_t>(i)] = k;
+                DescentNode& d = copy[k];
+                if (n.isLeaf()) {
+                    leafArea += static_cast<double>(area(n.box));
+                    d.box = n.box;
+                    d.area = Real(-1);
+                    d.link = n.userValue;
+                    continue;
+                }
+                buildOrder_.push_back(i);
+                descentInternal_.push_back(k);
+                stack.push(n.child2, k);
+                stack.push(n.child1, -1);
             }
-            buildOrder_.push_back(i);
-            descentInternal_.push_back(k);
-            stack.push(n.child2, k);
-            stack.push(n.child1, -1);
-        }
-        assert(static_cast<std::size_t>(next) == count);
-        double internalArea = 0;
-        for (std::size_t j = buildOrder_.size(); j-- > 0;) {
-            const auto k = static_cast<std::size_t>(descentInternal_[j]);
-            DescentNode& d = copy[k];
-            d.box = merge(copy[k + 1].box, copy[d.link].box);
-            d.area = area(d.box);
-            node(buildOrder_[j]).box = d.box;
-            internalArea += static_cast<double>(d.area);
+            assert(static_cast<std::size_t>(next) == count);
+            for (std::size_t j = buildOrder_.size(); j-- > 0;) {
+                const auto k = static_cast<std::size_t>(descentInternal_[j]);
+                DescentNode& d = copy[k];
+                d.box = merge(copy[k + 1].box, copy[d.link].box);
+                d.area = area(d.box);
+                node(buildOrder_[j]).box = d.box;
+                internalArea += static_cast<double>(d.area);
+            }
+        } else {
+            // Internal nodes in pre-order (each after its ancestors), then merged
+            // in reverse: children before parents.
+            buildOrder_.clear();
+            std::vector<BuildTask>& stack = buildTasks_;  // only .parent used: the nodes still to visit
+            stack.clear();
+            stack.push_back({0, 0, root_, false, AABB{}});
+            while (!stack.empty()) {
+                const std::int32_t i = stack.back().parent;
+                stack.pop_back();
+                const TreeNode& n = node(i);
+                if (n.isLeaf()) {
+                    leafArea += static_cast<double>(area(n.box));
+                    continue;
+                }
+                buildOrder_.push_back(i);
+                stack.push_back({0, 0, n.child2, false, AABB{}});
+                stack.push_back({0, 0, n.child1, false, AABB{}});
+            }
+            for (std::size_t k = buildOrder_.size(); k-- > 0;) {
+                TreeNode& n = node(buildOrder_[k]);
+                n.box = merge(node(n.child1).box, node(n.child2).box);
+                internalArea += static_cast<double>(area(n.box));
+            }
         }
         if (leafArea > 0 && internalArea <= kRefitSlack * rebuiltLooseness_ * leafArea) {
             descentValid_ = proxyCount_ >= kBranchFreeDescentLeaves;
