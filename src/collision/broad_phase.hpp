@@ -542,6 +542,7 @@ void BroadPhase::runDescents(std::size_t outCap, const Predicate& canPair, const
     const std::uint32_t workers = tasks != nullptr ? tasks->workerCount() : 1;
     const std::int32_t movingRoot = movingTree_.root();
     const std::int32_t staticRoot = staticTree_.root();
+    movingTree_.prepareSelfDescent();  // a large tree's depth-first copy, which its descent walks
     pairs_.clear();
     if (workers <= 1) {
         const auto add = [&](std::uint32_t x, std::uint32_t y) {

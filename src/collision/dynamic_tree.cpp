@@ -35,6 +35,7 @@ DynamicTree::DynamicTree(const DynamicTreeConfig& config) : config_(config) {}
 // ---- node pool ----------------------------------------------------------------
 
 std::int32_t DynamicTree::allocateNode() {
+    descentValid_ = false;
     if (freeList_ == kNullNode) {
         // Grow by doubling and thread the new nodes onto the free list in index
         // order, so allocation order (and thus ids) depends only on the history
@@ -57,6 +58,7 @@ std::int32_t DynamicTree::allocateNode() {
 }
 
 void DynamicTree::freeNode(std::int32_t id) {
+    descentValid_ = false;
     TreeNode& n = node(id);
     n = TreeNode{};
     n.parent = freeList_;
@@ -170,6 +172,7 @@ bool DynamicTree::moveProxy(std::int32_t proxyId, const AABB& tightBox, const Ve
 // the refit, which merges the children's current boxes, keeps the tree exact:
 // every stale ancestor lies on the path of a leaf still to be reinserted.
 bool DynamicTree::updateInPlace(std::int32_t leaf) {
+    descentValid_ = false;
     const std::int32_t parent = node(leaf).parent;
     if (parent == kNullNode) return true;  // the root: its box is the leaf's
     std::int32_t host = parent;
@@ -291,6 +294,7 @@ std::int32_t DynamicTree::findBestSiblingGreedy(const AABB& leafBox) const {
 }
 
 void DynamicTree::insertLeaf(std::int32_t leaf) {
+    descentValid_ = false;
     if (root_ == kNullNode) {
         root_ = leaf;
         node(leaf).parent = kNullNode;
@@ -412,6 +416,7 @@ void DynamicTree::rotate(std::int32_t a) {
 // ---- removal --------------------------------------------------------------------
 
 void DynamicTree::removeLeaf(std::int32_t leaf) {
+    descentValid_ = false;
     if (leaf == root_) {
         root_ = kNullNode;
         return;
@@ -463,6 +468,7 @@ void DynamicTree::removeLeaf(std::int32_t leaf) {
 // change, no result does): 10,000 static boxes (large_world(100)) 24.5 M to
 // 16.4 M, with the queries of HighSpeed's moving tree costing the same.
 void DynamicTree::rebuild() {
+    descentValid_ = false;
     if (proxyCount_ < 2) {
         for (const std::int32_t leaf : pending_) insertLeaf(leaf);  // at most one
         pending_.clear();
@@ -549,34 +555,83 @@ constexpr double kRefitSlack = 2.0;
 }  // namespace
 
 bool DynamicTree::refitOrRebuild() {
+    descentValid_ = false;
     if (hasPending()) insertPending();
     if (rebuiltLooseness_ > 0 && root_ != kNullNode && !node(root_).isLeaf()) {
-        // Internal nodes in pre-order (each after its ancestors), then merged
-        // in reverse: children before parents.
-        buildOrder_.clear();
-        std::vector<BuildTask>& stack = buildTasks_;  // only .parent used: the nodes still to visit
-        stack.clear();
-        stack.push_back({0, 0, root_, false, AABB{}});
-        double leafArea = 0;
-        while (!stack.empty()) {
-            const std::int32_t i = stack.back().parent;
-            stack.pop_back();
-            const TreeNode& n = node(i);
-            if (n.isLeaf()) {
-                leafArea += static_cast<double>(area(n.box));
-                continue;
+        double leafArea = 0, internalArea = 0;
+        if (proxyCount_ >= kBranchFreeDescentLeaves) {
+            // Every node in pre-order (each after its ancestors) into the
+            // depth-first copy (prepareSelfDescent), then the internal nodes
+            // merged in reverse, children before parents, from the copy's
+            // boxes (a node's children lie next to it there) into both. The
+            // same merges and sums in the same order as below.
+            const std::size_t count = 2 * static_cast<std::size_t>(proxyCount_) - 1;
+            if (descent_.size() < count) descent_.resize(count);
+            if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
+            buildOrder_.clear();       // the internal nodes in pre-order: their pool indices,
+            descentInternal_.clear();  // and theirs in the copy
+            DescentNode* copy = descent_.data();
+            std::int32_t next = 0;
+            detail::NodePairStack stack;  // (pool node, its parent's index in the copy when a second child, else -1)
+            stack.push(root_, -1);
+            while (!stack.empty()) {
+                std::int32_t i, secondOf;
+                stack.pop(i, secondOf);
+                const TreeNode& n = node(i);
+                const std::int32_t k = next++;
+                if (secondOf >= 0) copy[secondOf].link = static_cast<std::uint32_t>(k);
+                descentIndex_[static_cast<std::size_t>(i)] = k;
+                DescentNode& d = copy[k];
+                if (n.isLeaf()) {
+                    leafArea += static_cast<double>(area(n.box));
+                    d.box = n.box;
+                    d.area = Real(-1);
+                    d.link = n.userValue;
+                    continue;
+                }
+                buildOrder_.push_back(i);
+                descentInternal_.push_back(k);
+                stack.push(n.child2, k);
+                stack.push(n.child1, -1);
             }
-            buildOrder_.push_back(i);
-            stack.push_back({0, 0, n.child2, false, AABB{}});
-            stack.push_back({0, 0, n.child1, false, AABB{}});
+            assert(static_cast<std::size_t>(next) == count);
+            for (std::size_t j = buildOrder_.size(); j-- > 0;) {
+                const auto k = static_cast<std::size_t>(descentInternal_[j]);
+                DescentNode& d = copy[k];
+                d.box = merge(copy[k + 1].box, copy[d.link].box);
+                d.area = area(d.box);
+                node(buildOrder_[j]).box = d.box;
+                internalArea += static_cast<double>(d.area);
+            }
+        } else {
+            // Internal nodes in pre-order (each after its ancestors), then merged
+            // in reverse: children before parents.
+            buildOrder_.clear();
+            std::vector<BuildTask>& stack = buildTasks_;  // only .parent used: the nodes still to visit
+            stack.clear();
+            stack.push_back({0, 0, root_, false, AABB{}});
+            while (!stack.empty()) {
+                const std::int32_t i = stack.back().parent;
+                stack.pop_back();
+                const TreeNode& n = node(i);
+                if (n.isLeaf()) {
+                    leafArea += static_cast<double>(area(n.box));
+                    continue;
+                }
+                buildOrder_.push_back(i);
+                stack.push_back({0, 0, n.child2, false, AABB{}});
+                stack.push_back({0, 0, n.child1, false, AABB{}});
+            }
+            for (std::size_t k = buildOrder_.size(); k-- > 0;) {
+                TreeNode& n = node(buildOrder_[k]);
+                n.box = merge(node(n.child1).box, node(n.child2).box);
+                internalArea += static_cast<double>(area(n.box));
+            }
         }
-        double internalArea = 0;
-        for (std::size_t k = buildOrder_.size(); k-- > 0;) {
-            TreeNode& n = node(buildOrder_[k]);
-            n.box = merge(node(n.child1).box, node(n.child2).box);
-            internalArea += static_cast<double>(area(n.box));
+        if (leafArea > 0 && internalArea <= kRefitSlack * rebuiltLooseness_ * leafArea) {
+            descentValid_ = proxyCount_ >= kBranchFreeDescentLeaves;
+            return false;
         }
-        if (leafArea > 0 && internalArea <= kRefitSlack * rebuiltLooseness_ * leafArea) return false;
     }
     rebuild();
     double internalArea = 0, leafArea = 0;
@@ -586,6 +641,39 @@ bool DynamicTree::refitOrRebuild() {
     }
     rebuiltLooseness_ = leafArea > 0 ? internalArea / leafArea : 0;
     return true;
+}
+
+void DynamicTree::prepareSelfDescent() {
+    if (descentValid_ || hasPending() || root_ == kNullNode || proxyCount_ < kBranchFreeDescentLeaves) return;
+    // Pre-order: a node, its first subtree, then its second; the second
+    // child's index is known when it is reached and written into its parent.
+    const std::size_t count = 2 * static_cast<std::size_t>(proxyCount_) - 1;
+    if (descent_.size() < count) descent_.resize(count);
+    if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
+    DescentNode* out = descent_.data();
+    std::int32_t next = 0;
+    detail::NodePairStack stack;  // (pool node, its parent's index in the copy when it is a second child, else -1)
+    stack.push(root_, -1);
+    while (!stack.empty()) {
+        std::int32_t i, secondOf;
+        stack.pop(i, secondOf);
+        const TreeNode& n = node(i);
+        const std::int32_t k = next++;
+        if (secondOf >= 0) out[secondOf].link = static_cast<std::uint32_t>(k);
+        descentIndex_[static_cast<std::size_t>(i)] = k;
+        DescentNode& d = out[k];
+        d.box = n.box;
+        if (n.isLeaf()) {
+            d.area = Real(-1);
+            d.link = n.userValue;
+            continue;
+        }
+        d.area = n.box.surfaceArea();
+        stack.push(n.child2, k);
+        stack.push(n.child1, -1);
+    }
+    assert(static_cast<std::size_t>(next) == count);
+    descentValid_ = true;
 }
 
 std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, const AABB& centroidBox, AABB& leftCentroids,

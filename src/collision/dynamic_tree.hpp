@@ -59,6 +59,18 @@ struct TreeNode {
     bool isLeaf() const { return child1 == kNullNode; }
 };
 
+// A node of DynamicTree's depth-first copy (prepareSelfDescent): the first
+// child follows its parent, the second is at `link`; a leaf's area is -1 and
+// its `link` the user value. Half a cache line (single precision), so the
+// descent of a large tree against itself walks memory mostly forward.
+struct alignas(8 * sizeof(Real)) DescentNode {
+    AABB box;
+    Real area;           // box.surfaceArea() for internal nodes, -1 for leaves
+    std::uint32_t link;  // internal: the second child's index in the copy; leaf: the user value
+
+    bool isLeaf() const { return area < Real(0); }
+};
+
 // A segment p + t * translation, t in [0, maxFraction].
 struct RayCastInput {
     Vec3 origin;
@@ -165,6 +177,9 @@ public:
     // read by other threads while it runs.
     void setFatBox(std::int32_t proxyId, const AABB& tightBox, const Vec3& displacement) {
         assert(!hasPending());  // trees with waiting leaves (the static tree) are not moved this way
+        // Threads call this for different leaves at once, so it leaves
+        // descentValid_ alone: reinsert and refitOrRebuild, which must follow
+        // before the next query, clear it.
         node(proxyId).box = fatten(tightBox, displacement);
     }
     void reinsert(std::int32_t proxyId) {
@@ -220,6 +235,17 @@ public:
     // Pairs of disjoint boxes are dropped (they have no overlap pairs).
     template <typename Part>
     bool splitPairs(std::int32_t a, const DynamicTree& other, std::int32_t b, Part&& part) const;
+    // For a tree of kBranchFreeDescentLeaves leaves or more: writes a
+    // depth-first copy of the tree (DescentNode), which overlapPairs of the
+    // tree against itself then walks instead of the node pool (the same
+    // steps in the same order, so the same pairs in the same order) until
+    // the tree next changes. In the pool a node's children lie anywhere, and
+    // a large tree's descent waited on the caches; in the copy a subtree is
+    // one stretch of memory. One pass over the tree, single-threaded: call it
+    // before the descents (BroadPhase does, when it descends). Does nothing
+    // for a smaller tree or when the copy is current.
+    void prepareSelfDescent();
+    bool selfDescentPrepared() const { return descentValid_; }
 
     // Replaces the internal nodes by a top-down binned-SAH build over the
     // current leaves (for trees built once, like the static tree). Proxy ids
@@ -310,6 +336,14 @@ private:
     // tree rebuilds at its first bulk update, which changes its shape but no
     // result: pairs are reported sorted by id).
     double rebuiltLooseness_ = 0;
+    // prepareSelfDescent(): the copy, each pool node's index in it (valid
+    // while descentValid_), and whether it matches the tree. Every change to
+    // the tree's nodes clears descentValid_; derived data, not state
+    // (snapshots leave it out, a restored tree has none).
+    std::vector<DescentNode> descent_;
+    std::vector<std::int32_t> descentIndex_;
+    std::vector<std::int32_t> descentInternal_;  // refitOrRebuild(): the internal nodes' indices in the copy
+    bool descentValid_ = false;
 };
 
 // ---- traversal templates ----------------------------------------------------
@@ -502,6 +536,44 @@ bool DynamicTree::overlapPairs(std::int32_t a, const DynamicTree& other, std::in
     // (NodePairStack::pushIf): in a tree of moving bodies the outcomes go
     // either way at random, and their mispredicted branches were a third of
     // HighSpeed's (docs/benchmarks.md, branch hsfull).
+    if (descentValid_) {
+        // The same loop over the depth-first copy (prepareSelfDescent): a
+        // node's first child is the next node, its area is stored.
+        const DescentNode* nodes = descent_.data();
+        detail::NodePairStack stack;
+        stack.push(descentIndex_[static_cast<std::size_t>(a)], descentIndex_[static_cast<std::size_t>(b)]);
+        while (!stack.empty()) {
+            std::int32_t x, y;
+            stack.pop(x, y);
+            const DescentNode& nx = nodes[x];
+            if (x == y) {
+                if (nx.isLeaf()) continue;
+                const std::int32_t c1 = x + 1, c2 = static_cast<std::int32_t>(nx.link);
+                const DescentNode& n1 = nodes[c1];
+                const DescentNode& n2 = nodes[c2];
+                stack.pushIf(c1, c1, !n1.isLeaf());
+                stack.pushIf(c2, c2, !n2.isLeaf());
+                stack.pushIf(c1, c2, detail::overlapsNoBranch(n1.box, n2.box));
+                continue;
+            }
+            const DescentNode& ny = nodes[y];
+            const bool xLeaf = nx.isLeaf(), yLeaf = ny.isLeaf();
+            if (xLeaf && yLeaf) {
+                if (!callback(nx.link, ny.link)) return false;
+                continue;
+            }
+            if (yLeaf || (!xLeaf && nx.area >= ny.area)) {
+                const std::int32_t c1 = x + 1, c2 = static_cast<std::int32_t>(nx.link);
+                stack.pushIf(c1, y, detail::overlapsNoBranch(nodes[c1].box, ny.box));
+                stack.pushIf(c2, y, detail::overlapsNoBranch(nodes[c2].box, ny.box));
+            } else {
+                const std::int32_t c1 = y + 1, c2 = static_cast<std::int32_t>(ny.link);
+                stack.pushIf(x, c1, detail::overlapsNoBranch(nx.box, nodes[c1].box));
+                stack.pushIf(x, c2, detail::overlapsNoBranch(nx.box, nodes[c2].box));
+            }
+        }
+        return true;
+    }
     const TreeNode* nodes = nodes_.data();
     detail::NodePairStack stack;
     stack.push(a, b);

@@ -715,6 +715,7 @@ struct SnapshotAccess {
             io(a, node.height);
         }
         io(a, t.root_), io(a, t.freeList_), io(a, t.proxyCount_);
+        if constexpr (A::kReading) t.descentValid_ = false;  // the depth-first copy is derived, not saved
     }
     template <typename A>
     static void broadPhase(A& a, BroadPhase& b) {

@@ -175,6 +175,106 @@ TEST(OverlapPairsOrder, SameCallsInTheSameOrderAsTheSplitPairsDescentAndBruteFor
     }
 }
 
+// The descent over the depth-first copy (prepareSelfDescent, or written by
+// a refit) against the pool's splitPairs descent, exactly: the whole tree,
+// every node against itself (when `everyNode`), random node pairs, stops.
+void expectCopyDescentIsThePools(const Forest& f, std::mt19937& rng, const char* what, bool everyNode) {
+    ASSERT_TRUE(f.tree.selfDescentPrepared()) << what;
+    const DynamicTree& t = f.tree;
+    for (const std::size_t stop : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{40}}) {
+        expectSameDescent(t, t.root(), t, t.root(), stop, what);
+    }
+    bool ran = false;
+    const Calls calls = newDescent(t, t.root(), t, t.root(), 0, ran);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (auto [u, v] : calls) found.insert({std::min(u, v), std::max(u, v)});
+    EXPECT_EQ(found.size(), calls.size()) << what << ": a pair reported twice";
+    EXPECT_EQ(found, bruteForce(f, f, true)) << what;
+    const auto& nodes = t.nodes();
+    for (std::size_t i = 0; everyNode && i < nodes.size(); ++i) {
+        if (nodes[i].height < 0) continue;
+        expectSameDescent(t, static_cast<std::int32_t>(i), t, static_cast<std::int32_t>(i), 0, what);
+    }
+    std::uniform_int_distribution<std::size_t> pick(0, nodes.size() - 1);
+    for (int k = 0; k < 500; ++k) {
+        const std::size_t i = pick(rng), j = pick(rng);
+        if (nodes[i].height < 0 || nodes[j].height < 0) continue;
+        expectSameDescent(t, static_cast<std::int32_t>(i), t, static_cast<std::int32_t>(j), k % 3 == 0 ? 2 : 0, what);
+    }
+    ASSERT_TRUE(f.tree.selfDescentPrepared()) << what << ": a const descent changed nothing";
+}
+
+TEST(OverlapPairsOrder, TheDepthFirstCopyDescendsAsThePool) {
+    std::uniform_real_distribution<float> step(-3, 3);
+    for (const int count : {2500, 2800, 3400}) {
+        std::mt19937 rng(static_cast<std::uint32_t>(count));
+        Forest f;
+        grow(f, rng, count, 7, false);  // reinsertions only: no copy until asked
+        ASSERT_GE(f.tree.proxyCount(), DynamicTree::kBranchFreeDescentLeaves - 250);
+        if (f.tree.proxyCount() < DynamicTree::kBranchFreeDescentLeaves) {
+            f.tree.prepareSelfDescent();  // too small: no copy, the pool's loops
+            EXPECT_FALSE(f.tree.selfDescentPrepared());
+            // Grown past the threshold by inserts, it gets one.
+            while (f.tree.proxyCount() < DynamicTree::kBranchFreeDescentLeaves) {
+                const AABB b = AABB::fromCenterHalf(Vec3{step(rng), step(rng), step(rng)} * 10, Vec3::splat(Real(0.5)));
+                f.ids.push_back(f.tree.createProxy(b, 900000u + static_cast<std::uint32_t>(f.ids.size()), Vec3::zero()));
+                f.tight.push_back(b);
+            }
+        }
+        EXPECT_FALSE(f.tree.selfDescentPrepared());
+        f.tree.prepareSelfDescent();
+        expectCopyDescentIsThePools(f, rng, "copy after reinsertions", true);
+
+        // Every change to the tree puts the copy out of use; the pool's
+        // descent then still finds exactly brute force's pairs.
+        const auto expectStaleUnused = [&](const char* what) {
+            EXPECT_FALSE(f.tree.selfDescentPrepared()) << what;
+            expectSameDescent(f.tree, f.tree.root(), f.tree, f.tree.root(), 0, what);
+            f.tree.prepareSelfDescent();
+            expectSameDescent(f.tree, f.tree.root(), f.tree, f.tree.root(), 0, what);
+        };
+        const Vec3 d{5, -4, 3};
+        f.tight[5] = AABB{f.tight[5].min + d, f.tight[5].max + d};
+        f.tree.moveProxy(f.ids[5], f.tight[5], d);
+        expectStaleUnused("after a move");
+        f.tree.setFatBox(f.ids[9], f.tight[9], Vec3{6, 0, 0});
+        f.tree.reinsert(f.ids[9]);
+        expectStaleUnused("after setFatBox and reinsert");
+        f.tree.destroyProxy(f.ids.back());
+        f.ids.pop_back();
+        f.tight.pop_back();
+        expectStaleUnused("after a removal");
+        const AABB b = AABB::fromCenterHalf(Vec3{1, 2, 3}, Vec3::splat(2));
+        f.ids.push_back(f.tree.createProxy(b, 800000u, Vec3::zero()));
+        f.tight.push_back(b);
+        expectStaleUnused("after an insertion");
+        f.tree.rebuild();
+        expectStaleUnused("after a rebuild");
+        EXPECT_EQ(f.tree.validate(), "");
+
+        // Bulk motion: the refit writes the copy itself (a rebuild leaves it
+        // to prepareSelfDescent); either way the same calls as the pool's.
+        int refits = 0;
+        for (int round = 0; round < 5; ++round) {
+            for (std::size_t k = 0; k < f.ids.size(); ++k) {
+                const Vec3 m{step(rng), step(rng), step(rng)};
+                f.tight[k] = AABB{f.tight[k].min + m, f.tight[k].max + m};
+                f.tree.setFatBox(f.ids[k], f.tight[k], m);
+            }
+            if (!f.tree.refitOrRebuild()) {
+                ++refits;
+                EXPECT_TRUE(f.tree.selfDescentPrepared());
+            } else {
+                EXPECT_FALSE(f.tree.selfDescentPrepared());
+                f.tree.prepareSelfDescent();
+            }
+            ASSERT_EQ(f.tree.validate(), "");
+            expectCopyDescentIsThePools(f, rng, "copy after a bulk update", round == 0);
+        }
+        EXPECT_GT(refits, 0);
+    }
+}
+
 TEST(OverlapPairsOrder, OneLeafTreesAndEmptyTrees) {
     DynamicTree one, two, empty;
     const std::int32_t a = one.createProxy(AABB{Vec3::splat(0), Vec3::splat(1)}, 7);
