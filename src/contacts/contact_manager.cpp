@@ -964,7 +964,7 @@ void ContactManager::updateTouching(BodyStore& w, Contact& c, bool touching) {
 // old manifold's points. Each is requested a few contacts ahead, in the order
 // the reads depend on each other: the contact, then what it points to, then
 // what those point to. Hints only: no result depends on them.
-constexpr std::uint32_t kAheadContact = 8, kAheadRecords = 4, kAheadBoxes = 2;
+constexpr std::uint32_t kAheadContact = 16, kAheadRecords = 8, kAheadBoxes = 4;
 
 namespace {
 

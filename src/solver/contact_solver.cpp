@@ -53,7 +53,7 @@ constexpr Real kPushShareDepth = Real(0.05);
 
 // The pending-list pass reads each contact's manifolds (their own heap
 // blocks, scattered): requested this many contacts ahead. A hint only.
-constexpr std::size_t kManifoldsAhead = 4;
+constexpr std::size_t kManifoldsAhead = 16;
 
 void prefetchFirstManifold(const Contact& c) {
 #if defined(__GNUC__) || defined(__clang__)
