@@ -268,6 +268,23 @@ public:
 
     // Whether two proxies' fat boxes overlap: the caller ends a pair when false.
     bool testOverlap(ProxyId a, ProxyId b) const { return overlaps(fatAABB(a), fatAABB(b)); }
+    // Hints for a caller about to run testOverlap over many scattered pairs
+    // (the contact manager's end test): load a proxy's record, then, once
+    // that has arrived, its leaf's box. No effect on any result.
+    void prefetchRecord(ProxyId id) const {
+#if defined(__GNUC__) || defined(__clang__)
+        __builtin_prefetch(&record(id));
+#else
+        (void)id;
+#endif
+    }
+    void prefetchFatBox(ProxyId id) const {
+#if defined(__GNUC__) || defined(__clang__)
+        __builtin_prefetch(&fatAABB(id));
+#else
+        (void)id;
+#endif
+    }
 
     // ---- accessors
     bool isProxy(ProxyId id) const {

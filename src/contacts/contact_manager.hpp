@@ -229,6 +229,8 @@ private:
     // Runs on any worker: reads the world, writes only c and scratch; returns
     // kTouching / kWakeA / kWakeB flags that update() applies in index order.
     std::uint8_t collideContact(const BodyStore& w, Contact& c, Real dt, NarrowScratch& scratch) const;
+    // Cache hints for a contact update()'s loop reaches soon (contact_manager.cpp).
+    void prefetchRecords(const BodyStore& w, const Contact& c) const;
     bool recordPieces(Contact& c, NarrowScratch& ns, bool meshIsA, const Shape& pieceShape, const Transform& toPiece,
                       const SpeculativeReach& reach, const ChildReach* pieceChildren) const;
     std::uint8_t collideSpheres(const BodyStore& w, Contact& c, std::uint32_t dA, std::uint32_t dB, Real margin) const;

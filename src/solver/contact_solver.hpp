@@ -194,6 +194,9 @@ private:
     std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
+        // Bit i: manifold i has a point deeper than the push-sharing depth
+        // (the first 32 manifolds; the pending-list pass reads the rest).
+        std::uint32_t overlapping = 0;
     };
     std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
     std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those
