@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "joint_test_util.hpp"
+#include "support/same_motion.hpp"
 #include "world/world_access.hpp"
 
 using namespace fulcrum;
@@ -188,15 +189,9 @@ void expectPathsAgree(const std::function<Scene(World&)>& build, int steps, int 
         for (std::size_t p = 1; p < worlds.size(); ++p) {
             const World& world = *worlds[p];
             for (std::size_t i = 0; i < scenes[0].bodies.size(); ++i) {
-                const BodyId a = scenes[p].bodies[i], b = scenes[0].bodies[i];
-                const Vec3 pa = world.position(a), pb = reference.position(b);
-                const Quat qa = world.orientation(a), qb = reference.orientation(b);
-                const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z &&
-                                  world.linearVelocity(a) == reference.linearVelocity(b) &&
-                                  world.angularVelocity(a) == reference.angularVelocity(b);
-                ASSERT_TRUE(same) << detail::simdPathName(paths[p]) << " (" << threads << " threads): body " << i
-                                  << " differs from the scalar path at step " << step + 1 << ": position (" << pa.x
-                                  << ", " << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", " << pb.z << ")";
+                ASSERT_TRUE(test::sameMotion(world, scenes[p].bodies[i], reference, scenes[0].bodies[i]))
+                    << detail::simdPathName(paths[p]) << " (" << threads << " threads): body " << i
+                    << " differs from the scalar path at step " << step + 1;
             }
         }
     }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "joint_test_util.hpp"
+#include "support/same_motion.hpp"
 #include "world/world_access.hpp"
 
 using namespace fulcrum;
@@ -118,16 +119,9 @@ void expectGroupedAsUngrouped(int steps) {
         for (std::size_t p = 1; p < worlds.size(); ++p) {
             const World& world = *worlds[p];
             for (std::size_t i = 0; i < bodies[0].size(); ++i) {
-                const BodyId a = bodies[p][i], b = bodies[0][i];
-                const Vec3 pa = world.position(a), pb = reference.position(b);
-                const Quat qa = world.orientation(a), qb = reference.orientation(b);
-                const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z &&
-                                  world.linearVelocity(a) == reference.linearVelocity(b) &&
-                                  world.angularVelocity(a) == reference.angularVelocity(b);
-                ASSERT_TRUE(same) << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads): body "
-                                  << i << " differs from the ungrouped run at step " << step + 1 << ": position ("
-                                  << pa.x << ", " << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", "
-                                  << pb.z << ")";
+                ASSERT_TRUE(test::sameMotion(world, bodies[p][i], reference, bodies[0][i]))
+                    << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads): body " << i
+                    << " differs from the ungrouped run at step " << step + 1;
             }
         }
     }
@@ -237,16 +231,9 @@ TEST(TreeLanes, WideEndsMoveAsTreeByTree) {
         for (std::size_t p = 1; p < worlds.size(); ++p) {
             const World& world = *worlds[p];
             for (std::size_t i = 0; i < bodies[0].size(); ++i) {
-                const BodyId a = bodies[p][i], b = bodies[0][i];
-                const Vec3 pa = world.position(a), pb = reference.position(b);
-                const Quat qa = world.orientation(a), qb = reference.orientation(b);
-                const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z &&
-                                  world.linearVelocity(a) == reference.linearVelocity(b) &&
-                                  world.angularVelocity(a) == reference.angularVelocity(b);
-                ASSERT_TRUE(same) << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads): body "
-                                  << i << " differs from the tree-by-tree ends at step " << step + 1 << ": position ("
-                                  << pa.x << ", " << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", "
-                                  << pb.z << ")";
+                ASSERT_TRUE(test::sameMotion(world, bodies[p][i], reference, bodies[0][i]))
+                    << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads): body " << i
+                    << " differs from the tree-by-tree ends at step " << step + 1;
             }
         }
     }

@@ -13,6 +13,7 @@
 
 #include "contacts/helpers.hpp"
 #include "fulcrum/task_system.hpp"
+#include "support/same_motion.hpp"
 #include "world/world_access.hpp"
 
 using namespace fulcrum;
@@ -92,15 +93,8 @@ void expectWideAgreesWithScalar(detail::SimdPath path) {
         scalar.step(kDt);
         maxConstraints = std::max(maxConstraints, detail::implOf(wide).contactSolver.constraintCount());
         for (std::size_t i = 0; i < a.size(); ++i) {
-            const Vec3 pa = wide.position(a[i]), pb = scalar.position(b[i]);
-            const Quat qa = wide.orientation(a[i]), qb = scalar.orientation(b[i]);
-            const Vec3 va = wide.linearVelocity(a[i]), vb = scalar.linearVelocity(b[i]);
-            const Vec3 wa = wide.angularVelocity(a[i]), wb = scalar.angularVelocity(b[i]);
-            const bool same = pa == pb && qa.w == qb.w && qa.x == qb.x && qa.y == qb.y && qa.z == qb.z && va == vb &&
-                              wa == wb;
-            ASSERT_TRUE(same) << detail::simdPathName(path) << ": body " << i << " differs at step " << step
-                              << ": position (" << pa.x << ", "
-                              << pa.y << ", " << pa.z << ") vs (" << pb.x << ", " << pb.y << ", " << pb.z << ")";
+            ASSERT_TRUE(test::sameMotion(wide, a[i], scalar, b[i]))
+                << detail::simdPathName(path) << ": body " << i << " differs at step " << step;
         }
     }
     // The pile really exercised the solver: well over one block per colour.
