@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
 #include "math/simd.hpp"
 #include "solver/joints/joint_types.hpp"
@@ -265,6 +266,8 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     groupOf_.clear();
     lanePassesOf_.clear();
     laneFactorPassesOf_.clear();
+    laneFactorChecksOf_.clear();
+    laneFactorMismatchesOf_.clear();
     laneOnly_.clear();
     treeStart_.clear();
     const std::size_t nb = bodies.size(), nj = joints.size();
@@ -1248,12 +1251,70 @@ void JointTreeSolver::factorGroupInLanes(std::uint32_t first, std::vector<JointC
     }
     ++laneFactorPassesOf_[first];
     for (std::uint32_t k = 0; k < 4; ++k) laneOnly_[first + k] = 1;
+    if (laneFactorCheck_) {
+        for (std::uint32_t k = 0; k < 4; ++k) {
+            ++laneFactorChecksOf_[first];
+            if (!laneFactorMatchesScalar(first + k, joints, bodies, ctx)) ++laneFactorMismatchesOf_[first];
+        }
+    }
 #if FULCRUM_TREE_WIDE_ENDS
     const bool wide = wideEnds_;
 #else
     const bool wide = false;
 #endif
     groupImpulses(first, joints, bodies, ctx, 0, wide);
+}
+
+bool JointTreeSolver::laneFactorMatchesScalar(std::uint32_t tree, std::vector<JointConstraint>& joints,
+                                              const SolverBody* bodies, const JointContext& ctx) {
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    buildBlocks(tree, joints, bodies, ctx);
+    // solveTree's eliminations and back-substitution.
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const Node& n = nodes_[i];
+        bool ok;
+        if (!n.joint) {
+            ok = eliminate<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            ok = eliminateChainJoint(i);
+        } else {
+            ok = eliminate<3, 6>(i);
+        }
+        if (!ok) return false;
+    }
+    for (std::uint32_t i = end; i-- > begin;) {
+        const Node& n = nodes_[i];
+        if (!n.joint) {
+            backSubstitute<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            backSubstituteChainJoint(i);
+        } else {
+            backSubstitute<3, 6>(i);
+        }
+    }
+    laneOnly_[tree] = 0;  // factors_ holds the same factorization now
+    const std::uint32_t group = groupOf_[tree];
+    const int lane = static_cast<int>(tree - group);
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[group];
+    const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; };
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const TreeLaneNode& n = lanes[i - begin];
+        const Factor& f = factors_[i];
+        const TreeLane4* b = laneData_.data() + n.off;
+        const TreeLane4* D = b + 2 * n.dim;
+        const TreeLane4* Hp = D + n.dim * n.dim;
+        const TreeLane4* X = Hp + n.pdim * n.dim;
+        for (int k = 0; k < n.dim; ++k) {
+            if (!same(f.y[k], b[n.dim + k].v[lane])) return false;
+            for (int c = 0; c < n.dim; ++c) {
+                if (!same(f.D[k][c], D[k * n.dim + c].v[lane])) return false;
+            }
+            for (int r = 0; r < n.pdim; ++r) {
+                if (!same(f.Hp[r][k], Hp[r * n.dim + k].v[lane]) || !same(f.X[r][k], X[r * n.dim + k].v[lane])) return false;
+            }
+        }
+    }
+    return true;
 }
 
 // The group's impulses after its lanes' kernel (the kept-factor passes' and
@@ -1692,10 +1753,27 @@ void JointTreeSolver::copyFactorToLanes(std::uint32_t tree) {
     }
 }
 
+bool JointTreeSolver::sameLaneBlocks(const JointTreeSolver& other) const {
+    if (groupOf_ != other.groupOf_ || laneData_.size() != other.laneData_.size()) return false;
+    for (std::uint32_t t = 0; t < trees_; ++t) {
+        if (groupOf_[t] != t) continue;
+        for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
+            const TreeLaneNode& n = laneNodes_[i];
+            // After z[dim] and y[dim]: D^-1, Hp, X.
+            const std::size_t from = n.off + 2u * n.dim, count = n.dim * n.dim + 2u * n.pdim * n.dim;
+            if (std::memcmp(laneData_.data() + from, other.laneData_.data() + from, count * sizeof(TreeLane4)) != 0)
+                return false;
+        }
+    }
+    return true;
+}
+
 void JointTreeSolver::groupTrees() {
     groupOf_.assign(trees_, kNone);
     lanePassesOf_.assign(trees_, 0);
     laneFactorPassesOf_.assign(trees_, 0);
+    laneFactorChecksOf_.assign(trees_, 0);
+    laneFactorMismatchesOf_.assign(trees_, 0);
     laneOnly_.assign(trees_, 0);
     laneNodes_.resize(nodes_.size());
     const auto sameShape = [&](std::uint32_t t, std::uint32_t u) {
