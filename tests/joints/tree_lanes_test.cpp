@@ -265,3 +265,91 @@ TEST(TreeLanes, WideEndsMoveAsTreeByTree) {
     }
 }
 
+
+// The passes that factor, for a group of four, in lanes too
+// (JointTreeSolver::setLaneFactor, branch `rain8`: factorTreeLanes, the
+// eliminations of every node kind and the back-substitution, then the
+// group's impulses) against the same groups factored tree by tree (and
+// their blocks copied into the lanes): every body bit for bit after each
+// step, on the baseline and AVX2 kernels, on one and three threads, and with
+// the wide ends off (the factoring pass's impulses tree by tree, from the
+// lanes' y). The mixed trees above: free ragdolls (root body, body below a
+// joint, joints below bodies and below joints), hanging ragdolls (a root
+// joint with a static end) and stars (a root body, contracted leaves,
+// folded warm starts). The same lane passes, guard trips (a tripped tree of
+// a group factored in lanes takes its blocks from the lanes for nothing:
+// it factors alone) and factorizations.
+TEST(TreeLanes, LaneFactorizationsMoveAsTreeByTree) {
+    struct FactorRun {
+        SimdPath path;
+        int threads;
+        bool laneFactor, wide;
+    };
+    std::vector<FactorRun> runs = {{SimdPath::Sse2, 1, false, true},
+                                   {SimdPath::Sse2, 1, true, true},
+                                   {SimdPath::Sse2, 3, true, true},
+                                   {SimdPath::Sse2, 1, true, false}};
+    if (detail::avx2Available()) {
+        runs.push_back({SimdPath::Avx2, 1, true, true});
+        runs.push_back({SimdPath::Avx2, 3, true, true});
+        runs.push_back({SimdPath::Avx2, 1, true, false});
+    }
+    std::vector<std::unique_ptr<World>> worlds;
+    std::vector<std::vector<BodyId>> bodies;
+    for (const FactorRun& run : runs) {
+        WorldDef def = worldDef(4);
+        def.parallelMinBodies = 0;
+        worlds.push_back(std::make_unique<World>(def));
+        World& world = *worlds.back();
+        world.setThreadCount(run.threads);
+        detail::JointSolver& joints = detail::implOf(world).jointSolver;
+        ASSERT_EQ(joints.setSimdPath(run.path), run.path);
+        joints.trees().setLaneFactor(run.laneFactor);
+        joints.trees().setLaneFactorCheck(run.laneFactor);
+        joints.trees().setWideEnds(run.wide);
+        bodies.push_back(buildMixedTrees(world));
+    }
+    const int steps = 200;
+    for (int step = 0; step < steps; ++step) {
+        for (std::size_t p = 0; p < worlds.size(); ++p) {
+            worlds[p]->step(kDt);
+            if (step != 0) continue;
+            const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
+            ASSERT_EQ(trees.treeCount(), 16u);
+            EXPECT_EQ(trees.groupedTreeCount(), 16u);
+            EXPECT_EQ(trees.laneFactor(), runs[p].laneFactor);
+            // Every group factored at the step's first pass: in lanes, or not at all.
+            EXPECT_EQ(trees.laneFactorPasses(), runs[p].laneFactor ? 4u : 0u);
+        }
+        const World& reference = *worlds[0];
+        for (std::size_t p = 1; p < worlds.size(); ++p) {
+            const World& world = *worlds[p];
+            for (std::size_t i = 0; i < bodies[0].size(); ++i) {
+                ASSERT_TRUE(test::sameMotion(world, bodies[p][i], reference, bodies[0][i]))
+                    << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads, wide ends "
+                    << runs[p].wide << "): body " << i << " differs from the tree-by-tree factorizations at step "
+                    << step + 1;
+            }
+            // The double blocks kept at the step's end too (a last-bit error
+            // there rarely reaches a float; most are a tripped tree's own).
+            ASSERT_TRUE(detail::implOf(world).jointSolver.trees().sameLaneBlocks(detail::implOf(reference).jointSolver.trees()))
+                << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads, wide ends " << runs[p].wide
+                << "): the lanes' factorizations differ from the tree-by-tree ones at step " << step + 1;
+            // Every factorization in lanes against the scalar one, in doubles (setLaneFactorCheck).
+            ASSERT_EQ(detail::implOf(world).jointSolver.trees().laneFactorMismatches(), 0u)
+                << detail::simdPathName(runs[p].path) << " (" << runs[p].threads << " threads, wide ends " << runs[p].wide
+                << "): a tree factored in lanes differs from its scalar factorization at step " << step + 1;
+        }
+    }
+    const detail::JointTreeSolver& reference = detail::implOf(*worlds[0]).jointSolver.trees();
+    EXPECT_EQ(reference.laneFactorPasses(), 0u);
+    EXPECT_GT(reference.guardTrips(), 0u);
+    for (std::size_t p = 1; p < worlds.size(); ++p) {
+        const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
+        EXPECT_GT(trees.laneFactorPasses(), 0u);
+        EXPECT_EQ(trees.laneFactorChecks(), 4 * trees.laneFactorPasses());
+        EXPECT_EQ(trees.lanePasses(), reference.lanePasses());
+        EXPECT_EQ(trees.guardTrips(), reference.guardTrips());
+        EXPECT_EQ(trees.factorizations(), reference.factorizations());
+    }
+}

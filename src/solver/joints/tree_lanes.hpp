@@ -42,6 +42,16 @@ struct TreeLaneNode {
 // back-substitution parents first. z in, y out, in `data`.
 void solveTreeLanes(const TreeLaneNode* nodes, std::uint32_t count, TreeLane4* data);
 void solveTreeLanesAvx2(const TreeLaneNode* nodes, std::uint32_t count, TreeLane4* data);
+// The factorization of a pass that factors (issue 21, branch `rain8`), for
+// one group: JointTreeSolver::eliminate<dim, pdim> and eliminateChainJoint,
+// children first, then the back-substitution, each lane the scalar
+// operations in the scalar order. In `data`: z the right-hand side, D's
+// slot D's lower triangle (row major), Hp H(parent, this); out: D^-1 (full),
+// X, z forward-substituted and y, as the kept-factor passes read them.
+// Returns the lanes (bit k: tree k) whose elimination failed (a block not
+// definite: the scalar code's `false`); their values are not to be used.
+unsigned factorTreeLanes(const TreeLaneNode* nodes, std::uint32_t count, TreeLane4* data);
+unsigned factorTreeLanesAvx2(const TreeLaneNode* nodes, std::uint32_t count, TreeLane4* data);
 // Whether tree_lanes_avx2.cpp was compiled with AVX2 (else solveTreeLanesAvx2 is the baseline one).
 bool treeLanesAvx2Compiled();
 

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
 #include "math/simd.hpp"
 #include "solver/joints/joint_types.hpp"
@@ -264,6 +265,10 @@ void JointTreeSolver::findTrees(std::vector<JointConstraint>& joints, const std:
     trees_ = 0;
     groupOf_.clear();
     lanePassesOf_.clear();
+    laneFactorPassesOf_.clear();
+    laneFactorChecksOf_.clear();
+    laneFactorMismatchesOf_.clear();
+    laneOnly_.clear();
     treeStart_.clear();
     const std::size_t nb = bodies.size(), nj = joints.size();
     const auto dynamic = [&](std::uint32_t i) { return i != 0 && bodies[i].invMass > 0; };
@@ -652,6 +657,7 @@ bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConst
     const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
     if (!reusedResiduals(tree, joints, bodies, ctx, [this](std::uint32_t i, int k) -> double& { return factors_[i].z[k]; }))
         return false;
+    if (laneOnly_[tree]) copyFactorFromLanes(tree);  // factored in its group's lanes (factorGroupInLanes)
     // Forward substitution on the stored factor, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         switch (kind_[i]) {
@@ -677,6 +683,77 @@ bool JointTreeSolver::solveTreeReused(std::uint32_t tree, std::vector<JointConst
     return true;
 }
 
+// solveTree's (and factorGroupInLanes') first step of a factorization: the
+// initial diagonal blocks and right-hand sides, parents first (a joint below
+// a contracted body adds that body's share to its parent joint), and the
+// anchors, into factors_.
+void JointTreeSolver::buildBlocks(std::uint32_t tree, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                                  const JointContext& ctx) {
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    // Initial diagonal blocks and right-hand sides, parents first (a joint
+    // below a contracted body adds that body's share to its parent joint).
+    for (std::uint32_t i = end; i-- > begin;) {
+        const Node& n = nodes_[i];
+        Factor& f = factors_[i];
+        if (n.joint) {
+            JointConstraint& j = joints[n.ref];
+            const SolverBody& a = bodies[j.bodyA];
+            const SolverBody& b = bodies[j.bodyB];
+            const JointFrame& fr = currentFrame(j, a, b, ctx);
+            f.rA = fr.rA;
+            f.rB = fr.rB;
+            Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
+            if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
+            f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
+            f.factorA = fr.rA;
+            f.factorB = fr.rB;
+            // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
+            // eliminated before everything else (build()). A contracted leaf's
+            // share is added here by its joint; the share of a contracted body
+            // with a child joint by that child, below, with the coupling.
+            f.D[0][0] = f.D[1][0] = f.D[1][1] = f.D[2][0] = f.D[2][1] = f.D[2][2] = 0;  // lower triangle: all that is read
+            double T[3][3];
+            if (n.ownA) {
+                const BodyCoupling ca(a);
+                ca.rightSkew(T, fr.rA);
+                ca.subtractShare(f.D, fr.rA, T);
+            }
+            if (n.ownB) {
+                const BodyCoupling cb(b);
+                cb.rightSkew(T, fr.rB);
+                cb.subtractShare(f.D, fr.rB, T);
+            }
+            if (n.via != kNone) {
+                // The contracted body between this joint (anchor c) and the
+                // parent joint (anchor p): its share of both joints' K and the
+                // coupling H(parent, this) = -J_p M^-1 J_c^T.
+                Factor& pf = factors_[n.parent];
+                const BodyCoupling cv(bodies[n.via]);
+                const Vec3& c = n.viaIsA ? fr.rA : fr.rB;
+                const Vec3& p = n.viaIsParentA ? pf.rA : pf.rB;
+                const double sc = n.viaIsA ? -1 : 1, sp = n.viaIsParentA ? -1 : 1;
+                cv.rightSkew(T, c);
+                cv.subtractShare(f.D, c, T);
+                cv.couple(f.Hp, p, T, -sp * sc);
+                cv.rightSkew(T, p);
+                cv.subtractShare(pf.D, p, T);
+            }
+        } else {
+            for (double& z : f.z) z = 0;
+            const SolverBody& b = bodies[n.ref];
+            for (auto& row : f.D) {
+                for (double& x : row) x = 0;
+            }
+            const double m = 1.0 / static_cast<double>(b.invMass);
+            const Mat3 I = inverse(b.invI);
+            for (int k = 0; k < 3; ++k) {
+                f.D[k][k] = m;
+                for (int l = 0; l < 3; ++l) f.D[3 + k][3 + l] = static_cast<double>(I(k, l));
+            }
+        }
+    }
+}
+
 bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
                                 const JointContext& ctx, bool refactor, bool foldedWarmStart) {
     if (chain_[tree]) return solveChain(tree, joints, bodies, ctx, refactor, foldedWarmStart);
@@ -693,70 +770,8 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
         ++guardTripsOf_[tree];  // tripped (nothing applied): factor now, below
     }
     const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
-    {
-        // Initial diagonal blocks and right-hand sides, parents first (a joint
-        // below a contracted body adds that body's share to its parent joint).
-        for (std::uint32_t i = end; i-- > begin;) {
-            const Node& n = nodes_[i];
-            Factor& f = factors_[i];
-            if (n.joint) {
-                JointConstraint& j = joints[n.ref];
-                const SolverBody& a = bodies[j.bodyA];
-                const SolverBody& b = bodies[j.bodyB];
-                const JointFrame& fr = currentFrame(j, a, b, ctx);
-                f.rA = fr.rA;
-                f.rB = fr.rB;
-                Vec3 r = b.v + cross(b.w, fr.rB) - a.v - cross(a.w, fr.rA);
-                if (ctx.useBias) r += fr.d * ctx.soft.biasRate;
-                f.z[0] = r.x, f.z[1] = r.y, f.z[2] = r.z;
-                f.factorA = fr.rA;
-                f.factorB = fr.rB;
-                // D = -(the contracted ends' share of J M^-1 J^T): those bodies are
-                // eliminated before everything else (build()). A contracted leaf's
-                // share is added here by its joint; the share of a contracted body
-                // with a child joint by that child, below, with the coupling.
-                f.D[0][0] = f.D[1][0] = f.D[1][1] = f.D[2][0] = f.D[2][1] = f.D[2][2] = 0;  // lower triangle: all that is read
-                double T[3][3];
-                if (n.ownA) {
-                    const BodyCoupling ca(a);
-                    ca.rightSkew(T, fr.rA);
-                    ca.subtractShare(f.D, fr.rA, T);
-                }
-                if (n.ownB) {
-                    const BodyCoupling cb(b);
-                    cb.rightSkew(T, fr.rB);
-                    cb.subtractShare(f.D, fr.rB, T);
-                }
-                if (n.via != kNone) {
-                    // The contracted body between this joint (anchor c) and the
-                    // parent joint (anchor p): its share of both joints' K and the
-                    // coupling H(parent, this) = -J_p M^-1 J_c^T.
-                    Factor& pf = factors_[n.parent];
-                    const BodyCoupling cv(bodies[n.via]);
-                    const Vec3& c = n.viaIsA ? fr.rA : fr.rB;
-                    const Vec3& p = n.viaIsParentA ? pf.rA : pf.rB;
-                    const double sc = n.viaIsA ? -1 : 1, sp = n.viaIsParentA ? -1 : 1;
-                    cv.rightSkew(T, c);
-                    cv.subtractShare(f.D, c, T);
-                    cv.couple(f.Hp, p, T, -sp * sc);
-                    cv.rightSkew(T, p);
-                    cv.subtractShare(pf.D, p, T);
-                }
-            } else {
-                for (double& z : f.z) z = 0;
-                const SolverBody& b = bodies[n.ref];
-                for (auto& row : f.D) {
-                    for (double& x : row) x = 0;
-                }
-                const double m = 1.0 / static_cast<double>(b.invMass);
-                const Mat3 I = inverse(b.invI);
-                for (int k = 0; k < 3; ++k) {
-                    f.D[k][k] = m;
-                    for (int l = 0; l < 3; ++l) f.D[3 + k][3 + l] = static_cast<double>(I(k, l));
-                }
-            }
-        }
-    }
+    laneOnly_[tree] = 0;  // factors_ holds this factorization
+    buildBlocks(tree, joints, bodies, ctx);
     // Factor and forward-substitute, children first.
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
@@ -1135,9 +1150,14 @@ void JointTreeSolver::solveTrees(std::uint32_t firstTree, std::uint32_t endTree,
         // A group of four whole in this range, all on a kept factorization:
         // in lanes. Anything else (a pass that factors, a singular tree, a
         // group cut by the range) one tree at a time, with the same bits.
-        if (lanes_ != 0 && !refactor && groupOf_[t] == t && t + 4 <= endTree && valid_[t] && valid_[t + 1] &&
-            valid_[t + 2] && valid_[t + 3]) {
-            solveGroupInLanes(t, joints, bodies, ctx);
+        // A pass that factors factors such a group in lanes too (setLaneFactor).
+        if (lanes_ != 0 && (!refactor || laneFactor_) && groupOf_[t] == t && t + 4 <= endTree && valid_[t] &&
+            valid_[t + 1] && valid_[t + 2] && valid_[t + 3]) {
+            if (refactor) {
+                factorGroupInLanes(t, joints, bodies, ctx);
+            } else {
+                solveGroupInLanes(t, joints, bodies, ctx);
+            }
             t += 3;
             continue;
         }
@@ -1204,6 +1224,106 @@ void JointTreeSolver::solveGroupInLanes(std::uint32_t first, std::vector<JointCo
             solveTreeLanes(lanes, count, data);
         }
     }
+    groupImpulses(first, joints, bodies, ctx, tripped, wide);
+}
+
+// A group of four on a pass that factors: each tree's blocks built as
+// solveTree builds them, gathered into its lane, the eliminations and the
+// back-substitution in the lanes' factor kernel, then the impulses as a
+// kept-factor pass applies them (same bits as solveTree tree by tree: the
+// trees share no moving body). The kernel's blocks stay in the lanes for the
+// kept-factor passes; factors_ gets them only if a scalar pass needs them
+// (laneOnly_, solveTreeReused). A block not definite in any tree: the four
+// one by one, as without lanes (nothing was applied yet).
+void JointTreeSolver::factorGroupInLanes(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                         const JointContext& ctx) {
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[first];
+    const std::uint32_t count = treeStart_[first + 1] - treeStart_[first];
+    TreeLane4* data = laneData_.data();
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        buildBlocks(first + k, joints, bodies, ctx);
+        gatherBlocksToLane(first + k);
+    }
+    const unsigned failed = lanes_ == 2 ? factorTreeLanesAvx2(lanes, count, data) : factorTreeLanes(lanes, count, data);
+    if (failed != 0) {
+        for (std::uint32_t k = 0; k < 4; ++k) solveOneTree(first + k, joints, bodies, ctx, true);
+        return;
+    }
+    ++laneFactorPassesOf_[first];
+    for (std::uint32_t k = 0; k < 4; ++k) laneOnly_[first + k] = 1;
+    if (laneFactorCheck_) {
+        for (std::uint32_t k = 0; k < 4; ++k) {
+            ++laneFactorChecksOf_[first];
+            if (!laneFactorMatchesScalar(first + k, joints, bodies, ctx)) ++laneFactorMismatchesOf_[first];
+        }
+    }
+#if FULCRUM_TREE_WIDE_ENDS
+    const bool wide = wideEnds_;
+#else
+    const bool wide = false;
+#endif
+    groupImpulses(first, joints, bodies, ctx, 0, wide);
+}
+
+bool JointTreeSolver::laneFactorMatchesScalar(std::uint32_t tree, std::vector<JointConstraint>& joints,
+                                              const SolverBody* bodies, const JointContext& ctx) {
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    buildBlocks(tree, joints, bodies, ctx);
+    // solveTree's eliminations and back-substitution.
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const Node& n = nodes_[i];
+        bool ok;
+        if (!n.joint) {
+            ok = eliminate<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            ok = eliminateChainJoint(i);
+        } else {
+            ok = eliminate<3, 6>(i);
+        }
+        if (!ok) return false;
+    }
+    for (std::uint32_t i = end; i-- > begin;) {
+        const Node& n = nodes_[i];
+        if (!n.joint) {
+            backSubstitute<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            backSubstituteChainJoint(i);
+        } else {
+            backSubstitute<3, 6>(i);
+        }
+    }
+    laneOnly_[tree] = 0;  // factors_ holds the same factorization now
+    const std::uint32_t group = groupOf_[tree];
+    const int lane = static_cast<int>(tree - group);
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[group];
+    const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; };
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const TreeLaneNode& n = lanes[i - begin];
+        const Factor& f = factors_[i];
+        const TreeLane4* b = laneData_.data() + n.off;
+        const TreeLane4* D = b + 2 * n.dim;
+        const TreeLane4* Hp = D + n.dim * n.dim;
+        const TreeLane4* X = Hp + n.pdim * n.dim;
+        for (int k = 0; k < n.dim; ++k) {
+            if (!same(f.y[k], b[n.dim + k].v[lane])) return false;
+            for (int c = 0; c < n.dim; ++c) {
+                if (!same(f.D[k][c], D[k * n.dim + c].v[lane])) return false;
+            }
+            for (int r = 0; r < n.pdim; ++r) {
+                if (!same(f.Hp[r][k], Hp[r * n.dim + k].v[lane]) || !same(f.X[r][k], X[r * n.dim + k].v[lane])) return false;
+            }
+        }
+    }
+    return true;
+}
+
+// The group's impulses after its lanes' kernel (the kept-factor passes' and
+// the factoring passes'), y in the lanes: the four at once where none
+// tripped and they fold the warm start alike, else tree by tree.
+void JointTreeSolver::groupImpulses(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                                    const JointContext& ctx, unsigned tripped, bool wide) {
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[first];
+    const TreeLane4* data = laneData_.data();
 #if FULCRUM_TREE_WIDE_ENDS
     // The four trees' impulses at once, where no guard tripped and the four
     // fold the warm start alike (in rain always).
@@ -1509,6 +1629,109 @@ void copyBlocksToLane(const F& f, TreeLane4* block, int lane) {
 
 }  // namespace
 
+namespace {
+
+// The reverse of copyBlocksToLane: lane `lane` of a block into the node's
+// Factor (D^-1, Hp, X: what a kept-factor pass reads).
+template <int dim, int pdim, class F>
+void copyLaneToBlocks(F& f, const TreeLane4* block, int lane) {
+    const TreeLane4* D = block + 2 * dim;
+    const TreeLane4* Hp = D + dim * dim;
+    const TreeLane4* X = Hp + pdim * dim;
+    for (int r = 0; r < dim; ++r) {
+        for (int k = 0; k < dim; ++k) f.D[r][k] = D[r * dim + k].v[lane];
+    }
+    for (int r = 0; r < pdim; ++r) {
+        for (int k = 0; k < dim; ++k) f.Hp[r][k] = Hp[r * dim + k].v[lane];
+    }
+    for (int r = 0; r < pdim; ++r) {
+        for (int k = 0; k < dim; ++k) f.X[r][k] = X[r * dim + k].v[lane];
+    }
+}
+
+// A node's blocks before its elimination into lane `lane` (factorTreeLanes'
+// input): z, D's lower triangle and H(parent, this), given in Hp (row r,
+// column k: Hp[r][k]).
+template <int dim, int pdim, class F>
+void gatherToLane(const F& f, const double (*Hp)[6], TreeLane4* block, int lane) {
+    TreeLane4* D = block + 2 * dim;
+    TreeLane4* H = D + dim * dim;
+    for (int k = 0; k < dim; ++k) block[k].v[lane] = f.z[k];
+    for (int r = 0; r < dim; ++r) {
+        for (int c = 0; c <= r; ++c) D[r * dim + c].v[lane] = f.D[r][c];
+    }
+    for (int r = 0; r < pdim; ++r) {
+        for (int k = 0; k < dim; ++k) H[r * dim + k].v[lane] = Hp[r][k];
+    }
+}
+
+}  // namespace
+
+void JointTreeSolver::copyFactorFromLanes(std::uint32_t tree) {
+    const std::uint32_t group = groupOf_[tree];
+    const int lane = static_cast<int>(tree - group);
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[group];
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const TreeLaneNode& n = lanes[i - begin];
+        Factor& f = factors_[i];
+        const TreeLane4* block = laneData_.data() + n.off;
+        if (n.kind == kJointBelowJoint) {
+            copyLaneToBlocks<3, 3>(f, block, lane);
+        } else if (n.kind == kBodyNode) {
+            if (n.pdim != 0) copyLaneToBlocks<6, 3>(f, block, lane);
+            else copyLaneToBlocks<6, 0>(f, block, lane);
+        } else {
+            if (n.pdim != 0) copyLaneToBlocks<3, 6>(f, block, lane);
+            else copyLaneToBlocks<3, 0>(f, block, lane);
+        }
+    }
+    laneOnly_[tree] = 0;
+}
+
+void JointTreeSolver::gatherBlocksToLane(std::uint32_t tree) {
+    const std::uint32_t group = groupOf_[tree];
+    const int lane = static_cast<int>(tree - group);
+    const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
+    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[group];
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const TreeLaneNode& ln = lanes[i - begin];
+        const Node& n = nodes_[i];
+        const Factor& f = factors_[i];
+        TreeLane4* block = laneData_.data() + ln.off;
+        if (ln.kind == kJointBelowJoint) {
+            gatherToLane<3, 3>(f, f.Hp, block, lane);  // H(parent, this) built with D (buildBlocks)
+        } else if (ln.kind == kBodyNode) {
+            if (ln.pdim == 0) {
+                gatherToLane<6, 0>(f, nullptr, block, lane);
+                continue;
+            }
+            // A body of the parent joint: eliminate<6, 3>'s H(parent, this).
+            const Factor& pf = factors_[n.parent];
+            double J[3][6];
+            jacobian(J, n.bodyIsA ? pf.rA : pf.rB, n.bodyIsA ? -1 : 1);
+            double H[6][6];
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 6; ++c) H[r][c] = J[r][c];
+            }
+            gatherToLane<6, 3>(f, H, block, lane);
+        } else {
+            if (ln.pdim == 0) {
+                gatherToLane<3, 0>(f, nullptr, block, lane);
+                continue;
+            }
+            // A joint on the parent body: eliminate<3, 6>'s transpose.
+            double J[3][6];
+            jacobian(J, n.bodyIsA ? f.rA : f.rB, n.bodyIsA ? -1 : 1);
+            double H[6][6];
+            for (int r = 0; r < 6; ++r) {
+                for (int c = 0; c < 3; ++c) H[r][c] = J[c][r];
+            }
+            gatherToLane<3, 6>(f, H, block, lane);
+        }
+    }
+}
+
 void JointTreeSolver::copyFactorToLanes(std::uint32_t tree) {
     const std::uint32_t group = groupOf_[tree];
     const int lane = static_cast<int>(tree - group);
@@ -1530,9 +1753,28 @@ void JointTreeSolver::copyFactorToLanes(std::uint32_t tree) {
     }
 }
 
+bool JointTreeSolver::sameLaneBlocks(const JointTreeSolver& other) const {
+    if (groupOf_ != other.groupOf_ || laneData_.size() != other.laneData_.size()) return false;
+    for (std::uint32_t t = 0; t < trees_; ++t) {
+        if (groupOf_[t] != t) continue;
+        for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
+            const TreeLaneNode& n = laneNodes_[i];
+            // After z[dim] and y[dim]: D^-1, Hp, X.
+            const std::size_t from = n.off + 2u * n.dim, count = n.dim * n.dim + 2u * n.pdim * n.dim;
+            if (std::memcmp(laneData_.data() + from, other.laneData_.data() + from, count * sizeof(TreeLane4)) != 0)
+                return false;
+        }
+    }
+    return true;
+}
+
 void JointTreeSolver::groupTrees() {
     groupOf_.assign(trees_, kNone);
     lanePassesOf_.assign(trees_, 0);
+    laneFactorPassesOf_.assign(trees_, 0);
+    laneFactorChecksOf_.assign(trees_, 0);
+    laneFactorMismatchesOf_.assign(trees_, 0);
+    laneOnly_.assign(trees_, 0);
     laneNodes_.resize(nodes_.size());
     const auto sameShape = [&](std::uint32_t t, std::uint32_t u) {
         const std::uint32_t bt = treeStart_[t], bu = treeStart_[u], n = treeStart_[t + 1] - bt;

@@ -122,6 +122,38 @@ public:
         for (const std::uint64_t k : lanePassesOf_) n += k;
         return n;
     }
+    // The passes that factor also factor each such group in its lanes
+    // (factorTreeLanes: the eliminations and the back-substitution, four
+    // trees at once, the same bits). On by default; off for tests.
+    void setLaneFactor(bool on) { laneFactor_ = on; }
+    bool laneFactor() const { return laneFactor_; }
+    // Tests: after each factorization in lanes, factor the four trees again
+    // tree by tree (solveTree's scalar eliminations and back-substitution,
+    // from blocks built again from the same state) and compare D^-1, Hp, X
+    // and y with the lanes' bit for bit; laneFactorMismatches() counts the
+    // trees that differ, laneFactorChecks() those compared. Off by default.
+    void setLaneFactorCheck(bool on) { laneFactorCheck_ = on; }
+    std::uint64_t laneFactorChecks() const {
+        std::uint64_t n = 0;
+        for (const std::uint64_t k : laneFactorChecksOf_) n += k;
+        return n;
+    }
+    std::uint64_t laneFactorMismatches() const {
+        std::uint64_t n = 0;
+        for (const std::uint64_t k : laneFactorMismatchesOf_) n += k;
+        return n;
+    }
+    // Groups factored in lanes since the last build (tests).
+    std::uint64_t laneFactorPasses() const {
+        std::uint64_t n = 0;
+        for (const std::uint64_t k : laneFactorPassesOf_) n += k;
+        return n;
+    }
+    // Whether every group's stored blocks in the lanes (D^-1, Hp and X, the
+    // factorizations the kept-factor passes use) equal `other`'s bit for
+    // bit, for the same trees and groups (tests: the double values, which
+    // the float results could hide).
+    bool sameLaneBlocks(const JointTreeSolver& other) const;
     // Trees in groups of four of one shape (tests).
     std::size_t groupedTreeCount() const {
         std::size_t n = 0;
@@ -266,6 +298,19 @@ private:
                           const JointContext& ctx, bool folded);
     // A grouped tree's new factorization into its lane (D^-1, Hp, X).
     void copyFactorToLanes(std::uint32_t tree);
+    // The reverse, for a scalar pass on a factorization made in the lanes (laneOnly_).
+    void copyFactorFromLanes(std::uint32_t tree);
+    // A tree's blocks built by buildBlocks into its lane, before the elimination.
+    void gatherBlocksToLane(std::uint32_t tree);
+    // solveTree's initial blocks, right-hand sides and anchors (factors_).
+    void buildBlocks(std::uint32_t tree, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                     const JointContext& ctx);
+    // A pass that factors, for the four trees of group `first` (setLaneFactor).
+    void factorGroupInLanes(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                            const JointContext& ctx);
+    // The group's impulses from its lanes' y (tripped lanes: solveOneTree).
+    void groupImpulses(std::uint32_t first, std::vector<JointConstraint>& joints, SolverBody* bodies,
+                       const JointContext& ctx, unsigned tripped, bool wide);
     // findTrees' grouping: four consecutive trees of one shape (not chains).
     void groupTrees();
 
@@ -291,6 +336,15 @@ private:
     std::vector<TreeLaneNode> laneNodes_;
     std::vector<TreeLane4> laneData_;
     std::vector<std::uint64_t> lanePassesOf_;  // per group's first tree (only its solver writes it)
+    std::vector<std::uint64_t> laneFactorPassesOf_;  // the same, for factorGroupInLanes
+    // Per tree: its factorization is in its group's lanes only (factors_'
+    // D, Hp and X stale until copyFactorFromLanes).
+    std::vector<std::uint8_t> laneOnly_;
+    bool laneFactor_ = true, laneFactorCheck_ = false;
+    std::vector<std::uint64_t> laneFactorChecksOf_, laneFactorMismatchesOf_;  // per group's first tree (setLaneFactorCheck)
+    // setLaneFactorCheck's comparison for one tree of a group just factored in lanes.
+    bool laneFactorMatchesScalar(std::uint32_t tree, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                                 const JointContext& ctx);
     int lanes_ = 0, lanesWanted_ = 0;
     bool wideEnds_ = true;
     bool foldWarmStart_ = false, firstBiasedPass_ = false;
