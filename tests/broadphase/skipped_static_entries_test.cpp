@@ -204,10 +204,15 @@ TEST(SkippedStaticEntries, SamePairsAsEntriesAtCreationWithAndWithoutALimit) {
             if (round % 3 == 0) t.destroyAll(BodyType::Dynamic);
             const int statics = round == 0 ? 1200 : 40;  // the first past the bulk build's size
             for (int i = 0; i < statics; ++i) t.create(BodyType::Static);
-            // Now and then a skipped static is destroyed, moved or refreshed before the update.
-            if (round % 3 == 0 && round % 2 == 0) t.destroy(t.pickOf(BodyType::Static));
-            if (round % 3 == 0 && round % 4 == 0) t.move(t.pickOf(BodyType::Static));
-            if (round % 3 == 0 && round % 5 == 0) t.refresh(t.pickOf(BodyType::Static));
+            // Now and then a skipped static is destroyed, moved or refreshed
+            // before the update (which puts the entries back at once). Not in
+            // round 0: its 1,260 entries go over the limit with the skipped
+            // ones still apart, and only 256 of them search, so their order
+            // decides the pairs kept.
+            const bool later = round > 0 && round % 3 == 0;
+            if (later && round % 2 == 0) t.destroy(t.pickOf(BodyType::Static));
+            if (later && round % 4 == 0) t.move(t.pickOf(BodyType::Static));
+            if (later && round % 5 == 0) t.refresh(t.pickOf(BodyType::Static));
             for (int i = 0; i < 60; ++i) t.create(round % 4 == 1 ? BodyType::Kinematic : BodyType::Dynamic);
             if (round % 3 == 1) {
                 for (int i = 0; i < 10; ++i) t.create(BodyType::Static);  // beside moving ones: entries
