@@ -29,11 +29,58 @@ ProxyId BroadPhase::createProxy(const AABB& tightBox, BodyType type, const Colli
     if (type == BodyType::Static) {
         r.leaf = staticTree_.createProxyDeferred(tightBox, static_cast<std::uint32_t>(id));
         staticWaiting_.flag.store(true, std::memory_order_release);
+        if (config_.skipNewStaticEntries && movingTree_.proxyCount() == 0) {
+            // Its query could find nothing the later moving proxies' own do
+            // not (see "Static proxies created beside an empty moving tree").
+            r.skipped = true;
+            const auto position = static_cast<std::uint32_t>(moveBuffer_.size());
+            if (!skippedRuns_.empty() && skippedRuns_.back().position == position &&
+                skippedRuns_.back().first + static_cast<ProxyId>(skippedRuns_.back().count) == id) {
+                ++skippedRuns_.back().count;
+            } else {
+                skippedRuns_.push_back({position, id, 1});
+            }
+            ++skippedCount_;
+            return id;
+        }
     } else {
         r.leaf = movingTree_.createProxy(tightBox, static_cast<std::uint32_t>(id));
     }
     markMoved(id, AABB{}, true);
     return id;
+}
+
+void BroadPhase::restoreSkippedMovesSlow() {
+    // Merge the runs into the buffer at their positions (ascending).
+    waitingScratch_.clear();
+    waitingScratch_.reserve(moveBuffer_.size() + skippedCount_);
+    std::size_t run = 0;
+    for (std::size_t i = 0; i <= moveBuffer_.size(); ++i) {
+        for (; run < skippedRuns_.size() && skippedRuns_[run].position == i; ++run) {
+            const SkippedRun& s = skippedRuns_[run];
+            for (std::uint32_t k = 0; k < s.count; ++k) {
+                const ProxyId id = s.first + static_cast<ProxyId>(k);
+                record(id).skipped = false;
+                waitingScratch_.push_back({id, true, AABB{}});
+            }
+        }
+        if (i < moveBuffer_.size()) waitingScratch_.push_back(moveBuffer_[i]);
+    }
+    assert(run == skippedRuns_.size());
+    moveBuffer_.swap(waitingScratch_);
+    for (std::size_t i = 0; i < moveBuffer_.size(); ++i) {
+        if (moveBuffer_[i].proxy != kNullProxy) record(moveBuffer_[i].proxy).moveIndex = static_cast<std::int32_t>(i);
+    }
+    skippedRuns_.clear();
+    skippedCount_ = 0;
+}
+
+void BroadPhase::dropSkippedMoves() {
+    for (const SkippedRun& s : skippedRuns_) {
+        for (std::uint32_t k = 0; k < s.count; ++k) record(s.first + static_cast<ProxyId>(k)).skipped = false;
+    }
+    skippedRuns_.clear();
+    skippedCount_ = 0;
 }
 
 void BroadPhase::settleStaticTreeSlow() const {
@@ -45,6 +92,7 @@ void BroadPhase::settleStaticTreeSlow() const {
 
 void BroadPhase::destroyProxy(ProxyId id) {
     assert(isProxy(id));
+    if (record(id).skipped) restoreSkippedMovesSlow();  // its entry as it would be, then gone as usual
     ProxyRecord& r = record(id);
     if (r.moveIndex >= 0) moveBuffer_[static_cast<std::size_t>(r.moveIndex)].proxy = kNullProxy;
     treeOf(r.type).destroyProxy(r.leaf);
@@ -76,6 +124,7 @@ void BroadPhase::refreshProxy(ProxyId id) {
 // First change since the last update: remember the box as of that update.
 // Later changes keep it; a refresh makes the entry fresh for good.
 void BroadPhase::markMoved(ProxyId id, const AABB& oldFat, bool fresh) {
+    if (record(id).skipped) restoreSkippedMovesSlow();  // it has its (fresh) entry, as if never skipped
     ProxyRecord& r = record(id);
     if (r.moveIndex < 0) {
         r.moveIndex = static_cast<std::int32_t>(moveBuffer_.size());
@@ -198,6 +247,7 @@ std::string BroadPhase::validate() const {
     if (!tree.empty()) return "moving tree: " + tree;
 
     std::int32_t staticCount = 0, movingCount = 0;
+    std::size_t skippedCount = 0;
     for (std::size_t i = 0; i < records_.size(); ++i) {
         const ProxyRecord& r = records_[i];
         const auto id = static_cast<ProxyId>(i);
@@ -215,6 +265,11 @@ std::string BroadPhase::validate() const {
             return why.str();
         }
         (r.type == BodyType::Static ? staticCount : movingCount) += 1;
+        if (r.skipped && (r.type != BodyType::Static || r.moveIndex >= 0)) {
+            why << "skipped proxy " << id << " is not a static proxy outside the move buffer";
+            return why.str();
+        }
+        skippedCount += r.skipped ? 1 : 0;
         if (r.moveIndex >= 0 &&
             (static_cast<std::size_t>(r.moveIndex) >= moveBuffer_.size() ||
              moveBuffer_[static_cast<std::size_t>(r.moveIndex)].proxy != id)) {
@@ -225,6 +280,27 @@ std::string BroadPhase::validate() const {
     if (staticCount != staticTree_.proxyCount() || movingCount != movingTree_.proxyCount()) {
         why << "records hold " << staticCount << " static and " << movingCount << " moving proxies, trees hold "
             << staticTree_.proxyCount() << " and " << movingTree_.proxyCount();
+        return why.str();
+    }
+    std::size_t inRuns = 0;
+    for (std::size_t k = 0; k < skippedRuns_.size(); ++k) {
+        const SkippedRun& s = skippedRuns_[k];
+        if (s.position > moveBuffer_.size() || (k > 0 && s.position < skippedRuns_[k - 1].position)) {
+            why << "skipped run " << k << " stands at " << s.position << " of a move buffer of " << moveBuffer_.size();
+            return why.str();
+        }
+        for (std::uint32_t j = 0; j < s.count; ++j) {
+            const ProxyId id = s.first + static_cast<ProxyId>(j);
+            if (!isProxy(id) || !record(id).skipped) {
+                why << "skipped run " << k << " names proxy " << id << " which is not skipped";
+                return why.str();
+            }
+        }
+        inRuns += s.count;
+    }
+    if (inRuns != skippedCount || inRuns != skippedCount_) {
+        why << "skipped runs hold " << inRuns << " proxies, the records " << skippedCount << ", the count "
+            << skippedCount_;
         return why.str();
     }
     for (std::size_t m = 0; m < moveBuffer_.size(); ++m) {

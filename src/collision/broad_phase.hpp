@@ -99,6 +99,22 @@
 // with brute force). With few moved proxies the queries stay: a descent
 // would visit every resting overlap too.
 //
+// ---- Static proxies created beside an empty moving tree ----------------------
+// A static proxy's query looks only for moving partners. When it is created
+// while the moving tree is empty, every moving proxy at the next update was
+// created after it, so is fresh in the move buffer, and that proxy's own
+// query finds the pair (static partners are never "moved" there, and a fresh
+// entry counts every overlap as new): the static proxy's query would find
+// nothing those do not. Such a proxy gets no move-buffer entry; a run
+// (position in the buffer, first id, count) remembers where it would be.
+// While the new pairs fit (always without a limit) the pairs are the same
+// set, sorted the same way. Over the limit, before a destroy, move or refresh
+// of such a proxy, and before a snapshot is written, restoreSkippedMoves()
+// puts the entries back where they would have been, so every result and
+// every snapshot's bytes are those of the entries made at creation. A
+// million static boxes (Box3D's large_world) saved 32 MB of entries and a
+// million empty queries in the first step (docs/benchmarks.md, `lw8`).
+//
 // No heap allocation in steady state: the move buffer, the pair buffer, the
 // proxy records and the trees' node arrays are reused and grow by doubling.
 #include <algorithm>
@@ -165,6 +181,11 @@ struct BroadPhaseConfig {
     // compare them; every way gives the same pairs).
     enum class PairSearch : std::uint8_t { Auto, Queries, Descents };
     PairSearch pairSearch = PairSearch::Auto;
+    // Static proxies created while the moving tree is empty get no
+    // move-buffer entry (see "Static proxies created beside an empty moving
+    // tree"); false gives each its entry at creation (tests compare both: the
+    // same pairs, bit for bit).
+    bool skipNewStaticEntries = true;
 };
 
 class BroadPhase {
@@ -296,7 +317,14 @@ public:
     const CollisionFilter& filter(ProxyId id) const { return record(id).filter; }
     std::int32_t proxyCount() const { return staticTree_.proxyCount() + movingTree_.proxyCount(); }
     std::int32_t staticProxyCount() const { return staticTree_.proxyCount(); }  // the waiting ones too
-    std::size_t moveCount() const { return moveBuffer_.size(); }  // entries waiting for updatePairs
+    // Entries waiting for updatePairs (the skipped static ones counted).
+    std::size_t moveCount() const { return moveBuffer_.size() + skippedCount_; }
+    // Puts the skipped static proxies' entries (see "Static proxies created
+    // beside an empty moving tree") back in the move buffer where they would
+    // be. Changes no result; snapshots call it before writing the buffer.
+    void restoreSkippedMoves() {
+        if (!skippedRuns_.empty()) restoreSkippedMovesSlow();
+    }
     // The static tree with every static proxy in it (see settleStaticTree).
     const DynamicTree& staticTree() const {
         settleStaticTree();
@@ -357,6 +385,14 @@ private:
         CollisionFilter filter;
         BodyType type = BodyType::Static;
         bool alive = false;
+        bool skipped = false;  // static, created beside an empty moving tree: its entry is in skippedRuns_
+    };
+    // Skipped entries: `count` proxies from `first` on (consecutive ids) whose
+    // entries would stand before moveBuffer_[position].
+    struct SkippedRun {
+        std::uint32_t position = 0;
+        ProxyId first = kNullProxy;
+        std::uint32_t count = 0;
     };
     struct MoveEntry {
         ProxyId proxy = kNullProxy;  // kNullProxy once destroyed
@@ -369,6 +405,9 @@ private:
     const DynamicTree& treeOf(BodyType type) const { return type == BodyType::Static ? staticTree_ : movingTree_; }
     DynamicTree& treeOf(BodyType type) { return type == BodyType::Static ? staticTree_ : movingTree_; }
     void markMoved(ProxyId id, const AABB& oldFat, bool fresh);
+    void restoreSkippedMovesSlow();
+    // After an update that used the skipped entries' pairs: they are done.
+    void dropSkippedMoves();
     bool typesPair(BodyType a, BodyType b) const {
         if (a == BodyType::Static && b == BodyType::Static) return false;
         return !config_.requireDynamic || a == BodyType::Dynamic || b == BodyType::Dynamic;
@@ -453,6 +492,8 @@ private:
     std::vector<ProxyRecord> records_;
     ProxyId freeRecord_ = kNullProxy;
     std::vector<MoveEntry> moveBuffer_;
+    std::vector<SkippedRun> skippedRuns_;    // in buffer order (see "Static proxies created beside ...")
+    std::size_t skippedCount_ = 0;           // their proxies in all
     std::vector<MoveEntry> waitingScratch_;  // finishUpdate: the entries that wait
     std::vector<std::uint8_t> entryCut_;     // per move entry: 1 its query stopped at its share, 2 a pair of it was cut
     std::vector<ProxyPair> pairs_;
@@ -650,6 +691,7 @@ std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, con
             runQueries(entries, kNoEntryCap, SIZE_MAX, false, canPair, partners, tasks);
         }
         finishUpdate(entries, maxNewPairs, false);
+        dropSkippedMoves();
         return pairs_;
     }
     // First every new pair, stopping once any buffer holds more than the
@@ -663,9 +705,14 @@ std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, con
     }
     if (pairs_.size() <= maxNewPairs) {
         finishUpdate(entries, maxNewPairs, false);
+        dropSkippedMoves();
         return pairs_;
     }
-    // They don't. No room at all: every entry waits.
+    // They don't: from here on the order of the entries counts, the skipped
+    // ones' too. No room at all: every entry waits.
+    restoreSkippedMoves();
+    prepareQueries(tasks != nullptr ? tasks->workerCount() : 1);
+    const std::size_t allEntries = moveBuffer_.size();
     if (maxNewPairs == 0) {
         pairs_.clear();
         finishUpdate(0, maxNewPairs, false);
@@ -673,7 +720,7 @@ std::span<const ProxyPair> BroadPhase::updatePairs(const Predicate& canPair, con
     }
     // Again, fewer entries, each up to its share, noting who stopped.
     const std::size_t queried =
-        std::min(entries, std::max(kMinEntriesPerUpdate, std::size_t{maxNewPairs} / kMinShare));
+        std::min(allEntries, std::max(kMinEntriesPerUpdate, std::size_t{maxNewPairs} / kMinShare));
     const auto share = static_cast<std::uint32_t>(std::max<std::size_t>(1, maxNewPairs / queried));
     std::fill(entryCut_.begin(), entryCut_.begin() + static_cast<std::ptrdiff_t>(queried), std::uint8_t{0});
     runQueries(queried, share, SIZE_MAX, true, canPair, partners, tasks);

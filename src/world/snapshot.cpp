@@ -721,6 +721,7 @@ struct SnapshotAccess {
     static void broadPhase(A& a, BroadPhase& b) {
         // Written with every static proxy in its tree (none waiting), read into one with none waiting.
         b.settleStaticTree();
+        b.restoreSkippedMoves();  // every entry in the buffer, as written before they could be skipped
         a.at("broad phase: static tree");
         tree(a, b.staticTree_);
         a.at("broad phase: moving tree");
