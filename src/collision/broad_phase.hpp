@@ -616,6 +616,7 @@ void BroadPhase::runDescents(std::size_t outCap, const Predicate& canPair, const
         return;
     }
     for (QueryScratch& wp : workerPairs_) wp.pairs.clear();
+    movingTree_.prepareDescentIndex();  // the parts start below the root
     splitDescents(std::size_t{8} * workers);
     const std::vector<DescentPart>& parts = descentParts_;
     tasks->parallelFor(static_cast<std::uint32_t>(parts.size()), 1,

@@ -567,7 +567,7 @@ bool DynamicTree::refitOrRebuild() {
             // same merges and sums in the same order as below.
             const std::size_t count = 2 * static_cast<std::size_t>(proxyCount_) - 1;
             if (descent_.size() < count) descent_.resize(count);
-            if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
+            descentIndexValid_ = false;  // left to prepareDescentIndex (a whole-tree descent needs none)
             buildOrder_.clear();       // the internal nodes in pre-order: their pool indices,
             descentInternal_.clear();  // and theirs in the copy
             DescentNode* copy = descent_.data();
@@ -580,7 +580,6 @@ bool DynamicTree::refitOrRebuild() {
                 const TreeNode& n = node(i);
                 const std::int32_t k = next++;
                 if (secondOf >= 0) copy[secondOf].link = static_cast<std::uint32_t>(k);
-                descentIndex_[static_cast<std::size_t>(i)] = k;
                 DescentNode& d = copy[k];
                 if (n.isLeaf()) {
                     leafArea += static_cast<double>(area(n.box));
@@ -649,7 +648,7 @@ void DynamicTree::prepareSelfDescent() {
     // child's index is known when it is reached and written into its parent.
     const std::size_t count = 2 * static_cast<std::size_t>(proxyCount_) - 1;
     if (descent_.size() < count) descent_.resize(count);
-    if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
+    descentIndexValid_ = false;  // left to prepareDescentIndex (a whole-tree descent needs none)
     DescentNode* out = descent_.data();
     std::int32_t next = 0;
     detail::NodePairStack stack;  // (pool node, its parent's index in the copy when it is a second child, else -1)
@@ -660,7 +659,6 @@ void DynamicTree::prepareSelfDescent() {
         const TreeNode& n = node(i);
         const std::int32_t k = next++;
         if (secondOf >= 0) out[secondOf].link = static_cast<std::uint32_t>(k);
-        descentIndex_[static_cast<std::size_t>(i)] = k;
         DescentNode& d = out[k];
         d.box = n.box;
         if (n.isLeaf()) {
@@ -674,6 +672,27 @@ void DynamicTree::prepareSelfDescent() {
     }
     assert(static_cast<std::size_t>(next) == count);
     descentValid_ = true;
+}
+
+void DynamicTree::prepareDescentIndex() {
+    if (!descentValid_ || descentIndexValid_) return;
+    // The copy's pre-order (prepareSelfDescent's walk): node k of the copy is
+    // the k-th node this walk reaches.
+    if (descentIndex_.size() < nodes_.size()) descentIndex_.resize(nodes_.size());
+    std::int32_t next = 0;
+    detail::NodePairStack stack;  // (pool node, unused)
+    stack.push(root_, -1);
+    while (!stack.empty()) {
+        std::int32_t i, unused;
+        stack.pop(i, unused);
+        descentIndex_[static_cast<std::size_t>(i)] = next++;
+        const TreeNode& n = node(i);
+        if (n.isLeaf()) continue;
+        stack.push(n.child2, -1);
+        stack.push(n.child1, -1);
+    }
+    assert(static_cast<std::size_t>(next) == 2 * static_cast<std::size_t>(proxyCount_) - 1);
+    descentIndexValid_ = true;
 }
 
 std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, const AABB& centroidBox, AABB& leftCentroids,

@@ -246,6 +246,16 @@ public:
     // for a smaller tree or when the copy is current.
     void prepareSelfDescent();
     bool selfDescentPrepared() const { return descentValid_; }
+    // Each pool node's index in the depth-first copy, for descents that start
+    // below the root (the broad phase's parts on several threads, tests):
+    // the copy's writers leave it out, since a descent of the whole tree
+    // starts at the copy's first node (writing it, at random places in pool
+    // order, was most of the refit's new write misses on HighSpeed: the
+    // `hstree` block). Until it is written, a descent that starts below the
+    // root walks the node pool (the same pairs in the same order). Does
+    // nothing without a current copy or when the index is written.
+    void prepareDescentIndex();
+    bool descentIndexPrepared() const { return descentValid_ && descentIndexValid_; }
 
     // Replaces the internal nodes by a top-down binned-SAH build over the
     // current leaves (for trees built once, like the static tree). Proxy ids
@@ -337,13 +347,15 @@ private:
     // result: pairs are reported sorted by id).
     double rebuiltLooseness_ = 0;
     // prepareSelfDescent(): the copy, each pool node's index in it (valid
-    // while descentValid_), and whether it matches the tree. Every change to
+    // while descentValid_ and descentIndexValid_: prepareDescentIndex), and
+    // whether it matches the tree. Every change to
     // the tree's nodes clears descentValid_; derived data, not state
     // (snapshots leave it out, a restored tree has none).
     std::vector<DescentNode> descent_;
     std::vector<std::int32_t> descentIndex_;
     std::vector<std::int32_t> descentInternal_;  // refitOrRebuild(): the internal nodes' indices in the copy
     bool descentValid_ = false;
+    bool descentIndexValid_ = false;  // descentIndex_ is that of the current copy (cleared when the copy is written)
 };
 
 // ---- traversal templates ----------------------------------------------------
@@ -536,12 +548,18 @@ bool DynamicTree::overlapPairs(std::int32_t a, const DynamicTree& other, std::in
     // (NodePairStack::pushIf): in a tree of moving bodies the outcomes go
     // either way at random, and their mispredicted branches were a third of
     // HighSpeed's (docs/benchmarks.md, branch hsfull).
-    if (descentValid_) {
+    if (descentValid_ && (descentIndexValid_ || (a == root_ && b == root_))) {
         // The same loop over the depth-first copy (prepareSelfDescent): a
-        // node's first child is the next node, its area is stored.
+        // node's first child is the next node, its area is stored. The root
+        // is the copy's node 0; a node below it needs the index
+        // (prepareDescentIndex).
         const DescentNode* nodes = descent_.data();
         detail::NodePairStack stack;
-        stack.push(descentIndex_[static_cast<std::size_t>(a)], descentIndex_[static_cast<std::size_t>(b)]);
+        if (descentIndexValid_) {
+            stack.push(descentIndex_[static_cast<std::size_t>(a)], descentIndex_[static_cast<std::size_t>(b)]);
+        } else {
+            stack.push(0, 0);
+        }
         while (!stack.empty()) {
             std::int32_t x, y;
             stack.pop(x, y);

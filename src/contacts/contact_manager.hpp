@@ -162,6 +162,10 @@ public:
     // unless a test turns it off (then every piece runs the narrow phase,
     // as before it existed), and how many pieces it has recycled.
     void setPieceRecycling(bool on) { pieceRecycling_ = on; }
+    // The live-contact list of contactsOfAwakeBodies with most bodies awake:
+    // on unless a test turns it off (then the solver's prepare walks every
+    // contact slot, as before it existed).
+    void setLiveContactList(bool on) { liveContactList_ = on; }
     std::uint64_t recycledPieceCount() const;
     const BroadPhase& broadPhase() const { return broad_; }
     ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
@@ -170,7 +174,10 @@ public:
     // bodies awake, and the per-body contact lists built (else false, `out`
     // untouched). Every contact the solver works on has an awake body, so
     // this is the contact solver's candidate list (prepareConstraintList):
-    // a world that sleeps then costs nothing per contact.
+    // a world that sleeps then costs nothing per contact. With most bodies
+    // awake, every live contact (the alive bitmap) when they are fewer than
+    // half the contact slots: a superset of the awake bodies' contacts, the
+    // rest of which give no constraint.
     bool contactsOfAwakeBodies(const BodyStore& w, std::vector<std::uint32_t>& out);
     // Contacts the last update() visited (tests: a sleeping world visits none).
     std::size_t visitedContactCount() const { return activeContacts_.size() + newContacts_.size(); }
@@ -282,6 +289,7 @@ private:
     std::uint32_t liveContacts_ = 0;          // alive entries of contacts_ (kept by create/destroy, counted by rebuildLinks)
     std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()
     bool pieceRecycling_ = true;              // setPieceRecycling
+    bool liveContactList_ = true;             // setLiveContactList
     Real speculativeMargin_ = 0;              // update()'s CollisionSettings, for the narrow phase
     std::vector<NarrowScratch> narrow_;       // one per worker
     // The awake compound bodies' top-level children at this update's pose,

@@ -200,6 +200,11 @@ struct BodyStore {
     std::vector<Transform> previous;
     std::vector<std::uint32_t> denseToSlot;
     std::vector<IntegratorScratch> scratch;
+    // Whether any body was ever given a ForceCallback (World::setForceCallback;
+    // never cleared): while false, the force evaluation does not read cold[]
+    // to look for one (a 64-byte line per awake body and evaluation, for
+    // nothing in nearly every world).
+    bool anyForceCallback = false;
 
     // ---- awake list (see "Awake list" at the top)
     std::vector<std::uint32_t> awakeBodies;     // awake non-static dense bodies, ascending

@@ -16,6 +16,7 @@ Vec3 springForceOnB(const Vec3& pA, const Vec3& pB, const Vec3& vRel, Real restL
 
 bool evaluateBodyForces(BodyStore& w, const Vec3& g, std::uint32_t begin, std::uint32_t end) {
     bool callbacks = false;
+    const bool mayHaveCallbacks = w.anyForceCallback;
     // Awake bodies only (body_store.hpp, "Awake list"): a sleeping body's
     // forces are not used until it wakes, and the step re-evaluates them then.
     // Its ForceCallback is not called while it sleeps.
@@ -32,7 +33,7 @@ bool evaluateBodyForces(BodyStore& w, const Vec3& g, std::uint32_t begin, std::u
         if (p.linearDrag > 0 || p.quadraticDrag > 0) f -= v * (p.linearDrag + p.quadraticDrag * length(v));
         out.force = f;
         out.torque = w.applied[i].torque;
-        callbacks = callbacks || static_cast<bool>(w.cold[i].callback);
+        callbacks = callbacks || (mayHaveCallbacks && static_cast<bool>(w.cold[i].callback));
     }
     return callbacks;
 }

@@ -550,6 +550,7 @@ void World::applyAngularImpulse(BodyId id, const Vec3& impulse) {
 
 void World::setForceCallback(BodyId id, ForceCallback callback) {
     const std::uint32_t d = impl_->resolveBody(id, "World::setForceCallback");
+    if (callback) impl_->anyForceCallback = true;
     impl_->cold[d].callback = std::move(callback);
 }
 

@@ -178,8 +178,22 @@ TEST(OverlapPairsOrder, SameCallsInTheSameOrderAsTheSplitPairsDescentAndBruteFor
 // The descent over the depth-first copy (prepareSelfDescent, or written by
 // a refit) against the pool's splitPairs descent, exactly: the whole tree,
 // every node against itself (when `everyNode`), random node pairs, stops.
-void expectCopyDescentIsThePools(const Forest& f, std::mt19937& rng, const char* what, bool everyNode) {
+void expectCopyDescentIsThePools(Forest& f, std::mt19937& rng, const char* what, bool everyNode) {
     ASSERT_TRUE(f.tree.selfDescentPrepared()) << what;
+    // The copy's writers leave out the pool-to-copy index: a whole-tree
+    // descent starts at the copy's first node, and one below the root walks
+    // the pool until the index is written (the same calls either way).
+    EXPECT_FALSE(f.tree.descentIndexPrepared()) << what;
+    {
+        std::uniform_int_distribution<std::size_t> pick(0, f.tree.nodes().size() - 1);
+        for (int k = 0; k < 50; ++k) {
+            const std::size_t i = pick(rng), j = pick(rng);
+            if (f.tree.nodes()[i].height < 0 || f.tree.nodes()[j].height < 0) continue;
+            expectSameDescent(f.tree, static_cast<std::int32_t>(i), f.tree, static_cast<std::int32_t>(j), 0, what);
+        }
+    }
+    f.tree.prepareDescentIndex();
+    EXPECT_TRUE(f.tree.descentIndexPrepared()) << what;
     const DynamicTree& t = f.tree;
     for (const std::size_t stop : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{40}}) {
         expectSameDescent(t, t.root(), t, t.root(), stop, what);
