@@ -1397,7 +1397,7 @@ FULCRUM_TREE_WIDE_INLINE W mul(W a, W b) { return _mm_mul_ps(a, b); }
 FULCRUM_TREE_WIDE_INLINE W toFloats(const TreeLane4& x) {
     return _mm_movelh_ps(_mm_cvtpd_ps(_mm_load_pd(x.v)), _mm_cvtpd_ps(_mm_load_pd(x.v + 2)));
 }
-FULCRUM_TREE_WIDE_INLINE void widenToDoubles(W f, TreeLane4& x) {
+FULCRUM_TREE_WIDE_INLINE void widenFloatLanes(W f, TreeLane4& x) {
     _mm_store_pd(x.v, _mm_cvtps_pd(f));
     _mm_store_pd(x.v + 2, _mm_cvtps_pd(_mm_movehl_ps(f, f)));
 }
@@ -1519,9 +1519,9 @@ FULCRUM_TREE_WIDE_INLINE unsigned JointTreeSolver::wideResidualsBody(std::uint32
             loadRows(frame8, f2);  // d.z, qA's first three
             rx = add(rx, mul(f1[2], bias)), ry = add(ry, mul(f1[3], bias)), rz = add(rz, mul(f2[0], bias));
         }
-        widenToDoubles(rx, z[0]);
-        widenToDoubles(ry, z[1]);
-        widenToDoubles(rz, z[2]);
+        widenFloatLanes(rx, z[0]);
+        widenFloatLanes(ry, z[1]);
+        widenFloatLanes(rz, z[2]);
     }
     return static_cast<unsigned>(_mm_movemask_ps(trips));
 }
