@@ -754,6 +754,39 @@ void JointTreeSolver::buildBlocks(std::uint32_t tree, std::vector<JointConstrain
     }
 }
 
+// Factor and forward-substitute the nodes [begin, end), children first;
+// false when a block is not definite.
+bool JointTreeSolver::eliminateNodes(std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const Node& n = nodes_[i];
+        bool ok;
+        if (!n.joint) {
+            ok = eliminate<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            ok = eliminateChainJoint(i);
+        } else {
+            ok = eliminate<3, 6>(i);
+        }
+        if (!ok) return false;
+    }
+    return true;
+}
+
+// Back-substitute the nodes [begin, end), parents first:
+// y = D^-1 z - D^-1 Hp^T y_parent.
+void JointTreeSolver::backSubstituteNodes(std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t i = end; i-- > begin;) {
+        const Node& n = nodes_[i];
+        if (!n.joint) {
+            backSubstitute<6, 3>(i);
+        } else if (n.parent != kNone && nodes_[n.parent].joint) {
+            backSubstituteChainJoint(i);
+        } else {
+            backSubstitute<3, 6>(i);
+        }
+    }
+}
+
 bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>& joints, SolverBody* bodies,
                                 const JointContext& ctx, bool refactor, bool foldedWarmStart) {
     if (chain_[tree]) return solveChain(tree, joints, bodies, ctx, refactor, foldedWarmStart);
@@ -772,32 +805,9 @@ bool JointTreeSolver::solveTree(std::uint32_t tree, std::vector<JointConstraint>
     const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
     laneOnly_[tree] = 0;  // factors_ holds this factorization
     buildBlocks(tree, joints, bodies, ctx);
-    // Factor and forward-substitute, children first.
-    for (std::uint32_t i = begin; i < end; ++i) {
-        const Node& n = nodes_[i];
-        const bool parentJoint = n.parent != kNone && nodes_[n.parent].joint;
-        bool ok;
-        if (!n.joint) {
-            ok = eliminate<6, 3>(i);
-        } else if (parentJoint) {
-            ok = eliminateChainJoint(i);
-        } else {
-            ok = eliminate<3, 6>(i);
-        }
-        if (!ok) return false;
-    }
+    if (!eliminateNodes(begin, end)) return false;
     if (lanes_ != 0 && groupOf_[tree] != kNone) copyFactorToLanes(tree);
-    // Back-substitute, parents first: y = D^-1 z - D^-1 Hp^T y_parent.
-    for (std::uint32_t i = end; i-- > begin;) {
-        const Node& n = nodes_[i];
-        if (!n.joint) {
-            backSubstitute<6, 3>(i);
-        } else if (n.parent != kNone && nodes_[n.parent].joint) {
-            backSubstituteChainJoint(i);
-        } else {
-            backSubstitute<3, 6>(i);
-        }
-    }
+    backSubstituteNodes(begin, end);
     // Impulses: y = -(J M^-1 J^T)^-1 r, softened as a whole in the biased pass.
     for (std::uint32_t i = begin; i < end; ++i) {
         const Node& n = nodes_[i];
@@ -1270,28 +1280,8 @@ bool JointTreeSolver::laneFactorMatchesScalar(std::uint32_t tree, std::vector<Jo
     const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
     buildBlocks(tree, joints, bodies, ctx);
     // solveTree's eliminations and back-substitution.
-    for (std::uint32_t i = begin; i < end; ++i) {
-        const Node& n = nodes_[i];
-        bool ok;
-        if (!n.joint) {
-            ok = eliminate<6, 3>(i);
-        } else if (n.parent != kNone && nodes_[n.parent].joint) {
-            ok = eliminateChainJoint(i);
-        } else {
-            ok = eliminate<3, 6>(i);
-        }
-        if (!ok) return false;
-    }
-    for (std::uint32_t i = end; i-- > begin;) {
-        const Node& n = nodes_[i];
-        if (!n.joint) {
-            backSubstitute<6, 3>(i);
-        } else if (n.parent != kNone && nodes_[n.parent].joint) {
-            backSubstituteChainJoint(i);
-        } else {
-            backSubstitute<3, 6>(i);
-        }
-    }
+    if (!eliminateNodes(begin, end)) return false;
+    backSubstituteNodes(begin, end);
     laneOnly_[tree] = 0;  // factors_ holds the same factorization now
     const std::uint32_t group = groupOf_[tree];
     const int lane = static_cast<int>(tree - group);

@@ -252,6 +252,10 @@ private:
     bool eliminateChainJoint(std::uint32_t node);
     void forwardChainJoint(std::uint32_t node);
     void backSubstituteChainJoint(std::uint32_t node);
+    // The eliminations and the back-substitution over a tree's nodes
+    // [begin, end), each node by its kind (solveTree, laneFactorMatchesScalar).
+    bool eliminateNodes(std::uint32_t begin, std::uint32_t end);
+    void backSubstituteNodes(std::uint32_t begin, std::uint32_t end);
     void findTrees(std::vector<JointConstraint>& joints, const std::vector<SolverBody>& bodies);
     // solveTree for a chain: the block build, the guard, the elimination or
     // forward substitution and the residual in one children-first sweep, the
