@@ -241,6 +241,9 @@ struct BodyStore {
     // Grows the awake-list and awake-set buffers for `bodyCount` bodies (body
     // creation: no allocation in a step).
     void reserveAwakeList(std::size_t bodyCount);
+    // The most bodies those buffers hold without growing, as of the last
+    // reserveAwakeList that grew them (nothing else grows or shrinks them).
+    std::size_t awakeListRoom = 0;
     // Wakes a non-static body and, if it sleeps, its whole island; resets its
     // sleep timer. The woken bodies join the awake list at its next refresh.
     void wakeBody(std::uint32_t dense);
