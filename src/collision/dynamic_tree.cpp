@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 // The bulk build's binning in SSE lanes (partitionRange): float builds on x86.
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
@@ -764,12 +765,35 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
     // the boxes in locals and no first-leaf branch: a million static boxes'
     // build in about half the instructions; the same splits, so the same
     // tree.)
-    Vec3 binMin[kBins], binMax[kBins];
     std::uint32_t binCount[kBins] = {};
     const Real scale = Real(kBins) / extent[axis];
     const Real origin = centroidBox.min[axis];
     if (bins_.size() < end) bins_.resize(buildItems_.size());
     std::uint8_t* bins = bins_.data();
+    // The candidate splits lie between two non-empty bins; a split between
+    // empty bins separates the same leaves as the split just after the last
+    // non-empty bin on its left, which is the one the sweep keeps (costs are
+    // compared strictly, lowest split first). Sweeping the non-empty bins
+    // alone keeps the smaller ranges cheap. The centres span the axis, so
+    // its first and last bins are used: there are two at least (with a
+    // finite scale and offsets; else see halveRange).
+    int used[kBins];
+    int m = 0;
+    // rightArea[j], rightCount[j]: the bins used[j..m).
+    Real rightArea[kBins];
+    std::size_t rightCount[kBins];
+    Real bestCost = std::numeric_limits<Real>::max();
+    int bestSplit = 0;
+    // One bin used: only when the scale or the offsets are not finite (a
+    // subnormal or an infinite extent puts every leaf in bin 0), where no
+    // split separates anything and the build looped for ever. The range is
+    // halved instead, as for coincident centres.
+    const auto halveRange = [&] {
+        const std::size_t mid = begin + (end - begin) / 2;
+        for (std::size_t i = begin; i < mid; ++i) leftCentroids.grow(items[i].centroid);
+        for (std::size_t i = mid; i < end; ++i) rightCentroids.grow(items[i].centroid);
+        return mid;
+    };
 #if FULCRUM_TREE_SSE
     // The same minima and maxima in four lanes: the box's min in lanes 0-2
     // of one load, its max in lanes 1-3 of another (the areas below read
@@ -781,23 +805,76 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
         binLo[k] = _mm_set1_ps(std::numeric_limits<float>::max());
         binHi[k] = _mm_set1_ps(-std::numeric_limits<float>::max());
     }
-    for (std::size_t i = begin; i < end; ++i) {
-        const BuildItem& item = items[i];
-        const int k = std::clamp(static_cast<int>((item.centroid[axis] - origin) * scale), 0, kBins - 1);
-        bins[i] = static_cast<std::uint8_t>(k);
-        ++binCount[k];
-        const float* b = &item.box.min.x;
-        binLo[k] = _mm_min_ps(binLo[k], _mm_loadu_ps(b));
-        binHi[k] = _mm_max_ps(binHi[k], _mm_loadu_ps(b + 2));
+    // A leaf's bin: its centre is at or above the origin (the centres' box
+    // is their exact minimum and maximum, and rounding is monotonic), so
+    // (c - origin) * scale is never negative when the extent and the scale
+    // are finite, and only the top needs clamping (the last centre may land
+    // on kBins). An infinite extent (centres near the float range's ends:
+    // scale 0) or scale (a subnormal extent) can make the product NaN or
+    // infinite, which converts to INT_MIN: clamped both ways, as ever.
+    // (The lower clamp was 54 M of a million static boxes' 1,147 M.)
+    const auto binLeaves = [&](auto bothEnds) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const BuildItem& item = items[i];
+            const int raw = static_cast<int>((item.centroid[axis] - origin) * scale);
+            const int k = decltype(bothEnds)::value ? std::clamp(raw, 0, kBins - 1) : std::min(raw, kBins - 1);
+            bins[i] = static_cast<std::uint8_t>(k);
+            ++binCount[k];
+            const float* b = &item.box.min.x;
+            binLo[k] = _mm_min_ps(binLo[k], _mm_loadu_ps(b));
+            binHi[k] = _mm_max_ps(binHi[k], _mm_loadu_ps(b + 2));
+        }
+    };
+    if (extent[axis] <= std::numeric_limits<Real>::max() && scale <= std::numeric_limits<Real>::max()) {
+        binLeaves(std::false_type{});
+    } else {
+        binLeaves(std::true_type{});
     }
     for (int k = 0; k < kBins; ++k) {
-        alignas(16) float lo[4], hi[4];
-        _mm_store_ps(lo, binLo[k]);
-        _mm_store_ps(hi, binHi[k]);
-        binMin[k] = {lo[0], lo[1], lo[2]};
-        binMax[k] = {hi[1], hi[2], hi[3]};
+        if (binCount[k] != 0) used[m++] = k;
+    }
+    if (m < 2) return halveRange();
+    // The sweeps grow a box bin by bin in the lanes, as AABB::grow would
+    // (min(a, b) is a < b ? a : b in both), and take its area as
+    // AABB::surfaceArea does: d = max - min, 2 (dx dy + dy dz + dz dx), the
+    // same operations in the same order (no contraction: -ffp-contract=off).
+    // Storing the bins' boxes back into Vec3s for a scalar sweep was about
+    // 170 instructions a range, the scalar sweep twice as many as this.
+    const auto laneArea = [](__m128 lo, __m128 hi) {
+        const __m128 d = _mm_sub_ps(_mm_shuffle_ps(hi, hi, _MM_SHUFFLE(3, 3, 2, 1)), lo);  // dx, dy, dz, -
+        const __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));     // dx dy, dy dz, dz dx, -
+        const __m128 s = _mm_add_ss(_mm_add_ss(p, _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 1, 1, 1))), _mm_movehl_ps(p, p));
+        return 2 * _mm_cvtss_f32(s);
+    };
+    {
+        __m128 accLo = _mm_set1_ps(std::numeric_limits<float>::max());
+        __m128 accHi = _mm_set1_ps(-std::numeric_limits<float>::max());
+        std::size_t count = 0;
+        for (int j = m - 1; j > 0; --j) {
+            accLo = _mm_min_ps(accLo, binLo[used[j]]);
+            accHi = _mm_max_ps(accHi, binHi[used[j]]);
+            count += binCount[used[j]];
+            rightArea[j] = laneArea(accLo, accHi);
+            rightCount[j] = count;
+        }
+        accLo = _mm_set1_ps(std::numeric_limits<float>::max());
+        accHi = _mm_set1_ps(-std::numeric_limits<float>::max());
+        count = 0;
+        bestSplit = used[0];
+        for (int j = 0; j + 1 < m; ++j) {
+            accLo = _mm_min_ps(accLo, binLo[used[j]]);
+            accHi = _mm_max_ps(accHi, binHi[used[j]]);
+            count += binCount[used[j]];
+            const Real cost =
+                laneArea(accLo, accHi) * static_cast<Real>(count) + rightArea[j + 1] * static_cast<Real>(rightCount[j + 1]);
+            if (cost < bestCost) {
+                bestCost = cost;
+                bestSplit = used[j];
+            }
+        }
     }
 #else
+    Vec3 binMin[kBins], binMax[kBins];
     for (int k = 0; k < kBins; ++k) {
         binMin[k] = AABB{}.min;
         binMax[k] = AABB{}.max;
@@ -810,21 +887,10 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
         binMin[k] = min(binMin[k], item.box.min);
         binMax[k] = max(binMax[k], item.box.max);
     }
-#endif
-    // The candidate splits lie between two non-empty bins; a split between
-    // empty bins separates the same leaves as the split just after the last
-    // non-empty bin on its left, which is the one the sweep keeps (costs are
-    // compared strictly, lowest split first). Sweeping the non-empty bins
-    // alone keeps the smaller ranges cheap. The centres span the axis, so
-    // its first and last bins are used: there are two at least.
-    int used[kBins];
-    int m = 0;
     for (int k = 0; k < kBins; ++k) {
         if (binCount[k] != 0) used[m++] = k;
     }
-    // rightArea[j], rightCount[j]: the bins used[j..m).
-    Real rightArea[kBins];
-    std::size_t rightCount[kBins];
+    if (m < 2) return halveRange();
     AABB acc;
     std::size_t count = 0;
     for (int j = m - 1; j > 0; --j) {
@@ -835,8 +901,7 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
     }
     acc = AABB{};
     count = 0;
-    Real bestCost = std::numeric_limits<Real>::max();
-    int bestSplit = used[0];
+    bestSplit = used[0];
     for (int j = 0; j + 1 < m; ++j) {
         acc.grow(AABB{binMin[used[j]], binMax[used[j]]});
         count += binCount[used[j]];
@@ -846,6 +911,7 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
             bestSplit = used[j];
         }
     }
+#endif
     // The same exchanges as ever (the order of the leaves inside each half
     // decides later middle splits), the bins moving with their leaves. The
     // halves' centre boxes are min and max, exact in any order.

@@ -191,8 +191,19 @@ bool mayCollide(const BodyStore& w, const JointPairFilter& joints, std::uint32_t
 
 void ContactManager::addBody(BodyStore& w, std::uint32_t dense) {
     const std::uint32_t slot = w.denseToSlot[dense];
-    if (proxyOfSlot_.size() <= slot) proxyOfSlot_.resize(slot + 1, kNullProxy);
-    if (headOfSlot_.size() <= slot) headOfSlot_.resize(slot + 1, UINT32_MAX);
+    // A new slot is nearly always the next one: appended, not resized (the
+    // fill's memset call, twice a body, was 28 M of a million static boxes'
+    // creation).
+    if (proxyOfSlot_.size() == slot) {
+        proxyOfSlot_.push_back(kNullProxy);
+    } else if (proxyOfSlot_.size() < slot) {
+        proxyOfSlot_.resize(slot + 1, kNullProxy);
+    }
+    if (headOfSlot_.size() == slot) {
+        headOfSlot_.push_back(UINT32_MAX);
+    } else if (headOfSlot_.size() < slot) {
+        headOfSlot_.resize(slot + 1, UINT32_MAX);
+    }
     const BodyParams& p = w.params[dense];
     const AABB box = w.cold[dense].shape.bounds(w.originTransform(dense));
     proxyOfSlot_[slot] = broad_.createProxy(box, p.type, p.filter, slot);

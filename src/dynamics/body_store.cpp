@@ -54,20 +54,30 @@ void BodyStore::wakeBody(std::uint32_t dense) {
 }
 
 void BodyStore::reserveAwakeList(std::size_t bodyCount) {
+    // The eleven capacities, checked on every creation, were 87 instructions
+    // a body of a million static boxes: only the smallest room left is
+    // compared now (the buffers only grow, and only here).
+    if (bodyCount <= awakeListRoom) return;
     // Geometric growth: reserving exactly on every creation would reallocate every time.
-    const auto grow = [bodyCount](auto& v, std::size_t n) {
-        (void)bodyCount;
+    const auto grow = [](auto& v, std::size_t n) {
         if (v.capacity() < n) v.reserve(std::max(n, 2 * v.capacity()));
     };
+    std::size_t room = SIZE_MAX;
     for (std::vector<std::uint32_t>* v : {&awakeBodies, &wokenBodies, &awakeMergeScratch, &previousStale, &solverOfDense}) {
         grow(*v, bodyCount);
+        room = std::min(room, v->capacity());
     }
     grow(inAwakeList, bodyCount);
+    room = std::min(room, inAwakeList.capacity());
     grow(state, bodyCount + 1);
     grow(pose, bodyCount + 1);
     grow(startCom, bodyCount + 1);
     grow(startQ, bodyCount + 1);
     grow(denseOfSolver, bodyCount + 1);
+    for (const std::size_t c : {state.capacity(), pose.capacity(), startCom.capacity(), startQ.capacity(), denseOfSolver.capacity()}) {
+        room = std::min(room, c - 1);
+    }
+    awakeListRoom = room;
 }
 
 void BodyStore::refreshAwakeList() {

@@ -88,6 +88,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamics/zero_tail_array.hpp"
 #include "fulcrum/world.hpp"
 
 namespace fulcrum::detail {
@@ -193,13 +194,15 @@ struct BodyStore {
     std::vector<BodySlot> bodySlots;
     std::vector<std::uint32_t> freeBodySlots;
     std::vector<BodyMotion> motion;
-    std::vector<ForceTorque> forces;
-    std::vector<ForceTorque> applied;
+    // forces, applied and scratch: entries a static or sleeping body never
+    // writes stay unwritten (no pages touched: dynamics/zero_tail_array.hpp).
+    ZeroTailArray<ForceTorque> forces;
+    ZeroTailArray<ForceTorque> applied;
     std::vector<BodyParams> params;
     std::vector<BodyCold> cold;
     std::vector<Transform> previous;
     std::vector<std::uint32_t> denseToSlot;
-    std::vector<IntegratorScratch> scratch;
+    ZeroTailArray<IntegratorScratch> scratch;
     // Whether any body was ever given a ForceCallback (World::setForceCallback;
     // never cleared): while false, the force evaluation does not read cold[]
     // to look for one (a 64-byte line per awake body and evaluation, for
@@ -241,6 +244,9 @@ struct BodyStore {
     // Grows the awake-list and awake-set buffers for `bodyCount` bodies (body
     // creation: no allocation in a step).
     void reserveAwakeList(std::size_t bodyCount);
+    // The most bodies those buffers hold without growing, as of the last
+    // reserveAwakeList that grew them (nothing else grows or shrinks them).
+    std::size_t awakeListRoom = 0;
     // Wakes a non-static body and, if it sleeps, its whole island; resets its
     // sleep timer. The woken bodies join the awake list at its next refresh.
     void wakeBody(std::uint32_t dense);

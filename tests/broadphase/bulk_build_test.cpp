@@ -103,6 +103,22 @@ std::size_t referencePartition(std::vector<Item>& items, std::size_t begin, std:
             bestSplit = split;
         }
     }
+    int usedBins = 0, firstUsed = 0;
+    for (int k = kBins - 1; k >= 0; --k) {
+        if (binCount[k] != 0) {
+            ++usedBins;
+            firstUsed = k;
+        }
+    }
+    // No cost below the float maximum (infinite areas): the first used bin
+    // goes left, as the tree's sweep leaves it.
+    if (bestSplit < 0 && usedBins >= 2) bestSplit = firstUsed;
+    if (usedBins < 2) {  // one bin used (a scale or offsets not finite): halved (branch `lw9`)
+        const std::size_t mid = begin + (end - begin) / 2;
+        for (std::size_t i = begin; i < mid; ++i) leftCentroids.grow(items[i].centroid);
+        for (std::size_t i = mid; i < end; ++i) rightCentroids.grow(items[i].centroid);
+        return mid;
+    }
     std::size_t left = begin, right = end;
     while (left < right) {
         if (binOf(items[left].centroid) <= bestSplit) {
@@ -197,6 +213,41 @@ TEST(BulkBuild, GridsWithTiesAndCoincidentCentresGiveTheReferenceTree) {
     expectReferenceShape(doubled, "doubled grid");
     expectReferenceShape(flat, "flat cluster");
     expectReferenceShape(std::vector<AABB>(40, AABB({0, 0, 0}, {1, 1, 1})), "one box forty times");
+}
+
+TEST(BulkBuild, CentresAtTheFloatRangesEndsGiveTheReferenceTree) {
+    // The binning clamps a leaf's bin only at the top when the centres'
+    // extent and the scale 16 / extent are finite (branch `lw9`); here they
+    // may not be: centres near the float range's ends (an extent near
+    // FLT_MAX; infinite centres, whose extent is infinite and offsets NaN),
+    // and centres a few subnormals apart (an infinite scale). The last two
+    // put every leaf in one bin, where the build looped for ever before
+    // `lw9`; such a range is halved now.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> at(-50, 50), half(0.05f, 4);
+    const auto ordinary = [&](std::vector<AABB>& boxes, int count) {
+        for (int i = 0; i < count; ++i) {
+            boxes.push_back(AABB::fromCenterHalf({at(rng), at(rng), at(rng)}, {half(rng), half(rng), half(rng)}));
+        }
+    };
+    std::vector<AABB> far, infinite, subnormal;
+    for (const float x : {-1.8e38f, -1.0e38f, 1.0e38f, 1.8e38f, 1.7e38f, -1.7e38f}) {
+        far.push_back(AABB({x, 0, 0}, {x, 1, 1}));  // centre x (+-1.7e38: an extent near FLT_MAX), or +-inf (2x overflows)
+        infinite.push_back(AABB::fromCenterHalf({x, 0, 0}, {1, 1, 1}));
+        infinite.push_back(AABB({x, 0, 0}, {std::numeric_limits<float>::max(), 1, 1}));  // centre +inf
+    }
+    ordinary(far, 40);
+    ordinary(infinite, 40);
+    const float tiny = std::numeric_limits<float>::denorm_min();
+    for (int k = 0; k < 40; ++k) {
+        const Vec3 c{static_cast<float>(k % 19) * tiny, static_cast<float>(k % 7) * tiny, 0};
+        subnormal.push_back(AABB(c, c));  // centre c exactly: the extents are subnormal
+    }
+    expectReferenceShape(far, "centres near the float range's ends");
+    expectReferenceShape(infinite, "infinite centres");
+    expectReferenceShape(subnormal, "centres a few subnormals apart");
+    ordinary(subnormal, 40);
+    expectReferenceShape(subnormal, "subnormal centres among ordinary boxes");
 }
 
 }  // namespace
