@@ -33,6 +33,7 @@ template <class T>
 class ZeroTailArray {
     static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>,
                   "ZeroTailArray copies and drops elements as bytes");
+    static_assert(alignof(T) <= alignof(std::max_align_t), "calloc's storage is aligned for max_align_t only");
 
 public:
     ZeroTailArray() = default;
