@@ -1084,6 +1084,7 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
             const ProxyId proxy = proxyOfSlot_[w.denseToSlot[d]];
             const Shape& shape = w.cold[d].shape;
             const Transform xf = w.originTransform(d);
+            w.previous[d] = xf;  // the step's start (WorldImpl::refreshPrevious leaves the awake bodies to this pass)
             AABB tight;
             if (shape.type() == ShapeType::Compound) {
                 const auto count = static_cast<std::uint32_t>(shape.children().size());

@@ -103,6 +103,12 @@ public:
         }
     }
 
+    // Tests: false makes every update build the islands, even when every body
+    // fails the test by itself (update's shortcut; the same results).
+    void setIslandShortcut(bool enabled) { islandShortcut_ = enabled; }
+    // How many updates took the shortcut (tests).
+    std::uint64_t islandsSkippedCount() const { return islandsSkippedCount_; }
+
 private:
     friend struct fulcrum::SnapshotAccess;
     std::uint32_t find(std::uint32_t i);
@@ -120,6 +126,9 @@ private:
     std::vector<Real> bodyTime_;       // per solver body: its timer (0 when not awake), for the island minimum
     static constexpr Real kBodySpeedCap = 2;  // times linearSleepVelocity, for a body in a still island
     std::uint32_t nextIsland_ = 1;
+    bool islandShortcut_ = true;
+    bool islandsSkipped_ = false;  // the last update skipped the islands (update: where their entries are written)
+    std::uint64_t islandsSkippedCount_ = 0;
 };
 
 }  // namespace fulcrum::detail

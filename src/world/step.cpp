@@ -352,7 +352,13 @@ void WorldImpl::step(Real dt) {
 
 // previous[] = the transform at the start of the step: the awake bodies,
 // plus the few that stopped moving since the last step (sleeping, static
-// and teleported bodies keep previous[] equal to their transform).
+// and teleported bodies keep previous[] equal to their transform). The
+// awake bodies' entries are written by the contact manager's proxy update,
+// which forms the same transforms for their tight boxes next
+// (ContactManager::update, step 1): one pass over their records, not two
+// (a separate pass here was 1.3 % of Jolt's HighSpeed step's instructions
+// and 3.5 % of its first-level read misses). So nothing may read previous[]
+// between here and that update.
 void WorldImpl::refreshPrevious(TaskSystem& tasks) {
     if (previousAllStale) {
         const auto all = static_cast<std::uint32_t>(motion.size());
@@ -362,10 +368,6 @@ void WorldImpl::refreshPrevious(TaskSystem& tasks) {
         previousAllStale = false;
     } else {
         for (const std::uint32_t i : previousStale) previous[i] = originTransform(i);
-        const auto awakeCount = static_cast<std::uint32_t>(awakeBodies.size());
-        tasks.parallelFor(awakeCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
-            for (std::uint32_t k = begin; k < end; ++k) previous[awakeBodies[k]] = originTransform(awakeBodies[k]);
-        });
     }
     previousStale.clear();
 }
