@@ -65,9 +65,14 @@ void prefetchFirstManifold(const Contact& c) {
 #endif
 }
 
+// The lines of a contact the solver reads after the pending-list pass: its
+// material and first touch, and its manifolds' vector (a 248-byte contact
+// spans four or five lines; its first and last, which this prefetched before,
+// hold neither: the store then waited on each lane's contact, 70 % of its
+// samples on ConvexVsMesh, and the staging in packWide on each manifold).
 void prefetchContact(const Contact& c) {
-    __builtin_prefetch(&c);
-    __builtin_prefetch(reinterpret_cast<const char*>(&c) + sizeof(Contact) - 1);
+    __builtin_prefetch(&c.friction);
+    __builtin_prefetch(reinterpret_cast<const char*>(&c.manifolds) + sizeof(c.manifolds) - 1);
 }
 
 // The lines of a manifold the build and store use: the normal and first
@@ -78,6 +83,24 @@ void prefetchManifold(const CachedManifold* m) {
     __builtin_prefetch(p);
     __builtin_prefetch(p + 64);
     __builtin_prefetch(p + sizeof(CachedManifold) - 1);
+}
+
+// The wide blocks' lanes are placed by a key within each colour
+// (placeInLanes): the constraints of more points first, and among those of
+// one point count, the ones whose end A is the static world (solver body 0)
+// first. A block runs its points up to its lanes' largest count and gathers
+// end A unless every lane's is the static world (WideContactBlock), so
+// blocks of like lanes do the least work: on Jolt's ConvexVsMesh 73 % of
+// the constraints have one point, but with the lanes in slot order 80 % of
+// the blocks had a lane of two or more (docs/benchmarks.md, cvm9).
+constexpr std::uint32_t kLaneKeys = 8;
+
+// A manifold's point count less one, in 0-3 (a manifold of no points, which
+// the narrow phase does not keep, as one of one point: the key only orders).
+std::uint32_t lanePoints(const CachedManifold& m) { return std::min(std::max(m.pointCount, 1u), 4u) - 1; }
+
+std::uint8_t laneKey(std::uint32_t pointsLessOne, std::uint32_t bodyA) {
+    return static_cast<std::uint8_t>((3 - pointsLessOne) * 2 + (bodyA != 0 ? 1 : 0));
 }
 
 }  // namespace
@@ -94,6 +117,8 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(constraints_, 4 * bodyCount);
     grow(pending_, 4 * bodyCount);
     grow(overlapping_, 4 * bodyCount);
+    grow(laneKeys_, 4 * bodyCount);
+    grow(laneOfSlot_, 4 * bodyCount);
     grow(overlapCount_, bodyCount + 1);
     grow(contactEnds_, 4 * bodyCount);
     grow(candidates_, 4 * bodyCount);
@@ -174,6 +199,12 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
             const std::size_t last = std::min(first + kContactsPerBlock, candidateCount);
             std::uint32_t total = 0;
             for (std::size_t k = first; k < last; ++k) {
+                // The contact twice as far ahead, so that reading its
+                // manifolds' address for the prefetch below does not wait
+                // (it did: 30 % of this function's samples on ConvexVsMesh).
+                if (k + 2 * kManifoldsAhead < last) {
+                    __builtin_prefetch(&contacts[contactAt(k + 2 * kManifoldsAhead)].manifolds);
+                }
                 if (k + kManifoldsAhead < last) prefetchFirstManifold(contacts[contactAt(k + kManifoldsAhead)]);
                 Contact& c = contacts[contactAt(k)];
                 ContactEnds& ends = contactEnds_[k];
@@ -201,15 +232,17 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 // block writes this contact, so the flag is the same for
                 // any thread count.
                 bool anyOverlaps = false;
-                std::uint32_t overlapping = 0;
+                std::uint32_t overlapping = 0, points = 0;
                 for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
                     const CachedManifold& m = c.manifolds[mi];
                     bool overlaps = false;
                     for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     anyOverlaps = anyOverlaps || overlaps;
                     if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
+                    if (mi < 16) points |= lanePoints(m) << (2 * mi);
                 }
                 ends.overlapping = overlapping;
+                ends.points = points;
                 if (c.firstTouch == FirstTouch::NotYet) {
                     c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
                 }
@@ -221,6 +254,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     for (std::size_t block = 0; block < contactBlocks; ++block) pendingBlockStart_[block + 1] += pendingBlockStart_[block];
     pending_.resize(pendingBlockStart_[contactBlocks]);
     overlapping_.resize(pending_.size());
+    laneKeys_.resize(pending_.size());
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
@@ -239,6 +273,8 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                         for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     }
                     overlapping_[out] = overlaps ? 1 : 0;
+                    const std::uint32_t points = mi < 16 ? (ends.points >> (2 * mi)) & 3 : lanePoints(contacts[ci].manifolds[mi]);
+                    laneKeys_[out] = laneKey(points, ends.bodyA);
                     pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
                 }
             }
@@ -309,15 +345,23 @@ void ContactSolver::packWide(const std::vector<Contact>& contacts) {
     // manifolds in colour order, the block build waited on the first read of
     // each lane's manifold for ~40 % of its time (perf, 10,000-sphere pile).
     const std::uint32_t colouredCount = colourStart_[kColourCount];
+    placeInLanes();
     laneSources_.resize(colouredCount);
     forRanges(pending_.size(), kConstraintsPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t pi = begin; pi < end; ++pi) {
+            // The contacts and manifolds ahead (random in memory: the manifold
+            // reads below were most of this loop's samples on ConvexVsMesh).
+            if (pi + 2 * kManifoldsAhead < end) prefetchContact(contacts[pending_[pi + 2 * kManifoldsAhead].contact]);
+            if (pi + kManifoldsAhead < end) {
+                const PendingConstraint& ahead = pending_[pi + kManifoldsAhead];
+                prefetchManifold(contacts[ahead.contact].manifolds.data() + ahead.manifold);
+            }
             const std::uint32_t slot = slotOf_[pi];
             if (slot >= colouredCount) continue;
             const PendingConstraint& pc = pending_[pi];
             const Contact& contact = contacts[pc.contact];
             const CachedManifold& m = contact.manifolds[pc.manifold];
-            LaneSource& lane = laneSources_[slot];
+            LaneSource& lane = laneSources_[laneOfSlot_[slot]];
             lane.normal = m.normal;
             lane.pointCount = m.pointCount;
             lane.frictionImpulse = m.frictionImpulse;
@@ -360,6 +404,32 @@ void ContactSolver::packWide(const std::vector<Contact>& contacts) {
             buildConstraint(contacts[pc.contact], pc, constraints_[i]);
         }
     });
+}
+
+// Each coloured slot's lane: the colour's slots ordered by their lane key
+// (kLaneKeys), in slot order among equal keys. A colour's constraints share
+// no dynamic body, so the order of its lanes, and how they are cut into
+// blocks, does not change a bit of the results (contact_wide.hpp); only the
+// blocks' work. Serial: two counting passes over the slots, ~15 instructions
+// a constraint.
+void ContactSolver::placeInLanes() {
+    laneOfSlot_.resize(colourStart_[kColourCount]);
+    if (!laneOrder_) {  // the slots' own order (setLaneOrder(false): the tests' reference)
+        for (std::uint32_t s = 0; s < colourStart_[kColourCount]; ++s) laneOfSlot_[s] = s;
+        return;
+    }
+    for (std::uint32_t c = 0; c < kColourCount; ++c) {
+        const std::uint32_t first = colourStart_[c], last = colourStart_[c + 1];
+        std::uint32_t cursor[kLaneKeys] = {};
+        for (std::uint32_t s = first; s < last; ++s) ++cursor[laneKeys_[pendingOfSlot_[s]]];
+        std::uint32_t at = first;
+        for (std::uint32_t& k : cursor) {
+            const std::uint32_t count = k;
+            k = at;
+            at += count;
+        }
+        for (std::uint32_t s = first; s < last; ++s) laneOfSlot_[s] = cursor[laneKeys_[pendingOfSlot_[s]]]++;
+    }
 }
 
 std::size_t ContactSolver::largestColourBlocks() const {

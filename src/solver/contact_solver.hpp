@@ -147,6 +147,14 @@ public:
     // Runs items [first, last) of a stage added above (its arg).
     void runPassStage(std::uint32_t arg, std::uint32_t first, std::uint32_t last);
 
+    // Whether the wide blocks' lanes are placed by their point counts and
+    // static ends within each colour (placeInLanes; the default), or in the
+    // colour's slot order: the same results either way (tests compare them).
+    void setLaneOrder(bool on) { laneOrder_ = on; }
+    // The point iterations of this step's wide blocks: the sum over blocks
+    // of their lanes' largest point count (what the lane order lowers).
+    std::size_t widePointRuns() const { return blocks_ && wide_ ? blocks_->pointRuns() : 0; }
+
     std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
     // Every constraint's contact and solver bodies (islands).
@@ -165,6 +173,7 @@ public:
 private:
     using PendingConstraint = ConstraintPair;
     void placeInColourSlots();  // after colourGreedy: each constraint's slot in colour order
+    void placeInLanes();        // wide mode, after placeInColourSlots: laneOfSlot_
     template <bool useBias>
     void solvePass(std::size_t begin, std::size_t end);
     void warmStartRange(std::size_t begin, std::size_t end);
@@ -191,12 +200,16 @@ private:
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
     std::vector<std::uint8_t> overlapping_;      // per pending constraint: its manifold is a deep overlap (pushLimit)
+    std::vector<std::uint8_t> laneKeys_;         // per pending constraint: where in its colour its lane goes (placeInLanes)
     std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
         // Bit i: manifold i has a point deeper than the push-sharing depth
         // (the first 32 manifolds; the pending-list pass reads the rest).
         std::uint32_t overlapping = 0;
+        // Bits 2i, 2i + 1: manifold i's point count less one (the first 16
+        // manifolds; the pending-list pass reads the rest): the lane keys.
+        std::uint32_t points = 0;
     };
     std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
     std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those
@@ -205,10 +218,12 @@ private:
     std::vector<std::uint32_t> pendingOfSlot_;   // the inverse: colour-ordered slot -> pending index
     std::vector<std::uint32_t> slotCursor_;      // colour(): per block of constraints, each colour's next slot
     std::vector<std::uint32_t> blockColour_;     // wide mode: each block's colour
-    std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by slot
+    std::vector<LaneSource> laneSources_;        // wide mode: the coloured constraints' inputs, by lane (laneOfSlot_)
+    std::vector<std::uint32_t> laneOfSlot_;      // wide mode: colour-ordered slot -> its lane, in the same colour
     std::vector<std::uint32_t> colourOf_;
     std::vector<ConstraintEnds> colouredEnds_;   // the ends colourOf_ was made for (colourGreedy keeps it while they hold)
     bool coloursKept_ = false;                   // this step's colours and slots are the last step's
+    bool laneOrder_ = true;                      // setLaneOrder
     std::vector<std::uint64_t> colourBits_;      // per solver body, the colours it has (graph_colouring.hpp)
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::unique_ptr<WideBlocks> blocks_;         // wide mode: the coloured constraints, lanes() per block

@@ -112,6 +112,8 @@ public:
     virtual void laneTargets(std::size_t block, const std::uint32_t*& contact, const std::uint32_t*& manifold,
                              std::uint32_t& laneCount) const = 0;
     virtual void store(std::size_t first, std::size_t count, const SolverBody* bodies, Contact* contacts) const = 0;
+    // The sum over the blocks of their largest lane point count (tests).
+    virtual std::size_t pointRuns() const = 0;
 };
 
 // The blocks for `path` (Sse2, or Avx2 when avx2Available(); nullptr otherwise).

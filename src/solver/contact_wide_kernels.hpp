@@ -672,6 +672,12 @@ public:
         storeWide(blocks_.data() + first, count, bodies, contacts);
         FULCRUM_WIDE_LEAVE();
     }
+    std::size_t pointRuns() const override {
+        std::size_t runs = 0;
+        for (const WideContactBlock& k : blocks_) runs += k.pointCount;
+        FULCRUM_WIDE_LEAVE();
+        return runs;
+    }
 
 private:
     SimdPath path_;
