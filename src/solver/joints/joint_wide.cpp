@@ -26,4 +26,27 @@ std::unique_ptr<WideJoints> makeWideJoints(SimdPath path) {
     return nullptr;
 }
 
+bool wideAtan2(SimdPath path, const Real* y, const Real* x, Real* out, std::size_t n) {
+    if (path == SimdPath::Sse2) {
+        joint_sse2::atan2Array(y, x, out, n);
+        return true;
+    }
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return avx2JointAtan2(y, x, out, n);
+    return false;
+}
+
+bool wideCoupledInverseMass(SimdPath path, const Real* K, const Real* Kia, const Real* kaa, Real* c, Real* schur,
+                            bool* ok, std::size_t n) {
+#ifdef FULCRUM_JOINT_WIDE_DOUBLE_LANES
+    if (path == SimdPath::Sse2) {
+        joint_sse2::coupledArray(K, Kia, kaa, c, schur, ok, n);
+        return true;
+    }
+#endif
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) {
+        return avx2JointCoupledInverseMass(K, Kia, kaa, c, schur, ok, n);
+    }
+    return false;
+}
+
 }  // namespace fulcrum::detail
