@@ -20,6 +20,7 @@
 #include "fulcrum/math/deterministic_math.hpp"
 #include "solver/joints/coupled_row.hpp"
 #include "solver/joints/joint_wide.hpp"
+#include "solver/joints/joint_wide_checks.hpp"
 
 using namespace fulcrum;
 using detail::SimdPath;

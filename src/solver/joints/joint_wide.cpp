@@ -2,6 +2,7 @@
 // the choice of width (joint_wide.hpp). The path itself is chosen as the
 // contact solver's is (contact_wide.hpp: FULCRUM_SIMD, else the widest the CPU runs).
 #include "solver/joints/joint_wide.hpp"
+#include "solver/joints/joint_wide_checks.hpp"
 
 #include "math/simd.hpp"
 #include "solver/joints/joint_types.hpp"

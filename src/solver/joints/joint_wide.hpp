@@ -99,15 +99,6 @@ std::unique_ptr<WideJoints> makeWideJoints(SimdPath path);
 // written) for a path whose joint kernels are not built or not runnable here.
 bool wideAtan2(SimdPath path, const Real* y, const Real* x, Real* out, std::size_t n);
 bool avx2JointAtan2(const Real* y, const Real* x, Real* out, std::size_t n);
-// The hinge blocks' coupling solve (coupledInverseMass's bits in lanes of
-// doubles, float in and out as coupleHingeRow uses it) over n systems, for
-// tests: system s reads K[15 s ..] (K_oo's lower triangle by rows), Kia[5 s ..]
-// (K_oa) and kaa[s], writes ok[s] and where ok c[5 s ..] and schur[s]. False
-// (nothing written) where the path has no double lanes.
-bool wideCoupledInverseMass(SimdPath path, const Real* K, const Real* Kia, const Real* kaa, Real* c, Real* schur,
-                            bool* ok, std::size_t n);
-bool avx2JointCoupledInverseMass(const Real* K, const Real* Kia, const Real* kaa, Real* c, Real* schur, bool* ok,
-                                 std::size_t n);
 // From joint_wide_avx2.cpp: whether it was compiled with AVX2, and its 8-lane blocks.
 bool avx2JointKernelsCompiled();
 std::unique_ptr<WideJoints> makeAvx2Joints();

@@ -3,6 +3,7 @@
 // kernels must round as the scalar reference does; simd.hpp). Used only when
 // the CPU has AVX2 (joint_wide.cpp checks before calling makeAvx2Joints).
 #include "solver/joints/joint_wide.hpp"
+#include "solver/joints/joint_wide_checks.hpp"
 
 #include "math/simd.hpp"
 
