@@ -58,11 +58,13 @@ void buildConeTwistBlock(ConeTwistBlock& k, const JointConstraint* constraints, 
         if (l >= laneCount) {
             setEmptyBodyLane(k, l);
             setEmptyRestPoseLane(k, l);
+            setInertiaLane(k, l, bodies);
             continue;
         }
         const JointConstraint& j = constraints[indices[l]];
         setBodyLane(k, l, j, indices[l], bodies);
         setRestPoseLane(k, l, j);
+        setInertiaLane(k, l, bodies);
         setLane(k.lower, l, j.lower);
         setLane(k.upper, l, j.upper);
         setLane(k.swingLimit, l, j.swingLimit);
@@ -140,7 +142,7 @@ void warmStartConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverB
     for (std::size_t bi = 0; bi < count; ++bi) {
         ConeTwistBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
-        Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
+        Ends e = stale ? gatherEnds<true>(bodies, k) : gatherEnds<false>(bodies, k);
         if (stale) updateConeTwistFrame(k, e, constraints, ctx.rotations, ctx.generation);
         // cachePointMass; the same K and inverse serve cacheFriction's K_pp.
         const Mat3W Kpp = pointInverseMass(e, k.rA, k.rB);
@@ -188,7 +190,7 @@ void solveConeTwistBlocks(ConeTwistBlock* blocks, std::size_t count, SolverBody*
     for (std::size_t bi = 0; bi < count; ++bi) {
         ConeTwistBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
-        Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
+        Ends e = stale ? gatherEnds<true>(bodies, k) : gatherEnds<false>(bodies, k);
         if (stale) updateConeTwistFrame(k, e, constraints, ctx.rotations, ctx.generation);
         // solveFrictionBlock: lambda -= M (wB - wA), scaled back to the
         // largest impulse when longer (lambda *= max / len).

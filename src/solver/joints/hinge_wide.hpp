@@ -11,9 +11,11 @@
 //   alignment error, the hinge angle with its arctangent) is computed once
 //   per rotation refresh and kept: the same inputs give the same bits;
 // - the free axis's coupling (coupleHingeRow: a 5x5 Cholesky in double, once
-//   per sub-step) runs lane by lane through the scalar function itself, on
-//   the lane's bodies and frame: the block keeps its result (the `apply` row
-//   and the effective mass) for the sub-step's passes, as the scalar record does;
+//   per sub-step) runs the scalar function's operations in lanes of doubles
+//   (coupledInverseMassLanes; lane by lane through the scalar function itself
+//   where there are no double lanes), on the lane's bodies and frame: the
+//   block keeps its result (the `apply` row and the effective mass) for the
+//   sub-step's passes, as the scalar record does;
 // - each row does its scalar twin's operations in order; the motor's clamp
 //   `next > max ? max : (next < -max ? -max : next)` is two selects in that
 //   order; copysign(1, n.z) in orthonormalBasis reads the sign bit (n.z < 0
@@ -32,6 +34,7 @@ namespace {
 
 struct HingeBlock : FramedLanes {
     bool anyDirect = false, anySpring = false, anyMotor = false, anyLimit = false;
+    bool allDirect = true;  // every used lane's point rows are the tree solver's: no point block here
     // The joint's constants.
     FloatW direct;                      // 1 where the tree solver has the point rows
     FloatW spring, motor, limit;        // 1 where the row is on
@@ -63,16 +66,19 @@ void buildHingeBlock(HingeBlock& k, const JointConstraint* constraints, const st
         if (l >= laneCount) {
             setEmptyBodyLane(k, l);
             setEmptyRestPoseLane(k, l);
+            setInertiaLane(k, l, bodies);
             continue;
         }
         const JointConstraint& j = constraints[indices[l]];
         setBodyLane(k, l, j, indices[l], bodies);
         setRestPoseLane(k, l, j);
+        setInertiaLane(k, l, bodies);
         flag(k.direct, l, j.direct);
         flag(k.spring, l, j.spring);
         flag(k.motor, l, j.motor);
         flag(k.limit, l, j.limit);
         k.anyDirect = k.anyDirect || j.direct;
+        k.allDirect = k.allDirect && j.direct;
         k.anySpring = k.anySpring || j.spring;
         k.anyMotor = k.anyMotor || j.motor;
         k.anyLimit = k.anyLimit || j.limit;
@@ -145,8 +151,9 @@ FULCRUM_JOINT_WIDE_INLINE Vec3W hingePointImpulse(const HingeBlock& k, const Joi
 // coupleHingeRow (coupled_row.cpp): the free axis's row with the point rows
 // (unit x, y, z through rA, rB) and the alignment rows (p1, p2) held. The
 // couplings K_ij (float, as `coupling` computes them, each body's M^-1 J_j
-// once per row) in lanes; the 5x5 solve in double per lane with the scalar
-// code itself (coupledInverseMass); `apply` = measure + sum held_i c_i in
+// once per row) in lanes; the 5x5 solve in double, in lanes of doubles
+// (coupledInverseMassLanes: the bits of the scalar coupledInverseMass, which
+// the targets without them call per lane); `apply` = measure + sum held_i c_i in
 // lanes. Lanes whose solve fails get the plain row, as coupleRow returns it.
 // Only the lanes in `redo` are coupled; the others keep theirs.
 FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, const MaskW& redo) {
@@ -177,6 +184,41 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
     alignas(32) Real Kia[5][kLanes];
     for (int i = 0; i < 5; ++i) coupling(i, 5).store(Kia[i]);
     alignas(32) Real c[5][kLanes] = {}, invMass[kLanes], coupled[kLanes] = {};
+#ifdef FULCRUM_JOINT_WIDE_DOUBLE_LANES
+    // The lanes' solves in lanes of doubles (coupledInverseMassLanes: the
+    // scalar function's bits), kDoubleLanes at a time where one needs it.
+    for (int first = 0; first < static_cast<int>(k.laneCount); first += kDoubleLanes) {
+        bool any = false;
+        for (int l = first; l < first + kDoubleLanes; ++l) any = any || (l < static_cast<int>(k.laneCount) && redo.lane(l));
+        if (!any) continue;
+        LanesD L[5][5], rhs[5], solved[5], kk;
+        for (int i = 0; i < 5; ++i) {
+            for (int j = 0; j <= i; ++j) L[i][j] = toDoubleLanes(&K[i][j][first]);
+            for (int j = i + 1; j < 5; ++j) L[i][j] = splatD(0.0);
+            rhs[i] = -toDoubleLanes(&Kia[i][first]);
+        }
+        LanesM ok;
+        coupledInverseMassLanes(L, rhs, toDoubleLanes(&rowMass[first]), solved, kk, ok);
+        alignas(32) Real cs[5][kDoubleLanes], ks[kDoubleLanes];
+        for (int i = 0; i < 5; ++i) storeFloatLanes(cs[i], solved[i]);
+        storeFloatLanes(ks, kk);
+        for (int w = 0; w < kDoubleLanes; ++w) {
+            const int l = first + w;
+            if (l >= static_cast<int>(k.laneCount) || !redo.lane(l) || ok[w] == 0) continue;
+            for (int i = 0; i < 5; ++i) c[i][l] = cs[i][w];
+            invMass[l] = ks[w];
+            coupled[l] = 1.0f;
+        }
+    }
+    for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+        const int l = static_cast<int>(lane);
+        if (!redo.lane(l)) {
+            invMass[lane] = getLane(k.axialInvMass, l);
+        } else if (coupled[lane] == 0.0f) {
+            invMass[lane] = rowMass[lane];
+        }
+    }
+#else
     for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
         const int l = static_cast<int>(lane);
         if (!redo.lane(l)) {
@@ -197,6 +239,7 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
         invMass[lane] = static_cast<Real>(kk);
         coupled[lane] = 1.0f;
     }
+#endif
     for (std::uint32_t lane = k.laneCount; lane < static_cast<std::uint32_t>(kLanes); ++lane) invMass[lane] = 0.0f;
     RowW apply = rows[5];
     for (int i = 0; i < 5; ++i) {
@@ -241,11 +284,17 @@ void warmStartHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bod
     for (std::size_t bi = 0; bi < count; ++bi) {
         HingeBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
-        Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
+        Ends e = stale ? gatherEnds<true>(bodies, k) : gatherEnds<false>(bodies, k);
         if (stale) updateHingeFrame(k, e, constraints, ctx.rotations, ctx.generation);
-        MaskW pointValid;
-        k.pointMass = inverseWherePositive(pointInverseMass(e, k.rA, k.rB), pointValid, Mat3W{});
-        k.pointMassValid = select(pointValid, FloatW(1.0f), zero);
+        if (k.allDirect) {
+            // cachePointMass serves only the point block, which the tree
+            // solver has in every lane: the passes solve none here.
+            k.pointMassValid = zero;
+        } else {
+            MaskW pointValid;
+            k.pointMass = inverseWherePositive(pointInverseMass(e, k.rA, k.rB), pointValid, Mat3W{});
+            k.pointMassValid = select(pointValid, FloatW(1.0f), zero);
+        }
         const Vec3W& axis = k.axisA;
         k.angular = k.angular - axis * dot(axis, k.angular);
         applyPoint(e, k.rA, k.rB, hingePointImpulse(k, constraints), all);
@@ -272,7 +321,7 @@ void solveHingeBlocks(HingeBlock* blocks, std::size_t count, SolverBody* bodies,
     for (std::size_t bi = 0; bi < count; ++bi) {
         HingeBlock& k = blocks[bi];
         const bool stale = k.frameAt != ctx.generation;
-        Ends e = stale ? gatherEnds<true>(bodies, k.bodyA, k.bodyB) : gatherEnds<false>(bodies, k.bodyA, k.bodyB);
+        Ends e = stale ? gatherEnds<true>(bodies, k) : gatherEnds<false>(bodies, k);
         if (stale) updateHingeFrame(k, e, constraints, ctx.rotations, ctx.generation);
         if (!pass.useBias && (k.anySpring || k.anyMotor || k.anyLimit)) {
             // A relax pass has new positions: HingeJoint::solve's guard.

@@ -2,6 +2,7 @@
 // the choice of width (joint_wide.hpp). The path itself is chosen as the
 // contact solver's is (contact_wide.hpp: FULCRUM_SIMD, else the widest the CPU runs).
 #include "solver/joints/joint_wide.hpp"
+#include "solver/joints/joint_wide_checks.hpp"
 
 #include "math/simd.hpp"
 #include "solver/joints/joint_types.hpp"
@@ -24,6 +25,29 @@ std::unique_ptr<WideJoints> makeWideJoints(SimdPath path) {
     if (path == SimdPath::Sse2) return std::make_unique<joint_sse2::Blocks>(SimdPath::Sse2);
     if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return makeAvx2Joints();
     return nullptr;
+}
+
+bool wideAtan2(SimdPath path, const Real* y, const Real* x, Real* out, std::size_t n) {
+    if (path == SimdPath::Sse2) {
+        joint_sse2::atan2Array(y, x, out, n);
+        return true;
+    }
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) return avx2JointAtan2(y, x, out, n);
+    return false;
+}
+
+bool wideCoupledInverseMass(SimdPath path, const Real* K, const Real* Kia, const Real* kaa, Real* c, Real* schur,
+                            bool* ok, std::size_t n) {
+#ifdef FULCRUM_JOINT_WIDE_DOUBLE_LANES
+    if (path == SimdPath::Sse2) {
+        joint_sse2::coupledArray(K, Kia, kaa, c, schur, ok, n);
+        return true;
+    }
+#endif
+    if (path == SimdPath::Avx2 && avx2Available() && avx2JointKernelsCompiled()) {
+        return avx2JointCoupledInverseMass(K, Kia, kaa, c, schur, ok, n);
+    }
+    return false;
 }
 
 }  // namespace fulcrum::detail

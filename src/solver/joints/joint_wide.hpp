@@ -94,6 +94,11 @@ WideKind wideKind(const JointConstraint& j);
 
 // The blocks for `path` (Sse2, or Avx2 when avx2Available(); nullptr for Scalar).
 std::unique_ptr<WideJoints> makeWideJoints(SimdPath path);
+// The blocks' atan2 (dmath::atan2 on Real, in the path's lanes) over n
+// pairs, for tests: the same bits as dmath::atan2 one by one. False (nothing
+// written) for a path whose joint kernels are not built or not runnable here.
+bool wideAtan2(SimdPath path, const Real* y, const Real* x, Real* out, std::size_t n);
+bool avx2JointAtan2(const Real* y, const Real* x, Real* out, std::size_t n);
 // From joint_wide_avx2.cpp: whether it was compiled with AVX2, and its 8-lane blocks.
 bool avx2JointKernelsCompiled();
 std::unique_ptr<WideJoints> makeAvx2Joints();

@@ -21,8 +21,11 @@
 #endif
 
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <type_traits>
 #include <vector>
@@ -107,6 +110,199 @@ FULCRUM_JOINT_WIDE_INLINE QuatW gatherRotation(const Quat* rotations, const std:
     return {q[0], q[1], q[2], q[3]};
 }
 
+#if FULCRUM_SIMD_HAS_SSE2 && (defined(__GNUC__) || defined(__clang__))
+// dmath::atan2 (deterministic_math.hpp) on lanes of doubles, the same bits
+// lane by lane: it is built from + - * / and sqrt, each IEEE-rounded per lane
+// as in the scalar code (no FMA: -ffp-contract=off, never -mfma), every
+// operation of the scalar code done in its order, with its constants; its
+// branches become selects (both sides computed, the scalar one's kept: the
+// side not taken may divide 0 by 0 or inf by inf, which traps nothing and is
+// dropped), its exact operations (fabs, copysign, signbit) are bit masks.
+// Two lanes of doubles per register on the baseline (SSE2), four on AVX2.
+// rain(4x2): the lanes called dmath::atan2 one by one, 42 M of 1,373 M
+// instructions in the step (branch rain9, docs/benchmarks.md).
+#if defined(__AVX__)
+typedef double LanesD __attribute__((vector_size(32)));
+typedef float LanesF __attribute__((vector_size(16)));
+#else
+typedef double LanesD __attribute__((vector_size(16)));
+typedef float LanesF __attribute__((vector_size(8)));
+#endif
+using LanesM = decltype(LanesD{} < LanesD{});  // a lane's mask: all bits or none
+constexpr int kDoubleLanes = static_cast<int>(sizeof(LanesD) / sizeof(double));
+static_assert(kLanes % kDoubleLanes == 0 && sizeof(LanesM) == sizeof(LanesD));
+
+FULCRUM_JOINT_WIDE_INLINE LanesD splatD(double v) {
+    LanesD r = {};
+    for (int i = 0; i < kDoubleLanes; ++i) r[i] = v;
+    return r;
+}
+FULCRUM_JOINT_WIDE_INLINE LanesM bitsD(const LanesD& v) { return std::bit_cast<LanesM>(v); }
+FULCRUM_JOINT_WIDE_INLINE LanesD fromBitsD(const LanesM& m) { return std::bit_cast<LanesD>(m); }
+FULCRUM_JOINT_WIDE_INLINE LanesD selectD(const LanesM& m, const LanesD& a, const LanesD& b) {
+#if defined(__AVX__)
+    return _mm256_blendv_pd(b, a, fromBitsD(m));  // m's lanes are all ones or all zeros
+#else
+    return fromBitsD((bitsD(a) & m) | (bitsD(b) & ~m));
+#endif
+}
+FULCRUM_JOINT_WIDE_INLINE LanesD sqrtD(const LanesD& v) {
+#if defined(__AVX__)
+    return _mm256_sqrt_pd(v);
+#else
+    return _mm_sqrt_pd(v);
+#endif
+}
+
+// dmath::detail::atanUnit.
+FULCRUM_JOINT_WIDE_INLINE LanesD atanUnitLanes(LanesD t) {
+    const LanesD zero = splatD(0.0), one = splatD(1.0);
+    const LanesM above = t > splatD(0.41421356237309503);
+    t = selectD(above, (t - one) / (t + one), t);
+    const LanesD base = selectD(above, splatD(dmath::detail::kQuarterPiHi), zero);
+    const LanesD baseLo = selectD(above, splatD(dmath::detail::kQuarterPiLo), zero);
+    const LanesD u = t / (one + sqrtD(one + t * t));
+    const LanesD z = u * u;
+    const LanesD p =
+        splatD(-1.0 / 3) +
+        z * (splatD(1.0 / 5) +
+             z * (splatD(-1.0 / 7) +
+                  z * (splatD(1.0 / 9) +
+                       z * (splatD(-1.0 / 11) +
+                            z * (splatD(1.0 / 13) +
+                                 z * (splatD(-1.0 / 15) +
+                                      z * (splatD(1.0 / 17) +
+                                           z * (splatD(-1.0 / 19) + z * (splatD(1.0 / 21) + z * (splatD(-1.0 / 23) + z * splatD(1.0 / 25)))))))))));
+    const LanesD atanU = u + u * (z * p);
+    return base + (splatD(2.0) * atanU + baseLo);
+}
+
+// dmath::atan2(double, double).
+FULCRUM_JOINT_WIDE_INLINE LanesD atan2DoubleLanes(const LanesD& y, const LanesD& x) {
+    LanesM magnitude = {};
+    for (int i = 0; i < kDoubleLanes; ++i) magnitude[i] = 0x7fffffffffffffffLL;
+    const LanesD zero = splatD(0.0), infinity = splatD(std::numeric_limits<double>::infinity());
+    const LanesD ax = fromBitsD(bitsD(x) & magnitude), ay = fromBitsD(bitsD(y) & magnitude);
+    // ay <= ax: atanUnit(ay / ax) (0 where ax == 0); else pi/2 - atanUnit(ax / ay).
+    const LanesM steep = ~(ay <= ax);
+    const LanesD unit = atanUnitLanes(selectD(steep, ax, ay) / selectD(steep, ay, ax));
+    LanesD a = selectD(steep, splatD(dmath::detail::kHalfPiHi) + (splatD(dmath::detail::kHalfPiLo) - unit), unit);
+    a = selectD(~steep & (ax == zero), zero, a);
+    a = selectD((ax == infinity) & (ay == infinity), splatD(dmath::detail::kQuarterPiHi), a);
+    // signbit(x): pi - a; then copysign(a, y).
+    a = selectD(bitsD(x) < LanesM{}, splatD(dmath::detail::kPiHi) + (splatD(dmath::detail::kPiLo) - a), a);
+    a = fromBitsD((bitsD(a) & magnitude) | (bitsD(y) & ~magnitude));
+    return selectD((x != x) | (y != y), x + y, a);
+}
+
+// coupledInverseMass (coupled_row.hpp) for count = 5 on lanes of doubles,
+// the same bits lane by lane: its Cholesky, forward and back substitution
+// and Schur complement, each operation in the scalar order; fmax for the
+// scale is a select that ignores NaN as fmax does (its result only enters
+// the comparisons, where a zero's sign does not count). `ok`: the lanes where
+// the scalar function returns true (its early returns are the mask's
+// failures; a failed lane's c and schur are not the scalar's and are not
+// used). L's lower triangle is read; rhs = -K_oa; kaa = K_aa.
+FULCRUM_JOINT_WIDE_INLINE void coupledInverseMassLanes(LanesD (&L)[5][5], const LanesD (&rhs)[5], const LanesD& kaa,
+                                                       LanesD (&c)[5], LanesD& schur, LanesM& ok) {
+    LanesD scale = splatD(0.0);
+    for (int i = 0; i < 5; ++i) scale = selectD(L[i][i] > scale, L[i][i], scale);
+    ok = ~LanesM{};
+    for (int j = 0; j < 5; ++j) {
+        LanesD s = L[j][j];
+        for (int k = 0; k < j; ++k) s -= L[j][k] * L[j][k];
+        ok &= s > splatD(1e-9) * scale;
+        const LanesD d = sqrtD(s);
+        L[j][j] = d;
+        for (int i = j + 1; i < 5; ++i) {
+            LanesD t = L[i][j];
+            for (int k = 0; k < j; ++k) t -= L[i][k] * L[j][k];
+            L[i][j] = t / d;
+        }
+    }
+    for (int i = 0; i < 5; ++i) {
+        LanesD t = rhs[i];
+        for (int k = 0; k < i; ++k) t -= L[i][k] * c[k];
+        c[i] = t / L[i][i];
+    }
+    for (int i = 5; i-- > 0;) {
+        LanesD t = c[i];
+        for (int k = i + 1; k < 5; ++k) t -= L[k][i] * c[k];
+        c[i] = t / L[i][i];
+    }
+    schur = kaa;
+    for (int i = 0; i < 5; ++i) schur -= rhs[i] * c[i];
+    ok &= schur > splatD(1e-12) * kaa;
+}
+
+FULCRUM_JOINT_WIDE_INLINE LanesD toDoubleLanes(const Real* floats) {
+    LanesF f;
+    std::memcpy(&f, floats, sizeof(f));
+    return __builtin_convertvector(f, LanesD);
+}
+FULCRUM_JOINT_WIDE_INLINE void storeFloatLanes(Real* floats, const LanesD& v) {
+    const LanesF f = __builtin_convertvector(v, LanesF);
+    std::memcpy(floats, &f, sizeof(f));
+}
+#define FULCRUM_JOINT_WIDE_DOUBLE_LANES 1
+
+// coupledInverseMassLanes over n systems, as coupleHingeRow calls it (its
+// float inputs widened, c and the Schur complement rounded to floats):
+// system s reads K[15 s ..] (the lower triangle by rows), Kia[5 s ..] and
+// kaa[s], and writes ok[s] and, where ok, c[5 s ..] and schur[s]
+// (wideCoupledInverseMass, for tests).
+void coupledArray(const Real* K, const Real* Kia, const Real* kaa, Real* c, Real* schur, bool* ok, std::size_t n) {
+    for (std::size_t first = 0; first < n; first += kDoubleLanes) {
+        alignas(32) Real lanes[5][5][kDoubleLanes] = {}, rhsLanes[5][kDoubleLanes] = {}, kaaLanes[kDoubleLanes] = {};
+        for (int w = 0; w < kDoubleLanes && first + w < n; ++w) {
+            const std::size_t sys = first + w;
+            int e = 0;
+            for (int i = 0; i < 5; ++i) {
+                for (int j = 0; j <= i; ++j) lanes[i][j][w] = K[15 * sys + e++];
+                rhsLanes[i][w] = Kia[5 * sys + i];
+            }
+            kaaLanes[w] = kaa[sys];
+        }
+        LanesD L[5][5], rhs[5], solved[5], kk;
+        for (int i = 0; i < 5; ++i) {
+            for (int j = 0; j < 5; ++j) L[i][j] = j <= i ? toDoubleLanes(lanes[i][j]) : splatD(0.0);
+            rhs[i] = -toDoubleLanes(rhsLanes[i]);
+        }
+        LanesM good;
+        coupledInverseMassLanes(L, rhs, toDoubleLanes(kaaLanes), solved, kk, good);
+        alignas(32) Real cs[5][kDoubleLanes], ks[kDoubleLanes];
+        for (int i = 0; i < 5; ++i) storeFloatLanes(cs[i], solved[i]);
+        storeFloatLanes(ks, kk);
+        for (int w = 0; w < kDoubleLanes && first + w < n; ++w) {
+            const std::size_t sys = first + w;
+            ok[sys] = good[w] != 0;
+            if (!ok[sys]) continue;
+            for (int i = 0; i < 5; ++i) c[5 * sys + i] = cs[i][w];
+            schur[sys] = ks[w];
+        }
+    }
+    FULCRUM_JOINT_WIDE_LEAVE();
+}
+
+// atan2 per lane (lanes [0, laneCount); the rest 0): dmath::atan2 on floats
+// (the double result rounded once), as the scalar code calls it, in lanes.
+FULCRUM_JOINT_WIDE_INLINE FloatW atan2Lanes(const FloatW& y, const FloatW& x, std::uint32_t laneCount) {
+    static_assert(std::is_same_v<Real, float>);
+    alignas(32) Real ys[kLanes], xs[kLanes], out[kLanes] = {};
+    y.store(ys);
+    x.store(xs);
+    for (int i = 0; i < static_cast<int>(laneCount); i += kDoubleLanes) {
+        LanesF fy, fx;
+        std::memcpy(&fy, ys + i, sizeof(fy));
+        std::memcpy(&fx, xs + i, sizeof(fx));
+        const LanesF r = __builtin_convertvector(
+            atan2DoubleLanes(__builtin_convertvector(fy, LanesD), __builtin_convertvector(fx, LanesD)), LanesF);
+        std::memcpy(out + i, &r, sizeof(r));
+    }
+    for (int l = static_cast<int>(laneCount); l < kLanes; ++l) out[l] = 0;
+    return FloatW::load(out);
+}
+#else
 // atan2 per lane (lanes [0, laneCount); the rest 0): the lanes call the same
 // function the scalar code does (dmath::atan2 on floats), so both paths
 // round alike.
@@ -116,6 +312,23 @@ FULCRUM_JOINT_WIDE_INLINE FloatW atan2Lanes(const FloatW& y, const FloatW& x, st
     x.store(xs);
     for (std::uint32_t l = 0; l < laneCount; ++l) out[l] = dmath::atan2(ys[l], xs[l]);
     return FloatW::load(out);
+}
+#endif
+
+// atan2Lanes over n pairs, kLanes at a time (wideAtan2, for tests).
+void atan2Array(const Real* y, const Real* x, Real* out, std::size_t n) {
+    alignas(32) Real ys[kLanes], xs[kLanes], rs[kLanes];
+    for (std::size_t first = 0; first < n; first += kLanes) {
+        const std::size_t count = n - first < static_cast<std::size_t>(kLanes) ? n - first : kLanes;
+        for (int l = 0; l < kLanes; ++l) {
+            const bool used = static_cast<std::size_t>(l) < count;
+            ys[l] = used ? y[first + l] : Real(0);
+            xs[l] = used ? x[first + l] : Real(1);
+        }
+        atan2Lanes(FloatW::load(ys), FloatW::load(xs), static_cast<std::uint32_t>(count)).store(rs);
+        for (std::size_t l = 0; l < count; ++l) out[first + l] = rs[l];
+    }
+    FULCRUM_JOINT_WIDE_LEAVE();
 }
 
 // twistAngle: r = (conj(qA) qB) conj(relative0), turned to r.w >= 0, and
@@ -149,7 +362,8 @@ struct BodyW {
 // not a lambda: a lambda would not be always-inline, and when the kernels
 // grew GCC made it a call per group: the grid's ball joints +11 % of the
 // instructions, callgrind, ninth session).
-FULCRUM_JOINT_WIDE_INLINE void gatherGroup(const Real* const* rows, std::size_t first, BodyW& b) {
+template <class Rows>
+FULCRUM_JOINT_WIDE_INLINE void gatherGroup(const Real* const* rows, std::size_t first, Rows& b) {
     typename Policy::Reg regs[4];
     const Real* shifted[kLanes];
     for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + first;
@@ -173,34 +387,64 @@ FULCRUM_JOINT_WIDE_INLINE BodyW gatherBody(const SolverBody* bodies, const std::
 }
 
 // Writes v and w back (floats 0-7 of each row; invMass and dp.x unchanged).
-FULCRUM_JOINT_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::uint32_t* index, const BodyW& body,
+template <class Rows>
+FULCRUM_JOINT_WIDE_INLINE void scatterVelocity(SolverBody* bodies, const std::uint32_t* index, const Rows& body,
                                                const Vec3W& v, const Vec3W& w) {
     const std::array<FloatW, 8> row = {v.x, v.y, v.z, body.row[3], w.x, w.y, w.z, body.row[7]};
     FloatW::scatterTransposed<8>(bodies, index, row);
 }
 
+// Floats 0-11 of a body's row (v, invMass, w, dp, and dtheta.x, dtheta.y):
+// the part of it the hinge and cone-twist blocks gather in every pass.
+struct EndRowsW {
+    std::array<FloatW, 12> row;
+    Vec3W dp() const { return {row[7], row[8], row[9]}; }
+};
+
 // A block's two ends while its rows run: the gathered rows and the
 // velocities as the rows change them (the scalar kernels' a.v, a.w, b.v, b.w).
 struct Ends {
-    BodyW a, b;
+    EndRowsW a, b;
     Vec3W vA, wA, vB, wB;
     Mat3W invIA, invIB;
     FloatW mA, mB;
 };
 
-template <bool deltas>
-FULCRUM_JOINT_WIDE_INLINE Ends gatherEnds(const SolverBody* bodies, const std::uint32_t* indexA, const std::uint32_t* indexB) {
+// The ends of a hinge or cone-twist block: floats 0-7 of each row (and 8-11
+// with `deltas`) from the rows' addresses the block keeps (unless `bodies` is
+// not the array it was built on); the inverse inertias are the block's copies
+// (FramedLanes).
+template <bool deltas, class Block>
+FULCRUM_JOINT_WIDE_INLINE Ends gatherEnds(const SolverBody* bodies, const Block& k) {
     Ends e;
-    e.a = gatherBody<deltas>(bodies, indexA);
-    e.b = gatherBody<deltas>(bodies, indexB);
-    e.vA = e.a.v();
-    e.wA = e.a.w();
-    e.vB = e.b.v();
-    e.wB = e.b.w();
-    e.invIA = e.a.invI();
-    e.invIB = e.b.invI();
-    e.mA = e.a.invMass();
-    e.mB = e.b.invMass();
+    const Real* const* rowsA = k.rowA;
+    const Real* const* rowsB = k.rowB;
+    const Real* ownA[kLanes];
+    const Real* ownB[kLanes];
+    if (bodies != k.rowsOf) [[unlikely]] {
+        for (int i = 0; i < kLanes; ++i) {
+            ownA[i] = reinterpret_cast<const Real*>(bodies + k.bodyA[i]);
+            ownB[i] = reinterpret_cast<const Real*>(bodies + k.bodyB[i]);
+        }
+        rowsA = ownA;
+        rowsB = ownB;
+    }
+    gatherGroup(rowsA, 0, e.a);
+    gatherGroup(rowsA, 4, e.a);
+    gatherGroup(rowsB, 0, e.b);
+    gatherGroup(rowsB, 4, e.b);
+    if constexpr (deltas) {
+        gatherGroup(rowsA, 8, e.a);
+        gatherGroup(rowsB, 8, e.b);
+    }
+    e.vA = {e.a.row[0], e.a.row[1], e.a.row[2]};
+    e.wA = {e.a.row[4], e.a.row[5], e.a.row[6]};
+    e.vB = {e.b.row[0], e.b.row[1], e.b.row[2]};
+    e.wB = {e.b.row[4], e.b.row[5], e.b.row[6]};
+    e.invIA = k.invIA;
+    e.invIB = k.invIB;
+    e.mA = e.a.row[3];
+    e.mB = e.b.row[3];
     return e;
 }
 
@@ -255,17 +499,34 @@ FULCRUM_JOINT_WIDE_INLINE void writeTreeFrames(JointConstraint* constraints, con
                                                std::uint32_t laneCount, const FloatW& direct, const Vec3W& rA,
                                                const Vec3W& rB, const Vec3W& d, const QuatW& qA, const QuatW& qB,
                                                std::uint64_t generation) {
-    const auto quat = [](const QuatW& q, int l) { return Quat{getLane(q.w, l), getLane(q.x, l), getLane(q.y, l), getLane(q.z, l)}; };
-    const auto vec = [](const Vec3W& v, int l) { return Vec3{getLane(v.x, l), getLane(v.y, l), getLane(v.z, l)}; };
+    // JointFrame as 17 floats (rA, rB, d, qA, qB): floats 0-15 of every
+    // written lane by four transposed stores, float 16 (qB.z) lane by lane
+    // (the lanes one by one cost 13.7 M of rain(4x2)'s 1,318 M, branch rain9).
+    static_assert(std::is_trivially_copyable_v<JointFrame> && sizeof(JointFrame) == 17 * sizeof(Real) &&
+                      offsetof(JointFrame, rB) == 3 * sizeof(Real) && offsetof(JointFrame, d) == 6 * sizeof(Real) &&
+                      offsetof(JointFrame, qA) == 9 * sizeof(Real) && offsetof(JointFrame, qB) == 13 * sizeof(Real),
+                  "JointFrame: rA, rB, d, qA (w, x, y, z), qB, packed floats");
+    alignas(32) Real sink[16];
+    Real* rows[kLanes];
+    bool any = false;
+    for (int i = 0; i < kLanes; ++i) {
+        const bool write = static_cast<std::uint32_t>(i) < laneCount && getLane(direct, i) > 0;
+        rows[i] = write ? reinterpret_cast<Real*>(&constraints[constraint[i]].frame) : sink;
+        any = any || write;
+    }
+    if (!any) return;
+    const FloatW columns[16] = {rA.x, rA.y, rA.z, rB.x, rB.y, rB.z, d.x, d.y, d.z, qA.w, qA.x, qA.y, qA.z, qB.w, qB.x, qB.y};
+    for (int j = 0; j < 16; j += 4) {
+        const typename Policy::Reg regs[4] = {columns[j].reg(), columns[j + 1].reg(), columns[j + 2].reg(), columns[j + 3].reg()};
+        Real* shifted[kLanes];
+        for (int i = 0; i < kLanes; ++i) shifted[i] = rows[i] + j;
+        Policy::storeTransposed4(shifted, regs);
+    }
     for (std::uint32_t lane = 0; lane < laneCount; ++lane) {
         const int l = static_cast<int>(lane);
         if (!(getLane(direct, l) > 0)) continue;
         JointConstraint& j = constraints[constraint[lane]];
-        j.frame.rA = vec(rA, l);
-        j.frame.rB = vec(rB, l);
-        j.frame.d = vec(d, l);
-        j.frame.qA = quat(qA, l);
-        j.frame.qB = quat(qB, l);
+        j.frame.qB.z = getLane(qB.z, l);
         j.frameAt = generation;
     }
 }
@@ -352,7 +613,15 @@ void setEmptyBodyLane(Block& k, int l) {
 // What hinge and cone-twist blocks both hold per lane: the two ends (gather:
 // solver body, 0 for static; scatter: the body if dynamic, else kEmptyLane),
 // where store() puts the lane's impulses, the refresh the frame was computed
-// at, and the step's start (anchors, centre delta, rest pose, local axes).
+// at, and the step's start (anchors, centre delta, rest pose, local axes,
+// and the ends' world inverse inertias).
+//
+// The inertias: SolverBody::invI is the step's start's, written when the
+// step fills the solver bodies (BodyStore) and by nothing after it until the
+// next step, whose prepare builds the blocks again; so a copy taken at the
+// block's build has the bits every pass would gather, and the passes gather
+// 8 floats of a body's row (12 with the frame's deltas) instead of 20 (24)
+// (branch rain9, docs/benchmarks.md: rain(4x2)'s step 1,346 M -> 1,318 M).
 struct FramedLanes {
     std::uint32_t bodyA[kLanes], bodyB[kLanes];
     std::uint32_t writeA[kLanes], writeB[kLanes];
@@ -362,7 +631,31 @@ struct FramedLanes {
     Vec3W rA0, rB0, centreDelta;
     QuatW qA0, qB0, relative0Conjugate;
     Vec3W localAxisA, localAxisB;
+    Mat3W invIA, invIB;
+    // Each lane's two solver-body rows in the array the block was built on
+    // (rowsOf): the gathers' addresses, computed once a step.
+    const Real* rowA[kLanes];
+    const Real* rowB[kLanes];
+    const SolverBody* rowsOf = nullptr;
 };
+
+// Lane l's inverse inertias and rows from its solver bodies (after
+// setBodyLane or setEmptyBodyLane: an empty lane reads body 0, as its
+// gathers did).
+template <class Block>
+void setInertiaLane(Block& k, int l, const SolverBody* bodies) {
+    k.rowsOf = bodies;
+    k.rowA[l] = reinterpret_cast<const Real*>(bodies + k.bodyA[l]);
+    k.rowB[l] = reinterpret_cast<const Real*>(bodies + k.bodyB[l]);
+    const Mat3& a = bodies[k.bodyA[l]].invI;
+    const Mat3& b = bodies[k.bodyB[l]].invI;
+    setLane(k.invIA.c0, l, a.c0);
+    setLane(k.invIA.c1, l, a.c1);
+    setLane(k.invIA.c2, l, a.c2);
+    setLane(k.invIB.c0, l, b.c0);
+    setLane(k.invIB.c1, l, b.c1);
+    setLane(k.invIB.c2, l, b.c2);
+}
 
 // The rest pose and the axes hinge and cone-twist blocks both carry (their
 // frames: cone_twist_wide.hpp, hinge_wide.hpp). The rest
