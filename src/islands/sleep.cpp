@@ -199,7 +199,7 @@ void SleepManager::update(BodyStore& w, const SleepSettings& s, const std::vecto
         }
         if (!awakeA) continue;
         const std::uint32_t ia = w.solverIndexOf(da), ib = w.solverIndexOf(db);
-        if (ia == 0 || ib == 0) continue;
+        if (ia == 0 || ib == 0 || !islandsNeeded) continue;
         const std::uint32_t ra = find(ia), rb = find(ib);
         if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
     }
