@@ -25,6 +25,10 @@
 using namespace fulcrum;
 using detail::SimdPath;
 
+// The double lanes stand for float builds' scalar functions only (a double
+// build's joint blocks keep the scalar path), so the whole file is float-only.
+#if !FULCRUM_DOUBLE
+
 namespace {
 
 std::vector<SimdPath> widePaths() {
@@ -53,7 +57,6 @@ void expectSameBits(SimdPath path, const std::vector<Real>& y, const std::vector
 
 }  // namespace
 
-#if !FULCRUM_DOUBLE
 TEST(JointSimdDoubleLanes, SpecialValuesHaveTheScalarBits) {
     const Real inf = std::numeric_limits<Real>::infinity(), nan = std::numeric_limits<Real>::quiet_NaN();
     const Real tiny = std::numeric_limits<Real>::denorm_min(), small = std::numeric_limits<Real>::min();
@@ -93,7 +96,6 @@ TEST(JointSimdDoubleLanes, RandomPairsHaveTheScalarBits) {
     }
     for (const SimdPath path : widePaths()) expectSameBits(path, ys, xs);
 }
-#endif
 
 // The hinge blocks' 5 x 5 coupling solve in lanes of doubles
 // (coupledInverseMassLanes) against the scalar coupledInverseMass on the
@@ -103,7 +105,6 @@ TEST(JointSimdDoubleLanes, RandomPairsHaveTheScalarBits) {
 // to 1e3), singular ones (a repeated row: the Cholesky's early return),
 // a negative diagonal, NaN entries, and Schur complements near the 1e-12
 // guard (K_aa just above K_ao K_oo^-1 K_oa).
-#if !FULCRUM_DOUBLE
 TEST(JointSimdDoubleLanes, HingeCouplingSolvesHaveTheScalarBits) {
     std::mt19937 rng(21);
     std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
@@ -177,4 +178,4 @@ TEST(JointSimdDoubleLanes, HingeCouplingSolvesHaveTheScalarBits) {
         EXPECT_LT(failures, n / 2);
     }
 }
-#endif
+#endif  // !FULCRUM_DOUBLE
