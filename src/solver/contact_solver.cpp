@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "fulcrum/task_system.hpp"
@@ -51,6 +52,26 @@ constexpr std::size_t kPrefetchBlocks = 8;
 // and the 1:100 stack collapsed.
 constexpr Real kPushShareDepth = Real(0.05);
 
+// A pair that got deeper by more than this, either unseen (the narrow phase
+// finds it deeper than the solver had predicted for the end of the last
+// step: Contact::grownBy) or within this step (its predicted end depth less
+// its step-start depth, or less zero if it started apart), is pushed apart by
+// position after the sub-steps (pushOutGrown) down to kGrowthPushOutKeep.
+// Resting contacts change their depth by far less from step to step; a hull
+// struck within a step into a neighbour whose step-start manifold held other
+// features grows 10-20 cm unseen, and one struck by a hull landing at 15-25
+// m/s is driven several centimetres into the next within the step
+// (docs/benchmarks.md, `pile8`: 1 cm against 0.5 cm there).
+constexpr Real kGrowthPushOut = Real(0.005);
+constexpr Real kGrowthPushOutKeep = Real(0.005);
+// Gauss-Seidel passes of pushOutGrown at most (a pass moves a body into its
+// next neighbour, which the next pass sees grown), and the least move.
+constexpr std::uint32_t kPushOutPasses = 8;
+constexpr Real kPushOutTolerance = Real(1e-3);
+// pushOutGrown leaves the pairs of a body touching a dynamic body more than
+// this many times heavier to the soft contact.
+constexpr Real kPushOutMassRatio = 10;
+
 // The pending-list pass reads each contact's manifolds (their own heap
 // blocks, scattered): requested this many contacts ahead. A hint only.
 constexpr std::size_t kManifoldsAhead = 16;
@@ -95,6 +116,8 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(pending_, 4 * bodyCount);
     grow(overlapping_, 4 * bodyCount);
     grow(overlapCount_, bodyCount + 1);
+    grow(pushedPass_, bodyCount + 1);
+    grow(loaded_, bodyCount + 1);
     grow(contactEnds_, 4 * bodyCount);
     grow(candidates_, 4 * bodyCount);
     grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
@@ -178,6 +201,9 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 Contact& c = contacts[contactAt(k)];
                 ContactEnds& ends = contactEnds_[k];
                 ends.manifolds = 0;
+                // Read and zeroed here (Contact::grownBy: 0 between steps).
+                ends.grown = c.grownBy > kGrowthPushOut;
+                c.grownBy = 0;
                 if (!c.alive || c.sensor || c.manifolds.empty()) continue;
                 const std::uint32_t dA = w.bodySlots[c.slotA].dense;
                 const std::uint32_t dB = w.bodySlots[c.slotB].dense;
@@ -238,7 +264,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                         overlaps = false;
                         for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     }
-                    overlapping_[out] = overlaps ? 1 : 0;
+                    overlapping_[out] = static_cast<std::uint8_t>((overlaps ? 1 : 0) | (ends.grown ? 2 : 0));
                     pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
                 }
             }
@@ -488,7 +514,7 @@ void ContactSolver::colourGreedy() {
     // first force evaluation, like the colouring).
     overlapCount_.assign(store_->state.size(), 0);
     for (std::size_t i = 0; i < pending_.size(); ++i) {
-        if (overlapping_[i] == 0) continue;
+        if ((overlapping_[i] & 1) == 0) continue;
         ++overlapCount_[pending_[i].bodyA];
         ++overlapCount_[pending_[i].bodyB];
     }
@@ -799,6 +825,117 @@ void ContactSolver::applyRestitution() {
         a.w = wA;
         b.v = vB;
         b.w = wB;
+    }
+}
+
+// Why by position: the soft contact pushes an overlap out at up to
+// contactPushMaxVelocity (3 m/s, 5 cm a step at 60 Hz), and what it pushes
+// stays in the bodies as separating velocity (the relax pass removes only
+// approach). A faster push bounced: two free boxes pushed out of a 10 cm
+// overlap by a push limit growing with the depth left each other at 1.9 m/s
+// (docs/benchmarks.md, `pile`). Moving the positions leaves the velocities
+// alone, like a split impulse's pseudo-velocity. Why only grown pairs:
+// resting contacts under a load (a heavy box on a light one rests 1-3 cm
+// deep; a 1:10^6 stack sinks on by design: docs/solver.md, "Mass ratios")
+// keep their depth from step to step and stay the soft spring's; a pair
+// that gets 10-20 cm deeper within one step (a hull struck into a
+// neighbour, a landing the solver did not hold) is the solver's or the
+// narrow phase's lag, not a load.
+void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
+    const std::vector<Contact>& contacts = manager.contacts();
+    // Per solver body: the last pass (from 1) that moved it. A later pass
+    // revisits only the pairs with a body moved in the pass before or this one.
+    pushedPass_.assign(w.state.size(), 0);
+    // Per solver body: it touches a dynamic body more than kPushOutMassRatio
+    // times heavier (the pass below leaves its pairs alone).
+    loaded_.assign(w.state.size(), 0);
+    for (const PendingConstraint& pc : pending_) {
+        const Real ia = w.state[pc.bodyA].invMass, ib = w.state[pc.bodyB].invMass;
+        if (ia > 0 && ib > 0 && std::max(ia, ib) > kPushOutMassRatio * std::min(ia, ib)) {
+            loaded_[ia > ib ? pc.bodyA : pc.bodyB] = 1;
+        }
+    }
+    for (std::uint32_t pass = 1; pass <= kPushOutPasses; ++pass) {
+        bool moved = false;
+        for (std::size_t i = 0; i < pending_.size(); ++i) {
+            // The first pass reads every manifold (random in memory, as in
+            // store): their lines requested ahead, the contacts further ahead.
+            // Without it the misses were 70 % of this function's time.
+            if (pass == 1) {
+                if (i + 2 * kManifoldsAhead < pending_.size()) prefetchContact(contacts[pending_[i + 2 * kManifoldsAhead].contact]);
+                if (i + kManifoldsAhead < pending_.size()) {
+                    const PendingConstraint& ahead = pending_[i + kManifoldsAhead];
+                    prefetchManifold(contacts[ahead.contact].manifolds.data() + ahead.manifold);
+                }
+            }
+            const PendingConstraint& pc = pending_[i];
+            if (pass > 1 && pushedPass_[pc.bodyA] + 1 < pass && pushedPass_[pc.bodyB] + 1 < pass) continue;
+            SolverBody& a = w.state[pc.bodyA];
+            SolverBody& b = w.state[pc.bodyB];
+            // Pairs of dynamic bodies of very different masses, and any pair
+            // of a body touching a much heavier one, are left to the soft
+            // contact (loaded_). A move shared by inverse mass puts nearly
+            // all of it on the light body, which it drives into whatever is
+            // under it, and the passes shuttle the overlap between the two
+            // pairs (a 300 kg box on a 1 kg one on the ground went through
+            // both); a light box held on the ground by position while a 10^6
+            // times heavier one sank into it was passed through whole (the
+            // two boxes ended in one place, where no contact reports a depth).
+            if (loaded_[pc.bodyA] != 0 || loaded_[pc.bodyB] != 0) continue;
+            const Real invMass = a.invMass + b.invMass;
+            if (!(invMass > 0)) continue;
+            const CachedManifold& m = contacts[pc.contact].manifolds[pc.manifold];
+            // The deepest point now, to first order in the bodies' motion since
+            // the step's start (as store's depthAfter), and at the step's start.
+            const Vec3 n = m.normal;
+            const Vec3 dp = b.dp - a.dp;
+            Real deepest = -std::numeric_limits<Real>::infinity();
+            Real deepestStart = -std::numeric_limits<Real>::infinity();
+            for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+                const CachedPoint& p = m.points[k];
+                const Vec3 rA = p.position - w.startCom[pc.bodyA];
+                const Vec3 rB = p.position - w.startCom[pc.bodyB];
+                const Real depth = p.depth - dot(n, dp) - dot(b.dtheta, cross(rB, n)) + dot(a.dtheta, cross(rA, n));
+                deepest = std::max(deepest, depth);
+                deepestStart = std::max(deepestStart, p.depth);
+            }
+            // Grown unseen (this step's narrow phase found it: grownBy) or
+            // within this step (from its start, or from touching if it
+            // started apart).
+            const bool unseen = (overlapping_[i] & 2) != 0;
+            const bool within = deepest - std::max(deepestStart, Real(0)) > kGrowthPushOut;
+            if (!unseen && !within) continue;
+            const Real excess = deepest - kGrowthPushOutKeep;
+            if (!(excess > kPushOutTolerance)) continue;
+            // Along the normal, shared by the inverse masses (a static or
+            // kinematic end does not move): every point's depth falls by excess.
+            // And the centres' approach along the normal taken out by an
+            // equal and opposite impulse (never a separating one): moved
+            // back without it, a body sinking under a load the soft contact
+            // had not yet taken kept its speed, sank again the next step,
+            // and gained speed step after step (a 300 kg box on a 1 kg one
+            // went through it).
+            const Real approach = dot(n, b.v - a.v);
+            const Real stop = approach < 0 ? approach : Real(0);
+            if (a.invMass > 0) {
+                const Real share = a.invMass / invMass;
+                const Vec3 move = n * (-excess * share);
+                w.pose[pc.bodyA].com += move;
+                a.dp += move;
+                a.v += n * (stop * share);
+                pushedPass_[pc.bodyA] = pass;
+            }
+            if (b.invMass > 0) {
+                const Real share = b.invMass / invMass;
+                const Vec3 move = n * (excess * share);
+                w.pose[pc.bodyB].com += move;
+                b.dp += move;
+                b.v -= n * (stop * share);
+                pushedPass_[pc.bodyB] = pass;
+            }
+            moved = true;
+        }
+        if (!moved) break;
     }
 }
 

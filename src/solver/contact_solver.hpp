@@ -108,6 +108,13 @@ public:
     void colourGreedy();
     void finishPrepare(ContactManager& contacts);
     void applyRestitution();
+    // After the sub-steps, before store: pairs the narrow phase found deeper
+    // than the last step's end had them by more than a threshold
+    // (Contact::grownBy: an overlap made within a step, unseen by its
+    // manifold) are moved apart along their normal by what is left of it,
+    // positions only (no velocity: nothing to bounce). Serial, in
+    // constraint order: the same bits for any thread count.
+    void pushOutGrown(BodyStore& w, const ContactManager& contacts);
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(ContactManager& contacts);
 
@@ -190,13 +197,18 @@ private:
     BodyStore* store_ = nullptr;                 // this step's (prepare): its awake set holds the bodies
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
-    std::vector<std::uint8_t> overlapping_;      // per pending constraint: its manifold is a deep overlap (pushLimit)
+    // Per pending constraint: bit 0, its manifold is a deep overlap
+    // (pushLimit); bit 1, its pair grew deeper unseen (pushOutGrown).
+    std::vector<std::uint8_t> overlapping_;
     std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
+    std::vector<std::uint32_t> pushedPass_;      // per solver body: pushOutGrown's last pass that moved it
+    std::vector<std::uint8_t> loaded_;           // per solver body: touches a much heavier one (pushOutGrown)
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
         // Bit i: manifold i has a point deeper than the push-sharing depth
         // (the first 32 manifolds; the pending-list pass reads the rest).
         std::uint32_t overlapping = 0;
+        bool grown = false;  // Contact::grownBy over kGrowthPushOut (pushOutGrown)
     };
     std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
     std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those

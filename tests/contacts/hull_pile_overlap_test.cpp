@@ -83,15 +83,15 @@ TEST(HullPile, SmallPileOfBox3DHullsHoldsItsHullsApart) {
 
 TEST(HullPile, DeepOverlapsOfFastLandingsArePushedOut) {
     // 3 x 3 columns of 24 layers (216 hulls, the top one 94 m up). While the
-    // upper layers land on the pile at 27-33 m/s (3-5 s), overlaps reach
-    // 13 cm: a hull struck that fast drives the hulls under it down faster
-    // than four sub-steps of one soft iteration each can stop them (8 sub-steps:
-    // 10 cm). They are transient (at the end of each second of the landings
-    // no contact was deeper than 2 cm), and once the landings end (from 6 s
-    // on) the deepest overlap is 1.3 cm (measured; docs/narrow-phase.md,
-    // "Box3D's convex pile").
+    // upper layers land on the pile at 27-33 m/s (3-5 s), a hull struck that
+    // fast drives the hulls under it down faster than four sub-steps of one
+    // soft iteration each can stop them: overlaps reached 13 cm (8 sub-steps:
+    // 10 cm) until the pairs that grow deeper within a step were pushed apart
+    // by position after the sub-steps (ContactSolver::pushOutGrown; measured
+    // since: 2.2 cm while landing, 0.5 cm after, from 6 s on; the bound leaves
+    // room for other bits of this chaotic pile, e.g. another compiler's).
     const PileRun run = runPile(3, 3, 24, 60 * 9, 60 * 6);
-    EXPECT_GT(run.deepestWhileFalling, Real(0.05));  // the landings do sink in (what the 5120-hull pile shows)
+    EXPECT_LT(run.deepestWhileFalling, Real(0.04));
     EXPECT_LT(run.deepestSettled, Real(0.02));
 }
 
