@@ -118,6 +118,9 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(overlapCount_, bodyCount + 1);
     grow(pushedPass_, bodyCount + 1);
     grow(loaded_, bodyCount + 1);
+    grow(turned_, bodyCount + 1);
+    grow(still_, 4 * bodyCount);
+    grow(pairReach_, 4 * bodyCount);
     grow(contactEnds_, 4 * bodyCount);
     grow(candidates_, 4 * bodyCount);
     grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
@@ -228,14 +231,28 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 // any thread count.
                 bool anyOverlaps = false;
                 std::uint32_t overlapping = 0;
+                // And the points' reach from each body's step-start centre
+                // (pushOutGrown's gate): a point lies midway between the
+                // two surface points, each within its body's extent of its
+                // centre, |depth| apart along the normal, so |p - comA| <=
+                // extentA + |depth|; the largest |depth| here (no distance
+                // computed a point). The slack covers a surface point's
+                // offset across the normal and the rounding.
+                Real farthest = 0;
                 for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
                     const CachedManifold& m = c.manifolds[mi];
                     bool overlaps = false;
-                    for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+                    for (std::uint32_t i = 0; i < m.pointCount; ++i) {
+                        overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+                        farthest = std::max(farthest, std::abs(m.points[i].depth));
+                    }
                     anyOverlaps = anyOverlaps || overlaps;
                     if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
                 }
                 ends.overlapping = overlapping;
+                const Real extentA = w.params[dA].extent, extentB = w.params[dB].extent;
+                ends.reachA = Real(1.01) * (extentA + 2 * farthest) + Real(1e-3);
+                ends.reachB = Real(1.01) * (extentB + 2 * farthest) + Real(1e-3);
                 if (c.firstTouch == FirstTouch::NotYet) {
                     c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
                 }
@@ -247,6 +264,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     for (std::size_t block = 0; block < contactBlocks; ++block) pendingBlockStart_[block + 1] += pendingBlockStart_[block];
     pending_.resize(pendingBlockStart_[contactBlocks]);
     overlapping_.resize(pending_.size());
+    pairReach_.resize(pending_.size());
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
@@ -265,6 +283,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                         for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     }
                     overlapping_[out] = static_cast<std::uint8_t>((overlaps ? 1 : 0) | (ends.grown ? 2 : 0));
+                    pairReach_[out] = {ends.reachA, ends.reachB};
                     pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
                 }
             }
@@ -843,6 +862,37 @@ void ContactSolver::applyRestitution() {
 // narrow phase's lag, not a load.
 void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
     const std::vector<Contact>& contacts = manager.contacts();
+    // The gate: a point's predicted depth changes within the step by
+    // -dot(n, dpB - dpA) - dot(dthetaB, cross(rB, n)) + dot(dthetaA, cross(rA, n)),
+    // at most |dpB - dpA| + |dthetaA| reachA + |dthetaB| reachB (|n| = 1;
+    // reach: a bound on the contact's points' |r|, from prepare). Under the
+    // trigger, the deepest point grew by no more than that from its start
+    // depth, nor from zero if it started apart, so `within` is false; with no
+    // `unseen` bit the pair is skipped and its manifold not read. The bound
+    // is compared with 0.9 of the trigger: the rounding of the depths (a few
+    // ulps of centimetres and metres) never reaches the 0.5 mm left.
+    constexpr Real kGateGrowth = Real(0.9) * kGrowthPushOut;
+    const auto provablyStill = [&](std::size_t i) {
+        const PendingConstraint& pc = pending_[i];
+        if ((overlapping_[i] & 2) != 0) return false;
+        const Real room = kGateGrowth - (turned_[pc.bodyA] * pairReach_[i].a + turned_[pc.bodyB] * pairReach_[i].b);
+        // NaN anywhere: false, the full test decides.
+        return room > 0 && lengthSquared(w.state[pc.bodyB].dp - w.state[pc.bodyA].dp) < room * room;
+    };
+    // Every pair's answer before any move (pass 1 reuses it until a body
+    // moves); none to push: nothing else to do (the passes below would skip
+    // every pair).
+    if (pushOutGate_) {
+        turned_.resize(w.state.size());
+        for (std::size_t i = 0; i < w.state.size(); ++i) turned_[i] = length(w.state[i].dtheta);
+        still_.resize(pending_.size());
+        bool any = false;
+        for (std::size_t i = 0; i < pending_.size(); ++i) {
+            still_[i] = provablyStill(i) ? 1 : 0;
+            any = any || still_[i] == 0;
+        }
+        if (!any) return;
+    }
     // Per solver body: the last pass (from 1) that moved it. A later pass
     // revisits only the pairs with a body moved in the pass before or this one.
     pushedPass_.assign(w.state.size(), 0);
@@ -858,10 +908,19 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
     for (std::uint32_t pass = 1; pass <= kPushOutPasses; ++pass) {
         bool moved = false;
         for (std::size_t i = 0; i < pending_.size(); ++i) {
-            // The first pass reads every manifold (random in memory, as in
-            // store): their lines requested ahead, the contacts further ahead.
-            // Without it the misses were 70 % of this function's time.
-            if (pass == 1) {
+            // The first pass reads every manifold the gate lets through
+            // (random in memory, as in store): their lines requested ahead
+            // (the contacts further ahead when the gate is off). Without it
+            // the misses were 70 % of this function's time.
+            bool still = false;  // pass 1 with the gate: provablyStill(i)
+            if (pass == 1 && pushOutGate_) {
+                still = moved ? provablyStill(i) : still_[i] != 0;
+                if (i + kManifoldsAhead < pending_.size() && still_[i + kManifoldsAhead] == 0) {
+                    const PendingConstraint& ahead = pending_[i + kManifoldsAhead];
+                    prefetchContact(contacts[ahead.contact]);
+                    prefetchManifold(contacts[ahead.contact].manifolds.data() + ahead.manifold);
+                }
+            } else if (pass == 1) {
                 if (i + 2 * kManifoldsAhead < pending_.size()) prefetchContact(contacts[pending_[i + 2 * kManifoldsAhead].contact]);
                 if (i + kManifoldsAhead < pending_.size()) {
                     const PendingConstraint& ahead = pending_[i + kManifoldsAhead];
@@ -884,6 +943,7 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
             if (loaded_[pc.bodyA] != 0 || loaded_[pc.bodyB] != 0) continue;
             const Real invMass = a.invMass + b.invMass;
             if (!(invMass > 0)) continue;
+            if (pushOutGate_ && (pass == 1 ? still : provablyStill(i))) continue;
             const CachedManifold& m = contacts[pc.contact].manifolds[pc.manifold];
             // The deepest point now, to first order in the bodies' motion since
             // the step's start (as store's depthAfter), and at the step's start.

@@ -115,6 +115,11 @@ public:
     // positions only (no velocity: nothing to bounce). Serial, in
     // constraint order: the same bits for any thread count.
     void pushOutGrown(BodyStore& w, const ContactManager& contacts);
+    // pushOutGrown's gate (on by default): a pair whose bodies' motion since
+    // the step's start bounds its depth's growth below the trigger, and not
+    // grown unseen, is skipped without reading its manifold. The decisions,
+    // and so the bits, are the same either way; off only for the tests.
+    void setPushOutGate(bool on) { pushOutGate_ = on; }
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(ContactManager& contacts);
 
@@ -203,12 +208,22 @@ private:
     std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
     std::vector<std::uint32_t> pushedPass_;      // per solver body: pushOutGrown's last pass that moved it
     std::vector<std::uint8_t> loaded_;           // per solver body: touches a much heavier one (pushOutGrown)
+    // Per pending constraint: the largest distance of its contact's points
+    // from body A's and body B's step-start centre of mass (pushOutGrown's gate).
+    struct PairReach {
+        Real a = 0, b = 0;
+    };
+    std::vector<PairReach> pairReach_;
+    std::vector<Real> turned_;                   // per solver body: |dtheta| (pushOutGrown's gate)
+    std::vector<std::uint8_t> still_;            // per pending constraint: the gate's answer before any move
+    bool pushOutGate_ = true;
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
         // Bit i: manifold i has a point deeper than the push-sharing depth
         // (the first 32 manifolds; the pending-list pass reads the rest).
         std::uint32_t overlapping = 0;
         bool grown = false;  // Contact::grownBy over kGrowthPushOut (pushOutGrown)
+        Real reachA = 0, reachB = 0;  // the points' largest distance from each body's step-start centre (PairReach)
     };
     std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
     std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those
