@@ -118,7 +118,6 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(overlapCount_, bodyCount + 1);
     grow(pushedPass_, bodyCount + 1);
     grow(loaded_, bodyCount + 1);
-    grow(turned_, bodyCount + 1);
     grow(still_, 4 * bodyCount);
     grow(pairReach_, 4 * bodyCount);
     grow(contactEnds_, 4 * bodyCount);
@@ -875,16 +874,18 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
     const auto provablyStill = [&](std::size_t i) {
         const PendingConstraint& pc = pending_[i];
         if ((overlapping_[i] & 2) != 0) return false;
-        const Real room = kGateGrowth - (turned_[pc.bodyA] * pairReach_[i].a + turned_[pc.bodyB] * pairReach_[i].b);
+        // |dtheta| bounded by its 1-norm (no square root).
+        const auto turned = [](const Vec3& t) { return std::abs(t.x) + std::abs(t.y) + std::abs(t.z); };
+        const SolverBody& a = w.state[pc.bodyA];
+        const SolverBody& b = w.state[pc.bodyB];
+        const Real room = kGateGrowth - (turned(a.dtheta) * pairReach_[i].a + turned(b.dtheta) * pairReach_[i].b);
         // NaN anywhere: false, the full test decides.
-        return room > 0 && lengthSquared(w.state[pc.bodyB].dp - w.state[pc.bodyA].dp) < room * room;
+        return room > 0 && lengthSquared(b.dp - a.dp) < room * room;
     };
     // Every pair's answer before any move (pass 1 reuses it until a body
     // moves); none to push: nothing else to do (the passes below would skip
     // every pair).
     if (pushOutGate_) {
-        turned_.resize(w.state.size());
-        for (std::size_t i = 0; i < w.state.size(); ++i) turned_[i] = length(w.state[i].dtheta);
         still_.resize(pending_.size());
         bool any = false;
         for (std::size_t i = 0; i < pending_.size(); ++i) {
@@ -914,7 +915,10 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
             // the misses were 70 % of this function's time.
             bool still = false;  // pass 1 with the gate: provablyStill(i)
             if (pass == 1 && pushOutGate_) {
-                still = moved ? provablyStill(i) : still_[i] != 0;
+                // Valid while neither body has moved in this pass.
+                const PendingConstraint& here = pending_[i];
+                still = still_[i] != 0 && (!moved || (pushedPass_[here.bodyA] != pass && pushedPass_[here.bodyB] != pass));
+                if (!still && moved && still_[i] != 0) still = provablyStill(i);
                 if (i + kManifoldsAhead < pending_.size() && still_[i + kManifoldsAhead] == 0) {
                     const PendingConstraint& ahead = pending_[i + kManifoldsAhead];
                     prefetchContact(contacts[ahead.contact]);

@@ -214,7 +214,6 @@ private:
         Real a = 0, b = 0;
     };
     std::vector<PairReach> pairReach_;
-    std::vector<Real> turned_;                   // per solver body: |dtheta| (pushOutGrown's gate)
     std::vector<std::uint8_t> still_;            // per pending constraint: the gate's answer before any move
     bool pushOutGate_ = true;
     struct ContactEnds {
