@@ -9,6 +9,7 @@
 #include "fulcrum/task_system.hpp"
 #include "contacts/contact.hpp"
 #include "contacts/contact_manager.hpp"
+#include "solver/joints/joint_common.hpp"
 #include "threads/staged_parallel.hpp"
 
 namespace fulcrum::detail {
@@ -118,6 +119,7 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(overlapCount_, bodyCount + 1);
     grow(pushedPass_, bodyCount + 1);
     grow(loaded_, bodyCount + 1);
+    grow(jointed_, bodyCount + 1);
     grow(still_, 4 * bodyCount);
     grow(pairReach_, 4 * bodyCount);
     grow(contactEnds_, 4 * bodyCount);
@@ -859,7 +861,8 @@ void ContactSolver::applyRestitution() {
 // that gets 10-20 cm deeper within one step (a hull struck into a
 // neighbour, a landing the solver did not hold) is the solver's or the
 // narrow phase's lag, not a load.
-void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
+void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager, std::span<const JointConstraint> joints) {
+    if (!pushOut_) return;
     const std::vector<Contact>& contacts = manager.contacts();
     // The gate: a point's predicted depth changes within the step by
     // -dot(n, dpB - dpA) - dot(dthetaB, cross(rB, n)) + dot(dthetaA, cross(rA, n)),
@@ -906,6 +909,20 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
             loaded_[ia > ib ? pc.bodyA : pc.bodyB] = 1;
         }
     }
+    // Per solver body: an end of a joint. It is held as a static end is (its
+    // pair's other body takes the whole move and the whole stop; two such
+    // ends: the pair is left to the soft contact). Moved by position, a
+    // jointed body opened its joint until the next step's solve, and the
+    // approach impulse changed a velocity the joint solve had just made
+    // consistent (docs/solver.md, "Grown overlaps").
+    const bool anyJoint = !joints.empty();
+    if (anyJoint) {
+        jointed_.assign(w.state.size(), 0);
+        for (const JointConstraint& j : joints) {
+            jointed_[j.bodyA] = 1;
+            jointed_[j.bodyB] = 1;
+        }
+    }
     for (std::uint32_t pass = 1; pass <= kPushOutPasses; ++pass) {
         bool moved = false;
         for (std::size_t i = 0; i < pending_.size(); ++i) {
@@ -945,7 +962,9 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
             // times heavier one sank into it was passed through whole (the
             // two boxes ended in one place, where no contact reports a depth).
             if (loaded_[pc.bodyA] != 0 || loaded_[pc.bodyB] != 0) continue;
-            const Real invMass = a.invMass + b.invMass;
+            const Real invMassA = anyJoint && jointed_[pc.bodyA] != 0 ? Real(0) : a.invMass;
+            const Real invMassB = anyJoint && jointed_[pc.bodyB] != 0 ? Real(0) : b.invMass;
+            const Real invMass = invMassA + invMassB;
             if (!(invMass > 0)) continue;
             if (pushOutGate_ && (pass == 1 ? still : provablyStill(i))) continue;
             const CachedManifold& m = contacts[pc.contact].manifolds[pc.manifold];
@@ -981,16 +1000,16 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager) {
             // went through it).
             const Real approach = dot(n, b.v - a.v);
             const Real stop = approach < 0 ? approach : Real(0);
-            if (a.invMass > 0) {
-                const Real share = a.invMass / invMass;
+            if (invMassA > 0) {
+                const Real share = invMassA / invMass;
                 const Vec3 move = n * (-excess * share);
                 w.pose[pc.bodyA].com += move;
                 a.dp += move;
                 a.v += n * (stop * share);
                 pushedPass_[pc.bodyA] = pass;
             }
-            if (b.invMass > 0) {
-                const Real share = b.invMass / invMass;
+            if (invMassB > 0) {
+                const Real share = invMassB / invMass;
                 const Vec3 move = n * (excess * share);
                 w.pose[pc.bodyB].com += move;
                 b.dp += move;

@@ -24,6 +24,7 @@
 // applyRestitution, store.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "fulcrum/math.hpp"
@@ -40,6 +41,7 @@ namespace fulcrum::detail {
 
 class ContactManager;
 struct Contact;
+struct JointConstraint;
 class StagedParallel;
 
 // The Jacobians are fixed for the step, so everything that depends only on
@@ -113,13 +115,18 @@ public:
     // (Contact::grownBy: an overlap made within a step, unseen by its
     // manifold) are moved apart along their normal by what is left of it,
     // positions only (no velocity: nothing to bounce). Serial, in
-    // constraint order: the same bits for any thread count.
-    void pushOutGrown(BodyStore& w, const ContactManager& contacts);
+    // constraint order: the same bits for any thread count. The ends of
+    // `joints` are not moved (held as a static end is): a move by position
+    // would open their joints until the next step's solve.
+    void pushOutGrown(BodyStore& w, const ContactManager& contacts, std::span<const JointConstraint> joints);
     // pushOutGrown's gate (on by default): a pair whose bodies' motion since
     // the step's start bounds its depth's growth below the trigger, and not
     // grown unseen, is skipped without reading its manifold. The decisions,
     // and so the bits, are the same either way; off only for the tests.
     void setPushOutGate(bool on) { pushOutGate_ = on; }
+    // pushOutGrown itself (on by default; off only for the tests, which
+    // compare a world with it against one without).
+    void setPushOut(bool on) { pushOut_ = on; }
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(ContactManager& contacts);
 
@@ -208,6 +215,7 @@ private:
     std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
     std::vector<std::uint32_t> pushedPass_;      // per solver body: pushOutGrown's last pass that moved it
     std::vector<std::uint8_t> loaded_;           // per solver body: touches a much heavier one (pushOutGrown)
+    std::vector<std::uint8_t> jointed_;          // per solver body: an end of a joint (pushOutGrown does not move it)
     // Per pending constraint: the largest distance of its contact's points
     // from body A's and body B's step-start centre of mass (pushOutGrown's gate).
     struct PairReach {
@@ -216,6 +224,7 @@ private:
     std::vector<PairReach> pairReach_;
     std::vector<std::uint8_t> still_;            // per pending constraint: the gate's answer before any move
     bool pushOutGate_ = true;
+    bool pushOut_ = true;
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
         // Bit i: manifold i has a point deeper than the push-sharing depth

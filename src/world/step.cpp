@@ -303,7 +303,7 @@ void WorldImpl::step(Real dt) {
     // "received impulse" rule in the solver), then keep the impulses; joint
     // impulses for warm starting, reaction forces, breaking.
     if (hasContacts) {
-        contactSolver.pushOutGrown(*this, contactManager);
+        contactSolver.pushOutGrown(*this, contactManager, jointSolver.constraints());
         contactSolver.applyRestitution();
         contactSolver.store(contactManager);
     }
