@@ -17,7 +17,6 @@
 
 #include "fulcrum/fulcrum.hpp"
 #include "fulcrum_world.hpp"
-#include "world/world_access.hpp"
 #include "world/world_impl.hpp"
 
 using namespace fulcrum;
@@ -61,7 +60,7 @@ int main(int argc, char** argv) {
             for (int k = 0; k < std::abs(gulps); ++k) g.y = std::nextafter(g.y, gulps > 0 ? Real(1e30) : Real(-1e30));
             world.setGravity(g);
         }
-        detail::implOf(world).contactSolver.setPushOut(pushOut);
+        world.setPushOutGrownOverlaps(pushOut);
         std::vector<BodyId> dyn;
         for (std::size_t i = 0; i < scene.bodies.size(); ++i) if (!scene.bodies[i].isStatic) dyn.push_back(built.bodies[i]);
         long long awakeSteps = 0;

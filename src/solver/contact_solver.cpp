@@ -192,6 +192,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     const auto contactAt = [candidate](std::size_t k) {
         return candidate != nullptr ? std::size_t{candidate[k]} : k;
     };
+    const bool pushOut = pushOut_;  // pushOutGrown's gate needs the pairs' reach
     const std::size_t contactBlocks = (candidateCount + kContactsPerBlock - 1) / kContactsPerBlock;
     contactEnds_.resize(candidateCount);
     pendingBlockStart_.resize(contactBlocks + 1);
@@ -239,21 +240,33 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 // extentA + |depth|; the largest |depth| here (no distance
                 // computed a point). The slack covers a surface point's
                 // offset across the normal and the rounding.
-                Real farthest = 0;
-                for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
-                    const CachedManifold& m = c.manifolds[mi];
-                    bool overlaps = false;
-                    for (std::uint32_t i = 0; i < m.pointCount; ++i) {
-                        overlaps = overlaps || m.points[i].depth > kPushShareDepth;
-                        farthest = std::max(farthest, std::abs(m.points[i].depth));
+                // Only with the push-out on (WorldDef::pushOutGrownOverlaps);
+                // off, this is the loop without it.
+                if (pushOut) {
+                    Real farthest = 0;
+                    for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
+                        const CachedManifold& m = c.manifolds[mi];
+                        bool overlaps = false;
+                        for (std::uint32_t i = 0; i < m.pointCount; ++i) {
+                            overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+                            farthest = std::max(farthest, std::abs(m.points[i].depth));
+                        }
+                        anyOverlaps = anyOverlaps || overlaps;
+                        if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
                     }
-                    anyOverlaps = anyOverlaps || overlaps;
-                    if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
+                    const Real extentA = w.params[dA].extent, extentB = w.params[dB].extent;
+                    ends.reachA = Real(1.01) * (extentA + 2 * farthest) + Real(1e-3);
+                    ends.reachB = Real(1.01) * (extentB + 2 * farthest) + Real(1e-3);
+                } else {
+                    for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
+                        const CachedManifold& m = c.manifolds[mi];
+                        bool overlaps = false;
+                        for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+                        anyOverlaps = anyOverlaps || overlaps;
+                        if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
+                    }
                 }
                 ends.overlapping = overlapping;
-                const Real extentA = w.params[dA].extent, extentB = w.params[dB].extent;
-                ends.reachA = Real(1.01) * (extentA + 2 * farthest) + Real(1e-3);
-                ends.reachB = Real(1.01) * (extentB + 2 * farthest) + Real(1e-3);
                 if (c.firstTouch == FirstTouch::NotYet) {
                     c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
                 }
@@ -284,7 +297,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                         for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     }
                     overlapping_[out] = static_cast<std::uint8_t>((overlaps ? 1 : 0) | (ends.grown ? 2 : 0));
-                    pairReach_[out] = {ends.reachA, ends.reachB};
+                    if (pushOut) pairReach_[out] = {ends.reachA, ends.reachB};
                     pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
                 }
             }

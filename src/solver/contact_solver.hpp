@@ -124,8 +124,9 @@ public:
     // grown unseen, is skipped without reading its manifold. The decisions,
     // and so the bits, are the same either way; off only for the tests.
     void setPushOutGate(bool on) { pushOutGate_ = on; }
-    // pushOutGrown itself (on by default; off only for the tests, which
-    // compare a world with it against one without).
+    // pushOutGrown itself (WorldDef::pushOutGrownOverlaps, set by the step
+    // before prepare; off by default). Off, prepare skips the gate's reach
+    // and pushOutGrown returns at once: the step is main's, bit for bit.
     void setPushOut(bool on) { pushOut_ = on; }
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(ContactManager& contacts);
@@ -224,7 +225,7 @@ private:
     std::vector<PairReach> pairReach_;
     std::vector<std::uint8_t> still_;            // per pending constraint: the gate's answer before any move
     bool pushOutGate_ = true;
-    bool pushOut_ = true;
+    bool pushOut_ = false;
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
         // Bit i: manifold i has a point deeper than the push-sharing depth

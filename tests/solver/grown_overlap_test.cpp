@@ -1,7 +1,8 @@
-// Pairs that get deeper within a step (a box struck into its neighbour faster
-// than one soft iteration per sub-step can pass the blow on) are pushed apart
-// by position after the sub-steps (ContactSolver::pushOutGrown; docs/solver.md,
-// "Grown overlaps"): the overlap goes, and no velocity comes with it.
+// With WorldDef::pushOutGrownOverlaps (off by default), pairs that get deeper
+// within a step (a box struck into its neighbour faster than one soft
+// iteration per sub-step can pass the blow on) are pushed apart by position
+// after the sub-steps (ContactSolver::pushOutGrown; docs/solver.md, "Grown
+// overlaps"): the overlap goes, and no velocity comes with it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,8 +10,9 @@
 #include <vector>
 
 #include "contacts/helpers.hpp"
+#include "fulcrum/snapshot.hpp"
 #include "support/same_motion.hpp"
-#include "world/world_access.hpp"
+#include "world/snapshot_versions.hpp"
 
 using namespace fulcrum;
 using namespace fulcrum::test;
@@ -26,15 +28,21 @@ struct StrikeRun {
 
 // No gravity: a row of `count` unit boxes (1 kg) touching face to face along
 // x, at rest, struck end-on by a `strikerMass` box at `speed`.
-StrikeRun strikeRow(int count, Real strikerMass, Real speed, int steps) {
+World rowToStrike(int count, Real strikerMass, Real speed, bool pushOut, std::vector<BodyId>& row) {
     WorldDef def;
     def.gravity = {0, 0, 0};
+    def.pushOutGrownOverlaps = pushOut;
     World world(def);
-    std::vector<BodyId> row;
     for (int i = 0; i < count; ++i) row.push_back(addBox(world, {Real(i), 0, 0}, Vec3::splat(Real(0.5)), 1, 0));
     const BodyId striker = addBox(world, {Real(-1.5), 0, 0}, Vec3::splat(Real(0.5)), strikerMass, 0);
     world.setLinearVelocity(striker, {speed, 0, 0});
     row.push_back(striker);
+    return world;
+}
+
+StrikeRun strikeRow(int count, Real strikerMass, Real speed, int steps, bool pushOut = true) {
+    std::vector<BodyId> row;
+    World world = rowToStrike(count, strikerMass, speed, pushOut, row);
     StrikeRun r;
     r.startKinetic = 0.5 * double(strikerMass) * double(speed) * double(speed);
     for (int s = 0; s < steps; ++s) {
@@ -78,10 +86,11 @@ struct JointedRow {
     std::vector<BodyId> row;  // the free boxes, then the striker
     BodyId held;              // the jointed box at the row's end
     JointId joint;
-    explicit JointedRow(int free, int threads = 1) : world([] {
+    explicit JointedRow(int free, int threads = 1, bool pushOut = true) : world([pushOut] {
         WorldDef def;
         def.gravity = {0, 0, 0};
         def.parallelMinBodies = 0;
+        def.pushOutGrownOverlaps = pushOut;
         return def;
     }()) {
         world.setThreadCount(threads);
@@ -112,8 +121,7 @@ struct JointedRow {
 // push-out (with the held box moved by inverse mass, the old rule, this
 // fails at that step), and the striker alone was pushed out.
 TEST(GrownOverlap, JointedBodyIsNotMovedAndKeepsItsJointError) {
-    JointedRow on(0), off(0);
-    detail::implOf(off.world).contactSolver.setPushOut(false);
+    JointedRow on(0), off(0, 1, false);
     int firstPush = -1;
     for (int s = 0; s < 60 && firstPush < 0; ++s) {
         on.world.step(kDt);
@@ -154,4 +162,73 @@ TEST(GrownOverlap, SameBitsAtOneTwoAndThreeThreads) {
         ASSERT_TRUE(sameMotion(one.world, one.held, two.world, two.held)) << "step " << s;
         ASSERT_TRUE(sameMotion(one.world, one.held, three.world, three.held)) << "step " << s;
     }
+}
+
+// The push-out is off by default (WorldDef::pushOutGrownOverlaps): a default
+// world steps the struck row as one with it off, bit for bit, every step
+// (the setter's world too, turned on and then off before its first step),
+// and the row is driven deeper than the push-out leaves it; with it on the
+// same row goes its own way from the first push (docs/solver.md, "Grown
+// overlaps"). The golden hashes (tests/determinism) hold the default's bits
+// against earlier builds.
+TEST(GrownOverlap, OffByDefaultAndOffStepsWithoutIt) {
+    EXPECT_FALSE(WorldDef{}.pushOutGrownOverlaps);
+    std::vector<BodyId> ids, offIds, toggledIds, onIds;
+    WorldDef def;
+    def.gravity = {0, 0, 0};
+    World plain(def);
+    for (int i = 0; i < 5; ++i) ids.push_back(addBox(plain, {Real(i), 0, 0}, Vec3::splat(Real(0.5)), 1, 0));
+    ids.push_back(addBox(plain, {Real(-1.5), 0, 0}, Vec3::splat(Real(0.5)), 10, 0));
+    plain.setLinearVelocity(ids.back(), {20, 0, 0});
+    EXPECT_FALSE(plain.settings().pushOutGrownOverlaps);
+    World off = rowToStrike(5, 10, 20, false, offIds);
+    World toggled = rowToStrike(5, 10, 20, true, toggledIds);
+    toggled.setPushOutGrownOverlaps(false);
+    EXPECT_FALSE(toggled.settings().pushOutGrownOverlaps);
+    World on = rowToStrike(5, 10, 20, true, onIds);
+    Real deepestOff = 0, deepestOn = 0;
+    int firstDifference = -1;
+    for (int s = 0; s < 60; ++s) {
+        plain.step(kDt);
+        off.step(kDt);
+        toggled.step(kDt);
+        on.step(kDt);
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            ASSERT_TRUE(sameMotion(plain, ids[i], off, offIds[i])) << "step " << s << ", body " << i;
+            ASSERT_TRUE(sameMotion(plain, ids[i], toggled, toggledIds[i])) << "step " << s << ", body " << i;
+            if (firstDifference < 0 && !sameMotion(plain, ids[i], on, onIds[i])) firstDifference = s;
+        }
+        for (const ContactReport& c : plain.contacts()) deepestOff = std::max(deepestOff, c.depth);
+        for (const ContactReport& c : on.contacts()) deepestOn = std::max(deepestOn, c.depth);
+    }
+    RecordProperty("deepest_off", std::to_string(deepestOff));
+    RecordProperty("deepest_on", std::to_string(deepestOn));
+    EXPECT_GE(firstDifference, 0) << "the setting must matter in this scene";
+    EXPECT_LT(deepestOn, Real(0.025));
+    EXPECT_GT(deepestOff, Real(0.025));
+}
+
+// WorldDef::pushOutGrownOverlaps is saved in snapshots (version 14): a world
+// with it on, saved mid-strike, loads with it on and resumes bit for bit; a
+// version-13 file has no such field and loads with the default (off), as
+// the builds that wrote it ran, so its row goes its own way.
+TEST(GrownOverlap, SettingRoundTripsThroughSnapshots) {
+    std::vector<BodyId> row;
+    World original = rowToStrike(5, 10, 20, true, row);
+    original.step(kDt);
+    World resumed = loadSnapshotFromMemory(saveSnapshotToMemory(original));
+    EXPECT_TRUE(resumed.settings().pushOutGrownOverlaps);
+    World fromThirteen = loadSnapshotFromMemory(detail::saveSnapshotAsVersion(original, 13));
+    EXPECT_FALSE(fromThirteen.settings().pushOutGrownOverlaps);
+    bool thirteenDiverged = false;
+    for (int s = 0; s < 30; ++s) {
+        original.step(kDt);
+        resumed.step(kDt);
+        fromThirteen.step(kDt);
+        for (std::size_t i = 0; i < row.size(); ++i) {
+            ASSERT_TRUE(sameMotion(resumed, row[i], original, row[i])) << "step " << s << ", body " << i;
+            thirteenDiverged = thirteenDiverged || !sameMotion(fromThirteen, row[i], original, row[i]);
+        }
+    }
+    EXPECT_TRUE(thirteenDiverged) << "the setting must matter after the save";
 }

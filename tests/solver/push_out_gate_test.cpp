@@ -1,5 +1,5 @@
 // pushOutGrown's gate (ContactSolver::setPushOutGate; docs/solver.md, "Grown
-// overlaps") skips, without reading its manifold, a pair whose bodies' motion
+// overlaps"; every world here has WorldDef::pushOutGrownOverlaps on) skips, without reading its manifold, a pair whose bodies' motion
 // since the step's start bounds the growth of its depth below the trigger. It
 // must never change a decision: the same worlds run with the gate on and off
 // end bit for bit alike, in scenes where the push-out acts (hulls landing at
@@ -26,6 +26,7 @@ World hullPile(int layers, std::vector<BodyId>& ids, Real& dt) {
     const bench::HullPileSpec pile = bench::convexPile(3, 3, layers);
     const auto vec = [](bench::V3 v) { return Vec3{Real(v.x), Real(v.y), Real(v.z)}; };
     WorldDef def;
+    def.pushOutGrownOverlaps = true;
     def.substeps = pile.substeps;
     def.gravity = vec(pile.gravity);
     World world(def);
@@ -54,6 +55,7 @@ World hullPile(int layers, std::vector<BodyId>& ids, Real& dt) {
 World struckRow(std::vector<BodyId>& ids) {
     WorldDef def;
     def.gravity = {0, 0, 0};
+    def.pushOutGrownOverlaps = true;
     World world(def);
     for (int i = 0; i < 5; ++i) ids.push_back(addBox(world, {Real(i), 0, 0}, Vec3::splat(Real(0.5)), 1, 0));
     ids.push_back(addBox(world, {Real(-1.5), 0, 0}, Vec3::splat(Real(0.5)), 10, 0));
@@ -98,6 +100,7 @@ TEST(PushOutGate, StruckRowHasTheSameBitsWithAndWithoutTheGate) {
 TEST(PushOutGate, RestingPyramidHasTheSameBitsWithAndWithoutTheGate) {
     std::vector<BodyId> ids, same;
     WorldDef def;
+    def.pushOutGrownOverlaps = true;
     World gated(def), full(def);
     addGround(gated);
     addGround(full);
