@@ -73,6 +73,18 @@ constexpr Real kPushOutTolerance = Real(1e-3);
 // this many times heavier to the soft contact.
 constexpr Real kPushOutMassRatio = 10;
 
+// The largest |depth| of a contact's points (pushOutGrown's gate: its
+// PairReach). Out of line: the prepare's loop stays as small as without the
+// push-out.
+[[gnu::noinline]] Real largestDepth(const Contact& c, std::uint32_t manifolds) {
+    Real farthest = 0;
+    for (std::uint32_t mi = 0; mi < manifolds; ++mi) {
+        const CachedManifold& m = c.manifolds[mi];
+        for (std::uint32_t i = 0; i < m.pointCount; ++i) farthest = std::max(farthest, std::abs(m.points[i].depth));
+    }
+    return farthest;
+}
+
 // The pending-list pass reads each contact's manifolds (their own heap
 // blocks, scattered): requested this many contacts ahead. A hint only.
 constexpr std::size_t kManifoldsAhead = 16;
@@ -123,6 +135,7 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(still_, 4 * bodyCount);
     grow(pairReach_, 4 * bodyCount);
     grow(contactEnds_, 4 * bodyCount);
+    grow(contactReach_, 4 * bodyCount);
     grow(candidates_, 4 * bodyCount);
     grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
     grow(slotOf_, 4 * bodyCount);
@@ -195,6 +208,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     const bool pushOut = pushOut_;  // pushOutGrown's gate needs the pairs' reach
     const std::size_t contactBlocks = (candidateCount + kContactsPerBlock - 1) / kContactsPerBlock;
     contactEnds_.resize(candidateCount);
+    if (pushOut) contactReach_.resize(candidateCount);
     pendingBlockStart_.resize(contactBlocks + 1);
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
@@ -233,40 +247,28 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 // any thread count.
                 bool anyOverlaps = false;
                 std::uint32_t overlapping = 0;
-                // And the points' reach from each body's step-start centre
+                for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
+                    const CachedManifold& m = c.manifolds[mi];
+                    bool overlaps = false;
+                    for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+                    anyOverlaps = anyOverlaps || overlaps;
+                    if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
+                }
+                ends.overlapping = overlapping;
+                // The points' reach from each body's step-start centre
                 // (pushOutGrown's gate): a point lies midway between the
                 // two surface points, each within its body's extent of its
                 // centre, |depth| apart along the normal, so |p - comA| <=
                 // extentA + |depth|; the largest |depth| here (no distance
                 // computed a point). The slack covers a surface point's
                 // offset across the normal and the rounding.
-                // Only with the push-out on (WorldDef::pushOutGrownOverlaps);
-                // off, this is the loop without it.
+                // Only with the push-out on (WorldDef::pushOutGrownOverlaps),
+                // out of line: off, this loop is the one without it.
                 if (pushOut) {
-                    Real farthest = 0;
-                    for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
-                        const CachedManifold& m = c.manifolds[mi];
-                        bool overlaps = false;
-                        for (std::uint32_t i = 0; i < m.pointCount; ++i) {
-                            overlaps = overlaps || m.points[i].depth > kPushShareDepth;
-                            farthest = std::max(farthest, std::abs(m.points[i].depth));
-                        }
-                        anyOverlaps = anyOverlaps || overlaps;
-                        if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
-                    }
-                    const Real extentA = w.params[dA].extent, extentB = w.params[dB].extent;
-                    ends.reachA = Real(1.01) * (extentA + 2 * farthest) + Real(1e-3);
-                    ends.reachB = Real(1.01) * (extentB + 2 * farthest) + Real(1e-3);
-                } else {
-                    for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
-                        const CachedManifold& m = c.manifolds[mi];
-                        bool overlaps = false;
-                        for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
-                        anyOverlaps = anyOverlaps || overlaps;
-                        if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
-                    }
+                    const Real farthest = largestDepth(c, ends.manifolds);
+                    contactReach_[k] = {Real(1.01) * (w.params[dA].extent + 2 * farthest) + Real(1e-3),
+                                        Real(1.01) * (w.params[dB].extent + 2 * farthest) + Real(1e-3)};
                 }
-                ends.overlapping = overlapping;
                 if (c.firstTouch == FirstTouch::NotYet) {
                     c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
                 }
@@ -278,7 +280,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     for (std::size_t block = 0; block < contactBlocks; ++block) pendingBlockStart_[block + 1] += pendingBlockStart_[block];
     pending_.resize(pendingBlockStart_[contactBlocks]);
     overlapping_.resize(pending_.size());
-    pairReach_.resize(pending_.size());
+    if (pushOut) pairReach_.resize(pending_.size());
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
@@ -297,7 +299,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                         for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     }
                     overlapping_[out] = static_cast<std::uint8_t>((overlaps ? 1 : 0) | (ends.grown ? 2 : 0));
-                    if (pushOut) pairReach_[out] = {ends.reachA, ends.reachB};
+                    if (pushOut) pairReach_[out] = contactReach_[k];
                     pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
                 }
             }

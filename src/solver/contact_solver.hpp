@@ -232,9 +232,9 @@ private:
         // (the first 32 manifolds; the pending-list pass reads the rest).
         std::uint32_t overlapping = 0;
         bool grown = false;  // Contact::grownBy over kGrowthPushOut (pushOutGrown)
-        Real reachA = 0, reachB = 0;  // the points' largest distance from each body's step-start centre (PairReach)
     };
     std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
+    std::vector<PairReach> contactReach_;        // per candidate contact: its PairReach (only with the push-out on)
     std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those
     std::vector<std::uint32_t> pendingBlockStart_;  // per block of contacts: its first pending entry
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_
