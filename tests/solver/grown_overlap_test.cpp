@@ -169,7 +169,7 @@ TEST(GrownOverlap, SameBitsAtOneTwoAndThreeThreads) {
 // (the setter's world too, turned on and then off before its first step),
 // and the row is driven deeper than the push-out leaves it; with it on the
 // same row goes its own way from the first push (docs/solver.md, "Grown
-// overlaps"). The golden hashes (tests/determinism) hold the default's bits
+// overlaps"; measured: the deepest overlap 5.6 cm off, 1.8 cm on). The golden hashes (tests/determinism) hold the default's bits
 // against earlier builds.
 TEST(GrownOverlap, OffByDefaultAndOffStepsWithoutIt) {
     EXPECT_FALSE(WorldDef{}.pushOutGrownOverlaps);
