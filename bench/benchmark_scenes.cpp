@@ -63,6 +63,7 @@ public:
     bool build(const SceneSpec& scene, std::string&) override {
         scene_ = &scene;
         built_ = buildFulcrumWorld(scene, threads_);
+        pushOutFromEnvironment(*built_.world);
         world_ = built_.world.get();
         ids_ = built_.bodies;
         cloth_ = built_.cloth;

@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
     def.substeps = scene.substeps;
     // Experiments on the solver's settings (not Box3D's scene): PROBE_SUBSTEPS,
     // PROBE_HERTZ (contactHertz), PROBE_PUSH (contactPushMaxVelocity),
-    // PROBE_MARGIN (speculativeMargin), PROBE_DAMPING (contactDampingRatio).
+    // PROBE_MARGIN (speculativeMargin), PROBE_DAMPING (contactDampingRatio),
+    // PROBE_PUSH_OUT (pushOutGrownOverlaps).
     const auto setting = [](const char* name, auto& value) {
         if (const char* text = std::getenv(name)) value = static_cast<std::remove_reference_t<decltype(value)>>(std::atof(text));
     };
@@ -129,6 +130,7 @@ int main(int argc, char** argv) {
     setting("PROBE_PUSH", def.contactPushMaxVelocity);
     setting("PROBE_MARGIN", def.speculativeMargin);
     setting("PROBE_DAMPING", def.contactDampingRatio);
+    setting("PROBE_PUSH_OUT", def.pushOutGrownOverlaps);  // 1: WorldDef::pushOutGrownOverlaps on
     def.sleeping = scene.sleeping;
     def.gravity = vec(scene.gravity);
     fulcrum::World world(def);

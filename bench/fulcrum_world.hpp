@@ -4,6 +4,7 @@
 // side-by-side timings (bench/benchmark_scenes.cpp), the instruction counts
 // (bench/step_count.cpp) and the recorded state hashes
 // (tests/determinism/golden_hash_test.cpp), so all three measure the same world.
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <vector>
@@ -208,6 +209,15 @@ inline fulcrum::JointId createFulcrumJoint(fulcrum::World& world, const JointSpe
         d.localAnchorB = local(b, j.localB);
     }
     return world.createJoint(d);
+}
+
+// FULCRUM_BENCH_PUSH_OUT=1 (bench_benchmark_scenes, bench_step_count):
+// WorldDef::pushOutGrownOverlaps on after building, for the quality and
+// cost figures with the push-out (docs/solver.md, "Grown overlaps"). The
+// scenes themselves keep the default, off; buildFulcrumWorld never reads it.
+inline void pushOutFromEnvironment(fulcrum::World& world) {
+    const char* on = std::getenv("FULCRUM_BENCH_PUSH_OUT");
+    if (on != nullptr && std::atoi(on) != 0) world.setPushOutGrownOverlaps(true);
 }
 
 inline FulcrumWorld buildFulcrumWorld(const SceneSpec& scene, int threads) {

@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
         if (scene.name != name) continue;
         bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
         World& world = *built.world;
+        bench::pushOutFromEnvironment(world);
         std::vector<BodyId> ids = built.bodies;
         bench::FulcrumScript script(scene, built);
         for (int i = 0; i < steps; ++i) {

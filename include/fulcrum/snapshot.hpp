@@ -50,7 +50,8 @@ namespace fulcrum {
 // 11: each contact's triangle axis cache (a box or hull against a mesh).
 // 12: each contact's GJK warm start (two hulls).
 // 13: each contact's piece poses (recycling a box or hull piece's mesh contacts).
-inline constexpr std::uint32_t kSnapshotVersion = 13;
+// 14: WorldDef::pushOutGrownOverlaps.
+inline constexpr std::uint32_t kSnapshotVersion = 14;
 
 std::vector<std::uint8_t> saveSnapshotToMemory(const World& world, std::string_view userData = {});
 // Throws fulcrum::Error when the file cannot be written.

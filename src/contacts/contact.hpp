@@ -101,6 +101,15 @@ struct Contact {
     // Set by the solver's prepare from the first manifold it sees, kept for
     // the contact's life (saved in snapshots from format version 10).
     FirstTouch firstTouch = FirstTouch::NotYet;
+    // How much deeper the narrow phase found the pair than the solver had
+    // predicted for the end of the last step (the fresh manifold's deepest
+    // point less the old one's depthAfter; 0 when there was no old manifold
+    // or the narrow phase did not run): an overlap made within the last step
+    // that its step-start manifold could not see (a hull struck into this
+    // one). Set by collideContact, read and zeroed by the solver's prepare in
+    // the same step (ContactSolver::pushOutGrown), so it is always 0 between
+    // steps and snapshots need not hold it.
+    Real grownBy = 0;
     std::vector<CachedManifold> manifolds;  // capacity kept across reuse: no allocation in steady state
     // The triangle axis cache of a box or hull against a mesh (TriangleAxisCache,
     // collision/manifold.hpp): per (piece, triangle) the axis of the last full

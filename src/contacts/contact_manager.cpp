@@ -4,6 +4,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "collision/narrow_phase.hpp"
 #include "collision/support.hpp"
@@ -559,6 +560,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     const BodyParams& pb = w.params[dB];
     const BodyMotion& ma = w.motion[dA];
     const BodyMotion& mb = w.motion[dB];
+    c.grownBy = 0;  // set below by the one-manifold path only (Contact::grownBy)
 
     if (!c.sensor && isCentredSphere(w, dA) && isCentredSphere(w, dB)) {
         mixMaterial(w, c, dA, dB);
@@ -788,11 +790,14 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
             if (!c.manifolds.empty() && c.manifolds[0].childA == m.childA && c.manifolds[0].childB == m.childB) {
                 const CachedManifold& o = c.manifolds[0];
                 oldCount = o.pointCount;
+                Real oldDeepest = -std::numeric_limits<Real>::infinity();
                 for (std::uint32_t j = 0; j < oldCount; ++j) {
                     oldFeature[j] = o.points[j].featureId;
                     oldPosition[j] = o.points[j].position;
                     oldImpulse[j] = o.points[j].normalImpulse;
+                    oldDeepest = std::max(oldDeepest, o.points[j].depthAfter);
                 }
+                if (oldCount > 0) c.grownBy = m.maxDepth() - oldDeepest;
             } else {
                 c.manifolds.clear();
             }

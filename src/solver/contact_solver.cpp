@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "fulcrum/task_system.hpp"
 #include "contacts/contact.hpp"
 #include "contacts/contact_manager.hpp"
+#include "solver/joints/joint_common.hpp"
 #include "threads/staged_parallel.hpp"
 
 namespace fulcrum::detail {
@@ -50,6 +52,38 @@ constexpr std::size_t kPrefetchBlocks = 8;
 // needs ~1.5 m/s of bias from both; at a 1 cm threshold the two shared 3 m/s
 // and the 1:100 stack collapsed.
 constexpr Real kPushShareDepth = Real(0.05);
+
+// A pair that got deeper by more than this, either unseen (the narrow phase
+// finds it deeper than the solver had predicted for the end of the last
+// step: Contact::grownBy) or within this step (its predicted end depth less
+// its step-start depth, or less zero if it started apart), is pushed apart by
+// position after the sub-steps (pushOutGrown) down to kGrowthPushOutKeep.
+// Resting contacts change their depth by far less from step to step; a hull
+// struck within a step into a neighbour whose step-start manifold held other
+// features grows 10-20 cm unseen, and one struck by a hull landing at 15-25
+// m/s is driven several centimetres into the next within the step
+// (docs/benchmarks.md, `pile8`: 1 cm against 0.5 cm there).
+constexpr Real kGrowthPushOut = Real(0.005);
+constexpr Real kGrowthPushOutKeep = Real(0.005);
+// Gauss-Seidel passes of pushOutGrown at most (a pass moves a body into its
+// next neighbour, which the next pass sees grown), and the least move.
+constexpr std::uint32_t kPushOutPasses = 8;
+constexpr Real kPushOutTolerance = Real(1e-3);
+// pushOutGrown leaves the pairs of a body touching a dynamic body more than
+// this many times heavier to the soft contact.
+constexpr Real kPushOutMassRatio = 10;
+
+// The largest |depth| of a contact's points (pushOutGrown's gate: its
+// PairReach). Out of line: the prepare's loop stays as small as without the
+// push-out.
+[[gnu::noinline]] Real largestDepth(const Contact& c, std::uint32_t manifolds) {
+    Real farthest = 0;
+    for (std::uint32_t mi = 0; mi < manifolds; ++mi) {
+        const CachedManifold& m = c.manifolds[mi];
+        for (std::uint32_t i = 0; i < m.pointCount; ++i) farthest = std::max(farthest, std::abs(m.points[i].depth));
+    }
+    return farthest;
+}
 
 // The pending-list pass reads each contact's manifolds (their own heap
 // blocks, scattered): requested this many contacts ahead. A hint only.
@@ -120,7 +154,13 @@ void ContactSolver::reserve(std::size_t bodyCount) {
     grow(laneKeys_, 4 * bodyCount);
     grow(laneOfSlot_, 4 * bodyCount);
     grow(overlapCount_, bodyCount + 1);
+    grow(pushedPass_, bodyCount + 1);
+    grow(loaded_, bodyCount + 1);
+    grow(jointed_, bodyCount + 1);
+    grow(still_, 4 * bodyCount);
+    grow(pairReach_, 4 * bodyCount);
     grow(contactEnds_, 4 * bodyCount);
+    grow(contactReach_, 4 * bodyCount);
     grow(candidates_, 4 * bodyCount);
     grow(pendingBlockStart_, 4 * bodyCount / kContactsPerBlock + 2);
     grow(slotOf_, 4 * bodyCount);
@@ -190,8 +230,10 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     const auto contactAt = [candidate](std::size_t k) {
         return candidate != nullptr ? std::size_t{candidate[k]} : k;
     };
+    const bool pushOut = pushOut_;  // pushOutGrown's gate needs the pairs' reach
     const std::size_t contactBlocks = (candidateCount + kContactsPerBlock - 1) / kContactsPerBlock;
     contactEnds_.resize(candidateCount);
+    if (pushOut) contactReach_.resize(candidateCount);
     pendingBlockStart_.resize(contactBlocks + 1);
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
@@ -209,6 +251,9 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 Contact& c = contacts[contactAt(k)];
                 ContactEnds& ends = contactEnds_[k];
                 ends.manifolds = 0;
+                // Read and zeroed here (Contact::grownBy: 0 between steps).
+                ends.grown = c.grownBy > kGrowthPushOut;
+                c.grownBy = 0;
                 if (!c.alive || c.sensor || c.manifolds.empty()) continue;
                 const std::uint32_t dA = w.bodySlots[c.slotA].dense;
                 const std::uint32_t dB = w.bodySlots[c.slotB].dense;
@@ -243,6 +288,20 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                 }
                 ends.overlapping = overlapping;
                 ends.points = points;
+                // The points' reach from each body's step-start centre
+                // (pushOutGrown's gate): a point lies midway between the
+                // two surface points, each within its body's extent of its
+                // centre, |depth| apart along the normal, so |p - comA| <=
+                // extentA + |depth|; the largest |depth| here (no distance
+                // computed a point). The slack covers a surface point's
+                // offset across the normal and the rounding.
+                // Only with the push-out on (WorldDef::pushOutGrownOverlaps),
+                // out of line: off, this loop is the one without it.
+                if (pushOut) {
+                    const Real farthest = largestDepth(c, ends.manifolds);
+                    contactReach_[k] = {Real(1.01) * (w.params[dA].extent + 2 * farthest) + Real(1e-3),
+                                        Real(1.01) * (w.params[dB].extent + 2 * farthest) + Real(1e-3)};
+                }
                 if (c.firstTouch == FirstTouch::NotYet) {
                     c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
                 }
@@ -255,6 +314,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     pending_.resize(pendingBlockStart_[contactBlocks]);
     overlapping_.resize(pending_.size());
     laneKeys_.resize(pending_.size());
+    if (pushOut) pairReach_.resize(pending_.size());
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
@@ -272,7 +332,8 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
                         overlaps = false;
                         for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
                     }
-                    overlapping_[out] = overlaps ? 1 : 0;
+                    overlapping_[out] = static_cast<std::uint8_t>((overlaps ? 1 : 0) | (ends.grown ? 2 : 0));
+                    if (pushOut) pairReach_[out] = contactReach_[k];
                     const std::uint32_t points = mi < 16 ? (ends.points >> (2 * mi)) & 3 : lanePoints(contacts[ci].manifolds[mi]);
                     laneKeys_[out] = laneKey(points, ends.bodyA);
                     pending_[out++] = {static_cast<std::uint32_t>(ci), mi, ends.bodyA, ends.bodyB};
@@ -558,7 +619,7 @@ void ContactSolver::colourGreedy() {
     // first force evaluation, like the colouring).
     overlapCount_.assign(store_->state.size(), 0);
     for (std::size_t i = 0; i < pending_.size(); ++i) {
-        if (overlapping_[i] == 0) continue;
+        if ((overlapping_[i] & 1) == 0) continue;
         ++overlapCount_[pending_[i].bodyA];
         ++overlapCount_[pending_[i].bodyB];
     }
@@ -869,6 +930,180 @@ void ContactSolver::applyRestitution() {
         a.w = wA;
         b.v = vB;
         b.w = wB;
+    }
+}
+
+// Why by position: the soft contact pushes an overlap out at up to
+// contactPushMaxVelocity (3 m/s, 5 cm a step at 60 Hz), and what it pushes
+// stays in the bodies as separating velocity (the relax pass removes only
+// approach). A faster push bounced: two free boxes pushed out of a 10 cm
+// overlap by a push limit growing with the depth left each other at 1.9 m/s
+// (docs/benchmarks.md, `pile`). Moving the positions leaves the velocities
+// alone, like a split impulse's pseudo-velocity. Why only grown pairs:
+// resting contacts under a load (a heavy box on a light one rests 1-3 cm
+// deep; a 1:10^6 stack sinks on by design: docs/solver.md, "Mass ratios")
+// keep their depth from step to step and stay the soft spring's; a pair
+// that gets 10-20 cm deeper within one step (a hull struck into a
+// neighbour, a landing the solver did not hold) is the solver's or the
+// narrow phase's lag, not a load.
+void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager, std::span<const JointConstraint> joints) {
+    if (!pushOut_) return;
+    const std::vector<Contact>& contacts = manager.contacts();
+    // The gate: a point's predicted depth changes within the step by
+    // -dot(n, dpB - dpA) - dot(dthetaB, cross(rB, n)) + dot(dthetaA, cross(rA, n)),
+    // at most |dpB - dpA| + |dthetaA| reachA + |dthetaB| reachB (|n| = 1;
+    // reach: a bound on the contact's points' |r|, from prepare). Under the
+    // trigger, the deepest point grew by no more than that from its start
+    // depth, nor from zero if it started apart, so `within` is false; with no
+    // `unseen` bit the pair is skipped and its manifold not read. The bound
+    // is compared with 0.9 of the trigger: the rounding of the depths (a few
+    // ulps of centimetres and metres) never reaches the 0.5 mm left.
+    constexpr Real kGateGrowth = Real(0.9) * kGrowthPushOut;
+    const auto provablyStill = [&](std::size_t i) {
+        const PendingConstraint& pc = pending_[i];
+        if ((overlapping_[i] & 2) != 0) return false;
+        // |dtheta| bounded by its 1-norm (no square root).
+        const auto turned = [](const Vec3& t) { return std::abs(t.x) + std::abs(t.y) + std::abs(t.z); };
+        const SolverBody& a = w.state[pc.bodyA];
+        const SolverBody& b = w.state[pc.bodyB];
+        const Real room = kGateGrowth - (turned(a.dtheta) * pairReach_[i].a + turned(b.dtheta) * pairReach_[i].b);
+        // NaN anywhere: false, the full test decides.
+        return room > 0 && lengthSquared(b.dp - a.dp) < room * room;
+    };
+    // Every pair's answer before any move (pass 1 reuses it until a body
+    // moves); none to push: nothing else to do (the passes below would skip
+    // every pair).
+    if (pushOutGate_) {
+        still_.resize(pending_.size());
+        bool any = false;
+        for (std::size_t i = 0; i < pending_.size(); ++i) {
+            still_[i] = provablyStill(i) ? 1 : 0;
+            any = any || still_[i] == 0;
+        }
+        if (!any) return;
+    }
+    // Per solver body: the last pass (from 1) that moved it. A later pass
+    // revisits only the pairs with a body moved in the pass before or this one.
+    pushedPass_.assign(w.state.size(), 0);
+    // Per solver body: it touches a dynamic body more than kPushOutMassRatio
+    // times heavier (the pass below leaves its pairs alone).
+    loaded_.assign(w.state.size(), 0);
+    for (const PendingConstraint& pc : pending_) {
+        const Real ia = w.state[pc.bodyA].invMass, ib = w.state[pc.bodyB].invMass;
+        if (ia > 0 && ib > 0 && std::max(ia, ib) > kPushOutMassRatio * std::min(ia, ib)) {
+            loaded_[ia > ib ? pc.bodyA : pc.bodyB] = 1;
+        }
+    }
+    // Per solver body: an end of a joint. It is held as a static end is (its
+    // pair's other body takes the whole move and the whole stop; two such
+    // ends: the pair is left to the soft contact). Moved by position, a
+    // jointed body opened its joint until the next step's solve, and the
+    // approach impulse changed a velocity the joint solve had just made
+    // consistent (docs/solver.md, "Grown overlaps").
+    const bool anyJoint = !joints.empty();
+    if (anyJoint) {
+        jointed_.assign(w.state.size(), 0);
+        for (const JointConstraint& j : joints) {
+            jointed_[j.bodyA] = 1;
+            jointed_[j.bodyB] = 1;
+        }
+    }
+    for (std::uint32_t pass = 1; pass <= kPushOutPasses; ++pass) {
+        bool moved = false;
+        for (std::size_t i = 0; i < pending_.size(); ++i) {
+            // The first pass reads every manifold the gate lets through
+            // (random in memory, as in store): their lines requested ahead
+            // (the contacts further ahead when the gate is off). Without it
+            // the misses were 70 % of this function's time.
+            bool still = false;  // pass 1 with the gate: provablyStill(i)
+            if (pass == 1 && pushOutGate_) {
+                // Valid while neither body has moved in this pass.
+                const PendingConstraint& here = pending_[i];
+                still = still_[i] != 0 && (!moved || (pushedPass_[here.bodyA] != pass && pushedPass_[here.bodyB] != pass));
+                if (!still && moved && still_[i] != 0) still = provablyStill(i);
+                if (i + kManifoldsAhead < pending_.size() && still_[i + kManifoldsAhead] == 0) {
+                    const PendingConstraint& ahead = pending_[i + kManifoldsAhead];
+                    prefetchContact(contacts[ahead.contact]);
+                    prefetchManifold(contacts[ahead.contact].manifolds.data() + ahead.manifold);
+                }
+            } else if (pass == 1) {
+                if (i + 2 * kManifoldsAhead < pending_.size()) prefetchContact(contacts[pending_[i + 2 * kManifoldsAhead].contact]);
+                if (i + kManifoldsAhead < pending_.size()) {
+                    const PendingConstraint& ahead = pending_[i + kManifoldsAhead];
+                    prefetchManifold(contacts[ahead.contact].manifolds.data() + ahead.manifold);
+                }
+            }
+            const PendingConstraint& pc = pending_[i];
+            if (pass > 1 && pushedPass_[pc.bodyA] + 1 < pass && pushedPass_[pc.bodyB] + 1 < pass) continue;
+            SolverBody& a = w.state[pc.bodyA];
+            SolverBody& b = w.state[pc.bodyB];
+            // Pairs of dynamic bodies of very different masses, and any pair
+            // of a body touching a much heavier one, are left to the soft
+            // contact (loaded_). A move shared by inverse mass puts nearly
+            // all of it on the light body, which it drives into whatever is
+            // under it, and the passes shuttle the overlap between the two
+            // pairs (a 300 kg box on a 1 kg one on the ground went through
+            // both); a light box held on the ground by position while a 10^6
+            // times heavier one sank into it was passed through whole (the
+            // two boxes ended in one place, where no contact reports a depth).
+            if (loaded_[pc.bodyA] != 0 || loaded_[pc.bodyB] != 0) continue;
+            const Real invMassA = anyJoint && jointed_[pc.bodyA] != 0 ? Real(0) : a.invMass;
+            const Real invMassB = anyJoint && jointed_[pc.bodyB] != 0 ? Real(0) : b.invMass;
+            const Real invMass = invMassA + invMassB;
+            if (!(invMass > 0)) continue;
+            if (pushOutGate_ && (pass == 1 ? still : provablyStill(i))) continue;
+            const CachedManifold& m = contacts[pc.contact].manifolds[pc.manifold];
+            // The deepest point now, to first order in the bodies' motion since
+            // the step's start (as store's depthAfter), and at the step's start.
+            const Vec3 n = m.normal;
+            const Vec3 dp = b.dp - a.dp;
+            Real deepest = -std::numeric_limits<Real>::infinity();
+            Real deepestStart = -std::numeric_limits<Real>::infinity();
+            for (std::uint32_t k = 0; k < m.pointCount; ++k) {
+                const CachedPoint& p = m.points[k];
+                const Vec3 rA = p.position - w.startCom[pc.bodyA];
+                const Vec3 rB = p.position - w.startCom[pc.bodyB];
+                const Real depth = p.depth - dot(n, dp) - dot(b.dtheta, cross(rB, n)) + dot(a.dtheta, cross(rA, n));
+                deepest = std::max(deepest, depth);
+                deepestStart = std::max(deepestStart, p.depth);
+            }
+            // Grown unseen (this step's narrow phase found it: grownBy) or
+            // within this step (from its start, or from touching if it
+            // started apart).
+            const bool unseen = (overlapping_[i] & 2) != 0;
+            const bool within = deepest - std::max(deepestStart, Real(0)) > kGrowthPushOut;
+            if (!unseen && !within) continue;
+            const Real excess = deepest - kGrowthPushOutKeep;
+            if (!(excess > kPushOutTolerance)) continue;
+            // Along the normal, shared by the inverse masses (a static or
+            // kinematic end does not move): every point's depth falls by excess.
+            // And the centres' approach along the normal taken out by an
+            // equal and opposite impulse (never a separating one): moved
+            // back without it, a body sinking under a load the soft contact
+            // had not yet taken kept its speed, sank again the next step,
+            // and gained speed step after step (a 300 kg box on a 1 kg one
+            // went through it).
+            const Real approach = dot(n, b.v - a.v);
+            const Real stop = approach < 0 ? approach : Real(0);
+            if (invMassA > 0) {
+                const Real share = invMassA / invMass;
+                const Vec3 move = n * (-excess * share);
+                w.pose[pc.bodyA].com += move;
+                a.dp += move;
+                a.v += n * (stop * share);
+                pushedPass_[pc.bodyA] = pass;
+            }
+            if (invMassB > 0) {
+                const Real share = invMassB / invMass;
+                const Vec3 move = n * (excess * share);
+                w.pose[pc.bodyB].com += move;
+                b.dp += move;
+                b.v -= n * (stop * share);
+                pushedPass_[pc.bodyB] = pass;
+            }
+            moved = true;
+        }
+        if (!moved) break;
     }
 }
 

@@ -24,6 +24,7 @@
 // applyRestitution, store.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "fulcrum/math.hpp"
@@ -40,6 +41,7 @@ namespace fulcrum::detail {
 
 class ContactManager;
 struct Contact;
+struct JointConstraint;
 class StagedParallel;
 
 // The Jacobians are fixed for the step, so everything that depends only on
@@ -108,6 +110,24 @@ public:
     void colourGreedy();
     void finishPrepare(ContactManager& contacts);
     void applyRestitution();
+    // After the sub-steps, before store: pairs the narrow phase found deeper
+    // than the last step's end had them by more than a threshold
+    // (Contact::grownBy: an overlap made within a step, unseen by its
+    // manifold) are moved apart along their normal by what is left of it,
+    // positions only (no velocity: nothing to bounce). Serial, in
+    // constraint order: the same bits for any thread count. The ends of
+    // `joints` are not moved (held as a static end is): a move by position
+    // would open their joints until the next step's solve.
+    void pushOutGrown(BodyStore& w, const ContactManager& contacts, std::span<const JointConstraint> joints);
+    // pushOutGrown's gate (on by default): a pair whose bodies' motion since
+    // the step's start bounds its depth's growth below the trigger, and not
+    // grown unseen, is skipped without reading its manifold. The decisions,
+    // and so the bits, are the same either way; off only for the tests.
+    void setPushOutGate(bool on) { pushOutGate_ = on; }
+    // pushOutGrown itself (WorldDef::pushOutGrownOverlaps, set by the step
+    // before prepare; off by default). Off, prepare skips the gate's reach
+    // and pushOutGrown returns at once: the step is main's, bit for bit.
+    void setPushOut(bool on) { pushOut_ = on; }
     // Impulses (warm start) and end-of-step separations back into the contacts.
     void store(ContactManager& contacts);
 
@@ -199,9 +219,23 @@ private:
     BodyStore* store_ = nullptr;                 // this step's (prepare): its awake set holds the bodies
     std::vector<ContactConstraint> constraints_;  // scalar mode: all, by colour; wide mode: the overflow colour
     std::vector<PendingConstraint> pending_;
-    std::vector<std::uint8_t> overlapping_;      // per pending constraint: its manifold is a deep overlap (pushLimit)
+    // Per pending constraint: bit 0, its manifold is a deep overlap
+    // (pushLimit); bit 1, its pair grew deeper unseen (pushOutGrown).
+    std::vector<std::uint8_t> overlapping_;
     std::vector<std::uint8_t> laneKeys_;         // per pending constraint: where in its colour its lane goes (placeInLanes)
     std::vector<std::uint32_t> overlapCount_;    // per solver body: its deep overlaps (pushLimit)
+    std::vector<std::uint32_t> pushedPass_;      // per solver body: pushOutGrown's last pass that moved it
+    std::vector<std::uint8_t> loaded_;           // per solver body: touches a much heavier one (pushOutGrown)
+    std::vector<std::uint8_t> jointed_;          // per solver body: an end of a joint (pushOutGrown does not move it)
+    // Per pending constraint: the largest distance of its contact's points
+    // from body A's and body B's step-start centre of mass (pushOutGrown's gate).
+    struct PairReach {
+        Real a = 0, b = 0;
+    };
+    std::vector<PairReach> pairReach_;
+    std::vector<std::uint8_t> still_;            // per pending constraint: the gate's answer before any move
+    bool pushOutGate_ = true;
+    bool pushOut_ = false;
     struct ContactEnds {
         std::uint32_t bodyA = 0, bodyB = 0, manifolds = 0;  // manifolds 0: not solved this step
         // Bit i: manifold i has a point deeper than the push-sharing depth
@@ -210,8 +244,10 @@ private:
         // Bits 2i, 2i + 1: manifold i's point count less one (the first 16
         // manifolds; the pending-list pass reads the rest): the lane keys.
         std::uint32_t points = 0;
+        bool grown = false;  // Contact::grownBy over kGrowthPushOut (pushOutGrown)
     };
     std::vector<ContactEnds> contactEnds_;       // per candidate contact: prepare()'s pending-list pass
+    std::vector<PairReach> contactReach_;        // per candidate contact: its PairReach (only with the push-out on)
     std::vector<std::uint32_t> candidates_;      // the awake bodies' contacts, when prepare() lists only those
     std::vector<std::uint32_t> pendingBlockStart_;  // per block of contacts: its first pending entry
     std::vector<std::uint32_t> slotOf_;          // pending index -> position in constraints_

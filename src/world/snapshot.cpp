@@ -267,6 +267,9 @@ void io(A& a, WorldDef& s) {
     // the automatic limit it gets leaves every scene that fit in memory alone.
     if (a.version >= 4) io(a, s.maxContactPairs);
     if (a.version >= 5) io(a, s.hitEventThreshold);  // version 5 (older: the default, 1 m/s)
+    // Version 14: the push-out of grown overlaps; older files were written
+    // by builds without it (the default, off, resumes them as they ran).
+    if (a.version >= 14) io(a, s.pushOutGrownOverlaps);
 }
 
 // ---- bodies

@@ -303,6 +303,7 @@ void WorldImpl::step(Real dt) {
     // "received impulse" rule in the solver), then keep the impulses; joint
     // impulses for warm starting, reaction forces, breaking.
     if (hasContacts) {
+        contactSolver.pushOutGrown(*this, contactManager, jointSolver.constraints());
         contactSolver.applyRestitution();
         contactSolver.store(contactManager);
     }
@@ -381,6 +382,7 @@ bool WorldImpl::prepareSolvers(TaskSystem& tasks, Real h) {
     // The solver splits its prepare's loops across the same task system
     // (bit-identical for any thread count: tests/solver/simd_solver_test.cpp).
     contactSolver.setTaskSystem(&tasks);
+    contactSolver.setPushOut(settings.pushOutGrownOverlaps);  // read by the prepare and pushOutGrown
     contactSolver.prepareConstraintList(
         *this, contactManager,
         {settings.contactHertz, settings.contactDampingRatio, settings.contactPushMaxVelocity, settings.restitutionThreshold},

@@ -114,6 +114,7 @@ void World::setHitEventThreshold(Real threshold) {
     impl_->hitEvents.clear();  // the last step's were chosen by the old threshold: built anew when read
     impl_->hitEventsStale = !impl_->contactSolver.pairs().empty();
 }
+void World::setPushOutGrownOverlaps(bool enabled) { impl_->settings.pushOutGrownOverlaps = enabled; }
 void World::setMaxContactPairs(std::int64_t limit) {
     validateMaxContactPairs(limit);
     impl_->settings.maxContactPairs = limit;

@@ -28,9 +28,10 @@ struct PileRun {
 
 // Box3D's convex pile (bench/box3d_scenes.hpp) as a World: the ground, then
 // one body per hull position (their ids in `ids`).
-World buildPile(const bench::HullPileSpec& pile, std::vector<BodyId>& ids) {
+World buildPile(const bench::HullPileSpec& pile, std::vector<BodyId>& ids, bool pushOut = false) {
     const auto vec = [](bench::V3 v) { return Vec3{Real(v.x), Real(v.y), Real(v.z)}; };
     WorldDef def;
+    def.pushOutGrownOverlaps = pushOut;
     def.substeps = pile.substeps;
     def.gravity = vec(pile.gravity);
     World world(def);
@@ -54,10 +55,10 @@ World buildPile(const bench::HullPileSpec& pile, std::vector<BodyId>& ids) {
     return world;
 }
 
-PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom) {
+PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom, bool pushOut = false) {
     const bench::HullPileSpec pile = bench::convexPile(nx, nz, layers);
     std::vector<BodyId> ids;
-    World world = buildPile(pile, ids);
+    World world = buildPile(pile, ids, pushOut);
     PileRun run;
     for (int i = 0; i < steps; ++i) {
         world.step(Real(pile.dt));
@@ -92,6 +93,17 @@ TEST(HullPile, DeepOverlapsOfFastLandingsArePushedOut) {
     // "Box3D's convex pile").
     const PileRun run = runPile(3, 3, 24, 60 * 9, 60 * 6);
     EXPECT_GT(run.deepestWhileFalling, Real(0.05));  // the landings do sink in (what the 5120-hull pile shows)
+    EXPECT_LT(run.deepestSettled, Real(0.02));
+}
+
+TEST(HullPile, DeepOverlapsOfFastLandingsArePushedOutByPosition) {
+    // The same pile with WorldDef::pushOutGrownOverlaps: the pairs that grow
+    // deeper within a step are pushed apart by position after the sub-steps
+    // (ContactSolver::pushOutGrown; measured: 2.2 cm while landing, 0.5 cm
+    // after, from 6 s on, against 13 cm and 1.3 cm without it; the bound
+    // leaves room for other bits of this chaotic pile, e.g. another compiler's).
+    const PileRun run = runPile(3, 3, 24, 60 * 9, 60 * 6, true);
+    EXPECT_LT(run.deepestWhileFalling, Real(0.04));
     EXPECT_LT(run.deepestSettled, Real(0.02));
 }
 

@@ -48,6 +48,12 @@ World bothKinds() {
     for (int i = 0; i < 3; ++i) addUnitBox(world, {Real(0.5) + static_cast<Real>(i), Real(0.5), 0}, 1);
     addUnitBox(world, {Real(3.5), Real(0.5), 0}, 150);
     for (int i = 0; i < 5; ++i) addUnitBox(world, {0, Real(0.5), 10}, 1);
+    // And, 10 m away on the other side, a 10^6 kg box sinking into a 1 kg one
+    // (a pair driven deep that the push-out by position of pairs grown within
+    // a step leaves to the soft contact: ContactSolver::pushOutGrown; the
+    // jam's boxes, pushed apart by it, no longer go deep).
+    addUnitBox(world, {0, Real(0.5), -10}, 1);
+    addUnitBox(world, {0, Real(1.5), -10}, Real(1e6));
     return world;
 }
 
