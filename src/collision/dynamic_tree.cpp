@@ -767,6 +767,13 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
     // tree.)
     std::uint32_t binCount[kBins] = {};
     const Real scale = Real(kBins) / extent[axis];
+    // A leaf's bin from its scaled offset t, clamped to [0, kBins - 1]
+    // without converting a NaN or an out-of-range t to int (undefined
+    // behaviour): those go to bin 0, where x86's truncating conversion
+    // (INT_MIN) and the clamp put them before, so the tree is the same.
+    const auto clampedBin = [](Real t) {
+        return t >= 0 && t < Real(2147483648.0) ? std::min(static_cast<int>(t), kBins - 1) : 0;
+    };
     const Real origin = centroidBox.min[axis];
     if (bins_.size() < end) bins_.resize(buildItems_.size());
     std::uint8_t* bins = bins_.data();
@@ -811,13 +818,13 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
     // are finite, and only the top needs clamping (the last centre may land
     // on kBins). An infinite extent (centres near the float range's ends:
     // scale 0) or scale (a subnormal extent) can make the product NaN or
-    // infinite, which converts to INT_MIN: clamped both ways, as ever.
+    // infinite: clampedBin, as ever.
     // (The lower clamp was 54 M of a million static boxes' 1,147 M.)
     const auto binLeaves = [&](auto bothEnds) {
         for (std::size_t i = begin; i < end; ++i) {
             const BuildItem& item = items[i];
-            const int raw = static_cast<int>((item.centroid[axis] - origin) * scale);
-            const int k = decltype(bothEnds)::value ? std::clamp(raw, 0, kBins - 1) : std::min(raw, kBins - 1);
+            const Real t = (item.centroid[axis] - origin) * scale;
+            const int k = decltype(bothEnds)::value ? clampedBin(t) : std::min(static_cast<int>(t), kBins - 1);
             bins[i] = static_cast<std::uint8_t>(k);
             ++binCount[k];
             const float* b = &item.box.min.x;
@@ -881,7 +888,7 @@ std::size_t DynamicTree::partitionRange(std::size_t begin, std::size_t end, cons
     }
     for (std::size_t i = begin; i < end; ++i) {
         const BuildItem& item = items[i];
-        const int k = std::clamp(static_cast<int>((item.centroid[axis] - origin) * scale), 0, kBins - 1);
+        const int k = clampedBin((item.centroid[axis] - origin) * scale);
         bins[i] = static_cast<std::uint8_t>(k);
         ++binCount[k];
         binMin[k] = min(binMin[k], item.box.min);

@@ -72,7 +72,12 @@ std::size_t referencePartition(std::vector<Item>& items, std::size_t begin, std:
     std::uint32_t binCount[kBins] = {};
     const Real scale = Real(kBins) / extent[axis];
     const Real origin = centroidBox.min[axis];
-    const auto binOf = [&](const Vec3& c) { return std::clamp(static_cast<int>((c[axis] - origin) * scale), 0, kBins - 1); };
+    // NaN and values past int's range to bin 0 (as x86's truncation to
+    // INT_MIN and the clamp did), without the undefined conversion.
+    const auto binOf = [&](const Vec3& c) {
+        const Real t = (c[axis] - origin) * scale;
+        return t >= 0 && t < Real(2147483648.0) ? std::min(static_cast<int>(t), kBins - 1) : 0;
+    };
     for (std::size_t i = begin; i < end; ++i) {
         const int k = binOf(items[i].centroid);
         if (binCount[k]++ == 0) {
