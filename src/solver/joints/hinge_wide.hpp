@@ -193,12 +193,12 @@ FULCRUM_JOINT_WIDE_INLINE void coupleHingeRow(HingeBlock& k, const Ends& e, cons
         if (!any) continue;
         LanesD L[5][5], rhs[5], solved[5], kk;
         for (int i = 0; i < 5; ++i) {
-            for (int j = 0; j <= i; ++j) L[i][j] = toDoubleLanes(&K[i][j][first]);
+            for (int j = 0; j <= i; ++j) L[i][j] = doubleLanesOf(&K[i][j][first]);
             for (int j = i + 1; j < 5; ++j) L[i][j] = splatD(0.0);
-            rhs[i] = -toDoubleLanes(&Kia[i][first]);
+            rhs[i] = -doubleLanesOf(&Kia[i][first]);
         }
         LanesM ok;
-        coupledInverseMassLanes(L, rhs, toDoubleLanes(&rowMass[first]), solved, kk, ok);
+        coupledInverseMassLanes(L, rhs, doubleLanesOf(&rowMass[first]), solved, kk, ok);
         alignas(32) Real cs[5][kDoubleLanes], ks[kDoubleLanes];
         for (int i = 0; i < 5; ++i) storeFloatLanes(cs[i], solved[i]);
         storeFloatLanes(ks, kk);

@@ -235,7 +235,7 @@ FULCRUM_JOINT_WIDE_INLINE void coupledInverseMassLanes(LanesD (&L)[5][5], const 
     ok &= schur > splatD(1e-12) * kaa;
 }
 
-FULCRUM_JOINT_WIDE_INLINE LanesD toDoubleLanes(const Real* floats) {
+FULCRUM_JOINT_WIDE_INLINE LanesD doubleLanesOf(const Real* floats) {
     LanesF f;
     std::memcpy(&f, floats, sizeof(f));
     return __builtin_convertvector(f, LanesD);
@@ -265,11 +265,11 @@ void coupledArray(const Real* K, const Real* Kia, const Real* kaa, Real* c, Real
         }
         LanesD L[5][5], rhs[5], solved[5], kk;
         for (int i = 0; i < 5; ++i) {
-            for (int j = 0; j < 5; ++j) L[i][j] = j <= i ? toDoubleLanes(lanes[i][j]) : splatD(0.0);
-            rhs[i] = -toDoubleLanes(rhsLanes[i]);
+            for (int j = 0; j < 5; ++j) L[i][j] = j <= i ? doubleLanesOf(lanes[i][j]) : splatD(0.0);
+            rhs[i] = -doubleLanesOf(rhsLanes[i]);
         }
         LanesM good;
-        coupledInverseMassLanes(L, rhs, toDoubleLanes(kaaLanes), solved, kk, good);
+        coupledInverseMassLanes(L, rhs, doubleLanesOf(kaaLanes), solved, kk, good);
         alignas(32) Real cs[5][kDoubleLanes], ks[kDoubleLanes];
         for (int i = 0; i < 5; ++i) storeFloatLanes(cs[i], solved[i]);
         storeFloatLanes(ks, kk);
