@@ -78,10 +78,16 @@ std::uint32_t clipPolygon(const SupportFace& ref, ClipVertex* poly, std::uint32_
         const Vec3 side = cross(p1 - p0, ref.normal);
         const Real off = dot(side, p0);
         std::uint32_t outCount = 0;
+        // Each vertex's distance once, carried from an edge's end to the
+        // next edge's start (the same expression: the same bits).
+        const Real first = dot(side, in[0].p) - off;
+        Real dt = first;
         for (std::uint32_t i = 0; i < count; ++i) {
             const ClipVertex& s = in[i];
-            const ClipVertex& t = in[i + 1 == count ? 0 : i + 1];  // not % count: a division per vertex
-            const Real ds = dot(side, s.p) - off, dt = dot(side, t.p) - off;
+            const bool last = i + 1 == count;
+            const ClipVertex& t = in[last ? 0 : i + 1];  // not % count: a division per vertex
+            const Real ds = dt;
+            dt = last ? first : dot(side, t.p) - off;
             if (ds <= 0 && outCount < kMaxClip) out[outCount++] = s;
             if ((ds <= 0) != (dt <= 0) && outCount < kMaxClip) {
                 const Real u = ds / (ds - dt);

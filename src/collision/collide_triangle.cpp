@@ -34,6 +34,7 @@
 #include "collision/collide_triangle.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
@@ -103,6 +104,48 @@ constexpr std::uint32_t kMaxTabledFaces = 64;
 // Box3D's linear slop, as its mesh contacts use it.
 constexpr Real kAxisCacheTolerance = Real(0.005);
 
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+// The edges' face normals and their cross products in lanes of four edges,
+// zero past the last edge.
+void fillEdgeLanes(const HullFace* faces, const PolytopeEdge* edges, std::uint32_t edgeCount, PolytopeEdgeLanes* lanes) {
+    const std::uint32_t groups = (edgeCount + 3) / 4;
+    for (std::uint32_t g = 0; g < groups; ++g) lanes[g] = PolytopeEdgeLanes{};
+    for (std::uint32_t e = 0; e < edgeCount; ++e) {
+        const Vec3 a = faces[edges[e].faces[0]].normal, c = faces[edges[e].faces[1]].normal, ac = cross(a, c);
+        float(*v)[4] = lanes[e / 4].v;
+        const std::uint32_t i = e % 4;
+        v[0][i] = a.x;
+        v[1][i] = a.y;
+        v[2][i] = a.z;
+        v[3][i] = c.x;
+        v[4][i] = c.y;
+        v[5][i] = c.z;
+        v[6][i] = ac.x;
+        v[7][i] = ac.y;
+        v[8][i] = ac.z;
+    }
+}
+
+// Every box's lanes: its face normals are the axes whatever its size.
+const PolytopeEdgeLanes* boxEdgeLanes() {
+    static const std::array<PolytopeEdgeLanes, 3> lanes = [] {
+        std::array<HullFace, 6> faces{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            Vec3 axis;
+            axis[k] = 1;
+            faces[2 * k].normal = axis;
+            faces[2 * k + 1].normal = -axis;
+        }
+        std::array<PolytopeEdgeLanes, 3> l{};
+        fillEdgeLanes(faces.data(), kBoxEdges, 12, l.data());
+        return l;
+    }();
+    return lanes.data();
+}
+#else
+const PolytopeEdgeLanes* boxEdgeLanes() { return nullptr; }
+#endif
+
 }  // namespace
 
 bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
@@ -126,6 +169,8 @@ bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& 
         faceCount = 6;
         edges = kBoxEdges;
         edgeCount = 12;
+        edgeLanes = boxEdgeLanes();
+        edgeLaneGroups = edgeLanes != nullptr ? 3 : 0;
         return true;
     }
     if (b.kind != ConvexKind::Hull || b.hull == nullptr) return false;
@@ -170,6 +215,8 @@ bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& 
     faceCount = static_cast<std::uint32_t>(h.faces.size());
     edges = edgeScratch.data();
     edgeCount = static_cast<std::uint32_t>(edgeScratch.size());
+    edgeLanes = nullptr;
+    edgeLaneGroups = 0;
     return true;
 }
 
@@ -205,7 +252,9 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
         }
         entry->faceVertices = h.faceVertices;
         entry->closed = prepare(b, entry->edges);
-        return entry->closed;
+        entry->faceNormals.clear();
+        entry->lanes.clear();
+        if (!entry->closed) return false;
     }
     shape = &b;
     if (!entry->closed) return false;
@@ -215,6 +264,26 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
     faceCount = static_cast<std::uint32_t>(h.faces.size());
     edges = entry->edges.data();
     edgeCount = static_cast<std::uint32_t>(entry->edges.size());
+    edgeLanes = nullptr;
+    edgeLaneGroups = 0;
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+    if (edgeCount <= kMaxLaneEdges) {
+        // The lanes, unless the entry's were made from these face normals.
+        bool sameNormals = entry->faceNormals.size() == faceCount;
+        for (std::uint32_t f = 0; sameNormals && f < faceCount; ++f) {
+            const Vec3 &x = entry->faceNormals[f], &y = faces[f].normal;
+            sameNormals = x.x == y.x && x.y == y.y && x.z == y.z;
+        }
+        if (!sameNormals) {
+            entry->faceNormals.resize(faceCount);
+            for (std::uint32_t f = 0; f < faceCount; ++f) entry->faceNormals[f] = faces[f].normal;
+            entry->lanes.resize((edgeCount + 3) / 4);
+            fillEdgeLanes(faces, edges, edgeCount, entry->lanes.data());
+        }
+        edgeLanes = entry->lanes.data();
+        edgeLaneGroups = static_cast<std::uint32_t>(entry->lanes.size());
+    }
+#endif
     return true;
 }
 
@@ -256,11 +325,13 @@ namespace {
 // True when the triangle's edge j and the polytope's edge e cross, seen along
 // their common perpendicular: the closest points of their lines lie inside
 // both segments.
-bool edgesCross(const Vec3 w[3], std::uint32_t j, const TrianglePolytope& p, std::uint32_t e) {
+// `s` is the closest point's parameter on the triangle's edge, as the edge
+// contact (buildAlong) takes it from the same call.
+bool edgesCross(const Vec3 w[3], std::uint32_t j, const TrianglePolytope& p, std::uint32_t e, Real& s) {
     const Vec3 a0 = w[j], a1 = w[(j + 1) % 3];
     const Vec3 b0 = transformPoint(p.shape->xf, p.vertices[p.edges[e].from]);
     const Vec3 b1 = transformPoint(p.shape->xf, p.vertices[p.edges[e].to]);
-    Real s, u;
+    Real u;
     closestSegmentSegment(a0, a1, b0, b1, s, u);
     return s > 0 && s < 1 && u > 0 && u < 1;
 }
@@ -310,8 +381,16 @@ bool hintSeparates(std::uint32_t hint, const TrianglePolytope& p, const Vec3 v[3
     const Real tt = dot(t, t);
     const PolytopeEdge& edge = p.edges[e];
     const Vec3 a = p.faces[edge.faces[0]].normal, c = p.faces[edge.faces[1]].normal;
+    const Real ca = dot(a, t);
+    if (p.edgeLaneGroups != 0) {
+        // The lanes' filter as the full test applies it (the same products
+        // and sums): a pair it skips is no candidate there either.
+        const float(*lanes)[4] = p.edgeLanes[e / 4].v;
+        const Vec3 ac{lanes[6][e % 4], lanes[7][e % 4], lanes[8][e % 4]};
+        if (!(ca * dot(ac, n) > 0)) return false;
+    }
     Vec3 axis;
-    if (!edgePairAxis(a, c, dot(a, t), dot(c, t), side, tt, axis)) return false;
+    if (!edgePairAxis(a, c, ca, dot(c, t), side, tt, axis)) return false;
     return dot(axis, p.vertices[edge.from] - v[j]) > margin;
 }
 
@@ -331,14 +410,21 @@ struct Choice {
     Real edgeSeparation = 0;
     bool edgeBetter = false;  // a triangle face kept against a better edge pair (within kEdgeBias)
     bool realized = true;     // apart, the features the axis names meet across it
+    // The edges' closest point parameter on the triangle's edge, when
+    // axisRealized found it for this bestEdge and bestTriangleEdge.
+    bool edgeParameterKnown = false;
+    Real edgeParameter = 0;
 };
 
 // Apart, an axis's separation is the distance only when the features it
 // names meet across it: the polytope's nearest vertex over the triangle,
 // the triangle's nearest vertex over the polytope's face, the two edges
 // crossing (collideTrianglePolytope).
-bool axisRealized(const Choice& c, const TrianglePolytope& p, const Vec3 w[3], const Vec3 v[3]) {
-    if (c.axis == Axis::Edges) return edgesCross(w, c.bestTriangleEdge, p, c.bestEdge);
+bool axisRealized(Choice& c, const TrianglePolytope& p, const Vec3 w[3], const Vec3 v[3]) {
+    if (c.axis == Axis::Edges) {
+        c.edgeParameterKnown = true;
+        return edgesCross(w, c.bestTriangleEdge, p, c.bestEdge, c.edgeParameter);
+    }
     if (c.axis == Axis::PolytopeFace) {
         // The triangle's vertex, moved onto the face's plane, inside every other face.
         const Vec3 q = v[c.bestVertex] - p.faces[c.bestFace].normal * c.polytopeSeparation;
@@ -349,6 +435,26 @@ bool axisRealized(const Choice& c, const TrianglePolytope& p, const Vec3 w[3], c
         return realized;
     }
     return overTriangle(w, transformPoint(p.shape->xf, p.vertices[c.lowest]));
+}
+
+// The triangle's supporting face along n, as supportingFace(makeTriangle(w),
+// n) gives it: its normal there is normalize(cross(w[1] - w[0], w[2] - w[0])),
+// the expression faceN was computed by (collideTriangleWithConvex), so faceN
+// itself, bit for bit, without the square root again.
+void triangleFace(const Vec3 w[3], const Vec3& faceN, const Vec3& n, SupportFace& out) {
+    out.count = 3;
+    out.points[0] = w[0];
+    if (dot(faceN, n) >= 0) {
+        out.points[1] = w[1];
+        out.points[2] = w[2];
+        out.normal = faceN;
+        out.id = 0;
+    } else {
+        out.points[1] = w[2];
+        out.points[2] = w[1];
+        out.normal = -faceN;
+        out.id = 1;
+    }
 }
 
 // The contact along c's axis (collideTrianglePolytope's second half): false
@@ -383,8 +489,10 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
                 supportingFace(b, -faceN, hullFace, c.lowest);
                 knownB = &hullFace;
             }
+            SupportFace triangle;
+            triangleFace(w, faceN, faceN, triangle);
             buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, m, 1,
-                              c.axis == Axis::TriangleFace && realized, nullptr, knownB);
+                              c.axis == Axis::TriangleFace && realized, &triangle, knownB);
             // Kept against a better edge pair (within kEdgeBias), the face
             // must hold a point over the triangle, the only points the mesh
             // path keeps along its normal: a hull sunk across the triangle's
@@ -401,8 +509,10 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
         case Axis::PolytopeFace: {
             const Vec3 normal = -rotate(xf.q, p.faces[c.bestFace].normal);
             const Vec3 pa = w[c.bestVertex];
+            SupportFace triangle;
+            triangleFace(w, faceN, normal, triangle);
             buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, normal, pa, pa + normal * c.polytopeSeparation, margin, m, 2,
-                              realized);
+                              realized, &triangle);
             if (!realized && onlyStandIn(pa, pa + normal * c.polytopeSeparation)) return false;
             if (c.edgeBetter && m.pointCount == 0) c.axis = Axis::Edges;
             break;
@@ -412,9 +522,12 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
     if (c.axis == Axis::Edges) {
         const PolytopeEdge& edge = p.edges[c.bestEdge];
         const Vec3 a0 = w[c.bestTriangleEdge], a1 = w[(c.bestTriangleEdge + 1) % 3];
-        const Vec3 b0 = transformPoint(xf, p.vertices[edge.from]), b1 = transformPoint(xf, p.vertices[edge.to]);
-        Real s, u;
-        closestSegmentSegment(a0, a1, b0, b1, s, u);
+        Real s = c.edgeParameter;
+        if (!c.edgeParameterKnown) {
+            const Vec3 b0 = transformPoint(xf, p.vertices[edge.from]), b1 = transformPoint(xf, p.vertices[edge.to]);
+            Real u;
+            closestSegmentSegment(a0, a1, b0, b1, s, u);
+        }
         // The point on the triangle's edge, and the polytope's surface
         // along the axis from it: the edges' closest points when the two
         // edges cross (seen along the axis). When they do not (shapes
@@ -573,40 +686,106 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         side[j] = cross(t[j], n);
         tt[j] = dot(t[j], t[j]);
     }
-    // Each face normal's dot with each triangle edge, once: every edge of
-    // the polytope reads the two of its faces (an edge per pair of faces
-    // would compute them 2E / F >= 3 times over). The same dots as before,
-    // so the same bits; a hull with more faces than the table computes them
-    // per edge as before.
-    Real faceDots[kMaxTabledFaces][3];
-    const bool tabled = p.faceCount <= kMaxTabledFaces;
-    if (tabled) {
-        for (std::uint32_t f = 0; f < p.faceCount; ++f) {
-            for (std::uint32_t j = 0; j < 3; ++j) faceDots[f][j] = dot(p.faces[f].normal, t[j]);
-        }
-    }
     Real edgeSeparation = -1e30f;
     std::uint32_t bestEdge = 0, bestTriangleEdge = 0;
     Vec3 bestEdgeAxis;
-    for (std::uint32_t e = 0; e < p.edgeCount; ++e) {
-        const PolytopeEdge& edge = p.edges[e];
-        const Vec3& a = p.faces[edge.faces[0]].normal;
-        const Vec3& c = p.faces[edge.faces[1]].normal;
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+    if (p.edgeLaneGroups != 0) {
+        // Four polytope edges at a time (TrianglePolytope::edgeLanes): the
+        // faces' dots with each triangle edge, ca and cc, in lanes, by
+        // dot()'s products and sums in its order (the same bits), and the
+        // Gauss-map filter as two signs: the arc from a to c crosses the
+        // plane perpendicular to t (ca cc < 0), and on the side where -mid
+        // points out of the triangle's edge. As mid = -(t x (a x c)) / (ca -
+        // cc) and t . n = 0, mid . s = -(t . t) ((a x c) . n) / (ca - cc),
+        // so the second sign is ca ((a x c) . n) > 0: one dot per edge
+        // instead of mid per pair (Box3D's test). The pairs both signs pass
+        // run edgePairAxis as the scalar loop does (the exact mid . s test
+        // too), in its order: edge-major, the triangle's edges within.
+        static constexpr std::uint16_t kSpread[16] = {0x000, 0x001, 0x008, 0x009, 0x040, 0x041, 0x048, 0x049,
+                                                      0x200, 0x201, 0x208, 0x209, 0x240, 0x241, 0x248, 0x249};
+        const __m128 zero = _mm_setzero_ps();
+        const __m128 nx = _mm_set1_ps(n.x), ny = _mm_set1_ps(n.y), nz = _mm_set1_ps(n.z);
+        __m128 tx[3], ty[3], tz[3];
         for (std::uint32_t j = 0; j < 3; ++j) {
-            const Real ca = tabled ? faceDots[edge.faces[0]][j] : dot(a, t[j]);
-            const Real cc = tabled ? faceDots[edge.faces[1]][j] : dot(c, t[j]);
-            Vec3 axis;
-            if (!edgePairAxis(a, c, ca, cc, side[j], tt[j], axis)) continue;
-            const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
-            if (separation > margin) {
-                if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
-                return false;
+            tx[j] = _mm_set1_ps(t[j].x);
+            ty[j] = _mm_set1_ps(t[j].y);
+            tz[j] = _mm_set1_ps(t[j].z);
+        }
+        alignas(16) float caLanes[3][4], ccLanes[3][4];
+        for (std::uint32_t g = 0; g < p.edgeLaneGroups; ++g) {
+            const float(*lanes)[4] = p.edgeLanes[g].v;
+            const __m128 ax = _mm_load_ps(lanes[0]), ay = _mm_load_ps(lanes[1]), az = _mm_load_ps(lanes[2]);
+            const __m128 cx = _mm_load_ps(lanes[3]), cy = _mm_load_ps(lanes[4]), cz = _mm_load_ps(lanes[5]);
+            const __m128 en = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_load_ps(lanes[6]), nx), _mm_mul_ps(_mm_load_ps(lanes[7]), ny)),
+                                         _mm_mul_ps(_mm_load_ps(lanes[8]), nz));
+            unsigned pairs = 0;
+            for (std::uint32_t j = 0; j < 3; ++j) {
+                const __m128 ca = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, tx[j]), _mm_mul_ps(ay, ty[j])), _mm_mul_ps(az, tz[j]));
+                const __m128 cc = _mm_add_ps(_mm_add_ps(_mm_mul_ps(cx, tx[j]), _mm_mul_ps(cy, ty[j])), _mm_mul_ps(cz, tz[j]));
+                _mm_store_ps(caLanes[j], ca);
+                _mm_store_ps(ccLanes[j], cc);
+                const __m128 pass = _mm_and_ps(_mm_cmplt_ps(_mm_mul_ps(ca, cc), zero), _mm_cmpgt_ps(_mm_mul_ps(ca, en), zero));
+                pairs |= unsigned(kSpread[_mm_movemask_ps(pass)]) << j;
             }
-            if (separation > edgeSeparation) {
-                edgeSeparation = separation;
-                bestEdge = e;
-                bestTriangleEdge = j;
-                bestEdgeAxis = axis;
+            while (pairs != 0) {
+                const unsigned bit = static_cast<unsigned>(std::countr_zero(pairs));
+                pairs &= pairs - 1;
+                const std::uint32_t i = (bit * 11u) >> 5, j = bit - 3 * i, e = 4 * g + i;  // bit = 3 i + j, i < 4
+                const PolytopeEdge& edge = p.edges[e];
+                Vec3 axis;
+                if (!edgePairAxis(p.faces[edge.faces[0]].normal, p.faces[edge.faces[1]].normal, caLanes[j][i], ccLanes[j][i],
+                                  side[j], tt[j], axis)) {
+                    continue;
+                }
+                const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
+                if (separation > margin) {
+                    if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
+                    return false;
+                }
+                if (separation > edgeSeparation) {
+                    edgeSeparation = separation;
+                    bestEdge = e;
+                    bestTriangleEdge = j;
+                    bestEdgeAxis = axis;
+                }
+            }
+        }
+    } else
+#endif
+    {
+        // Each face normal's dot with each triangle edge, once: every edge of
+        // the polytope reads the two of its faces (an edge per pair of faces
+        // would compute them 2E / F >= 3 times over). The same dots as before,
+        // so the same bits; a hull with more faces than the table computes them
+        // per edge as before.
+        Real faceDots[kMaxTabledFaces][3];
+        const bool tabled = p.faceCount <= kMaxTabledFaces;
+        if (tabled) {
+            for (std::uint32_t f = 0; f < p.faceCount; ++f) {
+                for (std::uint32_t j = 0; j < 3; ++j) faceDots[f][j] = dot(p.faces[f].normal, t[j]);
+            }
+        }
+        for (std::uint32_t e = 0; e < p.edgeCount; ++e) {
+            const PolytopeEdge& edge = p.edges[e];
+            const Vec3& a = p.faces[edge.faces[0]].normal;
+            const Vec3& c = p.faces[edge.faces[1]].normal;
+            for (std::uint32_t j = 0; j < 3; ++j) {
+                const Real ca = tabled ? faceDots[edge.faces[0]][j] : dot(a, t[j]);
+                const Real cc = tabled ? faceDots[edge.faces[1]][j] : dot(c, t[j]);
+                Vec3 axis;
+                if (!edgePairAxis(a, c, ca, cc, side[j], tt[j], axis)) continue;
+                const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
+                if (separation > margin) {
+                    if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
+                    return false;
+                }
+                if (separation > edgeSeparation) {
+                    edgeSeparation = separation;
+                    bestEdge = e;
+                    bestTriangleEdge = j;
+                    bestEdgeAxis = axis;
+                }
             }
         }
     }

@@ -39,6 +39,15 @@ public:
     const PolytopeEdge* edges = nullptr;
     std::uint32_t edgeCount = 0;
 
+    // The edges' two face normals and their cross product in lanes of four
+    // edges (PolytopeEdgeLanes; collideTrianglePolytope's Gauss-map filter),
+    // edgeLaneGroups of them; none (0) in the double build, for a polytope
+    // prepared without a cache, or for one of more than kMaxLaneEdges edges:
+    // the scalar loop.
+    static constexpr std::uint32_t kMaxLaneEdges = 64;
+    const PolytopeEdgeLanes* edgeLanes = nullptr;
+    std::uint32_t edgeLaneGroups = 0;
+
 private:
     std::array<Vec3, 8> boxVertices_;
     std::array<HullFace, 6> boxFaces_;
@@ -50,7 +59,9 @@ private:
 void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n);
 
 // The contact of world-space triangle w (counter-clockwise front, unit normal
-// faceN) with the prepared polytope, as collideConvexConvex(triangle, b)
+// faceN, computed as normalize(cross(w[1] - w[0], w[2] - w[0])), as
+// collideTriangleWithConvex does: the triangle's supporting face takes it
+// as its own) with the prepared polytope, as collideConvexConvex(triangle, b)
 // gives it: normal from the triangle to b, points with depth and feature ids,
 // at most 4. The axes are the triangle's normal (both sides), the polytope's
 // face normals and the cross products of edges whose arcs cross on the Gauss

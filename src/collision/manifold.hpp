@@ -83,6 +83,14 @@ struct PolytopeEdge {
     std::uint32_t faces[2] = {0, 0};
 };
 
+// Four edges' two face normals a and c and their cross product a x c in
+// lanes (collide_triangle.hpp, TrianglePolytope::edgeLanes): v[k][i] is
+// component k (a.x, a.y, a.z, c.x, c.y, c.z, (a x c).x, .y, .z) of the
+// group's edge i, zero past the polytope's last edge.
+struct PolytopeEdgeLanes {
+    alignas(16) float v[9][4];
+};
+
 // The edge tables of the last few hulls the triangle test prepared
 // (TrianglePolytope::prepare in collide_triangle.cpp), each kept with the face
 // lists it was derived from: a hull whose faces match an entry's takes that
@@ -97,6 +105,10 @@ struct PolytopeEdgeCache {
         std::vector<std::uint32_t> faceVertices;
         std::vector<PolytopeEdge> edges;
         bool closed = false;                        // the faces close up (else no table)
+        // The edges' face normals and their cross products in lanes of four
+        // edges (TrianglePolytope::edgeLanes), for these face normals.
+        std::vector<Vec3> faceNormals;
+        std::vector<PolytopeEdgeLanes> lanes;
     };
     static constexpr std::size_t kEntries = 32;
     std::vector<Entry> entries;
