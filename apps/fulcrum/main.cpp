@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
     CLI::Option* integratorOpt =
         run->add_option("--integrator", integrator, "semi_implicit_euler, explicit_euler or verlet (overrides world.integrator)");
     CLI::Option* threadsOpt = run->add_option("--threads", threads, "Worker threads (results are identical for every count)");
+    bool pushOut = false;
+    CLI::Option* pushOutOpt = run->add_flag("--push-out-grown-overlaps", pushOut,
+                                            "Push apart pairs that got deeper within a step (overrides world.push_out_grown_overlaps; "
+                                            "=false turns it off)");
     run->add_flag("--json", outputs.json, "Print one JSON object with the final state on stdout");
     run->add_option("--csv", outputs.csvPath, "Write every step of every dynamic body to FILE (CSV)");
     run->add_flag("--csv-particles", outputs.csvParticles, "With --csv: also a row per rope and cloth particle (body \"r1[3]\")");
@@ -77,6 +81,7 @@ int main(int argc, char** argv) {
     }
     if (*dtOpt) overrides.dt = dt;
     if (*integratorOpt) overrides.integrator = integrator;
+    if (*pushOutOpt) overrides.pushOutGrownOverlaps = pushOut;
     if (*snapshotAtOpt) outputs.snapshotAt = snapshotAt;
     if (*resumeOpt) overrides.resumePath = resume;
     // A progress bar only for a person watching a terminal: never into a pipe,

@@ -346,7 +346,7 @@ class World:
                  joint_direct_solve: bool = True, linear_sleep_velocity: float = 0.05,
                  angular_sleep_velocity: float = 0.05, time_to_sleep: float = 0.5,
                  continuous_collision: bool = True, max_contact_pairs: int = 0,
-                 hit_event_threshold: float = 1) -> None: ...
+                 hit_event_threshold: float = 1, push_out_grown_overlaps: bool = False) -> None: ...
     gravity: Array
     integrator: str
     substeps: int
@@ -356,6 +356,7 @@ class World:
     parallel_min_bodies: int
     max_contact_pairs: int
     hit_event_threshold: float
+    push_out_grown_overlaps: bool
     scene_dt: float
     scene_steps: int
     @property

@@ -43,8 +43,20 @@ def _number(token: str, setting: str):
     return value
 
 
+def _list_value(token: str, setting: str):
+    """A value of a list: a number, or true / false (a boolean setting such as
+    world.push_out_grown_overlaps or world.sleeping)."""
+    if token in ("true", "false"):
+        return token == "true"
+    try:
+        return _number(token, setting)
+    except SweepError:
+        raise SweepError(f"--set '{setting}': '{token}' is not a number, true or false") from None
+
+
 def parse_set(setting: str) -> tuple[str, list]:
-    """'PATH=a:b:n' (n values from a to b, ends included) or 'PATH=v1,v2,...' -> (path, values)."""
+    """'PATH=a:b:n' (n values from a to b, ends included) or 'PATH=v1,v2,...'
+    (numbers, or true / false) -> (path, values)."""
     path, eq, spec = setting.partition("=")
     path = path.strip()
     if not eq or not path or not spec.strip():
@@ -69,7 +81,7 @@ def parse_set(setting: str) -> tuple[str, list]:
         else:
             values = [float(v) for v in values]
         return path, values
-    return path, [_number(t.strip(), setting) for t in spec.split(",")]
+    return path, [_list_value(t.strip(), setting) for t in spec.split(",")]
 
 
 def grid(sets: list[tuple[str, list]]) -> list[tuple]:
@@ -102,6 +114,11 @@ def _progress_bar(stream):
     return show
 
 
+def _cell(value) -> str:
+    """A --set value in the CSV: a number as Python's repr, a boolean as in JSON."""
+    return json.dumps(value) if isinstance(value, bool) else repr(value)
+
+
 def rows(points, paths, results):
     """CSV rows: one per world and dynamic body."""
     for w, (point, result) in enumerate(zip(points, results)):
@@ -109,7 +126,7 @@ def rows(points, paths, results):
             if kind != "dynamic":
                 continue
             p, v = result.positions[b], result.linear_velocities[b]
-            yield ([w] + [repr(x) for x in point] + [name or f"body{b}"]
+            yield ([w] + [_cell(x) for x in point] + [name or f"body{b}"]
                    + [repr(float(x)) for x in p] + [repr(float(x)) for x in v])
 
 

@@ -118,7 +118,7 @@ void bindWorld(py::module_& m) {
                           Real restitutionThreshold, Real jointHertz, Real jointDampingRatio, Real maxRotationPerSubstep,
                           Real jointProjectionSlop, bool jointDirectSolve, Real linearSleepVelocity,
                           Real angularSleepVelocity, Real timeToSleep, bool continuousCollision,
-                          std::int64_t maxContactPairs, Real hitEventThreshold) {
+                          std::int64_t maxContactPairs, Real hitEventThreshold, bool pushOutGrownOverlaps) {
                   WorldDef def;
                   def.gravity = toVec3(gravity, "gravity");
                   def.integrator = integratorNamed(integrator);
@@ -143,6 +143,7 @@ void bindWorld(py::module_& m) {
                   def.continuousCollision = continuousCollision;
                   def.maxContactPairs = maxContactPairs;
                   def.hitEventThreshold = hitEventThreshold;
+                  def.pushOutGrownOverlaps = pushOutGrownOverlaps;
                   auto state = std::make_shared<WorldState>(World(def));
                   state->scene.world = def;
                   return PyWorld{std::move(state)};
@@ -162,7 +163,8 @@ void bindWorld(py::module_& m) {
               py::arg("linear_sleep_velocity") = d.linearSleepVelocity,
               py::arg("angular_sleep_velocity") = d.angularSleepVelocity, py::arg("time_to_sleep") = d.timeToSleep,
               py::arg("continuous_collision") = d.continuousCollision,
-              py::arg("max_contact_pairs") = d.maxContactPairs, py::arg("hit_event_threshold") = d.hitEventThreshold);
+              py::arg("max_contact_pairs") = d.maxContactPairs, py::arg("hit_event_threshold") = d.hitEventThreshold,
+              py::arg("push_out_grown_overlaps") = d.pushOutGrownOverlaps);
 
     // ---- settings
     world
@@ -196,6 +198,14 @@ void bindWorld(py::module_& m) {
             "max_contact_pairs", [](const PyWorld& w) { return w.world().settings().maxContactPairs; },
             [](PyWorld& w, std::int64_t n) { w.world().setMaxContactPairs(n); },
             "The contact pair limit; 0 is automatic (docs/solver.md, 'Contact pair limit').")
+        .def_property(
+            "push_out_grown_overlaps", [](const PyWorld& w) { return w.world().settings().pushOutGrownOverlaps; },
+            [](PyWorld& w, bool on) {
+                w.world().setPushOutGrownOverlaps(on);
+                w.state->scene.world.pushOutGrownOverlaps = on;  // save_scene writes it
+            },
+            "Pairs that got deeper within a step are pushed apart by position after the sub-steps "
+            "(WorldDef::pushOutGrownOverlaps, docs/solver.md 'Grown overlaps'); off by default; from the next step on.")
         .def("settings",
              [](const PyWorld& w) {
                  const WorldDef& s = w.world().settings();
@@ -223,6 +233,7 @@ void bindWorld(py::module_& m) {
                  out["time_to_sleep"] = s.timeToSleep;
                  out["continuous_collision"] = s.continuousCollision;
                  out["max_contact_pairs"] = s.maxContactPairs;
+                 out["push_out_grown_overlaps"] = s.pushOutGrownOverlaps;
                  return out;
              },
              "Every WorldDef field as a dict (the World() keywords).");

@@ -83,6 +83,44 @@ def test_csv_equals_separate_runs_bit_for_bit(scene_file, tmp_path):
     assert float(y[3]) == pytest.approx(sum(ys) / len(ys), rel=1e-12)
 
 
+def test_boolean_settings_sweep_as_true_false_lists(tmp_path):
+    # A list may hold true / false (a boolean setting such as
+    # world.push_out_grown_overlaps); the CSV column reads them as JSON does,
+    # and each world equals its scene with the key written by hand, bit for
+    # bit. Ranges stay numbers.
+    assert sweep.parse_set("world.push_out_grown_overlaps=false,true")[1] == [False, True]
+    assert sweep.parse_set("world.sleeping=true")[1] == [True]
+    with pytest.raises(sweep.SweepError, match="'maybe' is not a number, true or false"):
+        sweep.parse_set("world.sleeping=maybe,true")
+    with pytest.raises(sweep.SweepError, match="'true' is not a number"):
+        sweep.parse_set("world.sleeping=true:false:2")
+    # A box struck end-on into a row by a heavier one at 20 m/s (no gravity):
+    # the push-out acts there (tests/solver/grown_overlap_test.cpp).
+    box = {"type": "box", "half_extents": [0.5, 0.5, 0.5]}
+    scene = {"world": {"gravity": [0, 0, 0], "dt": 1 / 60},
+             "bodies": [{"name": "striker", "shape": box, "mass": 10, "friction": 0, "position": [-1.5, 0, 0],
+                         "linear_velocity": [20, 0, 0]}]
+             + [{"name": f"b{i}", "shape": box, "mass": 1, "friction": 0, "position": [i, 0, 0]} for i in range(4)]}
+    path = tmp_path / "row.json"
+    path.write_text(json.dumps(scene))
+    out = tmp_path / "results.csv"
+    r = run_sweep(path, "--set", "world.push_out_grown_overlaps=false,true", "--steps", 30, "--out", out)
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.reader(out.open()))
+    assert rows[0][:3] == ["world", "world.push_out_grown_overlaps", "body"]
+    expected = []
+    for w, on in enumerate((False, True)):
+        edited = copy.deepcopy(scene)
+        edited["world"]["push_out_grown_overlaps"] = on
+        world = fulcrum.load_scene(edited)
+        world.step(world.scene_dt, steps=30)
+        for body in world.bodies():
+            expected.append([str(w), "true" if on else "false", body.name]
+                            + [repr(float(x)) for x in body.position] + [repr(float(x)) for x in body.linear_velocity])
+    assert rows[1:] == expected
+    assert rows[1][3:] != rows[6][3:]  # the setting mattered: the striker ends elsewhere
+
+
 @pytest.mark.parametrize("setting, message", [
     ("bodies[bal].restitution=0:1:3", "no element named 'bal'"),
     ("bodies[ball].restitution=0:1:x", "'x' is not a number"),

@@ -254,6 +254,7 @@ void applyOverrides(Scene& scene, const RunOverrides& o) {
         scene.world.integrator = *integrator;
     }
     if (o.threads) scene.world.threads = checkedInteger("--threads", *o.threads);
+    if (o.pushOutGrownOverlaps) scene.world.pushOutGrownOverlaps = *o.pushOutGrownOverlaps;
 }
 
 RunResult runScene(const Scene& scene, const RunOutputs& outputs, const StepObserver& observer) {
@@ -814,6 +815,7 @@ int runCommand(const std::optional<std::string>& scenePath, const RunOverrides& 
             world.setIntegrator(scene.world.integrator);
             world.setSubsteps(scene.world.substeps);
             world.setThreadCount(scene.world.threads);
+            world.setPushOutGrownOverlaps(scene.world.pushOutGrownOverlaps);
             result = runWorld(std::move(world), handles, scene, outputs, observer);
         } else {
             if (overrides.fixedBase && !(scenePath && isUrdfPath(*scenePath))) {

@@ -29,6 +29,9 @@ struct RunOverrides {
     std::optional<long long> substeps;
     std::optional<std::string> integrator;
     std::optional<long long> threads;
+    // --push-out-grown-overlaps[=true|false]: WorldDef::pushOutGrownOverlaps
+    // (the scene's world.push_out_grown_overlaps).
+    std::optional<bool> pushOutGrownOverlaps;
     // --resume FILE: continue the run saved in a snapshot instead of loading a
     // scene (--steps then counts the further steps; default: the rest of the
     // original run).

@@ -164,7 +164,8 @@ bool Scene::operator==(const Scene& o) const {
            a.substeps == b.substeps && a.solverIterations == b.solverIterations && a.sleeping == b.sleeping &&
            a.threads == b.threads && a.jointHertz == b.jointHertz && a.jointDampingRatio == b.jointDampingRatio &&
            a.jointProjectionSlop == b.jointProjectionSlop && a.maxRotationPerSubstep == b.maxRotationPerSubstep && a.jointDirectSolve == b.jointDirectSolve &&
-           a.maxContactPairs == b.maxContactPairs && a.hitEventThreshold == b.hitEventThreshold && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
+           a.maxContactPairs == b.maxContactPairs && a.hitEventThreshold == b.hitEventThreshold &&
+           a.pushOutGrownOverlaps == b.pushOutGrownOverlaps && dt == o.dt && steps == o.steps && bodies == o.bodies && joints == o.joints &&
            springs == o.springs && ropes == o.ropes && cloths == o.cloths &&
            characters == o.characters && vehicles == o.vehicles;
 }

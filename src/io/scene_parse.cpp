@@ -269,7 +269,7 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     requireObject(j, path);
     checkKeys(j, path, {"gravity", "dt", "steps", "substeps", "integrator", "sleeping", "solver_iterations", "threads",
                         "joint_hertz", "joint_damping_ratio", "joint_projection_slop", "joint_direct_solve",
-                        "max_rotation_per_substep", "max_contact_pairs", "hit_event_threshold"},
+                        "max_rotation_per_substep", "max_contact_pairs", "hit_event_threshold", "push_out_grown_overlaps"},
               "");
     WorldDef& w = scene.world;
     opt(j, path, "gravity", [&](const json& v, const std::string& p) { w.gravity = vec3(v, p); });
@@ -309,6 +309,8 @@ void Parser::parseWorld(const json& j, const std::string& path, Scene& scene) co
     opt(j, path, "hit_event_threshold", [&](const json& v, const std::string& p) {
         w.hitEventThreshold = nonNegative(v, p, "hit_event_threshold");
     });
+    // WorldDef::pushOutGrownOverlaps (docs/solver.md, "Grown overlaps").
+    opt(j, path, "push_out_grown_overlaps", [&](const json& v, const std::string& p) { w.pushOutGrownOverlaps = boolean(v, p); });
     // WorldDef::maxContactPairs: "auto" (or 0) for the automatic limit.
     opt(j, path, "max_contact_pairs", [&](const json& v, const std::string& p) {
         if (v.is_string() && v.get<std::string>() == "auto") {

@@ -367,6 +367,7 @@ std::string sceneToJson(const Scene& scene) {
     if (scene.world.jointDirectSolve != defaults.jointDirectSolve) world["joint_direct_solve"] = scene.world.jointDirectSolve;
     if (scene.world.maxContactPairs != defaults.maxContactPairs) world["max_contact_pairs"] = scene.world.maxContactPairs;
     if (scene.world.hitEventThreshold != defaults.hitEventThreshold) world["hit_event_threshold"] = num(scene.world.hitEventThreshold);
+    if (scene.world.pushOutGrownOverlaps != defaults.pushOutGrownOverlaps) world["push_out_grown_overlaps"] = scene.world.pushOutGrownOverlaps;
     if (scene.world.maxRotationPerSubstep != defaults.maxRotationPerSubstep) {
         world["max_rotation_per_substep"] =
             std::isinf(scene.world.maxRotationPerSubstep) ? ojson("off") : ojson(num(scene.world.maxRotationPerSubstep));

@@ -240,6 +240,39 @@ TEST(Cli, OptionsOverrideTheScene) {
     EXPECT_NEAR(j["time"].get<double>(), 0.07, 1e-6);
 }
 
+// --push-out-grown-overlaps overrides world.push_out_grown_overlaps
+// (WorldDef::pushOutGrownOverlaps): on a row of unit boxes struck by a 10 kg
+// box at 20 m/s (no gravity), where the push-out acts, the flag gives the
+// bodies of the scene with the key on, number for number, and not those of
+// the scene without it; =false on the scene with the key gives those of the
+// scene without it. A value that is not a boolean is exit status 2, one line.
+TEST(Cli, PushOutGrownOverlapsFlagOverridesTheScene) {
+    const auto rowScene = [](const std::string& worldKeys) {
+        std::string bodies = R"({"name": "striker", "shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}, "mass": 10,
+                                 "friction": 0, "position": [-1.5, 0, 0], "linear_velocity": [20, 0, 0]})";
+        for (int i = 0; i < 5; ++i) {
+            bodies += R"(, {"name": "b)" + std::to_string(i) + R"(", "shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+                        "mass": 1, "friction": 0, "position": [)" + std::to_string(i) + ", 0, 0]}";
+        }
+        return R"({"world": {"gravity": [0, 0, 0], "dt": 0.0166667, "steps": 30)" + worldKeys + R"(}, "bodies": [)" + bodies + "]}";
+    };
+    const fs::path plain = writeTemp("row_plain.json", rowScene(""));
+    const fs::path keyed = writeTemp("row_push_out.json", rowScene(R"(, "push_out_grown_overlaps": true)"));
+    const auto bodiesOf = [](const std::string& args) {
+        const Result r = fulcrum("run " + args + " --json");
+        EXPECT_EQ(r.status, 0) << args << ": " << r.err;
+        return r.status == 0 ? nlohmann::json::parse(r.out)["bodies"] : nlohmann::json();
+    };
+    const nlohmann::json off = bodiesOf("'" + plain.string() + "'");
+    const nlohmann::json on = bodiesOf("'" + keyed.string() + "'");
+    ASSERT_EQ(on.size(), 6u);
+    EXPECT_NE(on, off) << "the push-out never acted: the test does not test the flag";
+    EXPECT_EQ(bodiesOf("'" + plain.string() + "' --push-out-grown-overlaps"), on);
+    EXPECT_EQ(bodiesOf("'" + plain.string() + "' --push-out-grown-overlaps=true"), on);
+    EXPECT_EQ(bodiesOf("'" + keyed.string() + "' --push-out-grown-overlaps=false"), off);
+    expectBadInput("run '" + plain.string() + "' --push-out-grown-overlaps=maybe", {"push-out-grown-overlaps"});
+}
+
 TEST(Cli, CsvHasOneRowPerStepAndDynamicBody) {
     // box_stack: 8 dynamic boxes and a static ground; 5 steps -> (5 + 1) * 8 rows + header.
     const fs::path csv = tempDir() / "out.csv";

@@ -15,6 +15,7 @@
 #include "../../bench/box3d_scenes.hpp"
 #include "fulcrum/fulcrum.hpp"
 #include "fulcrum/snapshot.hpp"
+#include "support/hull_pile.hpp"
 
 using namespace fulcrum;
 
@@ -26,39 +27,10 @@ struct PileRun {
     int asleep = 0;
 };
 
-// Box3D's convex pile (bench/box3d_scenes.hpp) as a World: the ground, then
-// one body per hull position (their ids in `ids`).
-World buildPile(const bench::HullPileSpec& pile, std::vector<BodyId>& ids, bool pushOut = false) {
-    const auto vec = [](bench::V3 v) { return Vec3{Real(v.x), Real(v.y), Real(v.z)}; };
-    WorldDef def;
-    def.pushOutGrownOverlaps = pushOut;
-    def.substeps = pile.substeps;
-    def.gravity = vec(pile.gravity);
-    World world(def);
-    BodyDef ground;
-    ground.type = BodyType::Static;
-    ground.shape = Shape::box(vec(pile.groundHalf));
-    ground.position = vec(pile.groundPosition);
-    ground.friction = Real(pile.friction);
-    world.createBody(ground);
-    std::vector<Vec3> points;
-    for (const bench::V3& p : pile.hullPoints) points.push_back(vec(p));
-    const Shape hull = Shape::convexHull(points);
-    for (const bench::V3& p : pile.positions) {
-        BodyDef d;
-        d.shape = hull;
-        d.density = Real(pile.density);
-        d.friction = Real(pile.friction);
-        d.position = vec(p);
-        ids.push_back(world.createBody(d));
-    }
-    return world;
-}
-
 PileRun runPile(int nx, int nz, int layers, int steps, int settledFrom, bool pushOut = false) {
     const bench::HullPileSpec pile = bench::convexPile(nx, nz, layers);
     std::vector<BodyId> ids;
-    World world = buildPile(pile, ids, pushOut);
+    World world = test::hullPileWorld(pile, ids, pushOut);
     PileRun run;
     for (int i = 0; i < steps; ++i) {
         world.step(Real(pile.dt));
@@ -114,7 +86,7 @@ TEST(HullPile, SnapshotMidPileContinuesWithTheSameBits) {
     // land on each other continues, once loaded, bit for bit.
     const bench::HullPileSpec pile = bench::convexPile(3, 3, 6);
     std::vector<BodyId> ids;
-    World world = buildPile(pile, ids);
+    World world = test::hullPileWorld(pile, ids, false);
     for (int i = 0; i < 90; ++i) world.step(Real(pile.dt));  // the upper layers are landing
     World loaded = loadSnapshotFromMemory(saveSnapshotToMemory(world));
     for (int i = 0; i < 90; ++i) {

@@ -13,6 +13,7 @@
 
 #include "../../bench/box3d_scenes.hpp"
 #include "contacts/helpers.hpp"
+#include "support/hull_pile.hpp"
 #include "support/same_motion.hpp"
 #include "world/world_access.hpp"
 
@@ -24,31 +25,8 @@ namespace {
 // Box3D's convex pile (bench/box3d_scenes.hpp): 3 x 3 columns of `layers` hulls.
 World hullPile(int layers, std::vector<BodyId>& ids, Real& dt) {
     const bench::HullPileSpec pile = bench::convexPile(3, 3, layers);
-    const auto vec = [](bench::V3 v) { return Vec3{Real(v.x), Real(v.y), Real(v.z)}; };
-    WorldDef def;
-    def.pushOutGrownOverlaps = true;
-    def.substeps = pile.substeps;
-    def.gravity = vec(pile.gravity);
-    World world(def);
-    BodyDef ground;
-    ground.type = BodyType::Static;
-    ground.shape = Shape::box(vec(pile.groundHalf));
-    ground.position = vec(pile.groundPosition);
-    ground.friction = Real(pile.friction);
-    world.createBody(ground);
-    std::vector<Vec3> points;
-    for (const bench::V3& p : pile.hullPoints) points.push_back(vec(p));
-    const Shape hull = Shape::convexHull(points);
-    for (const bench::V3& p : pile.positions) {
-        BodyDef d;
-        d.shape = hull;
-        d.density = Real(pile.density);
-        d.friction = Real(pile.friction);
-        d.position = vec(p);
-        ids.push_back(world.createBody(d));
-    }
     dt = Real(pile.dt);
-    return world;
+    return hullPileWorld(pile, ids, true);
 }
 
 // No gravity: a row of five unit boxes at rest struck end-on by a 10 kg box at 20 m/s.
