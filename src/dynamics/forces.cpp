@@ -14,8 +14,8 @@ Vec3 springForceOnB(const Vec3& pA, const Vec3& pB, const Vec3& vRel, Real restL
     return -(d - n * restLength) * stiffness - n * (damping * dot(vRel, n));
 }
 
-bool evaluateBodyForces(BodyStore& w, const Vec3& g, std::uint32_t begin, std::uint32_t end) {
-    bool callbacks = false;
+bool evaluateBodyForces(BodyStore& w, const Vec3& g, std::uint32_t begin, std::uint32_t end, bool* dragged) {
+    bool callbacks = false, drag = false;
     const bool mayHaveCallbacks = w.anyForceCallback;
     // Awake bodies only (body_store.hpp, "Awake list"): a sleeping body's
     // forces are not used until it wakes, and the step re-evaluates them then.
@@ -30,11 +30,15 @@ bool evaluateBodyForces(BodyStore& w, const Vec3& g, std::uint32_t begin, std::u
         }
         const Vec3& v = w.state[k + 1].v;
         Vec3 f = w.applied[i].force + g * (p.mass * p.gravityScale);
-        if (p.linearDrag > 0 || p.quadraticDrag > 0) f -= v * (p.linearDrag + p.quadraticDrag * length(v));
+        if (p.linearDrag > 0 || p.quadraticDrag > 0) {
+            f -= v * (p.linearDrag + p.quadraticDrag * length(v));
+            drag = true;
+        }
         out.force = f;
         out.torque = w.applied[i].torque;
         callbacks = callbacks || (mayHaveCallbacks && static_cast<bool>(w.cold[i].callback));
     }
+    if (dragged != nullptr && drag) *dragged = true;
     return callbacks;
 }
 

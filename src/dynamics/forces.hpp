@@ -31,8 +31,11 @@ struct SpringData : PoolSlot {  // alive, generation: WorldImpl::springs is a Sl
 // only those bodies' forces and leaves out the ForceCallbacks, returning
 // whether one of its bodies has one; then, on one thread, addCallbackForces
 // adds the callbacks' wrenches in body order (callbacks need not be
-// thread-safe) and addSpringForces the springs.
-bool evaluateBodyForces(BodyStore& b, const Vec3& gravity, std::uint32_t begin, std::uint32_t end);
+// thread-safe) and addSpringForces the springs. With `dragged`, also sets
+// *dragged when one of its bodies has drag (a force that depends on the
+// velocity; without it, callbacks and springs, a body's force is the same
+// at every sub-step of a step: WorldImpl::buildSubSteps).
+bool evaluateBodyForces(BodyStore& b, const Vec3& gravity, std::uint32_t begin, std::uint32_t end, bool* dragged = nullptr);
 void addCallbackForces(BodyStore& b, double time);
 void addSpringForces(BodyStore& b, std::span<const SpringData> springs);
 

@@ -64,6 +64,11 @@ namespace fulcrum::detail {
 // measurements and for the tests that check both agree.
 bool stagedSubStepsEnabled();
 void setStagedSubStepsEnabled(bool enabled);
+// Whether the sub-steps after the first keep the step's forces when nothing
+// makes them vary (no drag, callback or spring: WorldImpl::buildSubSteps);
+// off only to test that path against evaluating them again (bit for bit).
+bool forcesOncePerStepEnabled();
+void setForcesOncePerStepEnabled(bool enabled);
 
 struct Stage {
     std::uint32_t kind = 0;   // the caller's: what to run

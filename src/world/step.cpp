@@ -177,11 +177,17 @@ std::atomic<bool> gStagedSubSteps{[] {
     return value == nullptr || value[0] != '0';
 }()};
 
+// Tests only: off, every sub-step evaluates the forces again (the path
+// before the forces were kept for the step, to compare bit for bit).
+std::atomic<bool> gForcesOncePerStep{true};
+
 }  // namespace
 
 namespace detail {
 bool stagedSubStepsEnabled() { return gStagedSubSteps.load(std::memory_order_relaxed); }
 void setStagedSubStepsEnabled(bool enabled) { gStagedSubSteps.store(enabled, std::memory_order_relaxed); }
+bool forcesOncePerStepEnabled() { return gForcesOncePerStep.load(std::memory_order_relaxed); }
+void setForcesOncePerStepEnabled(bool enabled) { gForcesOncePerStep.store(enabled, std::memory_order_relaxed); }
 }  // namespace detail
 
 // The contact pair limit's counts in the profile, and a warning the first
@@ -393,17 +399,20 @@ bool WorldImpl::prepareSolvers(TaskSystem& tasks, Real h) {
     // evaluate forces: the same bits, and ~40 us less serial time per step of
     // box_pile's collapse (the colouring was 16.6 M of the 59 M serial
     // instructions left over its first 120 steps).
-    std::atomic<bool> callbacks{false};
+    std::atomic<bool> callbacks{false}, dragged{false};
     const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
     tasks.parallelFor(bodyCount + 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         if (begin == 0) {
             contactSolver.colourGreedy();
             ++begin;
         }
-        if (begin < end && detail::evaluateBodyForces(*this, settings.gravity, begin - 1, end - 1)) {
+        bool drag = false;
+        if (begin < end && detail::evaluateBodyForces(*this, settings.gravity, begin - 1, end - 1, &drag)) {
             callbacks.store(true, std::memory_order_relaxed);
         }
+        if (drag) dragged.store(true, std::memory_order_relaxed);
     });
+    anyDrag = dragged.load(std::memory_order_relaxed);
     // ForceCallbacks (not required to be thread-safe) in body order, then the springs.
     const bool anyCallback = callbacks.load(std::memory_order_relaxed);
     if (anyCallback) detail::addCallbackForces(*this, time);
@@ -439,6 +448,8 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
     key.integrator = settings.integrator;
     key.callbacks = anyCallback;
     key.springs = !springs.empty();
+    key.drag = anyDrag;
+    key.forcesOnce = detail::forcesOncePerStepEnabled();
     key.contacts = hasContacts;
     key.joints = hasJoints;
     key.built = true;
@@ -472,7 +483,11 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         // Stages 1 and 2. The first sub-step's forces were evaluated beside the
         // colouring (prepareSolvers); Verlet's later ones by stage 5 ("first
         // same as last"): the same state and time.
-        if (s == 0 || verlet) {
+        // Without drag, callbacks and springs every later sub-step's forces
+        // are the first's (gravity and the user's forces, fixed for the step:
+        // the same values evaluated again, ~45 instructions a body and
+        // sub-step), so they stay as prepareSolvers left them.
+        if (s == 0 || verlet || (key.forcesOnce && !anyDrag && !anyCallback && springs.empty())) {
             subSteps.add(kVelocities, 0, 0, bodies, kBodiesPerRange);
         } else {
             addForces(2 * sub, true);

@@ -150,9 +150,11 @@ struct WorldImpl : detail::BodyStore {
         int substeps = 0, iterations = 0;
         Integrator integrator = Integrator::SemiImplicitEuler;
         bool callbacks = false, springs = false, contacts = false, joints = false, built = false;
+        bool drag = false, forcesOnce = false;
         bool operator==(const SubStepKey&) const = default;
     };
     SubStepKey subStepKey;
+    bool anyDrag = false;  // an awake body has drag this step (prepareSolvers; buildSubSteps)
 
     detail::SpringData& resolveSpring(SpringId id, const char* where);
     const detail::SpringData& resolveSpring(SpringId id, const char* where) const;
