@@ -598,14 +598,14 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         reach.base = speculativeMargin_;
         reach.linear = length(mb.v - ma.v);
         reach.dt = dt;
+        // The spin axes (reach.axisA, axisB) only for a compound pair, below:
+        // no other pair reads them.
         if (pa.type != BodyType::Static) {
             reach.spinA = length(ma.w);
-            if (reach.spinA > 0) reach.axisA = ma.w / reach.spinA;
             reach.extentA = pa.extent;
         }
         if (pb.type != BodyType::Static) {
             reach.spinB = length(mb.w);
-            if (reach.spinB > 0) reach.axisB = mb.w / reach.spinB;
             reach.extentB = pb.extent;
         }
     }
@@ -653,6 +653,8 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     const bool nearList = meshPair && !compound;
     if (nearList) buffer.setMeshCandidates(&c.meshCandidates);
     if (compound) {
+        if (reach.spinA > 0) reach.axisA = ma.w / reach.spinA;
+        if (reach.spinB > 0) reach.axisB = mb.w / reach.spinB;
         reach.centreA = ma.com;
         reach.centreB = mb.com;
         reach.childrenA = knownChildren(dA);
