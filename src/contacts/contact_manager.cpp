@@ -248,6 +248,8 @@ void ContactManager::reserve(std::size_t bodyCount, std::int64_t maxContactPairs
     if (aliveBits_.capacity() < wantMarks) aliveBits_.reserve(wantMarks);
     if (flaggedWords_.capacity() < wantMarks) flaggedWords_.reserve(wantMarks);
     aliveBits_.resize(contacts_.size() / 64 + 1, 0);
+    if (mayHaveManifolds_.capacity() < wantMarks) mayHaveManifolds_.reserve(wantMarks);
+    mayHaveManifolds_.resize(contacts_.size() / 64 + 1, 0);
     if (proxyMoves_.capacity() < bodyCount) proxyMoves_.reserve(std::max(bodyCount, 2 * proxyMoves_.capacity()));
     const std::size_t wantReports = 2 * bodyCount;
     if (reports.size() < wantReports) {
@@ -324,6 +326,7 @@ std::uint32_t ContactManager::createContact(BodyStore& w, std::uint32_t slotA, s
         marks_.resize(contacts_.size() / 64 + 1, 0);
         awakeMarks_.resize(contacts_.size() / 64 + 1, 0);
         aliveBits_.resize(contacts_.size() / 64 + 1, 0);
+        mayHaveManifolds_.resize(contacts_.size() / 64 + 1, 0);
     }
     Contact& c = contacts_[index];
     // Canonical order: the smaller slot is A, so events name bodies the same way every run.
@@ -394,11 +397,13 @@ void ContactManager::rebuildLinks() {
     marks_.resize(contacts_.size() / 64 + 1, 0);
     awakeMarks_.resize(contacts_.size() / 64 + 1, 0);
     aliveBits_.assign(contacts_.size() / 64 + 1, 0);
+    mayHaveManifolds_.assign(contacts_.size() / 64 + 1, 0);
     liveContacts_ = 0;
     for (std::uint32_t i = 0; i < contacts_.size(); ++i) {
         if (contacts_[i].alive) {
             linkContact(i);
             setAliveBit(i, true);
+            if (!contacts_[i].manifolds.empty()) mayHaveManifolds_[i >> 6] |= std::uint64_t{1} << (i & 63);
             ++liveContacts_;
         }
     }
@@ -593,14 +598,14 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         reach.base = speculativeMargin_;
         reach.linear = length(mb.v - ma.v);
         reach.dt = dt;
+        // The spin axes (reach.axisA, axisB) only for a compound pair, below:
+        // no other pair reads them.
         if (pa.type != BodyType::Static) {
             reach.spinA = length(ma.w);
-            if (reach.spinA > 0) reach.axisA = ma.w / reach.spinA;
             reach.extentA = pa.extent;
         }
         if (pb.type != BodyType::Static) {
             reach.spinB = length(mb.w);
-            if (reach.spinB > 0) reach.axisB = mb.w / reach.spinB;
             reach.extentB = pb.extent;
         }
     }
@@ -648,6 +653,8 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
     const bool nearList = meshPair && !compound;
     if (nearList) buffer.setMeshCandidates(&c.meshCandidates);
     if (compound) {
+        if (reach.spinA > 0) reach.axisA = ma.w / reach.spinA;
+        if (reach.spinB > 0) reach.axisB = mb.w / reach.spinB;
         reach.centreA = ma.com;
         reach.centreB = mb.com;
         reach.childrenA = knownChildren(dA);
@@ -1172,6 +1179,14 @@ void ContactManager::update(BodyStore& w, const CollisionSettings& settings, con
                        isAwakeMover(w.params[w.bodySlots[c.slotB].dense])) {
                 // Both asleep (or asleep on a static body): nothing moved, the manifolds still hold.
                 flags = collideContact(w, c, dt, ns);
+                if (!c.manifolds.empty()) {
+                    // mayHaveManifoldBits: set (atomically: another range may
+                    // share the word) unless already set, as it mostly is.
+                    const std::uint32_t i = indices[k];
+                    const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+                    std::atomic_ref<std::uint64_t> word(mayHaveManifolds_[i >> 6]);
+                    if ((word.load(std::memory_order_relaxed) & bit) == 0) word.fetch_or(bit, std::memory_order_relaxed);
+                }
                 // Only a change of the touching state is left for the serial
                 // pass (it reads c.touching, which only that pass writes): most
                 // contacts then need no serial work at all (updateTouching on

@@ -166,6 +166,19 @@ public:
     // on unless a test turns it off (then the solver's prepare walks every
     // contact slot, as before it existed).
     void setLiveContactList(bool on) { liveContactList_ = on; }
+    // One bit per contact slot: the contact may hold manifolds. A superset:
+    // set by update() for every contact it leaves with manifolds (and by
+    // rebuildLinks for the live ones), cleared only by the solver's prepare
+    // when it finds a slot without manifolds (clearMayHaveManifolds). A
+    // clear bit means no manifolds and Contact::grownBy 0, so that pass
+    // skips the contact without reading it (the same list). Null while the
+    // contact lists are not built, or when a test turned it off
+    // (setManifoldBits(false): the prepare then reads every contact).
+    std::uint64_t* mayHaveManifoldBits() {
+        return manifoldBitsOn_ && !linksRebuild_ && 64 * mayHaveManifolds_.size() > contacts_.size() ? mayHaveManifolds_.data()
+                                                                                                       : nullptr;
+    }
+    void setManifoldBits(bool on) { manifoldBitsOn_ = on; }
     std::uint64_t recycledPieceCount() const;
     const BroadPhase& broadPhase() const { return broad_; }
     ProxyId proxyOfSlot(std::uint32_t slot) const { return proxyOfSlot_[slot]; }
@@ -290,6 +303,7 @@ private:
     std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()
     bool pieceRecycling_ = true;              // setPieceRecycling
     bool liveContactList_ = true;             // setLiveContactList
+    bool manifoldBitsOn_ = true;              // setManifoldBits
     Real speculativeMargin_ = 0;              // update()'s CollisionSettings, for the narrow phase
     std::vector<NarrowScratch> narrow_;       // one per worker
     // The awake compound bodies' top-level children at this update's pose,
@@ -307,6 +321,7 @@ private:
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
     std::vector<std::uint64_t> awakeMarks_;   // one bit per contact: contactsOfAwakeBodies' scratch (all zero between calls)
     std::vector<std::uint64_t> aliveBits_;    // one bit per contact: alive (valid when !linksRebuild_)
+    std::vector<std::uint64_t> mayHaveManifolds_;  // one bit per contact: mayHaveManifoldBits (valid when !linksRebuild_)
     std::vector<std::uint8_t> proxyMoves_;    // per awake body: its tight box left its fat box (update())
     std::vector<AABB> movedFrom_;             // per awake body that moved: its fat box before (update())
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending (made before it)

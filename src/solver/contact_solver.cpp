@@ -2,6 +2,7 @@
 #include "solver/graph_colouring.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -231,79 +232,123 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
         return candidate != nullptr ? std::size_t{candidate[k]} : k;
     };
     const bool pushOut = pushOut_;  // pushOutGrown's gate needs the pairs' reach
+    // Walking every slot: the contacts that may hold manifolds, one bit each
+    // (ContactManager::mayHaveManifoldBits). A slot with its bit clear has no
+    // manifold and a zero grownBy, so it gives no constraint and its
+    // contactEnds_ entry is what reading it would give; the pass reads only
+    // the others (ConvexVsMesh: about half of its live contacts have none),
+    // and clears the bits of those it finds without. A block's words are its
+    // own (kContactsPerBlock is a multiple of 64): no two tasks share one.
+    static_assert(kContactsPerBlock % 64 == 0);
+    std::uint64_t* const maybe = sparse ? nullptr : manager.mayHaveManifoldBits();
     const std::size_t contactBlocks = (candidateCount + kContactsPerBlock - 1) / kContactsPerBlock;
     contactEnds_.resize(candidateCount);
     if (pushOut) contactReach_.resize(candidateCount);
     pendingBlockStart_.resize(contactBlocks + 1);
+    // One candidate: its contactEnds_ entry (ends.manifolds already 0), and
+    // the constraints it gives.
+    const auto visit = [&](std::size_t k, ContactEnds& ends) {
+        Contact& c = contacts[contactAt(k)];
+        // Read and zeroed here (Contact::grownBy: 0 between steps).
+        ends.grown = c.grownBy > kGrowthPushOut;
+        c.grownBy = 0;
+        if (maybe != nullptr && (!c.alive || c.manifolds.empty())) maybe[k >> 6] &= ~(std::uint64_t{1} << (k & 63));
+        if (!c.alive || c.sensor || c.manifolds.empty()) return std::uint32_t{0};
+        const std::uint32_t dA = w.bodySlots[c.slotA].dense;
+        const std::uint32_t dB = w.bodySlots[c.slotB].dense;
+        const std::uint32_t ia = solverOfDense_[dA], ib = solverOfDense_[dB];
+        // Both static or asleep: not part of this step.
+        if (ia == 0 && ib == 0) return std::uint32_t{0};
+        // A sleeping body paired with an awake one was woken by the contact manager.
+        if ((ia == 0 && w.params[dA].type != BodyType::Static) ||
+            (ib == 0 && w.params[dB].type != BodyType::Static))
+            return std::uint32_t{0};
+        if (store_->state[ia].invMass == 0 && store_->state[ib].invMass == 0) return std::uint32_t{0};
+        ends.bodyA = ia;
+        ends.bodyB = ib;
+        ends.manifolds = static_cast<std::uint32_t>(c.manifolds.size());
+        // Which manifolds overlap deeply, and how the pair came
+        // together (pushLimit), read here while the contact is in
+        // the cache: the pass below then reads no contact and no
+        // manifold (it missed the cache on both again: 45 % of this
+        // function's time at the washer's full size). Only this
+        // block writes this contact, so the flag is the same for
+        // any thread count.
+        bool anyOverlaps = false;
+        std::uint32_t overlapping = 0, points = 0;
+        for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
+            const CachedManifold& m = c.manifolds[mi];
+            bool overlaps = false;
+            for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
+            anyOverlaps = anyOverlaps || overlaps;
+            if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
+            if (mi < 16) points |= lanePoints(m) << (2 * mi);
+        }
+        ends.overlapping = overlapping;
+        ends.points = points;
+        // The points' reach from each body's step-start centre
+        // (pushOutGrown's gate): a point lies midway between the
+        // two surface points, each within its body's extent of its
+        // centre, |depth| apart along the normal, so |p - comA| <=
+        // extentA + |depth|; the largest |depth| here (no distance
+        // computed a point). The slack covers a surface point's
+        // offset across the normal and the rounding.
+        // Only with the push-out on (WorldDef::pushOutGrownOverlaps),
+        // out of line: off, this loop is the one without it.
+        if (pushOut) {
+            const Real farthest = largestDepth(c, ends.manifolds);
+            contactReach_[k] = {Real(1.01) * (w.params[dA].extent + 2 * farthest) + Real(1e-3),
+                                Real(1.01) * (w.params[dB].extent + 2 * farthest) + Real(1e-3)};
+        }
+        if (c.firstTouch == FirstTouch::NotYet) {
+            c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
+        }
+        return ends.manifolds;
+    };
     forRanges(contactBlocks, kContactBlocksPerTask, [&](std::size_t begin, std::size_t end) {
         for (std::size_t block = begin; block < end; ++block) {
             const std::size_t first = block * kContactsPerBlock;
             const std::size_t last = std::min(first + kContactsPerBlock, candidateCount);
             std::uint32_t total = 0;
-            for (std::size_t k = first; k < last; ++k) {
-                // The contact twice as far ahead, so that reading its
-                // manifolds' address for the prefetch below does not wait
-                // (it did: 30 % of this function's samples on ConvexVsMesh).
-                if (k + 2 * kManifoldsAhead < last) {
-                    __builtin_prefetch(&contacts[contactAt(k + 2 * kManifoldsAhead)].manifolds);
+            if (maybe == nullptr) {
+                for (std::size_t k = first; k < last; ++k) {
+                    // The contact twice as far ahead, so that reading its
+                    // manifolds' address for the prefetch below does not wait
+                    // (it did: 30 % of this function's samples on ConvexVsMesh).
+                    if (k + 2 * kManifoldsAhead < last) {
+                        __builtin_prefetch(&contacts[contactAt(k + 2 * kManifoldsAhead)].manifolds);
+                    }
+                    if (k + kManifoldsAhead < last) prefetchFirstManifold(contacts[contactAt(k + kManifoldsAhead)]);
+                    ContactEnds& ends = contactEnds_[k];
+                    ends.manifolds = 0;
+                    total += visit(k, ends);
                 }
-                if (k + kManifoldsAhead < last) prefetchFirstManifold(contacts[contactAt(k + kManifoldsAhead)]);
-                Contact& c = contacts[contactAt(k)];
-                ContactEnds& ends = contactEnds_[k];
-                ends.manifolds = 0;
-                // Read and zeroed here (Contact::grownBy: 0 between steps).
-                ends.grown = c.grownBy > kGrowthPushOut;
-                c.grownBy = 0;
-                if (!c.alive || c.sensor || c.manifolds.empty()) continue;
-                const std::uint32_t dA = w.bodySlots[c.slotA].dense;
-                const std::uint32_t dB = w.bodySlots[c.slotB].dense;
-                const std::uint32_t ia = solverOfDense_[dA], ib = solverOfDense_[dB];
-                // Both static or asleep: not part of this step.
-                if (ia == 0 && ib == 0) continue;
-                // A sleeping body paired with an awake one was woken by the contact manager.
-                if ((ia == 0 && w.params[dA].type != BodyType::Static) ||
-                    (ib == 0 && w.params[dB].type != BodyType::Static))
-                    continue;
-                if (store_->state[ia].invMass == 0 && store_->state[ib].invMass == 0) continue;
-                ends.bodyA = ia;
-                ends.bodyB = ib;
-                ends.manifolds = static_cast<std::uint32_t>(c.manifolds.size());
-                total += ends.manifolds;
-                // Which manifolds overlap deeply, and how the pair came
-                // together (pushLimit), read here while the contact is in
-                // the cache: the pass below then reads no contact and no
-                // manifold (it missed the cache on both again: 45 % of this
-                // function's time at the washer's full size). Only this
-                // block writes this contact, so the flag is the same for
-                // any thread count.
-                bool anyOverlaps = false;
-                std::uint32_t overlapping = 0, points = 0;
-                for (std::uint32_t mi = 0; mi < ends.manifolds; ++mi) {
-                    const CachedManifold& m = c.manifolds[mi];
-                    bool overlaps = false;
-                    for (std::uint32_t i = 0; i < m.pointCount; ++i) overlaps = overlaps || m.points[i].depth > kPushShareDepth;
-                    anyOverlaps = anyOverlaps || overlaps;
-                    if (overlaps && mi < 32) overlapping |= std::uint32_t{1} << mi;
-                    if (mi < 16) points |= lanePoints(m) << (2 * mi);
+            } else {
+                // The slots whose bit is set, in order (the prefetches run
+                // ahead over them); the others have no manifold and a zero
+                // grownBy: their entries as reading them would write.
+                std::uint16_t read[kContactsPerBlock];
+                std::size_t count = 0;
+                for (std::size_t word = first >> 6; word < (last + 63) >> 6; ++word) {
+                    std::uint64_t bits = maybe[word];
+                    while (bits != 0) {
+                        const std::size_t k = word * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+                        bits &= bits - 1;
+                        if (k < last) read[count++] = static_cast<std::uint16_t>(k - first);
+                    }
                 }
-                ends.overlapping = overlapping;
-                ends.points = points;
-                // The points' reach from each body's step-start centre
-                // (pushOutGrown's gate): a point lies midway between the
-                // two surface points, each within its body's extent of its
-                // centre, |depth| apart along the normal, so |p - comA| <=
-                // extentA + |depth|; the largest |depth| here (no distance
-                // computed a point). The slack covers a surface point's
-                // offset across the normal and the rounding.
-                // Only with the push-out on (WorldDef::pushOutGrownOverlaps),
-                // out of line: off, this loop is the one without it.
-                if (pushOut) {
-                    const Real farthest = largestDepth(c, ends.manifolds);
-                    contactReach_[k] = {Real(1.01) * (w.params[dA].extent + 2 * farthest) + Real(1e-3),
-                                        Real(1.01) * (w.params[dB].extent + 2 * farthest) + Real(1e-3)};
-                }
-                if (c.firstTouch == FirstTouch::NotYet) {
-                    c.firstTouch = anyOverlaps ? FirstTouch::Deep : FirstTouch::Shallow;
+                std::size_t j = 0;
+                for (std::size_t k = first; k < last; ++k) {
+                    ContactEnds& ends = contactEnds_[k];
+                    ends.manifolds = 0;
+                    if (j == count || first + read[j] != k) {
+                        ends.grown = false;
+                        continue;
+                    }
+                    if (j + 2 * kManifoldsAhead < count) __builtin_prefetch(&contacts[first + read[j + 2 * kManifoldsAhead]].manifolds);
+                    if (j + kManifoldsAhead < count) prefetchFirstManifold(contacts[first + read[j + kManifoldsAhead]]);
+                    ++j;
+                    total += visit(k, ends);
                 }
             }
             pendingBlockStart_[block + 1] = total;
