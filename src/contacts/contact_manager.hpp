@@ -311,7 +311,7 @@ private:
     std::vector<AABB> movedFrom_;             // per awake body that moved: its fat box before (update())
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending (made before it)
     std::vector<std::uint32_t> newContacts_;     // the contacts this update made, ascending
-    std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending
+    std::vector<std::uint32_t> resetScratch_;    // resetPairs, removeBody: the body's contacts, ascending
     bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)
     bool visitAll_ = true;                    // the next update visits every contact
 };
