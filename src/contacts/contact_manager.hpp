@@ -191,6 +191,10 @@ public:
     // contact * 2 + end (0: the contact's slotA, 1: its slotB), UINT32_MAX
     // at a list's end. The lists exist only once built (contactListsBuilt).
     bool contactListsBuilt() const { return !linksRebuild_; }
+    // Forget the lists until the next update (or joint) rebuilds them, as a
+    // new manager starts: removeBody then scans every contact
+    // (tests/world/destroy_lists_test.cpp compares the two paths).
+    void dropContactLists() { linksRebuild_ = true; }
     std::size_t contactListCount() const { return headOfSlot_.size(); }  // one per body slot
     std::uint32_t firstContactKey(std::uint32_t slot) const { return headOfSlot_[slot]; }
     std::uint32_t nextContactKey(std::uint32_t key) const { return links_[key >> 1].next[key & 1]; }

@@ -1,20 +1,25 @@
 // World::destroyBody finds the body's contacts from the contact manager's
 // per-body lists and skips its scan of every joint slot when the joint graph
 // names no joint of the body (contact_manager.cpp removeBody, world.cpp;
-// docs/benchmarks.md, the `rain10` block). A world just loaded from a
-// snapshot has neither list built, so its destroyBody takes the old scans:
-// the unchanged path. Both must destroy the same contacts (a contact left
-// behind names a dead slot) and wake the same resting partners, so the two
-// worlds stay bit-identical for every following step. (The lists are also
-// destroyed in the scan's ascending order, for the same free list; in this
-// pile a reversed order happened to give the same bits, so that part is
-// kept by construction rather than proved here.)
+// docs/benchmarks.md, the `rain10` block). The reference is a copy of the
+// world (through a snapshot) whose contact lists are dropped before each
+// destroyBody, so its removeBody scans every contact: the unchanged path.
+// Both must destroy the same contacts (a contact left behind names a dead
+// slot) and wake the same resting partners, so the two worlds stay
+// bit-identical for every following step. (The lists are destroyed in the
+// scan's ascending order, for the same free list; in this pile a reversed
+// order happened to give the same bits, so that part is kept by
+// construction rather than proved here.) The joints: a body destroyed with
+// its joints still attached takes them with it, one destroyed after its
+// joints leaves every other joint alive.
 #include <gtest/gtest.h>
 
 #include <vector>
 
 #include "determinism/state_hash.hpp"
 #include "fulcrum/snapshot.hpp"
+#include "world/world_access.hpp"
+#include "world/world_impl.hpp"
 #include "joints/joint_test_util.hpp"
 
 namespace fulcrum::jointtest {
@@ -66,6 +71,18 @@ Pile makePile(int threads) {
         p.chains.push_back(links);
         p.joints.push_back(joints);
     }
+    // Two loose capsules (no joints) dropped onto the chains: destroying one
+    // while the pile sleeps wakes its partners through removeBody alone.
+    std::vector<BodyId> loose;
+    for (int k = 0; k < 2; ++k) {
+        BodyDef b;
+        b.shape = Shape::capsule(Real(0.08), Real(0.3));
+        b.position = {Real(-0.3) + Real(0.6) * static_cast<Real>(k), Real(2.6), Real(-0.3)};
+        b.orientation = Quat::fromAxisAngle({0, 0, 1}, Real(1.5707963));
+        loose.push_back(p.world.createBody(b));
+    }
+    p.chains.push_back(loose);
+    p.joints.push_back({});
     return p;
 }
 
@@ -77,13 +94,25 @@ std::size_t awakeCount(const World& w, const Pile& p) {
     return n;
 }
 
-// The same destructions in `w`, with handles from the pile (a snapshot keeps them).
-void destroySome(World& w, const Pile& p) {
+// The same destructions in `w`, with handles from the pile (a snapshot keeps
+// them). With `scan`, the contact lists are dropped before each destroyBody
+// (a joint's destruction rebuilds them), so removeBody scans every contact.
+void destroySome(World& w, const Pile& p, bool scan) {
+    detail::ContactManager& cm = detail::implOf(w).contactManager;
+    const auto destroy = [&](BodyId b) {
+        if (scan) cm.dropContactLists();
+        EXPECT_EQ(cm.contactListsBuilt(), !scan);
+        w.destroyBody(b);
+    };
+    // A loose capsule first: the pile is asleep, only removeBody wakes.
+    const std::size_t awake = awakeCount(w, p);
+    destroy(p.chains[8][0]);
+    EXPECT_GT(awakeCount(w, p), awake) << "the bodies it rested on wake";
     // Chain 3 as rain's script does it: its joints first, then its bodies.
     for (const JointId j : p.joints[3]) w.destroyJoint(j);
-    for (const BodyId b : p.chains[3]) w.destroyBody(b);
+    for (const BodyId b : p.chains[3]) destroy(b);
     // The middle of chain 5 with its two joints still attached (the joint scan).
-    w.destroyBody(p.chains[5][2]);
+    destroy(p.chains[5][2]);
 }
 
 std::vector<std::pair<BodyId, BodyId>> endEvents(const World& w) {
@@ -101,15 +130,23 @@ void checkSameAsScans(int threads) {
     ASSERT_EQ(awakeCount(p.world, p), 0u) << "the pile should be asleep";
     World scans = loadSnapshotFromMemory(saveSnapshotToMemory(p.world));
     ASSERT_EQ(test::stateHash(p.world), test::stateHash(scans));
+    const std::size_t jointsBefore = p.world.joints().size();
 
-    destroySome(p.world, p);
-    destroySome(scans, p);
+    destroySome(p.world, p, false);
+    destroySome(scans, p, true);
     const auto events = endEvents(p.world);
     EXPECT_EQ(events, endEvents(scans)) << "the same touching contacts end, in the same order";
     EXPECT_GE(events.size(), 5u) << "the destroyed bodies were touching others";
     EXPECT_GT(awakeCount(p.world, p), 0u) << "their resting partners wake";
     EXPECT_EQ(awakeCount(p.world, p), awakeCount(scans, p));
     EXPECT_EQ(test::stateHash(p.world), test::stateHash(scans));
+    // Chain 3's four joints went first; chain 5's middle body took its two.
+    EXPECT_EQ(p.world.joints().size(), jointsBefore - 6);
+    EXPECT_EQ(scans.joints().size(), jointsBefore - 6);
+    for (const JointId j : p.world.joints()) {
+        const JointDef& d = p.world.jointDef(j);
+        EXPECT_TRUE(d.bodyA != p.chains[5][2] && d.bodyB != p.chains[5][2]);
+    }
     for (int i = 0; i < 120; ++i) {
         p.world.step(kDt);
         scans.step(kDt);
