@@ -204,6 +204,10 @@ public:
     // contact * 2 + end (0: the contact's slotA, 1: its slotB), UINT32_MAX
     // at a list's end. The lists exist only once built (contactListsBuilt).
     bool contactListsBuilt() const { return !linksRebuild_; }
+    // Forget the lists until the next update (or joint) rebuilds them, as a
+    // new manager starts: removeBody then scans every contact
+    // (tests/world/destroy_lists_test.cpp compares the two paths).
+    void dropContactLists() { linksRebuild_ = true; }
     std::size_t contactListCount() const { return headOfSlot_.size(); }  // one per body slot
     std::uint32_t firstContactKey(std::uint32_t slot) const { return headOfSlot_[slot]; }
     std::uint32_t nextContactKey(std::uint32_t key) const { return links_[key >> 1].next[key & 1]; }
@@ -326,7 +330,7 @@ private:
     std::vector<AABB> movedFrom_;             // per awake body that moved: its fat box before (update())
     std::vector<std::uint32_t> activeContacts_;  // this update's contacts to visit, ascending (made before it)
     std::vector<std::uint32_t> newContacts_;     // the contacts this update made, ascending
-    std::vector<std::uint32_t> resetScratch_;    // resetPairs: the body's contacts, ascending
+    std::vector<std::uint32_t> resetScratch_;    // resetPairs, removeBody: the body's contacts, ascending
     bool linksRebuild_ = true;                // links_/headOfSlot_ not built (new manager, snapshot)
     bool visitAll_ = true;                    // the next update visits every contact
 };

@@ -29,6 +29,11 @@ public:
     bool inSync(const Joints& w) const;
     // An enabled joint without collideConnected joins the bodies in these slots.
     bool keepsApart(const Joints& w, std::uint32_t slotA, std::uint32_t slotB) const;
+    // False only when the lists are in sync and name no joint of the body in
+    // this slot (World::destroyBody then skips its scan of every joint slot).
+    bool mayHaveJoints(const Joints& w, std::uint32_t body) const {
+        return !inSync(w) || (body < degree_.size() && degree_[body] != 0);
+    }
 
 private:
     static constexpr std::uint32_t kNone = UINT32_MAX;
