@@ -689,6 +689,23 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     Real edgeSeparation = -1e30f;
     std::uint32_t bestEdge = 0, bestTriangleEdge = 0;
     Vec3 bestEdgeAxis;
+    // One edge pair's axis, from either loop below: true when it separates
+    // the shapes by more than the margin (its index kept as the next call's
+    // hint), else kept if it is the shallowest edge axis so far.
+    const auto separatedByEdgeAxis = [&](std::uint32_t e, std::uint32_t j, const Vec3& axis) {
+        const Real separation = dot(axis, p.vertices[p.edges[e].from] - v[j]);
+        if (separation > margin) {
+            if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
+            return true;
+        }
+        if (separation > edgeSeparation) {
+            edgeSeparation = separation;
+            bestEdge = e;
+            bestTriangleEdge = j;
+            bestEdgeAxis = axis;
+        }
+        return false;
+    };
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
     if (p.edgeLaneGroups != 0) {
         // Four polytope edges at a time (TrianglePolytope::edgeLanes): the
@@ -738,17 +755,7 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
                                   side[j], tt[j], axis)) {
                     continue;
                 }
-                const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
-                if (separation > margin) {
-                    if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
-                    return false;
-                }
-                if (separation > edgeSeparation) {
-                    edgeSeparation = separation;
-                    bestEdge = e;
-                    bestTriangleEdge = j;
-                    bestEdgeAxis = axis;
-                }
+                if (separatedByEdgeAxis(e, j, axis)) return false;
             }
         }
     } else
@@ -775,17 +782,7 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
                 const Real cc = tabled ? faceDots[edge.faces[1]][j] : dot(c, t[j]);
                 Vec3 axis;
                 if (!edgePairAxis(a, c, ca, cc, side[j], tt[j], axis)) continue;
-                const Real separation = dot(axis, p.vertices[edge.from] - v[j]);
-                if (separation > margin) {
-                    if (e <= kAxisHintIndex / 3) hint = kEdgeAxisHint | (3 * e + j);
-                    return false;
-                }
-                if (separation > edgeSeparation) {
-                    edgeSeparation = separation;
-                    bestEdge = e;
-                    bestTriangleEdge = j;
-                    bestEdgeAxis = axis;
-                }
+                if (separatedByEdgeAxis(e, j, axis)) return false;
             }
         }
     }
