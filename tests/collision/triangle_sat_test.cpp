@@ -823,14 +823,15 @@ TEST(TriangleSat, ContactIsTheSameInTheShapesOwnFrame) {
 // apart within the margin and beyond it, unturned shapes with tied
 // vertices among them), the same answer, the same points (feature ids, in
 // order) within 0.02 mm, depths within 0.01 mm (seen: 2 um, 1 um), the
-// normal faceN exactly.
+// normal faceN exactly; a near tie (a point at the margin or at a clipping
+// plane) may tip the other way in at most 1 % of the contacts (seen: none).
 TEST(TriangleSat, FaceRebuildIsTheWorldFramesClipping) {
     std::mt19937 rng(1130);
     std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.3f, 0.6f);
     std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), Shape::box({1.5f, 0.1f, 0.8f}), cubeHull(0.5f),
                                  hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
     for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
-    int hits = 0, misses = 0, several = 0;
+    int hits = 0, misses = 0, several = 0, differ = 0;
     double worstPoint = 0, worstDepth = 0;
     for (int trial = 0; trial < 6000; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
@@ -866,17 +867,22 @@ TEST(TriangleSat, FaceRebuildIsTheWorldFramesClipping) {
             worldHit = world.pointCount > 0;
         }
         const std::string where = "trial " + std::to_string(trial) + " depth " + std::to_string(depth);
-        ASSERT_EQ(hit, worldHit) << where;
-        if (!hit) {
+        if (!hit && !worldHit) {
             ++misses;
+            continue;
+        }
+        // The same points, or a near tie tipped (a point at the margin or at
+        // a clipping plane, the shape's plane at the margin), counted.
+        bool same = hit == worldHit && piece.pointCount == world.pointCount;
+        for (std::uint32_t i = 0; same && i < piece.pointCount; ++i) same = piece.points[i].featureId == world.points[i].featureId;
+        if (!same) {
+            ++differ;
             continue;
         }
         ++hits;
         if (piece.pointCount > 1) ++several;
-        ASSERT_EQ(piece.pointCount, world.pointCount) << where;
         ASSERT_EQ(piece.normal, faceN) << where;
         for (std::uint32_t i = 0; i < piece.pointCount; ++i) {
-            ASSERT_EQ(piece.points[i].featureId, world.points[i].featureId) << where << " point " << i;
             const double dp = length(piece.points[i].position - world.points[i].position);
             const double dd = std::fabs(piece.points[i].depth - world.points[i].depth);
             ASSERT_LE(dp, 2e-5) << where << " point " << i;
@@ -885,8 +891,9 @@ TEST(TriangleSat, FaceRebuildIsTheWorldFramesClipping) {
             worstDepth = std::max(worstDepth, dd);
         }
     }
-    std::printf("contacts %d (%d of several points), none %d, worst point %.3g m, depth %.3g m\n", hits, several, misses, worstPoint,
-                worstDepth);
+    std::printf("contacts %d (%d of several points), none %d, differing %d, worst point %.3g m, depth %.3g m\n", hits, several, misses,
+                differ, worstPoint, worstDepth);
+    EXPECT_LE(differ, hits / 100);
     EXPECT_GT(hits, 2000);
     EXPECT_GT(several, 500);
     EXPECT_GT(misses, 300);
