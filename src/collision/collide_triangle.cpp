@@ -291,9 +291,9 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
 
 // The triangle's vertices and normal in the polytope's frame by its rotation
 // matrix, taken once per pair (TrianglePolytope::rotation): v = R^T (w - p),
-// n = R^T faceN. Three dots a point where the quaternion (toPolytopeFrame)
-// takes two cross products and their sums; the bits differ from it by a
-// rounding (the matrix is the quaternion's to one).
+// n = R^T faceN. Three dots a point where the quaternion per point took two
+// cross products and their sums (branch trees11); the results differ from
+// the quaternion's by rounding only.
 void toPieceFrame(const TrianglePolytope& p, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
     const Mat3& r = p.rotation;
     const Vec3& o = p.shape->xf.p;
