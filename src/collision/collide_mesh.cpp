@@ -189,7 +189,12 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
             if (tm.points[i].depth > tm.points[deepest].depth) deepest = i;
         }
         const Vec3 onTri = tm.points[deepest].position + tm.normal * (Real(0.5) * tm.points[deepest].depth);
-        if (!edgeNormalAllowed(w, convexMask, onTri, tm.normal, faceN)) {
+        const bool allowed = edgeNormalAllowed(w, convexMask, onTri, tm.normal, faceN);
+        if (!allowed && polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
+            // Rebuild the contact along the face normal, a box or hull in its
+            // own frame as the separating-axis test builds its face contacts.
+            if (!collideTrianglePolytopeAlongFace(w, faceN, *polytope, margin, tm)) return false;
+        } else if (!allowed) {
             // Rebuild the contact along the face normal.
             // A hull's support vertex is kept: its supporting face along -faceN
             // starts from it (the search buildFaceManifold would repeat).

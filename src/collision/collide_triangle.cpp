@@ -150,6 +150,7 @@ const PolytopeEdgeLanes* boxEdgeLanes() { return nullptr; }
 
 bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
     shape = &b;
+    rotation = toMat3(b.xf.q);
     if (b.radius != 0) return false;
     if (b.kind == ConvexKind::Box) {
         const Vec3 h = b.halfExtents;
@@ -257,6 +258,7 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
         if (!entry->closed) return false;
     }
     shape = &b;
+    rotation = toMat3(b.xf.q);
     if (!entry->closed) return false;
     vertices = h.vertices.data();
     vertexCount = static_cast<std::uint32_t>(h.vertices.size());
@@ -287,50 +289,125 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
     return true;
 }
 
-// The triangle's vertices and normal in the polytope's frame:
-// inverseTransformPoint(xf, w[i]) and inverseRotate(xf.q, faceN), bit for
-// bit. In four SSE lanes (three points and the normal) the same products,
-// sums and differences are taken in the same order as rotate()'s scalar ones
-// (quat.hpp: t = 2 (u x v), v + t w + u x t), each rounded alone (no FMA),
-// so every lane gives the scalar result; the scalar rotations were a fifth
-// of the test's own instructions (docs/benchmarks.md, branch `trisat`).
-void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
+// The triangle's vertices and normal in the polytope's frame by its rotation
+// matrix, taken once per pair (TrianglePolytope::rotation): v = R^T (w - p),
+// n = R^T faceN. Three dots a point where the quaternion per point took two
+// cross products and their sums (branch trees11); the results differ from
+// the quaternion's by rounding only.
+void toPieceFrame(const TrianglePolytope& p, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
+    const Mat3& r = p.rotation;
+    const Vec3& o = p.shape->xf.p;
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
-    const __m128 x = _mm_sub_ps(_mm_setr_ps(w[0].x, w[1].x, w[2].x, faceN.x), _mm_setr_ps(xf.p.x, xf.p.x, xf.p.x, 0.0f));
-    const __m128 y = _mm_sub_ps(_mm_setr_ps(w[0].y, w[1].y, w[2].y, faceN.y), _mm_setr_ps(xf.p.y, xf.p.y, xf.p.y, 0.0f));
-    const __m128 z = _mm_sub_ps(_mm_setr_ps(w[0].z, w[1].z, w[2].z, faceN.z), _mm_setr_ps(xf.p.z, xf.p.z, xf.p.z, 0.0f));
-    const Quat q = conjugate(xf.q);
-    const __m128 ux = _mm_set1_ps(q.x), uy = _mm_set1_ps(q.y), uz = _mm_set1_ps(q.z), qw = _mm_set1_ps(q.w);
-    const __m128 two = _mm_set1_ps(2.0f);
-    const __m128 tx = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(uy, z), _mm_mul_ps(uz, y)), two);
-    const __m128 ty = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(uz, x), _mm_mul_ps(ux, z)), two);
-    const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(ux, y), _mm_mul_ps(uy, x)), two);
-    const __m128 rx = _mm_add_ps(_mm_add_ps(x, _mm_mul_ps(tx, qw)), _mm_sub_ps(_mm_mul_ps(uy, tz), _mm_mul_ps(uz, ty)));
-    const __m128 ry = _mm_add_ps(_mm_add_ps(y, _mm_mul_ps(ty, qw)), _mm_sub_ps(_mm_mul_ps(uz, tx), _mm_mul_ps(ux, tz)));
-    const __m128 rz = _mm_add_ps(_mm_add_ps(z, _mm_mul_ps(tz, qw)), _mm_sub_ps(_mm_mul_ps(ux, ty), _mm_mul_ps(uy, tx)));
+    // Three points and the normal a lane each.
+    const __m128 x = _mm_sub_ps(_mm_setr_ps(w[0].x, w[1].x, w[2].x, faceN.x), _mm_setr_ps(o.x, o.x, o.x, 0.0f));
+    const __m128 y = _mm_sub_ps(_mm_setr_ps(w[0].y, w[1].y, w[2].y, faceN.y), _mm_setr_ps(o.y, o.y, o.y, 0.0f));
+    const __m128 z = _mm_sub_ps(_mm_setr_ps(w[0].z, w[1].z, w[2].z, faceN.z), _mm_setr_ps(o.z, o.z, o.z, 0.0f));
+    const auto row = [&](const Vec3& c) {
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(c.x), x), _mm_mul_ps(_mm_set1_ps(c.y), y)), _mm_mul_ps(_mm_set1_ps(c.z), z));
+    };
     alignas(16) float ox[4], oy[4], oz[4];
-    _mm_store_ps(ox, rx);
-    _mm_store_ps(oy, ry);
-    _mm_store_ps(oz, rz);
+    _mm_store_ps(ox, row(r.c0));
+    _mm_store_ps(oy, row(r.c1));
+    _mm_store_ps(oz, row(r.c2));
     for (std::size_t i = 0; i < 3; ++i) v[i] = {ox[i], oy[i], oz[i]};
     n = {ox[3], oy[3], oz[3]};
 #else
-    for (std::size_t i = 0; i < 3; ++i) v[i] = inverseTransformPoint(xf, w[i]);
-    n = inverseRotate(xf.q, faceN);
+    for (std::size_t i = 0; i < 3; ++i) v[i] = transposeMul(r, w[i] - o);
+    n = transposeMul(r, faceN);
 #endif
 }
 
 namespace {
+// A point of the polytope's frame in the world, by the same matrix.
+inline Vec3 pieceToWorld(const TrianglePolytope& p, const Vec3& q) { return p.rotation * q + p.shape->xf.p; }
+
+}  // namespace
+
+// The polytope's supporting face along l (its own frame), as supportingFace
+// gives it in the world but left in the polytope's frame: a box's face of
+// the axis nearest l (the same corners in the same order), a hull's face
+// most aligned with l among the faces at vertex `top` (the vertex furthest
+// along l, which the caller's scan found).
+void pieceSupportingFace(const TrianglePolytope& p, const Vec3& l, std::uint32_t top, SupportFace& out) {
+    const ConvexShape& s = *p.shape;
+    if (s.kind == ConvexKind::Box) {
+        const int axis = maxAxis(abs(l));
+        const Real sign = l[static_cast<std::size_t>(axis)] >= 0 ? Real(1) : Real(-1);
+        const Vec3 e = s.halfExtents;
+        const Real ek = sign * e[static_cast<std::size_t>(axis)];
+        const auto corner = [&](Real su, Real sv) {
+            switch (axis) {
+                case 0: return Vec3{ek, su * e.y, sv * e.z * sign};
+                case 1: return Vec3{sv * e.x * sign, ek, su * e.z};
+                default: return Vec3{su * e.x, sv * e.y * sign, ek};
+            }
+        };
+        out.points[0] = corner(1, 1);
+        out.points[1] = corner(-1, 1);
+        out.points[2] = corner(-1, -1);
+        out.points[3] = corner(1, -1);
+        out.count = 4;
+        out.id = static_cast<std::uint32_t>(2 * axis + (sign > 0 ? 0 : 1));
+        out.normal = p.faces[out.id].normal;
+        return;
+    }
+    const ConvexHull& h = *s.hull;
+    std::uint32_t best = 0;
+    Real bestDot = -2;
+    if (h.vertexFaceStart.size() == h.vertices.size() + 1) {
+        for (std::uint32_t k = h.vertexFaceStart[top]; k < h.vertexFaceStart[top + 1]; ++k) {
+            const std::uint32_t f = h.vertexFaces[k];
+            const Real d = dot(h.faces[f].normal, l);
+            if (d <= bestDot) continue;
+            bestDot = d;
+            best = f;
+        }
+    } else {
+        for (std::uint32_t f = 0; f < h.faces.size(); ++f) {
+            const HullFace& face = h.faces[f];
+            const Real d = dot(face.normal, l);
+            if (d <= bestDot) continue;
+            const auto first = h.faceVertices.begin() + face.firstIndex;
+            if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
+            bestDot = d;
+            best = f;
+        }
+    }
+    const HullFace& face = h.faces[best];
+    const std::uint32_t count = face.indexCount < kMaxFacePoints ? face.indexCount : kMaxFacePoints;
+    for (std::uint32_t i = 0; i < count; ++i) out.points[i] = h.vertices[h.faceVertices[face.firstIndex + i]];
+    out.count = count;
+    out.id = best;
+    out.normal = face.normal;
+}
+
+namespace {
+
+// The polytope's face f in its own frame (the reference face of a polytope
+// face axis): a box's by its axis and sign, a hull's as stored.
+void pieceFace(const TrianglePolytope& p, std::uint32_t f, SupportFace& out) {
+    if (p.shape->kind == ConvexKind::Box) {
+        pieceSupportingFace(p, p.faces[f].normal, 0, out);
+        return;
+    }
+    const ConvexHull& h = *p.shape->hull;
+    const HullFace& face = h.faces[f];
+    const std::uint32_t count = face.indexCount < kMaxFacePoints ? face.indexCount : kMaxFacePoints;
+    for (std::uint32_t i = 0; i < count; ++i) out.points[i] = h.vertices[h.faceVertices[face.firstIndex + i]];
+    out.count = count;
+    out.id = f;
+    out.normal = face.normal;
+}
 
 // True when the triangle's edge j and the polytope's edge e cross, seen along
 // their common perpendicular: the closest points of their lines lie inside
-// both segments.
+// both segments. In the polytope's frame (v, the triangle there).
 // `s` is the closest point's parameter on the triangle's edge, as the edge
 // contact (buildAlong) takes it from the same call.
-bool edgesCross(const Vec3 w[3], std::uint32_t j, const TrianglePolytope& p, std::uint32_t e, Real& s) {
-    const Vec3 a0 = w[j], a1 = w[(j + 1) % 3];
-    const Vec3 b0 = transformPoint(p.shape->xf, p.vertices[p.edges[e].from]);
-    const Vec3 b1 = transformPoint(p.shape->xf, p.vertices[p.edges[e].to]);
+bool edgesCross(const Vec3 v[3], std::uint32_t j, const TrianglePolytope& p, std::uint32_t e, Real& s) {
+    const Vec3 a0 = v[j], a1 = v[(j + 1) % 3];
+    const Vec3 b0 = p.vertices[p.edges[e].from];
+    const Vec3 b1 = p.vertices[p.edges[e].to];
     Real u;
     closestSegmentSegment(a0, a1, b0, b1, s, u);
     return s > 0 && s < 1 && u > 0 && u < 1;
@@ -420,10 +497,10 @@ struct Choice {
 // names meet across it: the polytope's nearest vertex over the triangle,
 // the triangle's nearest vertex over the polytope's face, the two edges
 // crossing (collideTrianglePolytope).
-bool axisRealized(Choice& c, const TrianglePolytope& p, const Vec3 w[3], const Vec3 v[3]) {
+bool axisRealized(Choice& c, const TrianglePolytope& p, const Vec3 v[3]) {
     if (c.axis == Axis::Edges) {
         c.edgeParameterKnown = true;
-        return edgesCross(w, c.bestTriangleEdge, p, c.bestEdge, c.edgeParameter);
+        return edgesCross(v, c.bestTriangleEdge, p, c.bestEdge, c.edgeParameter);
     }
     if (c.axis == Axis::PolytopeFace) {
         // The triangle's vertex, moved onto the face's plane, inside every other face.
@@ -434,13 +511,12 @@ bool axisRealized(Choice& c, const TrianglePolytope& p, const Vec3 w[3], const V
         }
         return realized;
     }
-    return overTriangle(w, transformPoint(p.shape->xf, p.vertices[c.lowest]));
+    return overTriangle(v, p.vertices[c.lowest]);
 }
 
 // The triangle's supporting face along n, as supportingFace(makeTriangle(w),
-// n) gives it: its normal there is normalize(cross(w[1] - w[0], w[2] - w[0])),
-// the expression faceN was computed by (collideTriangleWithConvex), so faceN
-// itself, bit for bit, without the square root again.
+// n) gives it, without the square root again: its unit normal faceN (in the
+// polytope's frame, the triangle v and its normal moved there).
 void triangleFace(const Vec3 w[3], const Vec3& faceN, const Vec3& n, SupportFace& out) {
     out.count = 3;
     out.points[0] = w[0];
@@ -460,15 +536,20 @@ void triangleFace(const Vec3 w[3], const Vec3& faceN, const Vec3& n, SupportFace
 // The contact along c's axis (collideTrianglePolytope's second half): false
 // when it gives no point. c.axis ends naming the axis the contact took (a
 // face kept against a better edge pair may fall back to the pair).
-bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m) {
+bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const Vec3 v[3], const Vec3& n, const TrianglePolytope& p,
+                Real margin, Manifold& m) {
     const ConvexShape& b = *p.shape;
-    const Transform& xf = b.xf;
     const bool realized = c.realized;
     // True when m holds nothing but buildFaceManifold's stand-in (pa, pb).
     const auto onlyStandIn = [&m](const Vec3& pa, const Vec3& pb) {
         return m.pointCount == 1 && m.points[0].position == (pa + pb) * Real(0.5);
     };
 
+    // A face's manifold is built and clipped in the polytope's frame (v and
+    // n, the triangle there; the polytope's faces as stored, not moved into
+    // the world point by point), and its points alone moved back. Both
+    // faces are handed to buildFaceManifold, which then reads neither shape
+    // (b stands for both).
     switch (c.axis) {
         case Axis::TriangleFace:
         case Axis::BackFace: {
@@ -477,22 +558,17 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
             // one-sided triangle keeps: the mesh path rebuilds such a normal
             // along the front face (edgeNormalAllowed), exactly as here,
             // without the polytope's deepest point joining the clipped ones.
-            const Vec3 pb = transformPoint(xf, p.vertices[c.lowest]);
+            const Vec3 pb = p.vertices[c.lowest];
             const Real depth = -c.faceSeparation;
-            // A hull's supporting face from the vertex the axis search found
-            // lowest along the triangle's normal: the vertex its own support
-            // search along -faceN returns (the first of the lowest dots, and
-            // -faceN's dots are these negated, exactly), without that search.
-            SupportFace hullFace;
-            const SupportFace* knownB = nullptr;
-            if (b.kind == ConvexKind::Hull) {
-                supportingFace(b, -faceN, hullFace, c.lowest);
-                knownB = &hullFace;
-            }
+            // The polytope's supporting face from the vertex the axis search
+            // found lowest along the triangle's normal (for a hull, the vertex
+            // its own support search along -n returns).
+            SupportFace pieceFaceB;
+            pieceSupportingFace(p, -n, c.lowest, pieceFaceB);
             SupportFace triangle;
-            triangleFace(w, faceN, faceN, triangle);
-            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, faceN, pb + faceN * depth, pb, margin, m, 1,
-                              c.axis == Axis::TriangleFace && realized, &triangle, knownB);
+            triangleFace(v, n, n, triangle);
+            buildFaceManifold(b, b, n, pb + n * depth, pb, margin, m, 1, c.axis == Axis::TriangleFace && realized, &triangle,
+                              &pieceFaceB);
             // Kept against a better edge pair (within kEdgeBias), the face
             // must hold a point over the triangle, the only points the mesh
             // path keeps along its normal: a hull sunk across the triangle's
@@ -500,33 +576,43 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
             if (c.edgeBetter) {
                 bool over = false;
                 for (std::uint32_t i = 0; i < m.pointCount && !over; ++i) {
-                    over = overTriangle(w, m.points[i].position + faceN * (Real(0.5) * m.points[i].depth));
+                    over = overTriangle(v, m.points[i].position + n * (Real(0.5) * m.points[i].depth));
                 }
                 if (!over) c.axis = Axis::Edges;
+            }
+            if (c.axis != Axis::Edges) {
+                // Along the triangle's own normal: faceN itself, as the mesh
+                // path compares and groups it.
+                m.normal = faceN;
+                for (std::uint32_t i = 0; i < m.pointCount; ++i) m.points[i].position = pieceToWorld(p, m.points[i].position);
             }
             break;
         }
         case Axis::PolytopeFace: {
-            const Vec3 normal = -rotate(xf.q, p.faces[c.bestFace].normal);
-            const Vec3 pa = w[c.bestVertex];
+            const Vec3 normal = -p.faces[c.bestFace].normal;
+            const Vec3 pa = v[c.bestVertex];
+            SupportFace pieceFaceB;
+            pieceFace(p, c.bestFace, pieceFaceB);
             SupportFace triangle;
-            triangleFace(w, faceN, normal, triangle);
-            buildFaceManifold(makeTriangle(w[0], w[1], w[2]), b, normal, pa, pa + normal * c.polytopeSeparation, margin, m, 2,
-                              realized, &triangle);
+            triangleFace(v, n, normal, triangle);
+            buildFaceManifold(b, b, normal, pa, pa + normal * c.polytopeSeparation, margin, m, 2, realized, &triangle, &pieceFaceB);
             if (!realized && onlyStandIn(pa, pa + normal * c.polytopeSeparation)) return false;
             if (c.edgeBetter && m.pointCount == 0) c.axis = Axis::Edges;
+            if (c.axis != Axis::Edges) {
+                m.normal = p.rotation * m.normal;
+                for (std::uint32_t i = 0; i < m.pointCount; ++i) m.points[i].position = pieceToWorld(p, m.points[i].position);
+            }
             break;
         }
         case Axis::Edges: break;
     }
     if (c.axis == Axis::Edges) {
         const PolytopeEdge& edge = p.edges[c.bestEdge];
-        const Vec3 a0 = w[c.bestTriangleEdge], a1 = w[(c.bestTriangleEdge + 1) % 3];
+        const std::uint32_t j = c.bestTriangleEdge, k = (j + 1) % 3;
         Real s = c.edgeParameter;
         if (!c.edgeParameterKnown) {
-            const Vec3 b0 = transformPoint(xf, p.vertices[edge.from]), b1 = transformPoint(xf, p.vertices[edge.to]);
             Real u;
-            closestSegmentSegment(a0, a1, b0, b1, s, u);
+            closestSegmentSegment(v[j], v[k], p.vertices[edge.from], p.vertices[edge.to], s, u);
         }
         // The point on the triangle's edge, and the polytope's surface
         // along the axis from it: the edges' closest points when the two
@@ -534,9 +620,10 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const TrianglePol
         // apart, their nearest features a vertex and an edge), the point
         // stays on the triangle's edge, where the mesh path looks for the
         // feature it touches, and the depth is the axis's separation, a
-        // lower bound of the distance.
-        const Vec3 normal = rotate(xf.q, c.bestEdgeAxis);
-        const Vec3 pa = a0 + (a1 - a0) * s;
+        // lower bound of the distance. The parameter is the polytope
+        // frame's, the point the world triangle's.
+        const Vec3 normal = p.rotation * c.bestEdgeAxis;
+        const Vec3 pa = w[j] + (w[k] - w[j]) * s;
         m.normal = normal;
         m.pointCount = 0;
         addContact(m, pa, pa + normal * c.edgeSeparation, -c.edgeSeparation, edgeFeature(c.bestTriangleEdge, c.bestEdge), margin);
@@ -601,11 +688,9 @@ std::uint32_t axisCode(const Choice& c) {
 
 bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m,
                              std::uint32_t* axisHint, TriangleAxisEntry* cached) {
-    const ConvexShape& b = *p.shape;
-    const Transform& xf = b.xf;
     // In the polytope's frame: its vertices and face planes as stored.
     Vec3 v[3], n;
-    toPolytopeFrame(xf, w, faceN, v, n);
+    toPieceFrame(p, w, faceN, v, n);
     // The axis that rejected the pair last time, first: a piece resting or
     // rolling slowly beside a triangle is still beyond the margin along it.
     std::uint32_t unusedHint = 0;
@@ -627,8 +712,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
                 return false;
             case CachedAxis::Valid:
                 if (std::fabs(ch.separation - cached->separation) < kAxisCacheTolerance) {
-                    ch.realized = ch.separation <= 0 || axisRealized(ch, p, w, v);
-                    if (buildAlong(ch, w, faceN, p, margin, m)) return true;
+                    ch.realized = ch.separation <= 0 || axisRealized(ch, p, v);
+                    if (buildAlong(ch, w, faceN, v, n, p, margin, m)) return true;
                     m = Manifold{};
                 }
                 break;
@@ -832,8 +917,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     // separation, a lower bound of the distance. (Handing every unmet axis
     // to the general path, GJK, made trees100(10) slower than the general
     // path alone: docs/benchmarks.md, "Mesh scenes".)
-    ch.realized = !(std::max(best, edgeSeparation) > 0) || axisRealized(ch, p, w, v);
-    if (!buildAlong(ch, w, faceN, p, margin, m)) return false;
+    ch.realized = !(std::max(best, edgeSeparation) > 0) || axisRealized(ch, p, v);
+    if (!buildAlong(ch, w, faceN, v, n, p, margin, m)) return false;
     if (cached != nullptr) {
         cached->axis = axisCode(ch);
         cached->separation = ch.axis == Axis::Edges          ? edgeSeparation
@@ -841,6 +926,31 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
                                                             : faceSeparation;
     }
     return true;
+}
+
+bool collideTrianglePolytopeAlongFace(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m) {
+    Vec3 v[3], n;
+    toPieceFrame(p, w, faceN, v, n);
+    // The polytope's lowest vertex along the normal, the first of equals (its
+    // support along -n), as the full test's scan finds it.
+    Real lo = dot(n, p.vertices[0]);
+    std::uint32_t lowest = 0;
+    for (std::uint32_t i = 1; i < p.vertexCount; ++i) {
+        const Real d = dot(n, p.vertices[i]);
+        if (d < lo) {
+            lo = d;
+            lowest = i;
+        }
+    }
+    Choice c;
+    c.axis = Axis::TriangleFace;
+    c.lowest = lowest;
+    c.faceSeparation = lo - dot(n, v[0]);
+    if (c.faceSeparation > margin) return false;
+    // Not the deepest point's contact: the clipped points, or the stand-in
+    // when none is within the margin (as the rebuild always was).
+    c.realized = false;
+    return buildAlong(c, w, faceN, v, n, p, margin, m);
 }
 
 }  // namespace fulcrum::detail

@@ -32,6 +32,11 @@ public:
     bool prepare(const ConvexShape& b, PolytopeEdgeCache& cache);
 
     const ConvexShape* shape = nullptr;
+    // The shape's rotation as a matrix (columns: its axes in the world),
+    // taken once per prepare: the triangle test moves every triangle into the
+    // shape's frame and its contact back by it (cheaper than the quaternion
+    // per point; docs/narrow-phase.md, "Box and hull against a triangle").
+    Mat3 rotation;
     const Vec3* vertices = nullptr;
     std::uint32_t vertexCount = 0;
     const HullFace* faces = nullptr;
@@ -53,10 +58,18 @@ private:
     std::array<HullFace, 6> boxFaces_;
 };
 
-// The triangle's vertices w and unit normal faceN in the frame of a shape
-// placed at xf: inverseTransformPoint(xf, w[i]) and inverseRotate(xf.q,
-// faceN), bit for bit (four SSE lanes in the float build).
-void toPolytopeFrame(const Transform& xf, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n);
+// The triangle's vertices w and unit normal faceN in the frame of the
+// prepared polytope's shape: inverseTransformPoint(xf, w[i]) and
+// inverseRotate(xf.q, faceN) to rounding, by p.rotation (four SSE lanes in
+// the float build).
+void toPieceFrame(const TrianglePolytope& p, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n);
+
+// The prepared polytope's supporting face along l, a direction of its own
+// frame, in that frame: the face supportingFace(shape, rotate(xf.q, l),
+// face, top) gives in the world, not moved there (the same id and points in
+// the same order). `top` is a hull's vertex furthest along l (support's
+// answer, or the first of the furthest); a box ignores it.
+void pieceSupportingFace(const TrianglePolytope& p, const Vec3& l, std::uint32_t top, SupportFace& out);
 
 // The contact of world-space triangle w (counter-clockwise front, unit normal
 // faceN, computed as normalize(cross(w[1] - w[0], w[2] - w[0])), as
@@ -93,5 +106,16 @@ constexpr std::uint32_t kEdgeAxisHint = 2u << 30;
 constexpr std::uint32_t kAxisHintIndex = (1u << 30) - 1;
 // The triangle axis cache's code of the triangle's own (front) normal.
 constexpr std::uint32_t kTriangleFaceAxis = 3u << 30;
+
+// The contact of the triangle's face (normal faceN, the triangle as
+// collideTrianglePolytope takes it) with the prepared polytope, whatever axis
+// would separate them best: the polytope's face at its lowest vertex along
+// faceN clipped against the triangle in the polytope's frame, or the lowest
+// vertex itself when no clipped point lies within the margin (the mesh
+// path's rebuild of a contact the internal-edge rule refused: what
+// buildFaceManifold(makeTriangle(w), b, faceN, ...) from b's support along
+// -faceN gives, built as the triangle test builds its face contacts). False
+// when the polytope lies beyond the margin above the triangle's plane.
+bool collideTrianglePolytopeAlongFace(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m);
 
 }  // namespace fulcrum::detail
