@@ -86,6 +86,7 @@ struct WideContactBlock {
     // Every lane's end A (B) is solver body 0, the static world: all zeros
     // (BodyStore::beginStep) and never written, so the kernels take zeros for
     // it without the gather and skip its scatter (gatherEnd): the same values.
+    // A static A also selects the kernels that skip A's rows (staticAKernels).
     bool staticA = false, staticB = false;
     WideBlockExtra* extra = nullptr;                       // points 1-3 and rolling; set iff pointCount > 1 or rolling
     Vec3W normal, tangent1, tangent2;
