@@ -185,6 +185,7 @@ SimdPath ContactSolver::setSimdPath(SimdPath path) {
     if (wide_ && (!blocks_ || blocks_->path() != path)) {
         const std::size_t capacity = blocks_ ? blocks_->size() * static_cast<std::size_t>(blocks_->lanes()) : 0;
         blocks_ = makeWideBlocks(path);
+        blocks_->setStaticAKernels(staticAKernels_);
         blocks_->reserve(capacity / static_cast<std::size_t>(blocks_->lanes()) + kColourCount + 1);
     }
     return simd_;

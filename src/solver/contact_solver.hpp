@@ -174,6 +174,15 @@ public:
     // The point iterations of this step's wide blocks: the sum over blocks
     // of their lanes' largest point count (what the lane order lowers).
     std::size_t widePointRuns() const { return blocks_ && wide_ ? blocks_->pointRuns() : 0; }
+    // Whether the wide blocks whose end A is the static world in every lane
+    // run the kernels that skip A's rows (WideBlocks::setStaticAKernels; the
+    // default), or the general kernel: the same results either way (tests
+    // compare them). And how many of this step's blocks took them.
+    void setStaticAKernels(bool on) {
+        staticAKernels_ = on;
+        if (blocks_) blocks_->setStaticAKernels(on);
+    }
+    std::size_t staticABlocks() const { return blocks_ && wide_ ? blocks_->staticABlocks() : 0; }
 
     std::size_t constraintCount() const { return pending_.size(); }
     std::size_t colourCount() const { return colourStart_.empty() ? 0 : colourStart_.size() - 1; }
@@ -260,6 +269,7 @@ private:
     std::vector<ConstraintEnds> colouredEnds_;   // the ends colourOf_ was made for (colourGreedy keeps it while they hold)
     bool coloursKept_ = false;                   // this step's colours and slots are the last step's
     bool laneOrder_ = true;                      // setLaneOrder
+    bool staticAKernels_ = true;                 // setStaticAKernels (kept across setSimdPath)
     std::vector<std::uint64_t> colourBits_;      // per solver body, the colours it has (graph_colouring.hpp)
     std::vector<std::uint32_t> colourStart_;     // constraints_ of colour k: [start[k], start[k+1])
     std::unique_ptr<WideBlocks> blocks_;         // wide mode: the coloured constraints, lanes() per block

@@ -114,6 +114,13 @@ public:
     virtual void store(std::size_t first, std::size_t count, const SolverBody* bodies, Contact* contacts) const = 0;
     // The sum over the blocks of their largest lane point count (tests).
     virtual std::size_t pointRuns() const = 0;
+    // Blocks whose end A is the static world in every lane run kernels that
+    // read none of A's rows (staticAKernels in contact_wide_kernels.hpp: the
+    // same bits); off, every block runs the general kernel (the tests'
+    // reference). Set before building. On by default.
+    virtual void setStaticAKernels(bool on) = 0;
+    // How many of the built blocks took those kernels (tests).
+    virtual std::size_t staticABlocks() const = 0;
 };
 
 // The blocks for `path` (Sse2, or Avx2 when avx2Available(); nullptr otherwise).

@@ -55,10 +55,15 @@ using Vec3W = simd::Vec3Wide<Policy>;
 using simd::kEmptyLane;
 constexpr int kWideLanes = Policy::kLanes;
 
-struct WidePoint {
-    Vec3W rAxn, rBxn, angA, angB;
+// End A's fields last (zeroA, rAxn, angA), on lines of their own: a block
+// whose end A is the static world in every lane (WideContactBlock::staticA)
+// reads zeroA in their place and never touches the rest (staticAKernels).
+struct alignas(64) WidePoint {
+    Vec3W rBxn, angB;
     FloatW baseSeparation, normalMass, normalImpulse, maxNormalImpulse, relativeVelocity;
     FloatW stepImpulse, approachVelocity;  // ConstraintPoint's
+    FloatW zeroA;                          // dot(+0, rAxn): A's term, a signed zero, where A is static (staticAKernels)
+    Vec3W rAxn, angA;
 };
 
 // What a block needs only when a lane has more than one point or rolling
@@ -81,13 +86,18 @@ struct WideContactBlock {
     // Every lane's end A (B) is solver body 0, the static world: all zeros
     // (BodyStore::beginStep) and never written, so the kernels take zeros for
     // it without the gather and skip its scatter (gatherEnd): the same values.
+    // A static A also selects the kernels that skip A's rows (staticAKernels).
     bool staticA = false, staticB = false;
     WideBlockExtra* extra = nullptr;                       // points 1-3 and rolling; set iff pointCount > 1 or rolling
     Vec3W normal, tangent1, tangent2;
     FloatW friction, biasRate, massScale, impulseScale, minusPushMax;
     WidePoint point0;
-    Vec3W rAc1, rAc2, rBc1, rBc2, angA1, angA2, angB1, angB2, twistA, twistB;
+    Vec3W rBc1, rBc2, angB1, angB2, twistB;
     FloatW k11, k12, k22, tangentImpulse1, tangentImpulse2, twistMass, twistImpulse, twistRadius;
+    // End A's friction rows last, as in WidePoint: zeroA1, zeroA2 (dot(+0,
+    // rAc1), dot(+0, rAc2)) stand in for them where A is static in every lane.
+    FloatW zeroA1, zeroA2;
+    Vec3W rAc1, rAc2, angA1, angA2, twistA;
     // Cold: relax, restitution and store only.
     FloatW stepTangent1, stepTangent2;  // ContactConstraint::stepTangent1, 2
     FloatW rollingResistance, restitution;
@@ -184,7 +194,7 @@ WideMat3 gatherInverseInertia(const SolverBody* bodies, const std::uint32_t* ind
 // ~840 + ~220 instructions; built four at a time here: ~450 per constraint
 // (docs/solver.md).
 void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* lanes, int laneCount,
-                const SolverBody* bodies, const Vec3* startCom) {
+                const SolverBody* bodies, const Vec3* startCom, bool staticAKernels) {
     // Every field is written exactly once below (no clearBlock first: the
     // blocks are cold memory, and clearing them first doubled the stores; with
     // it, 40 % of buildBlock's samples stalled on the store buffer, perf on the
@@ -332,9 +342,13 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
         const FloatW kn = mA + mB + dot(rAxn, angA) + dot(rBxn, angB);
         const Vec3W dv = b.v + cross(b.w, rB) - a.v - cross(a.w, rA);
         WidePoint& wp = k.point(i);
-        wp.rAxn = keep3(on, rAxn);
+        const Vec3W keptAxn = keep3(on, rAxn);
+        wp.zeroA = dot(Vec3W{zero, zero, zero}, keptAxn);  // staticAKernels
+        if (!k.staticA || !staticAKernels) {  // never read where A is static in every lane
+            wp.rAxn = keptAxn;
+            wp.angA = keep3(on, angA);
+        }
         wp.rBxn = keep3(on, rBxn);
-        wp.angA = keep3(on, angA);
         wp.angB = keep3(on, angB);
         wp.baseSeparation = keep(on, -FloatW::load(depth[i]));
         wp.normalMass = keep(on & (kn > zero), one / kn);
@@ -358,12 +372,18 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     const Vec3W rBc1 = cross(rBc, t1), rBc2 = cross(rBc, t2);
     const Vec3W angA1 = invIA * rAc1, angA2 = invIA * rAc2;
     const Vec3W angB1 = invIB * rBc1, angB2 = invIB * rBc2;
-    k.rAc1 = keep3(laneActive, rAc1);
-    k.rAc2 = keep3(laneActive, rAc2);
+    const Vec3W keptAc1 = keep3(laneActive, rAc1), keptAc2 = keep3(laneActive, rAc2);
+    k.zeroA1 = dot(Vec3W{zero, zero, zero}, keptAc1);  // staticAKernels
+    k.zeroA2 = dot(Vec3W{zero, zero, zero}, keptAc2);
+    const bool rowsA = !k.staticA || !staticAKernels;  // never read where A is static in every lane
+    if (rowsA) {
+        k.rAc1 = keptAc1;
+        k.rAc2 = keptAc2;
+        k.angA1 = keep3(laneActive, angA1);
+        k.angA2 = keep3(laneActive, angA2);
+    }
     k.rBc1 = keep3(laneActive, rBc1);
     k.rBc2 = keep3(laneActive, rBc2);
-    k.angA1 = keep3(laneActive, angA1);
-    k.angA2 = keep3(laneActive, angA2);
     k.angB1 = keep3(laneActive, angB1);
     k.angB2 = keep3(laneActive, angB2);
     const FloatW mSum = mA + mB;
@@ -377,7 +397,7 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     k.k12 = keep(invertible, -t12 * inv);
     k.k22 = keep(invertible, t11 * inv);
     const Vec3W twistA = invIA * n, twistB = invIB * n;
-    k.twistA = twistA;  // n is zero in empty lanes
+    if (rowsA) k.twistA = twistA;  // n is zero in empty lanes
     k.twistB = twistB;
     const FloatW kt = dot(n, twistA) + dot(n, twistB);
     k.twistMass = keep(laneActive & (kt > zero), one / kt);
@@ -389,241 +409,358 @@ void buildBlock(WideContactBlock& k, WideBlockExtra& extra, const LaneSource* la
     k.twistImpulse = FloatW::load(twistImpulse);
 }
 
+// Blocks whose end A is the static world in every lane (staticA; on Jolt's
+// ConvexVsMesh the mesh is end A of about half the constraints, and the lane
+// order puts them together): the kernels below, instantiated with kStaticA,
+// read none of end A's rows (rAxn, angA, rAc1, rAc2, angA1, angA2, twistA:
+// 3 of a point's 10 lines, 7 of a block's) and give the same bits as the
+// general kernel on the same block. Why exactly the same:
+// - End A is gathered as +0 in every float (gatherEnd; solver body 0 is
+//   SolverBody{}), so vA, wA, a.dp and a.dtheta start +0. Every update of
+//   vA and wA subtracts a product with a +0 factor (a.invMass, or angA,
+//   angA1, angA2, twistA, which are invIA (+0) times a row), a signed zero,
+//   and +0 - (+0) = +0 - (-0) = +0 in round-to-nearest: vA and wA stay +0
+//   through the whole block (for finite impulses; an infinite one makes a
+//   NaN there, which the general kernel would carry into B's lane, where
+//   that impulse has already put an infinity or a NaN).
+// - So vB - vA, wB - wA and b.dp - a.dp are vB, wB and b.dp, bit for bit
+//   (x - (+0) = x for every x, -0 and NaN included).
+// - The terms dot(wA, rAxn) and dot(a.dtheta, rAxn) are dot(+0, rAxn), a
+//   signed zero that depends on rAxn's signs (-0 when every component is
+//   negative) and changes a sum only when the rest is -0: the build stores
+//   it (WidePoint::zeroA, and zeroA1, zeroA2 for the friction rows, the
+//   same dot on the same kept rows), and the kernel subtracts it where the
+//   general kernel subtracts the dot.
+// - Nothing of A is scattered (scatterEnd), so A's updates themselves,
+//   once they are not read, are dropped.
+// tests/solver/static_end_test.cpp holds the two paths to each other bit
+// for bit (WideBlocks::setStaticAKernels(false): the general kernel and the
+// full build everywhere, the reference).
+
 // The twin of ContactSolver::warmStart's loop body.
-void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies) {
-    for (std::size_t bi = 0; bi < count; ++bi) {
-        WideContactBlock& k = blocks[bi];
-        std::array<FloatW, 8> rowA, rowB;
-        WideBody a = gatherEnd<8>(k.staticA, bodies, k.bodyA, rowA);
-        WideBody b = gatherEnd<8>(k.staticB, bodies, k.bodyB, rowB);
-        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
-        FloatW total = 0.0f;
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.point(i);
-            total += cp.normalImpulse;
-            wA -= cp.angA * cp.normalImpulse;
-            wB += cp.angB * cp.normalImpulse;
-        }
-        const Vec3W P = k.normal * total + k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
-        vA -= P * a.invMass;
-        vB += P * b.invMass;
+template <bool kStaticA>
+FULCRUM_WIDE_INLINE void warmStartBlock(WideContactBlock& k, SolverBody* bodies) {
+    std::array<FloatW, 8> rowA, rowB;
+    WideBody a, b = gatherEnd<8>(k.staticB, bodies, k.bodyB, rowB);
+    if constexpr (!kStaticA) a = gatherEnd<8>(k.staticA, bodies, k.bodyA, rowA);
+    Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+    FloatW total = 0.0f;
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        const WidePoint& cp = k.point(i);
+        total += cp.normalImpulse;
+        if constexpr (!kStaticA) wA -= cp.angA * cp.normalImpulse;
+        wB += cp.angB * cp.normalImpulse;
+    }
+    const Vec3W P = k.normal * total + k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+    if constexpr (!kStaticA) vA -= P * a.invMass;
+    vB += P * b.invMass;
+    Vec3W dwB = k.angB1 * k.tangentImpulse1 + k.angB2 * k.tangentImpulse2 + k.twistB * k.twistImpulse;
+    if (k.rolling) dwB += gatherInverseInertia(bodies, k.bodyB) * k.extra->rollingImpulse;
+    if constexpr (!kStaticA) {
         Vec3W dwA = k.angA1 * k.tangentImpulse1 + k.angA2 * k.tangentImpulse2 + k.twistA * k.twistImpulse;
-        Vec3W dwB = k.angB1 * k.tangentImpulse1 + k.angB2 * k.tangentImpulse2 + k.twistB * k.twistImpulse;
-        if (k.rolling) {
-            dwA += gatherInverseInertia(bodies, k.bodyA) * k.extra->rollingImpulse;
-            dwB += gatherInverseInertia(bodies, k.bodyB) * k.extra->rollingImpulse;
-        }
+        if (k.rolling) dwA += gatherInverseInertia(bodies, k.bodyA) * k.extra->rollingImpulse;
         wA -= dwA;
-        wB += dwB;
         a.v = vA;
         a.w = wA;
-        b.v = vB;
-        b.w = wB;
         scatterEnd(k.staticA, bodies, k.writeA, a);
-        scatterEnd(k.staticB, bodies, k.writeB, b);
+    }
+    wB += dwB;
+    b.v = vB;
+    b.w = wB;
+    scatterEnd(k.staticB, bodies, k.writeB, b);
+}
+
+void warmStartWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool staticAKernels) {
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        WideContactBlock& k = blocks[bi];
+        if (k.staticA && staticAKernels) {
+            warmStartBlock<true>(k, bodies);
+        } else {
+            warmStartBlock<false>(k, bodies);
+        }
+    }
+}
+
+// x - y, or x where y is end A's +0 (staticAKernels: the same bits).
+template <bool kStaticA, class T>
+FULCRUM_WIDE_INLINE T lessA(const T& x, const T& y) {
+    if constexpr (kStaticA) {
+        (void)y;
+        return x;
+    } else {
+        return x - y;
     }
 }
 
 // The twin of ContactSolver::solvePass.
-template <bool useBias>
-void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, FloatW invH) {
+template <bool useBias, bool kStaticA>
+FULCRUM_WIDE_INLINE void solveBlock(WideContactBlock& k, SolverBody* bodies, FloatW invH) {
     const FloatW zero = 0.0f, one = 1.0f;
-    for (std::size_t bi = 0; bi < count; ++bi) {
-        WideContactBlock& k = blocks[bi];
-        std::array<FloatW, 16> rowA, rowB;
-        WideBody a = gatherEnd<16>(k.staticA, bodies, k.bodyA, rowA);
-        WideBody b = gatherEnd<16>(k.staticB, bodies, k.bodyB, rowB);
-        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
-        const FloatW mA = a.invMass, mB = b.invMass;
-        const Vec3W dp = b.dp - a.dp;
-        const Vec3W n = k.normal;
-        FloatW totalNormal = zero;
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.point(i);
-            const FloatW s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn);
-            const MaskW speculative = s > zero;
-            FloatW bias, massScale, impulseScale;
-            if constexpr (useBias) {
-                bias = select(speculative, s * invH, max(k.minusPushMax, k.biasRate * s));
-                massScale = select(speculative, one, k.massScale);
-                impulseScale = select(speculative, zero, k.impulseScale);
-            } else {
-                bias = select(speculative, s * invH, zero);
-                massScale = one;
-                impulseScale = zero;
-            }
-            const FloatW vn = dot(n, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
-            FloatW impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
-            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
-            impulse = newImpulse - cp.normalImpulse;
-            const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
-            if constexpr (useBias) cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
-            cp.approachVelocity = select(first, min(vn, cp.approachVelocity), cp.approachVelocity);
-            cp.normalImpulse = newImpulse;
-            cp.maxNormalImpulse = max(impulse, cp.maxNormalImpulse);
-            if constexpr (!useBias) cp.stepImpulse += newImpulse;
-            totalNormal += newImpulse;
-            const Vec3W P = n * impulse;
+    std::array<FloatW, 16> rowA, rowB;
+    WideBody a, b = gatherEnd<16>(k.staticB, bodies, k.bodyB, rowB);
+    if constexpr (!kStaticA) a = gatherEnd<16>(k.staticA, bodies, k.bodyA, rowA);
+    Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+    const FloatW mA = a.invMass, mB = b.invMass;
+    const Vec3W dp = lessA<kStaticA>(b.dp, a.dp);
+    const Vec3W n = k.normal;
+    FloatW totalNormal = zero;
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        WidePoint& cp = k.point(i);
+        FloatW s = cp.baseSeparation + dot(n, dp) + dot(b.dtheta, cp.rBxn);
+        if constexpr (kStaticA) {
+            s = s - cp.zeroA;
+        } else {
+            s = s - dot(a.dtheta, cp.rAxn);
+        }
+        const MaskW speculative = s > zero;
+        FloatW bias, massScale, impulseScale;
+        if constexpr (useBias) {
+            bias = select(speculative, s * invH, max(k.minusPushMax, k.biasRate * s));
+            massScale = select(speculative, one, k.massScale);
+            impulseScale = select(speculative, zero, k.impulseScale);
+        } else {
+            bias = select(speculative, s * invH, zero);
+            massScale = one;
+            impulseScale = zero;
+        }
+        FloatW vn = dot(n, lessA<kStaticA>(vB, vA)) + dot(wB, cp.rBxn);
+        if constexpr (kStaticA) {
+            vn = vn - cp.zeroA;
+        } else {
+            vn = vn - dot(wA, cp.rAxn);
+        }
+        FloatW impulse = -cp.normalMass * massScale * (vn + bias) - impulseScale * cp.normalImpulse;
+        const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
+        impulse = newImpulse - cp.normalImpulse;
+        const MaskW first = (impulse > zero) & (cp.maxNormalImpulse == zero);
+        if constexpr (useBias) cp.relativeVelocity = select(first, min(vn, cp.relativeVelocity), cp.relativeVelocity);
+        cp.approachVelocity = select(first, min(vn, cp.approachVelocity), cp.approachVelocity);
+        cp.normalImpulse = newImpulse;
+        cp.maxNormalImpulse = max(impulse, cp.maxNormalImpulse);
+        if constexpr (!useBias) cp.stepImpulse += newImpulse;
+        totalNormal += newImpulse;
+        const Vec3W P = n * impulse;
+        if constexpr (!kStaticA) {
             vA -= P * mA;
             wA -= cp.angA * impulse;
-            vB += P * mB;
-            wB += cp.angB * impulse;
         }
+        vB += P * mB;
+        wB += cp.angB * impulse;
+    }
 
-        {
-            const Vec3W dv = vB - vA;
-            const FloatW v1 = dot(dv, k.tangent1) + dot(wB, k.rBc1) - dot(wA, k.rAc1);
-            const FloatW v2 = dot(dv, k.tangent2) + dot(wB, k.rBc2) - dot(wA, k.rAc2);
-            const FloatW old1 = k.tangentImpulse1, old2 = k.tangentImpulse2;
-            FloatW new1 = old1 - (k.k11 * v1 + k.k12 * v2);
-            FloatW new2 = old2 - (k.k12 * v1 + k.k22 * v2);
-            const FloatW maxFriction = k.friction * totalNormal;
-            const FloatW mag2 = new1 * new1 + new2 * new2;
-            const MaskW outside = mag2 > maxFriction * maxFriction;
-            if (outside.any()) {
-                const FloatW scale = maxFriction / sqrt(mag2);
-                new1 = select(outside, new1 * scale, new1);
-                new2 = select(outside, new2 * scale, new2);
-            }
-            k.tangentImpulse1 = new1;
-            k.tangentImpulse2 = new2;
-            if constexpr (!useBias) {
-                k.stepTangent1 += new1;
-                k.stepTangent2 += new2;
-            }
-            const FloatW d1 = new1 - old1, d2 = new2 - old2;
-            const Vec3W P = k.tangent1 * d1 + k.tangent2 * d2;
+    {
+        const Vec3W dv = lessA<kStaticA>(vB, vA);
+        FloatW v1 = dot(dv, k.tangent1) + dot(wB, k.rBc1);
+        FloatW v2 = dot(dv, k.tangent2) + dot(wB, k.rBc2);
+        if constexpr (kStaticA) {
+            v1 = v1 - k.zeroA1;
+            v2 = v2 - k.zeroA2;
+        } else {
+            v1 = v1 - dot(wA, k.rAc1);
+            v2 = v2 - dot(wA, k.rAc2);
+        }
+        const FloatW old1 = k.tangentImpulse1, old2 = k.tangentImpulse2;
+        FloatW new1 = old1 - (k.k11 * v1 + k.k12 * v2);
+        FloatW new2 = old2 - (k.k12 * v1 + k.k22 * v2);
+        const FloatW maxFriction = k.friction * totalNormal;
+        const FloatW mag2 = new1 * new1 + new2 * new2;
+        const MaskW outside = mag2 > maxFriction * maxFriction;
+        if (outside.any()) {
+            const FloatW scale = maxFriction / sqrt(mag2);
+            new1 = select(outside, new1 * scale, new1);
+            new2 = select(outside, new2 * scale, new2);
+        }
+        k.tangentImpulse1 = new1;
+        k.tangentImpulse2 = new2;
+        if constexpr (!useBias) {
+            k.stepTangent1 += new1;
+            k.stepTangent2 += new2;
+        }
+        const FloatW d1 = new1 - old1, d2 = new2 - old2;
+        const Vec3W P = k.tangent1 * d1 + k.tangent2 * d2;
+        if constexpr (!kStaticA) {
             vA -= P * mA;
             wA -= k.angA1 * d1 + k.angA2 * d2;
-            vB += P * mB;
-            wB += k.angB1 * d1 + k.angB2 * d2;
-
-            const FloatW maxTwist = maxFriction * k.twistRadius;
-            const FloatW wn = dot(wB - wA, n);
-            const FloatW oldT = k.twistImpulse;
-            // std::clamp(x, lo, hi) as libstdc++ computes it: min(max(x, lo), hi),
-            // with std::max(x, lo) = x < lo ? lo : x and std::min(t, hi) = hi < t ? hi : t.
-            const FloatW x = oldT - k.twistMass * wn, lo = -maxTwist;
-            const FloatW t = select(x < lo, lo, x);
-            const FloatW newT = select(maxTwist < t, maxTwist, t);
-            k.twistImpulse = newT;
-            const FloatW dT = newT - oldT;
-            wA -= k.twistA * dT;
-            wB += k.twistB * dT;
         }
+        vB += P * mB;
+        wB += k.angB1 * d1 + k.angB2 * d2;
 
-        if (k.rolling) {
-            const MaskW active = k.rollingResistance > zero;
-            const FloatW maxRolling = k.rollingResistance * totalNormal;
-            WideBlockExtra& e = *k.extra;
-            const Vec3W oldR = e.rollingImpulse;
-            const WideMat3 rollingMass{e.rollingMass0, e.rollingMass1, e.rollingMass2};
-            Vec3W newR = oldR - rollingMass * (wB - wA);
-            const FloatW mag2 = lengthSquared(newR);
-            const MaskW outside = mag2 > maxRolling * maxRolling;
-            const FloatW scale = maxRolling / sqrt(mag2);
-            newR = select(outside, newR * scale, newR);
-            newR = select(active, newR, oldR);
-            e.rollingImpulse = newR;
-            const Vec3W T = newR - oldR;
-            wA -= gatherInverseInertia(bodies, k.bodyA) * T;
-            wB += gatherInverseInertia(bodies, k.bodyB) * T;
-        }
+        const FloatW maxTwist = maxFriction * k.twistRadius;
+        const FloatW wn = dot(lessA<kStaticA>(wB, wA), n);
+        const FloatW oldT = k.twistImpulse;
+        // std::clamp(x, lo, hi) as libstdc++ computes it: min(max(x, lo), hi),
+        // with std::max(x, lo) = x < lo ? lo : x and std::min(t, hi) = hi < t ? hi : t.
+        const FloatW x = oldT - k.twistMass * wn, lo = -maxTwist;
+        const FloatW t = select(x < lo, lo, x);
+        const FloatW newT = select(maxTwist < t, maxTwist, t);
+        k.twistImpulse = newT;
+        const FloatW dT = newT - oldT;
+        if constexpr (!kStaticA) wA -= k.twistA * dT;
+        wB += k.twistB * dT;
+    }
 
+    if (k.rolling) {
+        const MaskW active = k.rollingResistance > zero;
+        const FloatW maxRolling = k.rollingResistance * totalNormal;
+        WideBlockExtra& e = *k.extra;
+        const Vec3W oldR = e.rollingImpulse;
+        const WideMat3 rollingMass{e.rollingMass0, e.rollingMass1, e.rollingMass2};
+        Vec3W newR = oldR - rollingMass * lessA<kStaticA>(wB, wA);
+        const FloatW mag2 = lengthSquared(newR);
+        const MaskW outside = mag2 > maxRolling * maxRolling;
+        const FloatW scale = maxRolling / sqrt(mag2);
+        newR = select(outside, newR * scale, newR);
+        newR = select(active, newR, oldR);
+        e.rollingImpulse = newR;
+        const Vec3W T = newR - oldR;
+        if constexpr (!kStaticA) wA -= gatherInverseInertia(bodies, k.bodyA) * T;
+        wB += gatherInverseInertia(bodies, k.bodyB) * T;
+    }
+
+    if constexpr (!kStaticA) {
         a.v = vA;
         a.w = wA;
-        b.v = vB;
-        b.w = wB;
         scatterEnd(k.staticA, bodies, k.writeA, a);
-        scatterEnd(k.staticB, bodies, k.writeB, b);
+    }
+    b.v = vB;
+    b.w = wB;
+    scatterEnd(k.staticB, bodies, k.writeB, b);
+}
+
+template <bool useBias>
+void solveBlocks(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, FloatW invH, bool staticAKernels) {
+    for (std::size_t bi = 0; bi < count; ++bi) {
+        WideContactBlock& k = blocks[bi];
+        if (k.staticA && staticAKernels) {
+            solveBlock<useBias, true>(k, bodies, invH);
+        } else {
+            solveBlock<useBias, false>(k, bodies, invH);
+        }
     }
 }
 
 
-void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH) {
+void solveWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, bool useBias, Real invH,
+               bool staticAKernels) {
     if (useBias) {
-        solveBlocks<true>(blocks, count, bodies, invH);
+        solveBlocks<true>(blocks, count, bodies, invH, staticAKernels);
     } else {
-        solveBlocks<false>(blocks, count, bodies, invH);
+        solveBlocks<false>(blocks, count, bodies, invH, staticAKernels);
     }
 }
 
 // The twin of ContactSolver::applyRestitution: a lane takes part where the
 // scalar loop would not `continue` (restitution != 0, approached faster than
 // the threshold, received impulse); elsewhere it adds an exact zero.
-void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold) {
-    const FloatW zero = 0.0f, minusThreshold = -threshold;
+template <bool kStaticA>
+FULCRUM_WIDE_INLINE void restitutionBlock(WideContactBlock& k, SolverBody* bodies, FloatW minusThreshold) {
+    const FloatW zero = 0.0f;
+    std::array<FloatW, 8> rowA, rowB;
+    WideBody a, b = gatherEnd<8>(k.staticB, bodies, k.bodyB, rowB);
+    if constexpr (!kStaticA) a = gatherEnd<8>(k.staticA, bodies, k.bodyA, rowA);
+    Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
+    const MaskW bouncy = k.restitution != zero;
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        WidePoint& cp = k.point(i);
+        const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
+        FloatW vn = dot(k.normal, lessA<kStaticA>(vB, vA)) + dot(wB, cp.rBxn);
+        if constexpr (kStaticA) {
+            vn = vn - cp.zeroA;
+        } else {
+            vn = vn - dot(wA, cp.rAxn);
+        }
+        FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
+        const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
+        impulse = newImpulse - cp.normalImpulse;
+        cp.normalImpulse = select(apply, newImpulse, cp.normalImpulse);
+        cp.maxNormalImpulse = select(apply, max(impulse, cp.maxNormalImpulse), cp.maxNormalImpulse);
+        impulse = select(apply, impulse, zero);
+        cp.stepImpulse += impulse;
+        const Vec3W P = k.normal * impulse;
+        if constexpr (!kStaticA) {
+            vA -= P * a.invMass;
+            wA -= cp.angA * impulse;
+        }
+        vB += P * b.invMass;
+        wB += cp.angB * impulse;
+    }
+    if constexpr (!kStaticA) {
+        a.v = vA;
+        a.w = wA;
+        scatterEnd(k.staticA, bodies, k.writeA, a);
+    }
+    b.v = vB;
+    b.w = wB;
+    scatterEnd(k.staticB, bodies, k.writeB, b);
+}
+
+void restitutionWide(WideContactBlock* blocks, std::size_t count, SolverBody* bodies, Real threshold, bool staticAKernels) {
+    const FloatW minusThreshold = -threshold;
     for (std::size_t bi = 0; bi < count; ++bi) {
         WideContactBlock& k = blocks[bi];
         if (!k.bouncy) continue;
-        std::array<FloatW, 8> rowA, rowB;
-        WideBody a = gatherEnd<8>(k.staticA, bodies, k.bodyA, rowA);
-        WideBody b = gatherEnd<8>(k.staticB, bodies, k.bodyB, rowB);
-        Vec3W vA = a.v, wA = a.w, vB = b.v, wB = b.w;
-        const MaskW bouncy = k.restitution != zero;
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            WidePoint& cp = k.point(i);
-            const MaskW apply = bouncy & !(cp.relativeVelocity > minusThreshold) & !(cp.maxNormalImpulse == zero);
-            const FloatW vn = dot(k.normal, vB - vA) + dot(wB, cp.rBxn) - dot(wA, cp.rAxn);
-            FloatW impulse = -cp.normalMass * (vn + k.restitution * cp.relativeVelocity);
-            const FloatW newImpulse = max(zero, cp.normalImpulse + impulse);
-            impulse = newImpulse - cp.normalImpulse;
-            cp.normalImpulse = select(apply, newImpulse, cp.normalImpulse);
-            cp.maxNormalImpulse = select(apply, max(impulse, cp.maxNormalImpulse), cp.maxNormalImpulse);
-            impulse = select(apply, impulse, zero);
-            cp.stepImpulse += impulse;
-            const Vec3W P = k.normal * impulse;
-            vA -= P * a.invMass;
-            wA -= cp.angA * impulse;
-            vB += P * b.invMass;
-            wB += cp.angB * impulse;
+        if (k.staticA && staticAKernels) {
+            restitutionBlock<true>(k, bodies, minusThreshold);
+        } else {
+            restitutionBlock<false>(k, bodies, minusThreshold);
         }
-        a.v = vA;
-        a.w = wA;
-        b.v = vB;
-        b.w = wB;
-        scatterEnd(k.staticA, bodies, k.writeA, a);
-        scatterEnd(k.staticB, bodies, k.writeB, b);
     }
 }
 
 // The twin of ContactSolver::store: impulses for the next step's warm start
 // and the end-of-step depths, lane by lane into the contacts' manifolds.
-void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts) {
+template <bool kStaticA>
+FULCRUM_WIDE_INLINE void storeBlock(const WideContactBlock& k, const SolverBody* bodies, Contact* contacts) {
+    std::array<FloatW, 16> rowA, rowB;
+    WideBody a;
+    if constexpr (!kStaticA) a = gatherEnd<16>(k.staticA, bodies, k.bodyA, rowA);
+    const WideBody b = gatherEnd<16>(k.staticB, bodies, k.bodyB, rowB);
+    const Vec3W dp = lessA<kStaticA>(b.dp, a.dp);
+    alignas(32) Real impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
+    alignas(32) Real stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];
+    for (std::uint32_t i = 0; i < k.pointCount; ++i) {
+        const WidePoint& cp = k.point(i);
+        FloatW s = cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn);
+        if constexpr (kStaticA) {
+            s = s - cp.zeroA;
+        } else {
+            s = s - dot(a.dtheta, cp.rAxn);
+        }
+        const FloatW d = -s;
+        d.store(depth[i]);
+        cp.normalImpulse.store(impulse[i]);
+        cp.maxNormalImpulse.store(maxImpulse[i]);
+        cp.stepImpulse.store(stepImpulse[i]);
+        cp.approachVelocity.store(approachVelocity[i]);
+    }
+    const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
+    const Vec3W stepFriction = k.tangent1 * k.stepTangent1 + k.tangent2 * k.stepTangent2;
+    for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
+        const int l = static_cast<int>(lane);
+        CachedManifold& m = contacts[k.contact[lane]].manifolds[k.manifold[lane]];
+        for (std::uint32_t i = 0; i < k.lanePoints[lane]; ++i) {
+            CachedPoint& dst = m.points[i];
+            dst.normalImpulse = impulse[i][lane];
+            dst.maxNormalImpulse = maxImpulse[i][lane];
+            dst.stepNormalImpulse = stepImpulse[i][lane];
+            dst.approachVelocity = approachVelocity[i][lane];
+            dst.depthAfter = depth[i][lane];
+        }
+        m.frictionImpulse = friction.lane(l);
+        m.twistImpulse = k.twistImpulse.lane(l);
+        m.stepFrictionImpulse = stepFriction.lane(l);
+        m.rollingImpulse = k.rolling ? k.extra->rollingImpulse.lane(l) : Vec3{};
+    }
+}
+
+void storeWide(const WideContactBlock* blocks, std::size_t count, const SolverBody* bodies, Contact* contacts,
+               bool staticAKernels) {
     for (std::size_t bi = 0; bi < count; ++bi) {
         const WideContactBlock& k = blocks[bi];
-        std::array<FloatW, 16> rowA, rowB;
-        const WideBody a = gatherEnd<16>(k.staticA, bodies, k.bodyA, rowA);
-        const WideBody b = gatherEnd<16>(k.staticB, bodies, k.bodyB, rowB);
-        const Vec3W dp = b.dp - a.dp;
-        alignas(32) Real impulse[4][kWideLanes], maxImpulse[4][kWideLanes], depth[4][kWideLanes];
-        alignas(32) Real stepImpulse[4][kWideLanes], approachVelocity[4][kWideLanes];
-        for (std::uint32_t i = 0; i < k.pointCount; ++i) {
-            const WidePoint& cp = k.point(i);
-            const FloatW d = -(cp.baseSeparation + dot(k.normal, dp) + dot(b.dtheta, cp.rBxn) - dot(a.dtheta, cp.rAxn));
-            d.store(depth[i]);
-            cp.normalImpulse.store(impulse[i]);
-            cp.maxNormalImpulse.store(maxImpulse[i]);
-            cp.stepImpulse.store(stepImpulse[i]);
-            cp.approachVelocity.store(approachVelocity[i]);
-        }
-        const Vec3W friction = k.tangent1 * k.tangentImpulse1 + k.tangent2 * k.tangentImpulse2;
-        const Vec3W stepFriction = k.tangent1 * k.stepTangent1 + k.tangent2 * k.stepTangent2;
-        for (std::uint32_t lane = 0; lane < k.laneCount; ++lane) {
-            const int l = static_cast<int>(lane);
-            CachedManifold& m = contacts[k.contact[lane]].manifolds[k.manifold[lane]];
-            for (std::uint32_t i = 0; i < k.lanePoints[lane]; ++i) {
-                CachedPoint& dst = m.points[i];
-                dst.normalImpulse = impulse[i][lane];
-                dst.maxNormalImpulse = maxImpulse[i][lane];
-                dst.stepNormalImpulse = stepImpulse[i][lane];
-                dst.approachVelocity = approachVelocity[i][lane];
-                dst.depthAfter = depth[i][lane];
-            }
-            m.frictionImpulse = friction.lane(l);
-            m.twistImpulse = k.twistImpulse.lane(l);
-            m.stepFrictionImpulse = stepFriction.lane(l);
-            m.rollingImpulse = k.rolling ? k.extra->rollingImpulse.lane(l) : Vec3{};
+        if (k.staticA && staticAKernels) {
+            storeBlock<true>(k, bodies, contacts);
+        } else {
+            storeBlock<false>(k, bodies, contacts);
         }
     }
 }
@@ -646,19 +783,19 @@ public:
     }
     void build(std::size_t block, const LaneSource* lanes, int laneCount, const SolverBody* bodies,
                const Vec3* startCom) override {
-        buildBlock(blocks_[block], extras_[block], lanes, laneCount, bodies, startCom);
+        buildBlock(blocks_[block], extras_[block], lanes, laneCount, bodies, startCom, staticAKernels_);
         FULCRUM_WIDE_LEAVE();
     }
     void warmStart(std::size_t first, std::size_t count, SolverBody* bodies) override {
-        warmStartWide(blocks_.data() + first, count, bodies);
+        warmStartWide(blocks_.data() + first, count, bodies, staticAKernels_);
         FULCRUM_WIDE_LEAVE();
     }
     void solve(std::size_t first, std::size_t count, SolverBody* bodies, bool useBias, Real invH) override {
-        solveWide(blocks_.data() + first, count, bodies, useBias, invH);
+        solveWide(blocks_.data() + first, count, bodies, useBias, invH, staticAKernels_);
         FULCRUM_WIDE_LEAVE();
     }
     void restitution(SolverBody* bodies, Real threshold) override {
-        restitutionWide(blocks_.data(), blocks_.size(), bodies, threshold);
+        restitutionWide(blocks_.data(), blocks_.size(), bodies, threshold, staticAKernels_);
         FULCRUM_WIDE_LEAVE();
     }
     void laneTargets(std::size_t block, const std::uint32_t*& contact, const std::uint32_t*& manifold,
@@ -669,8 +806,15 @@ public:
         laneCount = k.laneCount;
     }
     void store(std::size_t first, std::size_t count, const SolverBody* bodies, Contact* contacts) const override {
-        storeWide(blocks_.data() + first, count, bodies, contacts);
+        storeWide(blocks_.data() + first, count, bodies, contacts, staticAKernels_);
         FULCRUM_WIDE_LEAVE();
+    }
+    void setStaticAKernels(bool on) override { staticAKernels_ = on; }
+    std::size_t staticABlocks() const override {
+        std::size_t n = 0;
+        for (const WideContactBlock& k : blocks_) n += k.staticA && staticAKernels_ ? 1 : 0;
+        FULCRUM_WIDE_LEAVE();
+        return n;
     }
     std::size_t pointRuns() const override {
         std::size_t runs = 0;
@@ -681,6 +825,7 @@ public:
 
 private:
     SimdPath path_;
+    bool staticAKernels_ = true;  // setStaticAKernels
     std::vector<WideContactBlock> blocks_;  // the coloured constraints, kWideLanes per block
     std::vector<WideBlockExtra> extras_;    // per block; touched only by blocks that need it
 };
