@@ -38,15 +38,15 @@ using BitLanes = RealBits __attribute__((vector_size(4 * sizeof(Real))));
 
 // The float build uses the Float4 overloads, the double build the Double4 ones.
 [[maybe_unused]] Float4 sqrtLanes(Float4 x) { return _mm_sqrt_ps(x); }
-[[maybe_unused]] Double4 sqrtLanes(Double4 x) {
+[[maybe_unused]] Double4 sqrtLanes(const Double4& x) {
     const Double2 lo = _mm_sqrt_pd(Double2{x[0], x[1]}), hi = _mm_sqrt_pd(Double2{x[2], x[3]});
     return Double4{lo[0], lo[1], hi[0], hi[1]};
 }
 // Real lanes as doubles (exact) and back (rounded to nearest, as static_cast).
 [[maybe_unused]] Double4 toDouble(Float4 x) { return __builtin_convertvector(x, Double4); }
-[[maybe_unused]] Double4 toDouble(Double4 x) { return x; }
-[[maybe_unused]] Float4 toReal(Double4 x, Float4) { return __builtin_convertvector(x, Float4); }
-[[maybe_unused]] Double4 toReal(Double4 x, Double4) { return x; }
+[[maybe_unused]] Double4 toDouble(const Double4& x) { return x; }
+[[maybe_unused]] Float4 toReal(const Double4& x, Float4) { return __builtin_convertvector(x, Float4); }
+[[maybe_unused]] Double4 toReal(const Double4& x, const Double4&) { return x; }
 
 // Four quaternions (lanes past n repeat lane 0) as lanes of w, x, y, z; in
 // the float build one 4 x 4 transpose (Quat is four floats, w first).
