@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "dynamics/pose_lanes.hpp"
 #include "dynamics/validation.hpp"
 
 namespace fulcrum::detail {
@@ -130,14 +131,38 @@ void BodyStore::refreshAwakeList() {
     }
 }
 
+namespace {
+
+// updateDeltas(i) for the solver bodies [first, last] that `wanted` keeps,
+// the rotation vectors four at a time (stepRotationVectors).
+template <class Wanted>
+void updateDeltasInLanes(BodyStore& b, std::size_t first, std::size_t last, Wanted&& wanted) {
+    const Quat* q[4];
+    const Quat* start[4];
+    Vec3* out[4];
+    int n = 0;
+    for (std::size_t i = first; i <= last; ++i) {
+        if (!wanted(i)) continue;
+        b.state[i].dp = b.pose[i].com - b.startCom[i];
+        q[n] = &b.pose[i].q;
+        start[n] = &b.startQ[i];
+        out[n] = &b.state[i].dtheta;
+        if (++n == 4) {
+            stepRotationVectors(q, start, out, 4);
+            n = 0;
+        }
+    }
+    if (n > 0) stepRotationVectors(q, start, out, n);
+}
+
+}  // namespace
+
 void BodyStore::updateDeltas(std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin + 1; i <= end; ++i) updateDeltas(static_cast<std::uint32_t>(i));
+    updateDeltasInLanes(*this, begin + 1, end, [](std::size_t) { return true; });
 }
 
 void BodyStore::updateContactDeltas(std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin + 1; i <= end; ++i) {
-        if (contactDeltas[i] != 0) updateDeltas(static_cast<std::uint32_t>(i));
-    }
+    updateDeltasInLanes(*this, begin + 1, end, [this](std::size_t i) { return contactDeltas[i] != 0; });
 }
 
 void BodyStore::writeRecords(std::size_t begin, std::size_t end) {

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdint>
 
+#include "dynamics/pose_lanes.hpp"
 #include "math/real_bits.hpp"
 
 namespace fulcrum::detail {
@@ -746,6 +747,11 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
     // And bodies of general inertia (driftGeneralQuad).
     std::uint32_t waitingGeneral[4];
     int generalCount = 0;
+    // And isotropic bodies, for their rotations (integrateRotations, four
+    // lanes): their orientations and angular velocities.
+    Quat* rotating[4];
+    const Vec3* rotatingSpin[4];
+    int rotatingCount = 0;
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
@@ -774,7 +780,13 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
                 // Its world inverse inertia is the local one (no R I^-1 R^T below).
                 const int symmetry = inertiaSymmetry(p.localInertia);
                 if (symmetry == kIsotropic) {
-                    m.x.q = integrateRotation(m.x.q, m.s.w, h);
+                    // m.x.q = integrateRotation(m.x.q, m.s.w, h), four at a time.
+                    rotating[rotatingCount] = &m.x.q;
+                    rotatingSpin[rotatingCount] = &m.s.w;
+                    if (++rotatingCount == 4) {
+                        integrateRotations(rotating, rotatingSpin, 4, h);
+                        rotatingCount = 0;
+                    }
                     m.x.invInertiaWorld = p.invLocalInertia;
                     continue;
                 }
@@ -811,6 +823,7 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
         const Mat3 r = toMat3(m.x.q);
         m.x.invInertiaWorld = r * p.invLocalInertia * transpose(r);
     }
+    if (rotatingCount > 0) integrateRotations(rotating, rotatingSpin, rotatingCount, h);
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t* waiting = waitingDrift[k];
         int n = 0;

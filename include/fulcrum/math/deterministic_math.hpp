@@ -44,10 +44,13 @@ inline constexpr double kQuarterPiHi = 0.7853981633974483, kQuarterPiLo = 3.0616
 
 // sin and cos on |r| <= pi/4 (a little more after the reduction's
 // rounding): Taylor series (coefficients 1/n!) to r^17 and r^18; the first
-// terms left out are below 1e-19.
-inline double sinKernel(double r) {
-    const double z = r * r;
-    const double p =
+// terms left out are below 1e-19. Templates so that lanes of doubles (GCC
+// and Clang vector types: src/dynamics/pose_lanes.hpp) run exactly these
+// operations; the double functions below are the same expressions.
+template <class T>
+inline T sinKernelOf(const T& r) {
+    const T z = r * r;
+    const T p =
         -0.16666666666666666 +
         z * (0.008333333333333333 +
              z * (-0.0001984126984126984 +
@@ -56,9 +59,10 @@ inline double sinKernel(double r) {
                             z * (1.6059043836821613e-10 + z * (-7.647163731819816e-13 + z * 2.8114572543455206e-15))))));
     return r + r * (z * p);
 }
-inline double cosKernel(double r) {
-    const double z = r * r;
-    const double p =
+template <class T>
+inline T cosKernelOf(const T& r) {
+    const T z = r * r;
+    const T p =
         0.041666666666666664 +
         z * (-0.001388888888888889 +
              z * (2.48015873015873e-05 +
@@ -68,6 +72,8 @@ inline double cosKernel(double r) {
     // 1 - z/2 + z^2 p: the two small terms summed first, then added to 1.
     return 1.0 + (z * (-0.5) + (z * z) * p);
 }
+inline double sinKernel(double r) { return sinKernelOf(r); }
+inline double cosKernel(double r) { return cosKernelOf(r); }
 
 // r = x - k pi/2 with k the nearest integer to x 2/pi; quadrant = k mod 4.
 // An infinite or NaN x gives r = NaN (and no conversion of NaN to int).
