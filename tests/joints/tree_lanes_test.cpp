@@ -276,23 +276,32 @@ TEST(TreeLanes, WideEndsMoveAsTreeByTree) {
 // lanes' y). The mixed trees above: free ragdolls (root body, body below a
 // joint, joints below bodies and below joints), hanging ragdolls (a root
 // joint with a static end) and stars (a root body, contracted leaves,
-// folded warm starts). The same lane passes, guard trips (a tripped tree of
-// a group factored in lanes takes its blocks from the lanes for nothing:
-// it factors alone) and factorizations.
+// folded warm starts). The same lane passes, guard trips and
+// factorizations. A tree whose guard trips on a kept-factor pass factors
+// again in its group's lanes (branch `rain11`: refactorTrippedInLanes, in
+// place when all four trip, else in a scratch copy whose other lanes are
+// dropped), against the reference's tree-by-tree factorization and its
+// copy into the lanes: the bodies, the kept blocks (sameLaneBlocks) and
+// each such factorization against the scalar one (setLaneFactorCheck); and
+// with two lanes of every such group made to fail there
+// (setTrippedLaneFailures), their trees factoring alone at once.
 TEST(TreeLanes, LaneFactorizationsMoveAsTreeByTree) {
     struct FactorRun {
         SimdPath path;
         int threads;
         bool laneFactor, wide;
+        unsigned failLanes = 0;  // setTrippedLaneFailures: these lanes' trees take the fallback
     };
     std::vector<FactorRun> runs = {{SimdPath::Sse2, 1, false, true},
                                    {SimdPath::Sse2, 1, true, true},
                                    {SimdPath::Sse2, 3, true, true},
-                                   {SimdPath::Sse2, 1, true, false}};
+                                   {SimdPath::Sse2, 1, true, false},
+                                   {SimdPath::Sse2, 1, true, true, 5u}};
     if (detail::avx2Available()) {
         runs.push_back({SimdPath::Avx2, 1, true, true});
         runs.push_back({SimdPath::Avx2, 3, true, true});
         runs.push_back({SimdPath::Avx2, 1, true, false});
+        runs.push_back({SimdPath::Avx2, 3, true, true, 10u});
     }
     std::vector<std::unique_ptr<World>> worlds;
     std::vector<std::vector<BodyId>> bodies;
@@ -307,6 +316,7 @@ TEST(TreeLanes, LaneFactorizationsMoveAsTreeByTree) {
         joints.trees().setLaneFactor(run.laneFactor);
         joints.trees().setLaneFactorCheck(run.laneFactor);
         joints.trees().setWideEnds(run.wide);
+        joints.trees().setTrippedLaneFailures(run.failLanes);
         bodies.push_back(buildMixedTrees(world));
     }
     const int steps = 200;
@@ -343,11 +353,13 @@ TEST(TreeLanes, LaneFactorizationsMoveAsTreeByTree) {
     }
     const detail::JointTreeSolver& reference = detail::implOf(*worlds[0]).jointSolver.trees();
     EXPECT_EQ(reference.laneFactorPasses(), 0u);
+    EXPECT_EQ(reference.trippedLaneFactors(), 0u);
     EXPECT_GT(reference.guardTrips(), 0u);
     for (std::size_t p = 1; p < worlds.size(); ++p) {
         const detail::JointTreeSolver& trees = detail::implOf(*worlds[p]).jointSolver.trees();
         EXPECT_GT(trees.laneFactorPasses(), 0u);
-        EXPECT_EQ(trees.laneFactorChecks(), 4 * trees.laneFactorPasses());
+        EXPECT_GT(trees.trippedLaneFactors(), 0u);
+        EXPECT_EQ(trees.laneFactorChecks(), 4 * trees.laneFactorPasses() + trees.trippedLaneFactors());
         EXPECT_EQ(trees.lanePasses(), reference.lanePasses());
         EXPECT_EQ(trees.guardTrips(), reference.guardTrips());
         EXPECT_EQ(trees.factorizations(), reference.factorizations());

@@ -1,6 +1,7 @@
 // Direct (linear-time) solve of the point rows of joint trees: see tree_solver.hpp.
 #include "solver/joints/tree_solver.hpp"
 
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -1331,15 +1332,28 @@ void JointTreeSolver::groupImpulses(std::uint32_t first, std::vector<JointConstr
         }
     }
 #endif
-    // The impulses tree by tree (solveTreeReused's); a tree whose guard
-    // tripped factors alone, as it would have one by one (nothing of it was
-    // applied; the trees share no moving body, so the order between them is free).
+    // A tree whose guard tripped factors again (nothing of it was applied;
+    // the trees share no moving body, so the order between them is free): in
+    // the group's lanes (refactorTrippedInLanes) where the passes that factor
+    // do (setLaneFactor), else, or where its elimination failed there, alone
+    // (solveOneTree), as it would have one by one.
+    // A lane that failed there factors at once (its blocks' anchors are
+    // now the current ones: a kept-factor attempt would not trip again).
+    unsigned alone = tripped;
+    bool factorAlone = false;
+    if (tripped != 0 && laneFactor_) {
+        alone = refactorTrippedInLanes(first, joints, bodies, ctx, tripped);
+        factorAlone = true;
+    }
+    // The impulses tree by tree (solveTreeReused's).
     for (int lane = 0; lane < 4; ++lane) {
         const std::uint32_t t = first + static_cast<std::uint32_t>(lane);
-        if ((tripped >> lane) & 1u) {
-            solveOneTree(t, joints, bodies, ctx, false);
+        if ((alone >> lane) & 1u) {
+            solveOneTree(t, joints, bodies, ctx, factorAlone);
             continue;
         }
+        // Factored again in this pass: the anchors of its blocks (buildBlocks), as solveTree's impulses.
+        const bool refactored = ((tripped >> lane) & 1u) != 0;
         const bool folded = foldThisPass_ && warmFree_[t];
         const std::uint32_t begin = treeStart_[t], end = treeStart_[t + 1];
         for (std::uint32_t i = begin; i < end; ++i) {
@@ -1350,7 +1364,8 @@ void JointTreeSolver::groupImpulses(std::uint32_t first, std::vector<JointConstr
             // residuals write none) the joint's frame they were read from.
             JointConstraint& j = joints[nodes_[i].ref];
             const Factor& f = factors_[i];
-            applyJointImpulse(j, bodies, wide ? j.frame.rA : f.rA, wide ? j.frame.rB : f.rB, yl, ctx, folded);
+            const bool frame = wide && !refactored;
+            applyJointImpulse(j, bodies, frame ? j.frame.rA : f.rA, frame ? j.frame.rB : f.rB, yl, ctx, folded);
         }
     }
 }
@@ -1681,14 +1696,16 @@ void JointTreeSolver::copyFactorFromLanes(std::uint32_t tree) {
 
 void JointTreeSolver::gatherBlocksToLane(std::uint32_t tree) {
     const std::uint32_t group = groupOf_[tree];
-    const int lane = static_cast<int>(tree - group);
+    gatherBlocks(tree, laneNodes_.data() + treeStart_[group], laneData_.data(), static_cast<int>(tree - group));
+}
+
+void JointTreeSolver::gatherBlocks(std::uint32_t tree, const TreeLaneNode* lanes, TreeLane4* data, int lane) {
     const std::uint32_t begin = treeStart_[tree], end = treeStart_[tree + 1];
-    const TreeLaneNode* lanes = laneNodes_.data() + treeStart_[group];
     for (std::uint32_t i = begin; i < end; ++i) {
         const TreeLaneNode& ln = lanes[i - begin];
         const Node& n = nodes_[i];
         const Factor& f = factors_[i];
-        TreeLane4* block = laneData_.data() + ln.off;
+        TreeLane4* block = data + ln.off;
         if (ln.kind == kJointBelowJoint) {
             gatherToLane<3, 3>(f, f.Hp, block, lane);  // H(parent, this) built with D (buildBlocks)
         } else if (ln.kind == kBodyNode) {
@@ -1720,6 +1737,76 @@ void JointTreeSolver::gatherBlocksToLane(std::uint32_t tree) {
             gatherToLane<3, 6>(f, H, block, lane);
         }
     }
+}
+
+unsigned JointTreeSolver::refactorTrippedInLanes(std::uint32_t first, std::vector<JointConstraint>& joints,
+                                                 const SolverBody* bodies, const JointContext& ctx, unsigned tripped) {
+    // Why (issue 21, branch `rain11`): a tripped tree factored alone wrote
+    // its ~1 kB Factor per node and then copied D^-1, Hp and X into its lane
+    // (copyFactorToLanes), every lane write a miss (each TreeLane4 touched
+    // for one double); rain trips a quarter of its trees' kept passes. Here
+    // the group's block is factored in a scratch copy that stays in cache
+    // (one per thread: groups are solved concurrently), one kernel for all
+    // the tripped lanes, and only their lanes move into the group's block.
+    // A lane that did not trip gets a tripped tree's blocks (the kernel then
+    // computes only valid factorizations; its result is dropped), so its
+    // kept factorization and this pass's y stay in place.
+    // All four tripped (rain's groups often turn alike): in place, as
+    // factorGroupInLanes (a lane that fails is not used again before the
+    // next pass that factors gathers it anew: its tree turns Gauss-Seidel).
+    const std::uint32_t begin = treeStart_[first], count = treeStart_[first + 1] - begin;
+    for (int lane = 0; lane < 4; ++lane) {
+        if ((tripped >> lane) & 1u) buildBlocks(first + static_cast<std::uint32_t>(lane), joints, bodies, ctx);
+    }
+    unsigned failed;
+    if (tripped == 15u) {
+        const TreeLaneNode* lanes = laneNodes_.data() + begin;
+        TreeLane4* data = laneData_.data();
+        for (int lane = 0; lane < 4; ++lane) gatherBlocks(first + static_cast<std::uint32_t>(lane), lanes, data, lane);
+        failed = lanes_ == 2 ? factorTreeLanesAvx2(lanes, count, data) : factorTreeLanes(lanes, count, data);
+    } else {
+        const TreeLaneNode* local = laneNodesLocal_.data() + begin;
+        const std::uint32_t size = laneBlockSize_[first];
+        thread_local std::vector<TreeLane4> scratch;
+        if (scratch.size() < size) scratch.resize(size);
+        TreeLane4* work = scratch.data();
+        for (int lane = 0; lane < 4; ++lane) {
+            if ((tripped >> lane) & 1u) gatherBlocks(first + static_cast<std::uint32_t>(lane), local, work, lane);
+        }
+        // The other lanes: the first tripped lane's blocks.
+        const int stand = std::countr_zero(tripped);
+        for (std::uint32_t i = 0; i < size; ++i) {
+            double* v = work[i].v;
+            for (int lane = 0; lane < 4; ++lane) {
+                if (((tripped >> lane) & 1u) == 0) v[lane] = v[stand];
+            }
+        }
+        failed = (lanes_ == 2 ? factorTreeLanesAvx2(local, count, work) : factorTreeLanes(local, count, work)) |
+                 trippedLaneFailures_;
+        const unsigned done = tripped & ~failed;
+        TreeLane4* block = laneData_.data() + laneNodes_[begin].off;
+        for (std::uint32_t i = 0; i < size && done != 0; ++i) {
+            for (int lane = 0; lane < 4; ++lane) {
+                if ((done >> lane) & 1u) block[i].v[lane] = work[i].v[lane];
+            }
+        }
+    }
+    failed = (failed | trippedLaneFailures_) & tripped;  // the other lanes' results were dropped
+    const unsigned done = tripped & ~failed;
+    for (int lane = 0; lane < 4; ++lane) {
+        if ((tripped >> lane) & 1u) ++guardTripsOf_[first + static_cast<std::uint32_t>(lane)];  // as solveTree counts a trip
+    }
+    for (int lane = 0; lane < 4; ++lane) {
+        if (((done >> lane) & 1u) == 0) continue;
+        const std::uint32_t t = first + static_cast<std::uint32_t>(lane);
+        ++trippedLaneFactorsOf_[first];
+        laneOnly_[t] = 1;  // factors_ holds its blocks, not their factorization
+        if (laneFactorCheck_) {
+            ++laneFactorChecksOf_[first];
+            if (!laneFactorMatchesScalar(t, joints, bodies, ctx)) ++laneFactorMismatchesOf_[first];
+        }
+    }
+    return failed;
 }
 
 void JointTreeSolver::copyFactorToLanes(std::uint32_t tree) {
@@ -1762,10 +1849,13 @@ void JointTreeSolver::groupTrees() {
     groupOf_.assign(trees_, kNone);
     lanePassesOf_.assign(trees_, 0);
     laneFactorPassesOf_.assign(trees_, 0);
+    trippedLaneFactorsOf_.assign(trees_, 0);
     laneFactorChecksOf_.assign(trees_, 0);
     laneFactorMismatchesOf_.assign(trees_, 0);
     laneOnly_.assign(trees_, 0);
     laneNodes_.resize(nodes_.size());
+    laneNodesLocal_.resize(nodes_.size());
+    laneBlockSize_.assign(trees_, 0);
     const auto sameShape = [&](std::uint32_t t, std::uint32_t u) {
         const std::uint32_t bt = treeStart_[t], bu = treeStart_[u], n = treeStart_[t + 1] - bt;
         if (treeStart_[u + 1] - bu != n || chain_[t] || chain_[u]) return false;
@@ -1790,9 +1880,15 @@ void JointTreeSolver::groupTrees() {
             ln.off = static_cast<std::uint32_t>(total);
             total += 2u * ln.dim + ln.dim * ln.dim + 2u * ln.pdim * ln.dim;
         }
+        const std::uint32_t base = laneNodes_[treeStart_[t]].off;
+        laneBlockSize_[t] = static_cast<std::uint32_t>(total) - base;
         for (std::uint32_t i = treeStart_[t]; i < treeStart_[t + 1]; ++i) {
             const std::uint32_t parent = nodes_[i].parent;
             laneNodes_[i].parentOff = parent == kNone ? TreeLaneNode::kNoParent : laneNodes_[parent].off;
+            TreeLaneNode& local = laneNodesLocal_[i];
+            local = laneNodes_[i];
+            local.off -= base;
+            if (local.parentOff != TreeLaneNode::kNoParent) local.parentOff -= base;
         }
     }
     laneData_.assign(total, TreeLane4{});

@@ -149,6 +149,18 @@ public:
         for (const std::uint64_t k : laneFactorPassesOf_) n += k;
         return n;
     }
+    // Tests: the lanes in `mask` of every refactorTrippedInLanes count as
+    // failed (an elimination not definite), so their trees take the
+    // fallback (factor alone at once). 0 by default.
+    void setTrippedLaneFailures(unsigned mask) { trippedLaneFailures_ = mask & 15u; }
+    // Trees of a group whose guard tripped on a kept-factor pass and that
+    // factored again in their group's lanes (refactorTrippedInLanes) since
+    // the last build (tests).
+    std::uint64_t trippedLaneFactors() const {
+        std::uint64_t n = 0;
+        for (const std::uint64_t k : trippedLaneFactorsOf_) n += k;
+        return n;
+    }
     // Whether every group's stored blocks in the lanes (D^-1, Hp and X, the
     // factorizations the kept-factor passes use) equal `other`'s bit for
     // bit, for the same trees and groups (tests: the double values, which
@@ -306,6 +318,18 @@ private:
     void copyFactorFromLanes(std::uint32_t tree);
     // A tree's blocks built by buildBlocks into its lane, before the elimination.
     void gatherBlocksToLane(std::uint32_t tree);
+    // The same into lane `lane` of a group block at `data`, whose nodes are
+    // `lanes` (offsets into `data`; the tree's group's shape).
+    void gatherBlocks(std::uint32_t tree, const TreeLaneNode* lanes, TreeLane4* data, int lane);
+    // The lanes `tripped` of group `first` (a kept-factor pass whose guard
+    // tripped there; nothing of theirs applied yet) factored again in a
+    // scratch copy of the group's block by the lanes' factor kernel, as
+    // solveTree would factor each alone (the same bits), and moved into
+    // their lanes (in place when all four tripped); returns the lanes whose
+    // elimination failed (they factor alone at once: solveOneTree). The
+    // other lanes are left as they were.
+    unsigned refactorTrippedInLanes(std::uint32_t first, std::vector<JointConstraint>& joints, const SolverBody* bodies,
+                                    const JointContext& ctx, unsigned tripped);
     // solveTree's initial blocks, right-hand sides and anchors (factors_).
     void buildBlocks(std::uint32_t tree, std::vector<JointConstraint>& joints, const SolverBody* bodies,
                      const JointContext& ctx);
@@ -338,9 +362,16 @@ private:
     // lanesWanted_ the one set (taken when a pass factors every tree).
     std::vector<std::uint32_t> groupOf_;
     std::vector<TreeLaneNode> laneNodes_;
+    // Per node of a group's first tree: its TreeLaneNode with the offsets
+    // from the group block's start, and per group's first tree the block's
+    // size (refactorTrippedInLanes' scratch copy).
+    std::vector<TreeLaneNode> laneNodesLocal_;
+    std::vector<std::uint32_t> laneBlockSize_;
     std::vector<TreeLane4> laneData_;
     std::vector<std::uint64_t> lanePassesOf_;  // per group's first tree (only its solver writes it)
     std::vector<std::uint64_t> laneFactorPassesOf_;  // the same, for factorGroupInLanes
+    std::vector<std::uint64_t> trippedLaneFactorsOf_;  // the same, trees for refactorTrippedInLanes
+    unsigned trippedLaneFailures_ = 0;  // setTrippedLaneFailures
     // Per tree: its factorization is in its group's lanes only (factors_'
     // D, Hp and X stale until copyFactorFromLanes).
     std::vector<std::uint8_t> laneOnly_;
