@@ -25,7 +25,12 @@ bool collideCapsuleCapsule(const ConvexShape& a, const ConvexShape& b, Real marg
     const Vec3 d = cb - ca;
     const Real dist2 = lengthSquared(d);
     const Real reach = a.radius + b.radius + margin;
-    if (dist2 > reach * reach) return false;
+    if (dist2 > reach * reach) {
+        // The segments' distance less the radii: what the apart cache keeps
+        // (docs/narrow-phase.md, "Pairs proved apart").
+        m.apartBy = std::sqrt(dist2) - a.radius - b.radius;
+        return false;
+    }
     const Real dist = std::sqrt(dist2);
     Vec3 n;
     // Below 0.1 mm the closest points' offset is rounding, not a direction

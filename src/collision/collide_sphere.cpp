@@ -44,7 +44,12 @@ bool collideSphereCapsule(const ConvexShape& a, const ConvexShape& b, Real margi
     const std::uint32_t id = t <= 0 ? 0u : (t >= 1 ? 1u : 2u);
     Vec3 t1, t2;
     orthonormalBasis(normalize(axis), t1, t2);
-    return spherePoints(a.xf.p, a.radius, p0 + seg * t, b.radius, t1, id, margin, m);
+    const Vec3 onAxis = p0 + seg * t;
+    if (spherePoints(a.xf.p, a.radius, onAxis, b.radius, t1, id, margin, m)) return true;
+    // Rejected: the centre's distance to the segment less the radii is what
+    // the apart cache keeps (docs/narrow-phase.md, "Pairs proved apart").
+    m.apartBy = std::max(Real(0), length(a.xf.p - onAxis) - a.radius - b.radius);
+    return false;
 }
 
 bool collideSphereBox(const ConvexShape& a, const ConvexShape& b, Real margin, Manifold& m) {
@@ -59,7 +64,10 @@ bool collideSphereBox(const ConvexShape& a, const ConvexShape& b, Real margin, M
     if (q != c) {
         const Vec3 d = c - q;  // box -> sphere
         const Real d2 = lengthSquared(d);
-        if (d2 > (r + margin) * (r + margin)) return false;
+        if (d2 > (r + margin) * (r + margin)) {
+            m.apartBy = std::sqrt(d2) - r;  // the apart cache's distance, as above
+            return false;
+        }
         const Real dist = std::sqrt(d2);
         const Vec3 nLocal = d / dist;
         m.normal = -rotate(b.xf.q, nLocal);  // sphere (A) -> box (B)
