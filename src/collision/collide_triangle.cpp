@@ -352,27 +352,7 @@ void pieceSupportingFace(const TrianglePolytope& p, const Vec3& l, std::uint32_t
         return;
     }
     const ConvexHull& h = *s.hull;
-    std::uint32_t best = 0;
-    Real bestDot = -2;
-    if (h.vertexFaceStart.size() == h.vertices.size() + 1) {
-        for (std::uint32_t k = h.vertexFaceStart[top]; k < h.vertexFaceStart[top + 1]; ++k) {
-            const std::uint32_t f = h.vertexFaces[k];
-            const Real d = dot(h.faces[f].normal, l);
-            if (d <= bestDot) continue;
-            bestDot = d;
-            best = f;
-        }
-    } else {
-        for (std::uint32_t f = 0; f < h.faces.size(); ++f) {
-            const HullFace& face = h.faces[f];
-            const Real d = dot(face.normal, l);
-            if (d <= bestDot) continue;
-            const auto first = h.faceVertices.begin() + face.firstIndex;
-            if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
-            bestDot = d;
-            best = f;
-        }
-    }
+    const std::uint32_t best = hullFaceAtVertex(h, top, l);
     const HullFace& face = h.faces[best];
     const std::uint32_t count = face.indexCount < kMaxFacePoints ? face.indexCount : kMaxFacePoints;
     for (std::uint32_t i = 0; i < count; ++i) out.points[i] = h.vertices[h.faceVertices[face.firstIndex + i]];

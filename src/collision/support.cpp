@@ -176,6 +176,33 @@ std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
 #endif
 }
 
+std::uint32_t hullFaceAtVertex(const ConvexHull& hull, std::uint32_t top, const Vec3& d) {
+    std::uint32_t best = 0;
+    Real bestDot = -2;
+    if (hull.vertexFaceStart.size() == hull.vertices.size() + 1) {
+        // The faces at the vertex from the hull's adjacency, in face order:
+        // the same choice as the scan below.
+        for (std::uint32_t k = hull.vertexFaceStart[top]; k < hull.vertexFaceStart[top + 1]; ++k) {
+            const std::uint32_t f = hull.vertexFaces[k];
+            const Real dd = dot(hull.faces[f].normal, d);
+            if (dd <= bestDot) continue;
+            bestDot = dd;
+            best = f;
+        }
+    } else {
+        for (std::uint32_t f = 0; f < hull.faces.size(); ++f) {
+            const HullFace& face = hull.faces[f];
+            const Real dd = dot(face.normal, d);
+            if (dd <= bestDot) continue;
+            const auto first = hull.faceVertices.begin() + face.firstIndex;
+            if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
+            bestDot = dd;
+            best = f;
+        }
+    }
+    return best;
+}
+
 Vec3 ConvexShape::coreSupport(const Vec3& d) const {
     switch (kind) {
         case ConvexKind::Point: return xf.p;
@@ -385,37 +412,14 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out, std::
             // would lose the deepest point (docs/narrow-phase.md, "Hull
             // supporting face").
             const std::uint32_t top = hullVertex != kNoVertex ? hullVertex : hullSupportIndex(h, l);
-            std::size_t best = 0;
-            Real bestDot = -2;
-            if (h.vertexFaceStart.size() == h.vertices.size() + 1) {
-                // The faces at the vertex from the hull's adjacency, in face
-                // order: the same choice as the search below (NaNs included:
-                // every face at the vertex passes then, the last one stays).
-                for (std::uint32_t k = h.vertexFaceStart[top]; k < h.vertexFaceStart[top + 1]; ++k) {
-                    const std::uint32_t f = h.vertexFaces[k];
-                    const Real d = dot(h.faces[f].normal, l);
-                    if (d <= bestDot) continue;
-                    bestDot = d;
-                    best = f;
-                }
-            } else {
-                for (std::size_t f = 0; f < h.faces.size(); ++f) {
-                    const HullFace& face = h.faces[f];
-                    const Real d = dot(face.normal, l);
-                    if (d <= bestDot) continue;
-                    const auto first = h.faceVertices.begin() + face.firstIndex;
-                    if (std::find(first, first + face.indexCount, top) == first + face.indexCount) continue;
-                    bestDot = d;
-                    best = f;
-                }
-            }
+            const std::uint32_t best = hullFaceAtVertex(h, top, l);
             const HullFace& face = h.faces[best];
             const std::uint32_t count = face.indexCount < kMaxFacePoints ? face.indexCount : kMaxFacePoints;
             for (std::uint32_t i = 0; i < count; ++i) {
                 out.points[i] = transformPoint(s.xf, h.vertices[h.faceVertices[face.firstIndex + i]]);
             }
             out.count = count;
-            out.id = static_cast<std::uint32_t>(best);
+            out.id = best;
             out.normal = rotate(s.xf.q, face.normal);
             return;
         }

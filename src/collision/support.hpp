@@ -59,6 +59,12 @@ std::uint32_t hullSupportIndexAvx2(const float* x, const float* y, const float* 
 // the largest dot(vertex, d), exactly as a scan in vertex order finds it.
 std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d);
 
+// The face of `hull` most aligned with `d` (hull frame) among the faces at
+// vertex `top`: the first of the largest dot(normal, d) in face order, from
+// the adjacency tables deriveHullTables fills (a scan of every face when they
+// are absent). A NaN dot passes every face at the vertex, so the last stays.
+std::uint32_t hullFaceAtVertex(const ConvexHull& hull, std::uint32_t top, const Vec3& d);
+
 // The convex shape of `shape` placed at `xf`; `shape` must not be a plane, mesh or compound.
 ConvexShape makeConvex(const Shape& shape, const Transform& xf);
 // The same without a rounded shape's convex radius (box, cylinder, hull): the

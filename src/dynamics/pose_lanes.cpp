@@ -43,8 +43,8 @@ using BitLanes = RealBits __attribute__((vector_size(4 * sizeof(Real))));
     return Double4{lo[0], lo[1], hi[0], hi[1]};
 }
 // Real lanes as doubles (exact) and back (rounded to nearest, as static_cast).
-[[maybe_unused]] Double4 toDouble(Float4 x) { return __builtin_convertvector(x, Double4); }
-[[maybe_unused]] Double4 toDouble(const Double4& x) { return x; }
+[[maybe_unused]] Double4 widened(Float4 x) { return __builtin_convertvector(x, Double4); }
+[[maybe_unused]] Double4 widened(const Double4& x) { return x; }
 [[maybe_unused]] Float4 toReal(const Double4& x, Float4) { return __builtin_convertvector(x, Float4); }
 [[maybe_unused]] Double4 toReal(const Double4& x, const Double4&) { return x; }
 
@@ -159,7 +159,7 @@ void integrateRotations(Quat* const* q, const Vec3* const* w, int n, Real h) {
     // renormalised.
     const RealLanes nx = wx / len, ny = wy / len, nz = wz / len;
     const RealLanes half = Real(0.5) * angle;
-    const Double4 x = toDouble(half);
+    const Double4 x = widened(half);
     const RealLanes s = toReal(dmath::detail::sinKernelOf(x), RealLanes{});
     const RealLanes c = toReal(dmath::detail::cosKernelOf(x), RealLanes{});
     const RealLanes ax = nx * s, ay = ny * s, az = nz * s;
