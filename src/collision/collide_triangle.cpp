@@ -334,18 +334,7 @@ void pieceSupportingFace(const TrianglePolytope& p, const Vec3& l, std::uint32_t
         const int axis = maxAxis(abs(l));
         const Real sign = l[static_cast<std::size_t>(axis)] >= 0 ? Real(1) : Real(-1);
         const Vec3 e = s.halfExtents;
-        const Real ek = sign * e[static_cast<std::size_t>(axis)];
-        const auto corner = [&](Real su, Real sv) {
-            switch (axis) {
-                case 0: return Vec3{ek, su * e.y, sv * e.z * sign};
-                case 1: return Vec3{sv * e.x * sign, ek, su * e.z};
-                default: return Vec3{su * e.x, sv * e.y * sign, ek};
-            }
-        };
-        out.points[0] = corner(1, 1);
-        out.points[1] = corner(-1, 1);
-        out.points[2] = corner(-1, -1);
-        out.points[3] = corner(1, -1);
+        boxFaceCorners(e, axis, sign, out.points);
         out.count = 4;
         out.id = static_cast<std::uint32_t>(2 * axis + (sign > 0 ? 0 : 1));
         out.normal = p.faces[out.id].normal;
@@ -612,21 +601,29 @@ bool buildAlong(Choice& c, const Vec3 w[3], const Vec3& faceN, const Vec3 v[3], 
 }
 
 // What the cached axis gives at this pose.
+// The polytope's lowest vertex along n, the first of equals (its support
+// along -n), as the full test's scan finds it; `lo` gets its height.
+std::uint32_t lowestVertexAlong(const TrianglePolytope& p, const Vec3& n, Real& lo) {
+    lo = dot(n, p.vertices[0]);
+    std::uint32_t lowest = 0;
+    for (std::uint32_t i = 1; i < p.vertexCount; ++i) {
+        const Real d = dot(n, p.vertices[i]);
+        if (d < lo) {
+            lo = d;
+            lowest = i;
+        }
+    }
+    return lowest;
+}
+
 enum class CachedAxis { Invalid, Apart, Valid };
 CachedAxis cachedAxisSeparation(std::uint32_t code, const TrianglePolytope& p, const Vec3 v[3], const Vec3& n, Real margin,
                                 Choice& c) {
     const std::uint32_t index = code & kAxisHintIndex;
     const std::uint32_t kind = code & ~kAxisHintIndex;
     if (kind == kTriangleFaceAxis) {
-        Real lo = dot(n, p.vertices[0]);
-        std::uint32_t lowest = 0;
-        for (std::uint32_t i = 1; i < p.vertexCount; ++i) {
-            const Real d = dot(n, p.vertices[i]);
-            if (d < lo) {
-                lo = d;
-                lowest = i;
-            }
-        }
+        Real lo;
+        const std::uint32_t lowest = lowestVertexAlong(p, n, lo);
         c.axis = Axis::TriangleFace;
         c.lowest = lowest;
         c.faceSeparation = c.separation = lo - dot(n, v[0]);
@@ -911,17 +908,8 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
 bool collideTrianglePolytopeAlongFace(const Vec3 w[3], const Vec3& faceN, const TrianglePolytope& p, Real margin, Manifold& m) {
     Vec3 v[3], n;
     toPieceFrame(p, w, faceN, v, n);
-    // The polytope's lowest vertex along the normal, the first of equals (its
-    // support along -n), as the full test's scan finds it.
-    Real lo = dot(n, p.vertices[0]);
-    std::uint32_t lowest = 0;
-    for (std::uint32_t i = 1; i < p.vertexCount; ++i) {
-        const Real d = dot(n, p.vertices[i]);
-        if (d < lo) {
-            lo = d;
-            lowest = i;
-        }
-    }
+    Real lo;
+    const std::uint32_t lowest = lowestVertexAlong(p, n, lo);
     Choice c;
     c.axis = Axis::TriangleFace;
     c.lowest = lowest;

@@ -176,6 +176,25 @@ std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d) {
 #endif
 }
 
+void boxFaceCorners(const Vec3& e, int axis, Real sign, Vec3 corners[4]) {
+    // The corners (k, u, v) = (axis, axis + 1, axis + 2) mod 3: k at sign e_k,
+    // u at +-e_u, v at +-e_v mirrored by the sign (the winding on the
+    // negative face), written out per axis so no component is indexed
+    // at run time (the same values as a loop over p[k], p[u], p[v]).
+    const Real ek = sign * e[static_cast<std::size_t>(axis)];
+    const auto corner = [&](Real su, Real sv) {
+        switch (axis) {
+            case 0: return Vec3{ek, su * e.y, sv * e.z * sign};
+            case 1: return Vec3{sv * e.x * sign, ek, su * e.z};
+            default: return Vec3{su * e.x, sv * e.y * sign, ek};
+        }
+    };
+    corners[0] = corner(1, 1);
+    corners[1] = corner(-1, 1);
+    corners[2] = corner(-1, -1);
+    corners[3] = corner(1, -1);
+}
+
 std::uint32_t hullFaceAtVertex(const ConvexHull& hull, std::uint32_t top, const Vec3& d) {
     std::uint32_t best = 0;
     Real bestDot = -2;
@@ -380,22 +399,8 @@ void supportingFace(const ConvexShape& s, const Vec3& n, SupportFace& out, std::
             const Real sign = sgn(l[static_cast<std::size_t>(axis)]);
             // Face axis k with sign: corners counter-clockwise seen from outside.
             const Vec3 e = s.halfExtents;
-            // The corners (k, u, v) = (axis, axis + 1, axis + 2) mod 3: k at sign e_k,
-            // u at +-e_u, v at +-e_v mirrored by the sign (the winding on the
-            // negative face), written out per axis so no component is indexed
-            // at run time (the same values as a loop over p[k], p[u], p[v]).
-            const Real ek = sign * e[static_cast<std::size_t>(axis)];
-            const auto corner = [&](Real su, Real sv) {
-                switch (axis) {
-                    case 0: return Vec3{ek, su * e.y, sv * e.z * sign};
-                    case 1: return Vec3{sv * e.x * sign, ek, su * e.z};
-                    default: return Vec3{su * e.x, sv * e.y * sign, ek};
-                }
-            };
-            out.points[0] = transformPoint(s.xf, corner(1, 1));
-            out.points[1] = transformPoint(s.xf, corner(-1, 1));
-            out.points[2] = transformPoint(s.xf, corner(-1, -1));
-            out.points[3] = transformPoint(s.xf, corner(1, -1));
+            boxFaceCorners(e, axis, sign, out.points);
+            for (std::uint32_t i = 0; i < 4; ++i) out.points[i] = transformPoint(s.xf, out.points[i]);
             out.count = 4;
             out.id = static_cast<std::uint32_t>(2 * axis + (sign > 0 ? 0 : 1));
             const Vec3 fn = axis == 0 ? Vec3{sign, 0, 0} : axis == 1 ? Vec3{0, sign, 0} : Vec3{0, 0, sign};

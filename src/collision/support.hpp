@@ -65,6 +65,11 @@ std::uint32_t hullSupportIndex(const ConvexHull& hull, const Vec3& d);
 // are absent). A NaN dot passes every face at the vertex, so the last stays.
 std::uint32_t hullFaceAtVertex(const ConvexHull& hull, std::uint32_t top, const Vec3& d);
 
+// The four corners of a box's face (half extents `e`, face along axis `axis`
+// with sign `sign`, +-1) in the box's frame, counter-clockwise seen from
+// outside.
+void boxFaceCorners(const Vec3& e, int axis, Real sign, Vec3 corners[4]);
+
 // The convex shape of `shape` placed at `xf`; `shape` must not be a plane, mesh or compound.
 ConvexShape makeConvex(const Shape& shape, const Transform& xf);
 // The same without a rounded shape's convex radius (box, cylinder, hull): the
