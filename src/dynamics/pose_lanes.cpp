@@ -14,13 +14,14 @@
 namespace fulcrum::detail {
 
 namespace {
-// Off by default: with several threads a world stepped with the lanes was
-// seen to part from the same world stepped again (ManifoldBits at three
-// threads, about one run in thirty), so a lane's result may depend on
-// which bodies share its group (the groups follow the threads' ranges).
-// Until that is found the scalar path is the default; the lanes stay
-// tested against it (tests/dynamics/pose_lanes_test.cpp).
-std::atomic<bool> gPoseLanes{false};
+// On by default. They were off for a while: two copies of one world at
+// three threads (ManifoldBits) were seen to part about once in thirty runs
+// with them on, which was taken for a lane whose result depends on its
+// group. It is not theirs: the same parting happens with them off, a
+// lane's bits do not depend on its group, and on or off the same memory is
+// read and written in the same ranges (docs/benchmarks.md, branch lanes12;
+// tests/dynamics/pose_lanes_test.cpp).
+std::atomic<bool> gPoseLanes{true};
 }  // namespace
 
 bool poseLanesEnabled() { return gPoseLanes.load(std::memory_order_relaxed); }

@@ -6,10 +6,12 @@
 // of the scalar function, for every lane count (1 to 4: the tail lanes), for
 // inputs on each of the scalar function's paths (the first-order map under
 // 1e-9 rad, the exact map, half angles the lanes leave to the scalar
-// function), and so must whole worlds stepped with the lanes and without
-// (detail::setPoseLanesEnabled(false)) at one thread and three.
+// function), whichever bodies share its group, and so must whole worlds
+// stepped with the lanes and without (detail::setPoseLanesEnabled(false)) at
+// one thread and three, and with the lanes at one to four threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -117,10 +119,121 @@ TEST(PoseLanes, RotationVectorsHaveTheScalarBitsInEveryLane) {
 
 namespace {
 
+// A list of bodies on every path of both functions (rotations at rest, under
+// 1e-9 rad, in the exact map's range and beyond it; turns since the step's
+// start in the series' range and beyond; a non-finite spin), as the position
+// stage and the contact deltas meet them.
+struct BodyList {
+    std::vector<Quat> q, start;
+    std::vector<Vec3> w;
+};
+
+BodyList bodyList(std::mt19937& rng, int count) {
+    std::uniform_real_distribution<double> small(-0.3, 0.3), turn(-3.2, 3.2);
+    BodyList list;
+    std::uniform_real_distribution<double> u(0.1, 1);
+    for (int i = 0; i < count; ++i) {
+        // Some turned about a coordinate axis only: their zero components
+        // show a first-order step that a general orientation rounds away.
+        const Vec3 axis = i % 3 == 1 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+        list.q.push_back(i % 6 < 2 ? Quat::fromAxisAngle(axis, static_cast<Real>(4 * u(rng))) : randomRotation(rng));
+        Vec3 spin = randomSpin(rng);
+        // Just under the first-order map's limit (1e-9 rad in a step of 1/240 s).
+        if (i % 4 == 1) spin = normalize(spin) * static_cast<Real>(240e-9 * u(rng));
+        if (i % 11 == 5) spin = Vec3{};
+        if (i % 17 == 9) spin.y = std::numeric_limits<Real>::quiet_NaN();
+        list.w.push_back(spin);
+        const double angle = i % 3 == 0 ? turn(rng) : small(rng) * std::pow(10.0, -(i % 5));
+        list.start.push_back(Quat::fromAxisAngle(normalize(randomSpin(rng)), static_cast<Real>(angle)) * list.q.back());
+    }
+    return list;
+}
+
+// Runs both lane functions over `order` (indices into the list) cut into
+// groups of the given sizes (each 1 to 4, summing to order.size()), and
+// checks every body against the scalar functions bit for bit.
+void expectScalarBitsInGroups(const BodyList& list, const std::vector<std::size_t>& order,
+                              const std::vector<int>& groupSizes, const char* what) {
+    std::vector<Quat> q = list.q;
+    std::vector<Vec3> out(list.q.size());
+    std::size_t next = 0;
+    for (const int n : groupSizes) {
+        Quat* qp[4];
+        const Vec3* wp[4];
+        const Quat* rp[4];
+        const Quat* sp[4];
+        Vec3* op[4];
+        for (int k = 0; k < n; ++k) {
+            const std::size_t i = order[next + static_cast<std::size_t>(k)];
+            qp[k] = &q[i];
+            wp[k] = &list.w[i];
+            rp[k] = &list.q[i];
+            sp[k] = &list.start[i];
+            op[k] = &out[i];
+        }
+        detail::integrateRotations(qp, wp, n, Real(1) / 240);
+        detail::stepRotationVectors(rp, sp, op, n);
+        next += static_cast<std::size_t>(n);
+    }
+    ASSERT_EQ(next, order.size());
+    for (const std::size_t i : order) {
+        const Quat expected = integrateRotation(list.q[i], list.w[i], Real(1) / 240);
+        const Vec3 expectedDelta = detail::stepRotationVector(list.q[i] * conjugate(list.start[i]));
+        ASSERT_TRUE(sameBits(q[i], expected)) << what << ": rotation of body " << i;
+        ASSERT_TRUE(sameBits(out[i], expectedDelta)) << what << ": rotation vector of body " << i;
+    }
+}
+
+// Groups of four from the front, the rest in one (as integratePositions and
+// updateDeltasInLanes cut a thread's range).
+std::vector<int> foursFromTheFront(std::size_t count) {
+    std::vector<int> sizes(count / 4, 4);
+    if (count % 4 != 0) sizes.push_back(static_cast<int>(count % 4));
+    return sizes;
+}
+
+}  // namespace
+
+// A body's bits must not depend on which bodies share its lanes: the threads'
+// ranges decide the groups, so a grouping-dependent lane would make results
+// depend on the thread count. Every split of a list into two ranges (each cut
+// into fours from its front, as the position stage does), and random
+// orders cut into random group sizes, against the scalar functions.
+TEST(PoseLanes, ABodysBitsDoNotDependOnItsGroup) {
+    detail::setPoseLanesEnabled(true);
+    std::mt19937 rng(2026112912);
+    const BodyList list = bodyList(rng, 101);
+    const std::size_t count = list.q.size();
+    std::vector<std::size_t> identity(count);
+    for (std::size_t i = 0; i < count; ++i) identity[i] = i;
+    for (std::size_t split = 0; split <= count; ++split) {
+        std::vector<int> sizes = foursFromTheFront(split);
+        for (const int n : foursFromTheFront(count - split)) sizes.push_back(n);
+        expectScalarBitsInGroups(list, identity, sizes, "split");
+        if (HasFatalFailure()) return;
+    }
+    std::uniform_int_distribution<int> groupSize(1, 4);
+    for (int round = 0; round < 400; ++round) {
+        std::vector<std::size_t> order = identity;
+        std::shuffle(order.begin(), order.end(), rng);
+        std::vector<int> sizes;
+        for (std::size_t left = count; left > 0;) {
+            const int n = std::min(groupSize(rng), static_cast<int>(left));
+            sizes.push_back(n);
+            left -= static_cast<std::size_t>(n);
+        }
+        expectScalarBitsInGroups(list, order, sizes, "random groups");
+        if (HasFatalFailure()) return;
+    }
+}
+
+namespace {
+
 // 1 to 9 bodies (cubes and spheres: isotropic; a brick and a capsule: not)
 // dropped and spun on the ground, random masses and spins from tiny to fast;
 // the state hash after every step.
 std::vector<std::uint64_t> worldHashes(int bodies, int threads, bool lanes, bool spinLimit) {
+    const bool wasEnabled = detail::poseLanesEnabled();
     detail::setPoseLanesEnabled(lanes);
     WorldDef def;
     def.threads = threads;
@@ -153,7 +266,7 @@ std::vector<std::uint64_t> worldHashes(int bodies, int threads, bool lanes, bool
         world.step(Real(1) / 60);
         hashes.push_back(test::stateHash(world));
     }
-    detail::setPoseLanesEnabled(false);
+    detail::setPoseLanesEnabled(wasEnabled);
     return hashes;
 }
 
@@ -172,5 +285,64 @@ TEST(PoseLanes, WorldsHaveTheBitsOfTheScalarPath) {
                 }
             }
         }
+    }
+}
+
+namespace {
+
+// A pile of 300 bodies, most of them isotropic (cubes and spheres: their
+// rotations and contact deltas go through the lanes), with bricks and
+// capsules between them, dropped with random spins onto the ground: five
+// ranges of 64 bodies for the position stage, so the threads' ranges, and
+// with them the lanes' groups, differ with the thread count. The state hash
+// after every step.
+std::vector<std::uint64_t> pileHashes(int threads) {
+    WorldDef def;
+    def.threads = threads;
+    def.parallelMinBodies = 0;
+    World world(def);
+    BodyDef ground;
+    ground.type = BodyType::Static;
+    ground.shape = Shape::box({40, 1, 40});
+    ground.position = {0, -1, 0};
+    world.createBody(ground);
+    std::mt19937 rng(300);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 300; ++i) {
+        BodyDef d;
+        switch (i % 5) {
+            case 0:
+            case 3: d.shape = Shape::box({Real(0.4), Real(0.4), Real(0.4)}); break;
+            case 1:
+            case 4: d.shape = Shape::sphere(Real(0.4)); break;
+            default: d.shape = i % 2 == 0 ? Shape::box({Real(0.5), Real(0.2), Real(0.3)}) : Shape::capsule(Real(0.2), Real(0.3));
+        }
+        d.mass = static_cast<Real>(0.5 + 2 * u(rng));
+        d.position = {static_cast<Real>(i % 10) - Real(4.5), static_cast<Real>(0.5 + i / 50 + u(rng) * 0.2),
+                      static_cast<Real>(i / 10 % 5) - Real(2)};
+        d.orientation = randomRotation(rng);
+        d.angularVelocity = randomSpin(rng);
+        world.createBody(d);
+    }
+    std::vector<std::uint64_t> hashes;
+    for (int s = 0; s < 60; ++s) {
+        world.step(Real(1) / 60);
+        hashes.push_back(test::stateHash(world));
+    }
+    return hashes;
+}
+
+}  // namespace
+
+// With the lanes on, one world at 1, 2, 3 and 4 threads: the same bits after
+// every step (the world test above compares lanes with scalar at one thread
+// count each; this one compares thread counts, whose ranges group the lanes).
+TEST(PoseLanes, PilesHaveTheSameBitsAtAnyThreadCount) {
+    detail::setPoseLanesEnabled(true);
+    const std::vector<std::uint64_t> one = pileHashes(1);
+    for (const int threads : {2, 3, 4}) {
+        const std::vector<std::uint64_t> many = pileHashes(threads);
+        ASSERT_EQ(many.size(), one.size());
+        for (std::size_t s = 0; s < many.size(); ++s) ASSERT_EQ(many[s], one[s]) << "threads " << threads << ", step " << s;
     }
 }
