@@ -68,8 +68,10 @@ void BodyStore::reserveAwakeList(std::size_t bodyCount) {
         grow(*v, bodyCount);
         room = std::min(room, v->capacity());
     }
-    grow(inAwakeList, bodyCount);
-    room = std::min(room, inAwakeList.capacity());
+    for (std::vector<std::uint8_t>* v : {&inAwakeList, &contactDeltas, &motionKind}) {
+        grow(*v, bodyCount + 1);
+        room = std::min(room, v->capacity() - 1);
+    }
     grow(state, bodyCount + 1);
     grow(pose, bodyCount + 1);
     grow(startCom, bodyCount + 1);

@@ -327,6 +327,9 @@ struct BodyStore {
     // of its step). Steps with joints update every body's (the joint
     // solver's rows read them too).
     std::vector<std::uint8_t> contactDeltas;
+    // Per solver index: the body's MotionKind for this step (integrators.hpp,
+    // classifyMotion; written in the step's prepare, entry 0 unused).
+    std::vector<std::uint8_t> motionKind;
     void updateContactDeltas(std::size_t begin, std::size_t end);
     // The awake set back into the records of awake-list entries [begin, end)
     // (solver bodies begin + 1 .. end): once, after the sub-steps.
@@ -351,6 +354,7 @@ void BodyStore::beginStep(ForRanges&& forRanges) {
     startCom.resize(solverCount);
     startQ.resize(solverCount);
     contactDeltas.assign(solverCount, 0);
+    motionKind.resize(solverCount);
     state[0] = SolverBody{};
     pose[0] = BodyPose{};
     denseOfSolver[0] = kNoIndex;

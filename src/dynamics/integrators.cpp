@@ -689,57 +689,100 @@ void applyDamping(Motion m, const BodyParams& p, Real h) {
     if (p.angularDamping > 0) m.s.w *= Real(1) / (1 + h * p.angularDamping);
 }
 
-}  // namespace
+// Whether a torque turns the body (a zero of either sign does not).
+bool hasTorque(const ForceTorque& ft) { return ft.torque.x != 0 || ft.torque.y != 0 || ft.torque.z != 0; }
 
-void integrateVelocities(BodyStore& w, Integrator method, Real h, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) {
-        const std::uint32_t i = w.awakeBodies[k];
-        const BodyParams& p = w.params[i];
-        if (!isDynamic(p)) continue;
-        const Motion m = motionOf(w, k + 1);
-        const ForceTorque& ft = w.forces[i];
-        switch (method) {
-            case Integrator::ExplicitEuler: {
-                // a(x_n, v_n), with the gyroscopic torque -w x I_w w evaluated at the old state.
-                const Vec3 v0 = m.s.v, w0 = m.s.w;
-                const Vec3 lw = worldInertia(m.x.q, p.localInertia) * m.s.w;
-                m.s.v += ft.force * (m.s.invMass * h);
-                m.s.w += m.x.invInertiaWorld * (ft.torque - cross(m.s.w, lw)) * h;
-                applyDamping(m, p, h);
-                w.scratch[i].dv = m.s.v - v0;
-                w.scratch[i].dw = m.s.w - w0;
-                break;
-            }
-            case Integrator::SemiImplicitEuler: {
-                // The gyroscopic effect is not a torque here either: the position
-                // stage turns the body at constant world angular momentum (as for
-                // Verlet). Catto's implicit gyroscopic step, used before, bleeds
-                // |L| at high spin: the demo's tumbling box lost 13 % of |L| in
-                // 10 s at 240 Hz; with the constant-L drift it keeps it to ~1e-5.
-                m.s.v += ft.force * (m.s.invMass * h);
-                // Most bodies have no torque (gravity acts at the centre of
-                // mass): w then keeps its value without the 3x3 product (the
-                // same value as w + 0, but for the sign of a zero component).
-                if (ft.torque.x != 0 || ft.torque.y != 0 || ft.torque.z != 0) m.s.w += m.x.invInertiaWorld * ft.torque * h;
-                applyDamping(m, p, h);
-                break;
-            }
-            case Integrator::Verlet: {
-                // First half kick. The gyroscopic effect is not a torque here: in
-                // world axes dL/dt = tau, and the drift below turns the body at
-                // constant L, which is where w x I w comes from.
-                const Real half = Real(0.5) * h;
-                m.s.v += ft.force * (m.s.invMass * half);
-                m.s.w += m.x.invInertiaWorld * ft.torque * half;
-                applyDamping(m, p, h);
-                break;
-            }
+// The position stage's path for a body (MotionKind): it depends only on the
+// body's type and local inertia, which do not change within a step.
+std::uint8_t positionKindOf(const BodyParams& p) {
+    if (!moves(p)) return kStill;
+    if (p.type == BodyType::Kinematic) return kKinematicMotion;
+    const int symmetry = inertiaSymmetry(p.localInertia);
+    if (symmetry == kIsotropic) return kIsotropicMotion;
+    if (symmetry >= 0) return static_cast<std::uint8_t>(kAxisymmetricMotion + symmetry);
+    return kGeneralMotion;
+}
+
+// One body's stage 2: awake-list entry k.
+void integrateVelocity(BodyStore& w, Integrator method, Real h, std::size_t k) {
+    const std::uint32_t i = w.awakeBodies[k];
+    const BodyParams& p = w.params[i];
+    if (!isDynamic(p)) return;
+    const Motion m = motionOf(w, k + 1);
+    const ForceTorque& ft = w.forces[i];
+    switch (method) {
+        case Integrator::ExplicitEuler: {
+            // a(x_n, v_n), with the gyroscopic torque -w x I_w w evaluated at the old state.
+            const Vec3 v0 = m.s.v, w0 = m.s.w;
+            const Vec3 lw = worldInertia(m.x.q, p.localInertia) * m.s.w;
+            m.s.v += ft.force * (m.s.invMass * h);
+            m.s.w += m.x.invInertiaWorld * (ft.torque - cross(m.s.w, lw)) * h;
+            applyDamping(m, p, h);
+            w.scratch[i].dv = m.s.v - v0;
+            w.scratch[i].dw = m.s.w - w0;
+            break;
+        }
+        case Integrator::SemiImplicitEuler: {
+            // The gyroscopic effect is not a torque here either: the position
+            // stage turns the body at constant world angular momentum (as for
+            // Verlet). Catto's implicit gyroscopic step, used before, bleeds
+            // |L| at high spin: the demo's tumbling box lost 13 % of |L| in
+            // 10 s at 240 Hz; with the constant-L drift it keeps it to ~1e-5.
+            m.s.v += ft.force * (m.s.invMass * h);
+            // Most bodies have no torque (gravity acts at the centre of
+            // mass): w then keeps its value without the 3x3 product (the
+            // same value as w + 0, but for the sign of a zero component).
+            if (hasTorque(ft)) m.s.w += m.x.invInertiaWorld * ft.torque * h;
+            applyDamping(m, p, h);
+            break;
+        }
+        case Integrator::Verlet: {
+            // First half kick. The gyroscopic effect is not a torque here: in
+            // world axes dL/dt = tau, and the drift below turns the body at
+            // constant L, which is where w x I w comes from.
+            const Real half = Real(0.5) * h;
+            m.s.v += ft.force * (m.s.invMass * half);
+            m.s.w += m.x.invInertiaWorld * ft.torque * half;
+            applyDamping(m, p, h);
+            break;
         }
     }
 }
 
-void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, bool deltas, std::size_t begin,
-                        std::size_t end) {
+}  // namespace
+
+void classifyMotion(BodyStore& w, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = w.awakeBodies[k];
+        const BodyParams& p = w.params[i];
+        std::uint8_t kind = positionKindOf(p);
+        if (isDynamic(p) && !(p.linearDamping > 0) && !(p.angularDamping > 0) && !hasTorque(w.forces[i])) {
+            kind |= kPlainVelocity;
+        }
+        w.motionKind[k + 1] = kind;
+    }
+}
+
+void integrateVelocities(BodyStore& w, Integrator method, Real h, bool plainKept, std::size_t begin, std::size_t end) {
+    if (!plainKept || method != Integrator::SemiImplicitEuler) {
+        for (std::size_t k = begin; k < end; ++k) integrateVelocity(w, method, h, k);
+        return;
+    }
+    // integrateVelocity's semi-implicit case for a body with no torque and no
+    // damping is v += f (1/m) h alone: the step's forces are kept, so which
+    // bodies those are was decided once for the step (classifyMotion).
+    for (std::size_t k = begin; k < end; ++k) {
+        if ((w.motionKind[k + 1] & kPlainVelocity) == 0) {
+            integrateVelocity(w, method, h, k);
+            continue;
+        }
+        SolverBody& s = w.state[k + 1];
+        s.v += w.forces[w.awakeBodies[k]].force * (s.invMass * h);
+    }
+}
+
+void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, bool deltas, bool kindsKept,
+                        std::size_t begin, std::size_t end) {
     // Axisymmetric bodies waiting for three partners, per symmetry axis (driftQuad):
     // their awake-list entries.
     std::uint32_t waitingDrift[3][4];
@@ -755,9 +798,13 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
     for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t i = w.awakeBodies[k];
         const BodyParams& p = w.params[i];
-        if (!moves(p)) continue;
+        // The body's path, decided once for the step (classifyMotion): the
+        // inertia's symmetry test was ~25 instructions a body and sub-step.
+        const std::uint8_t kind = kindsKept ? static_cast<std::uint8_t>(w.motionKind[k + 1] & kPositionKindMask)
+                                            : positionKindOf(p);
+        if (kind == kStill) continue;
         const Motion m = motionOf(w, k + 1);
-        if (p.type == BodyType::Kinematic) {
+        if (kind == kKinematicMotion) {
             m.x.com += m.s.v * h;
             m.x.q = integrateRotation(m.x.q, m.s.w, h);
             continue;
@@ -778,8 +825,7 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
                 // constant w (it cost ~45 % of sphere_pile's position stage and
                 // ~20 % of its step: three R I R^T and two inverses per body).
                 // Its world inverse inertia is the local one (no R I^-1 R^T below).
-                const int symmetry = inertiaSymmetry(p.localInertia);
-                if (symmetry == kIsotropic) {
+                if (kind == kIsotropicMotion) {
                     // m.x.q = integrateRotation(m.x.q, m.s.w, h), four at a time.
                     rotating[rotatingCount] = &m.x.q;
                     rotatingSpin[rotatingCount] = &m.s.w;
@@ -790,7 +836,8 @@ void integratePositions(BodyStore& w, Integrator method, Real h, Real maxTurn, b
                     m.x.invInertiaWorld = p.invLocalInertia;
                     continue;
                 }
-                if (symmetry >= 0) {
+                if (kind != kGeneralMotion) {
+                    const int symmetry = kind - kAxisymmetricMotion;
                     // Four at a time where the SIMD lanes exist (driftQuad):
                     // the first three of a symmetry axis wait for the fourth.
                     if (!kPairedDrift) {

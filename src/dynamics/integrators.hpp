@@ -8,6 +8,29 @@
 
 namespace fulcrum::detail {
 
+// What the sub-steps do with an awake body, decided once per step by
+// classifyMotion (BodyStore::motionKind, per solver index) from what cannot
+// change within a step: the body's type, its local inertia's symmetry, its
+// damping and, after the step's first force evaluation, whether it has a
+// torque. The low bits are the position stage's path; kPlainVelocity marks a
+// dynamic body with no damping and no torque, whose velocity stage is
+// v += a h alone while the forces are kept for the step. Re-decided every
+// step, so a body the user changed between steps (a torque applied or
+// ended, damping set, a body destroyed and another created in its dense
+// slot) takes its new path at the next step.
+enum MotionKind : std::uint8_t {
+    kStill = 0,                // neither dynamic nor kinematic: not moved
+    kKinematicMotion = 1,      // at its velocity
+    kIsotropicMotion = 2,      // I = s identity: a rotation at constant w
+    kAxisymmetricMotion = 3,   // 3, 4, 5: two equal principal moments, the symmetry axis 0, 1, 2
+    kGeneralMotion = 6,        // any other inertia
+    kPositionKindMask = 7,
+    kPlainVelocity = 8,
+};
+// Awake-list entries [begin, end); run after the step's first force
+// evaluation of those bodies (their torques).
+void classifyMotion(BodyStore& b, std::size_t begin, std::size_t end);
+
 // Stage 2: turn the evaluated forces (b.forces) into velocities, apply damping.
 //   explicit Euler:       v += a h, w += I^-1 (tau - w x I w) h   (gyroscopic term explicit);
 //                         remembers the change so positions can use the old velocity.
@@ -17,7 +40,10 @@ namespace fulcrum::detail {
 // The awake-list entries [begin, end) only (sleeping and static bodies never
 // move): bodies are independent, so the step runs disjoint ranges on several
 // threads (src/world/step.cpp).
-void integrateVelocities(BodyStore& b, Integrator method, Real h, std::size_t begin, std::size_t end);
+// With `plainKept` (the semi-implicit integrator, the step's forces kept for
+// all its sub-steps: no drag, ForceCallback or spring), the bodies that
+// classifyMotion marked kPlainVelocity take v += a h alone.
+void integrateVelocities(BodyStore& b, Integrator method, Real h, bool plainKept, std::size_t begin, std::size_t end);
 
 // Stage 4: advance positions and orientations from the (possibly solver-corrected) velocities.
 //   explicit Euler:       x += v_old h, q rotated by w_old.
@@ -29,8 +55,10 @@ void integrateVelocities(BodyStore& b, Integrator method, Real h, std::size_t be
 // step has contact constraints and no joints), the pose change since the
 // step's start (SolverBody::dp, dtheta) of the bodies the contact kernels
 // read (BodyStore::contactDeltas).
-void integratePositions(BodyStore& b, Integrator method, Real h, Real maxTurn, bool deltas, std::size_t begin,
-                        std::size_t end);
+// With `kindsKept`, each body's path is the step's MotionKind (classifyMotion),
+// else it is worked out from the body's parameters (the same path).
+void integratePositions(BodyStore& b, Integrator method, Real h, Real maxTurn, bool deltas, bool kindsKept,
+                        std::size_t begin, std::size_t end);
 
 // Stage 5, Verlet's second half kick, in three parts (entries [begin, end)
 // each): verletPredict moves the velocities to the predictor the forces are

@@ -69,6 +69,11 @@ void setStagedSubStepsEnabled(bool enabled);
 // off only to test that path against evaluating them again (bit for bit).
 bool forcesOncePerStepEnabled();
 void setForcesOncePerStepEnabled(bool enabled);
+// Whether each body's integration path (its MotionKind) is decided once per
+// step rather than tested at every sub-step (integrators.hpp,
+// classifyMotion); off only to test that against the per-sub-step tests.
+bool motionKindsPerStepEnabled();
+void setMotionKindsPerStepEnabled(bool enabled);
 
 struct Stage {
     std::uint32_t kind = 0;   // the caller's: what to run

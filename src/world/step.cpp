@@ -180,6 +180,9 @@ std::atomic<bool> gStagedSubSteps{[] {
 // Tests only: off, every sub-step evaluates the forces again (the path
 // before the forces were kept for the step, to compare bit for bit).
 std::atomic<bool> gForcesOncePerStep{true};
+// Tests only: off, the sub-steps test each body's type, inertia, damping and
+// torque again (the path before the MotionKinds, to compare bit for bit).
+std::atomic<bool> gMotionKindsPerStep{true};
 
 }  // namespace
 
@@ -188,6 +191,8 @@ bool stagedSubStepsEnabled() { return gStagedSubSteps.load(std::memory_order_rel
 void setStagedSubStepsEnabled(bool enabled) { gStagedSubSteps.store(enabled, std::memory_order_relaxed); }
 bool forcesOncePerStepEnabled() { return gForcesOncePerStep.load(std::memory_order_relaxed); }
 void setForcesOncePerStepEnabled(bool enabled) { gForcesOncePerStep.store(enabled, std::memory_order_relaxed); }
+bool motionKindsPerStepEnabled() { return gMotionKindsPerStep.load(std::memory_order_relaxed); }
+void setMotionKindsPerStepEnabled(bool enabled) { gMotionKindsPerStep.store(enabled, std::memory_order_relaxed); }
 }  // namespace detail
 
 // The contact pair limit's counts in the profile, and a warning the first
@@ -233,17 +238,21 @@ enum StageKind : std::uint32_t {
     kForces,            // per body: stage 1 without ForceCallbacks and springs
     kCallbacks,         // caller stage: the ForceCallbacks in body order (arg: the time, see callbackTime)
     kSprings,           // one unit: the springs
-    kVelocities,        // per body: stage 2
+    kVelocities,        // per body: stage 2 (arg 1: with the MotionKinds' plain velocities, integrateVelocities)
     kForcesVelocities,  // per body: stages 1 and 2 body by body (no callback, no spring)
     kJointPass,         // caller stage: the joint solver's pass `arg` (ContactSolver::Pass)
     kContactPass,       // the contact solver's stages (ContactSolver::addPassStages)
-    kPositions,         // per body: stage 4 and (arg 1: the step has constraints) the pose change since the step's start
+    kPositions,         // per body: stage 4 (arg: the kPositions flags below)
     kProjectionCheck,   // per group of four joints: whether the projection has anything to do (4b)
     kProjection,        // one unit: the joints' position projection (4b)
     kDeltas,            // per body: the pose change since the step's start (after the projection)
     kVerletPredict,     // per body: stage 5's predictor velocities
     kVerletKick,        // per body: stage 5's second half kick
 };
+
+// A kPositions stage's arg: the step has constraints, so also the pose change
+// since the step's start; the bodies' MotionKinds were decided for the step.
+constexpr std::uint32_t kPositionsDeltas = 1, kPositionsKinds = 2;
 
 // kForcesVelocities walks its range in blocks of this many bodies, so each
 // body's data stays in L1 from its force evaluation to its velocity update.
@@ -399,18 +408,23 @@ bool WorldImpl::prepareSolvers(TaskSystem& tasks, Real h) {
     // evaluate forces: the same bits, and ~40 us less serial time per step of
     // box_pile's collapse (the colouring was 16.6 M of the 59 M serial
     // instructions left over its first 120 steps).
+    // Each body's MotionKind for the sub-steps is decided beside its first
+    // force evaluation (it reads the torque just evaluated).
     std::atomic<bool> callbacks{false}, dragged{false};
     const auto bodyCount = static_cast<std::uint32_t>(awakeBodies.size());
+    motionKindsKept = detail::motionKindsPerStepEnabled();
     tasks.parallelFor(bodyCount + 1, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
         if (begin == 0) {
             contactSolver.colourGreedy();
             ++begin;
         }
+        if (begin == end) return;
         bool drag = false;
-        if (begin < end && detail::evaluateBodyForces(*this, settings.gravity, begin - 1, end - 1, &drag)) {
+        if (detail::evaluateBodyForces(*this, settings.gravity, begin - 1, end - 1, &drag)) {
             callbacks.store(true, std::memory_order_relaxed);
         }
         if (drag) dragged.store(true, std::memory_order_relaxed);
+        if (motionKindsKept) detail::classifyMotion(*this, begin - 1, end - 1);
     });
     anyDrag = dragged.load(std::memory_order_relaxed);
     // ForceCallbacks (not required to be thread-safe) in body order, then the springs.
@@ -450,6 +464,7 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
     key.springs = !springs.empty();
     key.drag = anyDrag;
     key.forcesOnce = detail::forcesOncePerStepEnabled();
+    key.motionKinds = motionKindsKept;
     key.contacts = hasContacts;
     key.joints = hasJoints;
     key.built = true;
@@ -474,6 +489,14 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         if (!springs.empty()) subSteps.add(kSprings, 0, 0, 1, 1);
         if (withVelocities) subSteps.add(kVelocities, 0, 0, bodies, kBodiesPerRange);
     };
+    // Without drag, callbacks and springs every later sub-step's forces
+    // are the first's (gravity and the user's forces, fixed for the step:
+    // the same values evaluated again, ~45 instructions a body and
+    // sub-step), so they stay as prepareSolvers left them; so do the
+    // torques, and a body's velocity stage then follows its MotionKind
+    // (integrateVelocities).
+    const bool forcesKept = key.forcesOnce && !anyDrag && !anyCallback && springs.empty();
+    const bool plainVelocities = forcesKept && motionKindsKept;
     const auto solverPass = [&](Pass pass) {
         if (hasJoints) subSteps.addOnCaller(kJointPass, static_cast<std::uint32_t>(pass));
         if (hasContacts) contactSolver.addPassStages(subSteps, kContactPass, pass);
@@ -482,13 +505,10 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         const auto sub = static_cast<std::uint32_t>(s);
         // Stages 1 and 2. The first sub-step's forces were evaluated beside the
         // colouring (prepareSolvers); Verlet's later ones by stage 5 ("first
-        // same as last"): the same state and time.
-        // Without drag, callbacks and springs every later sub-step's forces
-        // are the first's (gravity and the user's forces, fixed for the step:
-        // the same values evaluated again, ~45 instructions a body and
-        // sub-step), so they stay as prepareSolvers left them.
-        if (s == 0 || verlet || (key.forcesOnce && !anyDrag && !anyCallback && springs.empty())) {
-            subSteps.add(kVelocities, 0, 0, bodies, kBodiesPerRange);
+        // same as last"): the same state and time. Without drag, callbacks
+        // and springs the later sub-steps keep the first's (forcesKept).
+        if (s == 0 || verlet || forcesKept) {
+            subSteps.add(kVelocities, plainVelocities ? 1 : 0, 0, bodies, kBodiesPerRange);
         } else {
             addForces(2 * sub, true);
         }
@@ -499,7 +519,8 @@ void WorldImpl::buildSubSteps(TaskSystem& tasks, bool anyCallback) {
         // The pose change since the step's start (dp, dtheta) for the relax
         // pass and the store: with the position stage, body by body; with
         // joints after their projection, which moves bodies again.
-        subSteps.add(kPositions, hasContacts && !hasJoints ? 1 : 0, 0, bodies, kBodiesPerRange);
+        subSteps.add(kPositions, (hasContacts && !hasJoints ? kPositionsDeltas : 0) | (motionKindsKept ? kPositionsKinds : 0),
+                     0, bodies, kBodiesPerRange);
         if (hasJoints) {
             subSteps.add(kProjectionCheck, 0, 0, jointSolver.projectionGroupCount(), kProjectionGroupsPerRange);
             subSteps.add(kProjection, 0, 0, 1, 1);
@@ -525,12 +546,12 @@ void WorldImpl::runSubSteps(TaskSystem& tasks, double t0, Real h, double hd) {
             case kForces: detail::evaluateBodyForces(*this, gravity, begin, end); break;
             case kCallbacks: detail::addCallbackForces(*this, callbackTime(t0, hd, stage.arg)); break;
             case kSprings: detail::addSpringForces(*this, springs.slots()); break;
-            case kVelocities: detail::integrateVelocities(*this, method, h, begin, end); break;
+            case kVelocities: detail::integrateVelocities(*this, method, h, stage.arg != 0, begin, end); break;
             case kForcesVelocities:
                 for (std::uint32_t b = begin; b < end; b += kFusedBlock) {
                     const std::uint32_t e = std::min(end, b + kFusedBlock);
                     detail::evaluateBodyForces(*this, gravity, b, e);
-                    detail::integrateVelocities(*this, method, h, b, e);
+                    detail::integrateVelocities(*this, method, h, false, b, e);
                 }
                 break;
             case kJointPass:
@@ -541,7 +562,10 @@ void WorldImpl::runSubSteps(TaskSystem& tasks, double t0, Real h, double hd) {
                 }
                 break;
             case kContactPass: contactSolver.runPassStage(stage.arg, begin, end); break;
-            case kPositions: detail::integratePositions(*this, method, h, maxTurn, stage.arg != 0, begin, end); break;
+            case kPositions:
+                detail::integratePositions(*this, method, h, maxTurn, (stage.arg & kPositionsDeltas) != 0,
+                                           (stage.arg & kPositionsKinds) != 0, begin, end);
+                break;
             case kProjectionCheck: jointSolver.checkProjection(*this, begin, end); break;
             case kProjection: jointSolver.projectCheckedPositions(*this); break;
             case kDeltas: updateDeltas(begin, end); break;

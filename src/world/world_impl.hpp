@@ -150,11 +150,14 @@ struct WorldImpl : detail::BodyStore {
         int substeps = 0, iterations = 0;
         Integrator integrator = Integrator::SemiImplicitEuler;
         bool callbacks = false, springs = false, contacts = false, joints = false, built = false;
-        bool drag = false, forcesOnce = false;
+        bool drag = false, forcesOnce = false, motionKinds = false;
         bool operator==(const SubStepKey&) const = default;
     };
     SubStepKey subStepKey;
     bool anyDrag = false;  // an awake body has drag this step (prepareSolvers; buildSubSteps)
+    // The bodies' MotionKinds were decided for this step (prepareSolvers:
+    // integrators.hpp, classifyMotion), so the sub-steps read them.
+    bool motionKindsKept = false;
 
     detail::SpringData& resolveSpring(SpringId id, const char* where);
     const detail::SpringData& resolveSpring(SpringId id, const char* where) const;
