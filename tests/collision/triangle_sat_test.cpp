@@ -1091,6 +1091,9 @@ TEST(TriangleSat, EdgePairsInLanesArePairAtATimeBitForBit) {
         detail::TrianglePolytope lanes, oneAtATime;
         ASSERT_TRUE(lanes.prepare(b, cache));
         ASSERT_TRUE(oneAtATime.prepare(b, cache));
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+        ASSERT_GT(lanes.edgeLaneGroups, 0u);
+#endif
         oneAtATime.edgePairsInLanes = false;
         Manifold ml, ms;
         std::uint32_t hintL = 0, hintS = 0;
