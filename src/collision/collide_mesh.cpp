@@ -90,6 +90,18 @@ constexpr Real kSeparationSlack = Real(1e-3);
 // extent: a larger box is made again less often and filters more triangles.
 constexpr Real kCandidateGrowth = Real(0.5);
 
+// Room for N objects of T, left unset: every field read is written first.
+// (Arrays of ContactCandidate zeroed their 1.4 kB at every group: 3 % of
+// convex_vs_mesh(7x7)'s mesh narrow phase; a Manifold zeroes its four points,
+// 32 instructions, at every triangle test.) T is an aggregate, so the bytes'
+// storage creates its objects implicitly.
+template <class T, std::size_t N>
+struct Unset {
+    static_assert(std::is_aggregate_v<T> && std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+    alignas(T) std::byte bytes[N * sizeof(T)];
+    T* data() { return std::launder(reinterpret_cast<T*>(bytes)); }
+};
+
 // True when the triangle's plane separates b from it by more than the margin
 // (b wholly above it, or wholly behind it): one extent, a pass over a hull's
 // vertices, where GJK takes several supports and simplex steps. On a hilly
@@ -169,12 +181,17 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
                                std::uint32_t* axisHint, const Vec3* bCentre, TriangleAxisEntry* cachedAxis) {
     const Vec3 faceN = normalize(cross(w[1] - w[0], w[2] - w[0]));
     if (dot(faceN, (bCentre != nullptr ? *bCentre : b.center()) - w[0]) < 0) return false;  // one-sided: behind the triangle
-    Manifold tm;
+    // Unset: the separating-axis test writes the normal, the count and each
+    // point's position, depth and id before it gives a contact (and nothing
+    // below reads more); the general path's pair functions get a fresh one.
+    Unset<Manifold, 1> manifoldSlot;
+    Manifold& tm = *manifoldSlot.data();
     if (polytope != nullptr && lengthSquared(faceN) > Real(0.5)) {
         // A box or hull: the separating-axis test (collide_triangle.cpp),
         // which also tests the triangle's plane.
         if (!collideTrianglePolytope(w, faceN, *polytope, margin, tm, axisHint, cachedAxis)) return false;
     } else {
+        tm = Manifold{};
         if (separatedByTrianglePlane(w, faceN, b, margin)) return false;
         const ConvexShape tri = makeTriangle(w[0], w[1], w[2]);
         const bool hit = b.kind == ConvexKind::Point     ? collideTriangleSphere(tri, b, margin, tm)
@@ -227,7 +244,12 @@ bool collideTriangleWithConvex(const Vec3 w[3], std::uint8_t convexMask, std::ui
         std::uint32_t kept = 0;
         for (std::uint32_t i = 0; i < tm.pointCount; ++i) {
             const Vec3 onTriangle = tm.points[i].position + tm.normal * (Real(0.5) * tm.points[i].depth);
-            if (overTriangle(w, onTriangle)) tm.points[kept++] = tm.points[i];
+            if (!overTriangle(w, onTriangle)) continue;
+            // The fields the test wrote (the anchors are left unset).
+            ContactPoint& keptPoint = tm.points[kept++];
+            keptPoint.position = tm.points[i].position;
+            keptPoint.depth = tm.points[i].depth;
+            keptPoint.featureId = tm.points[i].featureId;
         }
         tm.pointCount = kept;
         if (kept == 0) return false;
@@ -293,17 +315,6 @@ void addWideningPoints(Manifold& m, const ContactCandidate* candidates, std::uin
     }
 }
 
-// Room for N candidates, left unset: every slot is written before it is
-// read. (Arrays of ContactCandidate zeroed their 1.4 kB at every group: 3 %
-// of convex_vs_mesh(7x7)'s mesh narrow phase.) ContactCandidate is an
-// aggregate, so the bytes' storage creates its objects implicitly.
-template <std::size_t N>
-struct UnsetCandidates {
-    static_assert(std::is_trivially_copyable_v<ContactCandidate> && std::is_trivially_destructible_v<ContactCandidate>);
-    alignas(ContactCandidate) std::byte bytes[N * sizeof(ContactCandidate)];
-    ContactCandidate* data() { return std::launder(reinterpret_cast<ContactCandidate*>(bytes)); }
-};
-
 }  // namespace
 
 void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real margin, ManifoldBuffer& out, bool flatFaces) {
@@ -343,7 +354,7 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
         m.normal = n;
         m.childA = scratch[seed].triangle;
         constexpr std::uint32_t kBatch = 64;
-        UnsetCandidates<kBatch + Manifold::kMaxPoints> batchSlots, speculativeSlots;
+        Unset<ContactCandidate, kBatch + Manifold::kMaxPoints> batchSlots, speculativeSlots;
         ContactCandidate* batch = batchSlots.data();
         ContactCandidate* speculative = speculativeSlots.data();
         std::uint32_t count = 0, speculativeCount = 0;
@@ -379,7 +390,7 @@ void groupTriangleContacts(std::vector<MeshContactCandidate>& scratch, Real marg
             // the other places go to the widest of the touching points the
             // reduction chose for them and the speculative ones, a touching
             // point counting kTouchingPreference times its width.
-            UnsetCandidates<kBatch + 2 * Manifold::kMaxPoints> widenSlots;
+            Unset<ContactCandidate, kBatch + 2 * Manifold::kMaxPoints> widenSlots;
             ContactCandidate* widen = widenSlots.data();
             std::uint32_t widenCount = 0;
             for (std::uint32_t k = 2; k < m.pointCount; ++k) {

@@ -148,9 +148,23 @@ const PolytopeEdgeLanes* boxEdgeLanes() { return nullptr; }
 
 }  // namespace
 
-bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
+void TrianglePolytope::setFrame(const ConvexShape& b) {
     shape = &b;
     rotation = toMat3(b.xf.q);
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+    const Vec3 columns[3] = {rotation.c0, rotation.c1, rotation.c2};
+    for (std::size_t k = 0; k < 3; ++k) {
+        for (std::size_t i = 0; i < 3; ++i) {
+            for (float& lane : frameLanes[3 * k + i]) lane = columns[k][i];
+        }
+        frameLanes[9 + k][0] = frameLanes[9 + k][1] = frameLanes[9 + k][2] = b.xf.p[k];
+        frameLanes[9 + k][3] = 0.0f;
+    }
+#endif
+}
+
+bool TrianglePolytope::prepare(const ConvexShape& b, std::vector<PolytopeEdge>& edgeScratch) {
+    setFrame(b);
     if (b.radius != 0) return false;
     if (b.kind == ConvexKind::Box) {
         const Vec3 h = b.halfExtents;
@@ -257,8 +271,7 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
         entry->lanes.clear();
         if (!entry->closed) return false;
     }
-    shape = &b;
-    rotation = toMat3(b.xf.q);
+    setFrame(b);
     if (!entry->closed) return false;
     vertices = h.vertices.data();
     vertexCount = static_cast<std::uint32_t>(h.vertices.size());
@@ -295,23 +308,27 @@ bool TrianglePolytope::prepare(const ConvexShape& b, PolytopeEdgeCache& cache) {
 // cross products and their sums (branch trees11); the results differ from
 // the quaternion's by rounding only.
 void toPieceFrame(const TrianglePolytope& p, const Vec3 w[3], const Vec3& faceN, Vec3 v[3], Vec3& n) {
-    const Mat3& r = p.rotation;
-    const Vec3& o = p.shape->xf.p;
 #if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
-    // Three points and the normal a lane each.
-    const __m128 x = _mm_sub_ps(_mm_setr_ps(w[0].x, w[1].x, w[2].x, faceN.x), _mm_setr_ps(o.x, o.x, o.x, 0.0f));
-    const __m128 y = _mm_sub_ps(_mm_setr_ps(w[0].y, w[1].y, w[2].y, faceN.y), _mm_setr_ps(o.y, o.y, o.y, 0.0f));
-    const __m128 z = _mm_sub_ps(_mm_setr_ps(w[0].z, w[1].z, w[2].z, faceN.z), _mm_setr_ps(o.z, o.z, o.z, 0.0f));
-    const auto row = [&](const Vec3& c) {
-        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(c.x), x), _mm_mul_ps(_mm_set1_ps(c.y), y)), _mm_mul_ps(_mm_set1_ps(c.z), z));
+    // Three points and the normal a lane each, the matrix and the position
+    // as prepare left them in lanes (p.frameLanes: r and o).
+    const float(*lanes)[4] = p.frameLanes;
+    const __m128 x = _mm_sub_ps(_mm_setr_ps(w[0].x, w[1].x, w[2].x, faceN.x), _mm_load_ps(lanes[9]));
+    const __m128 y = _mm_sub_ps(_mm_setr_ps(w[0].y, w[1].y, w[2].y, faceN.y), _mm_load_ps(lanes[10]));
+    const __m128 z = _mm_sub_ps(_mm_setr_ps(w[0].z, w[1].z, w[2].z, faceN.z), _mm_load_ps(lanes[11]));
+    // Row k of R^T: column k's x, y and z entries times the lanes' x, y and z.
+    const auto row = [&](std::size_t k) {
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_load_ps(lanes[3 * k]), x), _mm_mul_ps(_mm_load_ps(lanes[3 * k + 1]), y)),
+                          _mm_mul_ps(_mm_load_ps(lanes[3 * k + 2]), z));
     };
     alignas(16) float ox[4], oy[4], oz[4];
-    _mm_store_ps(ox, row(r.c0));
-    _mm_store_ps(oy, row(r.c1));
-    _mm_store_ps(oz, row(r.c2));
+    _mm_store_ps(ox, row(0));
+    _mm_store_ps(oy, row(1));
+    _mm_store_ps(oz, row(2));
     for (std::size_t i = 0; i < 3; ++i) v[i] = {ox[i], oy[i], oz[i]};
     n = {ox[3], oy[3], oz[3]};
 #else
+    const Mat3& r = p.rotation;
+    const Vec3& o = p.shape->xf.p;
     for (std::size_t i = 0; i < 3; ++i) v[i] = transposeMul(r, w[i] - o);
     n = transposeMul(r, faceN);
 #endif
@@ -778,48 +795,101 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         // points out of the triangle's edge. As mid = -(t x (a x c)) / (ca -
         // cc) and t . n = 0, mid . s = -(t . t) ((a x c) . n) / (ca - cc),
         // so the second sign is ca ((a x c) . n) > 0: one dot per edge
-        // instead of mid per pair (Box3D's test). The pairs both signs pass
-        // run edgePairAxis as the scalar loop does (the exact mid . s test
-        // too), in its order: edge-major, the triangle's edges within.
-        static constexpr std::uint16_t kSpread[16] = {0x000, 0x001, 0x008, 0x009, 0x040, 0x041, 0x048, 0x049,
-                                                      0x200, 0x201, 0x208, 0x209, 0x240, 0x241, 0x248, 0x249};
-        const __m128 zero = _mm_setzero_ps();
-        const __m128 nx = _mm_set1_ps(n.x), ny = _mm_set1_ps(n.y), nz = _mm_set1_ps(n.z);
-        __m128 tx[3], ty[3], tz[3];
-        for (std::uint32_t j = 0; j < 3; ++j) {
-            tx[j] = _mm_set1_ps(t[j].x);
-            ty[j] = _mm_set1_ps(t[j].y);
-            tz[j] = _mm_set1_ps(t[j].z);
-        }
-        alignas(16) float caLanes[3][4], ccLanes[3][4];
-        for (std::uint32_t g = 0; g < p.edgeLaneGroups; ++g) {
-            const float(*lanes)[4] = p.edgeLanes[g].v;
-            const __m128 ax = _mm_load_ps(lanes[0]), ay = _mm_load_ps(lanes[1]), az = _mm_load_ps(lanes[2]);
-            const __m128 cx = _mm_load_ps(lanes[3]), cy = _mm_load_ps(lanes[4]), cz = _mm_load_ps(lanes[5]);
-            const __m128 en = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_load_ps(lanes[6]), nx), _mm_mul_ps(_mm_load_ps(lanes[7]), ny)),
-                                         _mm_mul_ps(_mm_load_ps(lanes[8]), nz));
-            unsigned pairs = 0;
+        // instead of mid per pair (Box3D's test). Where a triangle edge has
+        // pairs both signs pass, edgePairAxis's further tests (not too near
+        // parallel, the exact mid . s) and its axis -mid / |mid| run in the
+        // lanes too, by its operations in its order (each product, sum,
+        // quotient and square root rounded as the scalar one is: the same
+        // bits); the pairs every test passes are then taken in the scalar
+        // loop's order, edge-major, the triangle's edges within, each
+        // separation one dot. (One pair at a time, edgePairAxis and the
+        // separation cost about 115 instructions a pair, some 2.3 pairs a
+        // group on trees100(10): the largest share of the test; branch
+        // trees12.) The pair-at-a-time form (TrianglePolytope::
+        // edgePairsInLanes false) is a separate instance, chosen once per
+        // test, kept for the tests to compare against. True when an edge
+        // pair separates the two by more than the margin.
+        const auto laneEdgeStage = [&]<bool kPairsInLanes>() {
+            static constexpr std::uint16_t kSpread[16] = {0x000, 0x001, 0x008, 0x009, 0x040, 0x041, 0x048, 0x049,
+                                                          0x200, 0x201, 0x208, 0x209, 0x240, 0x241, 0x248, 0x249};
+            const __m128 zero = _mm_setzero_ps();
+            const __m128 signBit = _mm_set1_ps(-0.0f);
+            const __m128 nx = _mm_set1_ps(n.x), ny = _mm_set1_ps(n.y), nz = _mm_set1_ps(n.z);
+            __m128 tx[3], ty[3], tz[3], sx[3], sy[3], sz[3], parallel[3];
             for (std::uint32_t j = 0; j < 3; ++j) {
-                const __m128 ca = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, tx[j]), _mm_mul_ps(ay, ty[j])), _mm_mul_ps(az, tz[j]));
-                const __m128 cc = _mm_add_ps(_mm_add_ps(_mm_mul_ps(cx, tx[j]), _mm_mul_ps(cy, ty[j])), _mm_mul_ps(cz, tz[j]));
-                _mm_store_ps(caLanes[j], ca);
-                _mm_store_ps(ccLanes[j], cc);
-                const __m128 pass = _mm_and_ps(_mm_cmplt_ps(_mm_mul_ps(ca, cc), zero), _mm_cmpgt_ps(_mm_mul_ps(ca, en), zero));
-                pairs |= unsigned(kSpread[_mm_movemask_ps(pass)]) << j;
+                tx[j] = _mm_set1_ps(t[j].x);
+                ty[j] = _mm_set1_ps(t[j].y);
+                tz[j] = _mm_set1_ps(t[j].z);
+                sx[j] = _mm_set1_ps(side[j].x);
+                sy[j] = _mm_set1_ps(side[j].y);
+                sz[j] = _mm_set1_ps(side[j].z);
+                parallel[j] = _mm_set1_ps(kParallelSine * kParallelSine * tt[j]);
             }
-            while (pairs != 0) {
-                const unsigned bit = static_cast<unsigned>(std::countr_zero(pairs));
-                pairs &= pairs - 1;
-                const std::uint32_t i = (bit * 11u) >> 5, j = bit - 3 * i, e = 4 * g + i;  // bit = 3 i + j, i < 4
-                const PolytopeEdge& edge = p.edges[e];
-                Vec3 axis;
-                if (!edgePairAxis(p.faces[edge.faces[0]].normal, p.faces[edge.faces[1]].normal, caLanes[j][i], ccLanes[j][i],
-                                  side[j], tt[j], axis)) {
-                    continue;
+            // Per triangle edge j and lane: the pair's axis.
+            alignas(16) float axisLanes[3][3][4];
+            // The signs' ca and cc, when the pairs run edgePairAxis one at a time.
+            alignas(16) float caLanes[3][4], ccLanes[3][4];
+            for (std::uint32_t g = 0; g < p.edgeLaneGroups; ++g) {
+                const float(*lanes)[4] = p.edgeLanes[g].v;
+                const __m128 ax = _mm_load_ps(lanes[0]), ay = _mm_load_ps(lanes[1]), az = _mm_load_ps(lanes[2]);
+                const __m128 cx = _mm_load_ps(lanes[3]), cy = _mm_load_ps(lanes[4]), cz = _mm_load_ps(lanes[5]);
+                const __m128 en = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_load_ps(lanes[6]), nx), _mm_mul_ps(_mm_load_ps(lanes[7]), ny)),
+                                             _mm_mul_ps(_mm_load_ps(lanes[8]), nz));
+                unsigned pairs = 0;
+                for (std::uint32_t j = 0; j < 3; ++j) {
+                    const __m128 ca = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, tx[j]), _mm_mul_ps(ay, ty[j])), _mm_mul_ps(az, tz[j]));
+                    const __m128 cc = _mm_add_ps(_mm_add_ps(_mm_mul_ps(cx, tx[j]), _mm_mul_ps(cy, ty[j])), _mm_mul_ps(cz, tz[j]));
+                    __m128 pass = _mm_and_ps(_mm_cmplt_ps(_mm_mul_ps(ca, cc), zero), _mm_cmpgt_ps(_mm_mul_ps(ca, en), zero));
+                    if (_mm_movemask_ps(pass) == 0) continue;
+                    if constexpr (!kPairsInLanes) {
+                        _mm_store_ps(caLanes[j], ca);
+                        _mm_store_ps(ccLanes[j], cc);
+                        pairs |= unsigned(kSpread[_mm_movemask_ps(pass)]) << j;
+                        continue;
+                    }
+                    // edgePairAxis: not parallel (!(max(ca ca, cc cc) < k^2 tt)),
+                    // mid = a + (c - a) (ca / (ca - cc)), mid . s < 0, axis
+                    // -mid / |mid| (zero when |mid| is not positive); the lanes
+                    // that fail are never read. (max_ps and std::max part only
+                    // on a NaN, whose lane the signs already failed.)
+                    pass = _mm_and_ps(pass, _mm_cmpnlt_ps(_mm_max_ps(_mm_mul_ps(ca, ca), _mm_mul_ps(cc, cc)), parallel[j]));
+                    const __m128 u = _mm_div_ps(ca, _mm_sub_ps(ca, cc));
+                    const __m128 mx = _mm_add_ps(ax, _mm_mul_ps(_mm_sub_ps(cx, ax), u));
+                    const __m128 my = _mm_add_ps(ay, _mm_mul_ps(_mm_sub_ps(cy, ay), u));
+                    const __m128 mz = _mm_add_ps(az, _mm_mul_ps(_mm_sub_ps(cz, az), u));
+                    const __m128 ms = _mm_add_ps(_mm_add_ps(_mm_mul_ps(mx, sx[j]), _mm_mul_ps(my, sy[j])), _mm_mul_ps(mz, sz[j]));
+                    pass = _mm_and_ps(pass, _mm_cmplt_ps(ms, zero));
+                    pairs |= unsigned(kSpread[_mm_movemask_ps(pass)]) << j;
+                    const __m128 length = _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(mx, mx), _mm_mul_ps(my, my)), _mm_mul_ps(mz, mz)));
+                    const __m128 positive = _mm_cmpgt_ps(length, zero);
+                    const __m128 axisX = _mm_xor_ps(_mm_and_ps(_mm_div_ps(mx, length), positive), signBit);
+                    const __m128 axisY = _mm_xor_ps(_mm_and_ps(_mm_div_ps(my, length), positive), signBit);
+                    const __m128 axisZ = _mm_xor_ps(_mm_and_ps(_mm_div_ps(mz, length), positive), signBit);
+                    _mm_store_ps(axisLanes[j][0], axisX);
+                    _mm_store_ps(axisLanes[j][1], axisY);
+                    _mm_store_ps(axisLanes[j][2], axisZ);
                 }
-                if (separatedByEdgeAxis(e, j, axis)) return false;
+                while (pairs != 0) {
+                    const unsigned bit = static_cast<unsigned>(std::countr_zero(pairs));
+                    pairs &= pairs - 1;
+                    const std::uint32_t i = (bit * 11u) >> 5, j = bit - 3 * i, e = 4 * g + i;  // bit = 3 i + j, i < 4
+                    if constexpr (kPairsInLanes) {
+                        const Vec3 axis{axisLanes[j][0][i], axisLanes[j][1][i], axisLanes[j][2][i]};
+                        if (separatedByEdgeAxis(e, j, axis)) return true;
+                        continue;
+                    }
+                    const PolytopeEdge& edge = p.edges[e];
+                    Vec3 axis;
+                    if (!edgePairAxis(p.faces[edge.faces[0]].normal, p.faces[edge.faces[1]].normal, caLanes[j][i], ccLanes[j][i],
+                                      side[j], tt[j], axis)) {
+                        continue;
+                    }
+                    if (separatedByEdgeAxis(e, j, axis)) return true;
+                }
             }
-        }
+            return false;
+        };
+        if (p.edgePairsInLanes ? laneEdgeStage.template operator()<true>() : laneEdgeStage.template operator()<false>()) return false;
     } else
 #endif
     {

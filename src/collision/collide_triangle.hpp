@@ -37,6 +37,14 @@ public:
     // shape's frame and its contact back by it (cheaper than the quaternion
     // per point; docs/narrow-phase.md, "Box and hull against a triangle").
     Mat3 rotation;
+    // The same matrix and the shape's position as toPieceFrame's four SSE
+    // lanes take them (the float build with SSE2; unset otherwise): rows 0-8
+    // each entry of the rotation (c0.x, c0.y, c0.z, c1.x, ..., c2.z) in all
+    // four lanes, rows 9-11 a coordinate of the position in the three point
+    // lanes and zero in the normal's. Set once per prepare, where each
+    // triangle broadcast them again (about 28 of toPieceFrame's 106
+    // instructions; branch trees12).
+    alignas(16) float frameLanes[12][4];
     const Vec3* vertices = nullptr;
     std::uint32_t vertexCount = 0;
     const HullFace* faces = nullptr;
@@ -52,8 +60,16 @@ public:
     static constexpr std::uint32_t kMaxLaneEdges = 64;
     const PolytopeEdgeLanes* edgeLanes = nullptr;
     std::uint32_t edgeLaneGroups = 0;
+    // With the lanes: the pairs the signs pass take edgePairAxis's further
+    // tests and their axes in lanes too (true), or one pair at a time by
+    // edgePairAxis (false: the path before, the same bits, kept as the
+    // lanes' reference in tests/collision/triangle_sat_test.cpp).
+    bool edgePairsInLanes = true;
 
 private:
+    // shape, rotation and frameLanes for b.
+    void setFrame(const ConvexShape& b);
+
     std::array<Vec3, 8> boxVertices_;
     std::array<HullFace, 6> boxFaces_;
 };

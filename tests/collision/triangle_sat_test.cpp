@@ -671,6 +671,13 @@ TEST(TriangleSat, PieceFrameIsTheInverseTransformToRounding) {
         }
         reference(xf.q, faceN, Vec3{}, ref);
         ASSERT_TRUE(within(n, ref, 1.0)) << "trial " << trial;
+        // The lanes (the float build's, their matrix and position taken in
+        // prepare) are the scalar dots of R^T (w - p), bit for bit.
+        const auto sameBits = [](const Vec3& x, const Vec3& y) { return std::memcmp(&x, &y, sizeof(Vec3)) == 0; };
+        for (int i = 0; i < 3; ++i) {
+            ASSERT_TRUE(sameBits(v[i], transposeMul(polytope.rotation, w[i] - xf.p))) << "trial " << trial << " point " << i;
+        }
+        ASSERT_TRUE(sameBits(n, transposeMul(polytope.rotation, faceN))) << "trial " << trial;
         ++compared;
     }
     EXPECT_EQ(compared, 20000);
@@ -1040,4 +1047,78 @@ TEST(TriangleSat, EdgeLanesGiveTheScalarLoopsContact) {
     EXPECT_LE(differing, compared / 1000);
     std::printf("compared %d, hits %d (edge pairs %d, faces %d), differing %d\n", compared, hits, edgeContacts, faceContacts,
                 differing);
+}
+
+// The edge pairs the lanes' signs pass take edgePairAxis's tests, axis and
+// separation in lanes too (TrianglePolytope::edgePairsInLanes, branch
+// trees12): the same operations in the same order, so the same answer as one
+// pair at a time. Over random poses of boxes and hulls against triangles
+// (faces, edge pairs, near-parallel edges, slivers), with the pair's hint and
+// triangle axis cache entry: the same hit, manifold, hint and entry, bit for
+// bit, every time.
+TEST(TriangleSat, EdgePairsInLanesArePairAtATimeBitForBit) {
+    std::mt19937 rng(1207);
+    std::uniform_real_distribution<Real> unit(-1, 1), size(0.05f, 2.5f), height(-0.4f, 1.2f);
+    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), Shape::box({1.5f, 0.1f, 0.8f}), cubeHull(0.5f),
+                                 hexPrism(0.35f, 1.2f), hexPrism(0.75f, 1.5f), pyramid(0.5f, 0.8f)};
+    for (int i = 0; i < 5; ++i) shapes.push_back(rock(rng));
+    detail::PolytopeEdgeCache cache;
+    const auto sameBits = [](const auto& x, const auto& y) { return std::memcmp(&x, &y, sizeof(x)) == 0; };
+    int compared = 0, hits = 0, edgeContacts = 0, edgeRejections = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
+        const Real r = size(rng);
+        Vec3 w[3];
+        randomTriangle(rng, r, w);
+        if (trial % 5 == 0) {
+            // A sliver: the third vertex near the line of the other two.
+            w[2] = w[0] + (w[1] - w[0]) * (unit(rng) * Real(1.5)) + Vec3{unit(rng), unit(rng), unit(rng)} * (r * Real(1e-3));
+        } else if (trial % 7 == 0) {
+            // A box or prism face's edge parallel to the triangle's: axis-aligned edges.
+            w[1] = w[0] + Vec3{r, 0, 0};
+        }
+        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
+        if (!(lengthSquared(nRaw) > Real(1e-14))) continue;
+        const Vec3 faceN = normalize(nRaw);
+        if (!(lengthSquared(faceN) > Real(0.5))) continue;
+        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
+        const Vec3 onTri = w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * Real(0.4);
+        const Quat q = trial % 11 == 0 ? Quat{} : test::randomRotation(rng);
+        detail::ConvexShape b = detail::makeConvexCore(shape, {onTri, q});
+        Real lo, hi;
+        b.extent(faceN, lo, hi);
+        b.xf.p += faceN * (dot(faceN, onTri) - lo + height(rng) * (hi - lo) * Real(0.25));
+        detail::TrianglePolytope lanes, oneAtATime;
+        ASSERT_TRUE(lanes.prepare(b, cache));
+        ASSERT_TRUE(oneAtATime.prepare(b, cache));
+#if (defined(__SSE2__) || defined(_M_X64)) && !FULCRUM_DOUBLE
+        ASSERT_GT(lanes.edgeLaneGroups, 0u);
+#endif
+        oneAtATime.edgePairsInLanes = false;
+        Manifold ml, ms;
+        std::uint32_t hintL = 0, hintS = 0;
+        detail::TriangleAxisEntry entryL{}, entryS{};
+        const bool hl = detail::collideTrianglePolytope(w, faceN, lanes, kMargin, ml, &hintL, &entryL);
+        const bool hs = detail::collideTrianglePolytope(w, faceN, oneAtATime, kMargin, ms, &hintS, &entryS);
+        ++compared;
+        ASSERT_EQ(hl, hs) << "trial " << trial;
+        ASSERT_EQ(hintL, hintS) << "trial " << trial;
+        ASSERT_TRUE(entryL.axis == entryS.axis && sameBits(entryL.separation, entryS.separation)) << "trial " << trial;
+        if ((hintS & ~detail::kAxisHintIndex) == detail::kEdgeAxisHint) ++edgeRejections;
+        if (!hs) continue;
+        ++hits;
+        if (ms.pointCount == 1 && (ms.points[0].featureId & 0xFFC00000u) == 0x80400000u) ++edgeContacts;
+        ASSERT_TRUE(sameBits(ml.normal, ms.normal)) << "trial " << trial;
+        ASSERT_EQ(ml.pointCount, ms.pointCount) << "trial " << trial;
+        for (std::uint32_t k = 0; k < ml.pointCount; ++k) {
+            ASSERT_TRUE(sameBits(ml.points[k].position, ms.points[k].position) && sameBits(ml.points[k].depth, ms.points[k].depth) &&
+                        ml.points[k].featureId == ms.points[k].featureId)
+                << "trial " << trial << " point " << k;
+        }
+    }
+    EXPECT_GT(compared, 15000);
+    EXPECT_GT(hits, 3000);
+    EXPECT_GT(edgeContacts, 500);
+    EXPECT_GT(edgeRejections, 500);
+    std::printf("compared %d, hits %d (edge pairs %d), rejected by an edge pair %d\n", compared, hits, edgeContacts, edgeRejections);
 }
