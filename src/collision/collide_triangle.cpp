@@ -685,13 +685,6 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
     // In the polytope's frame: its vertices and face planes as stored.
     Vec3 v[3], n;
     toPieceFrame(p, w, faceN, v, n);
-    // The axis that rejected the pair last time, first: a piece resting or
-    // rolling slowly beside a triangle is still beyond the margin along it.
-    std::uint32_t unusedHint = 0;
-    std::uint32_t& hint = axisHint != nullptr ? *axisHint : unusedHint;
-    if (hint != 0 && hintSeparates(hint, p, v, n, margin)) return false;
-    hint = 0;
-
     Choice ch;
     // The contact's cached axis (TriangleAxisCache, manifold.hpp): the axis
     // the full test chose when it last ran for this pair, taken again alone
@@ -716,6 +709,22 @@ bool collideTrianglePolytope(const Vec3 w[3], const Vec3& faceN, const TriangleP
         ch = Choice{};
     }
     if (cached != nullptr) cached->axis = 0;
+
+    // The axis that rejected the pair last time: a piece resting or rolling
+    // slowly beside a triangle is still beyond the margin along it. It comes
+    // after the contact's cached axis, never before: the hint table is a
+    // worker's (SeparatingAxisCache), shared by every piece of the same hull
+    // over the triangle, so what it holds depends on which contacts the
+    // worker collided before. Tried first, a hint that rejected the pair
+    // kept the contact's cached axis alive where the cached axis alone would
+    // have given a point or been dropped, and the result followed the
+    // thread count (two copies of one world at three threads parted, about
+    // one run in thirty). Here its rejection is the full test's own answer,
+    // the cached axis already cleared as the full test clears it.
+    std::uint32_t unusedHint = 0;
+    std::uint32_t& hint = axisHint != nullptr ? *axisHint : unusedHint;
+    if (hint != 0 && hintSeparates(hint, p, v, n, margin)) return false;
+    hint = 0;
 
     // The triangle's normal, both ways: one pass over the vertices.
     const Real plane = dot(n, v[0]);

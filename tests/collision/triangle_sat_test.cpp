@@ -616,6 +616,97 @@ TEST(TriangleSat, CachedAxisGivesTheFullTestsContactWhileItStaysTheBest) {
                 codes[3], codes[1], codes[2]);
 }
 
+// The hint and the contact's cached axis together, as the mesh path calls
+// them: the hint table is a worker's, shared by every piece of one hull
+// over a triangle, so it may hold any axis when a contact's cached axis is
+// live. Whatever hint is given (none, each face and edge pair of the
+// polytope, past the end), the answer and the entry left behind are the
+// ones without a hint, bit for bit. Tried before the cached axis, a hint
+// that separated the pair kept a stale entry alive where the cached axis
+// alone gave a point or was dropped, and two copies of one world at three
+// threads parted (ManifoldBits, about one run in thirty).
+TEST(TriangleSat, HintsChangeNeitherTheAnswerNorTheCachedAxis) {
+    std::mt19937 rng(2129);
+    std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.5f, 2.0f);
+    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
+    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    const auto sameBits = [](bool hitA, const Manifold& a, bool hitB, const Manifold& b) {
+        if (hitA != hitB) return false;
+        if (!hitA) return true;
+        if (!(a.normal == b.normal) || a.pointCount != b.pointCount) return false;
+        for (std::uint32_t k = 0; k < a.pointCount; ++k) {
+            if (!(a.points[k].position == b.points[k].position) || a.points[k].depth != b.points[k].depth ||
+                a.points[k].featureId != b.points[k].featureId) {
+                return false;
+            }
+        }
+        return true;
+    };
+    int liveAndSeparating = 0, calls = 0;
+    for (int trial = 0; trial < 1000; ++trial) {
+        const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
+        const Real r = size(rng);
+        Vec3 w[3];
+        randomTriangle(rng, r, w);
+        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
+        if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
+        const Vec3 faceN = normalize(nRaw);
+        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
+        Transform xf{w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * (Real(0.5) * r),
+                     test::randomRotation(rng)};
+        {
+            detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+            Real lo, hi;
+            b.extent(faceN, lo, hi);
+            xf.p += faceN * (dot(faceN, w[0]) - lo + height(rng) * kMargin);
+        }
+        detail::TriangleAxisEntry entry;
+        for (int step = 0; step < 30; ++step) {
+            // Drifting, and now and then moving away faster than the
+            // cached axis's tolerance or along it: the entry then outlives
+            // the contact it came from.
+            const Real stride = step % 7 == 6 ? Real(0.02) : Real(0.002);
+            xf.p += Vec3{unit(rng), unit(rng), unit(rng)} * stride + faceN * (stride * std::fabs(unit(rng)));
+            xf.q = normalize(xf.q * Quat(1, unit(rng) * Real(0.003), unit(rng) * Real(0.003), unit(rng) * Real(0.003)));
+            const detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+            std::vector<detail::PolytopeEdge> edges;
+            detail::TrianglePolytope polytope;
+            ASSERT_TRUE(polytope.prepare(b, edges));
+            // Without a hint: the reference, and the entry the contact keeps.
+            detail::TriangleAxisEntry plain = entry;
+            Manifold reference;
+            const bool hit = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, reference, nullptr, &plain);
+            std::vector<std::uint32_t> hints = {detail::kFaceAxisHint | 999u, detail::kEdgeAxisHint | 9999u};
+            for (std::uint32_t f = 0; f < polytope.faceCount; ++f) hints.push_back(detail::kFaceAxisHint | f);
+            for (std::uint32_t e = 0; e < 3 * polytope.edgeCount; ++e) hints.push_back(detail::kEdgeAxisHint | e);
+            for (const std::uint32_t given : hints) {
+                detail::TriangleAxisEntry withHint = entry;
+                std::uint32_t hint = given;
+                Manifold m;
+                const bool hinted = detail::collideTrianglePolytope(w, faceN, polytope, kMargin, m, &hint, &withHint);
+                ++calls;
+                // A hint that still separates the pair: the case where the
+                // order of the two caches matters, counted when the entry
+                // was live.
+                std::uint32_t probe = given;
+                Manifold unused;
+                if (entry.axis != 0 && !detail::collideTrianglePolytope(w, faceN, polytope, kMargin, unused, &probe) &&
+                    probe == given) {
+                    ++liveAndSeparating;
+                }
+                ASSERT_TRUE(sameBits(hit, reference, hinted, m)) << "trial " << trial << " step " << step << " hint " << given;
+                ASSERT_EQ(withHint.axis, plain.axis) << "trial " << trial << " step " << step << " hint " << given;
+                if (plain.axis != 0) {
+                    ASSERT_EQ(withHint.separation, plain.separation) << "trial " << trial << " step " << step;
+                }
+            }
+            entry = plain;
+        }
+    }
+    EXPECT_GT(calls, 100000);
+    EXPECT_GT(liveAndSeparating, 50);  // hints that separate while the contact's cached axis is live
+}
+
 // The triangle test takes the triangle into the polytope's frame by the
 // shape's rotation matrix, taken once per pair (toPieceFrame, branch
 // trees11; the quaternion per point before): each point and the normal
