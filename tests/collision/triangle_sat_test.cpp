@@ -92,6 +92,36 @@ void randomTriangle(std::mt19937& rng, Real r, Vec3 w[3]) {
 // A large counter-clockwise triangle in y = 0 around the origin.
 const Vec3 kGround[3] = {{-5, 0, -5}, {0, 0, 5}, {5, 0, -5}};
 
+// A random triangle and a piece of `shape` near it, for the edge lanes'
+// tests: every fifth trial a sliver (the third vertex near the line of the
+// other two), every seventh an axis-aligned edge (parallel to a box or
+// prism face's), every eleventh the piece unturned; the piece over or
+// beside the triangle, its lowest point from a little under the triangle's
+// plane to well above it. False when the triangle has no normal.
+bool pieceBesideEdgeCaseTriangle(std::mt19937& rng, const Shape& shape, int trial, Vec3 w[3], Vec3& faceN,
+                                 detail::ConvexShape& b) {
+    std::uniform_real_distribution<Real> unit(-1, 1), size(0.05f, 2.5f), height(-0.4f, 1.2f);
+    const Real r = size(rng);
+    randomTriangle(rng, r, w);
+    if (trial % 5 == 0) {
+        w[2] = w[0] + (w[1] - w[0]) * (unit(rng) * Real(1.5)) + Vec3{unit(rng), unit(rng), unit(rng)} * (r * Real(1e-3));
+    } else if (trial % 7 == 0) {
+        w[1] = w[0] + Vec3{r, 0, 0};
+    }
+    const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
+    if (!(lengthSquared(nRaw) > Real(1e-14))) return false;
+    faceN = normalize(nRaw);
+    if (!(lengthSquared(faceN) > Real(0.5))) return false;
+    const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
+    const Vec3 onTri = w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * Real(0.4);
+    const Quat q = trial % 11 == 0 ? Quat{} : test::randomRotation(rng);
+    b = detail::makeConvexCore(shape, {onTri, q});
+    Real lo, hi;
+    b.extent(faceN, lo, hi);
+    b.xf.p += faceN * (dot(faceN, onTri) - lo + height(rng) * (hi - lo) * Real(0.25));
+    return true;
+}
+
 }  // namespace
 
 TEST(TriangleSat, BoxRestingOnTheFaceGetsFourCornersAtItsDepth) {
@@ -1067,7 +1097,6 @@ TEST(TriangleSat, LowestVertexGivesTheSupportSearchsFace) {
 // pose in a thousand.
 TEST(TriangleSat, EdgeLanesGiveTheScalarLoopsContact) {
     std::mt19937 rng(2131);
-    std::uniform_real_distribution<Real> unit(-1, 1), size(0.05f, 2.5f), height(-0.4f, 1.2f);
     std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), Shape::box({1.5f, 0.1f, 0.8f}), cubeHull(0.5f),
                                  hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
     for (int i = 0; i < 5; ++i) shapes.push_back(rock(rng));
@@ -1075,28 +1104,10 @@ TEST(TriangleSat, EdgeLanesGiveTheScalarLoopsContact) {
     int compared = 0, hits = 0, edgeContacts = 0, faceContacts = 0, slivers = 0, differing = 0;
     for (int trial = 0; trial < 20000; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
-        const Real r = size(rng);
-        Vec3 w[3];
-        randomTriangle(rng, r, w);
-        if (trial % 5 == 0) {
-            // A sliver: the third vertex near the line of the other two.
-            w[2] = w[0] + (w[1] - w[0]) * (unit(rng) * Real(1.5)) + Vec3{unit(rng), unit(rng), unit(rng)} * (r * Real(1e-3));
-            ++slivers;
-        } else if (trial % 7 == 0) {
-            // A box or prism face's edge parallel to the triangle's: axis-aligned edges.
-            w[1] = w[0] + Vec3{r, 0, 0};
-        }
-        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
-        if (!(lengthSquared(nRaw) > Real(1e-14))) continue;
-        const Vec3 faceN = normalize(nRaw);
-        if (!(lengthSquared(faceN) > Real(0.5))) continue;
-        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
-        const Vec3 onTri = w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * Real(0.4);
-        const Quat q = trial % 11 == 0 ? Quat{} : test::randomRotation(rng);
-        detail::ConvexShape b = detail::makeConvexCore(shape, {onTri, q});
-        Real lo, hi;
-        b.extent(faceN, lo, hi);
-        b.xf.p += faceN * (dot(faceN, onTri) - lo + height(rng) * (hi - lo) * Real(0.25));
+        Vec3 w[3], faceN;
+        detail::ConvexShape b;
+        if (!pieceBesideEdgeCaseTriangle(rng, shape, trial, w, faceN, b)) continue;
+        slivers += trial % 5 == 0 ? 1 : 0;
         detail::TrianglePolytope lanes, scalar;
         ASSERT_TRUE(lanes.prepare(b, cache));
         ASSERT_TRUE(scalar.prepare(b, cache));
@@ -1149,7 +1160,6 @@ TEST(TriangleSat, EdgeLanesGiveTheScalarLoopsContact) {
 // bit, every time.
 TEST(TriangleSat, EdgePairsInLanesArePairAtATimeBitForBit) {
     std::mt19937 rng(1207);
-    std::uniform_real_distribution<Real> unit(-1, 1), size(0.05f, 2.5f), height(-0.4f, 1.2f);
     std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), Shape::box({1.5f, 0.1f, 0.8f}), cubeHull(0.5f),
                                  hexPrism(0.35f, 1.2f), hexPrism(0.75f, 1.5f), pyramid(0.5f, 0.8f)};
     for (int i = 0; i < 5; ++i) shapes.push_back(rock(rng));
@@ -1158,27 +1168,9 @@ TEST(TriangleSat, EdgePairsInLanesArePairAtATimeBitForBit) {
     int compared = 0, hits = 0, edgeContacts = 0, edgeRejections = 0;
     for (int trial = 0; trial < 20000; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
-        const Real r = size(rng);
-        Vec3 w[3];
-        randomTriangle(rng, r, w);
-        if (trial % 5 == 0) {
-            // A sliver: the third vertex near the line of the other two.
-            w[2] = w[0] + (w[1] - w[0]) * (unit(rng) * Real(1.5)) + Vec3{unit(rng), unit(rng), unit(rng)} * (r * Real(1e-3));
-        } else if (trial % 7 == 0) {
-            // A box or prism face's edge parallel to the triangle's: axis-aligned edges.
-            w[1] = w[0] + Vec3{r, 0, 0};
-        }
-        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
-        if (!(lengthSquared(nRaw) > Real(1e-14))) continue;
-        const Vec3 faceN = normalize(nRaw);
-        if (!(lengthSquared(faceN) > Real(0.5))) continue;
-        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
-        const Vec3 onTri = w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * Real(0.4);
-        const Quat q = trial % 11 == 0 ? Quat{} : test::randomRotation(rng);
-        detail::ConvexShape b = detail::makeConvexCore(shape, {onTri, q});
-        Real lo, hi;
-        b.extent(faceN, lo, hi);
-        b.xf.p += faceN * (dot(faceN, onTri) - lo + height(rng) * (hi - lo) * Real(0.25));
+        Vec3 w[3], faceN;
+        detail::ConvexShape b;
+        if (!pieceBesideEdgeCaseTriangle(rng, shape, trial, w, faceN, b)) continue;
         detail::TrianglePolytope lanes, oneAtATime;
         ASSERT_TRUE(lanes.prepare(b, cache));
         ASSERT_TRUE(oneAtATime.prepare(b, cache));
