@@ -122,6 +122,36 @@ bool pieceBesideEdgeCaseTriangle(std::mt19937& rng, const Shape& shape, int tria
     return true;
 }
 
+// A box, three hulls and four rocks (the rocks drawn from `rng`).
+std::vector<Shape> boxHullsAndRocks(std::mt19937& rng) {
+    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
+    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    return shapes;
+}
+
+// For the cached-axis tests: a random triangle of size 0.5-2.5 and a pose
+// of `shape` over it, moved sideways by up to `sideways` times the size and
+// lifted so that its lowest point is `lift` margins above the triangle's
+// plane (lift drawn from [liftLo, liftHi)). False when the triangle is too
+// thin for a steady normal.
+bool poseOverTriangle(std::mt19937& rng, const Shape& shape, Real sideways, Real liftLo, Real liftHi, Vec3 w[3], Vec3& faceN,
+                      Transform& xf) {
+    std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), lift(liftLo, liftHi);
+    const Real r = size(rng);
+    randomTriangle(rng, r, w);
+    const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
+    if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) return false;
+    faceN = normalize(nRaw);
+    const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
+    xf = Transform{w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * (sideways * r),
+                   test::randomRotation(rng)};
+    const detail::ConvexShape b = detail::makeConvexCore(shape, xf);
+    Real lo, hi;
+    b.extent(faceN, lo, hi);
+    xf.p += faceN * (dot(faceN, w[0]) - lo + lift(rng) * kMargin);
+    return true;
+}
+
 }  // namespace
 
 TEST(TriangleSat, BoxRestingOnTheFaceGetsFourCornersAtItsDepth) {
@@ -428,8 +458,7 @@ TEST(TriangleSat, CachedEdgeTablesAreTheTablesDerivedAgain) {
 TEST(TriangleSat, SeparatingAxisHintsGiveTheFullTestsAnswer) {
     std::mt19937 rng(2117);
     std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.2f, 1.2f);
-    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
-    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    std::vector<Shape> shapes = boxHullsAndRocks(rng);
     const auto sameAnswer = [](bool hitA, const Manifold& a, bool hitB, const Manifold& b) {
         if (hitA != hitB) return false;
         if (!hitA) return true;
@@ -562,9 +591,8 @@ TEST(TriangleSat, MeshManifoldsWithWarmHintsAreTheFreshOnes) {
 // here: the drift is the 5 mm tolerance's).
 TEST(TriangleSat, CachedAxisGivesTheFullTestsContactWhileItStaysTheBest) {
     std::mt19937 rng(2123);
-    std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.5f, 0.9f);
-    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
-    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    const std::vector<Shape> shapes = boxHullsAndRocks(rng);
     const auto near = [](bool hitA, const Manifold& a, bool hitB, const Manifold& b, Real tol) {
         if (hitA != hitB) return false;
         if (!hitA) return true;
@@ -585,21 +613,9 @@ TEST(TriangleSat, CachedAxisGivesTheFullTestsContactWhileItStaysTheBest) {
     int same = 0, kept = 0, shallower = 0, codes[4] = {0, 0, 0, 0};
     for (int trial = 0; trial < 400; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
-        const Real r = size(rng);
-        Vec3 w[3];
-        randomTriangle(rng, r, w);
-        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
-        if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
-        const Vec3 faceN = normalize(nRaw);
-        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
-        Transform xf{w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * (Real(0.3) * r),
-                     test::randomRotation(rng)};
-        {
-            detail::ConvexShape b = detail::makeConvexCore(shape, xf);
-            Real lo, hi;
-            b.extent(faceN, lo, hi);
-            xf.p += faceN * (dot(faceN, w[0]) - lo + height(rng) * kMargin);
-        }
+        Vec3 w[3], faceN;
+        Transform xf;
+        if (!poseOverTriangle(rng, shape, Real(0.3), Real(-0.5), Real(0.9), w, faceN, xf)) continue;
         detail::TriangleAxisEntry entry;
         for (int step = 0; step < 40; ++step) {
             xf.p += Vec3{unit(rng), unit(rng), unit(rng)} * Real(0.002);
@@ -657,9 +673,8 @@ TEST(TriangleSat, CachedAxisGivesTheFullTestsContactWhileItStaysTheBest) {
 // threads parted (ManifoldBits, about one run in thirty).
 TEST(TriangleSat, HintsChangeNeitherTheAnswerNorTheCachedAxis) {
     std::mt19937 rng(2129);
-    std::uniform_real_distribution<Real> unit(-1, 1), size(0.5f, 2.5f), height(-0.5f, 2.0f);
-    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
-    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    const std::vector<Shape> shapes = boxHullsAndRocks(rng);
     const auto sameBits = [](bool hitA, const Manifold& a, bool hitB, const Manifold& b) {
         if (hitA != hitB) return false;
         if (!hitA) return true;
@@ -675,21 +690,9 @@ TEST(TriangleSat, HintsChangeNeitherTheAnswerNorTheCachedAxis) {
     int liveAndSeparating = 0, calls = 0;
     for (int trial = 0; trial < 1000; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
-        const Real r = size(rng);
-        Vec3 w[3];
-        randomTriangle(rng, r, w);
-        const Vec3 nRaw = cross(w[1] - w[0], w[2] - w[0]);
-        if (lengthSquared(nRaw) < Real(0.05) * r * r * r * r) continue;
-        const Vec3 faceN = normalize(nRaw);
-        const Real a = std::fabs(unit(rng)), bb = std::fabs(unit(rng)) * (1 - a);
-        Transform xf{w[0] + (w[1] - w[0]) * a + (w[2] - w[0]) * bb + Vec3{unit(rng), 0, unit(rng)} * (Real(0.5) * r),
-                     test::randomRotation(rng)};
-        {
-            detail::ConvexShape b = detail::makeConvexCore(shape, xf);
-            Real lo, hi;
-            b.extent(faceN, lo, hi);
-            xf.p += faceN * (dot(faceN, w[0]) - lo + height(rng) * kMargin);
-        }
+        Vec3 w[3], faceN;
+        Transform xf;
+        if (!poseOverTriangle(rng, shape, Real(0.5), Real(-0.5), Real(2.0), w, faceN, xf)) continue;
         detail::TriangleAxisEntry entry;
         for (int step = 0; step < 30; ++step) {
             // Drifting, and now and then moving away faster than the
@@ -813,8 +816,7 @@ TEST(TriangleSat, PieceFrameIsTheInverseTransformToRounding) {
 TEST(TriangleSat, PieceSupportingFaceIsTheWorldFaceMovedBack) {
     std::mt19937 rng(78);
     std::uniform_real_distribution<Real> unit(-1, 1);
-    std::vector<Shape> shapes = {Shape::box({0.4f, 0.2f, 0.3f}), cubeHull(0.5f), hexPrism(0.35f, 1.2f), pyramid(0.5f, 0.8f)};
-    for (int i = 0; i < 4; ++i) shapes.push_back(rock(rng));
+    std::vector<Shape> shapes = boxHullsAndRocks(rng);
     const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (int trial = 0; trial < 20000; ++trial) {
         const Shape& shape = shapes[static_cast<std::size_t>(trial) % shapes.size()];
