@@ -160,11 +160,14 @@ Double4 sqrtOf(Double4 x) {
     const Double2 lo = _mm_sqrt_pd(Double2{x[0], x[1]}), hi = _mm_sqrt_pd(Double2{x[2], x[3]});
     return Double4{lo[0], lo[1], hi[0], hi[1]};
 }
+// anyStill: whether a lane's L is zero (lengthL2 not above 0).
 template <class V>
-bool allLanes(V lengthL2, V halfSpin, V halfAngle) {
+bool allLanes(V lengthL2, V halfSpin, V halfAngle, bool& anyStill) {
     constexpr int kLanes = static_cast<int>(sizeof(V) / sizeof(double));
+    anyStill = false;
     for (int k = 0; k < kLanes; ++k) {
         if (!(lengthL2[k] >= 0) || !(std::fabs(halfSpin[k]) <= 0.5) || !(std::fabs(halfAngle[k]) <= 0.5)) return false;
+        anyStill = anyStill || !(lengthL2[k] > 0);
     }
     return true;
 }
@@ -180,7 +183,8 @@ void keepWhereStill(const V& lengthL2, V& value, const V& kept) {
 constexpr bool kPairedDrift = false;
 #endif
 double sqrtOf(double x) { return std::sqrt(x); }
-bool allLanes(double lengthL2, double halfSpin, double halfAngle) {
+bool allLanes(double lengthL2, double halfSpin, double halfAngle, bool& anyStill) {
+    anyStill = !(lengthL2 > 0);
     return lengthL2 >= 0 && std::fabs(halfSpin) <= 0.5 && std::fabs(halfAngle) <= 0.5;
 }
 void keepWhereStill(double lengthL2, double& value, double kept) {
@@ -251,7 +255,8 @@ bool driftLanes(DriftLanes<T>& d, double hd) {
     const T halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * hd;
     const T lengthL = sqrtOf(lengthL2);
     const T halfAngle = 0.5 * lengthL / inertiaSide * hd;
-    if (!allLanes(lengthL2, halfSpin, halfAngle)) return false;
+    bool anyStill;
+    if (!allLanes(lengthL2, halfSpin, halfAngle, anyStill)) return false;
     // Spin about the body axis (right): q (cs, ss e_K).
     T cs, ss;
     seriesSinCos(halfSpin, ss, cs);
@@ -274,10 +279,14 @@ bool driftLanes(DriftLanes<T>& d, double hd) {
     d.ay = ay * cosFull + (nz * ax - nx * az) * sinFull + ny * na;
     d.az = az * cosFull + (nx * ay - ny * ax) * sinFull + nz * na;
     // L = 0: no precession. 1 / |L| made that lane's values above NaN; they
-    // are replaced by r and a, exactly driftGeneral's q' and a' there.
-    keepWhereStill(lengthL2, pw, rw), keepWhereStill(lengthL2, px, rx), keepWhereStill(lengthL2, py, ry),
-        keepWhereStill(lengthL2, pz, rz);
-    keepWhereStill(lengthL2, d.ax, ax), keepWhereStill(lengthL2, d.ay, ay), keepWhereStill(lengthL2, d.az, az);
+    // are replaced by r and a, exactly driftGeneral's q' and a' there. (Only
+    // when a lane has L = 0: the lane tests cost 0.5 % of the settled
+    // ConvexVsMesh step, where no lane has.)
+    if (anyStill) {
+        keepWhereStill(lengthL2, pw, rw), keepWhereStill(lengthL2, px, rx), keepWhereStill(lengthL2, py, ry),
+            keepWhereStill(lengthL2, pz, rz);
+        keepWhereStill(lengthL2, d.ax, ax), keepWhereStill(lengthL2, d.ay, ay), keepWhereStill(lengthL2, d.az, az);
+    }
     const T invNorm = 1.0 / sqrtOf(pw * pw + px * px + py * py + pz * pz);
     d.qw = pw * invNorm, d.qx = px * invNorm, d.qy = py * invNorm, d.qz = pz * invNorm;
     // w' = L / I_t + (1/I_a - 1/I_t)(L.a) a'.
@@ -525,7 +534,7 @@ void driftPair(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1,
 // Four bodies (see Double4 above); a lane outside the fast path sends the
 // four through driftOne alone (the same bits).
 template <int K>
-void driftQuadK(BodyStore& w, const std::uint32_t* entries, double hd) {
+[[gnu::noinline]] void driftQuadK(BodyStore& w, const std::uint32_t* entries, double hd) {
     // The four bodies' pose, velocities and constants, looked up once (the
     // calls below may write anything, so the compiler would look them up again).
     BodyPose* x[4];
