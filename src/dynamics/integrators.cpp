@@ -160,20 +160,35 @@ Double4 sqrtOf(Double4 x) {
     const Double2 lo = _mm_sqrt_pd(Double2{x[0], x[1]}), hi = _mm_sqrt_pd(Double2{x[2], x[3]});
     return Double4{lo[0], lo[1], hi[0], hi[1]};
 }
+// anyStill: whether a lane's L is zero (lengthL2 not above 0).
 template <class V>
-bool allLanes(V lengthL2, V halfSpin, V halfAngle) {
+bool allLanes(V lengthL2, V halfSpin, V halfAngle, bool& anyStill) {
     constexpr int kLanes = static_cast<int>(sizeof(V) / sizeof(double));
+    anyStill = false;
     for (int k = 0; k < kLanes; ++k) {
-        if (!(lengthL2[k] > 0) || !(std::fabs(halfSpin[k]) <= 0.5) || !(std::fabs(halfAngle[k]) <= 0.5)) return false;
+        if (!(lengthL2[k] >= 0) || !(std::fabs(halfSpin[k]) <= 0.5) || !(std::fabs(halfAngle[k]) <= 0.5)) return false;
+        anyStill = anyStill || !(lengthL2[k] > 0);
     }
     return true;
+}
+// value = kept in the lanes where L is zero (lengthL2 not above 0).
+template <class V>
+void keepWhereStill(const V& lengthL2, V& value, const V& kept) {
+    constexpr int kLanes = static_cast<int>(sizeof(V) / sizeof(double));
+    for (int k = 0; k < kLanes; ++k) {
+        if (!(lengthL2[k] > 0)) value[k] = kept[k];
+    }
 }
 #else
 constexpr bool kPairedDrift = false;
 #endif
 double sqrtOf(double x) { return std::sqrt(x); }
-bool allLanes(double lengthL2, double halfSpin, double halfAngle) {
-    return lengthL2 > 0 && std::fabs(halfSpin) <= 0.5 && std::fabs(halfAngle) <= 0.5;
+bool allLanes(double lengthL2, double halfSpin, double halfAngle, bool& anyStill) {
+    anyStill = !(lengthL2 > 0);
+    return lengthL2 >= 0 && std::fabs(halfSpin) <= 0.5 && std::fabs(halfAngle) <= 0.5;
+}
+void keepWhereStill(double lengthL2, double& value, double kept) {
+    if (!(lengthL2 > 0)) value = kept;
 }
 
 // One drift's numbers, per lane: orientation and angular velocity in, the
@@ -214,9 +229,15 @@ void spinAboutBodyAxis(const T& qw, const T& qx, const T& qy, const T& qz, const
     }
 }
 
-// The drift (see above) for bodies whose L is not zero and whose two
-// half-angles are within the series' range (every lane): false, with
-// nothing written, otherwise (driftAxisymmetric then takes the general path).
+// The drift (see above) for bodies whose two half-angles are within the
+// series' range (every lane): false, with nothing written, otherwise
+// (driftAxisymmetric then takes the general path). A lane whose L is zero (a
+// body at rest, or dropped without spin: ConvexVsMesh's 1764 bodies fall for
+// their first ~60 steps so) takes driftGeneral's branch for it: no
+// precession, the spun quaternion and the old axis kept, the same operations
+// on the same values. (Such lanes once failed the whole group, which then
+// ran every body through the scalar lanes and driftGeneral: 13 % of
+// ConvexVsMesh's first 100 steps.)
 template <int K, class T>
 bool driftLanes(DriftLanes<T>& d, double hd) {
     const T qw = d.qw, qx = d.qx, qy = d.qy, qz = d.qz;
@@ -234,7 +255,8 @@ bool driftLanes(DriftLanes<T>& d, double hd) {
     const T halfSpin = 0.5 * (wAxis - lAxis / inertiaSide) * hd;
     const T lengthL = sqrtOf(lengthL2);
     const T halfAngle = 0.5 * lengthL / inertiaSide * hd;
-    if (!allLanes(lengthL2, halfSpin, halfAngle)) return false;
+    bool anyStill;
+    if (!allLanes(lengthL2, halfSpin, halfAngle, anyStill)) return false;
     // Spin about the body axis (right): q (cs, ss e_K).
     T cs, ss;
     seriesSinCos(halfSpin, ss, cs);
@@ -246,16 +268,25 @@ bool driftLanes(DriftLanes<T>& d, double hd) {
     seriesSinCos(halfAngle, s, c);
     const T nx = lx * invL, ny = ly * invL, nz = lz * invL;
     const T sx = nx * s, sy = ny * s, sz = nz * s;
-    const T pw = c * rw - sx * rx - sy * ry - sz * rz;
-    const T px = c * rx + sx * rw + sy * rz - sz * ry;
-    const T py = c * ry - sx * rz + sy * rw + sz * rx;
-    const T pz = c * rz + sx * ry - sy * rx + sz * rw;
+    T pw = c * rw - sx * rx - sy * ry - sz * rz;
+    T px = c * rx + sx * rw + sy * rz - sz * ry;
+    T py = c * ry - sx * rz + sy * rw + sz * rx;
+    T pz = c * rz + sx * ry - sy * rx + sz * rw;
     // a' = a cos + (n x a) sin + n (n.a)(1 - cos), full angle from the half angle.
     const T oneMinusCos = 2.0 * s * s, sinFull = 2.0 * s * c, cosFull = 1.0 - oneMinusCos;
     const T na = (nx * ax + ny * ay + nz * az) * oneMinusCos;
     d.ax = ax * cosFull + (ny * az - nz * ay) * sinFull + nx * na;
     d.ay = ay * cosFull + (nz * ax - nx * az) * sinFull + ny * na;
     d.az = az * cosFull + (nx * ay - ny * ax) * sinFull + nz * na;
+    // L = 0: no precession. 1 / |L| made that lane's values above NaN; they
+    // are replaced by r and a, exactly driftGeneral's q' and a' there. (Only
+    // when a lane has L = 0: the lane tests cost 0.5 % of the settled
+    // ConvexVsMesh step, where no lane has.)
+    if (anyStill) {
+        keepWhereStill(lengthL2, pw, rw), keepWhereStill(lengthL2, px, rx), keepWhereStill(lengthL2, py, ry),
+            keepWhereStill(lengthL2, pz, rz);
+        keepWhereStill(lengthL2, d.ax, ax), keepWhereStill(lengthL2, d.ay, ay), keepWhereStill(lengthL2, d.az, az);
+    }
     const T invNorm = 1.0 / sqrtOf(pw * pw + px * px + py * py + pz * pz);
     d.qw = pw * invNorm, d.qx = px * invNorm, d.qy = py * invNorm, d.qz = pz * invNorm;
     // w' = L / I_t + (1/I_a - 1/I_t)(L.a) a'.
@@ -503,7 +534,7 @@ void driftPair(Motion m0, const BodyParams& p0, Motion m1, const BodyParams& p1,
 // Four bodies (see Double4 above); a lane outside the fast path sends the
 // four through driftOne alone (the same bits).
 template <int K>
-void driftQuadK(BodyStore& w, const std::uint32_t* entries, double hd) {
+[[gnu::noinline]] void driftQuadK(BodyStore& w, const std::uint32_t* entries, double hd) {
     // The four bodies' pose, velocities and constants, looked up once (the
     // calls below may write anything, so the compiler would look them up again).
     BodyPose* x[4];
