@@ -560,12 +560,13 @@ int main(int argc, char** argv) {
     }
     if (o.sizes) printMemorySizes();
     if (o.scenes) {
-        const std::vector<SceneSpec> suite = o.suite == "box3d"   ? box3dScenes(o.quick)
+        const std::vector<LazyScene> suite = o.suite == "box3d"   ? box3dScenes(o.quick)
                                              : o.suite == "jolt"  ? joltScenes(o.quick)
                                              : o.suite == "churn" ? churnScenes(o.quick)
                                                                   : allScenes(o.quick);
-        for (const SceneSpec& scene : suite) {
-            if (!o.only.empty() && scene.name.rfind(o.only, 0) != 0) continue;
+        for (const LazyScene& lazy : suite) {
+            if (!o.only.empty() && lazy.name.rfind(o.only, 0) != 0) continue;
+            const SceneSpec scene = lazy.build();
             std::vector<Result> results;
             for (const Factory& f : factories) {
                 const auto e = f();

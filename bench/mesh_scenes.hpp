@@ -97,10 +97,12 @@ inline std::shared_ptr<const MeshSpec> waveMesh(int columns, int rows, double ce
 
 // Box3D's trees at mesh scale 4, 2 or 1 (trees25, trees50, trees100);
 // `treeCount` 10 starts at z = -15 as Box3D's debug build.
+inline std::string treesName(int scale, int treeCount) {
+    return sizedName(("trees" + std::to_string(100 / scale)).c_str(), treeCount == 50, std::to_string(treeCount));
+}
 inline SceneSpec trees(int scale, int treeCount = 50) {
     SceneSpec s;
-    const std::string base = "trees" + std::to_string(100 / scale);
-    s.name = treeCount == 50 ? base : base + "(" + std::to_string(treeCount) + ")";
+    s.name = treesName(scale, treeCount);
     s.steps = 500;
     s.substeps = 4;
     s.sleeping = true;
@@ -143,9 +145,10 @@ inline SceneSpec trees(int scale, int treeCount = 50) {
 }
 
 // Box3D's junkyard with `layers` layers of rocks (24; 2 in its debug build).
+inline std::string junkyardName(int layers) { return sizedName("junkyard", layers == 24, std::to_string(layers)); }
 inline SceneSpec junkyard(int layers = 24) {
     SceneSpec s;
-    s.name = layers == 24 ? "junkyard" : "junkyard(" + std::to_string(layers) + ")";
+    s.name = junkyardName(layers);
     s.steps = 500;
     s.substeps = 4;
     s.sleeping = true;
@@ -192,10 +195,12 @@ inline SceneSpec junkyard(int layers = 24) {
 
 // Jolt's ConvexVsMesh with x, z from -half to half (10: 21 x 4 x 21 bodies),
 // the lowest layer at `lowest` (15).
+inline std::string convexVsMeshName(int half, double lowest) {
+    return sizedName("convex_vs_mesh", half == 10 && lowest == 15, std::to_string(2 * half + 1) + "x" + std::to_string(2 * half + 1));
+}
 inline SceneSpec convexVsMesh(int half = 10, double lowest = 15) {
     SceneSpec s;
-    s.name = half == 10 && lowest == 15 ? "convex_vs_mesh" : "convex_vs_mesh(" + std::to_string(2 * half + 1) + "x" +
-                                                                 std::to_string(2 * half + 1) + ")";
+    s.name = convexVsMeshName(half, lowest);
     s.steps = 500;
     s.sleeping = true;
     s.friction = 0.5;
@@ -272,13 +277,14 @@ inline std::optional<double> meshSurfaceHeight(const MeshSpec& mesh, V3 meshOrig
 
 // The mesh scenes of each suite (bench/box3d_scenes.hpp's box3dScenes and
 // joltScenes append them).
-inline std::vector<SceneSpec> box3dMeshScenes(bool quick) {
-    if (quick) return {trees(1, 10), junkyard(2)};
-    return {trees(4), trees(2), trees(1), junkyard()};
+inline std::vector<LazyScene> box3dMeshScenes(bool quick) {
+    if (quick) return {lazyScene<trees, treesName>(1, 10), lazyScene<junkyard, junkyardName>(2)};
+    return {lazyScene<trees, treesName>(4, 50), lazyScene<trees, treesName>(2, 50), lazyScene<trees, treesName>(1, 50),
+            lazyScene<junkyard, junkyardName>(24)};
 }
-inline std::vector<SceneSpec> joltMeshScenes(bool quick) {
-    if (quick) return {convexVsMesh(3)};
-    return {convexVsMesh()};
+inline std::vector<LazyScene> joltMeshScenes(bool quick) {
+    if (quick) return {lazyScene<convexVsMesh, convexVsMeshName>(3, 15.0)};
+    return {lazyScene<convexVsMesh, convexVsMeshName>(10, 15.0)};
 }
 
 }  // namespace bench
