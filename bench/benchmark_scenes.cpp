@@ -173,10 +173,11 @@ std::string meshQuality(const Engine& engine, const SceneSpec& scene) {
     }
     int below = 0, off = 0;
     double lowest = 1e30;
+    const MeshColumns columns(*scene.meshes[static_cast<std::size_t>(mesh)], meshOrigin);
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
         if (scene.bodies[i].isStatic || scene.bodies[i].isKinematic) continue;
         const V3 p = engine.body(i).position;
-        const std::optional<double> surface = meshSurfaceHeight(*scene.meshes[static_cast<std::size_t>(mesh)], meshOrigin, p);
+        const std::optional<double> surface = columns.surfaceHeight(p);
         if (!surface) {
             ++off;
             continue;
