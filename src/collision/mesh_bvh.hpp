@@ -55,9 +55,14 @@ struct MeshBvh {
 // heightfields set their convex-edge flags with it (mesh.cpp).
 bool isConvexEdge(const Vec3& faceNormal, const Vec3& edgeStart, const Vec3& edgeEnd, const Vec3& farVertex);
 
+// How the SAH build bins a node's triangles: all three axes in one pass over
+// them (the default), or a pass per axis (the reference the test compares it
+// with: the same tree, bit for bit).
+enum class MeshBvhBinning { AxesTogether, AxisByAxis };
+
 // Builds the BVH and the normals of a mesh whose vertices, triangles and
 // adjacency are already set and validated.
-MeshBvh buildMeshBvh(const TriangleMesh& mesh);
+MeshBvh buildMeshBvh(const TriangleMesh& mesh, MeshBvhBinning binning = MeshBvhBinning::AxesTogether);
 
 inline AABB triangleBounds(const TriangleMesh& mesh, std::uint32_t t) {
     const auto& tri = mesh.triangles[t];
