@@ -25,6 +25,12 @@ public:
         bvh.nodes.reserve(2 * n);
     }
 
+    // MeshBvh::slotBounds, once the order is final.
+    void fillSlotBounds() {
+        bvh_.slotBounds.resize(bvh_.triangleOrder.size());
+        for (std::size_t i = 0; i < bvh_.triangleOrder.size(); ++i) bvh_.slotBounds[i] = bounds_[bvh_.triangleOrder[i]];
+    }
+
     std::uint32_t build(std::uint32_t begin, std::uint32_t end, std::uint32_t depth) {
         bvh_.depth = std::max(bvh_.depth, depth);
         const auto nodeIndex = static_cast<std::uint32_t>(bvh_.nodes.size());
@@ -218,6 +224,7 @@ MeshBvh buildMeshBvh(const TriangleMesh& mesh, MeshBvhBinning binning) {
     for (Vec3& n : bvh.vertexNormals) n = normalize(n);
     BvhBuilder builder(mesh, bvh, binning);
     builder.build(0, static_cast<std::uint32_t>(nt), 0);
+    builder.fillSlotBounds();
     const Vec3 size = mesh.bounds.max - mesh.bounds.min;
     bvh.rayEpsilon = Real(1e-5) * (std::fabs(size.x) + std::fabs(size.y) + std::fabs(size.z));
     return bvh;

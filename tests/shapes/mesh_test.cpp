@@ -359,6 +359,21 @@ TEST(MeshBvh, AxesTogetherBinningBuildsTheAxisByAxisTreeBitForBit) {
     }
 }
 
+// A leaf's triangle boxes are stored in tree order (MeshBvh::slotBounds) for
+// the queries' leaf test: each the triangle's own bounds, bit for bit.
+TEST(MeshBvh, SlotBoundsAreTheTrianglesBoundsBitForBit) {
+    test::Rng rng(37);
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    const Shape s = randomSoup(rng, 2000, v, t);
+    const MeshBvh& bvh = *s.mesh().bvh;
+    ASSERT_EQ(bvh.slotBounds.size(), bvh.triangleOrder.size());
+    for (std::size_t i = 0; i < bvh.slotBounds.size(); ++i) {
+        const AABB expected = triangleBounds(s.mesh(), bvh.triangleOrder[i]);
+        ASSERT_TRUE(sameBits(bvh.slotBounds[i].min, expected.min) && sameBits(bvh.slotBounds[i].max, expected.max)) << "slot " << i;
+    }
+}
+
 // Adjacency against its definition, an edge map: two triangles are
 // neighbours across an edge when exactly they two use it, with opposite
 // windings; an edge of one triangle, or of three or more, or of two with the
