@@ -173,10 +173,11 @@ std::string meshQuality(const Engine& engine, const SceneSpec& scene) {
     }
     int below = 0, off = 0;
     double lowest = 1e30;
+    const MeshColumns columns(*scene.meshes[static_cast<std::size_t>(mesh)], meshOrigin);
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
         if (scene.bodies[i].isStatic || scene.bodies[i].isKinematic) continue;
         const V3 p = engine.body(i).position;
-        const std::optional<double> surface = meshSurfaceHeight(*scene.meshes[static_cast<std::size_t>(mesh)], meshOrigin, p);
+        const std::optional<double> surface = columns.surfaceHeight(p);
         if (!surface) {
             ++off;
             continue;
@@ -560,12 +561,13 @@ int main(int argc, char** argv) {
     }
     if (o.sizes) printMemorySizes();
     if (o.scenes) {
-        const std::vector<SceneSpec> suite = o.suite == "box3d"   ? box3dScenes(o.quick)
+        const std::vector<LazyScene> suite = o.suite == "box3d"   ? box3dScenes(o.quick)
                                              : o.suite == "jolt"  ? joltScenes(o.quick)
                                              : o.suite == "churn" ? churnScenes(o.quick)
                                                                   : allScenes(o.quick);
-        for (const SceneSpec& scene : suite) {
-            if (!o.only.empty() && scene.name.rfind(o.only, 0) != 0) continue;
+        for (const LazyScene& lazy : suite) {
+            if (!o.only.empty() && lazy.name.rfind(o.only, 0) != 0) continue;
+            const SceneSpec scene = lazy.build();
             std::vector<Result> results;
             for (const Factory& f : factories) {
                 const auto e = f();

@@ -73,11 +73,13 @@ inline std::vector<V3> convexPileHullPoints(int pointCount = 32, float amplitude
 // Box3D's convex_pile: countX x countZ columns, `layers` layers (80 in Box3D's
 // release benchmark, 10 in its debug one). Smaller piles keep the same hull,
 // spacing and ground, for tests.
+inline std::string convexPileName(int countX, int countZ, int layers) {
+    return sizedName("convex_pile", countX == 8 && countZ == 8 && layers == 80,
+                     std::to_string(countX) + "x" + std::to_string(countZ) + "x" + std::to_string(layers));
+}
 inline HullPileSpec convexPile(int countX = 8, int countZ = 8, int layers = 80) {
     HullPileSpec s;
-    s.name = countX == 8 && countZ == 8 && layers == 80
-                 ? "convex_pile"
-                 : "convex_pile(" + std::to_string(countX) + "x" + std::to_string(countZ) + "x" + std::to_string(layers) + ")";
+    s.name = convexPileName(countX, countZ, layers);
     const double amplitude = 2, scatter = 2 * amplitude;
     s.hullPoints = convexPileHullPoints(32, static_cast<float>(amplitude));
     s.groundHalf = {250, 1, 250};
@@ -120,15 +122,18 @@ inline SceneSpec hullPileScene(const HullPileSpec& pile) {
     }
     return s;
 }
+// Box3D's convex_pile as a harness scene.
+inline SceneSpec convexPileScene(int countX, int countZ, int layers) { return hullPileScene(convexPile(countX, countZ, layers)); }
 
 // Box3D's joint_grid: n x n spheres of radius 0.4 (density 1) 1 m apart in
 // the x-y plane, column k at x = k, row i at y = -i; row 0 static; each sphere
 // tied by a ball joint to the one above (anchor midway) and to the one on its
 // left. Nothing collides (Box3D's filter: category 2, mask ~2). Sleeping off;
 // 100 steps.
+inline std::string jointGridName(int n) { return sizedName("joint_grid", n == 100, std::to_string(n)); }
 inline SceneSpec jointGrid(int n = 100) {
     SceneSpec s;
-    s.name = n == 100 ? "joint_grid" : "joint_grid(" + std::to_string(n) + ")";
+    s.name = jointGridName(n);
     s.kind = SceneSpec::Kind::Jointed;
     s.steps = 100;
     s.substeps = 4;
@@ -180,9 +185,10 @@ inline void addBox3dGround(SceneSpec& s, double halfExtent) {
 
 // Box3D's large_pyramid: one pyramid with 100 boxes at its base (5050 boxes),
 // ground 800 x 800 m; sleeping off; 200 steps. Quality: it stands.
+inline std::string largePyramidName(int base) { return sizedName("large_pyramid", base == 100, std::to_string(base)); }
 inline SceneSpec largePyramid(int base = 100) {
     SceneSpec s;
-    s.name = base == 100 ? "large_pyramid" : "large_pyramid(" + std::to_string(base) + ")";
+    s.name = largePyramidName(base);
     s.steps = 200;
     s.substeps = 4;
     s.sleeping = false;
@@ -196,10 +202,12 @@ inline SceneSpec largePyramid(int base = 100) {
 // Box3D's many_pyramids: rows x columns pyramids of 10-box bases (55 boxes
 // each; 14 x 14 = 10,780 boxes), spread over a ground of half extent
 // 0.5 * columns * 11; bodies never sleep; 100 steps.
+inline std::string manyPyramidsName(int rows, int columns) {
+    return sizedName("many_pyramids", rows == 14 && columns == 14, std::to_string(rows) + "x" + std::to_string(columns));
+}
 inline SceneSpec manyPyramids(int rows = 14, int columns = 14) {
     SceneSpec s;
-    s.name = rows == 14 && columns == 14 ? "many_pyramids"
-                                         : "many_pyramids(" + std::to_string(rows) + "x" + std::to_string(columns) + ")";
+    s.name = manyPyramidsName(rows, columns);
     s.steps = 100;
     s.substeps = 4;
     s.sleeping = false;
@@ -231,9 +239,10 @@ inline SceneSpec manyPyramids(int rows = 14, int columns = 14) {
 // static floor box of half extents (50, 1, 50) centred at y = -1. Sleeping
 // off; 500 steps of 1/60 s (Jolt: one collision step, its own iterations;
 // here each engine's default sub-steps). Quality: the deepest overlap.
+inline std::string joltPyramidName(int height) { return sizedName("jolt_pyramid", height == 15, std::to_string(height)); }
 inline SceneSpec joltPyramid(int height = 15) {
     SceneSpec s;
-    s.name = height == 15 ? "jolt_pyramid" : "jolt_pyramid(" + std::to_string(height) + ")";
+    s.name = joltPyramidName(height);
     s.steps = 500;
     s.sleeping = false;
     BodySpec floor;
@@ -259,20 +268,23 @@ inline SceneSpec joltPyramid(int height = 15) {
 
 // The part of Box3D's suite the harness runs (--suite box3d). Its rain,
 // washer and large_world are in bench/churn_scenes.hpp (--suite churn).
-inline std::vector<SceneSpec> box3dScenes(bool quick) {
-    std::vector<SceneSpec> scenes = quick ? std::vector<SceneSpec>{jointGrid(30), largePyramid(40), manyPyramids(4, 4),
-                                                                   hullPileScene(convexPile(4, 4, 20))}
-                                          : std::vector<SceneSpec>{jointGrid(), largePyramid(), manyPyramids(),
-                                                                   hullPileScene(convexPile())};
-    for (SceneSpec& s : box3dMeshScenes(quick)) scenes.push_back(std::move(s));  // trees, junkyard (mesh_scenes.hpp)
+inline std::vector<LazyScene> box3dScenes(bool quick) {
+    std::vector<LazyScene> scenes =
+        quick ? std::vector<LazyScene>{lazyScene<jointGrid, jointGridName>(30), lazyScene<largePyramid, largePyramidName>(40),
+                                       lazyScene<manyPyramids, manyPyramidsName>(4, 4),
+                                       lazyScene<convexPileScene, convexPileName>(4, 4, 20)}
+              : std::vector<LazyScene>{lazyScene<jointGrid, jointGridName>(100), lazyScene<largePyramid, largePyramidName>(100),
+                                       lazyScene<manyPyramids, manyPyramidsName>(14, 14),
+                                       lazyScene<convexPileScene, convexPileName>(8, 8, 80)};
+    for (LazyScene& s : box3dMeshScenes(quick)) scenes.push_back(std::move(s));  // trees, junkyard (mesh_scenes.hpp)
     return scenes;
 }
 
 // The part of Jolt's PerformanceTest the harness runs (--suite jolt). Not
 // yet: Ragdoll. Its HighSpeed is in bench/churn_scenes.hpp (--suite churn).
-inline std::vector<SceneSpec> joltScenes(bool quick) {
-    std::vector<SceneSpec> scenes{quick ? joltPyramid(8) : joltPyramid()};
-    for (SceneSpec& s : joltMeshScenes(quick)) scenes.push_back(std::move(s));  // ConvexVsMesh (mesh_scenes.hpp)
+inline std::vector<LazyScene> joltScenes(bool quick) {
+    std::vector<LazyScene> scenes{lazyScene<joltPyramid, joltPyramidName>(quick ? 8 : 15)};
+    for (LazyScene& s : joltMeshScenes(quick)) scenes.push_back(std::move(s));  // ConvexVsMesh (mesh_scenes.hpp)
     return scenes;
 }
 

@@ -186,10 +186,13 @@ inline void addHuman(BodyGroup& g, V3 position, int groupIndex) {
 // next column's groups (one per row) or, once all columns are in, destroys
 // and re-creates one column's, cycling through the columns. Sleeping on;
 // 400 steps.
+inline std::string rainName(int gridCount, int groupSize, int /*steps*/) {
+    return sizedName("rain", gridCount == 10 && groupSize == 3, std::to_string(gridCount) + "x" + std::to_string(groupSize));
+}
 inline SceneSpec rain(int gridCount = 10, int groupSize = 3, int steps = 400) {
     using namespace churn_detail;
     SceneSpec s;
-    s.name = gridCount == 10 && groupSize == 3 ? "rain" : "rain(" + std::to_string(gridCount) + "x" + std::to_string(groupSize) + ")";
+    s.name = rainName(gridCount, groupSize, steps);
     s.kind = SceneSpec::Kind::Churn;
     s.steps = steps;
     s.substeps = 4;
@@ -278,10 +281,11 @@ inline SceneSpec rain(int gridCount = 10, int groupSize = 3, int steps = 400) {
 // 0.8 m apart, the first at (-8, 13, -8). A static box of half extents
 // 60 x 1 x 60 under it (top at y = 0); the drum is open at both ends.
 // Sleeping on; 1000 steps.
+inline std::string washerName(int n, int /*steps*/) { return sizedName("washer", n == 20, std::to_string(n)); }
 inline SceneSpec washer(int n = 20, int steps = 1000) {
     using namespace churn_detail;
     SceneSpec s;
-    s.name = n == 20 ? "washer" : "washer(" + std::to_string(n) + ")";
+    s.name = washerName(n, steps);
     s.kind = SceneSpec::Kind::Churn;
     s.steps = steps;
     s.substeps = 4;
@@ -351,9 +355,10 @@ inline SceneSpec washer(int n = 20, int steps = 1000) {
 // (density 1000) dropped from y = 1.5 every 5 steps from step 5 until 100
 // are out (99 within the 500 steps), on a 10 x 10 grid over the inner 80 %
 // of the floor. Sleeping on; 500 steps. They rest at y = 0.75.
+inline std::string largeWorldName(int n, int /*steps*/) { return sizedName("large_world", n == 1000, std::to_string(n)); }
 inline SceneSpec largeWorld(int n = 1000, int steps = 500) {
     SceneSpec s;
-    s.name = n == 1000 ? "large_world" : "large_world(" + std::to_string(n) + ")";
+    s.name = largeWorldName(n, steps);
     s.kind = SceneSpec::Kind::Churn;
     s.steps = steps;
     s.substeps = 4;
@@ -397,10 +402,13 @@ inline SceneSpec largeWorld(int n = 1000, int steps = 500) {
 // where Jolt does once; 2 keep every body in the box (with more, not much
 // deeper, overlaps with the walls at a step's end), 1 gives seven times
 // as many (docs/benchmarks.md, branch hsccd).
+inline std::string joltHighSpeedName(int count, int /*steps*/) {
+    return sizedName("jolt_high_speed", count == 5000, std::to_string(count));
+}
 inline SceneSpec joltHighSpeed(int count = 5000, int steps = 500) {
     using namespace churn_detail;
     SceneSpec s;
-    s.name = count == 5000 ? "jolt_high_speed" : "jolt_high_speed(" + std::to_string(count) + ")";
+    s.name = joltHighSpeedName(count, steps);
     s.kind = SceneSpec::Kind::Churn;
     s.steps = steps;
     const double half = 50, wall = 0.2, range = 0.9 * half, speed = 250;
@@ -474,9 +482,13 @@ inline SceneSpec joltHighSpeed(int count = 5000, int steps = 500) {
 
 // The churn and scale scenes of both suites (--suite churn): Box3D's rain,
 // washer and large_world, Jolt's HighSpeed; --quick makes them small.
-inline std::vector<SceneSpec> churnScenes(bool quick) {
-    if (quick) return {rain(4, 2, 200), washer(8, 300), largeWorld(100, 200), joltHighSpeed(500, 200)};
-    return {rain(), washer(), largeWorld(), joltHighSpeed()};
+inline std::vector<LazyScene> churnScenes(bool quick) {
+    if (quick) {
+        return {lazyScene<rain, rainName>(4, 2, 200), lazyScene<washer, washerName>(8, 300),
+                lazyScene<largeWorld, largeWorldName>(100, 200), lazyScene<joltHighSpeed, joltHighSpeedName>(500, 200)};
+    }
+    return {lazyScene<rain, rainName>(10, 3, 400), lazyScene<washer, washerName>(20, 1000),
+            lazyScene<largeWorld, largeWorldName>(1000, 500), lazyScene<joltHighSpeed, joltHighSpeedName>(5000, 500)};
 }
 
 }  // namespace bench

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,10 +39,10 @@ int main(int argc, char** argv) {
     const int seed = std::atoi(argv[5]);
     const int gulps = std::atoi(argv[6]);
     const int trace = argc > 7 ? std::atoi(argv[7]) : 0;
-    std::vector<bench::SceneSpec> scenes = bench::allScenes(true);
-    for (bench::SceneSpec& s : bench::allScenes(false)) scenes.push_back(std::move(s));
-    for (bench::SceneSpec& scene : scenes) {
-        if (scene.name != name) continue;
+    std::vector<bench::LazyScene> scenes = bench::allScenes(true);
+    for (bench::LazyScene& s : bench::allScenes(false)) scenes.push_back(std::move(s));
+    if (std::optional<bench::SceneSpec> found = bench::buildNamed(scenes, name)) {
+        bench::SceneSpec& scene = *found;
         int moved = 0;
         for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
             bench::BodySpec& b = scene.bodies[i];

@@ -14,6 +14,7 @@
 // --toggle-collect='scriptAndStep(*)' counts them with the step).
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,19 +49,23 @@ int main(int argc, char** argv) {
     const std::string name = argv[1];
     const int steps = std::atoi(argv[2]);
     const int firstMeasured = argc == 4 ? std::atoi(argv[3]) : steps;
-    std::vector<bench::SceneSpec> scenes = bench::allScenes(true);
-    for (bench::SceneSpec& scene : bench::box3dScenes(false)) scenes.push_back(std::move(scene));
-    for (bench::SceneSpec& scene : bench::joltScenes(false)) scenes.push_back(std::move(scene));
+    // Every scene by name, only the one asked for built.
+    std::vector<bench::LazyScene> scenes = bench::allScenes(true);
+    const auto append = [&scenes](std::vector<bench::LazyScene> more) {
+        for (bench::LazyScene& scene : more) scenes.push_back(std::move(scene));
+    };
+    append(bench::box3dScenes(false));
+    append(bench::joltScenes(false));
     // The mesh scenes' small sizes too (trees100(10), convex_vs_mesh(7x7), ...): callgrind runs them in minutes.
-    for (bench::SceneSpec& scene : bench::box3dMeshScenes(true)) scenes.push_back(std::move(scene));
-    for (bench::SceneSpec& scene : bench::joltMeshScenes(true)) scenes.push_back(std::move(scene));
+    append(bench::box3dMeshScenes(true));
+    append(bench::joltMeshScenes(true));
     // The churn scenes by name: full size, or the quick sizes (e.g. rain(4x2)).
-    for (bench::SceneSpec& scene : bench::churnScenes(false)) scenes.push_back(std::move(scene));
-    for (bench::SceneSpec& scene : bench::churnScenes(true)) scenes.push_back(std::move(scene));
+    append(bench::churnScenes(false));
+    append(bench::churnScenes(true));
     // A middle size of the washer for callgrind: 1728 cubes, where the cube pairs weigh as at full size.
-    scenes.push_back(bench::washer(12, 300));
-    for (const bench::SceneSpec& scene : scenes) {
-        if (scene.name != name) continue;
+    scenes.push_back(bench::lazyScene<bench::washer, bench::washerName>(12, 300));
+    if (const std::optional<bench::SceneSpec> found = bench::buildNamed(scenes, name)) {
+        const bench::SceneSpec& scene = *found;
         bench::FulcrumWorld built = bench::buildFulcrumWorld(scene, 1);
         World& world = *built.world;
         bench::pushOutFromEnvironment(world);

@@ -246,8 +246,9 @@ int main(int argc, char** argv) {
                 "(median/mean) | speed-up (mean) | load | bit-identical | state hash |\n",
                 threads, threads);
     std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
-    for (const bench::SceneSpec& scene : bench::allScenes(quick)) {
-        if (!only.empty() && scene.name.rfind(only, 0) != 0) continue;
+    for (const bench::LazyScene& lazy : bench::allScenes(quick)) {
+        if (!only.empty() && lazy.name.rfind(only, 0) != 0) continue;
+        const bench::SceneSpec scene = lazy.build();
         const int n = steps > 0 ? steps : scene.steps;
         if (oneThreadOnly) {
             const Timing one = run(scene, n, 1, nullptr);

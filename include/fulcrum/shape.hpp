@@ -234,6 +234,12 @@ private:
     std::shared_ptr<const TriangleMesh> mesh_;
     std::shared_ptr<const HeightField> heightField_;
     std::shared_ptr<const std::vector<CompoundChild>> children_;
+    // A compound's localBounds(), the union of its children's bounds formed
+    // once with them (setChildren): continuous collision asks for it at every
+    // sweep of a compound body, and a tree of 22 hulls took some 900
+    // instructions a time to form it again.
+    AABB childBounds_;
+    void setChildren(std::shared_ptr<const std::vector<CompoundChild>> children);
     // ---- Rounded shapes: the rounding radius, and for a rounded hull the
     // polyhedron its mass properties (and drawings) come from (shape.cpp,
     // roundedHullApproximation).

@@ -92,20 +92,36 @@ Shape Shape::mesh(std::span<const Vec3> vertices, std::span<const std::array<std
     for (const Vec3& v : mesh->vertices) mesh->bounds.grow(v);
     const std::size_t nt = triangles.size();
 
-    // Adjacency: sort the edges by their undirected key.
+    // Adjacency: the edges sorted by their undirected key. A counting sort by
+    // the lower vertex, then a sort of each vertex's few edges: the order of
+    // one sort of the whole list at a fraction of its cost (a third of the
+    // mesh's build on Box3D's 60,000-triangle trees mesh went to that sort).
     struct EdgeRef {
         std::uint32_t lo, hi, triangle, edge;
         bool operator<(const EdgeRef& o) const { return std::tie(lo, hi, triangle, edge) < std::tie(o.lo, o.hi, o.triangle, o.edge); }
     };
-    std::vector<EdgeRef> edges;
-    edges.reserve(3 * nt);
+    const auto edgeRef = [&triangles](std::uint32_t t, std::uint32_t k) {
+        const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+        return EdgeRef{std::min(a, b), std::max(a, b), t, k};
+    };
+    std::vector<std::uint32_t> firstEdge(vertices.size() + 1, 0);  // where each lower vertex's edges start
     for (std::uint32_t t = 0; t < nt; ++t) {
-        for (std::uint32_t k = 0; k < 3; ++k) {
-            const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-            edges.push_back({std::min(a, b), std::max(a, b), t, k});
+        for (std::uint32_t k = 0; k < 3; ++k) ++firstEdge[edgeRef(t, k).lo + 1];
+    }
+    for (std::size_t v = 1; v < firstEdge.size(); ++v) firstEdge[v] += firstEdge[v - 1];
+    std::vector<EdgeRef> edges(3 * nt);
+    {
+        std::vector<std::uint32_t> next(firstEdge.begin(), firstEdge.end() - 1);
+        for (std::uint32_t t = 0; t < nt; ++t) {
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const EdgeRef e = edgeRef(t, k);
+                edges[next[e.lo]++] = e;
+            }
         }
     }
-    std::sort(edges.begin(), edges.end());
+    for (std::size_t v = 0; v + 1 < firstEdge.size(); ++v) {
+        std::sort(edges.begin() + firstEdge[v], edges.begin() + firstEdge[v + 1]);
+    }
     mesh->adjacency.assign(nt, {kBoundary, kBoundary, kBoundary});
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i + 1;

@@ -12,7 +12,7 @@ constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
 
 class BvhBuilder {
 public:
-    BvhBuilder(const TriangleMesh& mesh, MeshBvh& bvh) : bvh_(bvh) {
+    BvhBuilder(const TriangleMesh& mesh, MeshBvh& bvh, MeshBvhBinning binning) : bvh_(bvh), binning_(binning) {
         const std::size_t n = mesh.triangles.size();
         centroids_.resize(n);
         bounds_.resize(n);
@@ -23,6 +23,12 @@ public:
             bvh.triangleOrder[t] = t;
         }
         bvh.nodes.reserve(2 * n);
+    }
+
+    // MeshBvh::slotBounds, once the order is final.
+    void fillSlotBounds() {
+        bvh_.slotBounds.resize(bvh_.triangleOrder.size());
+        for (std::size_t i = 0; i < bvh_.triangleOrder.size(); ++i) bvh_.slotBounds[i] = bounds_[bvh_.triangleOrder[i]];
     }
 
     std::uint32_t build(std::uint32_t begin, std::uint32_t end, std::uint32_t depth) {
@@ -75,17 +81,22 @@ private:
         Real bestCost = std::numeric_limits<Real>::max();
         int bestAxis = -1;
         std::uint32_t bestBin = 0;
+        Bins bins;
         for (std::size_t axis = 0; axis < 3; ++axis) {
-            const Real lo = centroidBox.min[axis], extent = centroidBox.max[axis] - lo;
-            if (!(extent > 0)) continue;
-            const Real scale = Real(kBins) / extent;
-            std::array<AABB, kBins> binBox{};
-            std::array<std::uint32_t, kBins> binCount{};
-            for (std::uint32_t i = begin; i < end; ++i) {
-                const std::uint32_t b = binOf(centroids_[order[i]][axis], lo, scale);
-                binBox[b].grow(bounds_[order[i]]);
-                ++binCount[b];
-            }
+            bins.lo[axis] = centroidBox.min[axis];
+            const Real extent = centroidBox.max[axis] - bins.lo[axis];
+            bins.used[axis] = extent > 0;
+            if (bins.used[axis]) bins.scale[axis] = Real(kBins) / extent;
+        }
+        if (binning_ == MeshBvhBinning::AxesTogether) {
+            binAxesTogether(begin, end, bins);
+        } else {
+            binAxisByAxis(begin, end, bins);
+        }
+        for (std::size_t axis = 0; axis < 3; ++axis) {
+            if (!bins.used[axis]) continue;
+            const std::array<AABB, kBins>& binBox = bins.box[axis];
+            const std::array<std::uint32_t, kBins>& binCount = bins.count[axis];
             // Sweep from the right to get the right-hand areas, then from the left.
             std::array<Real, kBins> rightArea{};
             std::array<std::uint32_t, kBins> rightCount{};
@@ -121,12 +132,50 @@ private:
         return static_cast<std::uint32_t>(midPtr - order);
     }
 
+    // Each triangle's bounds grown into its centroid's bin on each axis with
+    // extent: a bin's box is the min and max of the same boxes whichever loop
+    // comes first, so both orders give the same bins, bit for bit.
+    struct Bins {
+        std::array<std::array<AABB, MeshBvh::kSahBins>, 3> box{};
+        std::array<std::array<std::uint32_t, MeshBvh::kSahBins>, 3> count{};
+        std::array<Real, 3> lo{}, scale{};
+        std::array<bool, 3> used{};
+    };
+    // One pass over the range, each triangle's centroid and bounds read once
+    // for the three axes (the build's largest cost on a large mesh).
+    void binAxesTogether(std::uint32_t begin, std::uint32_t end, Bins& bins) const {
+        const std::uint32_t* order = bvh_.triangleOrder.data();
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const Vec3& c = centroids_[order[i]];
+            const AABB& b = bounds_[order[i]];
+            for (std::size_t axis = 0; axis < 3; ++axis) {
+                if (!bins.used[axis]) continue;
+                const std::uint32_t bin = binOf(c[axis], bins.lo[axis], bins.scale[axis]);
+                bins.box[axis][bin].grow(b);
+                ++bins.count[axis][bin];
+            }
+        }
+    }
+    // The reference: a pass over the range per axis.
+    void binAxisByAxis(std::uint32_t begin, std::uint32_t end, Bins& bins) const {
+        const std::uint32_t* order = bvh_.triangleOrder.data();
+        for (std::size_t axis = 0; axis < 3; ++axis) {
+            if (!bins.used[axis]) continue;
+            for (std::uint32_t i = begin; i < end; ++i) {
+                const std::uint32_t bin = binOf(centroids_[order[i]][axis], bins.lo[axis], bins.scale[axis]);
+                bins.box[axis][bin].grow(bounds_[order[i]]);
+                ++bins.count[axis][bin];
+            }
+        }
+    }
+
     static std::uint32_t binOf(Real c, Real lo, Real scale) {
         const auto b = static_cast<std::int64_t>((c - lo) * scale);
         return static_cast<std::uint32_t>(std::clamp<std::int64_t>(b, 0, MeshBvh::kSahBins - 1));
     }
 
     MeshBvh& bvh_;
+    MeshBvhBinning binning_;
     std::vector<Vec3> centroids_;
     std::vector<AABB> bounds_;
 };
@@ -154,7 +203,7 @@ Real rayBox(const AABB& b, const Vec3& p, const Vec3& invD, const std::array<boo
     return tmin;
 }
 
-MeshBvh buildMeshBvh(const TriangleMesh& mesh) {
+MeshBvh buildMeshBvh(const TriangleMesh& mesh, MeshBvhBinning binning) {
     MeshBvh bvh;
     const std::size_t nt = mesh.triangles.size();
     bvh.triangleNormals.resize(nt);
@@ -173,8 +222,9 @@ MeshBvh buildMeshBvh(const TriangleMesh& mesh) {
         }
     }
     for (Vec3& n : bvh.vertexNormals) n = normalize(n);
-    BvhBuilder builder(mesh, bvh);
+    BvhBuilder builder(mesh, bvh, binning);
     builder.build(0, static_cast<std::uint32_t>(nt), 0);
+    builder.fillSlotBounds();
     const Vec3 size = mesh.bounds.max - mesh.bounds.min;
     bvh.rayEpsilon = Real(1e-5) * (std::fabs(size.x) + std::fabs(size.y) + std::fabs(size.z));
     return bvh;

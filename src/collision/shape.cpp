@@ -132,7 +132,7 @@ Shape Shape::compound(std::span<const CompoundChild> children) {
     Shape s;
     s.type_ = ShapeType::Compound;
     s.radius_ = 0;
-    s.children_ = std::move(list);
+    s.setChildren(std::move(list));
     return s;
 }
 
@@ -275,13 +275,15 @@ AABB Shape::localBounds() const {
             }
             return b;
         }
-        case ShapeType::Compound: {
-            AABB b;
-            for (const CompoundChild& c : *children_) b.grow(c.shape.bounds(c.transform));
-            return b;
-        }
+        case ShapeType::Compound: return childBounds_;
     }
     return {};
+}
+
+void Shape::setChildren(std::shared_ptr<const std::vector<CompoundChild>> children) {
+    children_ = std::move(children);
+    childBounds_ = AABB();
+    for (const CompoundChild& c : *children_) childBounds_.grow(c.shape.bounds(c.transform));
 }
 
 AABB Shape::bounds(const Transform& xf) const {

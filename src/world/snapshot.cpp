@@ -700,7 +700,7 @@ struct SnapshotAccess {
                         }
                     }
                 }
-                if constexpr (A::kReading) s.children_ = std::make_shared<const std::vector<CompoundChild>>(std::move(children));
+                if constexpr (A::kReading) s.setChildren(std::make_shared<const std::vector<CompoundChild>>(std::move(children)));
                 break;
             }
             default: break;

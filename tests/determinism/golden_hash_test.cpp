@@ -56,7 +56,8 @@ struct NamedScene {
 
 std::vector<NamedScene> allScenes() {
     std::vector<NamedScene> scenes;
-    for (const bench::SceneSpec& s : bench::allScenes(true)) {
+    for (const bench::LazyScene& lazy : bench::allScenes(true)) {
+        const bench::SceneSpec s = lazy.build();
         scenes.push_back({"bench/" + s.name, static_cast<Real>(s.dt), [s] { return std::move(*bench::buildFulcrumWorld(s, 1).world); }});
     }
     std::vector<std::filesystem::path> files;

@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <limits>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "collision/mesh_bvh.hpp"
@@ -279,6 +283,167 @@ TEST(MeshBvh, ClosestPointEqualsBruteForce) {
         EXPECT_NEAR(std::fabs(c.distance), best, 1e-4);
         EXPECT_NEAR(length(p - c.point), best, 1e-4);
     }
+}
+
+// Box3D's trees mesh at a small size: a wave grid, columns x rows cells of 1 m.
+void waveGrid(int columns, int rows, std::vector<Vec3>& v, std::vector<Tri>& t) {
+    const auto id = [rows](int i, int j) { return static_cast<std::uint32_t>(i * (rows + 1) + j); };
+    for (int i = 0; i <= columns; ++i) {
+        for (int j = 0; j <= rows; ++j) {
+            v.push_back({Real(i), Real(0.4) * std::sin(Real(0.6) * Real(i)) * std::sin(Real(0.3) * Real(j)), Real(j)});
+        }
+    }
+    for (int i = 0; i < columns; ++i) {
+        for (int j = 0; j < rows; ++j) {
+            t.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+            t.push_back({id(i + 1, j + 1), id(i + 1, j), id(i, j)});
+        }
+    }
+}
+
+bool sameBits(Real a, Real b) { return std::memcmp(&a, &b, sizeof(Real)) == 0; }
+bool sameBits(const Vec3& a, const Vec3& b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z); }
+
+// The build bins a node's triangles on the three axes in one pass over them;
+// the reference makes a pass per axis. The same tree, bit for bit: every
+// node's bounds, child or range, the triangle order and the depth. Meshes:
+// random soups, a wave grid (Box3D's trees), a flat grid (no extent along y:
+// that axis is skipped), and a soup of stacked copies (coincident centroids:
+// the median fallback).
+TEST(MeshBvh, AxesTogetherBinningBuildsTheAxisByAxisTreeBitForBit) {
+    std::vector<std::pair<std::vector<Vec3>, std::vector<Tri>>> meshes;
+    for (std::uint32_t seed = 31; seed < 35; ++seed) {
+        test::Rng rng(seed);
+        std::vector<Vec3> v;
+        std::vector<Tri> t;
+        randomSoup(rng, 500 + 1000 * int(seed - 31), v, t);
+        meshes.emplace_back(v, t);
+    }
+    {
+        std::vector<Vec3> v;
+        std::vector<Tri> t;
+        waveGrid(60, 80, v, t);
+        meshes.emplace_back(v, t);
+    }
+    {
+        std::vector<Vec3> v;
+        std::vector<Tri> t;
+        flatGrid(40, Real(0.5), v, t);
+        meshes.emplace_back(v, t);
+    }
+    {
+        test::Rng rng(36);
+        std::vector<Vec3> v;
+        std::vector<Tri> t;
+        randomSoup(rng, 40, v, t);
+        const std::vector<Tri> once = t;
+        for (int copy = 0; copy < 30; ++copy) t.insert(t.end(), once.begin(), once.end());
+        meshes.emplace_back(v, t);
+    }
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        const Shape s = Shape::mesh(meshes[m].first, meshes[m].second);
+        const MeshBvh together = buildMeshBvh(s.mesh(), MeshBvhBinning::AxesTogether);
+        const MeshBvh byAxis = buildMeshBvh(s.mesh(), MeshBvhBinning::AxisByAxis);
+        ASSERT_EQ(together.nodes.size(), byAxis.nodes.size()) << "mesh " << m;
+        for (std::size_t n = 0; n < together.nodes.size(); ++n) {
+            const MeshBvhNode &a = together.nodes[n], &b = byAxis.nodes[n];
+            ASSERT_TRUE(sameBits(a.bounds.min, b.bounds.min) && sameBits(a.bounds.max, b.bounds.max)) << "mesh " << m << " node " << n;
+            ASSERT_EQ(a.index, b.index) << "mesh " << m << " node " << n;
+            ASSERT_EQ(a.count, b.count) << "mesh " << m << " node " << n;
+        }
+        EXPECT_EQ(together.triangleOrder, byAxis.triangleOrder) << "mesh " << m;
+        EXPECT_EQ(together.depth, byAxis.depth) << "mesh " << m;
+        // And Shape::mesh's own tree is the default's.
+        EXPECT_EQ(s.mesh().bvh->triangleOrder, together.triangleOrder) << "mesh " << m;
+        EXPECT_EQ(s.mesh().bvh->nodes.size(), together.nodes.size()) << "mesh " << m;
+    }
+}
+
+// A leaf's triangle boxes are stored in tree order (MeshBvh::slotBounds) for
+// the queries' leaf test: each the triangle's own bounds, bit for bit.
+TEST(MeshBvh, SlotBoundsAreTheTrianglesBoundsBitForBit) {
+    test::Rng rng(37);
+    std::vector<Vec3> v;
+    std::vector<Tri> t;
+    const Shape s = randomSoup(rng, 2000, v, t);
+    const MeshBvh& bvh = *s.mesh().bvh;
+    ASSERT_EQ(bvh.slotBounds.size(), bvh.triangleOrder.size());
+    for (std::size_t i = 0; i < bvh.slotBounds.size(); ++i) {
+        const AABB expected = triangleBounds(s.mesh(), bvh.triangleOrder[i]);
+        ASSERT_TRUE(sameBits(bvh.slotBounds[i].min, expected.min) && sameBits(bvh.slotBounds[i].max, expected.max)) << "slot " << i;
+    }
+}
+
+// Adjacency against its definition, an edge map: two triangles are
+// neighbours across an edge when exactly they two use it, with opposite
+// windings; an edge of one triangle, or of three or more, or of two with the
+// same winding, is a boundary. Random meshes over few vertices make every
+// case; then the grids and the closed box.
+TEST(Mesh, AdjacencyIsTheEdgeMapReference) {
+    const auto reference = [](const std::vector<Tri>& t) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<std::uint32_t, std::uint32_t>>> users;
+        for (std::uint32_t i = 0; i < t.size(); ++i) {
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const std::uint32_t a = t[i][k], b = t[i][(k + 1) % 3];
+                users[{std::min(a, b), std::max(a, b)}].push_back({i, k});
+            }
+        }
+        std::vector<std::array<std::uint32_t, 3>> adjacency(t.size(), {kNone, kNone, kNone});
+        for (const auto& [edge, list] : users) {
+            if (list.size() != 2) continue;
+            const auto [t0, k0] = list[0];
+            const auto [t1, k1] = list[1];
+            if ((t[t0][k0] == edge.first) == (t[t1][k1] == edge.first)) continue;  // the same winding
+            adjacency[t0][k0] = t1;
+            adjacency[t1][k1] = t0;
+        }
+        return adjacency;
+    };
+    int neighbours = 0, sameWinding = 0, crowded = 0;
+    for (std::uint32_t seed = 41; seed < 61; ++seed) {
+        test::Rng rng(seed);
+        std::vector<Vec3> v;
+        for (int i = 0; i < 12 + int(seed % 7) * 5; ++i) v.push_back(rng.inBox(Vec3::splat(-1), Vec3::splat(1)));
+        std::vector<Tri> t;
+        while (t.size() < 150) {
+            const auto pick = [&] { return static_cast<std::uint32_t>(static_cast<std::size_t>(rng.uniform() * double(v.size())) % v.size()); };
+            const Tri tri{pick(), pick(), pick()};
+            if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) continue;
+            const Vec3 e1 = v[tri[1]] - v[tri[0]], e2 = v[tri[2]] - v[tri[0]], e3 = v[tri[2]] - v[tri[1]];
+            const Real longest2 = std::max({lengthSquared(e1), lengthSquared(e2), lengthSquared(e3)});
+            if (!(length(cross(e1, e2)) > Real(1e-2) * longest2)) continue;  // far from Shape::mesh's degenerate limit
+            t.push_back(tri);
+        }
+        const Shape s = Shape::mesh(v, t);
+        const auto expected = reference(t);
+        ASSERT_EQ(s.mesh().adjacency.size(), expected.size());
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                ASSERT_EQ(s.mesh().adjacency[i][k], expected[i][k]) << "seed " << seed << " triangle " << i << " edge " << k;
+                neighbours += expected[i][k] != kNone;
+            }
+        }
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<bool>> forward;
+        for (const Tri& tri : t) {
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+                forward[{std::min(a, b), std::max(a, b)}].push_back(a < b);
+            }
+        }
+        for (const auto& [edge, list] : forward) {
+            crowded += list.size() > 2;
+            sameWinding += list.size() == 2 && list[0] == list[1];
+        }
+    }
+    // The random meshes made every case.
+    EXPECT_GT(neighbours, 100);
+    EXPECT_GT(sameWinding, 10);
+    EXPECT_GT(crowded, 10);
+    std::vector<std::pair<std::vector<Vec3>, std::vector<Tri>>> meshes(3);
+    flatGrid(7, Real(0.5), meshes[0].first, meshes[0].second);
+    waveGrid(9, 13, meshes[1].first, meshes[1].second);
+    boxMesh({1, 2, 3}, meshes[2].first, meshes[2].second);
+    for (const auto& [v, t] : meshes) EXPECT_EQ(Shape::mesh(v, t).mesh().adjacency, reference(t));
 }
 
 }  // namespace
