@@ -211,7 +211,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
 
     // The solver bodies are the body store's awake set (body_store.hpp),
     // filled by the step just before: solver body i is w.awakeBodies[i - 1].
-    const std::vector<std::uint32_t>& solverOfDense_ = w.solverOfDense;
+    const auto& solverOfDense_ = w.solverOfDense;
 
     // ---- constraints, one per manifold of every contact with an awake body.
     // First the list of (contact, manifold, bodies), coloured; then each
