@@ -407,7 +407,10 @@ public:
     // Pushes (a, b) when `keep`, without a branch on it: the pair is written
     // in any case and the size grows by keep (for box tests whose outcomes a
     // branch predictor cannot learn: DynamicTree::overlapPairs on one tree).
-    void pushIf(std::int32_t a, std::int32_t b, bool keep) {
+    // Always inlined: where GCC chose a call instead (its estimate moves with
+    // unrelated changes to the callers' headers), HighSpeed's steps 101-110
+    // took 1.3 % more instructions (docs/benchmarks.md, branch `hs13`).
+    [[gnu::always_inline]] void pushIf(std::int32_t a, std::int32_t b, bool keep) {
         if (size_ < kInline) {
             inline_[size_][0] = a;
             inline_[size_][1] = b;

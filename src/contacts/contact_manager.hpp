@@ -156,8 +156,8 @@ public:
         }
     }
 
-    std::vector<Contact>& contacts() { return contacts_; }
-    const std::vector<Contact>& contacts() const { return contacts_; }
+    ContactArray& contacts() { return contacts_; }
+    const ContactArray& contacts() const { return contacts_; }
     // Piece recycling against a static mesh (contact.hpp, PiecePose): on
     // unless a test turns it off (then every piece runs the narrow phase,
     // as before it existed), and how many pieces it has recycled.
@@ -301,7 +301,7 @@ private:
 
     BroadPhase broad_;
     LargeArray<ProxyId> proxyOfSlot_;
-    std::vector<Contact> contacts_;
+    ContactArray contacts_;
     std::uint32_t freeContact_ = UINT32_MAX;
     std::uint32_t liveContacts_ = 0;          // alive entries of contacts_ (kept by create/destroy, counted by rebuildLinks)
     std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()

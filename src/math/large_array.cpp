@@ -13,19 +13,6 @@ namespace {
 std::atomic<bool> gHugePages{true};
 std::atomic<std::size_t> gLargeAllocations{0};
 
-// Advises the whole 2 MiB pieces of [p, p + bytes); p is 2 MiB aligned. A
-// kernel without transparent huge pages refuses (EINVAL): the array then
-// keeps plain pages, which is all the advice could change.
-void adviseHugePages(void* p, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    const std::size_t whole = bytes / kHugePageBytes * kHugePageBytes;
-    if (whole != 0) (void)madvise(p, whole, MADV_HUGEPAGE);
-#else
-    (void)p;
-    (void)bytes;
-#endif
-}
-
 }  // namespace
 
 void setLargeArrayHugePages(bool on) { gHugePages.store(on, std::memory_order_relaxed); }
@@ -34,14 +21,23 @@ std::size_t largeArrayAllocationCount() { return gLargeAllocations.load(std::mem
 
 void* allocateArrayBytes(std::size_t bytes) {
     if (bytes < kLargeArrayBytes) return ::operator new(bytes);
-    void* p = ::operator new(bytes, std::align_val_t{kHugePageBytes});
     gLargeAllocations.fetch_add(1, std::memory_order_relaxed);
-    if (largeArrayHugePages()) adviseHugePages(p, bytes);
-    return p;
+    if constexpr (!kLargeArraysAligned) {
+        return ::operator new(bytes);
+    } else {
+        void* p = ::operator new(bytes, std::align_val_t{kHugePageBytes});
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+        // The whole 2 MiB pieces. A kernel without transparent huge pages
+        // refuses (EINVAL): the array keeps plain pages, all the advice changes.
+        const std::size_t whole = bytes / kHugePageBytes * kHugePageBytes;
+        if (largeArrayHugePages()) (void)madvise(p, whole, MADV_HUGEPAGE);
+#endif
+        return p;
+    }
 }
 
 void releaseArrayBytes(void* p, std::size_t bytes) noexcept {
-    if (bytes < kLargeArrayBytes) {
+    if (!kLargeArraysAligned || bytes < kLargeArrayBytes) {
         ::operator delete(p);
     } else {
         ::operator delete(p, std::align_val_t{kHugePageBytes});

@@ -1,8 +1,9 @@
 #pragma once
 // LargeArrayAllocator<T> and LargeArray<T>: the allocator of the per-body and
 // per-node arrays that grow with the world (the body store's records, the
-// trees' nodes and build items, the broad phase's proxy records), and a
-// std::vector that uses it.
+// trees' nodes and build items, the broad phase's proxy records, the contact
+// manager's per-slot arrays and its contact pool), and a std::vector that
+// uses it.
 //
 // Why: a world of a million static bodies (Box3D's large_world) touches
 // ~650 MB of fresh memory while it is built, and on a virtual machine every
@@ -12,11 +13,11 @@
 // in 2 MiB pages, and large_world's whole process ~2.7 s against ~1.1-1.8 s
 // with glibc's huge-page tunable (docs/benchmarks.md, branch `hs13`).
 //
-// How: an array of at least kLargeArrayBytes is allocated aligned to 2 MiB
-// (the aligned operator new, so the allocation counters and budgets of the
-// tests see it like any other) and, on Linux, advised MADV_HUGEPAGE over its
-// whole 2 MiB pieces, so the kernel backs those with huge pages when it can.
-// Smaller arrays, and every array elsewhere than on Linux, are a plain
+// How: an array of at least kLargeArrayBytes (2 MiB) is allocated aligned to
+// 2 MiB (the aligned operator new, so the allocation counters and budgets of
+// the tests see it like any other) and, on Linux, advised MADV_HUGEPAGE over
+// its whole 2 MiB pieces, so the kernel backs those with huge pages when it
+// can. Smaller arrays, and every array elsewhere than on Linux, are a plain
 // operator new's. Nothing depends on where an array lives: the values and
 // the results are the same with and without the advice (tests/math/
 // large_array_test.cpp steps a world both ways, bit for bit).
@@ -26,7 +27,7 @@
 // are `madvise` or `always` a large array's resident size is rounded up to
 // whole 2 MiB pages once its pieces are touched (at most 2 MiB per array over
 // its capacity in bytes). setLargeArrayHugePages(false) turns the advice off
-// for arrays allocated after the call.
+// for arrays allocated after the call (tests; the results do not change).
 #include <cstddef>
 #include <limits>
 #include <new>
@@ -35,8 +36,15 @@
 namespace fulcrum::detail {
 
 // Arrays of this many bytes or more are aligned to kHugePageBytes and advised.
-inline constexpr std::size_t kLargeArrayBytes = std::size_t{4} << 20;
+inline constexpr std::size_t kLargeArrayBytes = std::size_t{2} << 20;
 inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+// Only where the advice exists: elsewhere (WebAssembly's linear memory, say)
+// the alignment would waste real memory for nothing.
+#if defined(__linux__)
+inline constexpr bool kLargeArraysAligned = true;
+#else
+inline constexpr bool kLargeArraysAligned = false;
+#endif
 
 // Whether large arrays allocated from now on are advised to use huge pages
 // (default true). Process-wide; the same results either way.
