@@ -119,7 +119,9 @@ TEST(LargeArray, LargeArraysAreAlignedAndReleased) {
     {
         // 48 MiB: over glibc's largest mmap threshold, so its own mapping.
         LargeArray<std::uint32_t> big(std::size_t{12} << 20, 7u);
-        if (detail::kLargeArraysAligned) EXPECT_EQ(reinterpret_cast<std::uintptr_t>(big.data()) % kHugePageBytes, 0u);
+        if (detail::kLargeArraysAligned) {
+            EXPECT_EQ(reinterpret_cast<std::uintptr_t>(big.data()) % kHugePageBytes, 0u);
+        }
         EXPECT_EQ(detail::largeArrayAllocationCount(), before + 1);
         EXPECT_EQ(big.front(), 7u);
         EXPECT_EQ(big.back(), 7u);
