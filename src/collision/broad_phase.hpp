@@ -489,7 +489,7 @@ private:
     mutable DynamicTree staticTree_;
     mutable WaitingGuard staticWaiting_;
     DynamicTree movingTree_;
-    std::vector<ProxyRecord> records_;
+    detail::LargeArray<ProxyRecord> records_;
     ProxyId freeRecord_ = kNullProxy;
     std::vector<MoveEntry> moveBuffer_;
     std::vector<SkippedRun> skippedRuns_;    // in buffer order (see "Static proxies created beside ...")

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "fulcrum/math/aabb.hpp"
+#include "math/large_array.hpp"
 
 namespace fulcrum {
 
@@ -275,7 +276,7 @@ public:
     int height() const { return root_ == kNullNode ? 0 : nodes_[static_cast<std::size_t>(root_)].height; }
     std::int32_t proxyCount() const { return proxyCount_; }
     std::size_t capacity() const { return nodes_.size(); }
-    const std::vector<TreeNode>& nodes() const { return nodes_; }
+    const detail::LargeArray<TreeNode>& nodes() const { return nodes_; }
     // Sum of the surface areas of the internal nodes (root included): the SAH
     // cost a query pays up to a constant, the usual measure of tree quality.
     double internalSurfaceArea() const;
@@ -313,11 +314,11 @@ private:
     const TreeNode& node(std::int32_t i) const { return nodes_[static_cast<std::size_t>(i)]; }
 
     DynamicTreeConfig config_;
-    std::vector<TreeNode> nodes_;
+    detail::LargeArray<TreeNode> nodes_;
     std::int32_t root_ = kNullNode;
     std::int32_t freeList_ = kNullNode;
     std::int32_t proxyCount_ = 0;
-    std::vector<std::int32_t> pending_;  // leaves made by createProxyDeferred, not in the tree yet
+    detail::LargeArray<std::int32_t> pending_;  // leaves made by createProxyDeferred, not in the tree yet
 
     // Scratch buffers reused across calls (no allocation in steady state).
     struct Candidate {
@@ -330,9 +331,9 @@ private:
         Vec3 centroid;
         std::int32_t leaf;
     };
-    std::vector<BuildItem> buildItems_;          // rebuild(): the leaves being partitioned
-    std::vector<std::uint8_t> bins_;             // rebuild(): each item's bin in partitionRange
-    std::vector<std::int32_t> buildOrder_;       // rebuild(): internal nodes in creation order
+    detail::LargeArray<BuildItem> buildItems_;          // rebuild(): the leaves being partitioned
+    detail::LargeArray<std::uint8_t> bins_;             // rebuild(): each item's bin in partitionRange
+    detail::LargeArray<std::int32_t> buildOrder_;       // rebuild(): internal nodes in creation order
     struct BuildTask {
         std::size_t begin, end;
         std::int32_t parent;
@@ -406,7 +407,10 @@ public:
     // Pushes (a, b) when `keep`, without a branch on it: the pair is written
     // in any case and the size grows by keep (for box tests whose outcomes a
     // branch predictor cannot learn: DynamicTree::overlapPairs on one tree).
-    void pushIf(std::int32_t a, std::int32_t b, bool keep) {
+    // Always inlined: where GCC chose a call instead (its estimate moves with
+    // unrelated changes to the callers' headers), HighSpeed's steps 101-110
+    // took 1.3 % more instructions (docs/benchmarks.md, branch `hs13`).
+    [[gnu::always_inline]] void pushIf(std::int32_t a, std::int32_t b, bool keep) {
         if (size_ < kInline) {
             inline_[size_][0] = a;
             inline_[size_][1] = b;

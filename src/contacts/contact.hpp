@@ -11,6 +11,7 @@
 #include "collision/broad_phase.hpp"
 #include "collision/manifold.hpp"
 #include "fulcrum/math.hpp"
+#include "math/large_array.hpp"
 
 namespace fulcrum::detail {
 
@@ -131,5 +132,9 @@ struct Contact {
     // skips, so they are saved in snapshots (format version 13); capacity kept.
     std::vector<PiecePose> piecePoses;
 };
+
+// The contact pool: a large array (math/large_array.hpp), since a world
+// reserves about four contacts a moving body (5000 bullets: 5 MB).
+using ContactArray = LargeArray<Contact>;
 
 }  // namespace fulcrum::detail

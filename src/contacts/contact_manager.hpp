@@ -156,8 +156,8 @@ public:
         }
     }
 
-    std::vector<Contact>& contacts() { return contacts_; }
-    const std::vector<Contact>& contacts() const { return contacts_; }
+    ContactArray& contacts() { return contacts_; }
+    const ContactArray& contacts() const { return contacts_; }
     // Piece recycling against a static mesh (contact.hpp, PiecePose): on
     // unless a test turns it off (then every piece runs the narrow phase,
     // as before it existed), and how many pieces it has recycled.
@@ -300,8 +300,8 @@ private:
     };
 
     BroadPhase broad_;
-    std::vector<ProxyId> proxyOfSlot_;
-    std::vector<Contact> contacts_;
+    LargeArray<ProxyId> proxyOfSlot_;
+    ContactArray contacts_;
     std::uint32_t freeContact_ = UINT32_MAX;
     std::uint32_t liveContacts_ = 0;          // alive entries of contacts_ (kept by create/destroy, counted by rebuildLinks)
     std::uint32_t lastPairLimit_ = 0;         // contactPairLimit of the last update()
@@ -315,13 +315,13 @@ private:
     // spinning drum of 40 hulls met by 8000 bodies bounded each child per
     // pair: a third of Box3D's washer). Grows only.
     std::vector<ChildReach> childPool_;
-    std::vector<ChildrenRef> childrenOfDense_;  // per dense body: its entries in childPool_
+    LargeArray<ChildrenRef> childrenOfDense_;  // per dense body: its entries in childPool_
     std::uint32_t updateCount_ = 0;           // update()s so far (ChildrenRef::update)
     std::vector<std::uint8_t> contactFlags_;  // per contact: what the parallel pass found
     std::vector<std::uint64_t> flaggedWords_;  // per 64 active contacts: which have a flag (set atomically)
     mutable std::vector<std::uint32_t> reportStart_;  // per contact: its first report (report())
     std::vector<ContactLinks> links_;         // per contact
-    std::vector<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
+    LargeArray<std::uint32_t> headOfSlot_;   // per body slot: its first contact's key (UINT32_MAX: none)
     std::vector<std::uint64_t> marks_;        // one bit per contact: visit in this update
     std::vector<std::uint64_t> awakeMarks_;   // one bit per contact: contactsOfAwakeBodies' scratch (all zero between calls)
     std::vector<std::uint64_t> aliveBits_;    // one bit per contact: alive (valid when !linksRebuild_)

@@ -63,23 +63,13 @@ void BodyStore::reserveAwakeList(std::size_t bodyCount) {
     const auto grow = [](auto& v, std::size_t n) {
         if (v.capacity() < n) v.reserve(std::max(n, 2 * v.capacity()));
     };
+    // Each buffer grows to `bodyCount + extra` and leaves room for as many bodies as it holds less `extra`.
     std::size_t room = SIZE_MAX;
-    for (std::vector<std::uint32_t>* v : {&awakeBodies, &wokenBodies, &awakeMergeScratch, &previousStale, &solverOfDense}) {
-        grow(*v, bodyCount);
-        room = std::min(room, v->capacity());
-    }
-    for (std::vector<std::uint8_t>* v : {&inAwakeList, &contactDeltas, &motionKind}) {
-        grow(*v, bodyCount + 1);
-        room = std::min(room, v->capacity() - 1);
-    }
-    grow(state, bodyCount + 1);
-    grow(pose, bodyCount + 1);
-    grow(startCom, bodyCount + 1);
-    grow(startQ, bodyCount + 1);
-    grow(denseOfSolver, bodyCount + 1);
-    for (const std::size_t c : {state.capacity(), pose.capacity(), startCom.capacity(), startQ.capacity(), denseOfSolver.capacity()}) {
-        room = std::min(room, c - 1);
-    }
+    const auto growAll = [&](std::size_t extra, auto&... buffers) {
+        ((grow(buffers, bodyCount + extra), room = std::min(room, buffers.capacity() - extra)), ...);
+    };
+    growAll(0, awakeBodies, wokenBodies, awakeMergeScratch, previousStale, solverOfDense);
+    growAll(1, inAwakeList, contactDeltas, motionKind, state, pose, startCom, startQ, denseOfSolver);
     awakeListRoom = room;
 }
 

@@ -89,6 +89,7 @@
 #include <vector>
 
 #include "dynamics/zero_tail_array.hpp"
+#include "math/large_array.hpp"
 #include "fulcrum/world.hpp"
 
 namespace fulcrum::detail {
@@ -191,17 +192,17 @@ inline Vec3 stepRotationVector(const Quat& q) {
 
 struct BodyStore {
     // ---- records (see the top)
-    std::vector<BodySlot> bodySlots;
+    LargeArray<BodySlot> bodySlots;
     std::vector<std::uint32_t> freeBodySlots;
-    std::vector<BodyMotion> motion;
+    LargeArray<BodyMotion> motion;
     // forces, applied and scratch: entries a static or sleeping body never
     // writes stay unwritten (no pages touched: dynamics/zero_tail_array.hpp).
     ZeroTailArray<ForceTorque> forces;
     ZeroTailArray<ForceTorque> applied;
-    std::vector<BodyParams> params;
-    std::vector<BodyCold> cold;
-    std::vector<Transform> previous;
-    std::vector<std::uint32_t> denseToSlot;
+    LargeArray<BodyParams> params;
+    LargeArray<BodyCold> cold;
+    LargeArray<Transform> previous;
+    LargeArray<std::uint32_t> denseToSlot;
     ZeroTailArray<IntegratorScratch> scratch;
     // Whether any body was ever given a ForceCallback (World::setForceCallback;
     // never cleared): while false, the force evaluation does not read cold[]
@@ -213,7 +214,7 @@ struct BodyStore {
     std::vector<std::uint32_t> awakeBodies;     // awake non-static dense bodies, ascending
     std::vector<std::uint32_t> wokenBodies;     // the wake queue: woken since the last refresh (any order)
     std::vector<std::uint32_t> awakeMergeScratch;
-    std::vector<std::uint8_t> inAwakeList;      // per dense body: listed in awakeBodies
+    LargeArray<std::uint8_t> inAwakeList;      // per dense body: listed in awakeBodies
     bool awakeListRebuild = true;               // full rebuild at the next refresh
     bool awakeListHasSleepers = false;          // bodies fell asleep since the last refresh
     std::vector<std::uint32_t> previousStale;   // dense bodies whose previous[] needs one refresh
@@ -225,7 +226,7 @@ struct BodyStore {
     std::vector<Vec3> startCom;
     std::vector<Quat> startQ;
     std::vector<std::uint32_t> denseOfSolver;   // solver index -> dense (entry 0: kNoIndex)
-    std::vector<std::uint32_t> solverOfDense;   // dense -> solver index (0: static or asleep)
+    LargeArray<std::uint32_t> solverOfDense;   // dense -> solver index (0: static or asleep)
 
     // Brings awakeBodies up to date: O(awake + woken) unless a rebuild is due.
     void refreshAwakeList();

@@ -177,7 +177,7 @@ void SleepManager::update(BodyStore& w, const SleepSettings& s, const std::vecto
 
     // Islands over touching contacts between awake bodies (parallel) and
     // joints (this thread, after: they may wake bodies).
-    const std::vector<Contact>& contacts = manager.contacts();
+    const ContactArray& contacts = manager.contacts();
     if (islandsNeeded) {
         tasks.parallelFor(pairCount, kBodiesPerRange, [&](std::uint32_t begin, std::uint32_t end, std::uint32_t) {
             for (std::uint32_t k = begin; k < end; ++k) {

@@ -211,7 +211,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
 
     // The solver bodies are the body store's awake set (body_store.hpp),
     // filled by the step just before: solver body i is w.awakeBodies[i - 1].
-    const std::vector<std::uint32_t>& solverOfDense_ = w.solverOfDense;
+    const auto& solverOfDense_ = w.solverOfDense;
 
     // ---- constraints, one per manifold of every contact with an awake body.
     // First the list of (contact, manifold, bodies), coloured; then each
@@ -225,7 +225,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
     // awake, only the awake bodies' contacts (ascending, so the same list):
     // scanning every contact cost a sleeping box_pile 11 us per step, all of
     // its step (World::lastStepProfile; 4,000 boxes, 12,000 contacts).
-    std::vector<Contact>& contacts = manager.contacts();
+    ContactArray& contacts = manager.contacts();
     const bool sparse = manager.contactsOfAwakeBodies(w, candidates_);
     const std::size_t candidateCount = sparse ? candidates_.size() : contacts.size();
     const std::uint32_t* candidate = sparse ? candidates_.data() : nullptr;
@@ -395,7 +395,7 @@ void ContactSolver::prepareConstraintList(BodyStore& w, ContactManager& manager,
 }
 
 void ContactSolver::finishPrepare(ContactManager& manager) {
-    const std::vector<Contact>& contacts = manager.contacts();
+    const ContactArray& contacts = manager.contacts();
     placeInColourSlots();
     if (wide_) {
         packWide(contacts);
@@ -424,7 +424,7 @@ void ContactSolver::finishPrepare(ContactManager& manager) {
 // same bits for any thread count. (Building per pending constraint instead
 // would have two threads writing lanes of the same block: false sharing, and
 // the block-wide flags would need a second pass.)
-void ContactSolver::packWide(const std::vector<Contact>& contacts) {
+void ContactSolver::packWide(const ContactArray& contacts) {
     WideBlocks& wideBlocks = *blocks_;
     const auto kWideLanes = static_cast<std::uint32_t>(wideBlocks.lanes());
     blockStart_.assign(kColourCount + 1, 0);
@@ -994,7 +994,7 @@ void ContactSolver::applyRestitution() {
 // narrow phase's lag, not a load.
 void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager, std::span<const JointConstraint> joints) {
     if (!pushOut_) return;
-    const std::vector<Contact>& contacts = manager.contacts();
+    const ContactArray& contacts = manager.contacts();
     // The gate: a point's predicted depth changes within the step by
     // -dot(n, dpB - dpA) - dot(dthetaB, cross(rB, n)) + dot(dthetaA, cross(rA, n)),
     // at most |dpB - dpA| + |dthetaA| reachA + |dthetaB| reachB (|n| = 1;
@@ -1154,7 +1154,7 @@ void ContactSolver::pushOutGrown(BodyStore& w, const ContactManager& manager, st
 }
 
 void ContactSolver::store(ContactManager& manager) {
-    std::vector<Contact>& contacts = manager.contacts();
+    ContactArray& contacts = manager.contacts();
     // Every lane and constraint writes its own manifold: in parallel.
     if (wide_) {
         const WideBlocks& wideBlocks = *blocks_;
@@ -1182,7 +1182,7 @@ void ContactSolver::store(ContactManager& manager) {
               [&](std::size_t begin, std::size_t end) { storeRange(contacts, begin, end); });
 }
 
-void ContactSolver::storeRange(std::vector<Contact>& contacts, std::size_t begin, std::size_t end) const {
+void ContactSolver::storeRange(ContactArray& contacts, std::size_t begin, std::size_t end) const {
     for (std::size_t ki = begin; ki < end; ++ki) {
         const ContactConstraint& k = constraints_[ki];
         CachedManifold& m = contacts[k.contact].manifolds[k.manifold];

@@ -41,6 +41,7 @@ namespace fulcrum::detail {
 
 class ContactManager;
 struct Contact;
+using ContactArray = LargeArray<Contact>;  // as contacts/contact.hpp
 struct JointConstraint;
 class StagedParallel;
 
@@ -211,8 +212,8 @@ private:
     // handled by exactly one call, so per-index writes stay deterministic.
     template <class Fn>
     void forRanges(std::size_t count, std::uint32_t minRange, Fn&& fn) const;
-    void packWide(const std::vector<Contact>& contacts);
-    void storeRange(std::vector<Contact>& contacts, std::size_t begin, std::size_t end) const;
+    void packWide(const ContactArray& contacts);
+    void storeRange(ContactArray& contacts, std::size_t begin, std::size_t end) const;
     void buildConstraint(const Contact& c, const PendingConstraint& pc, ContactConstraint& k) const;
     // The push-out speed limit of one constraint: contactPushMaxVelocity
     // shared among the deep overlaps of its busier dynamic body, so that the

@@ -174,7 +174,7 @@ private:
     // lists, with consistent links; the free list holds exactly the others.
     void contactGraph() const {
         const ContactManager& cm = w_.contactManager;
-        const std::vector<Contact>& contacts = cm.contacts();
+        const ContactArray& contacts = cm.contacts();
         std::size_t alive = 0;
         for (std::uint32_t i = 0; i < contacts.size(); ++i) {
             const Contact& c = contacts[i];

@@ -220,8 +220,8 @@ void io(A& a, std::string& s) {
     if constexpr (A::kReading) s.resize(n);
     for (char& c : s) io(a, c);
 }
-template <typename A, typename T>
-void io(A& a, std::vector<T>& v) {
+template <typename A, typename T, typename Alloc>
+void io(A& a, std::vector<T, Alloc>& v) {
     std::size_t n = v.size();
     a.count(n, 1);
     if constexpr (A::kReading) v.resize(n);
@@ -793,7 +793,7 @@ struct SnapshotAccess {
 
     static std::size_t contactCount(const ContactManager& c) { return c.contacts_.size(); }
     static std::string validateBroadPhase(const ContactManager& c) { return c.broad_.validate(); }
-    static const std::vector<ProxyId>& proxyOfSlot(const ContactManager& c) { return c.proxyOfSlot_; }
+    static const detail::LargeArray<ProxyId>& proxyOfSlot(const ContactManager& c) { return c.proxyOfSlot_; }
 };
 
 }  // namespace fulcrum
@@ -999,7 +999,7 @@ void validateLoaded(const Reader& r, WorldImpl& w) {
     // Broad phase: the trees' and records' own invariants, then the links to bodies.
     if (const std::string why = SnapshotAccess::validateBroadPhase(w.contactManager); !why.empty()) fail("broad phase: " + why);
     const BroadPhase& bp = w.contactManager.broadPhase();
-    const std::vector<ProxyId>& proxies = SnapshotAccess::proxyOfSlot(w.contactManager);
+    const auto& proxies = SnapshotAccess::proxyOfSlot(w.contactManager);
     if (proxies.size() < w.bodySlots.size()) fail("proxy table shorter than the body slots");
     for (std::uint32_t slot = 0; slot < w.bodySlots.size(); ++slot) {
         if (w.bodySlots[slot].dense == kNoIndex) continue;

@@ -84,7 +84,7 @@ TEST(DynamicTreeRefit, AStillTreeIsRefittedNotRebuilt) {
         ids.push_back(tree.createProxy(AABB::fromCenterHalf({Real(at(rng)), Real(at(rng)), Real(at(rng))}, Vec3::splat(1)), 0));
     }
     EXPECT_TRUE(tree.refitOrRebuild());  // the first: a rebuild
-    const std::vector<TreeNode> built = tree.nodes();
+    const std::vector<TreeNode> built(tree.nodes().begin(), tree.nodes().end());
     EXPECT_FALSE(tree.refitOrRebuild());  // nothing moved: a refit, which changes nothing
     ASSERT_EQ(tree.nodes().size(), built.size());
     for (std::size_t i = 0; i < built.size(); ++i) {

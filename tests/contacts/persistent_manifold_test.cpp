@@ -129,7 +129,7 @@ struct Check {
 // Every persistent manifold of `world` against collide() at the poses it describes.
 void checkManifolds(World& world, int step, Check& out) {
     const WorldImpl& w = detail::implOf(world);
-    const std::vector<detail::Contact>& contacts = w.contactManager.contacts();
+    const auto& contacts = w.contactManager.contacts();
     ManifoldBuffer fresh;
     std::vector<char> paired(w.motion.size() * w.motion.size(), 0);
     for (const detail::Contact& c : contacts) {
