@@ -575,8 +575,10 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         // approach counts (the angular term below would add |w| r dt).
         return collideSpheres(w, c, dA, dB, speculativeMargin_ + length(mb.v - ma.v) * dt);
     }
-    const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);
-    const Transform rel = relative(xA, xB);
+    const PairPoses poses = pairPoses({ma.com, ma.q, pa.localCom}, {mb.com, mb.q, pb.localCom});
+    const Transform& xA = poses.a;
+    const Transform& xB = poses.b;
+    const Transform& rel = poses.relative;
     mixMaterial(w, c, dA, dB);
 
     // Contact recycling (Box2D, 2026): if B hardly moved relative to A since the

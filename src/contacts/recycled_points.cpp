@@ -29,6 +29,11 @@ bool refreshRecycledManifoldScalar(CachedManifold& m, const Transform& xA, const
     return refreshRecycledPointsScalar(m, xA, xB);
 }
 
+PairPoses pairPosesScalar(const BodyFrame& a, const BodyFrame& b) {
+    const Transform xA{a.com - rotate(a.q, a.localCom), a.q}, xB{b.com - rotate(b.q, b.localCom), b.q};
+    return {xA, xB, relative(xA, xB)};
+}
+
 #if FULCRUM_RECYCLE_LANES
 
 namespace {
@@ -49,25 +54,33 @@ void store3(Vec3& v, __m128 r) {
 __m128 yzx(__m128 a) { return _mm_shuffle_ps(a, a, _MM_SHUFFLE(3, 0, 2, 1)); }
 __m128 zxy(__m128 a) { return _mm_shuffle_ps(a, a, _MM_SHUFFLE(3, 1, 0, 2)); }
 
-// transformPoint(t, v) = rotate(t.q, v) + t.p with quat.hpp's rotate
-// (t = 2 (u x v); v + t w + u x t), the quaternion's lanes set up once.
-class TransformLanes {
+// quat.hpp's rotate(q, v) = v + t w + u x t with t = 2 (u x v), the
+// quaternion's lanes set up once.
+class RotationLanes {
 public:
-    explicit TransformLanes(const Transform& t)
-        : uYzx_(_mm_set_ps(0, t.q.x, t.q.z, t.q.y)),
-          uZxy_(_mm_set_ps(0, t.q.y, t.q.x, t.q.z)),
-          w_(_mm_set1_ps(t.q.w)),
-          p_(load3(t.p)) {}
+    explicit RotationLanes(const Quat& q)
+        : uYzx_(_mm_set_ps(0, q.x, q.z, q.y)), uZxy_(_mm_set_ps(0, q.y, q.x, q.z)), w_(_mm_set1_ps(q.w)) {}
     __m128 rotate(__m128 v) const {
         const __m128 t = _mm_mul_ps(cross(v), _mm_set1_ps(2));
         return _mm_add_ps(_mm_add_ps(v, _mm_mul_ps(t, w_)), cross(t));
     }
-    __m128 point(__m128 v) const { return _mm_add_ps(rotate(v), p_); }
 
 private:
     // u x v
     __m128 cross(__m128 v) const { return _mm_sub_ps(_mm_mul_ps(uYzx_, zxy(v)), _mm_mul_ps(uZxy_, yzx(v))); }
-    __m128 uYzx_, uZxy_, w_, p_;
+    __m128 uYzx_, uZxy_, w_;
+};
+
+// transformPoint(t, v) = rotate(t.q, v) + t.p.
+class TransformLanes {
+public:
+    explicit TransformLanes(const Transform& t) : rotation_(t.q), p_(load3(t.p)) {}
+    __m128 rotate(__m128 v) const { return rotation_.rotate(v); }
+    __m128 point(__m128 v) const { return _mm_add_ps(rotation_.rotate(v), p_); }
+
+private:
+    RotationLanes rotation_;
+    __m128 p_;
 };
 
 bool refreshInLanes(CachedManifold& m, const TransformLanes& a, const TransformLanes& b) {
@@ -100,6 +113,21 @@ bool refreshRecycledManifold(CachedManifold& m, const Transform& xA, const Trans
     return refreshInLanes(m, a, TransformLanes(xB));
 }
 
+PairPoses pairPoses(const BodyFrame& a, const BodyFrame& b) {
+    PairPoses poses;
+    const __m128 pA = _mm_sub_ps(load3(a.com), RotationLanes(a.q).rotate(load3(a.localCom)));
+    const __m128 pB = _mm_sub_ps(load3(b.com), RotationLanes(b.q).rotate(load3(b.localCom)));
+    store3(poses.a.p, pA);
+    poses.a.q = a.q;
+    store3(poses.b.p, pB);
+    poses.b.q = b.q;
+    // relative(a, b): inverseRotate(a.q, pB - pA), i.e. rotate by the conjugate; the product scalar.
+    const Quat inverseA = conjugate(a.q);
+    store3(poses.relative.p, RotationLanes(inverseA).rotate(_mm_sub_ps(pB, pA)));
+    poses.relative.q = inverseA * b.q;
+    return poses;
+}
+
 #else
 
 bool refreshRecycledPoints(CachedManifold& m, const Transform& xA, const Transform& xB) {
@@ -109,6 +137,8 @@ bool refreshRecycledPoints(CachedManifold& m, const Transform& xA, const Transfo
 bool refreshRecycledManifold(CachedManifold& m, const Transform& xA, const Transform& xB) {
     return refreshRecycledManifoldScalar(m, xA, xB);
 }
+
+PairPoses pairPoses(const BodyFrame& a, const BodyFrame& b) { return pairPosesScalar(a, b); }
 
 #endif
 

@@ -3,7 +3,8 @@
 // lanes; every field it writes must be the scalar transformPoint path's bits
 // (the path before the lanes), and so must the answer whether a point is
 // touching, for any pose, any point count and points near and far from the
-// surface. The double build, and builds without SSE2, run the scalar path
+// surface, and the pair poses that decide whether a pair recycles. The
+// double build, and builds without SSE2, run the scalar path
 // itself: there the test holds trivially and still compiles.
 #include <gtest/gtest.h>
 
@@ -126,5 +127,26 @@ TEST(RecycledPoints, SameAnswerAtTheTouchingSlop) {
         CachedManifold lanes = m, scalar = m;
         ASSERT_EQ(refreshRecycledManifold(lanes, xA, xB), refreshRecycledManifoldScalar(scalar, xA, xB)) << "trial " << trial;
         expectSameManifold(lanes, scalar, trial);
+    }
+}
+
+// The pair's poses (both shape-frame transforms and B's pose in A's frame):
+// the lanes' rotations against the scalar path's, bit for bit, with centres
+// of mass off the shape's origin and on it.
+TEST(RecycledPoints, PairPosesSameBitsAsTheScalarPath) {
+    Draw draw(314159);
+    const auto sameTransform = [](const Transform& a, const Transform& b) {
+        return sameBits(a.p, b.p) && std::memcmp(&a.q, &b.q, sizeof(Quat)) == 0;
+    };
+    for (int trial = 0; trial < 100000; ++trial) {
+        const double r = draw.scale();
+        const Vec3 comA = draw.vec(r), comB = draw.vec(r);
+        const Quat qA = draw.rotation(), qB = draw.rotation();
+        const Vec3 localA = trial % 3 == 0 ? Vec3{} : draw.vec(1), localB = trial % 5 == 0 ? Vec3{} : draw.vec(1);
+        const PairPoses lanes = pairPoses({comA, qA, localA}, {comB, qB, localB});
+        const PairPoses scalar = pairPosesScalar({comA, qA, localA}, {comB, qB, localB});
+        ASSERT_TRUE(sameTransform(lanes.a, scalar.a)) << "trial " << trial;
+        ASSERT_TRUE(sameTransform(lanes.b, scalar.b)) << "trial " << trial;
+        ASSERT_TRUE(sameTransform(lanes.relative, scalar.relative)) << "trial " << trial;
     }
 }
