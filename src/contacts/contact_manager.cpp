@@ -8,6 +8,7 @@
 
 #include "collision/narrow_phase.hpp"
 #include "collision/support.hpp"
+#include "contacts/recycled_points.hpp"
 #include "fulcrum/task_system.hpp"
 #include "solver/joint_data.hpp"
 
@@ -145,22 +146,6 @@ inline void copyGeometry(CachedPoint& dst, const ContactPoint& src) {
     dst.depth = src.depth;
     dst.depthAfter = src.depth;
     dst.featureId = src.featureId;
-}
-
-// A recycled manifold's points moved with the bodies: each point's two
-// anchors placed by the poses, the depth measured along the manifold's normal
-// (already in world space). Whether any point is touching.
-inline bool refreshRecycledPoints(CachedManifold& m, const Transform& xA, const Transform& xB) {
-    bool touching = false;
-    for (std::uint32_t k = 0; k < m.pointCount; ++k) {
-        CachedPoint& p = m.points[k];
-        const Vec3 pA = transformPoint(xA, p.localA), pB = transformPoint(xB, p.localB);
-        p.position = (pA + pB) * Real(0.5);
-        p.depth = dot(m.normal, pA - pB);
-        p.depthAfter = p.depth;
-        touching = touching || p.depth > -kTouchSlop;
-    }
-    return touching;
 }
 
 }  // namespace
@@ -590,8 +575,10 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         // approach counts (the angular term below would add |w| r dt).
         return collideSpheres(w, c, dA, dB, speculativeMargin_ + length(mb.v - ma.v) * dt);
     }
-    const Transform xA = w.originTransform(dA), xB = w.originTransform(dB);
-    const Transform rel = relative(xA, xB);
+    const PairPoses poses = pairPoses({ma.com, ma.q, pa.localCom}, {mb.com, mb.q, pb.localCom});
+    const Transform& xA = poses.a;
+    const Transform& xB = poses.b;
+    const Transform& rel = poses.relative;
     mixMaterial(w, c, dA, dB);
 
     // Contact recycling (Box2D, 2026): if B hardly moved relative to A since the
@@ -602,8 +589,7 @@ std::uint8_t ContactManager::collideContact(const BodyStore& w, Contact& c, Real
         std::fabs(dot(rel.q, c.relativePose.q)) > kRecycleCosHalfAngle) {
         bool touching = false;
         for (CachedManifold& m : c.manifolds) {
-            m.normal = rotate(xA.q, m.localNormal);
-            touching = refreshRecycledPoints(m, xA, xB) || touching;
+            touching = refreshRecycledManifold(m, xA, xB) || touching;
         }
         return kCollided | (touching ? kTouching : 0);
     }
