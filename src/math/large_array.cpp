@@ -1,6 +1,8 @@
 #include "math/large_array.hpp"
 
 #include <atomic>
+#include <cstdint>
+#include <new>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -19,7 +21,14 @@ void setLargeArrayHugePages(bool on) { gHugePages.store(on, std::memory_order_re
 bool largeArrayHugePages() { return gHugePages.load(std::memory_order_relaxed); }
 std::size_t largeArrayAllocationCount() { return gLargeAllocations.load(std::memory_order_relaxed); }
 
+// No user address space holds 2^48 bytes (x86-64's and AArch64's hold at
+// most that; wasm32's 2^32): a request beyond it is refused here with
+// bad_alloc, before any allocator sees it. AddressSanitizer's allocator
+// aborts the process on such a request instead of throwing.
+constexpr std::uint64_t kMaxArrayBytes = std::uint64_t{1} << 48;
+
 void* allocateArrayBytes(std::size_t bytes) {
+    if (static_cast<std::uint64_t>(bytes) > kMaxArrayBytes) throw std::bad_alloc();
     if (bytes < kLargeArrayBytes) return ::operator new(bytes);
     gLargeAllocations.fetch_add(1, std::memory_order_relaxed);
     if constexpr (!kLargeArraysAligned) {
